@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs patlab's build, test and plotting dependencies: Debian 12 packages only.
+# Run as root (or with sudo available). Idempotent. `--bench` adds OpenCV, which only the
+# vision benchmark uses for its side-by-side comparison; the tool itself never needs it.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config git
+  libeigen3-dev libboost-program-options-dev libboost-math-dev libtbb-dev
+  libtomlplusplus-dev librandom123-dev nlohmann-json3-dev libpng-dev libjpeg-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-numpy python3-scipy python3-matplotlib
+)
+if [[ "${1:-}" == "--bench" ]]; then packages+=(libopencv-dev); fi
+
+sudo_cmd=()
+if [[ "$(id -u)" -ne 0 ]]; then sudo_cmd=(sudo); fi
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [[ ${#missing[@]} -gt 0 ]]; then
+  "${sudo_cmd[@]}" apt-get update
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+fi
