@@ -1,0 +1,60 @@
+// A decoded camera frame in memory, in the two layouts cameras and image files deliver.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace patlab::vision {
+
+enum class PixelFormat {
+  kRgb8,  // 3 bytes per pixel, R G B, rows packed (PNG, JPEG, PPM after decoding)
+  kUyvy,  // YUV 4:2:2, 2 bytes per pixel: U0 Y0 V0 Y1 per pixel pair (raw camera frames)
+};
+
+// Rows are packed (no padding): row y starts at data[y * RowBytes()].
+// Pixel (i, j) is column i, row j; its centre is at (i, j) in pixel coordinates (OpenCV
+// convention), so it covers [i - 0.5, i + 0.5) x [j - 0.5, j + 0.5).
+struct Image {
+  int width_px = 0;
+  int height_px = 0;
+  PixelFormat format = PixelFormat::kRgb8;
+  std::vector<uint8_t> data;
+
+  int BytesPerPixel() const { return format == PixelFormat::kRgb8 ? 3 : 2; }
+  int RowBytes() const { return width_px * BytesPerPixel(); }
+  const uint8_t* Row(int y) const { return data.data() + static_cast<std::size_t>(y) * RowBytes(); }
+  uint8_t* Row(int y) { return data.data() + static_cast<std::size_t>(y) * RowBytes(); }
+
+  static Image Rgb(int width_px, int height_px) {
+    Image image;
+    image.width_px = width_px;
+    image.height_px = height_px;
+    image.data.assign(static_cast<std::size_t>(width_px) * height_px * 3, 0);
+    return image;
+  }
+};
+
+// ITU-R BT.601 full-range conversions, the ones CMVision's YUV thresholds and UYVY cameras use.
+// Fixed point with 8 fraction bits; every output is clamped to 0..255.
+inline void RgbToYuv(int r, int g, int b, int* y, int* u, int* v) {
+  auto clamp = [](int x) { return x < 0 ? 0 : (x > 255 ? 255 : x); };
+  *y = clamp((77 * r + 150 * g + 29 * b + 128) >> 8);
+  *u = clamp(((-43 * r - 85 * g + 128 * b + 128) >> 8) + 128);
+  *v = clamp(((128 * r - 107 * g - 21 * b + 128) >> 8) + 128);
+}
+
+inline void YuvToRgb(int y, int u, int v, int* r, int* g, int* b) {
+  auto clamp = [](int x) { return x < 0 ? 0 : (x > 255 ? 255 : x); };
+  const int d = u - 128, e = v - 128;
+  *r = clamp(y + ((359 * e + 128) >> 8));
+  *g = clamp(y - ((88 * d + 183 * e + 128) >> 8));
+  *b = clamp(y + ((454 * d + 128) >> 8));
+}
+
+// Converts a frame to packed RGB (a copy when it already is).
+Image ToRgb(const Image& image);
+// Converts an RGB frame to UYVY (U and V averaged over each pixel pair); width must be even.
+Image ToUyvy(const Image& image);
+
+}  // namespace patlab::vision

@@ -1,0 +1,224 @@
+#include "vision/segment.h"
+
+#include <algorithm>
+#include <climits>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace patlab::vision {
+
+void Validate(const SegmenterOptions& options) {
+  if (options.min_area_px < 1) {
+    throw InputError("min_area_px is " + std::to_string(options.min_area_px) + "; expected >= 1");
+  }
+  if (!(options.min_fill >= 0.0 && options.min_fill <= 1.0)) {
+    throw InputError("min_fill is " + std::to_string(options.min_fill) + "; expected 0 <= min_fill <= 1");
+  }
+}
+
+Segmenter::Segmenter(const Thresholds& thresholds, const SegmenterOptions& options)
+    : lut_(thresholds), options_(options) {
+  Validate(options);
+  for (const ColorClass& c : thresholds.classes) {
+    min_area_px_.push_back(c.min_area_px > 0 ? c.min_area_px : options.min_area_px);
+  }
+}
+
+namespace {
+
+// The class of a mask: 0 when empty, else 1 + index of the lowest set bit (ffs does exactly this).
+inline uint8_t ClassOf(uint32_t mask) { return static_cast<uint8_t>(__builtin_ffs(static_cast<int>(mask))); }
+
+// RGB -> YUV of one row into three planes; a plain loop the compiler vectorises.
+void RgbRowToYuvPlanes(const uint8_t* __restrict in, int n, uint8_t* __restrict y,
+                       uint8_t* __restrict u, uint8_t* __restrict v) {
+  for (int x = 0; x < n; ++x) {
+    const int r = in[3 * x], g = in[3 * x + 1], b = in[3 * x + 2];
+    // Same fixed-point BT.601 as RgbToYuv (image.h). Y and the lower ends are within 0..255
+    // for 8-bit inputs; U and V reach 256 for pure blue / red, hence the min.
+    y[x] = static_cast<uint8_t>((77 * r + 150 * g + 29 * b + 128) >> 8);
+    u[x] = static_cast<uint8_t>(std::min(((-43 * r - 85 * g + 128 * b + 128) >> 8) + 128, 255));
+    v[x] = static_cast<uint8_t>(std::min(((128 * r - 107 * g - 21 * b + 128) >> 8) + 128, 255));
+  }
+}
+
+}  // namespace
+
+void Segmenter::Classify(const Image& image) {
+  PATLAB_CHECK(image.width_px > 0 && image.height_px > 0);
+  width_ = image.width_px;
+  height_ = image.height_px;
+  class_image_.resize(static_cast<size_t>(width_) * height_);
+  for (auto& p : plane_) p.resize(static_cast<size_t>(width_));
+  const uint32_t* t0 = lut_.table(0).data();
+  const uint32_t* t1 = lut_.table(1).data();
+  const uint32_t* t2 = lut_.table(2).data();
+  const bool yuv_lut = lut_.space() == ColorSpace::kYuv;
+  for (int y = 0; y < height_; ++y) {
+    const uint8_t* in = image.Row(y);
+    uint8_t* out = class_image_.data() + static_cast<size_t>(y) * width_;
+    if (image.format == PixelFormat::kRgb8 && !yuv_lut) {
+      for (int x = 0; x < width_; ++x) {
+        out[x] = ClassOf(t0[in[3 * x]] & t1[in[3 * x + 1]] & t2[in[3 * x + 2]]);
+      }
+    } else if (image.format == PixelFormat::kRgb8) {
+      uint8_t* py = plane_[0].data();
+      uint8_t* pu = plane_[1].data();
+      uint8_t* pv = plane_[2].data();
+      RgbRowToYuvPlanes(in, width_, py, pu, pv);
+      for (int x = 0; x < width_; ++x) out[x] = ClassOf(t0[py[x]] & t1[pu[x]] & t2[pv[x]]);
+    } else if (yuv_lut) {
+      // UYVY: U and V are shared by each pixel pair.
+      for (int x = 0; x + 1 < width_; x += 2, in += 4) {
+        const uint32_t uv = t1[in[0]] & t2[in[2]];
+        out[x] = ClassOf(t0[in[1]] & uv);
+        out[x + 1] = ClassOf(t0[in[3]] & uv);
+      }
+    } else {
+      for (int x = 0; x + 1 < width_; x += 2, in += 4) {
+        for (int k = 0; k < 2; ++k) {
+          int r, g, b;
+          YuvToRgb(in[1 + 2 * k], in[0], in[2], &r, &g, &b);
+          out[x + k] = ClassOf(t0[r] & t1[g] & t2[b]);
+        }
+      }
+    }
+  }
+}
+
+namespace {
+
+inline int32_t FindRoot(std::vector<Run>& runs, int32_t i) {
+  while (runs[i].parent != i) {
+    runs[i].parent = runs[runs[i].parent].parent;  // path halving
+    i = runs[i].parent;
+  }
+  return i;
+}
+
+// Links the later root under the earlier one, so a run's parent always has a smaller index;
+// ExtractRegions relies on that to resolve every label in one forward pass.
+inline void Unite(std::vector<Run>& runs, int32_t a, int32_t b) {
+  const int32_t ra = FindRoot(runs, a), rb = FindRoot(runs, b);
+  if (ra < rb) {
+    runs[rb].parent = ra;
+  } else if (rb < ra) {
+    runs[ra].parent = rb;
+  }
+}
+
+}  // namespace
+
+void Segmenter::EncodeRuns() {
+  runs_.clear();
+  int32_t prev_begin = 0, prev_end = 0;
+  const int w = width_;
+  for (int y = 0; y < height_; ++y) {
+    const uint8_t* row = class_image_.data() + static_cast<size_t>(y) * w;
+    const int32_t cur_begin = static_cast<int32_t>(runs_.size());
+    int x = 0;
+    while (x < w) {
+      // Most pixels belong to no class: skip them eight at a time.
+      while (x + 8 <= w) {
+        uint64_t word;
+        std::memcpy(&word, row + x, 8);
+        if (word != 0) break;
+        x += 8;
+      }
+      while (x < w && row[x] == 0) ++x;
+      if (x >= w) break;
+      const uint8_t c = row[x];
+      const int start = x;
+      while (x < w && row[x] == c) ++x;
+      const int32_t index = static_cast<int32_t>(runs_.size());
+      runs_.push_back(Run{start, x - 1, y, index, c - 1});
+    }
+    const int32_t cur_end = static_cast<int32_t>(runs_.size());
+    // Join overlapping runs of the same class on the previous row (two-pointer sweep).
+    int32_t i = prev_begin, j = cur_begin;
+    while (i < prev_end && j < cur_end) {
+      const Run& a = runs_[i];
+      const Run& b = runs_[j];
+      if (a.x_end < b.x_begin) {
+        ++i;
+        continue;
+      }
+      if (b.x_end < a.x_begin) {
+        ++j;
+        continue;
+      }
+      if (a.colour == b.colour) Unite(runs_, i, j);
+      if (a.x_end < b.x_end) {
+        ++i;
+      } else if (b.x_end < a.x_end) {
+        ++j;
+      } else {
+        ++i;
+        ++j;
+      }
+    }
+    prev_begin = cur_begin;
+    prev_end = cur_end;
+  }
+}
+
+void Segmenter::ExtractRegions() {
+  const int32_t n = static_cast<int32_t>(runs_.size());
+  label_.resize(static_cast<size_t>(n));
+  accumulators_.clear();
+  for (int32_t i = 0; i < n; ++i) {
+    Run& run = runs_[i];
+    if (run.parent == i) {
+      label_[i] = static_cast<int32_t>(accumulators_.size());
+      accumulators_.push_back(Accumulator{0, 0, 0, INT_MAX, INT_MAX, INT_MIN, INT_MIN, run.colour});
+    } else {
+      run.parent = runs_[run.parent].parent;  // the parent is earlier, hence already a root
+      label_[i] = label_[run.parent];
+    }
+    Accumulator& acc = accumulators_[label_[i]];
+    const int64_t width = run.x_end - run.x_begin + 1;
+    acc.area += width;
+    // Sum of x over x_begin..x_end; the product is always even.
+    acc.sum_x += (static_cast<int64_t>(run.x_begin) + run.x_end) * width / 2;
+    acc.sum_y += static_cast<int64_t>(run.y) * width;
+    acc.x_min = std::min(acc.x_min, static_cast<int>(run.x_begin));
+    acc.x_max = std::max(acc.x_max, static_cast<int>(run.x_end));
+    acc.y_min = std::min(acc.y_min, static_cast<int>(run.y));
+    acc.y_max = std::max(acc.y_max, static_cast<int>(run.y));
+  }
+  num_raw_regions_ = static_cast<int>(accumulators_.size());
+  regions_.clear();
+  for (const Accumulator& acc : accumulators_) {
+    if (acc.area < min_area_px_[acc.colour]) continue;
+    Region r;
+    r.colour = acc.colour;
+    r.area_px = static_cast<int>(acc.area);
+    r.x_min = acc.x_min;
+    r.y_min = acc.y_min;
+    r.x_max = acc.x_max;
+    r.y_max = acc.y_max;
+    r.centroid_px = Vec2(static_cast<double>(acc.sum_x) / acc.area,
+                         static_cast<double>(acc.sum_y) / acc.area);
+    if (r.Fill() < options_.min_fill) continue;
+    regions_.push_back(r);
+  }
+  std::sort(regions_.begin(), regions_.end(), [](const Region& a, const Region& b) {
+    if (a.colour != b.colour) return a.colour < b.colour;
+    if (a.area_px != b.area_px) return a.area_px > b.area_px;
+    if (a.centroid_px.y() != b.centroid_px.y()) return a.centroid_px.y() < b.centroid_px.y();
+    return a.centroid_px.x() < b.centroid_px.x();
+  });
+  class_begin_.assign(static_cast<size_t>(lut_.num_classes()) + 1, 0);
+  for (const Region& r : regions_) ++class_begin_[r.colour + 1];
+  for (int k = 0; k < lut_.num_classes(); ++k) class_begin_[k + 1] += class_begin_[k];
+}
+
+std::span<const Region> Segmenter::RegionsOf(int colour) const {
+  PATLAB_CHECK(colour >= 0 && colour < lut_.num_classes());
+  if (class_begin_.empty()) return {};
+  return std::span<const Region>(regions_.data() + class_begin_[colour],
+                                 regions_.data() + class_begin_[colour + 1]);
+}
+
+}  // namespace patlab::vision
