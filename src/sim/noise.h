@@ -1,0 +1,38 @@
+// Patch noise models of the Monte-Carlo engine. One parametrisation covers all four models of the
+// issue; every spread is a multiple of the swept patch sigma, so a sweep scales them together.
+//
+// For trial t with true patch positions P_i (world frame) the observed positions are
+//
+//   V_i = P_i + e_i + c
+//   e_i = sigma (z_ix, r z_iy)        with probability 1 - p   (r = sigma_y_ratio: anisotropic)
+//   e_i = sigma k (z_ix, z_iy)        with probability p       (k = outlier_sigma_ratio: outliers)
+//   c   = sigma g (z_cx, z_cy)        once per trial           (g = common_sigma_ratio: jitter)
+//
+// with all z standard normals, independent between patches and trials. The paper's model
+// (section IV) is the isotropic Gaussian: sigma_y_ratio = 1, p = 0, common = 0; sigma is then
+// "the patch positional standard deviation" along each axis.
+#pragma once
+
+#include <string>
+
+namespace patlab::sim {
+
+struct NoiseModel {
+  double sigma_y_ratio = 1.0;        // sigma_y / sigma_x in the world frame (anisotropic); > 0
+  double common_sigma_ratio = 0.0;   // std of the per-trial offset shared by all patches / sigma
+  double outlier_probability = 0.0;  // probability that a patch is an outlier, in [0, 1)
+  double outlier_sigma_ratio = 10.0; // an outlier's isotropic std / sigma; > 0
+
+  bool IsIsotropicGaussian() const {
+    return sigma_y_ratio == 1.0 && common_sigma_ratio == 0.0 && outlier_probability == 0.0;
+  }
+  // The per-axis std, averaged over the two axes, of an independent patch error per unit sigma:
+  // sqrt(((1 - p)(1 + r^2) / 2 + p k^2)). Linear estimators' first-order std scale with it.
+  double EffectiveSigmaRatio() const;
+  // Human-readable name of the model ("isotropic", "anisotropic+common", ...).
+  std::string Describe() const;
+  // Returns the empty string if valid, else "field: constraint".
+  std::string Validate() const;
+};
+
+}  // namespace patlab::sim

@@ -1,0 +1,132 @@
+#include "sim/report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+namespace patlab::sim {
+
+namespace {
+
+// 10 significant digits: far below the Monte-Carlo error, and identical on every run.
+std::string Num(double v) {
+  if (std::isnan(v)) return "";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", v);
+  return buffer;
+}
+
+std::string Int(int64_t v) { return std::to_string(v); }
+
+constexpr const char* kColumns[] = {
+    "pattern", "estimator", "sigma_mm", "trials", "noise",
+    "mean_x_mm", "std_x_mm", "std_x_lo_mm", "std_x_hi_mm",
+    "mean_y_mm", "std_y_mm", "std_y_lo_mm", "std_y_hi_mm",
+    "mean_theta_rad", "std_theta_rad", "std_theta_lo_rad", "std_theta_hi_rad",
+    "std_pos_mm", "std_pos_lo_mm", "std_pos_hi_mm", "rms_radial_mm",
+    "crlb_pos_mm", "crlb_theta_rad", "pred_pos_mm", "pred_theta_rad",
+    "efficiency_pos", "efficiency_theta",
+    "ml_nonconverged", "ml_first_nonconverged_trial", "ml_mean_iterations",
+    "ks_x_d", "ks_x_p", "ks_y_d", "ks_y_p", "ks_theta_d", "ks_theta_p",
+    "wilcoxon_pos_p", "wilcoxon_theta_p"};
+
+// Efficiency = CRLB variance / achieved variance (1 = efficient).
+double Efficiency(double bound, double achieved) {
+  if (std::isnan(bound) || !(achieved > 0.0)) return std::nan("");
+  return (bound * bound) / (achieved * achieved);
+}
+
+}  // namespace
+
+std::string ResultsCsv(const Experiment& experiment, const RunResult& result) {
+  std::string csv;
+  for (const char* c : kColumns) csv += std::string(csv.empty() ? "" : ",") + c;
+  csv += "\n";
+  const std::string noise = experiment.noise.Describe();
+  for (const PointResult& p : result.points) {
+    for (const EstimatorResult& r : p.estimators) {
+      const bool ml = r.estimator == estimate::Estimator::kMl;
+      const Comparison& c = r.vs_fast;
+      const std::string fields[] = {
+          p.pattern, std::string(estimate::EstimatorName(r.estimator)), Num(p.sigma_mm),
+          Int(p.trials), noise,
+          Num(r.x.mean), Num(r.x.std), Num(r.x.std_lower), Num(r.x.std_upper),
+          Num(r.y.mean), Num(r.y.std), Num(r.y.std_lower), Num(r.y.std_upper),
+          Num(r.theta.mean), Num(r.theta.std), Num(r.theta.std_lower), Num(r.theta.std_upper),
+          Num(r.position_std_mm), Num(r.position_std_lower_mm), Num(r.position_std_upper_mm),
+          Num(r.radial_rms_mm),
+          Num(r.crlb_position_mm), Num(r.crlb_theta_rad), Num(r.predicted_position_mm),
+          Num(r.predicted_theta_rad),
+          Num(Efficiency(r.crlb_position_mm, r.position_std_mm)),
+          Num(Efficiency(r.crlb_theta_rad, r.theta.std)),
+          ml ? Int(r.nonconverged) : "", ml ? Int(r.first_nonconverged_trial) : "",
+          ml ? Num(r.mean_iterations) : "",
+          c.computed ? Num(c.ks_x.d) : "", c.computed ? Num(c.ks_x.p_value) : "",
+          c.computed ? Num(c.ks_y.d) : "", c.computed ? Num(c.ks_y.p_value) : "",
+          c.computed ? Num(c.ks_theta.d) : "", c.computed ? Num(c.ks_theta.p_value) : "",
+          c.computed ? Num(c.wilcoxon_position.p_value) : "",
+          c.computed ? Num(c.wilcoxon_theta.p_value) : ""};
+      bool first = true;
+      for (const std::string& f : fields) {
+        if (!first) csv += ",";
+        csv += f;
+        first = false;
+      }
+      csv += "\n";
+    }
+  }
+  return csv;
+}
+
+std::string ManifestJson(const Experiment& experiment, const RunResult& result,
+                         const std::string& command_line, const std::vector<std::string>& outputs) {
+  using nlohmann::json;
+  json j;
+  j["tool"] = "patlab";
+  j["version"] = PATLAB_VERSION;
+  j["command_line"] = command_line;
+  j["experiment"] = {{"file", experiment.source_file},
+                     {"name", experiment.name},
+                     {"description", experiment.description}};
+  json patterns = json::array();
+  for (size_t k = 0; k < experiment.patterns.size(); ++k) {
+    patterns.push_back({{"name", experiment.patterns[k].name},
+                        {"file", experiment.pattern_files[k]},
+                        {"patches", experiment.patterns[k].size()}});
+  }
+  j["patterns"] = patterns;
+  json estimators = json::array();
+  for (auto e : experiment.estimators) estimators.push_back(std::string(estimate::EstimatorName(e)));
+  j["estimators"] = estimators;
+  j["sigmas_mm"] = experiment.sigmas_mm;
+  j["trials_per_point"] = experiment.trials;
+  j["seed"] = experiment.seed;
+  j["field_mm"] = {{"length", experiment.field_length_mm}, {"width", experiment.field_width_mm}};
+  const NoiseModel& n = experiment.noise;
+  j["noise"] = {{"model", n.Describe()},
+                {"sigma_y_ratio", n.sigma_y_ratio},
+                {"common_sigma_ratio", n.common_sigma_ratio},
+                {"outlier_probability", n.outlier_probability},
+                {"outlier_sigma_ratio", n.outlier_sigma_ratio}};
+  const estimate::Options& o = experiment.ml_options;
+  j["ml_options"] = {{"max_iterations", o.max_iterations},
+                     {"step_tolerance_mm", o.step_tolerance_mm},
+                     {"step_tolerance_rad", o.step_tolerance_rad},
+                     {"gradient_tolerance", o.gradient_tolerance}};
+  int64_t nonconverged = 0;
+  for (const PointResult& p : result.points) {
+    for (const EstimatorResult& r : p.estimators) nonconverged += r.nonconverged;
+  }
+  j["ml_nonconverged_trials"] = nonconverged;
+  j["threads"] = result.threads;
+  j["total_trials"] = result.total_trials;
+  j["timings_s"] = {{"simulate", result.simulate_seconds},
+                    {"statistics", result.statistics_seconds},
+                    {"wall", result.wall_seconds}};
+  j["trials_per_second"] =
+      result.simulate_seconds > 0 ? result.total_trials / result.simulate_seconds : 0.0;
+  j["outputs"] = outputs;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace patlab::sim

@@ -1,0 +1,18 @@
+// The simulator's results as text: a tidy CSV (one row per pattern x estimator x sigma) and a
+// JSON manifest (inputs, seed, version, timings). Column meanings: README.md, "Results".
+#pragma once
+
+#include <string>
+
+#include "sim/runner.h"
+
+namespace patlab::sim {
+
+// The CSV. Deterministic: the same results give the same bytes.
+std::string ResultsCsv(const Experiment& experiment, const RunResult& result);
+
+// The manifest. `command_line` and `outputs` are recorded as given.
+std::string ManifestJson(const Experiment& experiment, const RunResult& result,
+                         const std::string& command_line, const std::vector<std::string>& outputs);
+
+}  // namespace patlab::sim

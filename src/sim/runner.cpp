@@ -1,0 +1,217 @@
+#include "sim/runner.h"
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "sim/batch.h"
+#include "stats/summary.h"
+
+namespace patlab::sim {
+
+namespace {
+
+using estimate::Estimator;
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+// Per-estimator sample arrays of one point.
+struct Samples {
+  std::vector<double> x, y, theta;
+  void Resize(int64_t n) {
+    x.resize(n);
+    y.resize(n);
+    theta.resize(n);
+  }
+};
+
+AxisSummary Summarise(const std::vector<double>& v) {
+  const stats::StdWithCi s = stats::StdWithConfidence(v, 0.95);
+  return AxisSummary{stats::Mean(v), s.std, s.lower, s.upper};
+}
+
+// The chi-square interval of a std estimated with `dof` degrees of freedom (as in stats::
+// StdWithConfidence, NIST e-Handbook 1.3.5.8).
+void PooledInterval(double std, double dof, double* lower, double* upper) {
+  const boost::math::chi_squared chi2(dof);
+  *lower = std * std::sqrt(dof / boost::math::quantile(chi2, 0.975));
+  *upper = std * std::sqrt(dof / boost::math::quantile(chi2, 0.025));
+}
+
+void FillEstimatorResult(const Samples& s, EstimatorResult* r) {
+  r->x = Summarise(s.x);
+  r->y = Summarise(s.y);
+  r->theta = Summarise(s.theta);
+  const double n = static_cast<double>(s.x.size());
+  r->position_std_mm = std::sqrt((r->x.std * r->x.std + r->y.std * r->y.std) / 2.0);
+  PooledInterval(r->position_std_mm, 2.0 * (n - 1.0), &r->position_std_lower_mm,
+                 &r->position_std_upper_mm);
+  double sum_sq = 0.0;
+  for (size_t k = 0; k < s.x.size(); ++k) sum_sq += s.x[k] * s.x[k] + s.y[k] * s.y[k];
+  r->radial_rms_mm = std::sqrt(sum_sq / n);
+}
+
+Comparison Compare(const Samples& fast, const Samples& other) {
+  Comparison c;
+  c.computed = true;
+  const size_t n = fast.x.size();
+  std::vector<double> fast_pos(n), other_pos(n), fast_abs_t(n), other_abs_t(n);
+  for (size_t k = 0; k < n; ++k) {
+    fast_pos[k] = std::hypot(fast.x[k], fast.y[k]);
+    other_pos[k] = std::hypot(other.x[k], other.y[k]);
+    fast_abs_t[k] = std::abs(fast.theta[k]);
+    other_abs_t[k] = std::abs(other.theta[k]);
+  }
+  tbb::parallel_invoke([&] { c.ks_x = stats::KsTwoSample(fast.x, other.x); },
+                       [&] { c.ks_y = stats::KsTwoSample(fast.y, other.y); },
+                       [&] { c.ks_theta = stats::KsTwoSample(fast.theta, other.theta); },
+                       [&] { c.wilcoxon_position = stats::WilcoxonSignedRank(fast_pos, other_pos); },
+                       [&] {
+                         c.wilcoxon_theta = stats::WilcoxonSignedRank(fast_abs_t, other_abs_t);
+                       });
+  return c;
+}
+
+}  // namespace
+
+PointSetup MakePointSetup(const Experiment& experiment, const estimate::Model& model,
+                          int pattern_index, int sigma_index) {
+  PointSetup setup;
+  setup.model = &model;
+  setup.noise = experiment.noise;
+  setup.sigma_mm = experiment.sigmas_mm[sigma_index];
+  setup.field_length_mm = experiment.field_length_mm;
+  setup.field_width_mm = experiment.field_width_mm;
+  setup.seed = experiment.seed;
+  setup.point = static_cast<uint32_t>(pattern_index * experiment.sigmas_mm.size() + sigma_index);
+  for (Estimator e : experiment.estimators) setup.run[static_cast<int>(e)] = true;
+  setup.ml_options = experiment.ml_options;
+  return setup;
+}
+
+RunResult RunExperiment(const Experiment& experiment, const RunOptions& options) {
+  PATLAB_CHECK(!experiment.patterns.empty());
+  PATLAB_CHECK(!experiment.sigmas_mm.empty());
+  PATLAB_CHECK(!experiment.estimators.empty());
+  const auto wall_start = Clock::now();
+  const int threads =
+      options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+
+  RunResult result;
+  result.threads = threads;
+  const int64_t trials = experiment.trials;
+  const int num_sigmas = static_cast<int>(experiment.sigmas_mm.size());
+  const int total_points = static_cast<int>(experiment.patterns.size()) * num_sigmas;
+  const int64_t num_batches = (trials + kBatchSize - 1) / kBatchSize;
+
+  Samples samples[4];
+  for (Estimator e : experiment.estimators) samples[static_cast<int>(e)].Resize(trials);
+  std::vector<uint8_t> ml_iterations(trials), ml_termination(trials);
+  BatchOutput output;
+  for (Estimator e : experiment.estimators) {
+    Samples& s = samples[static_cast<int>(e)];
+    output.errors[static_cast<int>(e)] = ErrorArrays{s.x.data(), s.y.data(), s.theta.data()};
+  }
+  const bool has_fast = samples[static_cast<int>(Estimator::kFast)].x.size() == size_t(trials);
+
+  for (int pi = 0; pi < static_cast<int>(experiment.patterns.size()); ++pi) {
+    const Pattern& pattern = experiment.patterns[pi];
+    const estimate::Model model = estimate::Model::FromPattern(pattern);
+    const estimate::StdPerSigma crlb = estimate::CramerRaoBound(model);
+    const double noise_scale = experiment.noise.EffectiveSigmaRatio();
+    estimate::StdPerSigma predicted[4];
+    for (Estimator e : experiment.estimators) {
+      predicted[static_cast<int>(e)] = estimate::PredictedStd(model, e);
+    }
+    for (int si = 0; si < num_sigmas; ++si) {
+      const PointSetup setup = MakePointSetup(experiment, model, pi, si);
+      // Stage 1: trials, in fixed batches (any thread may run any batch).
+      const auto sim_start = Clock::now();
+      tbb::parallel_for(
+          tbb::blocked_range<int64_t>(0, num_batches, 1),
+          [&](const tbb::blocked_range<int64_t>& range) {
+            for (int64_t b = range.begin(); b != range.end(); ++b) {
+              const int64_t first = b * kBatchSize;
+              const int count = static_cast<int>(std::min<int64_t>(kBatchSize, trials - first));
+              BatchOutput at = output;
+              for (ErrorArrays& e : at.errors) {
+                if (e.x_mm == nullptr) continue;
+                e.x_mm += first;
+                e.y_mm += first;
+                e.theta_rad += first;
+              }
+              at.ml_iterations = ml_iterations.data() + first;
+              at.ml_termination = ml_termination.data() + first;
+              RunBatch(setup, static_cast<uint64_t>(first), count, at);
+            }
+          },
+          tbb::simple_partitioner());
+      result.simulate_seconds += Seconds(sim_start);
+
+      // Stage 2: statistics, each a deterministic serial computation.
+      const auto stats_start = Clock::now();
+      PointResult point;
+      point.pattern_index = pi;
+      point.pattern = pattern.name;
+      point.sigma_mm = experiment.sigmas_mm[si];
+      point.point = setup.point;
+      point.trials = trials;
+      point.estimators.resize(experiment.estimators.size());
+      tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
+        const Estimator e = experiment.estimators[k];
+        EstimatorResult& r = point.estimators[k];
+        r.estimator = e;
+        FillEstimatorResult(samples[static_cast<int>(e)], &r);
+        if (experiment.noise.IsIsotropicGaussian()) {
+          r.crlb_position_mm = crlb.position_per_axis * point.sigma_mm;
+          r.crlb_theta_rad = crlb.theta * point.sigma_mm;
+        } else {
+          r.crlb_position_mm = r.crlb_theta_rad = std::nan("");
+        }
+        // The linearised estimator's std scales with the effective per-axis patch std; the
+        // common-mode offset moves the position only (every estimator is translation
+        // equivariant), adding its variance per axis.
+        const estimate::StdPerSigma& pr = predicted[static_cast<int>(e)];
+        const double g = experiment.noise.common_sigma_ratio;
+        r.predicted_position_mm =
+            point.sigma_mm * std::sqrt(std::pow(pr.position_per_axis * noise_scale, 2) + g * g);
+        r.predicted_theta_rad = point.sigma_mm * pr.theta * noise_scale;
+        if (e == Estimator::kMl) {
+          int64_t iterations = 0;
+          for (int64_t t = 0; t < trials; ++t) {
+            iterations += ml_iterations[t];
+            if (ml_termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
+              if (r.first_nonconverged_trial < 0) r.first_nonconverged_trial = t;
+              ++r.nonconverged;
+            }
+          }
+          r.mean_iterations = static_cast<double>(iterations) / static_cast<double>(trials);
+        }
+        if (e != Estimator::kFast && has_fast && point.sigma_mm > 0.0) {
+          r.vs_fast = Compare(samples[static_cast<int>(Estimator::kFast)],
+                              samples[static_cast<int>(e)]);
+        }
+      });
+      result.statistics_seconds += Seconds(stats_start);
+      result.points.push_back(std::move(point));
+      result.total_trials += trials;
+      if (options.progress) {
+        options.progress(static_cast<int>(result.points.size()), total_points);
+      }
+    }
+  }
+  result.wall_seconds = Seconds(wall_start);
+  return result;
+}
+
+}  // namespace patlab::sim
