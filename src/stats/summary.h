@@ -1,0 +1,48 @@
+// Summary statistics with confidence intervals: the standard deviations and 95% intervals of
+// the paper's Table I (Bruce & Veloso 2003, section II) and the mean with its t interval.
+// Pure functions on a span of samples; bad input (too few samples, NaN or infinity, a level
+// outside (0, 1)) throws patlab::InputError.
+#pragma once
+
+#include <cstddef>
+#include <span>
+
+namespace patlab::stats {
+
+// Standard deviation s (divisor n - 1) with its confidence interval under a normal model:
+// (n-1) s^2 / sigma^2 ~ chi^2_{n-1}, so
+//   lower = s * sqrt((n-1) / chi2_quantile(1 - alpha/2)), upper = s * sqrt((n-1) /
+//   chi2_quantile(alpha/2)),
+// alpha = 1 - level (e.g. NIST/SEMATECH e-Handbook 1.3.5.8; quantiles from Boost.Math).
+struct StdWithCi {
+  double std = 0.0;    // sample standard deviation, divisor n - 1 (numpy ddof=1), data units
+  double lower = 0.0;  // lower end of the interval, data units
+  double upper = 0.0;  // upper end of the interval, data units
+  double level = 0.95;
+  std::size_t n = 0;
+};
+
+// Mean with the Student-t interval mean -+ t_{1-alpha/2, n-1} s / sqrt(n).
+struct MeanWithCi {
+  double mean = 0.0;
+  double lower = 0.0;
+  double upper = 0.0;
+  double level = 0.95;
+  std::size_t n = 0;
+};
+
+// Arithmetic mean; needs n >= 1.
+double Mean(std::span<const double> x);
+// Sample standard deviation with divisor n - 1 (two-pass); needs n >= 2.
+double SampleStd(std::span<const double> x);
+
+// level: confidence level in (0, 1); 0.95 gives the paper's 95% intervals. Needs n >= 2.
+StdWithCi StdWithConfidence(std::span<const double> x, double level = 0.95);
+MeanWithCi MeanWithConfidence(std::span<const double> x, double level = 0.95);
+
+namespace detail {
+// Throws InputError unless every value is finite; `what` names the sample in the message.
+void RequireFinite(std::span<const double> x, const char* what);
+}  // namespace detail
+
+}  // namespace patlab::stats

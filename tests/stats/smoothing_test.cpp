@@ -1,0 +1,98 @@
+#include "stats/smoothing.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <vector>
+
+#include "core/error.h"
+#include "fixtures.h"
+
+namespace patlab::stats {
+namespace {
+
+using testing::Fixtures;
+using testing::Sample;
+
+TEST(Smoothing, MatchesScipyNdimageGaussianFilter1d) {
+  int checked = 0;
+  for (const auto& c : Fixtures().at("smoothing")) {
+    SCOPED_TRACE(c.at("name").get<std::string>());
+    const std::vector<double> x = Sample(c.at("x"));
+    SmoothingOptions options;
+    options.sigma_samples = c.at("sigma").get<double>();
+    const std::vector<double> expected = c.at("expect").at("smoothed").get<std::vector<double>>();
+    const std::vector<double> got = GaussianSmooth(x, options);
+    const std::vector<double> residual = SmoothingResiduals(x, options);
+    ASSERT_EQ(got.size(), expected.size());
+    double scale = 0.0;
+    for (double v : x) scale = std::max(scale, std::fabs(v));
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      EXPECT_NEAR(got[i], expected[i], 1e-13 * scale) << "i = " << i;
+      EXPECT_NEAR(residual[i], x[i] - expected[i], 1e-13 * scale) << "i = " << i;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 6);
+}
+
+TEST(Smoothing, PreservesConstantsAndLines) {
+  // Weights sum to 1, so constants survive; the kernel is symmetric, so a line survives away
+  // from the edges (within the radius 40 of the edge the reflection bends it).
+  std::vector<double> c(100, 3.25), line(200);
+  for (std::size_t i = 0; i < line.size(); ++i) line[i] = 0.5 * static_cast<double>(i);
+  for (double v : GaussianSmooth(c)) EXPECT_NEAR(v, 3.25, 1e-14);
+  const std::vector<double> s = GaussianSmooth(line);
+  for (std::size_t i = 40; i + 40 < line.size(); ++i) EXPECT_NEAR(s[i], line[i], 1e-12);
+  EXPECT_GT(s[0], line[0]);  // the reflected neighbours of sample 0 are all >= it
+}
+
+TEST(Smoothing, ValidatesOptions) {
+  SmoothingOptions bad;
+  bad.sigma_samples = -1.0;
+  EXPECT_THROW(
+      {
+        try {
+          Validate(bad);
+        } catch (const InputError& e) {
+          EXPECT_STREQ(e.what(),
+                       "SmoothingOptions.sigma_samples is -1.000000; expected a finite value >= 0");
+          throw;
+        }
+      },
+      InputError);
+  EXPECT_THROW(GaussianSmooth(std::vector<double>{}), InputError);
+}
+
+TEST(Autocorrelation, MatchesNumpyFixtures) {
+  for (const auto& c : Fixtures().at("autocorrelation")) {
+    SCOPED_TRACE(c.at("name").get<std::string>());
+    const std::vector<double> x = Sample(c.at("x"));
+    const double expected = c.at("expect").get<double>();
+    EXPECT_NEAR(Autocorrelation(x, c.at("lag").get<std::size_t>()), expected, 1e-13);
+  }
+}
+
+TEST(Autocorrelation, HandComputed) {
+  // x = 1, 2, 3, 4: m = 2.5, deviations -1.5 -0.5 0.5 1.5, sum of squares 5;
+  // lag 1: (0.75 - 0.25 + 0.75) / 5 = 0.25.
+  const std::vector<double> x = {1.0, 2.0, 3.0, 4.0};
+  EXPECT_DOUBLE_EQ(Autocorrelation(x, 0), 1.0);
+  EXPECT_DOUBLE_EQ(Autocorrelation(x, 1), 0.25);
+  EXPECT_TRUE(std::isnan(Autocorrelation(std::vector<double>{2.0, 2.0}, 1)));
+  EXPECT_THROW(
+      {
+        try {
+          Autocorrelation(x, 4);
+        } catch (const InputError& e) {
+          EXPECT_STREQ(e.what(), "autocorrelation at lag 4 needs more than 4 samples, got 4");
+          throw;
+        }
+      },
+      InputError);
+}
+
+}  // namespace
+}  // namespace patlab::stats

@@ -1,0 +1,80 @@
+#include "stats/summary.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iomanip>
+#include <vector>
+
+#include "core/error.h"
+#include "fixtures.h"
+
+namespace patlab::stats {
+namespace {
+
+using testing::Fixtures;
+using testing::Sample;
+
+TEST(Summary, MatchesScipyFixtures) {
+  int checked = 0;
+  for (const auto& c : Fixtures().at("std_ci")) {
+    SCOPED_TRACE(c.at("name").get<std::string>());
+    const std::vector<double> x = Sample(c.at("x"));
+    const double level = c.at("level").get<double>();
+    const auto& e = c.at("expect");
+    const StdWithCi s = StdWithConfidence(x, level);
+    EXPECT_REL_NEAR(s.std, e.at("std").get<double>(), 1e-13);
+    EXPECT_REL_NEAR(s.lower, e.at("lower").get<double>(), 1e-9);
+    EXPECT_REL_NEAR(s.upper, e.at("upper").get<double>(), 1e-9);
+    EXPECT_EQ(s.n, x.size());
+    const MeanWithCi m = MeanWithConfidence(x, level);
+    EXPECT_REL_NEAR(m.mean, e.at("mean").get<double>(), 1e-13);
+    EXPECT_REL_NEAR(m.lower, e.at("mean_lower").get<double>(), 1e-9);
+    EXPECT_REL_NEAR(m.upper, e.at("mean_upper").get<double>(), 1e-9);
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+}
+
+TEST(Summary, HandComputed) {
+  const std::vector<double> x = {1.0, 2.0, 3.0, 4.0};
+  EXPECT_DOUBLE_EQ(Mean(x), 2.5);
+  EXPECT_DOUBLE_EQ(SampleStd(x), std::sqrt(5.0 / 3.0));
+  // n = 2: chi^2_1 quantiles; level -> 0 squeezes the interval around... a point inside it.
+  const StdWithCi s = StdWithConfidence(x, 0.95);
+  EXPECT_LT(s.lower, s.std);
+  EXPECT_GT(s.upper, s.std);
+  const StdWithCi wide = StdWithConfidence(x, 0.99);
+  EXPECT_LT(wide.lower, s.lower);
+  EXPECT_GT(wide.upper, s.upper);
+}
+
+TEST(Summary, RejectsBadInput) {
+  const std::vector<double> one = {1.0};
+  EXPECT_THROW(
+      {
+        try {
+          StdWithConfidence(one);
+        } catch (const InputError& e) {
+          EXPECT_STREQ(e.what(), "the standard deviation needs at least 2 samples, got 1");
+          throw;
+        }
+      },
+      InputError);
+  const std::vector<double> x = {1.0, 2.0};
+  EXPECT_THROW(
+      {
+        try {
+          StdWithConfidence(x, 1.0);
+        } catch (const InputError& e) {
+          EXPECT_STREQ(e.what(), "confidence level 1.000000 is outside (0, 1)");
+          throw;
+        }
+      },
+      InputError);
+  const std::vector<double> nan = {1.0, std::nan("")};
+  EXPECT_THROW(MeanWithConfidence(nan), InputError);
+}
+
+}  // namespace
+}  // namespace patlab::stats

@@ -1,0 +1,149 @@
+#include "stats/wilcoxon.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iomanip>
+#include <vector>
+
+#include "core/error.h"
+#include "fixtures.h"
+
+namespace patlab::stats {
+namespace {
+
+using testing::Fixtures;
+using testing::Sample;
+
+TEST(Wilcoxon, MatchesScipyFixtures) {
+  int checked = 0;
+  double smallest = 1.0;
+  for (const auto& c : Fixtures().at("wilcoxon")) {
+    SCOPED_TRACE(c.at("name").get<std::string>());
+    const std::vector<double> x = Sample(c.at("x"));
+    const std::vector<double> y = Sample(c.at("y"));
+    WilcoxonOptions options;
+    options.alternative = ParseAlternative(c.at("alternative").get<std::string>());
+    options.zero_method = ParseZeroMethod(c.at("zero_method").get<std::string>());
+    options.correction = c.at("correction").get<bool>();
+    options.method = ParseWilcoxonMethod(c.at("method").get<std::string>());
+    const WilcoxonResult r = WilcoxonSignedRank(x, y, options);
+    const auto& e = c.at("expect");
+    EXPECT_EQ(r.statistic, e.at("statistic").get<double>());  // exact: sums of half-integers
+    EXPECT_EQ(WilcoxonMethodName(r.method_used), e.at("method_used").get<std::string>());
+    EXPECT_REL_NEAR(r.p_value, e.at("p").get<double>(), 1e-9);
+    if (e.contains("z")) {
+      EXPECT_NEAR(r.z, e.at("z").get<double>(), 1e-9 * std::max(1.0, std::fabs(r.z)));
+    } else {
+      EXPECT_TRUE(std::isnan(r.z));
+    }
+    smallest = std::min(smallest, e.at("p").get<double>());
+    ++checked;
+  }
+  EXPECT_GE(checked, 60);
+  EXPECT_LT(smallest, 1e-200);
+}
+
+TEST(Wilcoxon, HandComputedExactCase) {
+  // d = 1, -2, 3, 4, 5: R+ = 1+3+4+5 = 13, R- = 2. Subsets of {1..5} with sum <= 2: {}, {1},
+  // {2}, so P(R+ <= 2) = 3/32 and the two-sided p = 6/32.
+  const std::vector<double> d = {1.0, -2.0, 3.0, 4.0, 5.0};
+  const WilcoxonResult r = WilcoxonSignedRank(d);
+  EXPECT_EQ(r.r_plus, 13.0);
+  EXPECT_EQ(r.r_minus, 2.0);
+  EXPECT_EQ(r.statistic, 2.0);
+  EXPECT_EQ(r.method_used, WilcoxonMethod::kExact);
+  EXPECT_DOUBLE_EQ(r.p_value, 6.0 / 32.0);
+  WilcoxonOptions less;
+  less.alternative = Alternative::kLess;
+  EXPECT_DOUBLE_EQ(WilcoxonSignedRank(d, less).p_value, 30.0 / 32.0);  // P(R+ <= 13)
+}
+
+TEST(Wilcoxon, HandComputedTiesAndZeros) {
+  // d = 0, 1, -1, 2, 2: wilcox drops the zero, ranks of |d| = 1.5 1.5 3.5 3.5;
+  // R+ = 1.5 + 7 = 8.5, R- = 1.5; variance (4*5*9 - 0.5*(6 + 6)) / 24 = 174/24.
+  const std::vector<double> d = {0.0, 1.0, -1.0, 2.0, 2.0};
+  WilcoxonOptions options;
+  options.alternative = Alternative::kGreater;
+  const WilcoxonResult r = WilcoxonSignedRank(d, options);
+  EXPECT_EQ(r.method_used, WilcoxonMethod::kApprox);
+  EXPECT_EQ(r.r_plus, 8.5);
+  EXPECT_EQ(r.r_minus, 1.5);
+  EXPECT_DOUBLE_EQ(r.z, (8.5 - 5.0) / std::sqrt(174.0 / 24.0));
+  EXPECT_DOUBLE_EQ(r.p_value, 0.5 * std::erfc(r.z / std::sqrt(2.0)));
+  // zsplit: ranks 1, 2.5, 2.5, 4.5, 4.5; the zero's rank 1 is split.
+  options.zero_method = ZeroMethod::kZsplit;
+  const WilcoxonResult z = WilcoxonSignedRank(d, options);
+  EXPECT_EQ(z.r_plus, 2.5 + 9.0 + 0.5);
+  EXPECT_EQ(z.r_minus, 2.5 + 0.5);
+}
+
+TEST(Wilcoxon, ExactRequestWithTiesFallsBackToApprox) {
+  const std::vector<double> d = {1.0, -1.0, 2.0, 3.0, 4.0, 5.0};
+  WilcoxonOptions options;
+  options.method = WilcoxonMethod::kExact;
+  const WilcoxonResult r = WilcoxonSignedRank(d, options);
+  EXPECT_TRUE(r.has_ties);
+  EXPECT_EQ(r.method_used, WilcoxonMethod::kApprox);
+}
+
+TEST(Wilcoxon, TinyTailSurvivesThroughComplements) {
+  // 2000 positive differences: z ~ 38.7, p ~ 1e-327 underflows to 0 but never to a negative
+  // or NaN; 1500 gives a representable p ~ 1e-246 with full relative accuracy.
+  std::vector<double> d(1500);
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = 1.0 + static_cast<double>(i);
+  WilcoxonOptions options;
+  options.alternative = Alternative::kGreater;
+  const WilcoxonResult r = WilcoxonSignedRank(d, options);
+  const double n = 1500.0;
+  const double z = (n * (n + 1) / 2 - n * (n + 1) / 4) / std::sqrt(n * (n + 1) * (2 * n + 1) / 24);
+  EXPECT_DOUBLE_EQ(r.z, z);
+  EXPECT_REL_NEAR(r.p_value, 0.5 * std::erfc(z / std::sqrt(2.0)), 1e-12);
+  EXPECT_GT(r.p_value, 0.0);
+  EXPECT_LT(r.p_value, 1e-200);
+}
+
+TEST(Wilcoxon, RejectsBadInput) {
+  const std::vector<double> a = {1.0, 2.0, 3.0};
+  const std::vector<double> b = {1.0, 2.0};
+  EXPECT_THROW(
+      {
+        try {
+          WilcoxonSignedRank(a, b);
+        } catch (const InputError& e) {
+          EXPECT_STREQ(e.what(),
+                       "the Wilcoxon test needs paired samples of equal length, got 3 and 2 "
+                       "values");
+          throw;
+        }
+      },
+      InputError);
+  EXPECT_THROW(
+      {
+        try {
+          WilcoxonSignedRank(a, a);
+        } catch (const InputError& e) {
+          EXPECT_STREQ(e.what(),
+                       "every difference is zero, so zero method 'wilcox' leaves nothing to "
+                       "rank; expected at least one non-zero difference (or use zsplit)");
+          throw;
+        }
+      },
+      InputError);
+  EXPECT_THROW(WilcoxonSignedRank(std::vector<double>{}), InputError);
+  const std::vector<double> inf = {1.0, INFINITY, 3.0};
+  EXPECT_THROW(
+      {
+        try {
+          WilcoxonSignedRank(a, inf);
+        } catch (const InputError& e) {
+          EXPECT_STREQ(e.what(), "sample 2 value 2 is infinite; expected finite numbers");
+          throw;
+        }
+      },
+      InputError);
+  EXPECT_THROW(ParseZeroMethod("none"), InputError);
+}
+
+}  // namespace
+}  // namespace patlab::stats
