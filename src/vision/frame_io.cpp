@@ -1,6 +1,7 @@
 #include "vision/frame_io.h"
 
 #include <jpeglib.h>
+#include <jerror.h>
 #include <png.h>
 #include <unistd.h>
 
@@ -96,7 +97,13 @@ bool DecodeJpegRaw(const uint8_t* data, size_t size, Image* out, char* message, 
   err.message[0] = '\0';
   if (setjmp(err.jump)) {
     std::snprintf(message, JMSG_LENGTH_MAX, "%s", err.message);
-    *offset = cinfo.src != nullptr ? size - cinfo.src->bytes_in_buffer : 0;
+    // Running out of data is found at the end; otherwise the source position is where the
+    // decoder had read to (the entropy decoder may have buffered a few bytes beyond the fault).
+    if (err.pub.msg_code == JWRN_JPEG_EOF) {
+      *offset = size;
+    } else {
+      *offset = cinfo.src != nullptr ? size - cinfo.src->bytes_in_buffer : 0;
+    }
     jpeg_destroy_decompress(&cinfo);
     return false;
   }
@@ -134,6 +141,7 @@ class PpmHeader {
   long long Number(const char* what) {
     SkipSpaceAndComments();
     const size_t start = pos_;
+    last_start_ = start;
     long long value = 0;
     while (pos_ < bytes_.size() && bytes_[pos_] >= '0' && bytes_[pos_] <= '9') {
       value = value * 10 + (bytes_[pos_] - '0');
@@ -149,6 +157,7 @@ class PpmHeader {
     return value;
   }
   size_t pos() const { return pos_; }
+  size_t last_start() const { return last_start_; }
   void Skip(size_t n) { pos_ += n; }
 
  private:
@@ -167,6 +176,7 @@ class PpmHeader {
   const std::vector<uint8_t>& bytes_;
   const std::string& name_;
   size_t pos_ = 0;
+  size_t last_start_ = 0;
 };
 
 bool HasExtension(const fs::path& path, std::initializer_list<const char*> extensions) {
@@ -238,8 +248,8 @@ Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name) {
   header.Skip(2);
   const long long width = header.Number("width");
   const long long height = header.Number("height");
-  const size_t maxval_at = header.pos();
   const long long maxval = header.Number("maxval");
+  const size_t maxval_at = header.last_start();
   if (maxval != 255) {
     FailAt(name, maxval_at, "PPM maxval " + std::to_string(maxval) + "; expected 255 (8 bits per sample)");
   }

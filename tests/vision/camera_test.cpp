@@ -1,0 +1,143 @@
+#include "vision/camera.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_util.h"
+
+namespace patlab::vision {
+namespace {
+
+constexpr double kTol = 1e-9;
+
+// A camera 4000 mm above the floor looking straight down, f = 500 px, no distortion: the plane
+// at height h is seen at 500 / (4000 - h) px per mm.
+PinholeCamera Overhead(double k1 = 0.0, double k2 = 0.0) {
+  const Calibration cal = ParseCalibration(
+      "model = \"pinhole\"\n[pinhole]\nfx_px = 500\nfy_px = 500\ncx_px = 320\ncy_px = 240\n"
+      "k1 = " + std::to_string(k1) + "\nk2 = " + std::to_string(k2) +
+      "\ncamera_position_mm = [100, 200, 4000]\nyaw_deg = 0\n",
+      "c.toml");
+  return cal.camera.pinhole();
+}
+
+TEST(Camera, OverheadPinholeMapsTheImageCentreBelowTheCamera) {
+  const CameraModel cam = CameraModel::Pinhole(Overhead());
+  const Vec2 w = *cam.PixelToWorld(Vec2(320, 240), 140);
+  EXPECT_NEAR(w.x(), 100, kTol);
+  EXPECT_NEAR(w.y(), 200, kTol);
+  // One pixel right is +x, one pixel down is -y (image y points down, world y up).
+  const Vec2 right = *cam.PixelToWorld(Vec2(321, 240), 140);
+  const Vec2 down = *cam.PixelToWorld(Vec2(320, 241), 140);
+  EXPECT_NEAR(right.x() - 100, 3860.0 / 500.0, kTol);
+  EXPECT_NEAR(down.y() - 200, -3860.0 / 500.0, kTol);
+  EXPECT_NEAR(cam.AreaScale(Vec2(100, 400), 140), std::pow(3860.0 / 500.0, 2), 1e-6);
+}
+
+TEST(Camera, PinholeRoundTripWithDistortion) {
+  const CameraModel cam = CameraModel::Pinhole(Overhead(-0.25, 0.05));
+  for (double u : {0.0, 100.5, 320.0, 639.0}) {
+    for (double v : {0.0, 240.0, 479.0}) {
+      for (double h : {0.0, 21.5, 140.0}) {
+        const auto w = cam.PixelToWorld(Vec2(u, v), h);
+        ASSERT_TRUE(w.has_value());
+        const Vec2 back = *cam.WorldToPixel(*w, h);
+        EXPECT_NEAR(back.x(), u, 1e-9);
+        EXPECT_NEAR(back.y(), v, 1e-9);
+      }
+    }
+  }
+}
+
+TEST(Camera, BarrelDistortionPullsCornersIn) {
+  // With k1 < 0 a world point far from the axis appears closer to the image centre.
+  const CameraModel plain = CameraModel::Pinhole(Overhead());
+  const CameraModel barrel = CameraModel::Pinhole(Overhead(-0.2));
+  const Vec2 world(100 + 2000, 200 - 1500);
+  const Vec2 p = *plain.WorldToPixel(world, 0);
+  const Vec2 b = *barrel.WorldToPixel(world, 0);
+  EXPECT_LT((b - Vec2(320, 240)).norm(), (p - Vec2(320, 240)).norm());
+  // Distorted radius = r (1 + k1 r^2) on normalised coordinates (r = 2500 / 4000).
+  const double r = 2500.0 / 4000.0;
+  EXPECT_NEAR((b - Vec2(320, 240)).norm(), 500 * r * (1 - 0.2 * r * r), 1e-9);
+}
+
+TEST(Camera, OpenCvExtrinsicsAgreeWithOverheadForm) {
+  // Camera looking down: rotation of pi about x maps world (x, y, z) to camera (x, -y, -z).
+  const Calibration cal = ParseCalibration(
+      "model = \"pinhole\"\n[pinhole]\nfx_px = 500\nfy_px = 500\ncx_px = 320\ncy_px = 240\n"
+      "rotation_rodrigues = [3.141592653589793, 0, 0]\ntranslation_mm = [-100, 200, 4000]\n",
+      "c.toml");
+  const CameraModel overhead = CameraModel::Pinhole(Overhead());
+  for (const Vec2& px : {Vec2(0, 0), Vec2(500, 100), Vec2(320, 240)}) {
+    const Vec2 a = *cal.camera.PixelToWorld(px, 140), b = *overhead.PixelToWorld(px, 140);
+    EXPECT_NEAR(a.x(), b.x(), 1e-6);
+    EXPECT_NEAR(a.y(), b.y(), 1e-6);
+  }
+}
+
+TEST(Camera, HomographyForAPlaneHeight) {
+  // The pattern sheet: 1 px = 1 mm, y up, origin at the bottom-left of an 800 px image.
+  const Calibration cal = ParseCalibration(
+      "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+      "matrix = [[1, 0, 0], [0, -1, 800], [0, 0, 1]]\n[heights]\ndefault_mm = 0\n",
+      "h.toml");
+  const Vec2 w = *cal.camera.PixelToWorld(Vec2(100, 700), 0);
+  EXPECT_NEAR(w.x(), 100, kTol);
+  EXPECT_NEAR(w.y(), 100, kTol);
+  EXPECT_NEAR(cal.camera.AreaScale(Vec2(3, 4), 0), 1.0, kTol);
+  EXPECT_FALSE(cal.camera.PixelToWorld(Vec2(100, 700), 140).has_value());
+  EXPECT_FALSE(cal.camera.SupportsHeight(140));
+  const Vec2 p = *cal.camera.WorldToPixel(Vec2(100, 100), 0.2);
+  EXPECT_NEAR(p.y(), 700, kTol);
+}
+
+TEST(Camera, ProjectiveHomographyMatchesItsDefinition) {
+  Eigen::Matrix3d h;
+  h << 2, 0.1, 5, -0.2, 1.5, 7, 1e-3, 2e-3, 1;
+  const CameraModel cam = CameraModel::Homographies({PlaneHomography{50, h}});
+  const Eigen::Vector3d w = h * Eigen::Vector3d(10, 20, 1);
+  const Vec2 expect(w.x() / w.z(), w.y() / w.z());
+  EXPECT_NEAR((*cam.PixelToWorld(Vec2(10, 20), 50) - expect).norm(), 0, 1e-12);
+  EXPECT_NEAR((*cam.WorldToPixel(expect, 50) - Vec2(10, 20)).norm(), 0, 1e-9);
+}
+
+TEST(Camera, CalibrationErrorsNameFileAndLine) {
+  EXPECT_INPUT_ERROR(ParseCalibration("model = \"fisheye\"\n", "c.toml"),
+                     "c.toml:1: model is \"fisheye\"; expected \"pinhole\" or \"homography\"");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration("model = \"pinhole\"\n[pinhole]\nfx_px = -5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
+                       "camera_position_mm = [0, 0, 1]\n",
+                       "c.toml"),
+      "c.toml:3: fx_px in [pinhole] is -5; expected > 0");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration("model = \"pinhole\"\n[pinhole]\nfx_px = 5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n",
+                       "c.toml"),
+      "c.toml:3: [pinhole] needs exactly one form of extrinsics; expected rotation_rodrigues and "
+      "translation_mm, or camera_position_mm and yaw_deg");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration("model = \"pinhole\"\n[pinhole]\nfx_px = 5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
+                       "camera_position_mm = [0, 0]\n",
+                       "c.toml"),
+      "c.toml:7: camera_position_mm in [pinhole] is malformed; expected [x, y, z] in mm");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+                       "matrix = [[1, 2, 3], [2, 4, 6], [0, 0, 1]]\n",
+                       "h.toml"),
+      "h.toml:4: matrix in [[homography]] 1 is singular; expected an invertible homography");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\nmatrix = [[1, 0], [0, 1]]\n",
+                       "h.toml"),
+      "h.toml:4: matrix in [[homography]] 1 is malformed; expected 3 rows of 3 numbers");
+  EXPECT_INPUT_ERROR(ParseCalibration("model = \"homography\"\n", "h.toml"),
+                     "h.toml:1: model = \"homography\" needs [[homography]] tables; expected "
+                     "height_mm and matrix");
+  EXPECT_INPUT_ERROR(ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+                                      "matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n[heights]\nball = \"low\"\n",
+                                      "h.toml"),
+                     "h.toml:6: ball in [heights] is a string; expected a number");
+}
+
+}  // namespace
+}  // namespace patlab::vision

@@ -1,0 +1,247 @@
+#include "vision/segment.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "test_util.h"
+#include "vision/render.h"
+
+namespace patlab::vision {
+namespace {
+
+// Two RGB classes: red (R high, G, B low) and green (G high, R, B low).
+Thresholds RedGreen() {
+  Thresholds t;
+  t.space = ColorSpace::kRgb;
+  ColorClass red, green;
+  red.name = "red";
+  red.range = {ChannelRange{128, 255}, ChannelRange{0, 127}, ChannelRange{0, 127}};
+  green.name = "green";
+  green.range = {ChannelRange{0, 127}, ChannelRange{128, 255}, ChannelRange{0, 127}};
+  t.classes = {red, green};
+  return t;
+}
+
+// Draws a tiny image from text: '.' background, 'r' red, 'g' green.
+Image FromText(const std::vector<std::string>& rows) {
+  Image image = Image::Rgb(static_cast<int>(rows[0].size()), static_cast<int>(rows.size()));
+  for (int y = 0; y < image.height_px; ++y) {
+    for (int x = 0; x < image.width_px; ++x) {
+      uint8_t* p = image.Row(y) + 3 * x;
+      const char c = rows[static_cast<size_t>(y)][static_cast<size_t>(x)];
+      p[0] = c == 'r' ? 230 : 20;
+      p[1] = c == 'g' ? 230 : 20;
+      p[2] = 20;
+    }
+  }
+  return image;
+}
+
+SegmenterOptions Keep(int min_area_px = 1) {
+  SegmenterOptions o;
+  o.min_area_px = min_area_px;
+  return o;
+}
+
+TEST(Segmenter, HandMadeImageRunsAndRegions) {
+  Segmenter s(RedGreen(), Keep());
+  s.Process(FromText({
+      "rr..g",
+      "rr.gg",
+      "....g",
+  }));
+  ASSERT_EQ(s.runs().size(), 5u);  // rr g / rr gg / g
+  EXPECT_EQ(s.runs()[0].x_begin, 0);
+  EXPECT_EQ(s.runs()[0].x_end, 1);
+  EXPECT_EQ(s.runs()[3].x_begin, 3);
+  EXPECT_EQ(s.runs()[4].y, 2);
+  ASSERT_EQ(s.regions().size(), 2u);
+  const Region& red = s.regions()[0];
+  EXPECT_EQ(red.colour, 0);
+  EXPECT_EQ(red.area_px, 4);
+  EXPECT_EQ(red.centroid_px, Vec2(0.5, 0.5));
+  EXPECT_EQ(red.x_max, 1);
+  EXPECT_EQ(red.y_max, 1);
+  EXPECT_DOUBLE_EQ(red.Fill(), 1.0);
+  const Region& green = s.regions()[1];
+  EXPECT_EQ(green.colour, 1);
+  EXPECT_EQ(green.area_px, 4);
+  // pixels (4,0), (3,1), (4,1), (4,2): mean x = 15/4, mean y = 4/4
+  EXPECT_EQ(green.centroid_px, Vec2(3.75, 1.0));
+  EXPECT_EQ(green.x_min, 3);
+  EXPECT_DOUBLE_EQ(green.Fill(), 4.0 / 6.0);
+}
+
+TEST(Segmenter, UnionFindJoinsAUShapeAndAnS) {
+  // The two arms of the U meet only on the last row; the S needs joins in both directions.
+  Segmenter s(RedGreen(), Keep());
+  s.Process(FromText({
+      "r.r.ggg",
+      "r.r.g..",
+      "rrr.ggg",
+      "....r.g",
+      "r.r.ggg",
+  }));
+  ASSERT_EQ(s.RegionsOf(0).size(), 4u);  // the U (7 px) and three single pixels
+  EXPECT_EQ(s.RegionsOf(0)[0].area_px, 7);
+  ASSERT_EQ(s.RegionsOf(1).size(), 1u);
+  EXPECT_EQ(s.RegionsOf(1)[0].area_px, 11);
+  EXPECT_EQ(s.num_raw_regions(), 5);
+}
+
+TEST(Segmenter, DiagonalNeighboursAreSeparateRegions) {
+  // 4-connectivity, as CMVision: runs join only when they overlap on adjacent rows.
+  Segmenter s(RedGreen(), Keep());
+  s.Process(FromText({"r.", ".r"}));
+  EXPECT_EQ(s.regions().size(), 2u);
+}
+
+TEST(Segmenter, DifferentClassesTouchingStayApart) {
+  Segmenter s(RedGreen(), Keep());
+  s.Process(FromText({"rrgg", "rrgg"}));
+  ASSERT_EQ(s.regions().size(), 2u);
+  EXPECT_EQ(s.regions()[0].centroid_px, Vec2(0.5, 0.5));
+  EXPECT_EQ(s.regions()[1].centroid_px, Vec2(2.5, 0.5));
+}
+
+TEST(Segmenter, FiltersByAreaAndFillAndSortsByArea) {
+  const Image image = FromText({
+      "r..rr.rrr",
+      "...rr.r..",
+      "......r..",
+  });
+  Segmenter all(RedGreen(), Keep());
+  all.Process(image);
+  ASSERT_EQ(all.regions().size(), 3u);
+  EXPECT_EQ(all.regions()[0].area_px, 5);  // the L
+  EXPECT_EQ(all.regions()[1].area_px, 4);  // the square
+  EXPECT_EQ(all.regions()[2].area_px, 1);
+  SegmenterOptions o = Keep(2);
+  o.min_fill = 0.6;  // the L fills 5 / 9
+  Segmenter filtered(RedGreen(), o);
+  filtered.Process(image);
+  ASSERT_EQ(filtered.regions().size(), 1u);
+  EXPECT_EQ(filtered.regions()[0].area_px, 4);
+}
+
+TEST(Segmenter, ClassMinAreaOverridesTheDefault) {
+  Thresholds t = RedGreen();
+  t.classes[1].min_area_px = 3;
+  Segmenter s(t, Keep(1));
+  s.Process(FromText({"rg", "r."}));
+  ASSERT_EQ(s.regions().size(), 1u);
+  EXPECT_EQ(s.regions()[0].colour, 0);
+}
+
+TEST(Segmenter, RunsAcrossWordBoundariesAndRowEnds) {
+  // Runs starting and ending at every offset around the 8-byte skipping in EncodeRuns.
+  for (int start = 0; start < 19; ++start) {
+    for (int length = 1; start + length <= 19; ++length) {
+      std::string row(19, '.');
+      for (int x = start; x < start + length; ++x) row[static_cast<size_t>(x)] = 'g';
+      Segmenter s(RedGreen(), Keep());
+      s.Process(FromText({row}));
+      ASSERT_EQ(s.regions().size(), 1u) << row;
+      EXPECT_EQ(s.regions()[0].x_min, start) << row;
+      EXPECT_EQ(s.regions()[0].area_px, length) << row;
+    }
+  }
+}
+
+TEST(Segmenter, YuvThresholdsOnRgbAndUyvyFramesAgree) {
+  Thresholds t;
+  t.space = ColorSpace::kYuv;
+  ColorClass blue;
+  blue.name = "blue";
+  blue.range = {ChannelRange{0, 255}, ChannelRange{160, 255}, ChannelRange{0, 120}};
+  t.classes = {blue};
+  std::vector<Disc> discs = {{Vec2(20.3, 15.7), 6.2, {30, 40, 220}}};
+  const Image rgb = RenderDiscs(40, 30, {90, 90, 90}, discs);
+  Segmenter a(t, Keep()), b(t, Keep());
+  a.Process(rgb);
+  b.Process(ToUyvy(rgb));
+  ASSERT_EQ(a.regions().size(), 1u);
+  ASSERT_EQ(b.regions().size(), 1u);
+  // Digitisation error < 0.15 px at this radius (see the test below); UYVY's shared chroma
+  // moves boundary pixels by up to one more column, hence 0.25 px.
+  EXPECT_NEAR(a.regions()[0].centroid_px.x(), 20.3, 0.15);
+  EXPECT_NEAR(a.regions()[0].centroid_px.y(), 15.7, 0.15);
+  EXPECT_NEAR(b.regions()[0].centroid_px.x(), 20.3, 0.25);
+  EXPECT_NEAR(b.regions()[0].centroid_px.y(), 15.7, 0.25);
+  // Chroma subsampling moves boundary pixels only: areas within one boundary's worth.
+  EXPECT_NEAR(a.regions()[0].area_px, b.regions()[0].area_px, 2 * M_PI * 6.2 * 0.5);
+}
+
+// Rendered anti-aliased discs at random sub-pixel positions: the centroid of the thresholded
+// disc is the disc centre up to digitisation, which shrinks with the radius (measured over 400
+// discs: max per axis 0.22 px at r = 4, 0.15 at r = 6..8, 0.16 for r in 12..20; rms 0.075 at
+// r = 4 falling to 0.03 at r = 20). The mean error
+// over many discs must vanish within 4 standard errors (no bias: the pixel-centre convention and
+// the run sums are right; a half-pixel slip would fail by 25 standard errors).
+void CheckDiscCentroids(double min_radius, double max_radius, double max_error_px) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Segmenter s(RedGreen(), Keep());
+  const int n = 200;
+  double sum[2] = {0, 0}, sum_sq[2] = {0, 0}, max_error = 0.0;
+  for (int trial = 0; trial < n; ++trial) {
+    const double radius = min_radius + (max_radius - min_radius) * unit(rng);
+    const Vec2 centre(30 + unit(rng), 30 + unit(rng));
+    const std::vector<Disc> discs = {{centre, radius, {240, 10, 10}}};
+    s.Process(RenderDiscs(61, 61, {10, 10, 10}, discs, 16));
+    ASSERT_EQ(s.regions().size(), 1u);
+    const Vec2 error = s.regions()[0].centroid_px - centre;
+    for (int k = 0; k < 2; ++k) {
+      sum[k] += error[k];
+      sum_sq[k] += error[k] * error[k];
+      max_error = std::max(max_error, std::abs(error[k]));
+    }
+    // Area within half a pixel ring of pi r^2.
+    EXPECT_NEAR(s.regions()[0].area_px, M_PI * radius * radius, 2 * M_PI * radius * 0.5);
+  }
+  EXPECT_LT(max_error, max_error_px);
+  for (int k = 0; k < 2; ++k) {
+    const double mean = sum[k] / n;
+    const double standard_error = std::sqrt((sum_sq[k] / n - mean * mean) / (n - 1));
+    EXPECT_LT(std::abs(mean), 4 * standard_error) << "axis " << k;
+  }
+}
+
+TEST(Segmenter, CentroidsOfRenderedDiscsAreSubPixelAccurate) {
+  CheckDiscCentroids(4, 8, 0.3);
+  CheckDiscCentroids(12, 20, 0.2);
+}
+
+TEST(Segmenter, ManyDiscsAllFoundInAreaOrder) {
+  std::vector<Disc> discs;
+  for (int i = 0; i < 12; ++i) {
+    discs.push_back({Vec2(20 + 40 * (i % 4) + 0.25 * i, 20 + 40 * (i / 4) + 0.1 * i), 5.0 + i,
+                     i % 2 ? Rgb{10, 240, 10} : Rgb{240, 10, 10}});
+  }
+  Segmenter s(RedGreen(), Keep(10));
+  s.Process(RenderDiscs(170, 130, {0, 0, 0}, discs));
+  ASSERT_EQ(s.RegionsOf(0).size(), 6u);
+  ASSERT_EQ(s.RegionsOf(1).size(), 6u);
+  for (int c = 0; c < 2; ++c) {
+    const auto regions = s.RegionsOf(c);
+    for (size_t k = 0; k < regions.size(); ++k) {
+      const Disc& d = discs[static_cast<size_t>(10 + c - 2 * static_cast<int>(k))];  // largest first
+      EXPECT_NEAR(regions[k].centroid_px.x(), d.centre.x(), 0.1);
+      EXPECT_NEAR(regions[k].centroid_px.y(), d.centre.y(), 0.1);
+    }
+  }
+}
+
+TEST(Segmenter, OptionsAreValidated) {
+  SegmenterOptions o;
+  o.min_area_px = 0;
+  EXPECT_INPUT_ERROR(Validate(o), "min_area_px is 0; expected >= 1");
+  o.min_area_px = 1;
+  o.min_fill = 1.5;
+  EXPECT_INPUT_ERROR(Validate(o), "min_fill is 1.500000; expected 0 <= min_fill <= 1");
+}
+
+}  // namespace
+}  // namespace patlab::vision

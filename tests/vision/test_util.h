@@ -1,0 +1,49 @@
+// Shared helpers of the vision tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+
+namespace patlab::vision::testing {
+
+// Asserts that `statement` throws InputError whose message is exactly `message`.
+#define EXPECT_INPUT_ERROR(statement, message)                   \
+  do {                                                           \
+    try {                                                        \
+      statement;                                                 \
+      ADD_FAILURE() << "expected InputError: " << (message);     \
+    } catch (const ::patlab::InputError& e) {                    \
+      EXPECT_EQ(std::string(e.what()), std::string(message));    \
+    }                                                            \
+  } while (false)
+
+// A fresh scratch directory per test.
+inline std::string ScratchDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "patlab_vision_test" /
+                                    (std::string(info->test_suite_name()) + "." + info->name());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+inline void WriteBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+inline void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+// The shared real frames (not in the repository); tests skip when absent.
+inline std::string SharedFrames() { return std::string(PATLAB_SOURCE_DIR) + "/../shared/frames"; }
+
+}  // namespace patlab::vision::testing
