@@ -1,0 +1,102 @@
+#include "detect/settings.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace patlab::detect {
+namespace {
+
+const std::string kExperiments = std::string(PATLAB_SOURCE_DIR) + "/experiments";
+
+TEST(Settings, ShippedFileLoadsWithDocumentedDefaults) {
+  const DetectorConfig config = LoadDetectorSettings(kExperiments + "/detector.toml");
+  const DetectorOptions defaults;
+  EXPECT_EQ(config.palette.size(), 8u);
+  EXPECT_EQ(config.options.patch_sigma_mm, defaults.patch_sigma_mm);
+  EXPECT_EQ(config.options.geometry_confidence, defaults.geometry_confidence);
+  EXPECT_EQ(config.options.reach_margin_mm, defaults.reach_margin_mm);
+  EXPECT_EQ(config.options.area_ratio_min, defaults.area_ratio_min);
+  EXPECT_EQ(config.options.area_ratio_max, defaults.area_ratio_max);
+  EXPECT_EQ(config.options.missing_patch, defaults.missing_patch);
+  EXPECT_EQ(config.options.max_neighbours, defaults.max_neighbours);
+  EXPECT_EQ(config.options.estimator, defaults.estimator);
+  EXPECT_EQ(config.options.ml.max_iterations, defaults.ml.max_iterations);
+  ASSERT_EQ(config.patterns.size(), 1u);
+  EXPECT_EQ(config.patterns[0].pattern.name, "ssl-standard");
+  EXPECT_EQ(config.patterns[0].codebook.entries.size(), 16u);
+}
+
+TEST(Settings, MinimalFileGeneratesTheCodebook) {
+  const DetectorConfig config = ParseDetectorSettings(
+      "palette = [\"blue\", \"pink\", \"green\", \"cyan\"]\n"
+      "[detector]\nmissing_patch = \"fit\"\nestimator = \"ml\"\n"
+      "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"green\", \"cyan\"]\n"
+      "key_colours = [\"blue\"]\n",
+      "s.toml", kExperiments);
+  EXPECT_EQ(config.options.missing_patch, MissingPatchPolicy::kFit);
+  EXPECT_EQ(config.options.estimator, estimate::Estimator::kMl);
+  EXPECT_EQ(config.patterns[0].codebook.entries.size(), 8u);
+}
+
+void ExpectSettingsError(const std::string& text, const std::string& message) {
+  try {
+    ParseDetectorSettings(text, "bad.toml", kExperiments);
+    ADD_FAILURE() << "no error; expected: " << message;
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), message);
+  }
+}
+
+const std::string kHead = "palette = [\"blue\", \"yellow\", \"pink\", \"green\"]\n";  // line 1
+const std::string kPattern =
+    "[[pattern]]\npattern = \"ssl-standard\"\nid_colours = [\"pink\", \"green\"]\n"
+    "key_colours = [\"blue\"]\n";
+
+TEST(Settings, BadFilesGiveTheirMessages) {
+  ExpectSettingsError(kHead + "[detector]\npatch_sigma_mm = -1\n" + kPattern,
+                      "bad.toml:3: patch_sigma_mm is -1; expected a finite number > 0 (mm)");
+  ExpectSettingsError(kHead + "[detector]\narea_ratio_min = 3\n" + kPattern,
+                      "bad.toml:2: area_ratio_max is 2.5; expected a finite number > "
+                      "area_ratio_min (3)");
+  ExpectSettingsError(kHead + "[detector]\npatch_sigma = 1\n" + kPattern,
+                      "bad.toml:3: unknown key 'patch_sigma' in [detector]; expected one of: "
+                      "patch_sigma_mm, geometry_confidence, reach_margin_mm, area_ratio_min, "
+                      "area_ratio_max, missing_patch, max_neighbours, estimator, "
+                      "ml_max_iterations");
+  ExpectSettingsError(kHead + "[detector]\nmissing_patch = \"guess\"\n" + kPattern,
+                      "bad.toml:3: missing_patch is \"guess\"; expected \"reject\" or \"fit\"");
+  ExpectSettingsError(kHead + "[detector]\nestimator = \"best\"\n" + kPattern,
+                      "bad.toml:3: estimator is \"best\"; expected \"fast\", \"ml\", \"lsq\" or "
+                      "\"key\"");
+  ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 2.5\n" + kPattern,
+                      "bad.toml:3: max_neighbours in [detector] is a float; expected an integer");
+  ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 3\n" + kPattern,
+                      "bad.toml: pattern ssl-standard: max_neighbours is 3; expected at least 4 "
+                      "(its non-key patches)");
+  ExpectSettingsError(kHead,
+                      "bad.toml:1: no patterns; expected at least one [[pattern]] table");
+  ExpectSettingsError("palette = []\n" + kPattern,
+                      "bad.toml:1: palette is an empty array; expected a non-empty array of "
+                      "colour names");
+  ExpectSettingsError(kHead + "[[pattern]]\npattern = \"ssl-standard\"\nid_colours = [\"pink\"]\n"
+                              "key_colours = [\"blue\", \"purple\"]\n",
+                      "bad.toml:5: colour \"purple\" is not in the palette; expected one of: "
+                      "blue, yellow, pink, green");
+  ExpectSettingsError(kHead + "[[pattern]]\npattern = \"ssl-standard\"\nkey_colours = [\"blue\"]\n",
+                      "bad.toml:3: [[pattern]] 0 has neither codebook nor id_colours; expected "
+                      "exactly one of them");
+  ExpectSettingsError(kHead + "[[pattern]]\npattern = \"hexagon\"\nid_colours = [\"pink\"]\n"
+                              "key_colours = [\"blue\"]\n",
+                      "bad.toml:3: pattern 'hexagon' not found; expected a pattern file path or a "
+                      "name in " + std::string(PATLAB_SOURCE_DIR) + "/patterns/");
+  ExpectSettingsError(kHead + "[[pattern]]\npattern = \"linear\"\nid_colours = [\"pink\"]\n"
+                              "key_colours = [\"blue\"]\nsymmetry_tolerance_mm = -2\n",
+                      "bad.toml:6: symmetry_tolerance_mm is -2; expected a number >= 0 (mm)");
+  ExpectSettingsError(kHead + "[detector\n",
+                      "bad.toml:2: TOML syntax error: Error while parsing table header: expected "
+                      "']', saw '\\n'");
+}
+
+}  // namespace
+}  // namespace patlab::detect
