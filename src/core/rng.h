@@ -27,10 +27,45 @@ inline std::array<uint32_t, 4> PhiloxBlock(uint64_t key, uint32_t a, uint32_t b,
   return {out[0], out[1], out[2], out[3]};
 }
 
-// A uniform double strictly inside (0, 1) from 53 bits of two words.
+// A uniform double strictly inside (0, 1) from the top 53 bits of (hi, lo): the integer
+// (hi << 21 | lo >> 11) + 1/2, times 2^-53. Written with 32-bit conversions only (both exact),
+// so that loops over it vectorise without AVX-512's 64-bit integer conversion.
 inline double UniformOpen01(uint32_t hi, uint32_t lo) {
-  const uint64_t bits = ((static_cast<uint64_t>(hi) << 32) | lo) >> 11;
-  return (static_cast<double>(bits) + 0.5) * 0x1.0p-53;
+  return (static_cast<double>(hi) * 0x1.0p21 + static_cast<double>(lo >> 11) + 0.5) * 0x1.0p-53;
+}
+
+// A uniform double strictly inside (0, 1) from one 32-bit word: (w + 1/2) 2^-32.
+inline double UniformOpen01(uint32_t w) { return (static_cast<double>(w) + 0.5) * 0x1.0p-32; }
+
+// Philox4x32-10 for the counters (c0[k], c1, c2, c3), k < count, under a 64-bit key: the same
+// words as PhiloxBlock, as a plain loop over k that the compiler vectorises (Salmon et al. 2011,
+// "Parallel random numbers: as easy as 1, 2, 3", the Philox-4x32 round and key schedule).
+inline void PhiloxBatch(uint64_t key, const uint32_t* c0, uint32_t c1, uint32_t c2, uint32_t c3,
+                        int count, uint32_t* out0, uint32_t* out1, uint32_t* out2,
+                        uint32_t* out3) {
+  constexpr uint32_t kM0 = 0xD2511F53u, kM1 = 0xCD9E8D57u;  // round multipliers
+  constexpr uint32_t kW0 = 0x9E3779B9u, kW1 = 0xBB67AE85u;  // key schedule (Weyl) increments
+  const uint32_t key0 = static_cast<uint32_t>(key), key1 = static_cast<uint32_t>(key >> 32);
+  for (int k = 0; k < count; ++k) {
+    uint32_t x0 = c0[k], x1 = c1, x2 = c2, x3 = c3;
+    uint32_t k0 = key0, k1 = key1;
+    for (int round = 0; round < 10; ++round) {
+      const uint64_t p0 = static_cast<uint64_t>(kM0) * x0;
+      const uint64_t p1 = static_cast<uint64_t>(kM1) * x2;
+      const uint32_t y0 = static_cast<uint32_t>(p1 >> 32) ^ x1 ^ k0;
+      const uint32_t y2 = static_cast<uint32_t>(p0 >> 32) ^ x3 ^ k1;
+      x1 = static_cast<uint32_t>(p1);
+      x3 = static_cast<uint32_t>(p0);
+      x0 = y0;
+      x2 = y2;
+      k0 += kW0;
+      k1 += kW1;
+    }
+    out0[k] = x0;
+    out1[k] = x1;
+    out2[k] = x2;
+    out3[k] = x3;
+  }
 }
 
 // Box-Muller: two independent standard normals from two uniforms in (0, 1).

@@ -8,6 +8,7 @@
 // fast-math).
 #include "sim/batch.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -24,6 +25,9 @@ struct Scratch {
   alignas(64) double ox[kMaxPatches][kB];  // observed patch positions
   alignas(64) double oy[kMaxPatches][kB];
   alignas(64) double true_x[kB], true_y[kB], true_t[kB], true_c[kB], true_s[kB];
+  alignas(64) uint32_t counter[kB];  // low word of each trial's Philox counter
+  alignas(64) uint32_t words[4][kB];  // one Philox block per trial
+  alignas(64) uint32_t saved[2][kB];
   alignas(64) double u1[kB], u2[kB], radius[kB], zx[kB], zy[kB];
   alignas(64) double common_x[kB], common_y[kB];
   alignas(64) double mean_x[kB], mean_y[kB];
@@ -32,10 +36,9 @@ struct Scratch {
   alignas(64) double est_t[kB], est_c[kB], est_s[kB];
   // Newton state
   alignas(64) double ml_x[kB], ml_y[kB], ml_t[kB];
-  alignas(64) double gx[kB], gy[kB], gt[kB], hxt[kB], hyt[kB], htt[kB];
-  alignas(64) double active[kB];  // 1.0 while iterating, 0.0 once converged or handed over
-  alignas(64) uint8_t needs_reference[kB];
-  alignas(64) uint8_t iterations[kB];
+  alignas(64) double active[kB];           // 1.0 while iterating, 0.0 once stopped
+  alignas(64) double needs_reference[kB];  // > 0: hand the trial to the reference estimator
+  alignas(64) double iterations[kB];       // Newton steps taken (doubles keep the loop vector)
 };
 
 thread_local Scratch scratch;
@@ -45,35 +48,34 @@ inline double Wrap(double d) {  // for d in (-2 pi, 2 pi)
   return d <= -kPi ? d + 2.0 * kPi : d;
 }
 
-// Philox block of trial t of the point, as documented in batch.h.
-inline std::array<uint32_t, 4> Block(const PointSetup& s, uint64_t trial, uint32_t block) {
-  return PhiloxBlock(s.seed, static_cast<uint32_t>(trial), static_cast<uint32_t>(trial >> 32),
-                     s.point, block);
+// Philox block `block` of the m trials starting at t0 (a batch never crosses a multiple of
+// 2^32 trials, so the high counter word is constant), as documented in batch.h.
+void Blocks(const PointSetup& s, uint64_t t0, int m, uint32_t block, Scratch& w) {
+  for (int k = 0; k < m; ++k) w.counter[k] = static_cast<uint32_t>(t0) + static_cast<uint32_t>(k);
+  PhiloxBatch(s.seed, w.counter, static_cast<uint32_t>(t0 >> 32), s.point, block, m, w.words[0],
+              w.words[1], w.words[2], w.words[3]);
 }
 
-// Standard normals (zx, zy) of `block` for the m trials starting at t0.
-void Normals(const PointSetup& s, uint64_t t0, int m, uint32_t block, Scratch& w) {
-  for (int k = 0; k < m; ++k) {
-    const auto b = Block(s, t0 + k, block);
-    w.u1[k] = UniformOpen01(b[0], b[1]);
-    w.u2[k] = UniformOpen01(b[2], b[3]);
-  }
-  // Box-Muller, one transcendental per loop.
+// Box-Muller standard normals (zx, zy) for the m trials from two words per trial, one
+// transcendental per loop.
+void Normals(const uint32_t* radius_word, const uint32_t* angle_word, int m, Scratch& w) {
+  for (int k = 0; k < m; ++k) w.u1[k] = UniformOpen01(radius_word[k]);
+  for (int k = 0; k < m; ++k) w.u2[k] = 2.0 * kPi * UniformOpen01(angle_word[k]);
   for (int k = 0; k < m; ++k) w.radius[k] = std::sqrt(-2.0 * std::log(w.u1[k]));
-  for (int k = 0; k < m; ++k) w.zx[k] = w.radius[k] * std::cos(2.0 * kPi * w.u2[k]);
-  for (int k = 0; k < m; ++k) w.zy[k] = w.radius[k] * std::sin(2.0 * kPi * w.u2[k]);
+  for (int k = 0; k < m; ++k) w.zx[k] = w.radius[k] * std::cos(w.u2[k]);
+  for (int k = 0; k < m; ++k) w.zy[k] = w.radius[k] * std::sin(w.u2[k]);
 }
 
-// Stage 1: true poses and noisy patch positions.
+// Stage 1: true poses and noisy patch positions, with the block layout of batch.h.
 void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
   const estimate::Model& model = *s.model;
   const int n = model.num_patches;
+  const uint32_t first_common_block = 1 + static_cast<uint32_t>((n + 1) / 2);
+  Blocks(s, t0, m, 0, w);
   for (int k = 0; k < m; ++k) {
-    const auto b0 = Block(s, t0 + k, 0);
-    const auto b1 = Block(s, t0 + k, 1);
-    w.true_x[k] = (UniformOpen01(b0[0], b0[1]) - 0.5) * s.field_length_mm;
-    w.true_y[k] = (UniformOpen01(b0[2], b0[3]) - 0.5) * s.field_width_mm;
-    w.true_t[k] = kPi * (2.0 * UniformOpen01(b1[0], b1[1]) - 1.0);
+    w.true_x[k] = (UniformOpen01(w.words[0][k]) - 0.5) * s.field_length_mm;
+    w.true_y[k] = (UniformOpen01(w.words[1][k]) - 0.5) * s.field_width_mm;
+    w.true_t[k] = kPi * (2.0 * UniformOpen01(w.words[2][k]) - 1.0);
   }
   for (int k = 0; k < m; ++k) w.true_c[k] = std::cos(w.true_t[k]);
   for (int k = 0; k < m; ++k) w.true_s[k] = std::sin(w.true_t[k]);
@@ -83,8 +85,9 @@ void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
   const double sigma_out = s.sigma_mm * s.noise.outlier_sigma_ratio;
   const double p_out = s.noise.outlier_probability;
 
-  if (s.noise.common_sigma_ratio > 0.0) {
-    Normals(s, t0, m, 2 + n, w);
+  if (s.noise.common_sigma_ratio > 0.0 && s.sigma_mm > 0.0) {
+    Blocks(s, t0, m, first_common_block, w);
+    Normals(w.words[0], w.words[1], m, w);
     const double g = s.sigma_mm * s.noise.common_sigma_ratio;
     for (int k = 0; k < m; ++k) {
       w.common_x[k] = g * w.zx[k];
@@ -99,18 +102,29 @@ void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
     double* ox = w.ox[i];
     double* oy = w.oy[i];
     if (s.sigma_mm > 0.0) {
-      Normals(s, t0, m, 2 + i, w);
+      // Patches 2j and 2j + 1 share block 1 + j: words (0, 1) and (2, 3).
+      if (i % 2 == 0) Blocks(s, t0, m, 1 + static_cast<uint32_t>(i / 2), w);
+      Normals(w.words[i % 2 == 0 ? 0 : 2], w.words[i % 2 == 0 ? 1 : 3], m, w);
     } else {
       for (int k = 0; k < m; ++k) w.zx[k] = w.zy[k] = 0.0;
     }
     if (p_out > 0.0) {
-      // Outlier selection: uniform (2 words) for patch i from block 3 + n + i / 2.
+      // Outlier selection of patch i: word i % 4 of block first_common_block + 1 + i / 4. The
+      // words of the normals' block are saved first: patch i + 1 still needs them.
       for (int k = 0; k < m; ++k) {
-        const auto b = Block(s, t0 + k, 3 + n + i / 2);
-        const double u = (i % 2 == 0) ? UniformOpen01(b[0], b[1]) : UniformOpen01(b[2], b[3]);
-        const bool outlier = u < p_out;
+        w.saved[0][k] = w.words[2][k];
+        w.saved[1][k] = w.words[3][k];
+      }
+      Blocks(s, t0, m, first_common_block + 1 + static_cast<uint32_t>(i / 4), w);
+      const uint32_t* word = w.words[i % 4];
+      for (int k = 0; k < m; ++k) {
+        const bool outlier = UniformOpen01(word[k]) < p_out;
         w.zx[k] *= outlier ? sigma_out : sigma_x;
         w.zy[k] *= outlier ? sigma_out : sigma_y;
+      }
+      for (int k = 0; k < m; ++k) {
+        w.words[2][k] = w.saved[0][k];
+        w.words[3][k] = w.saved[1][k];
       }
     } else {
       for (int k = 0; k < m; ++k) {
@@ -191,82 +205,98 @@ void LeastSquares(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out
 }
 
 // Newton's method on the sum-squared error, every trial of the batch in lock step, from the fast
-// estimate. The same iteration as estimate::MaximumLikelihood; trials that need the Levenberg
-// damping or do not converge are re-run by it, so its Summary is what gets reported.
-void MaximumLikelihood(const PointSetup& s, int m, Scratch& w,
-                       const ErrorArrays& out, uint8_t* iterations_out,
-                       uint8_t* termination_out) {
+// estimate: the iteration of estimate::MaximumLikelihood, with the paper's gradient and the
+// exact Hessian evaluated through per-trial sums. With u_i = v_i - mean(v) and the origin
+// (x, y) measured from mean(v), a_i = c p_ix - s p_iy, b_i = s p_ix + c p_iy, A = sum a_i,
+// B = sum b_i, D = sum u_i . p_i, C = sum p_i x u_i, the paper's sums reduce to
+//   dE/dx = 2 (n x + A)          dE/dy = 2 (n y + B)        dE/dtheta = 2 (y A - x B + s D - c C)
+//   d2E/dxdtheta = -2 B          d2E/dydtheta = 2 A         d2E/dtheta2 = 2 (c D + s C - x A - y B)
+// (expand x_i = x + a_i - u_ix, y_i = y + b_i - u_iy and use sum a_i (-b_i) + b_i a_i = 0), so
+// an iteration costs O(1) per trial instead of O(n). Trials that need the Levenberg damping or
+// do not converge are re-run by the reference estimator, whose Summary is then reported.
+void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out,
+                       uint8_t* iterations_out, uint8_t* termination_out) {
   const estimate::Model& model = *s.model;
   const estimate::Options& o = s.ml_options;
   const int n = model.num_patches;
+  double px_sum = 0.0, py_sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    px_sum += model.model_mm[i].x();
+    py_sum += model.model_mm[i].y();
+  }
+  // Per-trial sums D and C (in sum_a, sum_b), fixed during the iteration.
+  for (int k = 0; k < m; ++k) w.sum_a[k] = w.sum_b[k] = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double px = model.model_mm[i].x(), py = model.model_mm[i].y();
+    for (int k = 0; k < m; ++k) {
+      const double ux = w.ox[i][k] - w.mean_x[k], uy = w.oy[i][k] - w.mean_y[k];
+      w.sum_a[k] += ux * px + uy * py;
+      w.sum_b[k] += px * uy - py * ux;
+    }
+  }
   const Vec2 pbar = model.centroid_mm;
   for (int k = 0; k < m; ++k) {
-    w.ml_x[k] = w.mean_x[k] - (w.fast_c[k] * pbar.x() - w.fast_s[k] * pbar.y());
-    w.ml_y[k] = w.mean_y[k] - (w.fast_s[k] * pbar.x() + w.fast_c[k] * pbar.y());
+    w.ml_x[k] = -(w.fast_c[k] * pbar.x() - w.fast_s[k] * pbar.y());
+    w.ml_y[k] = -(w.fast_s[k] * pbar.x() + w.fast_c[k] * pbar.y());
     w.ml_t[k] = w.fast_t[k];
     w.active[k] = 1.0;
-    w.needs_reference[k] = 0;
-    w.iterations[k] = 0;
+    w.needs_reference[k] = 0.0;
+    w.iterations[k] = 0.0;
   }
-  int it = 0;
-  for (; it < o.max_iterations; ++it) {
+  const double dn = n, two_n = 2.0 * n;
+  const double grad_tol2 = o.gradient_tolerance * o.gradient_tolerance;
+  // A step is small when max(|dx|, |dy|) / tol_mm and |dtheta| / tol_rad are <= 1.
+  const double inv_tol_mm = 1.0 / std::max(o.step_tolerance_mm, 1e-300);
+  const double inv_tol_rad = 1.0 / std::max(o.step_tolerance_rad, 1e-300);
+  for (int it = 0; it < o.max_iterations; ++it) {
     for (int k = 0; k < m; ++k) w.est_c[k] = std::cos(w.ml_t[k]);
     for (int k = 0; k < m; ++k) w.est_s[k] = std::sin(w.ml_t[k]);
-    for (int k = 0; k < m; ++k) w.gx[k] = w.gy[k] = w.gt[k] = w.hxt[k] = w.hyt[k] = w.htt[k] = 0.0;
-    for (int i = 0; i < n; ++i) {
-      const double px = model.model_mm[i].x(), py = model.model_mm[i].y();
-      const double* vx = w.ox[i];
-      const double* vy = w.oy[i];
-      for (int k = 0; k < m; ++k) {
-        const double c = w.est_c[k], sn = w.est_s[k];
-        const double xi = w.ml_x[k] + c * px - sn * py - vx[k];
-        const double yi = w.ml_y[k] + sn * px + c * py - vy[k];
-        const double dx = -sn * px - c * py;
-        const double dy = c * px - sn * py;
-        w.gx[k] += 2.0 * xi;
-        w.gy[k] += 2.0 * yi;
-        w.gt[k] += 2.0 * (xi * dx + yi * dy);
-        w.hxt[k] += 2.0 * dx;
-        w.hyt[k] += 2.0 * dy;
-        w.htt[k] += 2.0 * (dx * dx + dy * dy) - 2.0 * (xi * dy - yi * dx);
-      }
-    }
-    const double two_n = 2.0 * n;
     double any_active = 0.0;
     for (int k = 0; k < m; ++k) {
+      const double c = w.est_c[k], sn = w.est_s[k];
+      const double x = w.ml_x[k], y = w.ml_y[k];
+      const double d = w.sum_a[k], cr = w.sum_b[k];
+      const double big_a = c * px_sum - sn * py_sum, big_b = sn * px_sum + c * py_sum;
+      const double gx = 2.0 * (dn * x + big_a);
+      const double gy = 2.0 * (dn * y + big_b);
+      const double gt = 2.0 * (y * big_a - x * big_b + sn * d - c * cr);
+      const double hxt = -2.0 * big_b, hyt = 2.0 * big_a;
+      const double htt = 2.0 * (c * d + sn * cr - x * big_a - y * big_b);
+      // Branch-free (0/1 doubles) so that the loop vectorises.
       const double a = w.active[k];
-      const double g2 = w.gx[k] * w.gx[k] + w.gy[k] * w.gy[k] + w.gt[k] * w.gt[k];
-      const bool at_minimum = g2 <= o.gradient_tolerance * o.gradient_tolerance;
-      const double schur = w.htt[k] - (w.hxt[k] * w.hxt[k] + w.hyt[k] * w.hyt[k]) / two_n;
-      const bool indefinite = !(schur > 0.0);
-      const double safe_schur = indefinite ? 1.0 : schur;
-      const double st = -(w.gt[k] - (w.hxt[k] * w.gx[k] + w.hyt[k] * w.gy[k]) / two_n) / safe_schur;
-      const double sx = -(w.gx[k] + w.hxt[k] * st) / two_n;
-      const double sy = -(w.gy[k] + w.hyt[k] * st) / two_n;
-      const bool take_step = a > 0.0 && !at_minimum && !indefinite;
-      const double g = take_step ? 1.0 : 0.0;
-      w.ml_x[k] += g * sx;
-      w.ml_y[k] += g * sy;
-      w.ml_t[k] += g * st;
-      w.iterations[k] += take_step ? 1 : 0;
-      const bool small = std::abs(sx) <= o.step_tolerance_mm &&
-                         std::abs(sy) <= o.step_tolerance_mm && std::abs(st) <= o.step_tolerance_rad;
-      w.needs_reference[k] |= (a > 0.0 && !at_minimum && indefinite) ? 1 : 0;
-      const bool done = a > 0.0 && (at_minimum || indefinite || small);
-      w.active[k] = done ? 0.0 : a;
+      const double at_minimum = gx * gx + gy * gy + gt * gt <= grad_tol2 ? 1.0 : 0.0;
+      const double schur = htt - (hxt * hxt + hyt * hyt) / two_n;
+      const double indefinite = schur > 0.0 ? 0.0 : 1.0;
+      const double st = -(gt - (hxt * gx + hyt * gy) / two_n) / (schur > 0.0 ? schur : 1.0);
+      const double sx = -(gx + hxt * st) / two_n;
+      const double sy = -(gy + hyt * st) / two_n;
+      const double take = a * (1.0 - at_minimum) * (1.0 - indefinite);
+      w.ml_x[k] = x + take * sx;
+      w.ml_y[k] = y + take * sy;
+      w.ml_t[k] += take * st;
+      w.iterations[k] += take;
+      const double step = std::max(std::max(std::abs(sx), std::abs(sy)) * inv_tol_mm,
+                                   std::abs(st) * inv_tol_rad);
+      const double small = step <= 1.0 ? 1.0 : 0.0;
+      w.needs_reference[k] += a * (1.0 - at_minimum) * indefinite;
+      w.active[k] = a * (1.0 - std::max(std::max(at_minimum, indefinite), small));
       any_active += w.active[k];
     }
     if (any_active == 0.0) break;
   }
-  for (int k = 0; k < m; ++k) w.est_t[k] = w.ml_t[k];
+  for (int k = 0; k < m; ++k) {
+    w.ml_x[k] += w.mean_x[k];
+    w.ml_y[k] += w.mean_y[k];
+    w.est_t[k] = w.ml_t[k];
+  }
   for (int k = 0; k < m; ++k) w.est_c[k] = std::cos(w.est_t[k]);
   for (int k = 0; k < m; ++k) w.est_s[k] = std::sin(w.est_t[k]);
   const Vec2 zero = Vec2::Zero();
   WriteErrors(w.ml_x, w.ml_y, zero, w.est_t, w.est_c, w.est_s, m, w, out);
   for (int k = 0; k < m; ++k) {
-    iterations_out[k] = w.iterations[k];
+    iterations_out[k] = static_cast<uint8_t>(w.iterations[k]);
     termination_out[k] = static_cast<uint8_t>(estimate::Termination::kConverged);
-    if (w.active[k] == 0.0 && w.needs_reference[k] == 0) continue;
+    if (w.active[k] == 0.0 && w.needs_reference[k] == 0.0) continue;
     // Rare: the Hessian was indefinite or max_iterations was reached. The reference estimator
     // decides, and its Summary is what the results report.
     std::array<Vec2, kMaxPatches> observed;

@@ -1,12 +1,14 @@
 // The Monte-Carlo inner loop: a batch of trials of one data point in structure-of-arrays form.
 //
 // Trial t of point p draws every random number from Philox4x32-10 with counter
-// (t mod 2^32, t div 2^32, p, block) under the experiment seed (DESIGN.md rule 1):
-//   block 0          pose x, y (uniform over the field)
-//   block 1          pose theta (uniform in (-pi, pi))
-//   block 2 + i      patch i's normals (z_ix, z_iy), Box-Muller
-//   block 2 + n      the common-mode normals (only when common_sigma_ratio > 0)
-//   block 3 + n + j  outlier selection uniforms of patches 2j, 2j + 1 (only when p > 0)
+// (t mod 2^32, t div 2^32, p, block) under the experiment seed (DESIGN.md rule 1), each 32-bit
+// word giving one uniform (w + 1/2) 2^-32 in (0, 1); H = ceil(n / 2) for n patches:
+//   block 0              words 0, 1, 2: pose x, y (uniform over the field), theta in (-pi, pi)
+//   block 1 + j          Box-Muller normals of patch 2j (words 0, 1) and patch 2j + 1 (2, 3)
+//   block 1 + H          common-mode normals (words 0, 1; only when common_sigma_ratio > 0)
+//   block 2 + H + j      outlier selection uniforms of patches 4j .. 4j + 3 (only when p > 0)
+// A 32-bit radius uniform caps |z| at sqrt(2 ln 2^33) = 6.76 (a Gaussian exceeds it with
+// probability 1.4e-11): a documented truncation that halves the Philox work per trial.
 // so a trial's numbers do not depend on which thread runs it or which batch it falls in, and
 // any trial can be replayed alone (rule 3).
 //

@@ -60,6 +60,18 @@ void FillEstimatorResult(const Samples& s, EstimatorResult* r) {
   r->radial_rms_mm = std::sqrt(sum_sq / n);
 }
 
+// Wilcoxon signed-rank of paired samples. Identical samples (e.g. fast and ml on a two-patch
+// pattern, where they are the same estimator) carry no evidence of a difference: p = 1.
+stats::WilcoxonResult PairedTest(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a == b) {
+    stats::WilcoxonResult identical;
+    identical.n = identical.n_zero = a.size();
+    identical.p_value = 1.0;
+    return identical;
+  }
+  return stats::WilcoxonSignedRank(a, b);
+}
+
 Comparison Compare(const Samples& fast, const Samples& other) {
   Comparison c;
   c.computed = true;
@@ -74,10 +86,8 @@ Comparison Compare(const Samples& fast, const Samples& other) {
   tbb::parallel_invoke([&] { c.ks_x = stats::KsTwoSample(fast.x, other.x); },
                        [&] { c.ks_y = stats::KsTwoSample(fast.y, other.y); },
                        [&] { c.ks_theta = stats::KsTwoSample(fast.theta, other.theta); },
-                       [&] { c.wilcoxon_position = stats::WilcoxonSignedRank(fast_pos, other_pos); },
-                       [&] {
-                         c.wilcoxon_theta = stats::WilcoxonSignedRank(fast_abs_t, other_abs_t);
-                       });
+                       [&] { c.wilcoxon_position = PairedTest(fast_pos, other_pos); },
+                       [&] { c.wilcoxon_theta = PairedTest(fast_abs_t, other_abs_t); });
   return c;
 }
 
