@@ -101,7 +101,8 @@ TEST(GenerateCodebook, EnumerationAgreesWithBurnside) {
 
 TEST(GenerateCodebook, LinearListsOneColouringPerClass) {
   const Pattern linear = LoadPattern("linear");
-  const Codebook book = GenerateCodebook(linear, FindSymmetry(linear, 10.0), {"pink", "green", "cyan"});
+  const Codebook book =
+      GenerateCodebook(linear, FindSymmetry(linear, 10.0), {"pink", "green", "cyan"});
   ASSERT_EQ(book.entries.size(), 3u);
   EXPECT_THAT(book.entries[0].colour, ::testing::ElementsAre(0, 1));
   EXPECT_THAT(book.entries[1].colour, ::testing::ElementsAre(0, 2));
@@ -142,9 +143,9 @@ TEST(Symmetry, FixedColourBreaksTheSymmetryForIdentification) {
 
 TEST(CodebookFile, SslStandardHasTheSixteenReadmeIds) {
   const Pattern ssl = LoadPattern("ssl-standard");
-  const Codebook book = LoadCodebookFile(
-      std::string(PATLAB_SOURCE_DIR) + "/patterns/ssl-standard.codebook.toml", ssl,
-      FindSymmetry(ssl, 10.0));
+  const Codebook book =
+      LoadCodebookFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/ssl-standard.codebook.toml", ssl,
+                       FindSymmetry(ssl, 10.0));
   ASSERT_EQ(book.entries.size(), 16u);
   EXPECT_THAT(book.colours, ::testing::ElementsAre("pink", "green"));
   // frames/README.md: 0 PPGP, 8 GGGG, 9 PPPP, 13 GPPP (P = 0, G = 1).
@@ -177,16 +178,18 @@ TEST(CodebookFile, BadFilesGiveTheirMessages) {
                       "slots = [\"pink\", \"pink\"]\n",
                       "book.toml:5: ID 0 is ambiguous: rotating linear by 180 degrees maps it "
                       "onto itself; expected colours that fix the rotation");
-  ExpectCodebookError("linear",
-                      "pattern = \"linear\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\n"
-                      "slots = [\"pink\", \"green\"]\n[[id]]\nid = 1\nslots = [\"green\", \"pink\"]\n",
-                      "book.toml:8: ID 1 is ID 0 rotated by 180 degrees; expected colourings that "
-                      "differ up to the pattern's symmetry");
-  ExpectCodebookError("ssl-standard",
-                      "pattern = \"ssl-standard\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\n"
-                      "slots = [\"pink\", \"green\"]\n",
-                      "book.toml:5: ID 0 has 2 colours; expected 4 (one per ID slot of "
-                      "ssl-standard)");
+  ExpectCodebookError(
+      "linear",
+      "pattern = \"linear\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\n"
+      "slots = [\"pink\", \"green\"]\n[[id]]\nid = 1\nslots = [\"green\", \"pink\"]\n",
+      "book.toml:8: ID 1 is ID 0 rotated by 180 degrees; expected colourings that "
+      "differ up to the pattern's symmetry");
+  ExpectCodebookError(
+      "ssl-standard",
+      "pattern = \"ssl-standard\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\n"
+      "slots = [\"pink\", \"green\"]\n",
+      "book.toml:5: ID 0 has 2 colours; expected 4 (one per ID slot of "
+      "ssl-standard)");
   ExpectCodebookError("simple",
                       "pattern = \"simple\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 3\n"
                       "slots = [\"red\"]\n",

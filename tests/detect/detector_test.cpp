@@ -49,8 +49,9 @@ TEST(Detector, EveryPatternAndIdFromExactBlobsAtRandomPoses) {
                                    {"butterfly", {"pink", "green"}, 16},
                                    {"ssl-standard", {}, 16}};
   for (const Case& c : cases) {
-    DetectorPattern dp = c.id_colours.empty() ? SslDetectorPattern()
-                                              : MakeDetectorPattern(LoadPattern(c.pattern), c.id_colours);
+    DetectorPattern dp = c.id_colours.empty()
+                             ? SslDetectorPattern()
+                             : MakeDetectorPattern(LoadPattern(c.pattern), c.id_colours);
     ASSERT_EQ(dp.codebook.entries.size(), c.expected_ids) << c.pattern;
     Detector detector(MakeConfig({dp}));
     const Pattern& pattern = dp.pattern;
@@ -69,7 +70,7 @@ TEST(Detector, EveryPatternAndIdFromExactBlobsAtRandomPoses) {
         EXPECT_EQ(d.status, DetectionStatus::kOk);
         EXPECT_EQ(d.id, dp.codebook.entries[e].id) << c.pattern << " entry " << e;
         EXPECT_EQ(d.team_colour, team);
-        EXPECT_LT(d.residual_mm2, 1e-8);  // rounding of E = Sq + Sw - 2 sqrt(.), Sq ~ 2e4 mm^2
+        EXPECT_LT(d.residual_mm2, 1e-8);       // rounding of E = Sq + Sw - 2 sqrt(.), Sq ~ 2e4 mm^2
         EXPECT_NEAR(d.confidence, 1.0, 1e-5);  // 1 dof (Simple): 1 - Q ~ sqrt(E)
         ExpectPose(d.pose, pose, 1e-9, 1e-11);
         ids_seen.insert(d.id);
@@ -235,7 +236,8 @@ TEST(Detector, CrowdedTouchingRobotsWithBlobsNearTwoKeys) {
     const double a = k * std::numbers::pi / 3.0;
     poses.push_back({180.0 * std::cos(a), 180.0 * std::sin(a), 0.9 * k - 2.0});
   }
-  for (int r = 0; r < 7; ++r) AddRobot(dp.pattern, dp.codebook, r, r % 2 ? kYellow : kBlue, poses[r], &blobs);
+  for (int r = 0; r < 7; ++r)
+    AddRobot(dp.pattern, dp.codebook, r, r % 2 ? kYellow : kBlue, poses[r], &blobs);
   std::vector<Detection> detections;
   DetectStats stats;
   detector.Detect(blobs, &detections, &stats);
@@ -338,8 +340,9 @@ TEST(Detector, ConfigurationErrors) {
   expect_error(config, "pattern ssl-standard: key colour \"purple\" is not in the palette");
   config = MakeConfig({SslDetectorPattern()});
   config.options.max_neighbours = 3;
-  expect_error(config, "pattern ssl-standard: max_neighbours is 3; expected at least 4 (its non-key "
-                       "patches)");
+  expect_error(config,
+               "pattern ssl-standard: max_neighbours is 3; expected at least 4 (its non-key "
+               "patches)");
   config = MakeConfig({SslDetectorPattern()});
   config.options.geometry_confidence = 1.0;
   expect_error(config, "geometry_confidence is 1; expected a probability in (0, 1)");

@@ -12,7 +12,8 @@ namespace patlab::detect {
 namespace {
 
 Detector ShippedDetector() {
-  return Detector(LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
+  return Detector(
+      LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
 }
 
 TEST(Scene, TenRobotsFivePerTeamDistinctIdsApartAndABall) {

@@ -74,24 +74,27 @@ TEST(Settings, BadFilesGiveTheirMessages) {
   ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 3\n" + kPattern,
                       "bad.toml: pattern ssl-standard: max_neighbours is 3; expected at least 4 "
                       "(its non-key patches)");
-  ExpectSettingsError(kHead,
-                      "bad.toml:1: no patterns; expected at least one [[pattern]] table");
+  ExpectSettingsError(kHead, "bad.toml:1: no patterns; expected at least one [[pattern]] table");
   ExpectSettingsError("palette = []\n" + kPattern,
                       "bad.toml:1: palette is an empty array; expected a non-empty array of "
                       "colour names");
-  ExpectSettingsError(kHead + "[[pattern]]\npattern = \"ssl-standard\"\nid_colours = [\"pink\"]\n"
-                              "key_colours = [\"blue\", \"purple\"]\n",
+  ExpectSettingsError(kHead +
+                          "[[pattern]]\npattern = \"ssl-standard\"\nid_colours = [\"pink\"]\n"
+                          "key_colours = [\"blue\", \"purple\"]\n",
                       "bad.toml:5: colour \"purple\" is not in the palette; expected one of: "
                       "blue, yellow, pink, green");
   ExpectSettingsError(kHead + "[[pattern]]\npattern = \"ssl-standard\"\nkey_colours = [\"blue\"]\n",
                       "bad.toml:3: [[pattern]] 0 has neither codebook nor id_colours; expected "
                       "exactly one of them");
-  ExpectSettingsError(kHead + "[[pattern]]\npattern = \"hexagon\"\nid_colours = [\"pink\"]\n"
-                              "key_colours = [\"blue\"]\n",
+  ExpectSettingsError(kHead +
+                          "[[pattern]]\npattern = \"hexagon\"\nid_colours = [\"pink\"]\n"
+                          "key_colours = [\"blue\"]\n",
                       "bad.toml:3: pattern 'hexagon' not found; expected a pattern file path or a "
-                      "name in " + std::string(PATLAB_SOURCE_DIR) + "/patterns/");
-  ExpectSettingsError(kHead + "[[pattern]]\npattern = \"linear\"\nid_colours = [\"pink\"]\n"
-                              "key_colours = [\"blue\"]\nsymmetry_tolerance_mm = -2\n",
+                      "name in " +
+                          std::string(PATLAB_SOURCE_DIR) + "/patterns/");
+  ExpectSettingsError(kHead +
+                          "[[pattern]]\npattern = \"linear\"\nid_colours = [\"pink\"]\n"
+                          "key_colours = [\"blue\"]\nsymmetry_tolerance_mm = -2\n",
                       "bad.toml:6: symmetry_tolerance_mm is -2; expected a number >= 0 (mm)");
   ExpectSettingsError(kHead + "[detector\n",
                       "bad.toml:2: TOML syntax error: Error while parsing table header: expected "

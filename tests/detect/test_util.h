@@ -12,8 +12,8 @@
 
 namespace patlab::detect::testing {
 
-inline const std::vector<std::string> kPalette = {"blue", "yellow", "pink",  "green",
-                                                  "orange", "cyan", "red", "white"};
+inline const std::vector<std::string> kPalette = {"blue",   "yellow", "pink", "green",
+                                                  "orange", "cyan",   "red",  "white"};
 inline constexpr int kBlue = 0, kYellow = 1, kPink = 2, kGreen = 3, kOrange = 4, kCyan = 5,
                      kRed = 6;
 
@@ -63,7 +63,8 @@ inline void AddRobot(const Pattern& pattern, const Codebook& codebook, int entry
       while (slots[slot] != i) ++slot;
       label = Label(codebook.colours[codebook.entries[entry].colour[slot]]);
     }
-    blobs->push_back({pose.Apply(patch.position_mm), label, 3.14159 * patch.radius_mm * patch.radius_mm});
+    blobs->push_back(
+        {pose.Apply(patch.position_mm), label, 3.14159 * patch.radius_mm * patch.radius_mm});
   }
 }
 

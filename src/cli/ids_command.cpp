@@ -1,0 +1,170 @@
+// patlab ids: the paper's Table II for any patterns -- how many IDs a pattern can carry with n
+// ID colours, once its rotational symmetry (found from its geometry) is taken into account.
+#include <boost/program_options.hpp>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "detect/codebook.h"
+#include "io/pattern_file.h"
+#include "io/toml_util.h"
+
+namespace patlab::cli {
+
+namespace {
+
+namespace po = boost::program_options;
+
+constexpr const char* kExamples = R"(examples:
+  patlab ids simple linear triangle butterfly              # Table II (2, 3, 4 colours)
+  patlab ids ssl-standard --colors 2 --list                # the 16 colourings, slot by slot
+  patlab ids butterfly --colors 2,3 --tolerance 30         # a tolerance past its asymmetry
+  patlab ids patterns/my-pattern.toml --colors 1,2,3,4,5
+
+A PATTERN is a pattern file path or a name in --patterns-dir. Counting rule: a rotation about
+the key patch that maps the patches onto themselves within --tolerance mm cannot be decided by
+geometry; a colouring of the ID slots is an ID only if no such rotation maps it onto itself, and
+colourings such rotations map onto each other are one ID. With --list, colours are letters A, B,
+... and each ID lists one colour per ID slot in the pattern file's patch order. Exit status: 0
+ok, 2 bad input.
+)";
+
+struct IdsOptions {
+  std::vector<std::string> patterns;
+  std::string colors = "2,3,4";
+  double tolerance_mm = 10.0;
+  bool list = false;
+  std::string patterns_dir = "patterns";
+};
+
+std::vector<int> ParseColours(const std::string& text) {
+  std::vector<int> values;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    size_t used = 0;
+    int v = 0;
+    try {
+      v = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || v < 1 || v > 16) {
+      throw InputError("--colors has '" + item +
+                       "'; expected comma-separated integers from 1 to 16, e.g. 2,3,4");
+    }
+    values.push_back(v);
+  }
+  if (values.empty()) throw InputError("--colors is empty; expected integers, e.g. 2,3,4");
+  return values;
+}
+
+int RunIds(const std::vector<std::string>& args) {
+  IdsOptions o;
+  po::options_description visible("usage: patlab ids PATTERN... [options]\n\noptions");
+  visible.add_options()("colors,c", po::value(&o.colors)->default_value(o.colors),
+                        "ID palette sizes n (key colour excluded), comma-separated")(
+      "tolerance", po::value(&o.tolerance_mm)->default_value(o.tolerance_mm),
+      "distance (mm) below which two patch positions count as the same when finding the "
+      "pattern's rotational symmetry (paper section III: 10 mm)")("list", po::bool_switch(&o.list),
+                                                                  "also list every ID's colours")(
+      "patterns-dir", po::value(&o.patterns_dir)->default_value(o.patterns_dir),
+      "where pattern names are looked up")("help,h", "show this help");
+  po::options_description all;
+  all.add(visible);
+  all.add_options()("pattern", po::value(&o.patterns));
+  po::positional_options_description positional;
+  positional.add("pattern", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+  po::notify(vm);
+  if (vm.count("help")) {
+    std::cout << visible << "\n" << kExamples;
+    return kExitOk;
+  }
+  if (o.patterns.empty()) {
+    throw InputError(
+        "missing PATTERN; expected 'patlab ids PATTERN... [--colors 2,3,4]' (see --help)");
+  }
+  if (!(o.tolerance_mm >= 0.0) || o.tolerance_mm > 1e6) {
+    throw InputError("--tolerance is " + io::FormatNumber(o.tolerance_mm) +
+                     "; expected a distance in mm >= 0");
+  }
+  const std::vector<int> colours = ParseColours(o.colors);
+  if (o.list) {
+    for (int n : colours) {
+      if (n > 8) {
+        throw InputError("--list with " + std::to_string(n) +
+                         " colours; expected at most 8 colours when listing IDs");
+      }
+    }
+  }
+  struct Row {
+    Pattern pattern;
+    detect::Symmetry symmetry;
+  };
+  std::vector<Row> rows;
+  for (const std::string& reference : o.patterns) {
+    Row row;
+    row.pattern = io::LoadPatternFile(io::ResolvePatternPath(reference, o.patterns_dir));
+    row.symmetry = detect::FindSymmetry(row.pattern, o.tolerance_mm);
+    rows.push_back(std::move(row));
+  }
+
+  std::ostringstream out;
+  out << "IDs per ID palette size (paper Table II; key patch and key colour excluded), symmetry "
+         "tolerance "
+      << io::FormatNumber(o.tolerance_mm) << " mm\n\n";
+  size_t name_width = 7;
+  for (const Row& r : rows) name_width = std::max(name_width, r.pattern.name.size());
+  out << std::left << std::setw(static_cast<int>(name_width) + 2) << "pattern" << std::setw(7)
+      << "slots" << std::setw(11) << "rotations";
+  for (int n : colours)
+    out << std::setw(12) << (std::to_string(n) + (n == 1 ? " colour" : " colours"));
+  out << "\n";
+  for (const Row& r : rows) {
+    out << std::setw(static_cast<int>(name_width) + 2) << r.pattern.name << std::setw(7)
+        << detect::IdSlots(r.pattern).size() << std::setw(11) << r.symmetry.effective_order();
+    for (int n : colours) out << std::setw(12) << detect::CountIds(r.pattern, r.symmetry, n);
+    out << "\n";
+  }
+  out << "\nrotations: rotations about the key that geometry cannot tell apart and colours must "
+         "decide\n";
+  if (o.list) {
+    for (const Row& r : rows) {
+      for (int n : colours) {
+        std::vector<std::string> names;
+        for (int c = 0; c < n; ++c) names.emplace_back(1, static_cast<char>('A' + c));
+        const detect::Codebook book = detect::GenerateCodebook(r.pattern, r.symmetry, names);
+        out << "\n"
+            << r.pattern.name << ", " << n << (n == 1 ? " colour" : " colours") << ": "
+            << book.entries.size() << " IDs (slots = patches";
+        for (int slot : detect::IdSlots(r.pattern)) out << " " << slot;
+        out << ")\n";
+        for (const detect::CodebookEntry& e : book.entries) {
+          out << "  " << std::right << std::setw(4) << e.id << " " << std::left;
+          for (int c : e.colour) out << " " << names[c];
+          out << "\n";
+        }
+      }
+    }
+  }
+  // Columns are padded with setw; drop the padding at line ends.
+  std::string text = out.str(), trimmed;
+  for (char ch : text) {
+    if (ch == '\n') {
+      while (!trimmed.empty() && trimmed.back() == ' ') trimmed.pop_back();
+    }
+    trimmed += ch;
+  }
+  std::cout << trimmed;
+  return kExitOk;
+}
+
+}  // namespace
+
+PATLAB_REGISTER_COMMAND("ids", "Table II: how many IDs a pattern carries with n colours", RunIds);
+
+}  // namespace patlab::cli
