@@ -3,7 +3,7 @@
 // Philox4x32-10. Nothing is shared between trials, so results are identical for any thread count
 // and any trial can be replayed alone.
 //
-// Uniforms use 53 bits (two 32-bit words), strictly inside (0, 1). Normals use our own Box-Muller
+// Uniforms use 52 bits (two 32-bit words) or 32 bits (one word), strictly inside (0, 1). Normals use our own Box-Muller
 // transform (never std::normal_distribution, whose output differs between standard libraries).
 #pragma once
 
@@ -27,11 +27,12 @@ inline std::array<uint32_t, 4> PhiloxBlock(uint64_t key, uint32_t a, uint32_t b,
   return {out[0], out[1], out[2], out[3]};
 }
 
-// A uniform double strictly inside (0, 1) from the top 53 bits of (hi, lo): the integer
-// (hi << 21 | lo >> 11) + 1/2, times 2^-53. Written with 32-bit conversions only (both exact),
-// so that loops over it vectorise without AVX-512's 64-bit integer conversion.
+// A uniform double strictly inside (0, 1) from the top 52 bits of (hi, lo): the integer
+// (hi << 20 | lo >> 12) + 1/2, times 2^-52, so in [2^-53, 1 - 2^-53] (with 53 bits the top value
+// would round to 1). Written with 32-bit conversions only (both exact), so that loops over it
+// vectorise without AVX-512's 64-bit integer conversion.
 inline double UniformOpen01(uint32_t hi, uint32_t lo) {
-  return (static_cast<double>(hi) * 0x1.0p21 + static_cast<double>(lo >> 11) + 0.5) * 0x1.0p-53;
+  return (static_cast<double>(hi) * 0x1.0p20 + static_cast<double>(lo >> 12) + 0.5) * 0x1.0p-52;
 }
 
 // A uniform double strictly inside (0, 1) from one 32-bit word: (w + 1/2) 2^-32.
@@ -107,7 +108,7 @@ class RandomStream {
     has_spare_normal_ = true;
     return z0;
   }
-  // A uniform integer in [0, n), n >= 1: floor(u * n) with a 53-bit u (bias below n / 2^53).
+  // A uniform integer in [0, n), n >= 1: floor(u * n) with a 52-bit u (bias below n / 2^52).
   uint64_t Below(uint64_t n) {
     return static_cast<uint64_t>(Uniform() * static_cast<double>(n)) % n;
   }

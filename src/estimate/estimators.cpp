@@ -92,6 +92,37 @@ double SumSquaredError(const Model& model, const Vec2* observed, const Pose2& po
   return e;
 }
 
+void SumSquaredErrorDerivatives(const Model& model, const Vec2* observed, const Pose2& pose,
+                                double gradient[3], double hessian[3][3]) {
+  const double c = std::cos(pose.theta_rad), s = std::sin(pose.theta_rad);
+  double gx = 0.0, gy = 0.0, gt = 0.0, hxt = 0.0, hyt = 0.0, htt = 0.0;
+  for (int i = 0; i < model.num_patches; ++i) {
+    const Vec2& p = model.model_mm[i];
+    const double xi = pose.x_mm + c * p.x() - s * p.y() - observed[i].x();
+    const double yi = pose.y_mm + s * p.x() + c * p.y() - observed[i].y();
+    const double dx = -s * p.x() - c * p.y();  // d(x_i)/d(theta)
+    const double dy = c * p.x() - s * p.y();   // d(y_i)/d(theta)
+    gx += 2.0 * xi;
+    gy += 2.0 * yi;
+    gt += 2.0 * (xi * dx + yi * dy);
+    hxt += 2.0 * dx;
+    hyt += 2.0 * dy;
+    // d2E/dtheta2 = 2 sum (dx^2 + dy^2) + 2 sum (x_i d(dx)/dtheta + y_i d(dy)/dtheta),
+    // with d(dx)/dtheta = -dy and d(dy)/dtheta = dx.
+    htt += 2.0 * (dx * dx + dy * dy) - 2.0 * (xi * dy - yi * dx);
+  }
+  const double two_n = 2.0 * model.num_patches;
+  gradient[0] = gx;
+  gradient[1] = gy;
+  gradient[2] = gt;
+  hessian[0][0] = two_n;
+  hessian[0][1] = hessian[1][0] = 0.0;
+  hessian[1][1] = two_n;
+  hessian[0][2] = hessian[2][0] = hxt;
+  hessian[1][2] = hessian[2][1] = hyt;
+  hessian[2][2] = htt;
+}
+
 Pose2 MaximumLikelihood(const Model& model, const Vec2* observed, const Pose2& start,
                         const Options& options, Summary* summary) {
   Summary local;
@@ -107,24 +138,10 @@ Pose2 MaximumLikelihood(const Model& model, const Vec2* observed, const Pose2& s
     return r;
   }
   for (int it = 0; it < options.max_iterations; ++it) {
-    // Residuals, the paper's gradient (section III) and the exact Hessian of E.
-    const double c = std::cos(r.theta_rad), s = std::sin(r.theta_rad);
-    double gx = 0.0, gy = 0.0, gt = 0.0, hxt = 0.0, hyt = 0.0, htt = 0.0;
-    for (int i = 0; i < model.num_patches; ++i) {
-      const Vec2& p = model.model_mm[i];
-      const double xi = r.x_mm + c * p.x() - s * p.y() - observed[i].x();
-      const double yi = r.y_mm + s * p.x() + c * p.y() - observed[i].y();
-      const double dx = -s * p.x() - c * p.y();  // d(x_i)/d(theta)
-      const double dy = c * p.x() - s * p.y();   // d(y_i)/d(theta)
-      gx += 2.0 * xi;
-      gy += 2.0 * yi;
-      gt += 2.0 * (xi * dx + yi * dy);
-      hxt += 2.0 * dx;
-      hyt += 2.0 * dy;
-      // d2E/dtheta2 = 2 sum (dx^2 + dy^2) + 2 sum (x_i d(dx)/dtheta + y_i d(dy)/dtheta),
-      // with d(dx)/dtheta = -dy and d(dy)/dtheta = dx.
-      htt += 2.0 * (dx * dx + dy * dy) - 2.0 * (xi * dy - yi * dx);
-    }
+    double g[3], h[3][3];
+    SumSquaredErrorDerivatives(model, observed, r, g, h);
+    const double gx = g[0], gy = g[1], gt = g[2];
+    const double hxt = h[0][2], hyt = h[1][2], htt = h[2][2];
     const double grad_norm = std::sqrt(gx * gx + gy * gy + gt * gt);
     if (grad_norm <= options.gradient_tolerance) {
       sum.termination = Termination::kConverged;

@@ -49,6 +49,11 @@ Pose2 KeyPatch(const Model& model, const Vec2* observed);
 // Sum-squared error E(r) = sum_i |R(r_theta) p_i + r_xy - v_i|^2 (paper section III).
 double SumSquaredError(const Model& model, const Vec2* observed, const Pose2& pose);
 
+// E's gradient (the paper's analytic formulas, section III) and its exact Hessian at `pose`, in
+// the order (x, y, theta): gradient[3], hessian[3][3] (symmetric; hessian[0][1] = 0).
+void SumSquaredErrorDerivatives(const Model& model, const Vec2* observed, const Pose2& pose,
+                                double gradient[3], double hessian[3][3]);
+
 // Newton's method on E with the paper's analytic gradient and the exact Hessian.
 struct Options {
   int max_iterations = 20;             // Newton steps before giving up (>= 1)

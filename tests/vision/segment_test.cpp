@@ -245,3 +245,35 @@ TEST(Segmenter, OptionsAreValidated) {
 
 }  // namespace
 }  // namespace patlab::vision
+
+namespace patlab::vision {
+namespace {
+
+// RGB frames with YUV thresholds go through a 64^3 cell table with an exact fallback for cells
+// that straddle a class boundary: every pixel must get the class of its exact BT.601 YUV value.
+TEST(Segmenter, RgbCellTableIsExactForYuvThresholds) {
+  const Thresholds t = ParseCmvisionColors(
+      "[Colors]\n(1,1,1) 0.5 1 a\n(1,1,1) 0.5 1 b\n(1,1,1) 0.5 1 c\n[Thresholds]\n"
+      "(60:160, 60:115, 160:200)\n(100:255, 0:95, 135:175)\n(30:160, 150:255, 60:125)\n",
+      "t.txt");
+  Image image = Image::Rgb(256, 256);
+  std::mt19937 rng(3);
+  for (uint8_t& v : image.data) v = static_cast<uint8_t>(rng());
+  SegmenterOptions o;
+  o.min_area_px = 1;
+  Segmenter s(t, o);
+  s.Classify(image);
+  int mismatches = 0;
+  for (int y = 0; y < 256; ++y) {
+    for (int x = 0; x < 256; ++x) {
+      const uint8_t* p = image.Row(y) + 3 * x;
+      int yy, uu, vv;
+      RgbToYuv(p[0], p[1], p[2], &yy, &uu, &vv);
+      mismatches += s.class_image()[static_cast<size_t>(y * 256 + x)] != s.lut().Classify(yy, uu, vv) + 1;
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+
+}  // namespace
+}  // namespace patlab::vision

@@ -1,0 +1,116 @@
+#include "io/pattern_file.h"
+
+#include <gtest/gtest.h>
+
+#include "../test_util.h"
+#include "core/error.h"
+
+namespace patlab::io {
+namespace {
+
+constexpr const char* kKey = "[[patch]]\nrole = \"key\"\nx = 0.0\ny = 0.0\nradius = 25.0\n";
+
+std::string Patch(const std::string& x, const std::string& y, const std::string& extra = "") {
+  return "[[patch]]\nrole = \"id\"\nx = " + x + "\ny = " + y + "\nradius = 20.0\n" + extra;
+}
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParsePattern(text, "p.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(PatternFile, ShippedPatternsLoadWithTheDocumentedGeometry) {
+  const Pattern ssl = testing::ShippedPattern("ssl-standard");
+  ASSERT_EQ(ssl.size(), 5);
+  EXPECT_EQ(ssl.key_index, 0);
+  EXPECT_EQ(ssl.patches[0].radius_mm, 25.0);
+  EXPECT_EQ(ssl.patches[1].position_mm, Vec2(35.0, 54.772));
+  EXPECT_EQ(ssl.patches[4].position_mm, Vec2(-54.772, -35.0));
+  for (int i = 1; i < 5; ++i) EXPECT_NEAR(ssl.patches[i].position_mm.norm(), 65.0, 1e-3);
+  EXPECT_EQ(ssl.orientation_pairs.size(), 6u);  // all pairs of the four non-key patches
+
+  const Pattern simple = testing::ShippedPattern("simple");
+  ASSERT_EQ(simple.orientation_pairs.size(), 1u);  // key -> the other patch
+  EXPECT_EQ(simple.orientation_pairs[0], (OrientationPair{0, 1}));
+  const Pattern linear = testing::ShippedPattern("linear");
+  ASSERT_EQ(linear.orientation_pairs.size(), 1u);  // the long pair between the outer patches
+  EXPECT_EQ(linear.orientation_pairs[0], (OrientationPair{1, 2}));
+  const Pattern triangle = testing::ShippedPattern("triangle");
+  EXPECT_EQ(triangle.orientation_pairs.size(), 3u);  // the three triangle edges
+  for (int i = 1; i < 4; ++i) EXPECT_NEAR(triangle.patches[i].position_mm.norm(), 65.0, 1e-12);
+}
+
+TEST(PatternFile, ExplicitOrientationPairsAreKept) {
+  const Pattern p = ParsePattern(std::string("name = \"t\"\norientation_pairs = [[1, 2], [0, 2]]\n") +
+                                     kKey + Patch("65", "0") + Patch("-65", "0"),
+                                 "p.toml");
+  ASSERT_EQ(p.orientation_pairs.size(), 2u);
+  EXPECT_EQ(p.orientation_pairs[1], (OrientationPair{0, 2}));
+}
+
+struct BadCase {
+  const char* what;
+  std::string text;
+  std::string message;
+};
+
+TEST(PatternFile, BadFilesAreRejectedWithFileLineAndWhatWasExpected) {
+  const std::string head = "name = \"t\"\n";
+  const std::vector<BadCase> cases = {
+      {"syntax", head + "x = = 1\n", "p.toml:2: TOML syntax error: Error while parsing value: could not determine value type"},
+      {"no key", head + Patch("0", "0") + Patch("65", "0"),
+       "p.toml:2: no key patch; expected exactly one patch with role = \"key\""},
+      {"two keys", head + kKey +
+                       "[[patch]]\nrole = \"key\"\nx = 65.0\ny = 0.0\nradius = 25.0\n",
+       "p.toml:8: second key patch ([[patch]] 1; the first is [[patch]] 0); expected exactly one patch with role = \"key\""},
+      {"coincident", head + kKey + Patch("65", "0") + Patch("65", "0"),
+       "p.toml:12: [[patch]] 2 coincides with [[patch]] 1 at (65, 0); expected distinct patch positions"},
+      {"overlapping", head + kKey + Patch("30", "0"),
+       "p.toml:7: [[patch]] 1 overlaps [[patch]] 0: centres 30 mm apart, radii 20 + 25 mm; expected centre distance >= sum of radii"},
+      {"pair out of range", head + "orientation_pairs = [[1, 5]]\n" + kKey + Patch("65", "0"),
+       "p.toml:2: orientation pair 0 [1, 5]: patch index 5 out of range; expected 0..1"},
+      {"pair of zero length", head + "orientation_pairs = [[1, 1]]\n" + kKey + Patch("65", "0"),
+       "p.toml:2: orientation pair 0 [1, 1] has zero length; expected two different patches"},
+      {"pair not integers", head + "orientation_pairs = [[1, \"a\"]]\n" + kKey + Patch("65", "0"),
+       "p.toml:2: orientation pair 0 is not two integers; expected an array of [from, to] patch index pairs, e.g. [[1, 2], [3, 4]]"},
+      {"orientation undefined: one patch", head + kKey,
+       "p.toml:2: pattern has 1 patch; expected at least 2 (orientation needs two distinct patch positions)"},
+      {"no patches", head,
+       "p.toml:1: no patches; expected at least 2 [[patch]] tables (orientation needs two distinct patch positions)"},
+      {"non-finite", head + kKey + Patch("nan", "0"),
+       "p.toml:9: x in [[patch]] 1 is nan; expected a finite number"},
+      {"infinite", head + kKey + Patch("65", "-inf"),
+       "p.toml:10: y in [[patch]] 1 is -inf; expected a finite number"},
+      {"unknown key (typo)", head + kKey + Patch("65", "0", "radus = 3\n"),
+       "p.toml:12: unknown key 'radus' in [[patch]] 1; expected one of: x, y, radius, role, colour"},
+      {"unknown top-level key", head + "patches = 3\n" + kKey,
+       "p.toml:2: unknown key 'patches'; expected one of: name, description, orientation_pairs, patch"},
+      {"wrong type", head + kKey + Patch("\"65\"", "0"),
+       "p.toml:9: x in [[patch]] 1 is a string; expected a number"},
+      {"bad role", head + kKey + "[[patch]]\nrole = \"slot\"\nx = 65.0\ny = 0.0\nradius = 20.0\n",
+       "p.toml:8: role in [[patch]] 1 is \"slot\"; expected \"key\", \"id\" or \"fixed\""},
+      {"negative radius", head + kKey + "[[patch]]\nrole = \"id\"\nx = 65.0\ny = 0.0\nradius = -2\n",
+       "p.toml:11: radius in [[patch]] 1 is -2; expected a positive number (mm)"},
+      {"missing name", std::string(kKey) + Patch("65", "0"),
+       "p.toml:1: missing name; expected a string"},
+      {"fixed without colour", head + kKey + "[[patch]]\nrole = \"fixed\"\nx = 65.0\ny = 0.0\nradius = 20.0\n",
+       "p.toml:8: [[patch]] 1 has role \"fixed\" but no colour; expected colour = \"<name>\""},
+  };
+  for (const BadCase& c : cases) EXPECT_EQ(ErrorOf(c.text), c.message) << c.what;
+}
+
+TEST(PatternFile, MissingFileIsAnInputError) {
+  try {
+    LoadPatternFile("/nonexistent/p.toml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "/nonexistent/p.toml: cannot open file; expected a readable TOML file");
+  }
+}
+
+}  // namespace
+}  // namespace patlab::io
