@@ -1,6 +1,7 @@
 #include "vision/segment.h"
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cstring>
 
@@ -30,19 +31,6 @@ namespace {
 // The class of a mask: 0 when empty, else 1 + index of the lowest set bit (ffs does exactly this).
 inline uint8_t ClassOf(uint32_t mask) { return static_cast<uint8_t>(__builtin_ffs(static_cast<int>(mask))); }
 
-// RGB -> YUV of one row into three planes; a plain loop the compiler vectorises.
-void RgbRowToYuvPlanes(const uint8_t* __restrict in, int n, uint8_t* __restrict y,
-                       uint8_t* __restrict u, uint8_t* __restrict v) {
-  for (int x = 0; x < n; ++x) {
-    const int r = in[3 * x], g = in[3 * x + 1], b = in[3 * x + 2];
-    // Same fixed-point BT.601 as RgbToYuv (image.h). Y and the lower ends are within 0..255
-    // for 8-bit inputs; U and V reach 256 for pure blue / red, hence the min.
-    y[x] = static_cast<uint8_t>((77 * r + 150 * g + 29 * b + 128) >> 8);
-    u[x] = static_cast<uint8_t>(std::min(((-43 * r - 85 * g + 128 * b + 128) >> 8) + 128, 255));
-    v[x] = static_cast<uint8_t>(std::min(((128 * r - 107 * g - 21 * b + 128) >> 8) + 128, 255));
-  }
-}
-
 }  // namespace
 
 void Segmenter::Classify(const Image& image) {
@@ -50,7 +38,6 @@ void Segmenter::Classify(const Image& image) {
   width_ = image.width_px;
   height_ = image.height_px;
   class_image_.resize(static_cast<size_t>(width_) * height_);
-  for (auto& p : plane_) p.resize(static_cast<size_t>(width_));
   const uint32_t* t0 = lut_.table(0).data();
   const uint32_t* t1 = lut_.table(1).data();
   const uint32_t* t2 = lut_.table(2).data();
@@ -63,11 +50,19 @@ void Segmenter::Classify(const Image& image) {
         out[x] = ClassOf(t0[in[3 * x]] & t1[in[3 * x + 1]] & t2[in[3 * x + 2]]);
       }
     } else if (image.format == PixelFormat::kRgb8) {
-      uint8_t* py = plane_[0].data();
-      uint8_t* pu = plane_[1].data();
-      uint8_t* pv = plane_[2].data();
-      RgbRowToYuvPlanes(in, width_, py, pu, pv);
-      for (int x = 0; x < width_; ++x) out[x] = ClassOf(t0[py[x]] & t1[pu[x]] & t2[pv[x]]);
+      if (rgb_cells_.empty()) BuildRgbCells();
+      const uint8_t* cells = rgb_cells_.data();
+      for (int x = 0; x < width_; ++x) {
+        out[x] = cells[(in[3 * x] >> 2) << 12 | (in[3 * x + 1] >> 2) << 6 | in[3 * x + 2] >> 2];
+      }
+      // The few pixels in mixed cells (near a class boundary), exactly.
+      for (uint8_t* p = out; (p = static_cast<uint8_t*>(std::memchr(p, kMixedCell, static_cast<size_t>(out + width_ - p)))) != nullptr; ++p) {
+        const uint8_t* rgb = in + 3 * (p - out);
+        int yy, uu, vv;
+        RgbToYuv(rgb[0], rgb[1], rgb[2], &yy, &uu, &vv);
+        *p = ClassOf(t0[yy] & t1[uu] & t2[vv]);
+        if (p + 1 == out + width_) break;
+      }
     } else if (yuv_lut) {
       // UYVY: U and V are shared by each pixel pair.
       for (int x = 0; x + 1 < width_; x += 2, in += 4) {
@@ -82,6 +77,39 @@ void Segmenter::Classify(const Image& image) {
           YuvToRgb(in[1 + 2 * k], in[0], in[2], &r, &g, &b);
           out[x + k] = ClassOf(t0[r] & t1[g] & t2[b]);
         }
+      }
+    }
+  }
+}
+
+void Segmenter::BuildRgbCells() {
+  // Each of Y, U, V is floor(affine(r, g, b)) then clamped: monotone along every axis, so over a
+  // cell it ranges between its values at the cell's 8 corners. A cell is pure when every
+  // channel's mask table is constant over that channel's range (then so is the AND).
+  std::array<std::array<int, 256>, 3> change_count;  // number of mask changes in 0..v
+  for (int ch = 0; ch < 3; ++ch) {
+    const auto& t = lut_.table(ch);
+    change_count[ch][0] = 0;
+    for (int v = 1; v < 256; ++v) change_count[ch][v] = change_count[ch][v - 1] + (t[v] != t[v - 1]);
+  }
+  rgb_cells_.assign(size_t{1} << 18, 0);
+  for (int r = 0; r < 64; ++r) {
+    for (int g = 0; g < 64; ++g) {
+      for (int b = 0; b < 64; ++b) {
+        int lo[3] = {255, 255, 255}, hi[3] = {0, 0, 0};
+        for (int corner = 0; corner < 8; ++corner) {
+          int yuv[3];
+          RgbToYuv(4 * r + (corner & 1 ? 3 : 0), 4 * g + (corner & 2 ? 3 : 0),
+                   4 * b + (corner & 4 ? 3 : 0), &yuv[0], &yuv[1], &yuv[2]);
+          for (int ch = 0; ch < 3; ++ch) {
+            lo[ch] = std::min(lo[ch], yuv[ch]);
+            hi[ch] = std::max(hi[ch], yuv[ch]);
+          }
+        }
+        bool pure = true;
+        for (int ch = 0; ch < 3; ++ch) pure = pure && change_count[ch][lo[ch]] == change_count[ch][hi[ch]];
+        rgb_cells_[static_cast<size_t>(r << 12 | g << 6 | b)] =
+            pure ? ClassOf(lut_.Mask(lo[0], lo[1], lo[2])) : kMixedCell;
       }
     }
   }
