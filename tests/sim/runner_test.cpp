@@ -1,0 +1,184 @@
+#include "sim/runner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../test_util.h"
+#include "sim/batch.h"
+#include "sim/report.h"
+
+namespace patlab::sim {
+namespace {
+
+using estimate::Estimator;
+
+Experiment SmallExperiment(std::vector<std::string> patterns, std::vector<double> sigmas,
+                           int64_t trials) {
+  Experiment e;
+  e.name = "test";
+  for (const std::string& p : patterns) {
+    e.patterns.push_back(testing::ShippedPattern(p));
+    e.pattern_files.push_back(p);
+  }
+  e.estimators = {Estimator::kFast, Estimator::kMl, Estimator::kLsq, Estimator::kKey};
+  e.sigmas_mm = std::move(sigmas);
+  e.trials = trials;
+  e.seed = 12345;
+  return e;
+}
+
+TEST(Runner, SameSeedGivesByteIdenticalResultsOnOneTwoAndEightThreads) {
+  // 5,000 trials: several batches, the last one partial.
+  const Experiment e = SmallExperiment({"triangle", "butterfly"}, {0.5, 2.0}, 5000);
+  std::string reference;
+  for (int threads : {1, 2, 8}) {
+    RunOptions options;
+    options.threads = threads;
+    const std::string csv = ResultsCsv(e, RunExperiment(e, options));
+    if (reference.empty()) {
+      reference = csv;
+    } else {
+      EXPECT_EQ(csv, reference) << threads << " threads";
+    }
+  }
+  // And a different seed gives different numbers.
+  Experiment other = e;
+  other.seed = 12346;
+  EXPECT_NE(ResultsCsv(other, RunExperiment(other, {})), reference);
+}
+
+// Simulated std against the first-order prediction: at small sigma the estimators are linear in
+// the noise, so the prediction is exact up to O(sigma^2) terms far below the tolerance; the
+// sampling std of a std estimate is s / sqrt(2 (n - 1)).
+TEST(Runner, SimulatedStdMatchesThePredictedStdWithinFourStandardErrors) {
+  const int64_t n = 40000;
+  const Experiment e = SmallExperiment(testing::ShippedPatternNames(), {0.1}, n);
+  const RunResult result = RunExperiment(e, {});
+  for (const PointResult& p : result.points) {
+    for (const EstimatorResult& r : p.estimators) {
+      SCOPED_TRACE(p.pattern + " " + std::string(estimate::EstimatorName(r.estimator)));
+      const double se_theta = r.predicted_theta_rad / std::sqrt(2.0 * (n - 1));
+      EXPECT_NEAR(r.theta.std, r.predicted_theta_rad, 4 * se_theta);
+      // Pooled over x and y: 2 (n - 1) degrees of freedom.
+      const double se_pos = r.predicted_position_mm / std::sqrt(4.0 * (n - 1));
+      EXPECT_NEAR(r.position_std_mm, r.predicted_position_mm, 4 * se_pos);
+      // Unbiased: |mean| within 4 standard errors of 0.
+      EXPECT_NEAR(r.theta.mean, 0.0, 4 * r.theta.std / std::sqrt(n));
+      EXPECT_NEAR(r.x.mean, 0.0, 4 * r.x.std / std::sqrt(n));
+      // The interval contains the estimate.
+      EXPECT_LT(r.theta.std_lower, r.theta.std);
+      EXPECT_GT(r.theta.std_upper, r.theta.std);
+      EXPECT_EQ(r.nonconverged, 0);
+    }
+  }
+}
+
+TEST(Runner, NoiseModelsChangeTheStdAsTheirFormulasSay) {
+  const int64_t n = 40000;
+  Experiment e = SmallExperiment({"butterfly"}, {0.1}, n);
+  e.estimators = {Estimator::kFast};
+  // Common mode: the angle is unaffected, the position std grows to sqrt(pred^2 + (g sigma)^2).
+  e.noise.common_sigma_ratio = 2.0;
+  RunResult r = RunExperiment(e, {});
+  const EstimatorResult& common = r.points[0].estimators[0];
+  EXPECT_NEAR(common.position_std_mm, common.predicted_position_mm,
+              4 * common.predicted_position_mm / std::sqrt(4.0 * (n - 1)));
+  EXPECT_GT(common.predicted_position_mm, 0.1 * 2.0);
+  EXPECT_TRUE(std::isnan(common.crlb_position_mm));  // the bound is for isotropic noise only
+  // Outliers: a linear estimator's variance is that of the mixture, per axis
+  // sigma^2 ((1 - p) + p k^2). Its std estimate has standard error (s / 2) sqrt((2 + kappa) / n)
+  // with kappa the excess kurtosis, at most the mixture's 3 (1 - p + p k^4) / (1 - p + p k^2)^2 - 3.
+  e.noise = NoiseModel{};
+  e.noise.outlier_probability = 0.1;
+  e.noise.outlier_sigma_ratio = 5.0;
+  r = RunExperiment(e, {});
+  const EstimatorResult& outliers = r.points[0].estimators[0];
+  const double p = 0.1, k = 5.0;
+  const double kappa = 3 * (1 - p + p * std::pow(k, 4)) / std::pow(1 - p + p * k * k, 2) - 3;
+  const double predicted = estimate::PredictedStd(estimate::Model::FromPattern(e.patterns[0]),
+                                                  Estimator::kFast).theta *
+                           0.1 * std::sqrt(1 - p + p * k * k);
+  EXPECT_NEAR(outliers.predicted_theta_rad, predicted, 1e-12);
+  EXPECT_NEAR(outliers.theta.std, predicted, 4 * predicted / 2 * std::sqrt((2 + kappa) / n));
+  // Anisotropic: sigma_y = 3 sigma_x; with random headings the per-axis variance averages to
+  // sigma^2 (1 + 9) / 2.
+  e.noise = NoiseModel{};
+  e.noise.sigma_y_ratio = 3.0;
+  r = RunExperiment(e, {});
+  const EstimatorResult& aniso = r.points[0].estimators[0];
+  EXPECT_NEAR(aniso.predicted_theta_rad / predicted, std::sqrt(5.0) / std::sqrt(1 - p + p * k * k),
+              1e-12);
+  EXPECT_NEAR(aniso.theta.std, aniso.predicted_theta_rad,
+              4 * aniso.predicted_theta_rad / std::sqrt(2.0 * (n - 1)));
+}
+
+TEST(Runner, BatchedNewtonMatchesTheReferenceEstimatorAndReplayReproducesTrials) {
+  // The batch kernel's ML (sums form, vectorised) against estimate::MaximumLikelihood on the
+  // replayed patches of the same trials.
+  Experiment e = SmallExperiment({"butterfly", "triangle"}, {3.0}, 3000);
+  for (int pi = 0; pi < 2; ++pi) {
+    const estimate::Model model = estimate::Model::FromPattern(e.patterns[pi]);
+    const PointSetup setup = MakePointSetup(e, model, pi, 0);
+    std::vector<double> buffers[4][3];
+    std::vector<uint8_t> iterations(kBatchSize), termination(kBatchSize);
+    BatchOutput out;
+    for (Estimator est : e.estimators) {
+      auto& b = buffers[static_cast<int>(est)];
+      for (auto& v : b) v.resize(kBatchSize);
+      out.errors[static_cast<int>(est)] = {b[0].data(), b[1].data(), b[2].data()};
+    }
+    out.ml_iterations = iterations.data();
+    out.ml_termination = termination.data();
+    const uint64_t first = 2 * kBatchSize;
+    RunBatch(setup, first, kBatchSize, out);
+    for (int k = 0; k < kBatchSize; k += 37) {
+      Pose2 truth;
+      std::array<Vec2, kMaxPatches> v;
+      GenerateTrial(setup, first + k, &truth, v.data());
+      const Pose2 fast = estimate::Fast(model, v.data());
+      estimate::Summary summary;
+      const Pose2 ml = estimate::MaximumLikelihood(model, v.data(), fast, e.ml_options, &summary);
+      const Pose2 lsq = estimate::LeastSquares(model, v.data());
+      const int f = static_cast<int>(Estimator::kFast), m = static_cast<int>(Estimator::kMl),
+                l = static_cast<int>(Estimator::kLsq);
+      EXPECT_NEAR(buffers[f][0][k], fast.x_mm - truth.x_mm, 1e-9);
+      EXPECT_NEAR(buffers[f][2][k], WrapAngle(fast.theta_rad - truth.theta_rad), 1e-12);
+      EXPECT_NEAR(buffers[m][0][k], ml.x_mm - truth.x_mm, 1e-9);
+      EXPECT_NEAR(buffers[m][1][k], ml.y_mm - truth.y_mm, 1e-9);
+      EXPECT_NEAR(buffers[m][2][k], WrapAngle(ml.theta_rad - truth.theta_rad), 1e-11);
+      EXPECT_NEAR(buffers[l][2][k], WrapAngle(lsq.theta_rad - truth.theta_rad), 1e-11);
+      EXPECT_EQ(termination[k], static_cast<uint8_t>(estimate::Termination::kConverged));
+      EXPECT_NEAR(iterations[k], summary.iterations, 1);
+    }
+  }
+}
+
+TEST(Runner, NoiseFreeTrialsHaveZeroErrorAndTheFieldIsCovered) {
+  Experiment e = SmallExperiment({"ssl-standard"}, {0.0}, 2000);
+  const RunResult r = RunExperiment(e, {});
+  for (const EstimatorResult& est : r.points[0].estimators) {
+    EXPECT_LT(est.position_std_mm, 1e-9);
+    EXPECT_LT(est.theta.std, 1e-12);
+    EXPECT_FALSE(est.vs_fast.computed);  // no tests on rounding noise
+  }
+  const estimate::Model model = estimate::Model::FromPattern(e.patterns[0]);
+  const PointSetup setup = MakePointSetup(e, model, 0, 0);
+  double max_x = 0, max_y = 0, max_t = 0;
+  for (uint64_t t = 0; t < 2000; t += 7) {
+    Pose2 truth;
+    std::array<Vec2, kMaxPatches> v;
+    GenerateTrial(setup, t, &truth, v.data());
+    max_x = std::max(max_x, std::abs(truth.x_mm));
+    max_y = std::max(max_y, std::abs(truth.y_mm));
+    max_t = std::max(max_t, std::abs(truth.theta_rad));
+  }
+  EXPECT_LE(max_x, 1400.0);
+  EXPECT_GT(max_x, 1300.0);
+  EXPECT_LE(max_y, 1150.0);
+  EXPECT_GT(max_y, 1050.0);
+  EXPECT_GT(max_t, 3.0);
+}
+
+}  // namespace
+}  // namespace patlab::sim
