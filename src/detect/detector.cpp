@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
-#include <boost/math/special_functions/gamma.hpp>
 #include <cmath>
 #include <cstdint>
 #include <tuple>
@@ -76,6 +75,30 @@ std::optional<OptionsProblem> ValidateDetectorOptions(const DetectorOptions& o) 
     return problem("ml_max_iterations", o.ml.max_iterations, "an integer >= 1");
   }
   return std::nullopt;
+}
+
+// Upper regularised incomplete gamma Q(dof / 2, e / 2): the probability that a chi-square variable
+// with integer `dof` exceeds e, in closed form (Abramowitz & Stegun 26.4.4-26.4.5): cheaper than
+// the general algorithm by two orders of magnitude.
+double ChiSquaredSurvival(int dof, double e) {
+  PATLAB_CHECK(dof >= 1);
+  const double y = 0.5 * e;
+  const double decay = std::exp(-y);
+  if (dof % 2 == 0) {
+    double term = 1.0, sum = 1.0;  // sum_{i < dof/2} y^i / i!
+    for (int i = 1; i < dof / 2; ++i) {
+      term *= y / i;
+      sum += term;
+    }
+    return std::min(1.0, decay * sum);
+  }
+  double q = std::erfc(std::sqrt(y));                   // Q(1/2, y)
+  double term = 2.0 * std::sqrt(y / std::numbers::pi);  // y^(1/2) / Gamma(3/2)
+  for (int i = 0; i < dof / 2; ++i) {
+    q += decay * term;  // Q(a + 1, y) = Q(a, y) + y^a e^-y / Gamma(a + 1), a = i + 1/2
+    term *= y / (i + 1.5);
+  }
+  return std::min(1.0, q);
 }
 
 namespace {
@@ -155,8 +178,10 @@ struct Detector::Impl {
   double max_reach_mm = 0.0;
 
   // Per-frame buffers, reused.
-  std::vector<int> by_x;
-  std::vector<double> xs;
+  std::vector<int> by_x;          // blob indices, bucketed by x
+  std::vector<int> bucket_start;  // bucket b holds by_x[bucket_start[b] .. bucket_start[b + 1])
+  std::vector<int> bucket_fill;
+  double bucket_min_x = 0.0, bucket_width_mm = 1.0;
   std::vector<Candidate> candidates;
   std::vector<int> candidate_order;
   std::vector<char> used;
@@ -384,9 +409,14 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   std::array<int, kMaxGathered> nb;
   std::array<double, kMaxGathered> nb_dev;
   int n = 0;
-  const auto begin = std::lower_bound(xs.begin(), xs.end(), k.x() - rt.reach_max_mm);
-  for (auto it = begin; it != xs.end() && *it <= k.x() + rt.reach_max_mm; ++it) {
-    const int j = by_x[it - xs.begin()];
+  const int num_buckets = static_cast<int>(bucket_start.size()) - 1;
+  auto bucket_of = [&](double x) {
+    return std::clamp(static_cast<int>(std::floor((x - bucket_min_x) / bucket_width_mm)), 0,
+                      num_buckets - 1);
+  };
+  const int first = bucket_of(k.x() - rt.reach_max_mm), last = bucket_of(k.x() + rt.reach_max_mm);
+  for (int t = bucket_start[first]; t < bucket_start[last + 1]; ++t) {
+    const int j = by_x[t];
     if (j == key) continue;
     const Blob& b = blobs[j];
     if (b.colour < 0 || b.colour >= kMaxLabels || !((rt.neighbour_mask >> b.colour) & 1)) continue;
@@ -625,8 +655,18 @@ void Detector::Impl::Finish(const Candidate& c, std::span<const Blob> blobs, Det
   }
   const int dof = missing ? rt.dof_missing : rt.dof_full;
   const double sigma2 = config.options.patch_sigma_mm * config.options.patch_sigma_mm;
-  d->confidence = boost::math::gamma_q(0.5 * dof, 0.5 * c.e / sigma2);
+  d->confidence = ChiSquaredSurvival(dof, c.e / sigma2);
 }
+
+namespace {
+// Blobs farther than this from the origin (or not finite) are ignored: no field is 1000 km wide,
+// and it keeps the bucket arithmetic finite.
+bool Usable(const Blob& b) {
+  constexpr double kMaxCoordinateMm = 1e9;
+  return std::abs(b.position_mm.x()) <= kMaxCoordinateMm &&
+         std::abs(b.position_mm.y()) <= kMaxCoordinateMm;
+}
+}  // namespace
 
 void Detector::Detect(std::span<const Blob> blobs, std::vector<Detection>* detections,
                       DetectStats* stats) {
@@ -636,20 +676,40 @@ void Detector::Detect(std::span<const Blob> blobs, std::vector<Detection>* detec
   detections->clear();
   const int n = static_cast<int>(blobs.size());
 
-  // Blobs sorted by x for the neighbour search (stage 2).
+  // Blobs bucketed by x (counting sort; buckets one reach wide) for the neighbour search of
+  // stage 2. Unusable blobs (non-finite, absurdly far) are left out.
+  double min_x = 1e300, max_x = -1e300;
+  for (const Blob& b : blobs) {
+    if (!Usable(b)) continue;
+    min_x = std::min(min_x, b.position_mm.x());
+    max_x = std::max(max_x, b.position_mm.x());
+  }
+  constexpr int kMaxBuckets = 4096;
+  s.bucket_min_x = min_x <= max_x ? min_x : 0.0;
+  const double range = min_x <= max_x ? max_x - min_x : 0.0;
+  s.bucket_width_mm = std::max(s.max_reach_mm, range / (kMaxBuckets - 1));
+  const int num_buckets = static_cast<int>(range / s.bucket_width_mm) + 1;
+  s.bucket_start.assign(num_buckets + 1, 0);
   s.by_x.resize(n);
-  for (int i = 0; i < n; ++i) s.by_x[i] = i;
-  std::sort(s.by_x.begin(), s.by_x.end(), [&](int a, int b) {
-    const double xa = blobs[a].position_mm.x(), xb = blobs[b].position_mm.x();
-    return xa < xb || (xa == xb && a < b);
-  });
-  s.xs.resize(n);
-  for (int i = 0; i < n; ++i) s.xs[i] = blobs[s.by_x[i]].position_mm.x();
+  auto bucket_of = [&](const Blob& b) {
+    return std::min(num_buckets - 1,
+                    static_cast<int>((b.position_mm.x() - s.bucket_min_x) / s.bucket_width_mm));
+  };
+  for (const Blob& b : blobs) {
+    if (Usable(b)) ++s.bucket_start[bucket_of(b) + 1];
+  }
+  for (int b = 0; b < num_buckets; ++b) s.bucket_start[b + 1] += s.bucket_start[b];
+  s.bucket_fill.assign(num_buckets, 0);
+  for (int i = 0; i < n; ++i) {
+    if (!Usable(blobs[i])) continue;
+    const int b = bucket_of(blobs[i]);
+    s.by_x[s.bucket_start[b] + s.bucket_fill[b]++] = i;
+  }
 
   // Stage 1: key candidates; stages 2-7 per candidate.
   for (int i = 0; i < n; ++i) {
     const int label = blobs[i].colour;
-    if (label < 0 || label >= kMaxLabels) continue;
+    if (label < 0 || label >= kMaxLabels || !Usable(blobs[i])) continue;
     for (int p : s.patterns_by_key_label[label]) {
       const PatternRuntime& rt = s.runtimes[p];
       if (blobs[i].area_mm2 < rt.key_area_min || blobs[i].area_mm2 > rt.key_area_max) continue;

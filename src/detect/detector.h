@@ -130,6 +130,9 @@ struct DetectStats {
   DetectStats& operator+=(const DetectStats& other);
 };
 
+// P(chi-square with `dof` degrees of freedom >= e), dof >= 1: the detections' confidence.
+double ChiSquaredSurvival(int dof, double e);
+
 class Detector {
  public:
   // Validates the configuration (colour names, codebooks against the patterns, options) and
@@ -141,7 +144,8 @@ class Detector {
 
   // Detects every enabled pattern in one frame. `detections` is cleared and filled, ordered by
   // (pattern, team colour, status, id, x, y). `stats` (optional) is overwritten. Blob colours
-  // outside the palette are ignored. Not thread-safe: use one Detector per thread.
+  // outside the palette and positions beyond 1e9 mm or not finite are ignored. Not thread-safe: use
+  // one Detector per thread.
   void Detect(std::span<const Blob> blobs, std::vector<Detection>* detections,
               DetectStats* stats = nullptr);
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "core/error.h"
@@ -349,6 +350,40 @@ TEST(Detector, ConfigurationErrors) {
   config = MakeConfig({SslDetectorPattern()});
   config.palette.push_back("blue");
   expect_error(config, "palette colour \"blue\" is listed twice; expected distinct colour names");
+}
+
+}  // namespace
+}  // namespace patlab::detect
+
+namespace patlab::detect {
+namespace {
+
+TEST(ChiSquaredSurvival, MatchesKnownValues) {
+  // Tabulated chi-square upper tail values: P(chi2_1 >= 3.841459) = 0.05,
+  // P(chi2_2 >= 5.991465) = 0.05, P(chi2_7 >= 18.475307) = 0.01, P(chi2_5 >= 1.145476) = 0.95.
+  EXPECT_NEAR(ChiSquaredSurvival(1, 3.841459), 0.05, 1e-7);
+  EXPECT_NEAR(ChiSquaredSurvival(2, 5.991465), 0.05, 1e-7);
+  EXPECT_NEAR(ChiSquaredSurvival(7, 18.475307), 0.01, 1e-7);
+  EXPECT_NEAR(ChiSquaredSurvival(5, 1.145476), 0.95, 1e-6);
+  EXPECT_DOUBLE_EQ(ChiSquaredSurvival(3, 0.0), 1.0);
+}
+
+TEST(Detector, NonFiniteBlobsAreIgnored) {
+  DetectorPattern dp;
+  dp.pattern = testing::LoadPattern("ssl-standard");
+  dp.codebook = GenerateCodebook(dp.pattern, FindSymmetry(dp.pattern, 10.0), {"pink", "green"});
+  dp.key_colours = {"blue"};
+  Detector detector(testing::MakeConfig({dp}));
+  std::vector<Blob> blobs;
+  testing::AddRobot(dp.pattern, dp.codebook, 6, testing::kBlue, Pose2{5, 5, 1}, &blobs);
+  blobs.push_back({Vec2(std::nan(""), 0.0), testing::kBlue, 1963.0});
+  blobs.push_back({Vec2(1e308, -1e308), testing::kPink, 1256.0});
+  blobs.push_back({Vec2(-1e308, 1e308), testing::kBlue, 1963.0});
+  blobs.push_back({Vec2(std::numeric_limits<double>::infinity(), 0.0), testing::kPink, 1256.0});
+  std::vector<Detection> detections;
+  detector.Detect(blobs, &detections);
+  ASSERT_EQ(detections.size(), 1u);
+  EXPECT_EQ(detections[0].id, 6);
 }
 
 }  // namespace
