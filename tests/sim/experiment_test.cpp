@@ -1,0 +1,141 @@
+#include "sim/experiment.h"
+
+#include <gtest/gtest.h>
+
+#include "../test_util.h"
+#include "core/error.h"
+
+namespace patlab::sim {
+namespace {
+
+// Experiment files live in <dir>/experiments/, patterns in <dir>/patterns/ (a copy of two
+// shipped ones), as in the repository.
+class ExperimentFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    for (const char* name : {"simple", "butterfly"}) {
+      dir_.Write(std::string("patterns/") + name + ".toml",
+                 testing::ReadFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml"));
+    }
+  }
+  std::string Write(const std::string& text) { return dir_.Write("experiments/e.toml", text); }
+  std::string ErrorOf(const std::string& text) {
+    const std::string path = Write(text);
+    try {
+      LoadExperimentFile(path);
+    } catch (const InputError& e) {
+      std::string message = e.what();
+      const std::string prefix = dir_.Path("experiments/");
+      if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+      return message;
+    }
+    return "(no error)";
+  }
+  testing::TempDir dir_;
+};
+
+const std::string kHead = "name = \"x\"\npatterns = [\"simple\", \"butterfly\"]\n";
+const std::string kSigma = "[sigma]\nfrom = 0\nto = 4\nsteps = 17\n";
+
+TEST_F(ExperimentFileTest, ShippedFig5HasThePapersSetUp) {
+  const Experiment e = LoadExperimentFile(std::string(PATLAB_SOURCE_DIR) + "/experiments/fig5.toml");
+  ASSERT_EQ(e.patterns.size(), 5u);
+  EXPECT_EQ(e.patterns[4].name, "ssl-standard");
+  EXPECT_EQ(e.trials, 100000);
+  ASSERT_GE(e.sigmas_mm.size(), 15u);
+  EXPECT_EQ(e.sigmas_mm.front(), 0.0);
+  EXPECT_EQ(e.sigmas_mm.back(), 4.0);
+  EXPECT_EQ(e.estimators,
+            (std::vector<estimate::Estimator>{estimate::Estimator::kFast, estimate::Estimator::kMl}));
+  EXPECT_TRUE(e.noise.IsIsotropicGaussian());
+  EXPECT_EQ(e.field_length_mm, 2800.0);
+  EXPECT_EQ(e.field_width_mm, 2300.0);
+}
+
+TEST_F(ExperimentFileTest, DefaultsAndGridForms) {
+  Experiment e = LoadExperimentFile(Write(kHead + kSigma));
+  EXPECT_EQ(e.trials, 100000);
+  EXPECT_EQ(e.sigmas_mm.size(), 17u);
+  EXPECT_DOUBLE_EQ(e.sigmas_mm[1], 0.25);
+  e = LoadExperimentFile(Write(kHead + "[sigma]\nvalues = [0.5, 1, 2]\n"));
+  EXPECT_EQ(e.sigmas_mm, (std::vector<double>{0.5, 1.0, 2.0}));
+}
+
+TEST_F(ExperimentFileTest, NoiseFileIsReadRelativeToTheExperiment) {
+  dir_.Write("experiments/noise/jitter.toml", "common_sigma_ratio = 0.5\nsigma_y_ratio = 2\n");
+  const Experiment e = LoadExperimentFile(Write(kHead + "noise_file = \"noise/jitter.toml\"\n" + kSigma));
+  EXPECT_EQ(e.noise.common_sigma_ratio, 0.5);
+  EXPECT_EQ(e.noise.sigma_y_ratio, 2.0);
+}
+
+TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {kHead + "trials = 1\n" + kSigma, "e.toml:3: trials is 1; expected an integer in 2..1000000000"},
+      {kHead + "estimators = [\"fast\", \"newton\"]\n" + kSigma,
+       "e.toml:3: unknown estimator \"newton\"; expected \"fast\", \"ml\", \"lsq\" or \"key\""},
+      {kHead + "estimators = [\"ml\", \"ml\"]\n" + kSigma,
+       "e.toml:3: estimator \"ml\" is listed twice; expected each once"},
+      {"name = \"x\"\npatterns = [\"hexagon\"]\n" + kSigma,
+       "e.toml:2: pattern 'hexagon' not found; expected a pattern file path or a name in " +
+           dir_.Path("patterns") + "/"},
+      {kHead + "seeds = 3\n" + kSigma,
+       "e.toml:3: unknown key 'seeds'; expected one of: name, description, patterns, patterns_dir, "
+       "estimators, trials, seed, correspondence, sigma, field, noise, noise_file, ml"},
+      {kHead, "e.toml:1: missing [sigma]; expected a table with values = [...] or from, to, steps"},
+      {kHead + "[sigma]\nvalues = [1, 0.5]\n",
+       "e.toml:4: sigma values in [sigma] are not increasing at 0.5; expected strictly increasing values"},
+      {kHead + "[sigma]\nvalues = [-1]\n",
+       "e.toml:4: sigma -1 in [sigma]; expected finite numbers >= 0 (mm)"},
+      {kHead + "[sigma]\nfrom = 0\nto = 4\nsteps = 1\n",
+       "e.toml:6: steps in [sigma] is 1; expected an integer in 2..10000"},
+      {kHead + "[sigma]\nfrom = 0\nto = 4\nsteps = 3\nvalues = [1]\n",
+       "e.toml:7: [sigma] has both values and from/to/steps; expected one of the two forms"},
+      {kHead + kSigma + "[noise]\noutlier_probability = 1.5\n",
+       "e.toml:8: outlier_probability in [noise] is 1.5; expected a probability in [0, 1)"},
+      {kHead + kSigma + "[noise]\nsigma_y_ratio = 0\n",
+       "e.toml:8: sigma_y_ratio in [noise] is 0; expected a number > 0"},
+      {kHead + kSigma + "[noise]\nsigma = 3\n",
+       "e.toml:8: unknown key 'sigma' in [noise]; expected one of: sigma_y_ratio, "
+       "common_sigma_ratio, outlier_probability, outlier_sigma_ratio"},
+      {kHead + kSigma + "[ml]\nmax_iterations = 0\n",
+       "e.toml:8: max_iterations in [ml] is 0; expected an integer in 1..1000"},
+      {kHead + "correspondence = \"guess\"\n" + kSigma,
+       "e.toml:3: correspondence is \"guess\"; expected \"known\""},
+      {kHead + "trials = \"many\"\n" + kSigma, "e.toml:3: trials is a string; expected an integer"},
+      {"name = \"x\"\npatterns = [\"simple\", \"simple\"]\n" + kSigma,
+       "e.toml:2: pattern 'simple' is listed twice; expected each pattern once"},
+  };
+  for (const auto& [text, message] : cases) EXPECT_EQ(ErrorOf(text), message) << text;
+}
+
+TEST_F(ExperimentFileTest, BadPatternFileReportsThePatternFileAndLine) {
+  dir_.Write("patterns/broken.toml", "name = \"b\"\n[[patch]]\nrole = \"id\"\nx = 0\ny = 0\nradius = 1\n"
+                                     "[[patch]]\nrole = \"id\"\nx = 5\ny = 0\nradius = 1\n");
+  const std::string message = ErrorOf("name = \"x\"\npatterns = [\"broken\"]\n" + kSigma);
+  EXPECT_EQ(message, dir_.Path("patterns/broken.toml") +
+                         ":2: no key patch; expected exactly one patch with role = \"key\"");
+}
+
+TEST(Overrides, AreValidatedLikeTheFile) {
+  Experiment e;
+  e.sigmas_mm = {1.0};
+  Overrides o;
+  o.trials = 1;
+  try {
+    ApplyOverrides(o, &e);
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(), "--trials is 1; expected an integer in 2..1000000000");
+  }
+  o = Overrides{};
+  o.sigmas_mm = {1.0, 1.0};
+  try {
+    ApplyOverrides(o, &e);
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(), "--sigmas has 1; expected strictly increasing finite numbers >= 0 (mm)");
+  }
+}
+
+}  // namespace
+}  // namespace patlab::sim
