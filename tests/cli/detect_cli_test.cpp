@@ -1,0 +1,128 @@
+// patlab detect end to end: frames written by the test (rendered discs), the binary run as a
+// user would, its stdout, stderr and exit status checked.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "vision/frame_io.h"
+#include "vision/render.h"
+
+namespace patlab::vision {
+namespace {
+
+struct CliRun {
+  int status;
+  std::string out, err;
+};
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string Dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const auto dir = std::filesystem::temp_directory_path() / "patlab_detect_cli" / info->name();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+CliRun Detect(const std::string& dir, const std::string& args) {
+  const std::string cmd = std::string(PATLAB_BINARY) + " detect " + args + " >" + dir + "/out.txt 2>" + dir + "/err.txt";
+  const int raw = std::system(cmd.c_str());
+  return {WEXITSTATUS(raw), Slurp(dir + "/out.txt"), Slurp(dir + "/err.txt")};
+}
+
+// One blue disc of radius 10 px at (30.5, 20.25) on grey; calibration 2 mm per px, y up.
+void WriteScene(const std::string& dir) {
+  const std::vector<Disc> discs = {{Vec2(30.5, 20.25), 10, {20, 40, 230}}};
+  WritePng(RenderDiscs(64, 48, {90, 90, 90}, discs, 8), dir + "/a.png");
+  std::ofstream(dir + "/t.toml") << "[[class]]\nname = \"blue\"\nu = [160, 255]\nv = [0, 120]\n";
+  std::ofstream(dir + "/c.toml") << "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+                                    "matrix = [[2, 0, 0], [0, -2, 96], [0, 0, 1]]\n";
+}
+
+TEST(DetectCli, WritesCalibratedBlobsWithoutSettings) {
+  const std::string dir = Dir();
+  WriteScene(dir);
+  const CliRun r = Detect(dir, dir + "/a.png -t " + dir + "/t.toml -c " + dir + "/c.toml");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string header, row;
+  std::getline(lines, header);
+  std::getline(lines, row);
+  EXPECT_EQ(header, "frame,colour,x_mm,y_mm,area_mm2,x_px,y_px,area_px");
+  // x = 2 u = 61 mm, y = 96 - 2 v = 55.5 mm, up to digitisation (0.15 px = 0.3 mm).
+  double x, y;
+  ASSERT_EQ(std::sscanf(row.substr(row.find(",blue,") + 6).c_str(), "%lf,%lf", &x, &y), 2) << row;
+  EXPECT_NEAR(x, 61.0, 0.3);
+  EXPECT_NEAR(y, 55.5, 0.3);
+}
+
+TEST(DetectCli, TruncatedFrameIsExitTwoWithNoOutput) {
+  const std::string dir = Dir();
+  WriteScene(dir);
+  std::vector<uint8_t> bytes = ReadFileBytes(dir + "/a.png");
+  bytes.resize(40);
+  std::ofstream(dir + "/b.png", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), 40);
+  const std::string args = dir + "/a.png " + dir + "/b.png -t " + dir + "/t.toml -c " + dir + "/c.toml";
+  CliRun r = Detect(dir, args);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(r.err.find("patlab detect: " + dir + "/b.png: byte 40: truncated PNG"), std::string::npos) << r.err;
+  // --keep-going: the good frame is written, the bad one reported, and the status says so.
+  r = Detect(dir, args + " --keep-going");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("a.png,blue,"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("(skipped: --keep-going)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("patlab detect: 1 of 2 frame(s) failed"), std::string::npos) << r.err;
+}
+
+TEST(DetectCli, BadThresholdsFileNamesFileAndLine) {
+  const std::string dir = Dir();
+  WriteScene(dir);
+  std::ofstream(dir + "/colors.txt") << "[Colors]\n(0,0,255) 0.5 1 blue\n[Thresholds]\n(0:255, 160:255)\n";
+  const CliRun r = Detect(dir, dir + "/a.png -t " + dir + "/colors.txt -c " + dir + "/c.toml");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "patlab detect: " + dir + "/colors.txt:4: bad [Thresholds] line '(0:255, 160:255)'; "
+                   "expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)\n");
+  EXPECT_EQ(r.out, "");
+}
+
+TEST(DetectCli, RawFrameOfTheWrongSize) {
+  const std::string dir = Dir();
+  WriteScene(dir);
+  std::ofstream(dir + "/f.yuv", std::ios::binary) << std::string(100, '\x80');
+  const CliRun r = Detect(dir, dir + "/f.yuv --raw-size 64x48 -t " + dir + "/t.toml -c " + dir + "/c.toml");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "patlab detect: " + dir + "/f.yuv: 100 bytes; expected 6144 bytes for a 64x48 UYVY "
+                   "frame (width x height x 2)\n");
+}
+
+TEST(DetectCli, DetectsTheSharedStandardPatternSheet) {
+  const std::string frames = std::string(PATLAB_SOURCE_DIR) + "/../shared/frames";
+  if (!std::filesystem::exists(frames)) GTEST_SKIP() << "no shared frames at " << frames;
+  const std::string dir = Dir();
+  const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision";
+  const CliRun r = Detect(dir, frames + "/ssl-standard-pattern-2010-16ids.png -t " + data +
+                                "/ssl-standard-sheet.thresholds.toml -c " + data +
+                                "/ssl-standard-sheet.calibration.toml -s " + PATLAB_SOURCE_DIR +
+                                "/experiments/detector.toml --format json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  // 16 robots, IDs 0..15 in row-major cells of 200 mm, all facing +x (up the sheet).
+  for (int id = 0; id < 16; ++id) {
+    EXPECT_NE(r.out.find("\"id\": " + std::to_string(id) + ","), std::string::npos) << id;
+  }
+  EXPECT_EQ(r.out.find("\"id\": 16,"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace patlab::vision
