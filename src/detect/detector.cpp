@@ -142,6 +142,7 @@ struct Candidate {
   int id = -1;
   DetectionStatus status = DetectionStatus::kOk;
   int missing_patch = -1;
+  int num_blobs = 0;  // blobs explained (patches found)
   std::array<int, kMaxPatches> blob{};
 };
 
@@ -590,6 +591,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
         c.missing_patch = skip >= 0 ? rt.circ_patch[skip] : -1;
         c.blob.fill(-1);
         c.blob[rt.key_index] = key;
+        c.num_blobs = r + 1;
         for (int i = 0; i < r; ++i) {
           const int pc = missing ? (skip + 1 + (i + shift) % r) % mk : (i + shift) % mk;
           c.blob[rt.circ_patch[pc]] = nb[pick[i]];
@@ -722,13 +724,18 @@ void Detector::Detect(std::span<const Blob> blobs, std::vector<Detection>* detec
   const int nc = static_cast<int>(s.candidates.size());
   s.candidate_order.resize(nc);
   for (int i = 0; i < nc; ++i) s.candidate_order[i] = i;
+  // Order: unambiguous first; then the candidate explaining more blobs (a larger pattern that
+  // fits within tolerance is the more specific explanation, e.g. ssl-standard over a Simple
+  // pattern keyed by the same colour, and a full fit over a missing-patch fit); then the
+  // better fit relative to its tolerance.
   std::sort(s.candidate_order.begin(), s.candidate_order.end(), [&](int a, int b) {
     const Candidate& ca = s.candidates[a];
     const Candidate& cb = s.candidates[b];
     const bool amb_a = ca.status == DetectionStatus::kAmbiguous;
     const bool amb_b = cb.status == DetectionStatus::kAmbiguous;
-    return std::tie(amb_a, ca.score, ca.key_blob, ca.pattern) <
-           std::tie(amb_b, cb.score, cb.key_blob, cb.pattern);
+    const int fewer_a = -ca.num_blobs, fewer_b = -cb.num_blobs;
+    return std::tie(amb_a, fewer_a, ca.score, ca.key_blob, ca.pattern) <
+           std::tie(amb_b, fewer_b, cb.score, cb.key_blob, cb.pattern);
   });
   s.used.assign(n, 0);
   for (int ci : s.candidate_order) {

@@ -18,8 +18,9 @@
 //     guessed;
 //  7. missing patch (MissingPatchPolicy::kFit): when no full correspondence passes, the same on
 //     one patch fewer, reported kMissingPatch;
-//  8. conflicts: candidates sorted by E / tolerance; each blob goes to the best candidate only
-//     (two robots close together);
+//  8. conflicts: candidates ranked (unambiguous first, more blobs explained first, then lower
+//     E / tolerance); each blob goes to the best candidate only (two robots close together;
+//     patterns sharing a key colour);
 //  9. pose with the chosen estimator (estimate/), confidence, and the fixed output order.
 //
 // The hot path reuses buffers held by the Detector and does not allocate once they have grown.

@@ -254,20 +254,27 @@ TEST(Detector, CrowdedTouchingRobotsWithBlobsNearTwoKeys) {
   EXPECT_GT(stats.neighbours, 7 * 4);  // foreign dots were in reach
 }
 
-TEST(Detector, TwoPatternsShareAKeyColourAndTheBetterFitWins) {
-  // Simple and ssl-standard both keyed by blue: an SSL robot also contains Simple-like pairs, but
-  // the SSL fit uses all its blobs and conflicts remove the rest.
+TEST(Detector, TwoPatternsShareAKeyColourAndTheLargerFitWins) {
+  // Simple and ssl-standard both keyed by blue: a noisy SSL robot also holds four Simple
+  // patterns (key + one dot each), whose E is smaller, but the SSL fit explains all five blobs.
+  // A lone Simple robot elsewhere is still found as Simple.
   DetectorPattern simple = MakeDetectorPattern(LoadPattern("simple"), {"pink", "green"});
   Detector detector(MakeConfig({SslDetectorPattern(), simple}));
-  std::vector<Blob> blobs;
   const DetectorPattern dp = SslDetectorPattern();
-  AddRobot(dp.pattern, dp.codebook, 4, kBlue, Pose2{0, 0, 0.2}, &blobs);
+  RandomStream rng(5, 0, 0);
   std::vector<Detection> detections;
-  DetectStats stats;
-  detector.Detect(blobs, &detections, &stats);
-  ASSERT_EQ(detections.size(), 1u);
-  EXPECT_EQ(detections[0].pattern, 0);
-  EXPECT_EQ(detections[0].id, 4);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<Blob> blobs;
+    AddRobot(dp.pattern, dp.codebook, trial % 16, kBlue, RandomPose(rng, 500.0), &blobs);
+    for (Blob& b : blobs) b.position_mm += 0.5 * Vec2(rng.Normal(), rng.Normal());
+    AddRobot(simple.pattern, simple.codebook, 1, kBlue, Pose2{2000, 0, 1}, &blobs);
+    detector.Detect(blobs, &detections);
+    ASSERT_EQ(detections.size(), 2u);
+    EXPECT_EQ(detections[0].pattern, 0);
+    EXPECT_EQ(detections[0].id, trial % 16);
+    EXPECT_EQ(detections[1].pattern, 1);
+    EXPECT_EQ(detections[1].id, 1);  // green
+  }
 }
 
 TEST(Detector, OutputDoesNotDependOnBlobOrder) {
