@@ -94,21 +94,26 @@ bool IsRaw(const std::string& path) {
 
 int RunDetect(const std::vector<std::string>& args) {
   DetectOptions o;
-  po::options_description visible("patlab detect FRAME... --thresholds FILE --calibration FILE [options]");
-  visible.add_options()
-      ("help,h", "show this help")
-      ("thresholds,t", po::value(&o.thresholds), "colour thresholds: CMVision colors.txt or our TOML form (required)")
-      ("calibration,c", po::value(&o.calibration), "camera calibration TOML: pinhole or homography, plane heights (required)")
-      ("settings,s", po::value(&o.settings), "detector settings TOML (palette, patterns, options; e.g. experiments/detector.toml)")
-      ("raw-size", po::value(&o.raw_size), "WIDTHxHEIGHT of raw UYVY frames (.yuv .uyvy .raw)")
-      ("format", po::value(&o.format), "csv (default) or json")
-      ("out,o", po::value(&o.out), "output file, written atomically (default: stdout)")
-      ("blobs", po::bool_switch(&o.blobs), "write the calibrated blobs instead of detections")
-      ("debug", po::value(&o.debug_dir), "write an annotated PNG per frame into this directory")
-      ("timing", po::bool_switch(&o.timing), "per-stage timing and counters on stderr")
-      ("keep-going", po::bool_switch(&o.keep_going), "report a bad frame and go on with the rest")
-      ("min-area-px", po::value(&o.segmenter.min_area_px), "drop regions with fewer pixels (default 4)")
-      ("min-fill", po::value(&o.segmenter.min_fill), "drop regions filling less of their bounding box (default 0)");
+  po::options_description visible(
+      "patlab detect FRAME... --thresholds FILE --calibration FILE [options]");
+  visible.add_options()("help,h", "show this help")(
+      "thresholds,t", po::value(&o.thresholds),
+      "colour thresholds: CMVision colors.txt or our TOML form (required)")(
+      "calibration,c", po::value(&o.calibration),
+      "camera calibration TOML: pinhole or homography, plane heights (required)")(
+      "settings,s", po::value(&o.settings),
+      "detector settings TOML (palette, patterns, options; e.g. experiments/detector.toml)")(
+      "raw-size", po::value(&o.raw_size), "WIDTHxHEIGHT of raw UYVY frames (.yuv .uyvy .raw)")(
+      "format", po::value(&o.format), "csv (default) or json")(
+      "out,o", po::value(&o.out), "output file, written atomically (default: stdout)")(
+      "blobs", po::bool_switch(&o.blobs), "write the calibrated blobs instead of detections")(
+      "debug", po::value(&o.debug_dir), "write an annotated PNG per frame into this directory")(
+      "timing", po::bool_switch(&o.timing), "per-stage timing and counters on stderr")(
+      "keep-going", po::bool_switch(&o.keep_going), "report a bad frame and go on with the rest")(
+      "min-area-px", po::value(&o.segmenter.min_area_px),
+      "drop regions with fewer pixels (default 4)")(
+      "min-fill", po::value(&o.segmenter.min_fill),
+      "drop regions filling less of their bounding box (default 0)");
   po::options_description all;
   all.add(visible).add_options()("frame", po::value(&o.frames));
   po::positional_options_description positional;
@@ -120,9 +125,12 @@ int RunDetect(const std::vector<std::string>& args) {
     std::cout << visible << "\n" << kExamples;
     return kExitOk;
   }
-  if (o.frames.empty()) throw InputError("no frames; expected 'patlab detect FRAME...' (see --help)");
-  if (o.thresholds.empty()) throw InputError("missing --thresholds FILE; expected a colors.txt or thresholds TOML file");
-  if (o.calibration.empty()) throw InputError("missing --calibration FILE; expected a calibration TOML file");
+  if (o.frames.empty())
+    throw InputError("no frames; expected 'patlab detect FRAME...' (see --help)");
+  if (o.thresholds.empty())
+    throw InputError("missing --thresholds FILE; expected a colors.txt or thresholds TOML file");
+  if (o.calibration.empty())
+    throw InputError("missing --calibration FILE; expected a calibration TOML file");
   if (o.format != "csv" && o.format != "json") {
     throw InputError("--format is '" + o.format + "'; expected csv or json");
   }
@@ -137,7 +145,8 @@ int RunDetect(const std::vector<std::string>& args) {
   std::vector<int> palette_label;  // class index -> detector palette label (-1: not used)
   if (!o.settings.empty()) {
     detector.emplace(detect::LoadDetectorSettings(o.settings));
-    for (const vision::ColorClass& c : thresholds.classes) palette_label.push_back(detector->ColourLabel(c.name));
+    for (const vision::ColorClass& c : thresholds.classes)
+      palette_label.push_back(detector->ColourLabel(c.name));
   }
   const bool write_blobs = o.blobs || !detector;
   const std::vector<std::string> frames = vision::ExpandFrameList(o.frames);
@@ -161,9 +170,11 @@ int RunDetect(const std::vector<std::string>& args) {
     try {
       // Stage 1: read.
       auto t = std::chrono::steady_clock::now();
-      const vision::Image image = IsRaw(path) && raw_width > 0 ? vision::ReadRawUyvy(path, raw_width, raw_height)
-                                                              : vision::ReadFrame(path);
-      totals.read_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+      const vision::Image image = IsRaw(path) && raw_width > 0
+                                      ? vision::ReadRawUyvy(path, raw_width, raw_height)
+                                      : vision::ReadFrame(path);
+      totals.read_ms +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
       pipeline.CheckFrameSize(image, path);
       // Stages 2-5.
       vision::VisionStats vstats;
@@ -179,10 +190,15 @@ int RunDetect(const std::vector<std::string>& args) {
           const std::string& colour = thresholds.classes[static_cast<size_t>(blobs[i].colour)].name;
           csv << path << "," << colour << "," << Fixed(blobs[i].position_mm.x(), 2) << ","
               << Fixed(blobs[i].position_mm.y(), 2) << "," << Fixed(blobs[i].area_mm2, 1) << ","
-              << Fixed(r.centroid_px.x(), 3) << "," << Fixed(r.centroid_px.y(), 3) << "," << r.area_px << "\n";
-          list.push_back({{"colour", colour}, {"x_mm", blobs[i].position_mm.x()}, {"y_mm", blobs[i].position_mm.y()},
-                          {"area_mm2", blobs[i].area_mm2}, {"x_px", r.centroid_px.x()},
-                          {"y_px", r.centroid_px.y()}, {"area_px", r.area_px}});
+              << Fixed(r.centroid_px.x(), 3) << "," << Fixed(r.centroid_px.y(), 3) << ","
+              << r.area_px << "\n";
+          list.push_back({{"colour", colour},
+                          {"x_mm", blobs[i].position_mm.x()},
+                          {"y_mm", blobs[i].position_mm.y()},
+                          {"area_mm2", blobs[i].area_mm2},
+                          {"x_px", r.centroid_px.x()},
+                          {"y_px", r.centroid_px.y()},
+                          {"area_px", r.area_px}});
         }
         frame_json["blobs"] = list;
       }
@@ -200,7 +216,8 @@ int RunDetect(const std::vector<std::string>& args) {
         t = std::chrono::steady_clock::now();
         detect::DetectStats dstats;
         detector->Detect(palette_blobs, &detections, &dstats);
-        totals.detect_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+        totals.detect_ms +=
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
         totals.detect += dstats;
       }
       if (!write_blobs) {
@@ -208,14 +225,22 @@ int RunDetect(const std::vector<std::string>& args) {
         nlohmann::json list = nlohmann::json::array();
         for (const detect::Detection& d : detections) {
           const std::string& pattern = config.patterns[static_cast<size_t>(d.pattern)].pattern.name;
-          const std::string team = d.team_colour >= 0 ? config.palette[static_cast<size_t>(d.team_colour)] : "";
+          const std::string team =
+              d.team_colour >= 0 ? config.palette[static_cast<size_t>(d.team_colour)] : "";
           const std::string status(detect::DetectionStatusName(d.status));
           csv << path << "," << pattern << "," << team << "," << d.id << "," << status << ","
-              << Fixed(d.pose.x_mm, 2) << "," << Fixed(d.pose.y_mm, 2) << "," << Fixed(d.pose.theta_rad, 4)
-              << "," << Fixed(d.residual_mm2, 2) << "," << Fixed(d.confidence, 4) << "\n";
-          list.push_back({{"pattern", pattern}, {"team", team}, {"id", d.id}, {"status", status},
-                          {"x_mm", d.pose.x_mm}, {"y_mm", d.pose.y_mm}, {"theta_rad", d.pose.theta_rad},
-                          {"residual_mm2", d.residual_mm2}, {"confidence", d.confidence}});
+              << Fixed(d.pose.x_mm, 2) << "," << Fixed(d.pose.y_mm, 2) << ","
+              << Fixed(d.pose.theta_rad, 4) << "," << Fixed(d.residual_mm2, 2) << ","
+              << Fixed(d.confidence, 4) << "\n";
+          list.push_back({{"pattern", pattern},
+                          {"team", team},
+                          {"id", d.id},
+                          {"status", status},
+                          {"x_mm", d.pose.x_mm},
+                          {"y_mm", d.pose.y_mm},
+                          {"theta_rad", d.pose.theta_rad},
+                          {"residual_mm2", d.residual_mm2},
+                          {"confidence", d.confidence}});
         }
         frame_json["detections"] = list;
       }
@@ -224,9 +249,14 @@ int RunDetect(const std::vector<std::string>& args) {
         vision::Image debug = vision::DrawRegions(image, pipeline.segmenter(), thresholds);
         for (const detect::Detection& d : detections) {
           // Draw at the key blob's plane height; the heading is the model x axis, 100 mm long.
-          const int key = d.blob[static_cast<size_t>(detector->config().patterns[static_cast<size_t>(d.pattern)].pattern.key_index)];
-          const double height = key >= 0 ? pipeline.class_height_mm(blobs[static_cast<size_t>(blob_of_palette_blob[static_cast<size_t>(key)])].colour)
-                                          : pipeline.calibration().default_height_mm;
+          const int key = d.blob[static_cast<size_t>(
+              detector->config().patterns[static_cast<size_t>(d.pattern)].pattern.key_index)];
+          const double height =
+              key >= 0
+                  ? pipeline.class_height_mm(
+                        blobs[static_cast<size_t>(blob_of_palette_blob[static_cast<size_t>(key)])]
+                            .colour)
+                  : pipeline.calibration().default_height_mm;
           const auto& camera = pipeline.calibration().camera;
           const auto centre = camera.WorldToPixel(Vec2(d.pose.x_mm, d.pose.y_mm), height);
           const auto tip = camera.WorldToPixel(d.pose.Apply(Vec2(100, 0)), height);
@@ -235,11 +265,11 @@ int RunDetect(const std::vector<std::string>& args) {
           const std::string label = d.id >= 0 ? std::to_string(d.id) : "?";
           DrawDetection(&debug, *centre, (*rim - *centre).norm(), *tip, label, {255, 255, 255});
         }
-        debug_files.emplace_back((fs::path(o.debug_dir) / (fs::path(path).stem().string() + ".png")).string(),
-                                 [&] {
-                                   const auto bytes = vision::EncodePng(debug);
-                                   return std::string(bytes.begin(), bytes.end());
-                                 }());
+        debug_files.emplace_back(
+            (fs::path(o.debug_dir) / (fs::path(path).stem().string() + ".png")).string(), [&] {
+              const auto bytes = vision::EncodePng(debug);
+              return std::string(bytes.begin(), bytes.end());
+            }());
       }
     } catch (const InputError& e) {
       if (!o.keep_going) throw;
@@ -266,17 +296,22 @@ int RunDetect(const std::vector<std::string>& args) {
     std::cerr << "patlab detect: " << totals.frames << " frame(s), per frame:\n"
               << "  1 read      " << Fixed(totals.read_ms / n, 3) << " ms\n"
               << "  2 classify  " << Fixed(v.classify_ms / n, 3) << " ms\n"
-              << "  3 encode    " << Fixed(v.encode_ms / n, 3) << " ms  runs " << Fixed(v.runs / n, 0) << "\n"
-              << "  4 regions   " << Fixed(v.regions_ms / n, 3) << " ms  regions " << Fixed(v.raw_regions / n, 0)
-              << " -> kept " << Fixed(v.regions / n, 0) << "\n"
-              << "  5 camera    " << Fixed(v.camera_ms / n, 3) << " ms  blobs " << Fixed(v.blobs / n, 0)
-              << " (off plane " << Fixed(v.off_plane / n, 0) << ")\n";
+              << "  3 encode    " << Fixed(v.encode_ms / n, 3) << " ms  runs "
+              << Fixed(v.runs / n, 0) << "\n"
+              << "  4 regions   " << Fixed(v.regions_ms / n, 3) << " ms  regions "
+              << Fixed(v.raw_regions / n, 0) << " -> kept " << Fixed(v.regions / n, 0) << "\n"
+              << "  5 camera    " << Fixed(v.camera_ms / n, 3) << " ms  blobs "
+              << Fixed(v.blobs / n, 0) << " (off plane " << Fixed(v.off_plane / n, 0) << ")\n";
     if (detector) {
       std::cerr << "  6 detect    " << Fixed(totals.detect_ms / n, 3) << " ms  key candidates "
                 << Fixed(totals.detect.key_candidates / n, 1) << ", detections "
                 << Fixed(totals.detect.detections / n, 1) << "\n";
     }
-    std::cerr << "  stages 2-6  " << Fixed((v.classify_ms + v.encode_ms + v.regions_ms + v.camera_ms + totals.detect_ms) / n, 3)
+    std::cerr << "  stages 2-6  "
+              << Fixed(
+                     (v.classify_ms + v.encode_ms + v.regions_ms + v.camera_ms + totals.detect_ms) /
+                         n,
+                     3)
               << " ms\n";
   }
   if (failed > 0) {
@@ -286,6 +321,7 @@ int RunDetect(const std::vector<std::string>& args) {
   return kExitOk;
 }
 
-PATLAB_REGISTER_COMMAND("detect", "find patterns in camera frames (CMVision regions -> detector)", RunDetect);
+PATLAB_REGISTER_COMMAND("detect", "find patterns in camera frames (CMVision regions -> detector)",
+                        RunDetect);
 
 }  // namespace patlab::cli

@@ -33,7 +33,8 @@ CameraModel CameraModel::Homographies(std::vector<PlaneHomography> homographies)
   CameraModel m;
   m.is_pinhole_ = false;
   m.homographies_ = std::move(homographies);
-  for (const PlaneHomography& h : m.homographies_) m.inverses_.push_back(h.pixel_to_world.inverse());
+  for (const PlaneHomography& h : m.homographies_)
+    m.inverses_.push_back(h.pixel_to_world.inverse());
   return m;
 }
 
@@ -99,8 +100,8 @@ std::optional<Vec2> CameraModel::WorldToPixel(const Vec2& world_mm, double heigh
     return Vec2(p.x() / p.z(), p.y() / p.z());
   }
   const PinholeCamera& c = pinhole_;
-  const Eigen::Vector3d pc = c.rotation * Eigen::Vector3d(world_mm.x(), world_mm.y(), height_mm) +
-                             c.translation_mm;
+  const Eigen::Vector3d pc =
+      c.rotation * Eigen::Vector3d(world_mm.x(), world_mm.y(), height_mm) + c.translation_mm;
   if (pc.z() <= 0.0) return std::nullopt;
   const double x = pc.x() / pc.z(), y = pc.y() / pc.z();
   const double r2 = x * x + y * y;
@@ -156,8 +157,10 @@ Calibration ParseCalibration(std::string_view text, const std::string& name) {
   cal.source = name;
   if (top.Has("image_size_px")) {
     const auto size = NumberArray(top, "image_size_px", 2, "[width, height] in pixels");
-    if (size[0] < 1 || size[1] < 1 || size[0] != std::floor(size[0]) || size[1] != std::floor(size[1])) {
-      top.Fail("image_size_px", "image_size_px is not two positive integers; expected [width, height] in pixels");
+    if (size[0] < 1 || size[1] < 1 || size[0] != std::floor(size[0]) ||
+        size[1] != std::floor(size[1])) {
+      top.Fail("image_size_px",
+               "image_size_px is not two positive integers; expected [width, height] in pixels");
     }
     cal.image_width_px = static_cast<int>(size[0]);
     cal.image_height_px = static_cast<int>(size[1]);
@@ -165,7 +168,10 @@ Calibration ParseCalibration(std::string_view text, const std::string& name) {
   const std::string model = top.String("model");
   if (model == "pinhole") {
     const toml::table* t = root["pinhole"].as_table();
-    if (t == nullptr) top.Fail("pinhole", "model = \"pinhole\" needs a [pinhole] table; expected fx_px, fy_px, cx_px, cy_px and extrinsics");
+    if (t == nullptr)
+      top.Fail("pinhole",
+               "model = \"pinhole\" needs a [pinhole] table; expected fx_px, fy_px, cx_px, cy_px "
+               "and extrinsics");
     const io::TomlReader r(*t, name, "[pinhole]");
     r.CheckKeys({"fx_px", "fy_px", "cx_px", "cy_px", "k1", "k2", "rotation_rodrigues",
                  "translation_mm", "camera_position_mm", "yaw_deg"});
@@ -204,13 +210,16 @@ Calibration ParseCalibration(std::string_view text, const std::string& name) {
     const toml::node* node = root.get("homography");
     const toml::array* list = node ? node->as_array() : nullptr;
     if (list == nullptr || list->empty()) {
-      top.Fail("homography", "model = \"homography\" needs [[homography]] tables; expected height_mm and matrix");
+      top.Fail("homography",
+               "model = \"homography\" needs [[homography]] tables; expected height_mm and matrix");
     }
     std::vector<PlaneHomography> hs;
     for (size_t i = 0; i < list->size(); ++i) {
       const toml::table* t = (*list)[i].as_table();
       const std::string context = "[[homography]] " + std::to_string(i + 1);
-      if (t == nullptr) throw InputError(io::LocOf(name, (*list)[i]), context + " is not a table; expected [[homography]] tables");
+      if (t == nullptr)
+        throw InputError(io::LocOf(name, (*list)[i]),
+                         context + " is not a table; expected [[homography]] tables");
       const io::TomlReader r(*t, name, context);
       r.CheckKeys({"height_mm", "matrix"});
       PlaneHomography h;
@@ -232,10 +241,12 @@ Calibration ParseCalibration(std::string_view text, const std::string& name) {
           }
         }
       }
-      if (!ok) r.Fail("matrix", "matrix in " + context + " is malformed; expected 3 rows of 3 numbers");
+      if (!ok)
+        r.Fail("matrix", "matrix in " + context + " is malformed; expected 3 rows of 3 numbers");
       const double norm = h.pixel_to_world.norm();
       if (std::abs(h.pixel_to_world.determinant()) <= 1e-12 * norm * norm * norm) {
-        r.Fail("matrix", "matrix in " + context + " is singular; expected an invertible homography");
+        r.Fail("matrix",
+               "matrix in " + context + " is singular; expected an invertible homography");
       }
       for (const PlaneHomography& other : hs) {
         if (std::abs(other.height_mm - h.height_mm) <= kHeightToleranceMm) {
@@ -265,7 +276,9 @@ Calibration ParseCalibration(std::string_view text, const std::string& name) {
 
 Calibration LoadCalibration(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable calibration TOML file");
+  if (!in)
+    throw InputError(FileLoc{path, 0},
+                     "cannot open file; expected a readable calibration TOML file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
   return ParseCalibration(buffer.str(), path);

@@ -66,9 +66,9 @@ class CameraModel {
 // A calibration file: the camera model plus the plane height of each colour class.
 struct Calibration {
   CameraModel camera = CameraModel::Pinhole(PinholeCamera{});
-  double default_height_mm = 0.0;                  // plane height for classes not listed
-  std::map<std::string, double> class_height_mm;   // class name -> plane height (mm)
-  int image_width_px = 0;                          // 0 = any size; else frames must match
+  double default_height_mm = 0.0;                 // plane height for classes not listed
+  std::map<std::string, double> class_height_mm;  // class name -> plane height (mm)
+  int image_width_px = 0;                         // 0 = any size; else frames must match
   int image_height_px = 0;
   std::string source;
 

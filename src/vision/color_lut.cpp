@@ -131,8 +131,8 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
       double merge;
       if (!(c.Char('(') && c.Integer(&r) && c.Char(',') && c.Integer(&g) && c.Char(',') &&
             c.Integer(&b) && c.Char(')') && c.Real(&merge) && c.Integer(&expected))) {
-        throw InputError(loc, "bad [Colors] line '" + line +
-                                  "'; expected (R,G,B) merge expected_num Name");
+        throw InputError(
+            loc, "bad [Colors] line '" + line + "'; expected (R,G,B) merge expected_num Name");
       }
       const std::string class_name = c.Rest();
       if (class_name.empty()) {
@@ -164,8 +164,8 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
       if (!(c.Char('(') && c.Integer(&v[0]) && c.Char(':') && c.Integer(&v[1]) && c.Char(',') &&
             c.Integer(&v[2]) && c.Char(':') && c.Integer(&v[3]) && c.Char(',') &&
             c.Integer(&v[4]) && c.Char(':') && c.Integer(&v[5]) && c.Char(')') && c.AtEnd())) {
-        throw InputError(loc, "bad [Thresholds] line '" + line +
-                                  "'; expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)");
+        throw InputError(
+            loc, "bad [Thresholds] line '" + line + "'; expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)");
       }
       if (num_thresholds >= t.classes.size()) {
         throw InputError(loc, "threshold " + std::to_string(num_thresholds + 1) + " but only " +
@@ -182,7 +182,8 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
     }
   }
   if (t.classes.empty()) {
-    throw InputError(FileLoc{name, 0}, "no colours; expected a [Colors] section with at least one line");
+    throw InputError(FileLoc{name, 0},
+                     "no colours; expected a [Colors] section with at least one line");
   }
   if (num_thresholds != t.classes.size()) {
     throw InputError(FileLoc{name, last_threshold_line},
@@ -202,7 +203,8 @@ ChannelRange ReadRange(const io::TomlReader& reader, std::string_view key, const
   const FileLoc loc = reader.Loc(key);
   if (array == nullptr || array->size() != 2 || !(*array)[0].is_integer() ||
       !(*array)[1].is_integer()) {
-    throw InputError(loc, reader.Describe(key) + " is not a pair of integers; expected [lo, hi] in 0..255");
+    throw InputError(
+        loc, reader.Describe(key) + " is not a pair of integers; expected [lo, hi] in 0..255");
   }
   const long lo = static_cast<long>((*array)[0].as_integer()->get());
   const long hi = static_cast<long>((*array)[1].as_integer()->get());
@@ -229,8 +231,9 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
   const toml::node* classes_node = root.get("class");
   const toml::array* classes = classes_node ? classes_node->as_array() : nullptr;
   if (classes == nullptr || classes->empty()) {
-    throw InputError(FileLoc{name, classes_node ? static_cast<int>(classes_node->source().begin.line) : 0},
-                     "no colour classes; expected at least one [[class]] table");
+    throw InputError(
+        FileLoc{name, classes_node ? static_cast<int>(classes_node->source().begin.line) : 0},
+        "no colour classes; expected at least one [[class]] table");
   }
   if (classes->size() > kMaxColorClasses) {
     throw InputError(io::LocOf(name, (*classes)[kMaxColorClasses]),
@@ -242,7 +245,8 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
     const toml::table* table = (*classes)[i].as_table();
     const std::string context = "[[class]] " + std::to_string(i + 1);
     if (table == nullptr) {
-      throw InputError(io::LocOf(name, (*classes)[i]), context + " is not a table; expected [[class]] tables");
+      throw InputError(io::LocOf(name, (*classes)[i]),
+                       context + " is not a table; expected [[class]] tables");
     }
     const io::TomlReader r(*table, name, context);
     if (sp == 0) {
@@ -257,7 +261,8 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
       r.Fail("name", "duplicate class name \"" + cls.name + "\"; expected unique names");
     }
     const char* keys[2][3] = {{"y", "u", "v"}, {"r", "g", "b"}};
-    for (int ch = 0; ch < 3; ++ch) cls.range[ch] = ReadRange(r, keys[sp][ch], kChannelNames[sp][ch]);
+    for (int ch = 0; ch < 3; ++ch)
+      cls.range[ch] = ReadRange(r, keys[sp][ch], kChannelNames[sp][ch]);
     if (const toml::node* d = table->get("display")) {
       const auto* a = d->as_array();
       bool ok = a != nullptr && a->size() == 3;
@@ -266,10 +271,14 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
         ok = v != nullptr && v->get() >= 0 && v->get() <= 255;
         if (ok) cls.display_rgb[k] = static_cast<uint8_t>(v->get());
       }
-      if (!ok) r.Fail("display", "display in " + context + " is not [R, G, B]; expected three integers in 0..255");
+      if (!ok)
+        r.Fail("display",
+               "display in " + context + " is not [R, G, B]; expected three integers in 0..255");
     }
     if (auto v = r.OptionalInteger("min_area_px")) {
-      if (*v < 0) r.Fail("min_area_px", "min_area_px " + std::to_string(*v) + " in " + context + "; expected >= 0");
+      if (*v < 0)
+        r.Fail("min_area_px",
+               "min_area_px " + std::to_string(*v) + " in " + context + "; expected >= 0");
       cls.min_area_px = static_cast<int>(*v);
     }
     cls.merge = r.OptionalNumber("merge").value_or(0.0);
@@ -281,7 +290,8 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
 
 Thresholds LoadThresholds(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable thresholds file");
+  if (!in)
+    throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable thresholds file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();

@@ -27,8 +27,8 @@ struct ChannelRange {
 struct ColorClass {
   std::string name;
   std::array<uint8_t, 3> display_rgb = {255, 255, 255};  // colour used in debug images
-  double merge = 0.0;     // CMVision's region merge density (read and kept; not used here)
-  int expected_num = 0;   // CMVision's expected regions per frame (read and kept; not used here)
+  double merge = 0.0;    // CMVision's region merge density (read and kept; not used here)
+  int expected_num = 0;  // CMVision's expected regions per frame (read and kept; not used here)
   std::array<ChannelRange, 3> range;  // Y U V (or R G B), in the order of ColorSpace
   // Regions of this class smaller than this are dropped; 0 = use the pipeline's default.
   int min_area_px = 0;

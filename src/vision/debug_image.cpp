@@ -30,7 +30,8 @@ const uint8_t* Glyph(char c) {
   static const uint8_t kDash[5] = {0, 0, 7, 0, 0};
   static const uint8_t kQuestion[5] = {7, 1, 2, 0, 2};
   if (c >= '0' && c <= '9') return kDigits[c - '0'];
-  if (std::isalpha(static_cast<unsigned char>(c))) return kLetters[std::toupper(static_cast<unsigned char>(c)) - 'A'];
+  if (std::isalpha(static_cast<unsigned char>(c)))
+    return kLetters[std::toupper(static_cast<unsigned char>(c)) - 'A'];
   if (c == '-') return kDash;
   return kQuestion;
 }
@@ -45,8 +46,8 @@ void DrawLine(Image* image, const Vec2& a, const Vec2& b, const std::array<uint8
   }
 }
 
-void DrawText(Image* image, int x, int y, const std::string& text, const std::array<uint8_t, 3>& rgb,
-              int scale) {
+void DrawText(Image* image, int x, int y, const std::string& text,
+              const std::array<uint8_t, 3>& rgb, int scale) {
   for (size_t k = 0; k < text.size(); ++k) {
     if (text[k] == ' ') continue;
     const uint8_t* g = Glyph(text[k]);
@@ -55,7 +56,8 @@ void DrawText(Image* image, int x, int y, const std::string& text, const std::ar
         if (!(g[row] & (4 >> col))) continue;
         for (int dy = 0; dy < scale; ++dy) {
           for (int dx = 0; dx < scale; ++dx) {
-            Put(image, x + static_cast<int>(k) * 4 * scale + col * scale + dx, y + row * scale + dy, rgb);
+            Put(image, x + static_cast<int>(k) * 4 * scale + col * scale + dx, y + row * scale + dy,
+                rgb);
           }
         }
       }
@@ -63,8 +65,9 @@ void DrawText(Image* image, int x, int y, const std::string& text, const std::ar
   }
 }
 
-void DrawDetection(Image* image, const Vec2& centre_px, double radius_px, const Vec2& heading_tip_px,
-                   const std::string& text, const std::array<uint8_t, 3>& rgb) {
+void DrawDetection(Image* image, const Vec2& centre_px, double radius_px,
+                   const Vec2& heading_tip_px, const std::string& text,
+                   const std::array<uint8_t, 3>& rgb) {
   const int n = std::max(16, static_cast<int>(radius_px * 8));
   for (int i = 0; i < n; ++i) {
     const double a0 = 2 * M_PI * i / n, a1 = 2 * M_PI * (i + 1) / n;
@@ -72,7 +75,8 @@ void DrawDetection(Image* image, const Vec2& centre_px, double radius_px, const 
              centre_px + radius_px * Vec2(std::cos(a1), std::sin(a1)), rgb);
   }
   DrawLine(image, centre_px, heading_tip_px, rgb);
-  DrawText(image, static_cast<int>(centre_px.x() + radius_px + 2), static_cast<int>(centre_px.y() - radius_px), text, rgb);
+  DrawText(image, static_cast<int>(centre_px.x() + radius_px + 2),
+           static_cast<int>(centre_px.y() - radius_px), text, rgb);
 }
 
 Image DrawRegions(const Image& frame, const Segmenter& segmenter, const Thresholds& thresholds) {

@@ -17,11 +17,12 @@ Image DrawRegions(const Image& frame, const Segmenter& segmenter, const Threshol
 
 // A detection: a circle of radius_px at centre_px, a heading line to heading_tip_px, and the
 // text (digits, '-', letters A-Z) beside it.
-void DrawDetection(Image* image, const Vec2& centre_px, double radius_px, const Vec2& heading_tip_px,
-                   const std::string& text, const std::array<uint8_t, 3>& rgb);
+void DrawDetection(Image* image, const Vec2& centre_px, double radius_px,
+                   const Vec2& heading_tip_px, const std::string& text,
+                   const std::array<uint8_t, 3>& rgb);
 
 void DrawLine(Image* image, const Vec2& a, const Vec2& b, const std::array<uint8_t, 3>& rgb);
-void DrawText(Image* image, int x, int y, const std::string& text, const std::array<uint8_t, 3>& rgb,
-              int scale = 2);
+void DrawText(Image* image, int x, int y, const std::string& text,
+              const std::array<uint8_t, 3>& rgb, int scale = 2);
 
 }  // namespace patlab::vision

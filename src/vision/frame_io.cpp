@@ -1,7 +1,7 @@
 #include "vision/frame_io.h"
 
-#include <jpeglib.h>
 #include <jerror.h>
+#include <jpeglib.h>
 #include <png.h>
 #include <unistd.h>
 
@@ -30,9 +30,8 @@ constexpr long long kMaxPixels = 1LL << 28;
 
 void CheckSize(const std::string& name, long long width, long long height) {
   if (width <= 0 || height <= 0 || width * height > kMaxPixels) {
-    throw InputError(name + ": image size " + std::to_string(width) + "x" +
-                     std::to_string(height) + "; expected 1 to " + std::to_string(kMaxPixels) +
-                     " pixels");
+    throw InputError(name + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                     "; expected 1 to " + std::to_string(kMaxPixels) + " pixels");
   }
 }
 
@@ -53,9 +52,9 @@ void CheckPngChunks(const std::vector<uint8_t>& bytes, const std::string& name) 
     const uint32_t length = ReadBigEndian32(&bytes[offset]);
     const std::string type(reinterpret_cast<const char*>(&bytes[offset + 4]), 4);
     if (length > 0x7fffffffu) {
-      FailAt(name, offset,
-             "corrupt PNG: chunk length " + std::to_string(length) +
-                 "; expected at most 2147483647");
+      FailAt(
+          name, offset,
+          "corrupt PNG: chunk length " + std::to_string(length) + "; expected at most 2147483647");
     }
     if (offset + 12 + length > bytes.size()) {
       FailAt(name, bytes.size(),
@@ -124,7 +123,8 @@ bool DecodeJpegRaw(const uint8_t* data, size_t size, Image* out, char* message, 
   out->format = PixelFormat::kRgb8;
   out->data.resize(static_cast<size_t>(out->width_px) * out->height_px * 3);
   while (cinfo.output_scanline < cinfo.output_height) {
-    JSAMPROW row = out->data.data() + static_cast<size_t>(cinfo.output_scanline) * out->width_px * 3;
+    JSAMPROW row =
+        out->data.data() + static_cast<size_t>(cinfo.output_scanline) * out->width_px * 3;
     jpeg_read_scanlines(&cinfo, &row, 1);
   }
   jpeg_finish_decompress(&cinfo);
@@ -145,7 +145,9 @@ class PpmHeader {
     long long value = 0;
     while (pos_ < bytes_.size() && bytes_[pos_] >= '0' && bytes_[pos_] <= '9') {
       value = value * 10 + (bytes_[pos_] - '0');
-      if (value > 1'000'000'000) FailAt(name_, start, std::string("PPM ") + what + " too large; expected at most 1000000000");
+      if (value > 1'000'000'000)
+        FailAt(name_, start,
+               std::string("PPM ") + what + " too large; expected at most 1000000000");
       ++pos_;
     }
     if (pos_ == start) {
@@ -181,7 +183,8 @@ class PpmHeader {
 
 bool HasExtension(const fs::path& path, std::initializer_list<const char*> extensions) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   for (const char* e : extensions) {
     if (ext == e) return true;
   }
@@ -194,7 +197,8 @@ std::vector<uint8_t> ReadFileBytes(const std::string& path) {
   if (fs::is_directory(path)) throw InputError(path + ": is a directory; expected a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file; expected a readable file");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
   return bytes;
 }
 
@@ -251,17 +255,17 @@ Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name) {
   const long long maxval = header.Number("maxval");
   const size_t maxval_at = header.last_start();
   if (maxval != 255) {
-    FailAt(name, maxval_at, "PPM maxval " + std::to_string(maxval) + "; expected 255 (8 bits per sample)");
+    FailAt(name, maxval_at,
+           "PPM maxval " + std::to_string(maxval) + "; expected 255 (8 bits per sample)");
   }
   CheckSize(name, width, height);
   const size_t data_at = header.pos() + 1;  // exactly one whitespace byte after maxval
   const size_t needed = static_cast<size_t>(width * height * 3);
   if (bytes.size() < data_at + needed) {
     FailAt(name, bytes.size(),
-           "truncated PPM: " + std::to_string(width) + "x" + std::to_string(height) +
-               " needs " + std::to_string(needed) + " bytes of pixels from byte " +
-               std::to_string(data_at) + "; expected a file of " +
-               std::to_string(data_at + needed) + " bytes");
+           "truncated PPM: " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
+               std::to_string(needed) + " bytes of pixels from byte " + std::to_string(data_at) +
+               "; expected a file of " + std::to_string(data_at + needed) + " bytes");
   }
   Image image;
   image.width_px = static_cast<int>(width);
@@ -291,7 +295,8 @@ Image ReadFrame(const std::string& path) {
 Image ReadRawUyvy(const std::string& path, int width_px, int height_px) {
   if (width_px <= 0 || height_px <= 0 || width_px % 2 != 0) {
     throw InputError(path + ": raw frame size " + std::to_string(width_px) + "x" +
-                     std::to_string(height_px) + "; expected a positive even width and a positive height");
+                     std::to_string(height_px) +
+                     "; expected a positive even width and a positive height");
   }
   CheckSize(path, width_px, height_px);
   std::vector<uint8_t> bytes = ReadFileBytes(path);
@@ -332,7 +337,8 @@ void WriteAtomically(const std::string& path, const std::vector<uint8_t>& bytes)
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path + ": cannot write file; expected a writable location");
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
     if (!out) throw InputError(path + ": cannot write file; expected a writable location");
   }
   std::error_code ec;
@@ -344,7 +350,9 @@ void WriteAtomically(const std::string& path, const std::vector<uint8_t>& bytes)
 }
 }  // namespace
 
-void WritePng(const Image& image, const std::string& path) { WriteAtomically(path, EncodePng(image)); }
+void WritePng(const Image& image, const std::string& path) {
+  WriteAtomically(path, EncodePng(image));
+}
 
 void WritePpm(const Image& image, const std::string& path) {
   const Image rgb = ToRgb(image);
@@ -359,23 +367,29 @@ std::vector<std::string> ExpandFrameList(const std::vector<std::string>& argumen
   std::vector<std::string> frames;
   for (const std::string& argument : arguments) {
     const fs::path path(argument);
-    if (!fs::exists(path)) throw InputError(argument + ": no such file or directory; expected a frame, a directory of frames or a list file");
+    if (!fs::exists(path))
+      throw InputError(
+          argument +
+          ": no such file or directory; expected a frame, a directory of frames or a list file");
     if (fs::is_directory(path)) {
       std::vector<std::string> found;
       for (const auto& entry : fs::directory_iterator(path)) {
-        if (entry.is_regular_file() &&
-            HasExtension(entry.path(), {".png", ".jpg", ".jpeg", ".ppm", ".yuv", ".uyvy", ".raw"})) {
+        if (entry.is_regular_file() && HasExtension(entry.path(), {".png", ".jpg", ".jpeg", ".ppm",
+                                                                   ".yuv", ".uyvy", ".raw"})) {
           found.push_back(entry.path().string());
         }
       }
       if (found.empty()) {
-        throw InputError(argument + ": no frames in directory; expected files ending in .png, .jpg, .jpeg, .ppm, .yuv, .uyvy or .raw");
+        throw InputError(argument +
+                         ": no frames in directory; expected files ending in .png, .jpg, .jpeg, "
+                         ".ppm, .yuv, .uyvy or .raw");
       }
       std::sort(found.begin(), found.end());
       frames.insert(frames.end(), found.begin(), found.end());
     } else if (HasExtension(path, {".txt", ".list"})) {
       std::ifstream in(path);
-      if (!in) throw InputError(argument + ": cannot open file; expected a readable list of frames");
+      if (!in)
+        throw InputError(argument + ": cannot open file; expected a readable list of frames");
       std::string line;
       while (std::getline(in, line)) {
         if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);

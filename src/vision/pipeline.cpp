@@ -9,7 +9,8 @@ namespace patlab::vision {
 
 namespace {
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
 }
 }  // namespace
 
@@ -35,9 +36,8 @@ VisionPipeline::VisionPipeline(Thresholds thresholds, Calibration calibration,
     if (thresholds_.Find(name) < 0) {
       std::string names;
       for (const ColorClass& c : thresholds_.classes) names += (names.empty() ? "" : ", ") + c.name;
-      throw InputError(calibration_.source + ": [heights] names class '" + name +
-                       "', which " + thresholds_.source + " does not define; expected one of: " +
-                       names);
+      throw InputError(calibration_.source + ": [heights] names class '" + name + "', which " +
+                       thresholds_.source + " does not define; expected one of: " + names);
     }
   }
   for (const ColorClass& c : thresholds_.classes) {

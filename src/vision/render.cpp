@@ -37,7 +37,8 @@ Image RenderDiscs(int width_px, int height_px, const Rgb& background, std::span<
       // Discs that can touch this pixel at all.
       bool near = false;
       for (const Disc& d : discs) {
-        near = near || (std::abs(d.centre.x() - x) < d.radius + 1 && std::abs(d.centre.y() - y) < d.radius + 1);
+        near = near || (std::abs(d.centre.x() - x) < d.radius + 1 &&
+                        std::abs(d.centre.y() - y) < d.radius + 1);
       }
       if (!near) {
         std::copy(background.begin(), background.end(), out);
@@ -68,7 +69,8 @@ Image RenderWorldDiscs(int width_px, int height_px, const CameraModel& camera, d
       const double scale = std::sqrt(camera.AreaScale(Vec2(x, y), height_mm));
       bool near = false;
       if (centre) {
-        for (const Disc& d : discs) near = near || (*centre - d.centre).norm() < d.radius + 2 * scale;
+        for (const Disc& d : discs)
+          near = near || (*centre - d.centre).norm() < d.radius + 2 * scale;
       }
       if (!near) {
         std::copy(background.begin(), background.end(), out);

@@ -14,7 +14,8 @@ void Validate(const SegmenterOptions& options) {
     throw InputError("min_area_px is " + std::to_string(options.min_area_px) + "; expected >= 1");
   }
   if (!(options.min_fill >= 0.0 && options.min_fill <= 1.0)) {
-    throw InputError("min_fill is " + std::to_string(options.min_fill) + "; expected 0 <= min_fill <= 1");
+    throw InputError("min_fill is " + std::to_string(options.min_fill) +
+                     "; expected 0 <= min_fill <= 1");
   }
 }
 
@@ -29,7 +30,9 @@ Segmenter::Segmenter(const Thresholds& thresholds, const SegmenterOptions& optio
 namespace {
 
 // The class of a mask: 0 when empty, else 1 + index of the lowest set bit (ffs does exactly this).
-inline uint8_t ClassOf(uint32_t mask) { return static_cast<uint8_t>(__builtin_ffs(static_cast<int>(mask))); }
+inline uint8_t ClassOf(uint32_t mask) {
+  return static_cast<uint8_t>(__builtin_ffs(static_cast<int>(mask)));
+}
 
 }  // namespace
 
@@ -56,7 +59,10 @@ void Segmenter::Classify(const Image& image) {
         out[x] = cells[(in[3 * x] >> 2) << 12 | (in[3 * x + 1] >> 2) << 6 | in[3 * x + 2] >> 2];
       }
       // The few pixels in mixed cells (near a class boundary), exactly.
-      for (uint8_t* p = out; (p = static_cast<uint8_t*>(std::memchr(p, kMixedCell, static_cast<size_t>(out + width_ - p)))) != nullptr; ++p) {
+      for (uint8_t* p = out;
+           (p = static_cast<uint8_t*>(
+                std::memchr(p, kMixedCell, static_cast<size_t>(out + width_ - p)))) != nullptr;
+           ++p) {
         const uint8_t* rgb = in + 3 * (p - out);
         int yy, uu, vv;
         RgbToYuv(rgb[0], rgb[1], rgb[2], &yy, &uu, &vv);
@@ -90,7 +96,8 @@ void Segmenter::BuildRgbCells() {
   for (int ch = 0; ch < 3; ++ch) {
     const auto& t = lut_.table(ch);
     change_count[ch][0] = 0;
-    for (int v = 1; v < 256; ++v) change_count[ch][v] = change_count[ch][v - 1] + (t[v] != t[v - 1]);
+    for (int v = 1; v < 256; ++v)
+      change_count[ch][v] = change_count[ch][v - 1] + (t[v] != t[v - 1]);
   }
   rgb_cells_.assign(size_t{1} << 18, 0);
   for (int r = 0; r < 64; ++r) {
@@ -107,7 +114,8 @@ void Segmenter::BuildRgbCells() {
           }
         }
         bool pure = true;
-        for (int ch = 0; ch < 3; ++ch) pure = pure && change_count[ch][lo[ch]] == change_count[ch][hi[ch]];
+        for (int ch = 0; ch < 3; ++ch)
+          pure = pure && change_count[ch][lo[ch]] == change_count[ch][hi[ch]];
         rgb_cells_[static_cast<size_t>(r << 12 | g << 6 | b)] =
             pure ? ClassOf(lut_.Mask(lo[0], lo[1], lo[2])) : kMixedCell;
       }
@@ -226,8 +234,8 @@ void Segmenter::ExtractRegions() {
     r.y_min = acc.y_min;
     r.x_max = acc.x_max;
     r.y_max = acc.y_max;
-    r.centroid_px = Vec2(static_cast<double>(acc.sum_x) / acc.area,
-                         static_cast<double>(acc.sum_y) / acc.area);
+    r.centroid_px =
+        Vec2(static_cast<double>(acc.sum_x) / acc.area, static_cast<double>(acc.sum_y) / acc.area);
     if (r.Fill() < options_.min_fill) continue;
     regions_.push_back(r);
   }

@@ -29,8 +29,8 @@ struct Run {
 };
 
 struct Region {
-  int colour = 0;   // class index into Thresholds::classes
-  int area_px = 0;  // number of pixels
+  int colour = 0;                                  // class index into Thresholds::classes
+  int area_px = 0;                                 // number of pixels
   int x_min = 0, y_min = 0, x_max = 0, y_max = 0;  // bounding box, inclusive
   // Mean pixel position; pixel (i, j) has its centre at (i, j) (see image.h).
   Vec2 centroid_px = Vec2::Zero();

@@ -36,7 +36,8 @@ std::string Dir() {
 }
 
 CliRun Detect(const std::string& dir, const std::string& args) {
-  const std::string cmd = std::string(PATLAB_BINARY) + " detect " + args + " >" + dir + "/out.txt 2>" + dir + "/err.txt";
+  const std::string cmd = std::string(PATLAB_BINARY) + " detect " + args + " >" + dir +
+                          "/out.txt 2>" + dir + "/err.txt";
   const int raw = std::system(cmd.c_str());
   return {WEXITSTATUS(raw), Slurp(dir + "/out.txt"), Slurp(dir + "/err.txt")};
 }
@@ -72,12 +73,16 @@ TEST(DetectCli, TruncatedFrameIsExitTwoWithNoOutput) {
   WriteScene(dir);
   std::vector<uint8_t> bytes = ReadFileBytes(dir + "/a.png");
   bytes.resize(40);
-  std::ofstream(dir + "/b.png", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), 40);
-  const std::string args = dir + "/a.png " + dir + "/b.png -t " + dir + "/t.toml -c " + dir + "/c.toml";
+  std::ofstream(dir + "/b.png", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), 40);
+  const std::string args =
+      dir + "/a.png " + dir + "/b.png -t " + dir + "/t.toml -c " + dir + "/c.toml";
   CliRun r = Detect(dir, args);
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.out, "");
-  EXPECT_NE(r.err.find("patlab detect: " + dir + "/b.png: byte 40: truncated PNG"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("patlab detect: " + dir + "/b.png: byte 40: truncated PNG"),
+            std::string::npos)
+      << r.err;
   // --keep-going: the good frame is written, the bad one reported, and the status says so.
   r = Detect(dir, args + " --keep-going");
   EXPECT_EQ(r.status, 2);
@@ -89,11 +94,13 @@ TEST(DetectCli, TruncatedFrameIsExitTwoWithNoOutput) {
 TEST(DetectCli, BadThresholdsFileNamesFileAndLine) {
   const std::string dir = Dir();
   WriteScene(dir);
-  std::ofstream(dir + "/colors.txt") << "[Colors]\n(0,0,255) 0.5 1 blue\n[Thresholds]\n(0:255, 160:255)\n";
+  std::ofstream(dir + "/colors.txt")
+      << "[Colors]\n(0,0,255) 0.5 1 blue\n[Thresholds]\n(0:255, 160:255)\n";
   const CliRun r = Detect(dir, dir + "/a.png -t " + dir + "/colors.txt -c " + dir + "/c.toml");
   EXPECT_EQ(r.status, 2);
-  EXPECT_EQ(r.err, "patlab detect: " + dir + "/colors.txt:4: bad [Thresholds] line '(0:255, 160:255)'; "
-                   "expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)\n");
+  EXPECT_EQ(r.err, "patlab detect: " + dir +
+                       "/colors.txt:4: bad [Thresholds] line '(0:255, 160:255)'; "
+                       "expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)\n");
   EXPECT_EQ(r.out, "");
 }
 
@@ -101,10 +108,12 @@ TEST(DetectCli, RawFrameOfTheWrongSize) {
   const std::string dir = Dir();
   WriteScene(dir);
   std::ofstream(dir + "/f.yuv", std::ios::binary) << std::string(100, '\x80');
-  const CliRun r = Detect(dir, dir + "/f.yuv --raw-size 64x48 -t " + dir + "/t.toml -c " + dir + "/c.toml");
+  const CliRun r =
+      Detect(dir, dir + "/f.yuv --raw-size 64x48 -t " + dir + "/t.toml -c " + dir + "/c.toml");
   EXPECT_EQ(r.status, 2);
-  EXPECT_EQ(r.err, "patlab detect: " + dir + "/f.yuv: 100 bytes; expected 6144 bytes for a 64x48 UYVY "
-                   "frame (width x height x 2)\n");
+  EXPECT_EQ(r.err, "patlab detect: " + dir +
+                       "/f.yuv: 100 bytes; expected 6144 bytes for a 64x48 UYVY "
+                       "frame (width x height x 2)\n");
 }
 
 TEST(DetectCli, DetectsTheSharedStandardPatternSheet) {
@@ -113,9 +122,9 @@ TEST(DetectCli, DetectsTheSharedStandardPatternSheet) {
   const std::string dir = Dir();
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision";
   const CliRun r = Detect(dir, frames + "/ssl-standard-pattern-2010-16ids.png -t " + data +
-                                "/ssl-standard-sheet.thresholds.toml -c " + data +
-                                "/ssl-standard-sheet.calibration.toml -s " + PATLAB_SOURCE_DIR +
-                                "/experiments/detector.toml --format json");
+                                   "/ssl-standard-sheet.thresholds.toml -c " + data +
+                                   "/ssl-standard-sheet.calibration.toml -s " + PATLAB_SOURCE_DIR +
+                                   "/experiments/detector.toml --format json");
   ASSERT_EQ(r.status, 0) << r.err;
   // 16 robots, IDs 0..15 in row-major cells of 200 mm, all facing +x (up the sheet).
   for (int id = 0; id < 16; ++id) {

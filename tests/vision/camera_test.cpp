@@ -16,8 +16,9 @@ constexpr double kTol = 1e-9;
 PinholeCamera Overhead(double k1 = 0.0, double k2 = 0.0) {
   const Calibration cal = ParseCalibration(
       "model = \"pinhole\"\n[pinhole]\nfx_px = 500\nfy_px = 500\ncx_px = 320\ncy_px = 240\n"
-      "k1 = " + std::to_string(k1) + "\nk2 = " + std::to_string(k2) +
-      "\ncamera_position_mm = [100, 200, 4000]\nyaw_deg = 0\n",
+      "k1 = " +
+          std::to_string(k1) + "\nk2 = " + std::to_string(k2) +
+          "\ncamera_position_mm = [100, 200, 4000]\nyaw_deg = 0\n",
       "c.toml");
   return cal.camera.pinhole();
 }
@@ -107,19 +108,21 @@ TEST(Camera, CalibrationErrorsNameFileAndLine) {
   EXPECT_INPUT_ERROR(ParseCalibration("model = \"fisheye\"\n", "c.toml"),
                      "c.toml:1: model is \"fisheye\"; expected \"pinhole\" or \"homography\"");
   EXPECT_INPUT_ERROR(
-      ParseCalibration("model = \"pinhole\"\n[pinhole]\nfx_px = -5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
-                       "camera_position_mm = [0, 0, 1]\n",
-                       "c.toml"),
+      ParseCalibration(
+          "model = \"pinhole\"\n[pinhole]\nfx_px = -5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
+          "camera_position_mm = [0, 0, 1]\n",
+          "c.toml"),
       "c.toml:3: fx_px in [pinhole] is -5; expected > 0");
   EXPECT_INPUT_ERROR(
-      ParseCalibration("model = \"pinhole\"\n[pinhole]\nfx_px = 5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n",
-                       "c.toml"),
+      ParseCalibration(
+          "model = \"pinhole\"\n[pinhole]\nfx_px = 5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n", "c.toml"),
       "c.toml:3: [pinhole] needs exactly one form of extrinsics; expected rotation_rodrigues and "
       "translation_mm, or camera_position_mm and yaw_deg");
   EXPECT_INPUT_ERROR(
-      ParseCalibration("model = \"pinhole\"\n[pinhole]\nfx_px = 5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
-                       "camera_position_mm = [0, 0]\n",
-                       "c.toml"),
+      ParseCalibration(
+          "model = \"pinhole\"\n[pinhole]\nfx_px = 5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
+          "camera_position_mm = [0, 0]\n",
+          "c.toml"),
       "c.toml:7: camera_position_mm in [pinhole] is malformed; expected [x, y, z] in mm");
   EXPECT_INPUT_ERROR(
       ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
@@ -127,16 +130,18 @@ TEST(Camera, CalibrationErrorsNameFileAndLine) {
                        "h.toml"),
       "h.toml:4: matrix in [[homography]] 1 is singular; expected an invertible homography");
   EXPECT_INPUT_ERROR(
-      ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\nmatrix = [[1, 0], [0, 1]]\n",
-                       "h.toml"),
+      ParseCalibration(
+          "model = \"homography\"\n[[homography]]\nheight_mm = 0\nmatrix = [[1, 0], [0, 1]]\n",
+          "h.toml"),
       "h.toml:4: matrix in [[homography]] 1 is malformed; expected 3 rows of 3 numbers");
   EXPECT_INPUT_ERROR(ParseCalibration("model = \"homography\"\n", "h.toml"),
                      "h.toml:1: model = \"homography\" needs [[homography]] tables; expected "
                      "height_mm and matrix");
-  EXPECT_INPUT_ERROR(ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
-                                      "matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n[heights]\nball = \"low\"\n",
-                                      "h.toml"),
-                     "h.toml:6: ball in [heights] is a string; expected a number");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+                       "matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n[heights]\nball = \"low\"\n",
+                       "h.toml"),
+      "h.toml:6: ball in [heights] is a string; expected a number");
 }
 
 }  // namespace

@@ -40,7 +40,8 @@ TEST(ColorLut, LoadThresholdsRecognisesBothFormats) {
   const std::string dir = testing::ScratchDir();
   testing::WriteText(dir + "/colors.txt", std::string("# CMVision file\n") + kCmvisionColors);
   EXPECT_EQ(LoadThresholds(dir + "/colors.txt").classes.size(), 3u);
-  testing::WriteText(dir + "/t.toml", "space = \"rgb\"\n[[class]]\nname = \"red\"\nr = [200, 255]\n");
+  testing::WriteText(dir + "/t.toml",
+                     "space = \"rgb\"\n[[class]]\nname = \"red\"\nr = [200, 255]\n");
   const Thresholds t = LoadThresholds(dir + "/t.toml");
   EXPECT_EQ(t.space, ColorSpace::kRgb);
   EXPECT_EQ(t.classes[0].range[0].lo, 200);
@@ -51,18 +52,25 @@ TEST(ColorLut, CmvisionErrorsNameFileAndLine) {
   EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(255,128) 0.5 2 Ball\n", "c.txt"),
                      "c.txt:2: bad [Colors] line '(255,128) 0.5 2 Ball'; expected (R,G,B) merge "
                      "expected_num Name");
-  EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(1,2,3) 0.5 2 A\n[Thresholds]\n(10:200, 38:120)\n", "c.txt"),
-                     "c.txt:4: bad [Thresholds] line '(10:200, 38:120)'; expected (Ylo:Yhi, "
-                     "Ulo:Uhi, Vlo:Vhi)");
-  EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(1,2,3) 0.5 2 A\n[Thresholds]\n(10:200, 138:120, 0:255)\n", "c.txt"),
-                     "c.txt:4: empty U range 138:120; expected lo <= hi");
-  EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(1,2,3) 0.5 2 A\n[Thresholds]\n(10:200, 0:120, 0:256)\n", "c.txt"),
-                     "c.txt:4: V bound 256 out of range; expected 0..255");
+  EXPECT_INPUT_ERROR(
+      ParseCmvisionColors("[Colors]\n(1,2,3) 0.5 2 A\n[Thresholds]\n(10:200, 38:120)\n", "c.txt"),
+      "c.txt:4: bad [Thresholds] line '(10:200, 38:120)'; expected (Ylo:Yhi, "
+      "Ulo:Uhi, Vlo:Vhi)");
+  EXPECT_INPUT_ERROR(
+      ParseCmvisionColors("[Colors]\n(1,2,3) 0.5 2 A\n[Thresholds]\n(10:200, 138:120, 0:255)\n",
+                          "c.txt"),
+      "c.txt:4: empty U range 138:120; expected lo <= hi");
+  EXPECT_INPUT_ERROR(
+      ParseCmvisionColors("[Colors]\n(1,2,3) 0.5 2 A\n[Thresholds]\n(10:200, 0:120, 0:256)\n",
+                          "c.txt"),
+      "c.txt:4: V bound 256 out of range; expected 0..255");
   EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(1,2,300) 0.5 2 A\n", "c.txt"),
                      "c.txt:2: display colour component 300 out of range; expected 0..255");
-  EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(1,2,3) 0.5 2 A\n(1,2,3) 0.5 2 B\n[Thresholds]\n(0:1,0:1,0:1)\n", "c.txt"),
-                     "c.txt:5: 2 colours but 1 thresholds; expected one [Thresholds] line per "
-                     "[Colors] line");
+  EXPECT_INPUT_ERROR(
+      ParseCmvisionColors(
+          "[Colors]\n(1,2,3) 0.5 2 A\n(1,2,3) 0.5 2 B\n[Thresholds]\n(0:1,0:1,0:1)\n", "c.txt"),
+      "c.txt:5: 2 colours but 1 thresholds; expected one [Thresholds] line per "
+      "[Colors] line");
   EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colours]\n", "c.txt"),
                      "c.txt:1: unknown section [Colours]; expected [Colors] or [Thresholds]");
   EXPECT_INPUT_ERROR(ParseCmvisionColors("(1,2,3) 0.5 2 A\n", "c.txt"),
@@ -76,12 +84,14 @@ TEST(ColorLut, TomlErrorsNameFileAndLine) {
                      "t.toml:3: empty Y range 20:10; expected lo <= hi");
   EXPECT_INPUT_ERROR(ParseThresholdsToml("[[class]]\nname = \"a\"\nu = [0, 999]\n", "t.toml"),
                      "t.toml:3: U bound 999 out of range; expected 0..255");
-  EXPECT_INPUT_ERROR(ParseThresholdsToml("[[class]]\nname = \"a\"\nv = 3\n", "t.toml"),
-                     "t.toml:3: v in [[class]] 1 is not a pair of integers; expected [lo, hi] in 0..255");
+  EXPECT_INPUT_ERROR(
+      ParseThresholdsToml("[[class]]\nname = \"a\"\nv = 3\n", "t.toml"),
+      "t.toml:3: v in [[class]] 1 is not a pair of integers; expected [lo, hi] in 0..255");
   EXPECT_INPUT_ERROR(ParseThresholdsToml("space = \"hsv\"\n[[class]]\nname = \"a\"\n", "t.toml"),
                      "t.toml:1: space is \"hsv\"; expected \"yuv\" or \"rgb\"");
-  EXPECT_INPUT_ERROR(ParseThresholdsToml("[[class]]\nname = \"a\"\n[[class]]\nname = \"a\"\n", "t.toml"),
-                     "t.toml:4: duplicate class name \"a\"; expected unique names");
+  EXPECT_INPUT_ERROR(
+      ParseThresholdsToml("[[class]]\nname = \"a\"\n[[class]]\nname = \"a\"\n", "t.toml"),
+      "t.toml:4: duplicate class name \"a\"; expected unique names");
   EXPECT_INPUT_ERROR(ParseThresholdsToml("space = \"yuv\"\n", "t.toml"),
                      "t.toml: no colour classes; expected at least one [[class]] table");
   EXPECT_INPUT_ERROR(ParseThresholdsToml("[[class]]\nname = \"a\"\nr = [0, 1]\n", "t.toml"),

@@ -103,10 +103,11 @@ TEST(FrameIo, TruncatedPngNamesTheByteOffset) {
   // Signature (8) + IHDR (25) = 33; the next chunk starts at byte 33. Cut 10 bytes into it.
   bytes.resize(43);
   const std::string type(bytes.begin() + 37, bytes.begin() + 41);
-  EXPECT_INPUT_ERROR(DecodePng(bytes, "t.png"),
-                     "t.png: byte 43: truncated PNG: chunk '" + type + "' at byte 33 needs " +
-                         std::to_string(12 + (bytes[33] << 24 | bytes[34] << 16 | bytes[35] << 8 | bytes[36])) +
-                         " bytes but the file ends after 10; expected a complete PNG file");
+  EXPECT_INPUT_ERROR(
+      DecodePng(bytes, "t.png"),
+      "t.png: byte 43: truncated PNG: chunk '" + type + "' at byte 33 needs " +
+          std::to_string(12 + (bytes[33] << 24 | bytes[34] << 16 | bytes[35] << 8 | bytes[36])) +
+          " bytes but the file ends after 10; expected a complete PNG file");
 }
 
 TEST(FrameIo, PngWithoutIendIsTruncated) {
@@ -122,8 +123,10 @@ TEST(FrameIo, CorruptPngDataIsReported) {
   std::vector<uint8_t> bytes = EncodePng(Gradient(16, 16));
   // Find the IDAT chunk and damage its data: the CRC no longer matches.
   size_t offset = 8;
-  while (std::string(bytes.begin() + static_cast<long>(offset) + 4, bytes.begin() + static_cast<long>(offset) + 8) != "IDAT") {
-    offset += 12 + (bytes[offset] << 24 | bytes[offset + 1] << 16 | bytes[offset + 2] << 8 | bytes[offset + 3]);
+  while (std::string(bytes.begin() + static_cast<long>(offset) + 4,
+                     bytes.begin() + static_cast<long>(offset) + 8) != "IDAT") {
+    offset += 12 + (bytes[offset] << 24 | bytes[offset + 1] << 16 | bytes[offset + 2] << 8 |
+                    bytes[offset + 3]);
   }
   bytes[offset + 10] ^= 0xff;
   try {
@@ -169,19 +172,22 @@ TEST(FrameIo, UnknownFormat) {
   const std::string dir = ScratchDir();
   WriteBytes(dir + "/x.png", {'h', 'e', 'l', 'l', 'o'});
   EXPECT_INPUT_ERROR(ReadFrame(dir + "/x.png"),
-                     dir + "/x.png: byte 0: unknown image format; expected a PNG, JPEG or binary "
-                           "PPM (P6) file");
+                     dir +
+                         "/x.png: byte 0: unknown image format; expected a PNG, JPEG or binary "
+                         "PPM (P6) file");
 }
 
 TEST(FrameIo, RawUyvyOfTheWrongSize) {
   const std::string dir = ScratchDir();
   WriteBytes(dir + "/f.yuv", std::vector<uint8_t>(1000, 128));
   EXPECT_INPUT_ERROR(ReadRawUyvy(dir + "/f.yuv", 20, 30),
-                     dir + "/f.yuv: 1000 bytes; expected 1200 bytes for a 20x30 UYVY frame "
-                           "(width x height x 2)");
+                     dir +
+                         "/f.yuv: 1000 bytes; expected 1200 bytes for a 20x30 UYVY frame "
+                         "(width x height x 2)");
   EXPECT_INPUT_ERROR(ReadRawUyvy(dir + "/f.yuv", 25, 20),
-                     dir + "/f.yuv: raw frame size 25x20; expected a positive even width and a "
-                           "positive height");
+                     dir +
+                         "/f.yuv: raw frame size 25x20; expected a positive even width and a "
+                         "positive height");
   const Image image = ReadRawUyvy(dir + "/f.yuv", 20, 25);
   EXPECT_EQ(image.format, PixelFormat::kUyvy);
   EXPECT_EQ(image.RowBytes(), 40);
@@ -189,7 +195,8 @@ TEST(FrameIo, RawUyvyOfTheWrongSize) {
 
 TEST(FrameIo, UyvyRoundTripThroughRgbKeepsGreys) {
   Image grey = Image::Rgb(4, 1);
-  for (int i = 0; i < 12; ++i) grey.data[static_cast<size_t>(i)] = static_cast<uint8_t>(40 + 50 * (i / 3));
+  for (int i = 0; i < 12; ++i)
+    grey.data[static_cast<size_t>(i)] = static_cast<uint8_t>(40 + 50 * (i / 3));
   const Image yuv = ToUyvy(grey);
   EXPECT_EQ(yuv.data[0], 128);  // U of a grey pixel pair
   EXPECT_EQ(yuv.data[2], 128);  // V
@@ -206,8 +213,9 @@ TEST(FrameIo, ExpandFrameListSortsDirectoriesAndReadsLists) {
   EXPECT_EQ(frames, (std::vector<std::string>{dir + "/frames/10.png", dir + "/frames/2.png",
                                               dir + "/b.png", dir + "/d.ppm", dir + "/a.jpg"}));
   EXPECT_INPUT_ERROR(ExpandFrameList({dir + "/nope.png"}),
-                     dir + "/nope.png: no such file or directory; expected a frame, a directory "
-                           "of frames or a list file");
+                     dir +
+                         "/nope.png: no such file or directory; expected a frame, a directory "
+                         "of frames or a list file");
 }
 
 TEST(FrameIo, ReadsTheSharedRealFrames) {

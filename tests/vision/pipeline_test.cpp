@@ -21,8 +21,10 @@ Thresholds BlueOrange() {
 Calibration Overhead(double k1) {
   return ParseCalibration(
       "model = \"pinhole\"\nimage_size_px = [320, 240]\n[pinhole]\nfx_px = 800\nfy_px = 800\n"
-      "cx_px = 160\ncy_px = 120\nk1 = " + std::to_string(k1) +
-      "\ncamera_position_mm = [0, 0, 3000]\nyaw_deg = 30\n[heights]\ndefault_mm = 140\norange = 21\n",
+      "cx_px = 160\ncy_px = 120\nk1 = " +
+          std::to_string(k1) +
+          "\ncamera_position_mm = [0, 0, 3000]\nyaw_deg = 30\n[heights]\ndefault_mm = 140\norange "
+          "= 21\n",
       "c.toml");
 }
 

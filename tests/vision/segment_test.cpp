@@ -227,7 +227,8 @@ TEST(Segmenter, ManyDiscsAllFoundInAreaOrder) {
   for (int c = 0; c < 2; ++c) {
     const auto regions = s.RegionsOf(c);
     for (size_t k = 0; k < regions.size(); ++k) {
-      const Disc& d = discs[static_cast<size_t>(10 + c - 2 * static_cast<int>(k))];  // largest first
+      const Disc& d =
+          discs[static_cast<size_t>(10 + c - 2 * static_cast<int>(k))];  // largest first
       EXPECT_NEAR(regions[k].centroid_px.x(), d.centre.x(), 0.1);
       EXPECT_NEAR(regions[k].centroid_px.y(), d.centre.y(), 0.1);
     }
@@ -269,7 +270,8 @@ TEST(Segmenter, RgbCellTableIsExactForYuvThresholds) {
       const uint8_t* p = image.Row(y) + 3 * x;
       int yy, uu, vv;
       RgbToYuv(p[0], p[1], p[2], &yy, &uu, &vv);
-      mismatches += s.class_image()[static_cast<size_t>(y * 256 + x)] != s.lut().Classify(yy, uu, vv) + 1;
+      mismatches +=
+          s.class_image()[static_cast<size_t>(y * 256 + x)] != s.lut().Classify(yy, uu, vv) + 1;
     }
   }
   EXPECT_EQ(mismatches, 0);

@@ -13,14 +13,14 @@
 namespace patlab::vision::testing {
 
 // Asserts that `statement` throws InputError whose message is exactly `message`.
-#define EXPECT_INPUT_ERROR(statement, message)                   \
-  do {                                                           \
-    try {                                                        \
-      statement;                                                 \
-      ADD_FAILURE() << "expected InputError: " << (message);     \
-    } catch (const ::patlab::InputError& e) {                    \
-      EXPECT_EQ(std::string(e.what()), std::string(message));    \
-    }                                                            \
+#define EXPECT_INPUT_ERROR(statement, message)                \
+  do {                                                        \
+    try {                                                     \
+      statement;                                              \
+      ADD_FAILURE() << "expected InputError: " << (message);  \
+    } catch (const ::patlab::InputError& e) {                 \
+      EXPECT_EQ(std::string(e.what()), std::string(message)); \
+    }                                                         \
   } while (false)
 
 // A fresh scratch directory per test.
@@ -35,7 +35,8 @@ inline std::string ScratchDir() {
 
 inline void WriteBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
 }
 
 inline void WriteText(const std::string& path, const std::string& text) {

@@ -34,7 +34,8 @@ double MedianMs(const std::function<void()>& fn, int reps) {
   for (int i = 0; i < reps; ++i) {
     const auto start = std::chrono::steady_clock::now();
     fn();
-    t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                    .count());
   }
   std::nth_element(t.begin(), t.begin() + reps / 2, t.end());
   return t[static_cast<size_t>(reps / 2)];
@@ -89,7 +90,8 @@ Result Compare(const Image& frame, const Thresholds& thresholds) {
   r.ours_regions = segmenter.num_raw_regions();
 
   // OpenCV: the frame as a cv::Mat (no copy), YUV once, then per class inRange + CC with stats.
-  const cv::Mat rgb(frame.height_px, frame.width_px, CV_8UC3, const_cast<uint8_t*>(frame.data.data()));
+  const cv::Mat rgb(frame.height_px, frame.width_px, CV_8UC3,
+                    const_cast<uint8_t*>(frame.data.data()));
   cv::Mat yuv, mask, labels, stats, centroids;
   long regions = 0;
   r.opencv_ms = MedianMs(
@@ -99,7 +101,8 @@ Result Compare(const Image& frame, const Thresholds& thresholds) {
         for (const ColorClass& c : thresholds.classes) {
           cv::inRange(yuv, cv::Scalar(c.range[0].lo, c.range[1].lo, c.range[2].lo),
                       cv::Scalar(c.range[0].hi, c.range[1].hi, c.range[2].hi), mask);
-          regions += cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S) - 1;
+          regions +=
+              cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S) - 1;
         }
       },
       50);
@@ -124,9 +127,10 @@ int main(int argc, char** argv) {
     for (int y = 0; y < 480; ++y) std::copy_n(full.Row(y + 50), 640 * 3, crop.Row(y));
     frames.emplace_back("ssl-field-2008.jpg crop 640x480", crop);
   }
-  std::printf("stages 2-4 (classify, runs + union-find, regions), %zu YUV classes, RGB frames, one core,\n"
-              "median of 200 (ours) / 50 (OpenCV %s) runs\n\n",
-              thresholds.classes.size(), CV_VERSION);
+  std::printf(
+      "stages 2-4 (classify, runs + union-find, regions), %zu YUV classes, RGB frames, one core,\n"
+      "median of 200 (ours) / 50 (OpenCV %s) runs\n\n",
+      thresholds.classes.size(), CV_VERSION);
   std::printf("%-34s %12s %12s %8s %10s %10s\n", "frame", "ours ms", "OpenCV ms", "ratio",
               "regions", "cv regions");
   for (const auto& [name, frame] : frames) {
