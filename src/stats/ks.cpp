@@ -1,5 +1,7 @@
 #include "stats/ks.h"
 
+#include "stats/sort.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -122,8 +124,8 @@ KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
   detail::RequireFinite(y, "sample 2");
   std::vector<double> a(x.begin(), x.end());
   std::vector<double> b(y.begin(), y.end());
-  std::sort(a.begin(), a.end());
-  std::sort(b.begin(), b.end());
+  SortAscending(a);
+  SortAscending(b);
   const std::size_t n1 = a.size();
   const std::size_t n2 = b.size();
   const double dn1 = static_cast<double>(n1);

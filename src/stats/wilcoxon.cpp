@@ -1,5 +1,7 @@
 #include "stats/wilcoxon.h"
 
+#include "stats/sort.h"
+
 #include <algorithm>
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
@@ -99,7 +101,7 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOp
 
   // Rank |d| with average ranks for ties (scipy rankdata 'average'); zeros come first.
   std::vector<double> d(d_in.begin(), d_in.end());
-  std::sort(d.begin(), d.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); });
+  SortByMagnitude(d);
   double r_plus = 0.0, r_minus = 0.0, r_zero = 0.0;
   double tie_sum = 0.0;  // sum of t^3 - t over the tie groups that stay in the ranking
   const bool drop_zero_ranks = options.zero_method != ZeroMethod::kZsplit;
