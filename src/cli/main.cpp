@@ -1,5 +1,7 @@
 // patlab: the command-line front end. Dispatches to the registered subcommands and turns
 // bad-input exceptions into a message on stderr and exit status 2 (DESIGN.md rule 9).
+#include <malloc.h>
+
 #include <boost/program_options/errors.hpp>
 #include <cstdio>
 #include <iostream>
@@ -42,6 +44,11 @@ void PrintUsage(std::ostream& os) {
 
 int main(int argc, char** argv) {
   using namespace patlab::cli;
+  // The simulator and the statistics allocate and free many 0.1-10 MB arrays; glibc would serve
+  // each from a fresh mmap and zero its pages again (a third of the run time in page faults).
+  // Keep freed memory in the heap instead.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   if (argc < 2) {
     PrintUsage(std::cerr);
     return kExitBadInput;

@@ -78,8 +78,9 @@ Comparison Compare(const Samples& fast, const Samples& other) {
   const size_t n = fast.x.size();
   std::vector<double> fast_pos(n), other_pos(n), fast_abs_t(n), other_abs_t(n);
   for (size_t k = 0; k < n; ++k) {
-    fast_pos[k] = std::hypot(fast.x[k], fast.y[k]);
-    other_pos[k] = std::hypot(other.x[k], other.y[k]);
+    // |error| (errors are far from overflow, so no need for hypot's scaling).
+    fast_pos[k] = std::sqrt(fast.x[k] * fast.x[k] + fast.y[k] * fast.y[k]);
+    other_pos[k] = std::sqrt(other.x[k] * other.x[k] + other.y[k] * other.y[k]);
     fast_abs_t[k] = std::abs(fast.theta[k]);
     other_abs_t[k] = std::abs(other.theta[k]);
   }
