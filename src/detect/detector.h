@@ -53,7 +53,7 @@ struct DetectorOptions {
   // Expected standard deviation of one blob centre per axis (mm). Sets the geometric tolerance:
   // E <= patch_sigma_mm^2 * chi2_{2m-3}^-1(geometry_confidence), m = patches fitted. Larger
   // accepts worse blobs but lets wrong rotations of a nearly symmetric pattern pass: the
-  // Butterfly's wrong rotations have E >= ~800 mm^2, so keep the tolerance well below that.
+  // Butterfly's wrong rotations have E >= 932 mm^2, so keep the tolerance well below that.
   double patch_sigma_mm = 2.0;
   // Probability that a correct correspondence with Gaussian noise of patch_sigma_mm passes the
   // geometric test, in (0, 1). Higher: fewer misses, looser tolerance.

@@ -103,8 +103,8 @@ TEST(Detector, SymmetricPatternWithoutColourCuesIsAmbiguous) {
 }
 
 TEST(Detector, ButterflyWithATolerancePastItsAsymmetryIsAmbiguous) {
-  // Wrong rotations of the SSL pattern leave E of several hundred mm^2; with patch_sigma_mm = 20
-  // the tolerance (400 * 29.9 mm^2) accepts them all and every colouring is an ID.
+  // Wrong rotations of the SSL pattern leave E >= 932 mm^2 (hand computed); with patch_sigma_mm =
+  // 20 the tolerance (400 * 29.9 mm^2) accepts them all and every colouring is an ID.
   DetectorOptions options;
   options.patch_sigma_mm = 20.0;
   Detector detector(MakeConfig({SslDetectorPattern()}, options));

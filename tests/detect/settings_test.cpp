@@ -103,3 +103,16 @@ TEST(Settings, BadFilesGiveTheirMessages) {
 
 }  // namespace
 }  // namespace patlab::detect
+
+namespace patlab::detect {
+namespace {
+
+TEST(Settings, PaperPatternsFileLoadsWithTableTwoCounts) {
+  const DetectorConfig config = LoadDetectorSettings(kExperiments + "/detector-paper.toml");
+  ASSERT_EQ(config.patterns.size(), 4u);
+  const size_t expected[4] = {4, 6, 20, 256};  // Table II, 4 colours (our counting rule)
+  for (int p = 0; p < 4; ++p) EXPECT_EQ(config.patterns[p].codebook.entries.size(), expected[p]);
+}
+
+}  // namespace
+}  // namespace patlab::detect
