@@ -1,0 +1,79 @@
+// The Monte-Carlo inner loop and the estimators do not allocate (DESIGN.md rule 7): global
+// operator new is counted while a batch of trials runs and while every estimator runs.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+#include "../test_util.h"
+#include "estimate/bounds.h"
+#include "sim/batch.h"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace patlab::sim {
+namespace {
+
+using estimate::Estimator;
+
+TEST(Allocation, CounterSeesAllocations) {
+  const long before = g_allocations.load();
+  std::vector<double> v(100);
+  EXPECT_GT(g_allocations.load() - before, 0);
+}
+
+TEST(Allocation, BatchOfTrialsDoesNotAllocate) {
+  const estimate::Model model = estimate::Model::FromPattern(testing::ShippedPattern("butterfly"));
+  PointSetup setup;
+  setup.model = &model;
+  setup.sigma_mm = 2.0;
+  setup.field_length_mm = 2800;
+  setup.field_width_mm = 2300;
+  setup.noise.common_sigma_ratio = 0.5;
+  setup.noise.outlier_probability = 0.05;
+  for (Estimator e : estimate::kAllEstimators) setup.run[static_cast<int>(e)] = true;
+  std::vector<double> buffers[4][3];
+  std::vector<uint8_t> iterations(kBatchSize), termination(kBatchSize);
+  BatchOutput out;
+  for (Estimator e : estimate::kAllEstimators) {
+    auto& b = buffers[static_cast<int>(e)];
+    for (auto& v : b) v.resize(kBatchSize);
+    out.errors[static_cast<int>(e)] = {b[0].data(), b[1].data(), b[2].data()};
+  }
+  out.ml_iterations = iterations.data();
+  out.ml_termination = termination.data();
+  const long before = g_allocations.load();
+  for (uint64_t b = 0; b < 4; ++b) RunBatch(setup, b * kBatchSize, kBatchSize, out);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+TEST(Allocation, EstimatorsDoNotAllocate) {
+  const estimate::Model model = estimate::Model::FromPattern(testing::ShippedPattern("triangle"));
+  std::array<Vec2, kMaxPatches> v{};
+  for (int i = 0; i < model.num_patches; ++i) v[i] = Pose2{1, 2, 0.3}.Apply(model.model_mm[i]);
+  v[1] += Vec2(0.7, -0.2);
+  const long before = g_allocations.load();
+  const Pose2 fast = estimate::Fast(model, v.data());
+  estimate::Summary summary;
+  estimate::MaximumLikelihood(model, v.data(), fast, estimate::Options{}, &summary);
+  estimate::LeastSquares(model, v.data());
+  estimate::KeyPatch(model, v.data());
+  estimate::CramerRaoBound(model);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(summary.termination, estimate::Termination::kConverged);
+}
+
+}  // namespace
+}  // namespace patlab::sim
