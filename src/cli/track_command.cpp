@@ -1,0 +1,199 @@
+// patlab track: the paper's section II single-patch experiment in simulation (Table I, the
+// Wilcoxon tests between patch sizes, and the data behind Figs. 2, 3 and 6).
+#include <boost/program_options.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "io/atomic_file.h"
+#include "vision/track.h"
+
+namespace patlab::cli {
+
+namespace {
+
+namespace po = boost::program_options;
+
+constexpr const char* kExamples = R"(examples:
+  patlab track experiments/table1.toml                     # Table I -> results/table1*.csv
+  patlab track experiments/table1.toml --out /tmp/t1 --threads 1
+  patlab track experiments/table1.toml --seed 7            # another draw of the same experiment
+  python3 scripts/plot_track.py results                    # Figs. 2, 3, 6 from the CSV files
+
+Writes to <out>: <name>.csv (Table I: per subject std and 95% CI of the paper's estimated error
+and of the true error, x along and y across the travel), <name>_tests.csv (Wilcoxon signed-rank
+tests between the diameters on paired |error|), track_errors.csv (per-sample errors) and
+<name>.json (manifest), all atomically. Exit status: 0 ok, 1 cannot write, 2 bad input.
+)";
+
+struct TrackCliOptions {
+  std::string experiment;
+  std::string out_dir = "results";
+  std::string seed;
+  int threads = 0;
+  int decimate = 1;
+  bool quiet = false;
+};
+
+nlohmann::json StdJson(const stats::StdWithCi& s) {
+  return {{"std", s.std}, {"lower", s.lower}, {"upper", s.upper}, {"n", s.n}};
+}
+
+std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& result,
+                     const std::vector<vision::TableRow>& table, const std::string& command_line,
+                     const std::vector<std::string>& outputs) {
+  nlohmann::json j;
+  j["tool"] = "patlab track";
+  j["version"] = PATLAB_VERSION;
+  j["command"] = command_line;
+  j["experiment"] = o.source_file;
+  j["name"] = o.name;
+  j["description"] = o.description;
+  j["seed"] = o.seed;
+  j["runs"] = o.runs;
+  j["diameters_mm"] = o.diameters_mm;
+  j["pattern_file"] = o.pattern_file;
+  j["platform"] = {{"samples_per_run", o.samples_per_run},
+                   {"rate_hz", o.rate_hz},
+                   {"speed_mm_per_s", o.speed_mm_per_s},
+                   {"heading_max_deg", o.heading_max_deg},
+                   {"lateral_range_mm", o.lateral_range_mm},
+                   {"start_jitter_mm", o.start_jitter_mm},
+                   {"spacing_mm", o.spacing_mm},
+                   {"plane_height_mm", o.plane_height_mm}};
+  j["camera"] = {{"height_mm", o.camera.height_mm},
+                 {"image_size_px", {o.camera.image_width_px, o.camera.image_height_px}},
+                 {"focal_length_px", o.camera.focal_length_px},
+                 {"mm_per_px", vision::MmPerPixel(o)}};
+  j["render"] = {{"background_level", o.background_level},
+                 {"patch_level", o.patch_level},
+                 {"threshold_level", o.threshold_level},
+                 {"supersampling", o.supersampling}};
+  j["noise"] = {{"pixel_sigma", o.pixel_sigma}, {"jitter_sigma_px", o.jitter_sigma_px}};
+  stats::SmoothingOptions smoothing;
+  smoothing.sigma_samples = o.smoothing_sigma_samples;
+  j["analysis"] = {{"smoothing_sigma_samples", o.smoothing_sigma_samples},
+                   {"trim_samples", o.trim_samples},
+                   {"white_noise_residual_factor", vision::ResidualStdFactor(smoothing)}};
+  nlohmann::json runs = nlohmann::json::array();
+  for (const vision::RunSetup& s : result.setups) {
+    runs.push_back({{"heading_deg", s.heading_rad * 180.0 / 3.141592653589793},
+                    {"start_mm", {s.start_mm.x(), s.start_mm.y()}}});
+  }
+  j["run_setups"] = runs;
+  nlohmann::json rows = nlohmann::json::array();
+  for (const vision::TableRow& r : table) {
+    nlohmann::json row = {{"subject", r.subject},        {"est_x", StdJson(r.est_x)},
+                          {"est_y", StdJson(r.est_y)},   {"true_x", StdJson(r.true_x)},
+                          {"true_y", StdJson(r.true_y)}, {"missed_frames", r.missed_frames}};
+    if (r.has_theta) {
+      row["est_theta"] = StdJson(r.est_theta);
+      row["true_theta"] = StdJson(r.true_theta);
+    }
+    rows.push_back(row);
+  }
+  j["table"] = rows;
+  j["threads"] = result.threads;
+  j["timings_s"] = {{"wall", result.wall_seconds}};
+  j["outputs"] = outputs;
+  return j.dump(2) + "\n";
+}
+
+int RunTrackCommand(const std::vector<std::string>& args) {
+  TrackCliOptions o;
+  po::options_description visible("patlab track EXPERIMENT.toml [options]");
+  visible.add_options()("help,h", "show this help")("out", po::value(&o.out_dir),
+                                                    "output directory (default: results)")(
+      "seed", po::value(&o.seed), "experiment seed (overrides the file; integer >= 0)")(
+      "threads", po::value(&o.threads),
+      "worker threads (default: all cores); results do not depend on it")(
+      "decimate", po::value(&o.decimate),
+      "write every N-th sample to track_errors.csv (default 1)")(
+      "quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
+  po::options_description all;
+  all.add(visible).add_options()("experiment", po::value(&o.experiment));
+  po::positional_options_description positional;
+  positional.add("experiment", 1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+  po::notify(vm);
+  if (vm.count("help")) {
+    std::cout << visible << "\n" << kExamples;
+    return kExitOk;
+  }
+  if (o.experiment.empty()) {
+    throw InputError(
+        "missing EXPERIMENT.toml; expected 'patlab track EXPERIMENT.toml' (see --help)");
+  }
+  if (o.threads < 0)
+    throw InputError("--threads is " + std::to_string(o.threads) + "; expected >= 0");
+  if (o.decimate < 1) {
+    throw InputError("--decimate is " + std::to_string(o.decimate) + "; expected an integer >= 1");
+  }
+  vision::TrackOptions options = vision::LoadTrackExperiment(o.experiment);
+  if (!o.seed.empty()) {
+    size_t used = 0;
+    try {
+      options.seed = std::stoull(o.seed, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != o.seed.size() || o.seed[0] == '-') {
+      throw InputError("--seed is '" + o.seed + "'; expected an integer >= 0");
+    }
+  }
+
+  vision::TrackRunOptions run_options;
+  run_options.threads = o.threads;
+  const vision::TrackResult result = vision::RunTrack(options, run_options);
+  const std::vector<vision::TableRow> table = vision::MakeTable(result);
+  const std::vector<vision::SizeTest> tests = vision::MakeSizeTests(result);
+
+  namespace fs = std::filesystem;
+  const std::string table_path = (fs::path(o.out_dir) / (options.name + ".csv")).string();
+  const std::string tests_path = (fs::path(o.out_dir) / (options.name + "_tests.csv")).string();
+  const std::string errors_path = (fs::path(o.out_dir) / "track_errors.csv").string();
+  const std::string json_path = (fs::path(o.out_dir) / (options.name + ".json")).string();
+  std::string command_line = "patlab track";
+  for (const std::string& a : args) command_line += " " + a;
+  try {
+    io::WriteFilesAtomic({{table_path, vision::TableCsv(table)},
+                          {tests_path, vision::SizeTestsCsv(tests)},
+                          {errors_path, vision::ErrorsCsv(options, result, o.decimate)},
+                          {json_path, Manifest(options, result, table, command_line,
+                                               {table_path, tests_path, errors_path, json_path})}});
+  } catch (const InputError& e) {
+    std::cerr << "patlab track: " << e.what() << "\n";
+    return kExitFailure;
+  }
+  if (!o.quiet) {
+    std::fprintf(stderr, "patlab track: %d runs x %d frames in %.2f s on %d threads (%.3f mm/px)\n",
+                 options.runs, options.samples_per_run, result.wall_seconds, result.threads,
+                 vision::MmPerPixel(options));
+    std::fprintf(stderr, "%-10s %-24s %-24s %-24s %-24s\n", "subject", "est sx [95% CI] mm",
+                 "est sy", "true sx", "true sy");
+    for (const vision::TableRow& r : table) {
+      auto cell = [](const stats::StdWithCi& s) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.3f [%.3f-%.3f]", s.std, s.lower, s.upper);
+        return std::string(buf);
+      };
+      std::fprintf(stderr, "%-10s %-24s %-24s %-24s %-24s\n", r.subject.c_str(),
+                   cell(r.est_x).c_str(), cell(r.est_y).c_str(), cell(r.true_x).c_str(),
+                   cell(r.true_y).c_str());
+    }
+    std::fprintf(stderr, "wrote %s, %s, %s and %s\n", table_path.c_str(), tests_path.c_str(),
+                 errors_path.c_str(), json_path.c_str());
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+PATLAB_REGISTER_COMMAND("track", "single-patch track experiment in simulation (paper Table I)",
+                        RunTrackCommand);
+
+}  // namespace patlab::cli
