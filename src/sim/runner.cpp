@@ -3,10 +3,13 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_group.h>
 #include <tbb/task_arena.h>
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 
@@ -136,27 +139,46 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   const int num_sigmas = static_cast<int>(experiment.sigmas_mm.size());
   const int total_points = static_cast<int>(experiment.patterns.size()) * num_sigmas;
   const int64_t num_batches = (trials + kBatchSize - 1) / kBatchSize;
+  result.points.resize(total_points);
 
-  Samples samples[4];
-  for (Estimator e : experiment.estimators) samples[static_cast<int>(e)].Resize(trials);
-  std::vector<uint8_t> ml_iterations(trials), ml_termination(trials);
-  BatchOutput output;
-  for (Estimator e : experiment.estimators) {
-    Samples& s = samples[static_cast<int>(e)];
-    output.errors[static_cast<int>(e)] = ErrorArrays{s.x.data(), s.y.data(), s.theta.data()};
+  // Two sets of sample arrays: the statistics of point k (a task) run while point k + 1 is
+  // simulated into the other set, so neither stage waits for the other. Each point's results
+  // are computed by serial code into their own slot: the overlap changes timing only.
+  struct PointBuffers {
+    Samples samples[4];
+    std::vector<uint8_t> ml_iterations, ml_termination;
+    BatchOutput output;
+  };
+  PointBuffers buffers[2];
+  for (PointBuffers& pb : buffers) {
+    for (Estimator e : experiment.estimators) {
+      Samples& s = pb.samples[static_cast<int>(e)];
+      s.Resize(trials);
+      pb.output.errors[static_cast<int>(e)] = ErrorArrays{s.x.data(), s.y.data(), s.theta.data()};
+    }
+    pb.ml_iterations.resize(trials);
+    pb.ml_termination.resize(trials);
+    pb.output.ml_iterations = pb.ml_iterations.data();
+    pb.output.ml_termination = pb.ml_termination.data();
   }
-  const bool has_fast = samples[static_cast<int>(Estimator::kFast)].x.size() == size_t(trials);
+  const bool has_fast =
+      std::find(experiment.estimators.begin(), experiment.estimators.end(), Estimator::kFast) !=
+      experiment.estimators.end();
+  tbb::task_group statistics[2];
+  std::atomic<int64_t> statistics_ns{0};
 
+  int index = 0;
   for (int pi = 0; pi < static_cast<int>(experiment.patterns.size()); ++pi) {
     const Pattern& pattern = experiment.patterns[pi];
     const estimate::Model model = estimate::Model::FromPattern(pattern);
     const estimate::StdPerSigma crlb = estimate::CramerRaoBound(model);
-    const double noise_scale = experiment.noise.EffectiveSigmaRatio();
-    estimate::StdPerSigma predicted[4];
+    std::array<estimate::StdPerSigma, 4> predicted{};
     for (Estimator e : experiment.estimators) {
       predicted[static_cast<int>(e)] = estimate::PredictedStd(model, e);
     }
-    for (int si = 0; si < num_sigmas; ++si) {
+    for (int si = 0; si < num_sigmas; ++si, ++index) {
+      PointBuffers& pb = buffers[index % 2];
+      statistics[index % 2].wait();  // point index - 2 is done with these arrays
       const PointSetup setup = MakePointSetup(experiment, model, pi, si);
       // Stage 1: trials, in fixed batches (any thread may run any batch).
       const auto sim_start = Clock::now();
@@ -166,73 +188,80 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
             for (int64_t b = range.begin(); b != range.end(); ++b) {
               const int64_t first = b * kBatchSize;
               const int count = static_cast<int>(std::min<int64_t>(kBatchSize, trials - first));
-              BatchOutput at = output;
+              BatchOutput at = pb.output;
               for (ErrorArrays& e : at.errors) {
                 if (e.x_mm == nullptr) continue;
                 e.x_mm += first;
                 e.y_mm += first;
                 e.theta_rad += first;
               }
-              at.ml_iterations = ml_iterations.data() + first;
-              at.ml_termination = ml_termination.data() + first;
+              at.ml_iterations += first;
+              at.ml_termination += first;
               RunBatch(setup, static_cast<uint64_t>(first), count, at);
             }
           },
           tbb::simple_partitioner());
       result.simulate_seconds += Seconds(sim_start);
 
-      // Stage 2: statistics, each a deterministic serial computation.
-      const auto stats_start = Clock::now();
-      PointResult point;
+      // Stage 2: statistics, as a task that overlaps the next point's trials.
+      PointResult& point = result.points[index];
       point.pattern_index = pi;
       point.pattern = pattern.name;
       point.sigma_mm = experiment.sigmas_mm[si];
       point.point = setup.point;
       point.trials = trials;
       point.estimators.resize(experiment.estimators.size());
-      tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
-        const Estimator e = experiment.estimators[k];
-        EstimatorResult& r = point.estimators[k];
-        r.estimator = e;
-        FillEstimatorResult(samples[static_cast<int>(e)], &r);
-        if (experiment.noise.IsIsotropicGaussian()) {
-          r.crlb_position_mm = crlb.position_per_axis * point.sigma_mm;
-          r.crlb_theta_rad = crlb.theta * point.sigma_mm;
-        } else {
-          r.crlb_position_mm = r.crlb_theta_rad = std::nan("");
-        }
-        // The linearised estimator's std scales with the effective per-axis patch std; the
-        // common-mode offset moves the position only (every estimator is translation
-        // equivariant), adding its variance per axis.
-        const estimate::StdPerSigma& pr = predicted[static_cast<int>(e)];
-        const double g = experiment.noise.common_sigma_ratio;
-        r.predicted_position_mm =
-            point.sigma_mm * std::sqrt(std::pow(pr.position_per_axis * noise_scale, 2) + g * g);
-        r.predicted_theta_rad = point.sigma_mm * pr.theta * noise_scale;
-        if (e == Estimator::kMl) {
-          int64_t iterations = 0;
-          for (int64_t t = 0; t < trials; ++t) {
-            iterations += ml_iterations[t];
-            if (ml_termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
-              if (r.first_nonconverged_trial < 0) r.first_nonconverged_trial = t;
-              ++r.nonconverged;
-            }
+      statistics[index % 2].run([&experiment, &pb, &point, &statistics_ns, crlb, predicted,
+                                 has_fast, trials] {
+        const auto stats_start = Clock::now();
+        const double noise_scale = experiment.noise.EffectiveSigmaRatio();
+        tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
+          const Estimator e = experiment.estimators[k];
+          EstimatorResult& r = point.estimators[k];
+          r.estimator = e;
+          FillEstimatorResult(pb.samples[static_cast<int>(e)], &r);
+          if (experiment.noise.IsIsotropicGaussian()) {
+            r.crlb_position_mm = crlb.position_per_axis * point.sigma_mm;
+            r.crlb_theta_rad = crlb.theta * point.sigma_mm;
+          } else {
+            r.crlb_position_mm = r.crlb_theta_rad = std::nan("");
           }
-          r.mean_iterations = static_cast<double>(iterations) / static_cast<double>(trials);
-        }
-        if (e != Estimator::kFast && has_fast && point.sigma_mm > 0.0) {
-          r.vs_fast = Compare(samples[static_cast<int>(Estimator::kFast)],
-                              samples[static_cast<int>(e)]);
-        }
+          // The linearised estimator's std scales with the effective per-axis patch std; the
+          // common-mode offset moves the position only (every estimator is translation
+          // equivariant), adding its variance per axis.
+          const estimate::StdPerSigma& pr = predicted[static_cast<int>(e)];
+          const double g = experiment.noise.common_sigma_ratio;
+          r.predicted_position_mm =
+              point.sigma_mm * std::sqrt(std::pow(pr.position_per_axis * noise_scale, 2) + g * g);
+          r.predicted_theta_rad = point.sigma_mm * pr.theta * noise_scale;
+          if (e == Estimator::kMl) {
+            int64_t iterations = 0;
+            for (int64_t t = 0; t < trials; ++t) {
+              iterations += pb.ml_iterations[t];
+              if (pb.ml_termination[t] !=
+                  static_cast<uint8_t>(estimate::Termination::kConverged)) {
+                if (r.first_nonconverged_trial < 0) r.first_nonconverged_trial = t;
+                ++r.nonconverged;
+              }
+            }
+            r.mean_iterations = static_cast<double>(iterations) / static_cast<double>(trials);
+          }
+          if (e != Estimator::kFast && has_fast && point.sigma_mm > 0.0) {
+            r.vs_fast = Compare(pb.samples[static_cast<int>(Estimator::kFast)],
+                                pb.samples[static_cast<int>(e)]);
+          }
+        });
+        statistics_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                             Clock::now() - stats_start)
+                             .count();
       });
-      result.statistics_seconds += Seconds(stats_start);
-      result.points.push_back(std::move(point));
       result.total_trials += trials;
-      if (options.progress) {
-        options.progress(static_cast<int>(result.points.size()), total_points);
-      }
+      if (options.progress) options.progress(index + 1, total_points);
     }
   }
+  statistics[0].wait();
+  statistics[1].wait();
+  result.statistics_seconds = static_cast<double>(statistics_ns.load()) * 1e-9;
   result.wall_seconds = Seconds(wall_start);
   return result;
 }

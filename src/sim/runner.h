@@ -19,7 +19,7 @@ namespace patlab::sim {
 
 struct RunOptions {
   int threads = 0;  // worker threads; 0 = all cores. Results do not depend on it.
-  // Called on the calling thread after each data point: (points done, points in all).
+  // Called on the calling thread after each data point's trials: (points done, points in all).
   std::function<void(int, int)> progress;
 };
 
@@ -71,8 +71,9 @@ struct RunResult {
   std::vector<PointResult> points;  // pattern-major, then sigma
   int threads = 0;
   int64_t total_trials = 0;
-  double simulate_seconds = 0.0;    // trial generation and estimation
-  double statistics_seconds = 0.0;  // per-point statistics and tests
+  double simulate_seconds = 0.0;    // wall time of trial generation and estimation
+  double statistics_seconds = 0.0;  // summed time of the per-point statistics tasks, which
+                                    // overlap the next point's trials
   double wall_seconds = 0.0;
 };
 
