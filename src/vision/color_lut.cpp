@@ -250,9 +250,11 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
     }
     const io::TomlReader r(*table, name, context);
     if (sp == 0) {
-      r.CheckKeys({"name", "display", "y", "u", "v", "min_area_px", "merge", "expected_num"});
+      r.CheckKeys({"name", "display", "y", "u", "v", "min_area_px", "max_area_px", "merge",
+                   "expected_num"});
     } else {
-      r.CheckKeys({"name", "display", "r", "g", "b", "min_area_px", "merge", "expected_num"});
+      r.CheckKeys({"name", "display", "r", "g", "b", "min_area_px", "max_area_px", "merge",
+                   "expected_num"});
     }
     ColorClass cls;
     cls.name = r.String("name");
@@ -280,6 +282,12 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
         r.Fail("min_area_px",
                "min_area_px " + std::to_string(*v) + " in " + context + "; expected >= 0");
       cls.min_area_px = static_cast<int>(*v);
+    }
+    if (auto v = r.OptionalInteger("max_area_px")) {
+      if (*v < 0 || (*v > 0 && *v < cls.min_area_px))
+        r.Fail("max_area_px", "max_area_px " + std::to_string(*v) + " in " + context +
+                                  "; expected 0 (no limit) or >= min_area_px");
+      cls.max_area_px = static_cast<int>(*v);
     }
     cls.merge = r.OptionalNumber("merge").value_or(0.0);
     if (auto v = r.OptionalInteger("expected_num")) cls.expected_num = static_cast<int>(*v);

@@ -32,6 +32,9 @@ struct ColorClass {
   std::array<ChannelRange, 3> range;  // Y U V (or R G B), in the order of ColorSpace
   // Regions of this class smaller than this are dropped; 0 = use the pipeline's default.
   int min_area_px = 0;
+  // Regions of this class larger than this are dropped (a colour that also covers shadows or a
+  // robot's body, e.g. a black front sector); 0 = no limit.
+  int max_area_px = 0;
 };
 
 struct Thresholds {
@@ -65,6 +68,7 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name);
 //   u = [150, 255]
 //   v = [0, 125]
 //   min_area_px = 20              # optional
+//   max_area_px = 200             # optional, 0 = no limit
 Thresholds ParseThresholdsToml(std::string_view text, const std::string& name);
 
 // The per-channel mask tables built from thresholds.

@@ -24,6 +24,7 @@ Segmenter::Segmenter(const Thresholds& thresholds, const SegmenterOptions& optio
   Validate(options);
   for (const ColorClass& c : thresholds.classes) {
     min_area_px_.push_back(c.min_area_px > 0 ? c.min_area_px : options.min_area_px);
+    max_area_px_.push_back(c.max_area_px > 0 ? c.max_area_px : INT_MAX);
   }
 }
 
@@ -226,7 +227,7 @@ void Segmenter::ExtractRegions() {
   num_raw_regions_ = static_cast<int>(accumulators_.size());
   regions_.clear();
   for (const Accumulator& acc : accumulators_) {
-    if (acc.area < min_area_px_[acc.colour]) continue;
+    if (acc.area < min_area_px_[acc.colour] || acc.area > max_area_px_[acc.colour]) continue;
     Region r;
     r.colour = acc.colour;
     r.area_px = static_cast<int>(acc.area);

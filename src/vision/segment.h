@@ -90,6 +90,7 @@ class Segmenter {
   ColorLut lut_;
   SegmenterOptions options_;
   std::vector<int> min_area_px_;  // per class
+  std::vector<int> max_area_px_;  // per class; INT_MAX = no limit
   int width_ = 0;
   int height_ = 0;
   std::vector<uint8_t> class_image_;

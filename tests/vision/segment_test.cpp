@@ -135,6 +135,19 @@ TEST(Segmenter, ClassMinAreaOverridesTheDefault) {
   EXPECT_EQ(s.regions()[0].colour, 0);
 }
 
+TEST(Segmenter, ClassMaxAreaDropsLargerRegions) {
+  Thresholds t = RedGreen();
+  t.classes[0].max_area_px = 2;  // the 3-pixel red region goes, the 2-pixel green one stays
+  Segmenter s(t, Keep(1));
+  s.Process(FromText({"rrr.", "...g", "...g"}));
+  ASSERT_EQ(s.regions().size(), 1u);
+  EXPECT_EQ(s.regions()[0].colour, 1);
+  t.classes[0].max_area_px = 3;
+  Segmenter kept(t, Keep(1));
+  kept.Process(FromText({"rrr.", "...g", "...g"}));
+  EXPECT_EQ(kept.regions().size(), 2u);
+}
+
 TEST(Segmenter, RunsAcrossWordBoundariesAndRowEnds) {
   // Runs starting and ending at every offset around the 8-byte skipping in EncodeRuns.
   for (int start = 0; start < 19; ++start) {

@@ -1,0 +1,106 @@
+// DESIGN.md rule 7 for the real-frame loop: once a pipeline has seen a frame of a size (its
+// buffers have grown, the RGB cell table is built), stages 2-5 -- and stage 6 with the blobs
+// matched to the detector palette as patlab detect does it -- do not allocate. Global operator
+// new is counted (this replaces it for the whole test_vision binary; it only counts).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <new>
+
+#include "detect/detector.h"
+#include "detect/settings.h"
+#include "test_util.h"
+#include "vision/frame_io.h"
+#include "vision/pipeline.h"
+#include "vision/render.h"
+
+namespace {
+std::atomic<long> g_vision_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  ++g_vision_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace patlab::vision {
+namespace {
+
+// Stages 2-5 on a rendered 780x580 RGB frame with YUV thresholds (the 64^3 cell table and the
+// exact BT.601 path for mixed cells) and a distorted pinhole camera, and on the same frame as
+// UYVY (the camera-native path).
+TEST(VisionAllocation, WarmPipelineDoesNotAllocate) {
+  const Calibration cal = ParseCalibration(
+      "model = \"pinhole\"\nimage_size_px = [780, 580]\n[pinhole]\nfx_px = 850\nfy_px = 850\n"
+      "cx_px = 390\ncy_px = 290\nk1 = -0.2\ncamera_position_mm = [0, 0, 4000]\nyaw_deg = 0\n"
+      "[heights]\ndefault_mm = 140\n",
+      "c.toml");
+  const Thresholds thresholds = ParseThresholdsToml(
+      "[[class]]\nname = \"blue\"\nu = [150, 255]\nv = [0, 125]\n"
+      "[[class]]\nname = \"pink\"\ny = [100, 255]\nv = [170, 255]\n"
+      "[[class]]\nname = \"green\"\ny = [70, 255]\nu = [0, 120]\nv = [0, 110]\n",
+      "t.toml");
+  std::vector<Disc> discs;
+  for (int i = 0; i < 10; ++i) {
+    const Vec2 c(-1500.0 + 330.0 * i, 200.0 * (i % 3) - 200.0);
+    discs.push_back({c, 25, {20, 40, 230}});
+    discs.push_back({c + Vec2(35, 54.8), 20, {250, 60, 200}});
+    discs.push_back({c + Vec2(-54.8, -35), 20, {40, 220, 60}});
+  }
+  const Image rgb = RenderWorldDiscs(780, 580, cal.camera, 140, {40, 70, 30}, discs);
+  const Image uyvy = ToUyvy(rgb);
+  for (const Image* image : {&rgb, &uyvy}) {
+    VisionPipeline pipeline(thresholds, cal, SegmenterOptions{});
+    std::vector<detect::Blob> blobs;
+    VisionStats stats;
+    const long start = g_vision_allocations.load();
+    pipeline.Process(*image, &blobs, &stats);           // grows the buffers, builds the cell table
+    EXPECT_GT(g_vision_allocations.load() - start, 0);  // the counter sees allocations
+    ASSERT_EQ(blobs.size(), 30u);
+    const long before = g_vision_allocations.load();
+    pipeline.Process(*image, &blobs, &stats);
+    EXPECT_EQ(g_vision_allocations.load() - before, 0);
+    EXPECT_EQ(blobs.size(), 30u);
+  }
+}
+
+// Stages 2-6 on the real SSL 2008 frame, as patlab detect runs them per frame.
+TEST(VisionAllocation, WarmRealFrameLoopDoesNotAllocate) {
+  if (!std::filesystem::exists(testing::SharedFrames()))
+    GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
+  const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
+  VisionPipeline pipeline(LoadThresholds(data + "ssl-2008.thresholds.toml"),
+                          LoadCalibration(data + "ssl-2008.calibration.toml"), SegmenterOptions{});
+  detect::Detector detector(detect::LoadDetectorSettings(data + "ssl-2008.detector.toml"));
+  std::vector<int> palette_label;
+  for (const ColorClass& c : pipeline.thresholds().classes)
+    palette_label.push_back(detector.ColourLabel(c.name));
+  const Image image = ReadFrame(testing::SharedFrames() + "/ssl-field-2008.jpg");
+  std::vector<detect::Blob> blobs, palette_blobs;
+  std::vector<detect::Detection> detections;
+  VisionStats vstats;
+  detect::DetectStats dstats;
+  auto frame = [&] {
+    pipeline.Process(image, &blobs, &vstats);
+    palette_blobs.clear();
+    for (const detect::Blob& b : blobs) {
+      const int label = palette_label[static_cast<size_t>(b.colour)];
+      if (label >= 0) palette_blobs.push_back(detect::Blob{b.position_mm, label, b.area_mm2});
+    }
+    detector.Detect(palette_blobs, &detections, &dstats);
+  };
+  frame();
+  ASSERT_EQ(detections.size(), 5u);
+  const long before = g_vision_allocations.load();
+  frame();
+  EXPECT_EQ(g_vision_allocations.load() - before, 0);
+  EXPECT_EQ(detections.size(), 5u);
+}
+
+}  // namespace
+}  // namespace patlab::vision
