@@ -21,6 +21,8 @@ constexpr const char* kExamples = R"(examples:
   patlab track experiments/table1.toml                     # Table I -> results/table1*.csv
   patlab track experiments/table1.toml --out /tmp/t1 --threads 1
   patlab track experiments/table1.toml --seed 7            # another draw of the same experiment
+  patlab track experiments/table1.toml --pixel-sigma 0 --jitter-px 0 --out results/track_quantisation
+                                                           # pixel quantisation alone
   python3 scripts/plot_track.py results                    # Figs. 2, 3, 6 from the CSV files
 
 Writes to <out>: <name>.csv (Table I: per subject std and 95% CI of the paper's estimated error
@@ -35,6 +37,7 @@ struct TrackCliOptions {
   std::string seed;
   int threads = 0;
   int decimate = 1;
+  double pixel_sigma = -1.0, jitter_px = -1.0;
   bool quiet = false;
 };
 
@@ -105,14 +108,17 @@ std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& r
 int RunTrackCommand(const std::vector<std::string>& args) {
   TrackCliOptions o;
   po::options_description visible("patlab track EXPERIMENT.toml [options]");
-  visible.add_options()("help,h", "show this help")("out", po::value(&o.out_dir),
-                                                    "output directory (default: results)")(
-      "seed", po::value(&o.seed), "experiment seed (overrides the file; integer >= 0)")(
-      "threads", po::value(&o.threads),
-      "worker threads (default: all cores); results do not depend on it")(
-      "decimate", po::value(&o.decimate),
-      "write every N-th sample to track_errors.csv (default 1)")(
-      "quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
+  // clang-format off
+  visible.add_options()
+      ("help,h", "show this help")
+      ("out", po::value(&o.out_dir), "output directory (default: results)")
+      ("seed", po::value(&o.seed), "experiment seed (overrides the file; integer >= 0)")
+      ("threads", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
+      ("pixel-sigma", po::value(&o.pixel_sigma), "noise: intensity noise std, grey levels (overrides [noise] pixel_sigma)")
+      ("jitter-px", po::value(&o.jitter_px), "noise: per-frame camera jitter std, px (overrides [noise] jitter_sigma_px)")
+      ("decimate", po::value(&o.decimate), "write every N-th sample to track_errors.csv (default 1)")
+      ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
+  // clang-format on
   po::options_description all;
   all.add(visible).add_options()("experiment", po::value(&o.experiment));
   po::positional_options_description positional;
@@ -144,6 +150,14 @@ int RunTrackCommand(const std::vector<std::string>& args) {
     if (used == 0 || used != o.seed.size() || o.seed[0] == '-') {
       throw InputError("--seed is '" + o.seed + "'; expected an integer >= 0");
     }
+  }
+
+  if (vm.count("pixel-sigma")) options.pixel_sigma = o.pixel_sigma;
+  if (vm.count("jitter-px")) options.jitter_sigma_px = o.jitter_px;
+  if (vm.count("pixel-sigma") || vm.count("jitter-px")) {
+    const auto problems = vision::CheckTrackOptions(options);
+    if (!problems.empty())
+      throw InputError("after the command-line overrides: " + problems.front().message);
   }
 
   vision::TrackRunOptions run_options;
