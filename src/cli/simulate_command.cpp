@@ -10,6 +10,7 @@
 #include "cli/command.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "sim/detect_runner.h"
 #include "sim/report.h"
 #include "sim/runner.h"
 
@@ -24,9 +25,13 @@ constexpr const char* kExamples = R"(examples:
   patlab simulate experiments/fig5.toml --trials 10000 --threads 1 --out /tmp/quick
   patlab simulate experiments/fig5.toml --sigmas 0.5,1,2 --common-sigma-ratio 0.5
   patlab simulate experiments/fig5.toml --replay 3,41    # re-run trial 41 of data point 3
+  patlab simulate experiments/id_confusion.toml          # whole frames through the detector
+  patlab simulate experiments/id_confusion.toml --replay 7,12  # frame 12 of point 7: blobs, detections
 
-Writes <out>/<name>.csv (one row per pattern x estimator x sigma) and <out>/<name>.json (the
-manifest: inputs, seed, version, timings), both atomically. Exit status: 0 ok, 2 bad input.
+Writes <out>/<name>.csv (one row per pattern x estimator x sigma; with correspondence = "detect"
+one row per pattern x false-blob rate x sigma) and <out>/<name>.json (the manifest: inputs,
+seed, version, timings), both atomically. In detect mode --trials sets the frames per point.
+Exit status: 0 ok, 2 bad input.
 )";
 
 struct SimulateOptions {
@@ -122,12 +127,97 @@ int Replay(const sim::Experiment& experiment, const std::string& spec) {
   return kExitOk;
 }
 
+int ReplayDetect(const sim::Experiment& experiment, const std::string& spec) {
+  int64_t point = -1, frame = -1;
+  char comma = 0;
+  std::istringstream is(spec);
+  if (!(is >> point >> comma >> frame) || comma != ',' || !is.eof() || point < 0 || frame < 0) {
+    throw InputError("--replay is '" + spec + "'; expected POINT,FRAME (two integers >= 0)");
+  }
+  const int64_t num_points = sim::NumDetectPoints(experiment);
+  if (point >= num_points || frame >= experiment.detect.frames) {
+    throw InputError("--replay " + spec + " is out of range; expected POINT < " +
+                     std::to_string(num_points) + " and FRAME < " +
+                     std::to_string(experiment.detect.frames));
+  }
+  const sim::DetectPoint p = sim::MakeDetectPoint(experiment, static_cast<uint32_t>(point));
+  detect::Detector detector(p.config);
+  const detect::Scene scene =
+      sim::GenerateDetectFrame(experiment, p, detector, static_cast<uint64_t>(frame));
+  std::vector<detect::Detection> detections;
+  detector.Detect(scene.blobs, &detections);
+  const detect::FrameScore score =
+      detect::ScoreFrame(scene, detections, experiment.detect.match_radius_mm);
+  const auto& palette = p.config.palette;
+  std::printf(
+      "point %lld (pattern %s, sigma %.6g mm, false blobs %.6g /m^2), frame %lld, seed %llu\n",
+      static_cast<long long>(point), experiment.patterns[p.pattern_index].name.c_str(), p.sigma_mm,
+      p.scene.false_blob_rate_per_m2, static_cast<long long>(frame),
+      static_cast<unsigned long long>(experiment.seed));
+  for (const detect::SceneRobot& r : scene.robots) {
+    std::printf("robot      %-7s id %-3d x %.3f mm  y %.3f mm  theta %.6f rad\n",
+                palette[r.team_colour].c_str(), r.id, r.pose.x_mm, r.pose.y_mm, r.pose.theta_rad);
+  }
+  for (size_t k = 0; k < scene.blobs.size(); ++k) {
+    const detect::Blob& b = scene.blobs[k];
+    std::printf("blob %-5zu %-7s (%.3f, %.3f) mm  area %.1f mm^2\n", k, palette[b.colour].c_str(),
+                b.position_mm.x(), b.position_mm.y(), b.area_mm2);
+  }
+  for (const detect::Detection& d : detections) {
+    std::printf("detection  %-7s id %-3d %-12s x %.3f mm  y %.3f mm  theta %.6f rad  E %.3f mm^2\n",
+                palette[d.team_colour].c_str(), d.id,
+                std::string(detect::DetectionStatusName(d.status)).c_str(), d.pose.x_mm,
+                d.pose.y_mm, d.pose.theta_rad, d.residual_mm2);
+  }
+  std::printf(
+      "score      robots %d correct %d wrong_id %d unknown_id %d ambiguous %d missed %d "
+      "false_positives %d\n",
+      score.robots, score.correct, score.wrong_id, score.unknown_id, score.ambiguous, score.missed,
+      score.false_positives);
+  return kExitOk;
+}
+
+// correspondence = "detect": whole frames through the detector.
+int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
+                  const std::vector<std::string>& args) {
+  if (!o.replay.empty()) return ReplayDetect(experiment, o.replay);
+  const bool show_progress = !o.quiet && ::isatty(STDERR_FILENO);
+  sim::RunOptions run_options;
+  run_options.threads = o.threads;
+  if (show_progress) run_options.progress = ProgressBar;
+  const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
+
+  const std::string base = o.name.empty() ? experiment.name : o.name;
+  const std::string csv_path = (std::filesystem::path(o.out_dir) / (base + ".csv")).string();
+  const std::string json_path = (std::filesystem::path(o.out_dir) / (base + ".json")).string();
+  std::string command_line = "patlab simulate";
+  for (const std::string& a : args) command_line += " " + a;
+  try {
+    io::WriteFilesAtomic({{csv_path, sim::DetectResultsCsv(experiment, result)},
+                          {json_path, sim::DetectManifestJson(experiment, result, command_line,
+                                                              {csv_path, json_path})}});
+  } catch (const InputError& e) {
+    std::cerr << "patlab simulate: " << e.what() << "\n";
+    return kExitFailure;
+  }
+  if (!o.quiet) {
+    std::fprintf(stderr,
+                 "patlab simulate: %lld frames in %.3f s wall (frames %.3f s = %.0f frames/s, "
+                 "statistics %.3f s) on %d threads\nwrote %s and %s\n",
+                 static_cast<long long>(result.total_frames), result.wall_seconds,
+                 result.simulate_seconds, result.total_frames / result.simulate_seconds,
+                 result.statistics_seconds, result.threads, csv_path.c_str(), json_path.c_str());
+  }
+  return kExitOk;
+}
+
 int RunSimulate(const std::vector<std::string>& args) {
   SimulateOptions o;
   po::options_description visible("patlab simulate EXPERIMENT.toml [options]");
+  // clang-format off
   visible.add_options()
       ("help,h", "show this help")
-      ("trials", po::value(&o.trials), "trials per data point (overrides the file; >= 2)")
+      ("trials", po::value(&o.trials), "trials per data point (overrides the file; >= 2); frames in detect mode")
       ("seed", po::value(&o.seed), "experiment seed (overrides the file; integer >= 0)")
       ("threads", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
       ("out", po::value(&o.out_dir), "output directory (default: results)")
@@ -137,8 +227,9 @@ int RunSimulate(const std::vector<std::string>& args) {
       ("common-sigma-ratio", po::value(&o.common_sigma_ratio), "noise: common-mode std / sigma")
       ("outlier-probability", po::value(&o.outlier_probability), "noise: outlier probability per patch")
       ("outlier-sigma-ratio", po::value(&o.outlier_sigma_ratio), "noise: outlier std / sigma")
-      ("replay", po::value(&o.replay), "POINT,TRIAL: re-run one trial and print every estimate")
+      ("replay", po::value(&o.replay), "POINT,TRIAL: re-run one trial and print every estimate (detect mode: POINT,FRAME)")
       ("quiet,q", po::bool_switch(&o.quiet), "no progress bar or summary on stderr");
+  // clang-format on
   po::options_description all;
   all.add(visible).add_options()("experiment", po::value(&o.experiment));
   po::positional_options_description positional;
@@ -182,6 +273,9 @@ int RunSimulate(const std::vector<std::string>& args) {
     throw InputError("noise options: " + problem);
   }
 
+  if (experiment.correspondence == sim::Correspondence::kDetect) {
+    return RunDetectMode(experiment, o, args);
+  }
   if (!o.replay.empty()) return Replay(experiment, o.replay);
 
   const bool show_progress = !o.quiet && ::isatty(STDERR_FILENO);

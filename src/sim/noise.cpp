@@ -33,4 +33,20 @@ std::string NoiseModel::Validate() const {
   return "";
 }
 
+Vec2 NoiseModel::PatchError(double sigma_mm, RandomStream& rng) const {
+  const double zx = rng.Normal();
+  const double zy = rng.Normal();
+  if (outlier_probability > 0.0 && rng.Uniform() < outlier_probability) {
+    return sigma_mm * outlier_sigma_ratio * Vec2(zx, zy);
+  }
+  return sigma_mm * Vec2(zx, sigma_y_ratio * zy);
+}
+
+Vec2 NoiseModel::CommonOffset(double sigma_mm, RandomStream& rng) const {
+  if (!(common_sigma_ratio > 0.0 && sigma_mm > 0.0)) return Vec2::Zero();
+  const double zx = rng.Normal();
+  const double zy = rng.Normal();
+  return sigma_mm * common_sigma_ratio * Vec2(zx, zy);
+}
+
 }  // namespace patlab::sim

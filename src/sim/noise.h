@@ -11,9 +11,16 @@
 // with all z standard normals, independent between patches and trials. The paper's model
 // (section IV) is the isotropic Gaussian: sigma_y_ratio = 1, p = 0, common = 0; sigma is then
 // "the patch positional standard deviation" along each axis.
+//
+// The known-correspondence kernel (batch.cpp) evaluates these formulas vectorised over a batch
+// of trials; PatchError and CommonOffset below are the scalar form, one draw at a time from a
+// RandomStream, used by the whole-frame (detect) runner through detect::PatchNoise::perturb.
 #pragma once
 
 #include <string>
+
+#include "core/geometry.h"
+#include "core/rng.h"
 
 namespace patlab::sim {
 
@@ -33,6 +40,13 @@ struct NoiseModel {
   std::string Describe() const;
   // Returns the empty string if valid, else "field: constraint".
   std::string Validate() const;
+
+  // One patch's independent error e_i (mm) at patch sigma `sigma_mm`. Draws, in this order: two
+  // normals (z_ix, z_iy), then one uniform deciding "outlier" only when outlier_probability > 0.
+  Vec2 PatchError(double sigma_mm, RandomStream& rng) const;
+  // The common offset c (mm), once per trial (a whole frame in detect mode): two normals when
+  // common_sigma_ratio > 0 and sigma_mm > 0, else zero and no draws.
+  Vec2 CommonOffset(double sigma_mm, RandomStream& rng) const;
 };
 
 }  // namespace patlab::sim

@@ -78,8 +78,10 @@ std::string ResultsCsv(const Experiment& experiment, const RunResult& result) {
   return csv;
 }
 
-std::string ManifestJson(const Experiment& experiment, const RunResult& result,
-                         const std::string& command_line, const std::vector<std::string>& outputs) {
+namespace {
+
+// The manifest fields both modes share: tool, inputs, grid, seed, field, noise.
+nlohmann::json ManifestCommon(const Experiment& experiment, const std::string& command_line) {
   using nlohmann::json;
   json j;
   j["tool"] = "patlab";
@@ -95,11 +97,7 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
                         {"patches", experiment.patterns[k].size()}});
   }
   j["patterns"] = patterns;
-  json estimators = json::array();
-  for (auto e : experiment.estimators) estimators.push_back(std::string(estimate::EstimatorName(e)));
-  j["estimators"] = estimators;
   j["sigmas_mm"] = experiment.sigmas_mm;
-  j["trials_per_point"] = experiment.trials;
   j["seed"] = experiment.seed;
   j["field_mm"] = {{"length", experiment.field_length_mm}, {"width", experiment.field_width_mm}};
   const NoiseModel& n = experiment.noise;
@@ -108,6 +106,20 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
                 {"common_sigma_ratio", n.common_sigma_ratio},
                 {"outlier_probability", n.outlier_probability},
                 {"outlier_sigma_ratio", n.outlier_sigma_ratio}};
+  return j;
+}
+
+}  // namespace
+
+std::string ManifestJson(const Experiment& experiment, const RunResult& result,
+                         const std::string& command_line, const std::vector<std::string>& outputs) {
+  using nlohmann::json;
+  json j = ManifestCommon(experiment, command_line);
+  json estimators = json::array();
+  for (auto e : experiment.estimators)
+    estimators.push_back(std::string(estimate::EstimatorName(e)));
+  j["estimators"] = estimators;
+  j["trials_per_point"] = experiment.trials;
   const estimate::Options& o = experiment.ml_options;
   j["ml_options"] = {{"max_iterations", o.max_iterations},
                      {"step_tolerance_mm", o.step_tolerance_mm},
@@ -125,6 +137,168 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
                     {"wall", result.wall_seconds}};
   j["trials_per_second"] =
       result.simulate_seconds > 0 ? result.total_trials / result.simulate_seconds : 0.0;
+  j["outputs"] = outputs;
+  return j.dump(2) + "\n";
+}
+
+namespace {
+
+constexpr const char* kDetectColumns[] = {"pattern",
+                                          "sigma_mm",
+                                          "false_blob_rate_per_m2",
+                                          "point",
+                                          "frames",
+                                          "robots",
+                                          "noise",
+                                          "detector_sigma_mm",
+                                          "tolerance_mm2",
+                                          "correct",
+                                          "wrong_id",
+                                          "unknown_id",
+                                          "ambiguous",
+                                          "missed",
+                                          "false_positives",
+                                          "detection_rate",
+                                          "detection_rate_lo",
+                                          "detection_rate_hi",
+                                          "wrong_id_rate",
+                                          "wrong_id_rate_lo",
+                                          "wrong_id_rate_hi",
+                                          "ambiguous_rate",
+                                          "ambiguous_rate_lo",
+                                          "ambiguous_rate_hi",
+                                          "false_positives_per_frame",
+                                          "false_positives_per_frame_lo",
+                                          "false_positives_per_frame_hi",
+                                          "mean_x_mm",
+                                          "std_x_mm",
+                                          "std_x_lo_mm",
+                                          "std_x_hi_mm",
+                                          "mean_y_mm",
+                                          "std_y_mm",
+                                          "std_y_lo_mm",
+                                          "std_y_hi_mm",
+                                          "mean_theta_rad",
+                                          "std_theta_rad",
+                                          "std_theta_lo_rad",
+                                          "std_theta_hi_rad",
+                                          "crlb_pos_mm",
+                                          "crlb_theta_rad",
+                                          "false_blobs_per_frame",
+                                          "missing_patches",
+                                          "colour_errors",
+                                          "correspondences",
+                                          "geometry_passed",
+                                          "colour_rejected",
+                                          "conflicts"};
+
+}  // namespace
+
+std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult& result) {
+  std::string csv;
+  for (const char* c : kDetectColumns) csv += std::string(csv.empty() ? "" : ",") + c;
+  csv += "\n";
+  const std::string noise = experiment.noise.Describe();
+  for (const DetectPointResult& p : result.points) {
+    const std::string fields[] = {
+        p.pattern,
+        Num(p.sigma_mm),
+        Num(p.false_blob_rate_per_m2),
+        Int(p.point),
+        Int(p.frames),
+        Int(p.robots),
+        noise,
+        Num(p.detector_sigma_mm),
+        Num(p.tolerance_mm2),
+        Int(p.correct),
+        Int(p.wrong_id),
+        Int(p.unknown_id),
+        Int(p.ambiguous),
+        Int(p.missed),
+        Int(p.false_positives),
+        Num(p.detection.rate),
+        Num(p.detection.lower),
+        Num(p.detection.upper),
+        Num(p.wrong_id_rate.rate),
+        Num(p.wrong_id_rate.lower),
+        Num(p.wrong_id_rate.upper),
+        Num(p.ambiguous_rate.rate),
+        Num(p.ambiguous_rate.lower),
+        Num(p.ambiguous_rate.upper),
+        Num(p.false_positives_per_frame.rate),
+        Num(p.false_positives_per_frame.lower),
+        Num(p.false_positives_per_frame.upper),
+        Num(p.x.mean),
+        Num(p.x.std),
+        Num(p.x.std_lower),
+        Num(p.x.std_upper),
+        Num(p.y.mean),
+        Num(p.y.std),
+        Num(p.y.std_lower),
+        Num(p.y.std_upper),
+        Num(p.theta.mean),
+        Num(p.theta.std),
+        Num(p.theta.std_lower),
+        Num(p.theta.std_upper),
+        Num(p.crlb_position_mm),
+        Num(p.crlb_theta_rad),
+        Num(static_cast<double>(p.false_blobs) / static_cast<double>(p.frames)),
+        Int(p.missing_patches),
+        Int(p.colour_errors),
+        Int(p.stats.correspondences),
+        Int(p.stats.geometry_passed),
+        Int(p.stats.colour_rejected),
+        Int(p.stats.conflicts)};
+    bool first = true;
+    for (const std::string& f : fields) {
+      if (!first) csv += ",";
+      csv += f;
+      first = false;
+    }
+    csv += "\n";
+  }
+  return csv;
+}
+
+std::string DetectManifestJson(const Experiment& experiment, const DetectRunResult& result,
+                               const std::string& command_line,
+                               const std::vector<std::string>& outputs) {
+  using nlohmann::json;
+  json j = ManifestCommon(experiment, command_line);
+  const DetectSettings& d = experiment.detect;
+  const detect::DetectorOptions& o = d.detector.options;
+  const detect::SceneOptions& s = d.scene;
+  j["correspondence"] = "detect";
+  j["frames_per_point"] = d.frames;
+  j["false_blob_rates_per_m2"] = d.false_blob_rates_per_m2;
+  j["detect"] = {{"settings", d.settings_file},
+                 {"detector_sigma", d.matched_sigma ? "matched" : "settings"},
+                 {"match_radius_mm", d.match_radius_mm},
+                 {"robots_per_team", s.robots_per_team},
+                 {"missing_patch_probability", s.missing_patch_probability},
+                 {"colour_error_probability", s.colour_error_probability},
+                 {"false_blob_radius_mm", {s.false_blob_radius_min_mm, s.false_blob_radius_max_mm}},
+                 {"ball", s.ball},
+                 {"ball_colour", s.ball_colour},
+                 {"robot_radius_mm", s.robot_radius_mm},
+                 {"min_separation_mm", s.min_separation_mm}};
+  j["detector"] = {{"patch_sigma_mm", o.patch_sigma_mm},
+                   {"geometry_confidence", o.geometry_confidence},
+                   {"reach_margin_mm", o.reach_margin_mm},
+                   {"area_ratio", {o.area_ratio_min, o.area_ratio_max}},
+                   {"missing_patch", std::string(detect::MissingPatchPolicyName(o.missing_patch))},
+                   {"max_neighbours", o.max_neighbours},
+                   {"estimator", std::string(estimate::EstimatorName(o.estimator))}};
+  j["intervals"] = {{"rates", "Wilson score, 95%"},
+                    {"false_positives_per_frame", "Garwood (exact Poisson), 95%"},
+                    {"stds", "chi-square, 95%"}};
+  j["threads"] = result.threads;
+  j["total_frames"] = result.total_frames;
+  j["timings_s"] = {{"simulate", result.simulate_seconds},
+                    {"statistics", result.statistics_seconds},
+                    {"wall", result.wall_seconds}};
+  j["frames_per_second"] =
+      result.simulate_seconds > 0 ? result.total_frames / result.simulate_seconds : 0.0;
   j["outputs"] = outputs;
   return j.dump(2) + "\n";
 }

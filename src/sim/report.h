@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "sim/detect_runner.h"
 #include "sim/runner.h"
 
 namespace patlab::sim {
@@ -14,5 +15,12 @@ std::string ResultsCsv(const Experiment& experiment, const RunResult& result);
 // The manifest. `command_line` and `outputs` are recorded as given.
 std::string ManifestJson(const Experiment& experiment, const RunResult& result,
                          const std::string& command_line, const std::vector<std::string>& outputs);
+
+// Detect mode (correspondence = "detect"): one row per pattern x false-blob rate x sigma
+// (columns: README, "Detect-mode experiments"), and its manifest, with the same common fields.
+std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult& result);
+std::string DetectManifestJson(const Experiment& experiment, const DetectRunResult& result,
+                               const std::string& command_line,
+                               const std::vector<std::string>& outputs);
 
 }  // namespace patlab::sim

@@ -100,7 +100,7 @@ TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
       {kHead + kSigma + "[ml]\nmax_iterations = 0\n",
        "e.toml:8: max_iterations in [ml] is 0; expected an integer in 1..1000"},
       {kHead + "correspondence = \"guess\"\n" + kSigma,
-       "e.toml:3: correspondence is \"guess\"; expected \"known\""},
+       "e.toml:3: correspondence is \"guess\"; expected \"known\" or \"detect\""},
       {kHead + "trials = \"many\"\n" + kSigma, "e.toml:3: trials is a string; expected an integer"},
       {"name = \"x\"\npatterns = [\"simple\", \"simple\"]\n" + kSigma,
        "e.toml:2: pattern 'simple' is listed twice; expected each pattern once"},

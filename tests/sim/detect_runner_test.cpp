@@ -1,0 +1,224 @@
+// The detect-mode runner: interval formulas, determinism over thread counts, exact scenes,
+// the experiment's noise model reaching the blobs, and replay of one frame.
+#include "sim/detect_runner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../test_util.h"
+#include "sim/report.h"
+#include "stats/summary.h"
+
+namespace patlab::sim {
+namespace {
+
+TEST(WilsonInterval, MatchesTheClosedForm) {
+  // k = 5, n = 10: centre 1/2, half-width z / (1 + z^2/n) sqrt(1/40 + z^2/400)
+  // (statsmodels proportion_confint(5, 10, method="wilson") = (0.236593, 0.763407)).
+  Proportion p = WilsonInterval(5, 10);
+  EXPECT_EQ(p.rate, 0.5);
+  EXPECT_NEAR(p.lower, 0.2365931, 1e-7);
+  EXPECT_NEAR(p.upper, 0.7634069, 1e-7);
+  // k = 0: [0, z^2 / (n + z^2)]; k = n: [n / (n + z^2), 1].
+  const double z2 = 1.959963984540054 * 1.959963984540054;
+  p = WilsonInterval(0, 10);
+  EXPECT_EQ(p.lower, 0.0);
+  EXPECT_NEAR(p.upper, z2 / (10 + z2), 1e-12);
+  p = WilsonInterval(10, 10);
+  EXPECT_NEAR(p.lower, 10 / (10 + z2), 1e-12);
+  EXPECT_EQ(p.upper, 1.0);
+  EXPECT_TRUE(std::isnan(WilsonInterval(0, 0).rate));
+}
+
+TEST(GarwoodInterval, MatchesPoissonQuantiles) {
+  // K = 10 in one frame: (chi2_20^-1(0.025) / 2, chi2_22^-1(0.975) / 2) = (4.795389, 18.390356).
+  PoissonRate r = GarwoodInterval(10, 1);
+  EXPECT_EQ(r.rate, 10.0);
+  EXPECT_NEAR(r.lower, 4.795389, 1e-5);
+  EXPECT_NEAR(r.upper, 18.390356, 1e-5);
+  // K = 0: upper = -ln(0.025) / F.
+  r = GarwoodInterval(0, 100);
+  EXPECT_EQ(r.lower, 0.0);
+  EXPECT_NEAR(r.upper, -std::log(0.025) / 100, 1e-12);
+}
+
+TEST(NoiseModel, PatchErrorAndCommonOffsetFollowTheFormulas) {
+  // Per-axis std within 4 standard errors (SE of a std ~ std / sqrt(2n)).
+  const int n = 100000;
+  auto check = [&](const NoiseModel& model, double sigma, double want_x, double want_y,
+                   bool common) {
+    std::vector<double> x(n), y(n);
+    for (int k = 0; k < n; ++k) {
+      RandomStream rng(9, 1, static_cast<uint64_t>(k));
+      const Vec2 e = common ? model.CommonOffset(sigma, rng) : model.PatchError(sigma, rng);
+      x[k] = e.x();
+      y[k] = e.y();
+    }
+    EXPECT_NEAR(stats::SampleStd(x), want_x, 4 * want_x / std::sqrt(2.0 * n));
+    EXPECT_NEAR(stats::SampleStd(y), want_y, 4 * want_y / std::sqrt(2.0 * n));
+  };
+  NoiseModel anisotropic;
+  anisotropic.sigma_y_ratio = 3.0;
+  check(anisotropic, 2.0, 2.0, 6.0, false);
+  NoiseModel outliers;
+  outliers.outlier_probability = 0.1;
+  outliers.outlier_sigma_ratio = 10.0;
+  // A mixture: variance sigma^2 (0.9 + 0.1 * 100); its std's SE is larger than a Gaussian's,
+  // so compare the variance with a generous 4 SE of the mixture (kurtosis ~ 27).
+  {
+    std::vector<double> x(n);
+    for (int k = 0; k < n; ++k) {
+      RandomStream rng(9, 2, static_cast<uint64_t>(k));
+      x[k] = outliers.PatchError(1.0, rng).x();
+    }
+    const double var = std::pow(stats::SampleStd(x), 2);
+    EXPECT_NEAR(var, 10.9, 4 * 10.9 * std::sqrt(26.0 / n));
+  }
+  NoiseModel common;
+  common.common_sigma_ratio = 0.5;
+  check(common, 2.0, 1.0, 1.0, true);
+  RandomStream rng(1, 1, 1);
+  EXPECT_EQ(NoiseModel{}.CommonOffset(2.0, rng), Vec2::Zero());
+  EXPECT_EQ(common.CommonOffset(0.0, rng), Vec2::Zero());
+}
+
+// A small detect experiment in a temp dir: Butterfly (2 ID colours, 16 IDs) and Triangle.
+class DetectRunnerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    for (const char* name : {"butterfly", "triangle"}) {
+      dir_.Write(std::string("patterns/") + name + ".toml",
+                 testing::ReadFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml"));
+    }
+    dir_.Write("experiments/det.toml",
+               "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"cyan\", \"orange\"]\n"
+               "[detector]\npatch_sigma_mm = 1.0\n"
+               "[[pattern]]\npattern = \"butterfly\"\nid_colours = [\"pink\", \"green\"]\n"
+               "key_colours = [\"blue\", \"yellow\"]\n"
+               "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"green\", \"cyan\"]\n"
+               "key_colours = [\"blue\", \"yellow\"]\n");
+  }
+  Experiment Load(const std::string& extra_detect, const std::string& sigma = "[0, 1, 6]",
+                  const std::string& noise = "") {
+    return LoadExperimentFile(dir_.Write(
+        "experiments/e.toml",
+        "name = \"small\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\", \"triangle\"]\n"
+        "seed = 5\n[sigma]\nvalues = " +
+            sigma + "\n" + noise + "[detect]\nsettings = \"det.toml\"\nframes = 300\n" +
+            extra_detect));
+  }
+  testing::TempDir dir_;
+};
+
+TEST_F(DetectRunnerTest, IdenticalForAnyThreadCount) {
+  const Experiment e = Load(
+      "false_blob_rate_per_m2 = [0, 3]\ndetector_sigma = \"matched\"\n"
+      "colour_error_probability = 0.02\nmissing_patch_probability = 0.02\n");
+  RunOptions options;
+  options.threads = 1;
+  const std::string one = DetectResultsCsv(e, RunDetectExperiment(e, options));
+  options.threads = 2;
+  const std::string two = DetectResultsCsv(e, RunDetectExperiment(e, options));
+  options.threads = 8;
+  const std::string eight = DetectResultsCsv(e, RunDetectExperiment(e, options));
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(one, eight);
+  // Header + 2 patterns x 2 rates x 3 sigmas, pattern-major, then rate, then sigma.
+  EXPECT_EQ(std::count(one.begin(), one.end(), '\n'), 1 + 2 * 2 * 3);
+  EXPECT_NE(one.find("\nbutterfly,6,3,5,300,3000,isotropic,6,"), std::string::npos) << one;
+  EXPECT_NE(one.find("\ntriangle,0,0,6,300,3000,isotropic,1,"), std::string::npos) << one;
+}
+
+TEST_F(DetectRunnerTest, ExactScenesAreAllDetectedWithTheirIds) {
+  const Experiment e = Load("", "[0]");
+  const DetectRunResult result = RunDetectExperiment(e, RunOptions{});
+  ASSERT_EQ(result.points.size(), 2u);
+  EXPECT_EQ(result.total_frames, 600);
+  for (const DetectPointResult& p : result.points) {
+    SCOPED_TRACE(p.pattern);
+    EXPECT_EQ(p.robots, 300 * 10);
+    EXPECT_EQ(p.correct, p.robots);
+    EXPECT_EQ(p.detection.rate, 1.0);
+    EXPECT_EQ(p.wrong_id, 0);
+    EXPECT_EQ(p.ambiguous, 0);
+    EXPECT_EQ(p.false_positives, 0);
+    EXPECT_EQ(p.wrong_id_rate.rate, 0.0);
+    EXPECT_LT(p.x.std, 1e-9);
+    EXPECT_LT(p.theta.std, 1e-9);
+    // All 3000 robots found: the interval is [3000 / (3000 + z^2), 1].
+    EXPECT_NEAR(p.detection.lower, 3000 / (3000 + 1.959963984540054 * 1.959963984540054), 1e-12);
+    EXPECT_EQ(p.detection.upper, 1.0);
+  }
+}
+
+TEST_F(DetectRunnerTest, RatesHaveValidIntervals) {
+  const Experiment e = Load(
+      "false_blob_rate_per_m2 = [0, 5]\ncolour_error_probability = 0.05\n"
+      "missing_patch_probability = 0.05\n");
+  const DetectRunResult result = RunDetectExperiment(e, RunOptions{});
+  ASSERT_EQ(result.points.size(), 2u * 2u * 3u);
+  bool some_wrong = false;
+  for (const DetectPointResult& p : result.points) {
+    EXPECT_EQ(p.robots, p.correct + p.wrong_id + p.unknown_id + p.ambiguous + p.missed);
+    for (const Proportion& r : {p.detection, p.wrong_id_rate, p.ambiguous_rate}) {
+      EXPECT_LE(0.0, r.lower);
+      EXPECT_LE(r.lower, r.rate);
+      EXPECT_LE(r.rate, r.upper);
+      EXPECT_LE(r.upper, 1.0);
+      EXPECT_LT(r.lower, r.upper);
+    }
+    EXPECT_LE(p.false_positives_per_frame.lower, p.false_positives_per_frame.rate);
+    EXPECT_LT(p.false_positives_per_frame.rate, p.false_positives_per_frame.upper);
+    if (p.correct >= 2) {
+      EXPECT_LE(p.x.std_lower, p.x.std);
+      EXPECT_LE(p.x.std, p.x.std_upper);
+    }
+    some_wrong = some_wrong || p.wrong_id > 0;
+    // With missing patches the detection rate is at most P(all patches seen) plus 4 SE.
+    const double all_seen = std::pow(0.95, e.patterns[p.pattern_index].size());
+    EXPECT_LT(p.detection.rate,
+              all_seen + 4 * std::sqrt(all_seen * (1 - all_seen) / static_cast<double>(p.robots)));
+  }
+  EXPECT_TRUE(some_wrong);  // colour-label errors turn some IDs into others
+}
+
+TEST_F(DetectRunnerTest, PoseErrorsFollowTheNoiseModel) {
+  // Isotropic sigma = 1: the fast estimator's position std is near its CRLB-scale value; with
+  // sigma_y_ratio = 3 the y error grows about three-fold and x does not (the world-frame noise
+  // reaches the blobs through NoiseModel::PatchError).
+  const std::string anisotropic = "[noise]\nsigma_y_ratio = 3.0\n";
+  const Experiment iso = Load("detector_sigma = \"matched\"\n", "[1]");
+  const Experiment aniso = Load("detector_sigma = \"matched\"\n", "[1]", anisotropic);
+  const DetectPointResult a = RunDetectExperiment(iso, RunOptions{}).points[0];
+  const DetectPointResult b = RunDetectExperiment(aniso, RunOptions{}).points[0];
+  EXPECT_NEAR(a.x.std / a.y.std, 1.0, 0.15);
+  EXPECT_GT(b.y.std / b.x.std, 2.0);
+  EXPECT_NEAR(b.x.std, a.x.std, 0.2 * a.x.std);
+  // The Butterfly's CRLB per axis at sigma 1 (results/fig5.csv: 0.44931667 mm); the fast
+  // estimator is within 20% of it.
+  EXPECT_NEAR(a.crlb_position_mm, 0.44931667, 1e-7);
+  EXPECT_LT(a.x.std, 1.2 * a.crlb_position_mm);
+  EXPECT_TRUE(std::isnan(b.crlb_position_mm));
+}
+
+TEST_F(DetectRunnerTest, AFrameReplaysAlone) {
+  const Experiment e = Load("false_blob_rate_per_m2 = 2\n");
+  const DetectPoint point = MakeDetectPoint(e, 4);
+  EXPECT_EQ(point.pattern_index, 1);
+  EXPECT_EQ(point.sigma_index, 1);
+  EXPECT_EQ(point.sigma_mm, 1.0);
+  const detect::Detector detector(point.config);
+  const detect::Scene a = GenerateDetectFrame(e, point, detector, 17);
+  const detect::Scene b = GenerateDetectFrame(e, point, detector, 17);
+  const detect::Scene c = GenerateDetectFrame(e, point, detector, 18);
+  ASSERT_EQ(a.blobs.size(), b.blobs.size());
+  for (size_t k = 0; k < a.blobs.size(); ++k) {
+    EXPECT_EQ(a.blobs[k].position_mm, b.blobs[k].position_mm);
+    EXPECT_EQ(a.blobs[k].colour, b.blobs[k].colour);
+  }
+  EXPECT_NE(a.robots[0].pose.x_mm, c.robots[0].pose.x_mm);
+}
+
+}  // namespace
+}  // namespace patlab::sim
