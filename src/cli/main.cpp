@@ -71,8 +71,7 @@ int main(int argc, char** argv) {
       std::cerr << "patlab " << name << ": " << e.what() << "\n";
       return kExitBadInput;
     } catch (const boost::program_options::error& e) {
-      std::cerr << "patlab " << name << ": " << e.what() << " (see patlab " << name
-                << " --help)\n";
+      std::cerr << "patlab " << name << ": " << e.what() << " (see patlab " << name << " --help)\n";
       return kExitBadInput;
     }
   }

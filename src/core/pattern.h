@@ -38,9 +38,9 @@ struct OrientationPair {
 struct Pattern {
   std::string name;
   std::string description;
-  std::vector<Patch> patches;                     // 2 .. kMaxPatches
+  std::vector<Patch> patches;                      // 2 .. kMaxPatches
   std::vector<OrientationPair> orientation_pairs;  // >= 1; defaults: see DefaultOrientationPairs
-  int key_index = 0;                              // index of the kKey patch
+  int key_index = 0;                               // index of the kKey patch
 
   int size() const { return static_cast<int>(patches.size()); }
   // Mean of the model patch positions.

@@ -3,8 +3,9 @@
 // Philox4x32-10. Nothing is shared between trials, so results are identical for any thread count
 // and any trial can be replayed alone.
 //
-// Uniforms use 52 bits (two 32-bit words) or 32 bits (one word), strictly inside (0, 1). Normals use our own Box-Muller
-// transform (never std::normal_distribution, whose output differs between standard libraries).
+// Uniforms use 52 bits (two 32-bit words) or 32 bits (one word), strictly inside (0, 1). Normals
+// use our own Box-Muller transform (never std::normal_distribution, whose output differs between
+// standard libraries).
 #pragma once
 
 #include <Random123/philox.h>
@@ -42,8 +43,7 @@ inline double UniformOpen01(uint32_t w) { return (static_cast<double>(w) + 0.5) 
 // words as PhiloxBlock, as a plain loop over k that the compiler vectorises (Salmon et al. 2011,
 // "Parallel random numbers: as easy as 1, 2, 3", the Philox-4x32 round and key schedule).
 inline void PhiloxBatch(uint64_t key, const uint32_t* c0, uint32_t c1, uint32_t c2, uint32_t c3,
-                        int count, uint32_t* out0, uint32_t* out1, uint32_t* out2,
-                        uint32_t* out3) {
+                        int count, uint32_t* out0, uint32_t* out1, uint32_t* out2, uint32_t* out3) {
   constexpr uint32_t kM0 = 0xD2511F53u, kM1 = 0xCD9E8D57u;  // round multipliers
   constexpr uint32_t kW0 = 0x9E3779B9u, kW1 = 0xBB67AE85u;  // key schedule (Weyl) increments
   const uint32_t key0 = static_cast<uint32_t>(key), key1 = static_cast<uint32_t>(key >> 32);

@@ -56,27 +56,27 @@ void SumSquaredErrorDerivatives(const Model& model, const Vec2* observed, const 
 
 // Newton's method on E with the paper's analytic gradient and the exact Hessian.
 struct Options {
-  int max_iterations = 20;             // Newton steps before giving up (>= 1)
+  int max_iterations = 20;  // Newton steps before giving up (>= 1)
   // Converged when the last Newton step was below both step tolerances. Newton converges
   // quadratically here, so the error left after such a step is of the order of its square:
   // tighter values only add a step that changes nothing measurable.
-  double step_tolerance_mm = 1e-7;     // |d x|, |d y| (mm)
-  double step_tolerance_rad = 1e-9;    // |d theta| (rad)
-  double gradient_tolerance = 1e-12;   // or when |grad E| (mm, mm, mm^2 units) is below this
+  double step_tolerance_mm = 1e-7;    // |d x|, |d y| (mm)
+  double step_tolerance_rad = 1e-9;   // |d theta| (rad)
+  double gradient_tolerance = 1e-12;  // or when |grad E| (mm, mm, mm^2 units) is below this
 };
 
 enum class Termination {
-  kConverged,          // a step or gradient tolerance was met
-  kMaxIterations,      // Options::max_iterations steps without meeting a tolerance
-  kNumericalFailure,   // a non-finite cost or an indefinite Hessian that damping could not fix
+  kConverged,         // a step or gradient tolerance was met
+  kMaxIterations,     // Options::max_iterations steps without meeting a tolerance
+  kNumericalFailure,  // a non-finite cost or an indefinite Hessian that damping could not fix
 };
 std::string_view TerminationName(Termination termination);
 
 struct Summary {
   Termination termination = Termination::kConverged;
-  int iterations = 0;        // Newton steps taken
-  double initial_cost = 0.0; // E at the starting pose (mm^2)
-  double final_cost = 0.0;   // E at the returned pose (mm^2)
+  int iterations = 0;         // Newton steps taken
+  double initial_cost = 0.0;  // E at the starting pose (mm^2)
+  double final_cost = 0.0;    // E at the returned pose (mm^2)
 };
 
 // The maximum-likelihood pose under iid isotropic Gaussian patch noise, by Newton's method from

@@ -60,8 +60,8 @@ Pattern ParseTable(const toml::table& root, const std::string& file) {
     } else if (role == "fixed") {
       patch.role = PatchRole::kFixed;
     } else {
-      pr.Fail("role", pr.Describe("role") + " is \"" + role +
-                          "\"; expected \"key\", \"id\" or \"fixed\"");
+      pr.Fail("role",
+              pr.Describe("role") + " is \"" + role + "\"; expected \"key\", \"id\" or \"fixed\"");
     }
     patch.colour = pr.OptionalString("colour").value_or("");
     if (patch.role == PatchRole::kFixed && patch.colour.empty()) {
@@ -104,12 +104,12 @@ Pattern ParseTable(const toml::table& root, const std::string& file) {
                                             "; expected distinct patch positions");
       }
       if (distance < a.radius_mm + b.radius_mm - 1e-9) {
-        throw InputError(patch_locs[i],
-                         "[[patch]] " + std::to_string(i) + " overlaps [[patch]] " +
-                             std::to_string(j) + ": centres " + FormatNumber(distance) +
-                             " mm apart, radii " + FormatNumber(b.radius_mm) + " + " +
-                             FormatNumber(a.radius_mm) +
-                             " mm; expected centre distance >= sum of radii");
+        throw InputError(patch_locs[i], "[[patch]] " + std::to_string(i) + " overlaps [[patch]] " +
+                                            std::to_string(j) + ": centres " +
+                                            FormatNumber(distance) + " mm apart, radii " +
+                                            FormatNumber(b.radius_mm) + " + " +
+                                            FormatNumber(a.radius_mm) +
+                                            " mm; expected centre distance >= sum of radii");
       }
     }
   }
@@ -130,8 +130,8 @@ Pattern ParseTable(const toml::table& root, const std::string& file) {
       const FileLoc loc = LocOf(file, item);
       if (pair == nullptr || pair->size() != 2 || !pair->get(0)->is_integer() ||
           !pair->get(1)->is_integer()) {
-        throw InputError(loc, "orientation pair " + std::to_string(k) + " is not two integers; " +
-                                  expected);
+        throw InputError(
+            loc, "orientation pair " + std::to_string(k) + " is not two integers; " + expected);
       }
       const int64_t from = pair->get(0)->as_integer()->get();
       const int64_t to = pair->get(1)->as_integer()->get();
@@ -177,8 +177,8 @@ std::string ResolvePatternPath(const std::string& reference, const std::string& 
   if (fs::exists(reference)) return reference;
   const fs::path candidate = fs::path(patterns_dir) / (reference + ".toml");
   if (fs::exists(candidate)) return candidate.string();
-  throw InputError("pattern '" + reference + "' not found; expected a pattern file path or a name in " +
-                   patterns_dir + "/");
+  throw InputError("pattern '" + reference +
+                   "' not found; expected a pattern file path or a name in " + patterns_dir + "/");
 }
 
 }  // namespace patlab::io

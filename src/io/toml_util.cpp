@@ -91,9 +91,9 @@ void TomlReader::CheckKeys(std::initializer_list<std::string_view> allowed) cons
     if (known) continue;
     std::string list;
     for (std::string_view a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-    throw InputError(LocOf(file_, node),
-                     "unknown key '" + std::string(key.str()) + "'" +
-                         (context_.empty() ? "" : " in " + context_) + "; expected one of: " + list);
+    throw InputError(LocOf(file_, node), "unknown key '" + std::string(key.str()) + "'" +
+                                             (context_.empty() ? "" : " in " + context_) +
+                                             "; expected one of: " + list);
   }
 }
 
@@ -146,7 +146,8 @@ std::optional<bool> TomlReader::OptionalBool(std::string_view key) const {
   const toml::node* node = table_.get(key);
   if (node == nullptr) return std::nullopt;
   const auto* b = node->as_boolean();
-  if (b == nullptr) Fail(key, Describe(key) + " is " + TypeName(*node) + "; expected true or false");
+  if (b == nullptr)
+    Fail(key, Describe(key) + " is " + TypeName(*node) + "; expected true or false");
   return b->get();
 }
 

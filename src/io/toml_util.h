@@ -2,11 +2,11 @@
 // an InputError "file:line: what is wrong; expected what" (DESIGN.md rule 9).
 #pragma once
 
+#include <toml++/toml.h>
 #include <initializer_list>
 #include <optional>
 #include <string>
 #include <string_view>
-#include <toml++/toml.h>
 
 #include "core/error.h"
 

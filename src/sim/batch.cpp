@@ -25,7 +25,7 @@ struct Scratch {
   alignas(64) double ox[kMaxPatches][kB];  // observed patch positions
   alignas(64) double oy[kMaxPatches][kB];
   alignas(64) double true_x[kB], true_y[kB], true_t[kB], true_c[kB], true_s[kB];
-  alignas(64) uint32_t counter[kB];  // low word of each trial's Philox counter
+  alignas(64) uint32_t counter[kB];   // low word of each trial's Philox counter
   alignas(64) uint32_t words[4][kB];  // one Philox block per trial
   alignas(64) uint32_t saved[2][kB];
   alignas(64) double u1[kB], u2[kB], radius[kB], zx[kB], zy[kB];
@@ -140,8 +140,8 @@ void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
 }
 
 // Errors of the pose (origin = mean - R(t) centroid-like point `ref`, angle t given by c, s).
-void WriteErrors(const double* anchor_x, const double* anchor_y, const Vec2& ref,
-                 const double* t, const double* c, const double* s, int m, const Scratch& w,
+void WriteErrors(const double* anchor_x, const double* anchor_y, const Vec2& ref, const double* t,
+                 const double* c, const double* s, int m, const Scratch& w,
                  const ErrorArrays& out) {
   const double rx = ref.x(), ry = ref.y();
   for (int k = 0; k < m; ++k) {
@@ -275,8 +275,8 @@ void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays
       w.ml_y[k] = y + take * sy;
       w.ml_t[k] += take * st;
       w.iterations[k] += take;
-      const double step = std::max(std::max(std::abs(sx), std::abs(sy)) * inv_tol_mm,
-                                   std::abs(st) * inv_tol_rad);
+      const double step =
+          std::max(std::max(std::abs(sx), std::abs(sy)) * inv_tol_mm, std::abs(st) * inv_tol_rad);
       const double small = step <= 1.0 ? 1.0 : 0.0;
       w.needs_reference[k] += a * (1.0 - at_minimum) * indefinite;
       w.active[k] = a * (1.0 - std::max(std::max(at_minimum, indefinite), small));
@@ -303,8 +303,7 @@ void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays
     for (int i = 0; i < n; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
     const Pose2 start = estimate::Fast(model, observed.data());
     estimate::Summary summary;
-    const Pose2 pose =
-        estimate::MaximumLikelihood(model, observed.data(), start, o, &summary);
+    const Pose2 pose = estimate::MaximumLikelihood(model, observed.data(), start, o, &summary);
     out.x_mm[k] = pose.x_mm - w.true_x[k];
     out.y_mm[k] = pose.y_mm - w.true_y[k];
     out.theta_rad[k] = WrapAngle(pose.theta_rad - w.true_t[k]);
@@ -336,8 +335,8 @@ void RunBatch(const PointSetup& setup, uint64_t first_trial, int count, const Ba
     LeastSquares(setup, m, w, out.errors[static_cast<int>(Estimator::kLsq)]);
   }
   if (setup.run[static_cast<int>(Estimator::kMl)]) {
-    MaximumLikelihood(setup, m, w, out.errors[static_cast<int>(Estimator::kMl)],
-                      out.ml_iterations, out.ml_termination);
+    MaximumLikelihood(setup, m, w, out.errors[static_cast<int>(Estimator::kMl)], out.ml_iterations,
+                      out.ml_termination);
   }
 }
 

@@ -34,7 +34,7 @@ struct PointSetup {
   double field_length_mm = 0.0;
   double field_width_mm = 0.0;
   uint64_t seed = 0;
-  uint32_t point = 0;  // the point's stream id
+  uint32_t point = 0;                          // the point's stream id
   bool run[4] = {false, false, false, false};  // indexed by estimate::Estimator
   estimate::Options ml_options;
 };
@@ -47,9 +47,9 @@ struct ErrorArrays {
 };
 
 struct BatchOutput {
-  ErrorArrays errors[4];                   // indexed by estimate::Estimator; null if not run
-  uint8_t* ml_iterations = nullptr;        // Newton steps per trial (ml only)
-  uint8_t* ml_termination = nullptr;       // estimate::Termination per trial (ml only)
+  ErrorArrays errors[4];              // indexed by estimate::Estimator; null if not run
+  uint8_t* ml_iterations = nullptr;   // Newton steps per trial (ml only)
+  uint8_t* ml_termination = nullptr;  // estimate::Termination per trial (ml only)
 };
 
 // Runs trials [first_trial, first_trial + count) of a point, count <= kBatchSize, writing slot

@@ -3,13 +3,13 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
-#include <tbb/task_group.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
-#include <boost/math/distributions/chi_squared.hpp>
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <boost/math/distributions/chi_squared.hpp>
 #include <chrono>
 #include <cmath>
 
@@ -66,8 +66,9 @@ void FillEstimatorResult(const Samples& s, EstimatorResult* r) {
 
 // Wilcoxon signed-rank of paired samples. A difference below 1e-10 (mm or rad) + 1e-12 relative
 // is rounding (fast, ml and lsq are the same estimator on Simple, Linear and Triangle, and the
-// errors carry the ~1e-13 rounding of poses of ~1e3 mm) and counts as a zero, which the 'wilcox' zero method drops; if every difference is a zero, the samples carry
-// no evidence of a difference: p = 1.
+// errors carry the ~1e-13 rounding of poses of ~1e3 mm) and counts as a zero, which the 'wilcox'
+// zero method drops; if every difference is a zero, the samples carry no evidence of a difference:
+// p = 1.
 stats::WilcoxonResult PairedTest(const std::vector<double>& a, const std::vector<double>& b) {
   std::vector<double> d(a.size());
   size_t nonzero = 0;
@@ -161,9 +162,8 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
     pb.output.ml_iterations = pb.ml_iterations.data();
     pb.output.ml_termination = pb.ml_termination.data();
   }
-  const bool has_fast =
-      std::find(experiment.estimators.begin(), experiment.estimators.end(), Estimator::kFast) !=
-      experiment.estimators.end();
+  const bool has_fast = std::find(experiment.estimators.begin(), experiment.estimators.end(),
+                                  Estimator::kFast) != experiment.estimators.end();
   tbb::task_group statistics[2];
   std::atomic<int64_t> statistics_ns{0};
 
@@ -238,8 +238,7 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
             int64_t iterations = 0;
             for (int64_t t = 0; t < trials; ++t) {
               iterations += pb.ml_iterations[t];
-              if (pb.ml_termination[t] !=
-                  static_cast<uint8_t>(estimate::Termination::kConverged)) {
+              if (pb.ml_termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
                 if (r.first_nonconverged_trial < 0) r.first_nonconverged_trial = t;
                 ++r.nonconverged;
               }
@@ -251,9 +250,9 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
                                 pb.samples[static_cast<int>(e)]);
           }
         });
-        statistics_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(
-                             Clock::now() - stats_start)
-                             .count();
+        statistics_ns +=
+            std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - stats_start)
+                .count();
       });
       result.total_trials += trials;
       if (options.progress) options.progress(index + 1, total_points);

@@ -43,18 +43,18 @@ struct Comparison {
 
 struct EstimatorResult {
   estimate::Estimator estimator = estimate::Estimator::kFast;
-  AxisSummary x, y, theta;              // world-frame errors (mm, mm, rad)
-  double position_std_mm = 0.0;         // per-axis std pooled over x and y: sqrt((vx + vy) / 2)
-  double position_std_lower_mm = 0.0;   // its 95% interval (chi-square, 2(n - 1) dof)
+  AxisSummary x, y, theta;             // world-frame errors (mm, mm, rad)
+  double position_std_mm = 0.0;        // per-axis std pooled over x and y: sqrt((vx + vy) / 2)
+  double position_std_lower_mm = 0.0;  // its 95% interval (chi-square, 2(n - 1) dof)
   double position_std_upper_mm = 0.0;
-  double radial_rms_mm = 0.0;           // sqrt(mean(ex^2 + ey^2)), bias included
-  double crlb_position_mm = 0.0;        // Cramer-Rao bound, per axis (isotropic Gaussian only)
+  double radial_rms_mm = 0.0;     // sqrt(mean(ex^2 + ey^2)), bias included
+  double crlb_position_mm = 0.0;  // Cramer-Rao bound, per axis (isotropic Gaussian only)
   double crlb_theta_rad = 0.0;
-  double predicted_position_mm = 0.0;   // first-order predicted std of this estimator
+  double predicted_position_mm = 0.0;  // first-order predicted std of this estimator
   double predicted_theta_rad = 0.0;
-  int64_t nonconverged = 0;             // ml: trials whose Newton iteration did not converge
+  int64_t nonconverged = 0;               // ml: trials whose Newton iteration did not converge
   int64_t first_nonconverged_trial = -1;  // ml: replay it with this trial index (-1: none)
-  double mean_iterations = 0.0;         // ml: mean Newton steps
+  double mean_iterations = 0.0;           // ml: mean Newton steps
   Comparison vs_fast;
 };
 

@@ -49,11 +49,18 @@ void Kernel(benchmark::State& state, std::vector<estimate::Estimator> estimators
 }
 
 BENCHMARK_CAPTURE(Kernel, butterfly_fast, {estimate::Estimator::kFast})
-    ->Threads(1)->Threads(2)->UseRealTime();
+    ->Threads(1)
+    ->Threads(2)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(Kernel, butterfly_ml, {estimate::Estimator::kMl})
-    ->Threads(1)->Threads(2)->UseRealTime();
-BENCHMARK_CAPTURE(Kernel, butterfly_fast_and_ml, {estimate::Estimator::kFast, estimate::Estimator::kMl})
-    ->Threads(1)->Threads(2)->UseRealTime();
+    ->Threads(1)
+    ->Threads(2)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(Kernel, butterfly_fast_and_ml,
+                  {estimate::Estimator::kFast, estimate::Estimator::kMl})
+    ->Threads(1)
+    ->Threads(2)
+    ->UseRealTime();
 
 }  // namespace
 

@@ -14,7 +14,8 @@ using testing::RunCommand;
 const std::string kPatlab = PATLAB_BINARY;
 
 std::string SmallExperiment() {
-  return "name = \"small\"\npatterns_dir = \"" PATLAB_SOURCE_DIR "/patterns\"\n"
+  return "name = \"small\"\npatterns_dir = \"" PATLAB_SOURCE_DIR
+         "/patterns\"\n"
          "patterns = [\"linear\", \"butterfly\"]\nestimators = [\"fast\", \"ml\", \"key\"]\n"
          "trials = 3000\nseed = 77\n[sigma]\nvalues = [0, 0.5, 2]\n";
 }
@@ -29,11 +30,11 @@ TEST(SimulateCli, HelpShowsExamplesAndExitsZero) {
 TEST(SimulateCli, WritesTidyCsvAndManifestIdenticalForAnyThreadCount) {
   testing::TempDir dir;
   const std::string experiment = dir.Write("small.toml", SmallExperiment());
-  const auto one = RunCommand(kPatlab + " simulate " + experiment + " --threads 1 -q --out " +
-                              dir.Path("one"));
+  const auto one =
+      RunCommand(kPatlab + " simulate " + experiment + " --threads 1 -q --out " + dir.Path("one"));
   ASSERT_EQ(one.exit_code, 0) << one.err;
-  const auto two = RunCommand(kPatlab + " simulate " + experiment + " --threads 2 -q --out " +
-                              dir.Path("two"));
+  const auto two =
+      RunCommand(kPatlab + " simulate " + experiment + " --threads 2 -q --out " + dir.Path("two"));
   ASSERT_EQ(two.exit_code, 0) << two.err;
   const std::string csv = testing::ReadFile(dir.Path("one/small.csv"));
   EXPECT_EQ(csv, testing::ReadFile(dir.Path("two/small.csv")));

@@ -22,8 +22,8 @@ std::array<Vec2, kMaxPatches> Place(const Model& model, const Pose2& pose) {
 
 // Poses at random plus the awkward headings: exactly +-pi, just inside, zero.
 std::vector<Pose2> TestPoses() {
-  std::vector<Pose2> poses = {{0, 0, 0},          {1400, -1150, kPi},        {-3, 7, -kPi + 1e-12},
-                              {5, 5, kPi - 1e-12}, {-1400, 1150, kPi / 2},    {0.5, -0.5, -kPi / 2}};
+  std::vector<Pose2> poses = {{0, 0, 0},           {1400, -1150, kPi},     {-3, 7, -kPi + 1e-12},
+                              {5, 5, kPi - 1e-12}, {-1400, 1150, kPi / 2}, {0.5, -0.5, -kPi / 2}};
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> x(-1400, 1400), y(-1150, 1150), t(-kPi, kPi);
   for (int k = 0; k < 200; ++k) poses.push_back({x(rng), y(rng), t(rng)});

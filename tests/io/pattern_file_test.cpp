@@ -45,9 +45,10 @@ TEST(PatternFile, ShippedPatternsLoadWithTheDocumentedGeometry) {
 }
 
 TEST(PatternFile, ExplicitOrientationPairsAreKept) {
-  const Pattern p = ParsePattern(std::string("name = \"t\"\norientation_pairs = [[1, 2], [0, 2]]\n") +
-                                     kKey + Patch("65", "0") + Patch("-65", "0"),
-                                 "p.toml");
+  const Pattern p =
+      ParsePattern(std::string("name = \"t\"\norientation_pairs = [[1, 2], [0, 2]]\n") + kKey +
+                       Patch("65", "0") + Patch("-65", "0"),
+                   "p.toml");
   ASSERT_EQ(p.orientation_pairs.size(), 2u);
   EXPECT_EQ(p.orientation_pairs[1], (OrientationPair{0, 2}));
 }
@@ -61,43 +62,53 @@ struct BadCase {
 TEST(PatternFile, BadFilesAreRejectedWithFileLineAndWhatWasExpected) {
   const std::string head = "name = \"t\"\n";
   const std::vector<BadCase> cases = {
-      {"syntax", head + "x = = 1\n", "p.toml:2: TOML syntax error: Error while parsing value: could not determine value type"},
+      {"syntax", head + "x = = 1\n",
+       "p.toml:2: TOML syntax error: Error while parsing value: could not determine value type"},
       {"no key", head + Patch("0", "0") + Patch("65", "0"),
        "p.toml:2: no key patch; expected exactly one patch with role = \"key\""},
-      {"two keys", head + kKey +
-                       "[[patch]]\nrole = \"key\"\nx = 65.0\ny = 0.0\nradius = 25.0\n",
-       "p.toml:8: second key patch ([[patch]] 1; the first is [[patch]] 0); expected exactly one patch with role = \"key\""},
+      {"two keys", head + kKey + "[[patch]]\nrole = \"key\"\nx = 65.0\ny = 0.0\nradius = 25.0\n",
+       "p.toml:8: second key patch ([[patch]] 1; the first is [[patch]] 0); expected exactly one "
+       "patch with role = \"key\""},
       {"coincident", head + kKey + Patch("65", "0") + Patch("65", "0"),
-       "p.toml:12: [[patch]] 2 coincides with [[patch]] 1 at (65, 0); expected distinct patch positions"},
+       "p.toml:12: [[patch]] 2 coincides with [[patch]] 1 at (65, 0); expected distinct patch "
+       "positions"},
       {"overlapping", head + kKey + Patch("30", "0"),
-       "p.toml:7: [[patch]] 1 overlaps [[patch]] 0: centres 30 mm apart, radii 20 + 25 mm; expected centre distance >= sum of radii"},
+       "p.toml:7: [[patch]] 1 overlaps [[patch]] 0: centres 30 mm apart, radii 20 + 25 mm; "
+       "expected centre distance >= sum of radii"},
       {"pair out of range", head + "orientation_pairs = [[1, 5]]\n" + kKey + Patch("65", "0"),
        "p.toml:2: orientation pair 0 [1, 5]: patch index 5 out of range; expected 0..1"},
       {"pair of zero length", head + "orientation_pairs = [[1, 1]]\n" + kKey + Patch("65", "0"),
        "p.toml:2: orientation pair 0 [1, 1] has zero length; expected two different patches"},
       {"pair not integers", head + "orientation_pairs = [[1, \"a\"]]\n" + kKey + Patch("65", "0"),
-       "p.toml:2: orientation pair 0 is not two integers; expected an array of [from, to] patch index pairs, e.g. [[1, 2], [3, 4]]"},
+       "p.toml:2: orientation pair 0 is not two integers; expected an array of [from, to] patch "
+       "index pairs, e.g. [[1, 2], [3, 4]]"},
       {"orientation undefined: one patch", head + kKey,
-       "p.toml:2: pattern has 1 patch; expected at least 2 (orientation needs two distinct patch positions)"},
+       "p.toml:2: pattern has 1 patch; expected at least 2 (orientation needs two distinct patch "
+       "positions)"},
       {"no patches", head,
-       "p.toml:1: no patches; expected at least 2 [[patch]] tables (orientation needs two distinct patch positions)"},
+       "p.toml:1: no patches; expected at least 2 [[patch]] tables (orientation needs two distinct "
+       "patch positions)"},
       {"non-finite", head + kKey + Patch("nan", "0"),
        "p.toml:9: x in [[patch]] 1 is nan; expected a finite number"},
       {"infinite", head + kKey + Patch("65", "-inf"),
        "p.toml:10: y in [[patch]] 1 is -inf; expected a finite number"},
       {"unknown key (typo)", head + kKey + Patch("65", "0", "radus = 3\n"),
-       "p.toml:12: unknown key 'radus' in [[patch]] 1; expected one of: x, y, radius, role, colour"},
+       "p.toml:12: unknown key 'radus' in [[patch]] 1; expected one of: x, y, radius, role, "
+       "colour"},
       {"unknown top-level key", head + "patches = 3\n" + kKey,
-       "p.toml:2: unknown key 'patches'; expected one of: name, description, orientation_pairs, patch"},
+       "p.toml:2: unknown key 'patches'; expected one of: name, description, orientation_pairs, "
+       "patch"},
       {"wrong type", head + kKey + Patch("\"65\"", "0"),
        "p.toml:9: x in [[patch]] 1 is a string; expected a number"},
       {"bad role", head + kKey + "[[patch]]\nrole = \"slot\"\nx = 65.0\ny = 0.0\nradius = 20.0\n",
        "p.toml:8: role in [[patch]] 1 is \"slot\"; expected \"key\", \"id\" or \"fixed\""},
-      {"negative radius", head + kKey + "[[patch]]\nrole = \"id\"\nx = 65.0\ny = 0.0\nradius = -2\n",
+      {"negative radius",
+       head + kKey + "[[patch]]\nrole = \"id\"\nx = 65.0\ny = 0.0\nradius = -2\n",
        "p.toml:11: radius in [[patch]] 1 is -2; expected a positive number (mm)"},
       {"missing name", std::string(kKey) + Patch("65", "0"),
        "p.toml:1: missing name; expected a string"},
-      {"fixed without colour", head + kKey + "[[patch]]\nrole = \"fixed\"\nx = 65.0\ny = 0.0\nradius = 20.0\n",
+      {"fixed without colour",
+       head + kKey + "[[patch]]\nrole = \"fixed\"\nx = 65.0\ny = 0.0\nradius = 20.0\n",
        "p.toml:8: [[patch]] 1 has role \"fixed\" but no colour; expected colour = \"<name>\""},
   };
   for (const BadCase& c : cases) EXPECT_EQ(ErrorOf(c.text), c.message) << c.what;

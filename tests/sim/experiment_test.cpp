@@ -38,15 +38,16 @@ const std::string kHead = "name = \"x\"\npatterns = [\"simple\", \"butterfly\"]\
 const std::string kSigma = "[sigma]\nfrom = 0\nto = 4\nsteps = 17\n";
 
 TEST_F(ExperimentFileTest, ShippedFig5HasThePapersSetUp) {
-  const Experiment e = LoadExperimentFile(std::string(PATLAB_SOURCE_DIR) + "/experiments/fig5.toml");
+  const Experiment e =
+      LoadExperimentFile(std::string(PATLAB_SOURCE_DIR) + "/experiments/fig5.toml");
   ASSERT_EQ(e.patterns.size(), 5u);
   EXPECT_EQ(e.patterns[4].name, "ssl-standard");
   EXPECT_EQ(e.trials, 100000);
   ASSERT_GE(e.sigmas_mm.size(), 15u);
   EXPECT_EQ(e.sigmas_mm.front(), 0.0);
   EXPECT_EQ(e.sigmas_mm.back(), 4.0);
-  EXPECT_EQ(e.estimators,
-            (std::vector<estimate::Estimator>{estimate::Estimator::kFast, estimate::Estimator::kMl}));
+  EXPECT_EQ(e.estimators, (std::vector<estimate::Estimator>{estimate::Estimator::kFast,
+                                                            estimate::Estimator::kMl}));
   EXPECT_TRUE(e.noise.IsIsotropicGaussian());
   EXPECT_EQ(e.field_length_mm, 2800.0);
   EXPECT_EQ(e.field_width_mm, 2300.0);
@@ -63,14 +64,16 @@ TEST_F(ExperimentFileTest, DefaultsAndGridForms) {
 
 TEST_F(ExperimentFileTest, NoiseFileIsReadRelativeToTheExperiment) {
   dir_.Write("experiments/noise/jitter.toml", "common_sigma_ratio = 0.5\nsigma_y_ratio = 2\n");
-  const Experiment e = LoadExperimentFile(Write(kHead + "noise_file = \"noise/jitter.toml\"\n" + kSigma));
+  const Experiment e =
+      LoadExperimentFile(Write(kHead + "noise_file = \"noise/jitter.toml\"\n" + kSigma));
   EXPECT_EQ(e.noise.common_sigma_ratio, 0.5);
   EXPECT_EQ(e.noise.sigma_y_ratio, 2.0);
 }
 
 TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {kHead + "trials = 1\n" + kSigma, "e.toml:3: trials is 1; expected an integer in 2..1000000000"},
+      {kHead + "trials = 1\n" + kSigma,
+       "e.toml:3: trials is 1; expected an integer in 2..1000000000"},
       {kHead + "estimators = [\"fast\", \"newton\"]\n" + kSigma,
        "e.toml:3: unknown estimator \"newton\"; expected \"fast\", \"ml\", \"lsq\" or \"key\""},
       {kHead + "estimators = [\"ml\", \"ml\"]\n" + kSigma,
@@ -83,7 +86,8 @@ TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
        "estimators, trials, seed, correspondence, sigma, field, noise, noise_file, ml"},
       {kHead, "e.toml:1: missing [sigma]; expected a table with values = [...] or from, to, steps"},
       {kHead + "[sigma]\nvalues = [1, 0.5]\n",
-       "e.toml:4: sigma values in [sigma] are not increasing at 0.5; expected strictly increasing values"},
+       "e.toml:4: sigma values in [sigma] are not increasing at 0.5; expected strictly increasing "
+       "values"},
       {kHead + "[sigma]\nvalues = [-1]\n",
        "e.toml:4: sigma -1 in [sigma]; expected finite numbers >= 0 (mm)"},
       {kHead + "[sigma]\nfrom = 0\nto = 4\nsteps = 1\n",
@@ -109,8 +113,9 @@ TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
 }
 
 TEST_F(ExperimentFileTest, BadPatternFileReportsThePatternFileAndLine) {
-  dir_.Write("patterns/broken.toml", "name = \"b\"\n[[patch]]\nrole = \"id\"\nx = 0\ny = 0\nradius = 1\n"
-                                     "[[patch]]\nrole = \"id\"\nx = 5\ny = 0\nradius = 1\n");
+  dir_.Write("patterns/broken.toml",
+             "name = \"b\"\n[[patch]]\nrole = \"id\"\nx = 0\ny = 0\nradius = 1\n"
+             "[[patch]]\nrole = \"id\"\nx = 5\ny = 0\nradius = 1\n");
   const std::string message = ErrorOf("name = \"x\"\npatterns = [\"broken\"]\n" + kSigma);
   EXPECT_EQ(message, dir_.Path("patterns/broken.toml") +
                          ":2: no key patch; expected exactly one patch with role = \"key\"");
@@ -133,7 +138,8 @@ TEST(Overrides, AreValidatedLikeTheFile) {
     ApplyOverrides(o, &e);
     FAIL();
   } catch (const InputError& error) {
-    EXPECT_STREQ(error.what(), "--sigmas has 1; expected strictly increasing finite numbers >= 0 (mm)");
+    EXPECT_STREQ(error.what(),
+                 "--sigmas has 1; expected strictly increasing finite numbers >= 0 (mm)");
   }
 }
 

@@ -88,7 +88,8 @@ TEST(Runner, NoiseModelsChangeTheStdAsTheirFormulasSay) {
   EXPECT_TRUE(std::isnan(common.crlb_position_mm));  // the bound is for isotropic noise only
   // Outliers: a linear estimator's variance is that of the mixture, per axis
   // sigma^2 ((1 - p) + p k^2). Its std estimate has standard error (s / 2) sqrt((2 + kappa) / n)
-  // with kappa the excess kurtosis, at most the mixture's 3 (1 - p + p k^4) / (1 - p + p k^2)^2 - 3.
+  // with kappa the excess kurtosis, at most the mixture's 3 (1 - p + p k^4) / (1 - p + p k^2)^2
+  // - 3.
   e.noise = NoiseModel{};
   e.noise.outlier_probability = 0.1;
   e.noise.outlier_sigma_ratio = 5.0;
@@ -96,9 +97,9 @@ TEST(Runner, NoiseModelsChangeTheStdAsTheirFormulasSay) {
   const EstimatorResult& outliers = r.points[0].estimators[0];
   const double p = 0.1, k = 5.0;
   const double kappa = 3 * (1 - p + p * std::pow(k, 4)) / std::pow(1 - p + p * k * k, 2) - 3;
-  const double predicted = estimate::PredictedStd(estimate::Model::FromPattern(e.patterns[0]),
-                                                  Estimator::kFast).theta *
-                           0.1 * std::sqrt(1 - p + p * k * k);
+  const double predicted =
+      estimate::PredictedStd(estimate::Model::FromPattern(e.patterns[0]), Estimator::kFast).theta *
+      0.1 * std::sqrt(1 - p + p * k * k);
   EXPECT_NEAR(outliers.predicted_theta_rad, predicted, 1e-12);
   EXPECT_NEAR(outliers.theta.std, predicted, 4 * predicted / 2 * std::sqrt((2 + kappa) / n));
   // Anisotropic: sigma_y = 3 sigma_x; with random headings the per-axis variance averages to
