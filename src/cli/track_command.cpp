@@ -116,7 +116,7 @@ int RunTrackCommand(const std::vector<std::string>& args) {
       ("threads", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
       ("pixel-sigma", po::value(&o.pixel_sigma), "noise: intensity noise std, grey levels (overrides [noise] pixel_sigma)")
       ("jitter-px", po::value(&o.jitter_px), "noise: per-frame camera jitter std, px (overrides [noise] jitter_sigma_px)")
-      ("decimate", po::value(&o.decimate), "write every N-th sample to track_errors.csv (default 1)")
+      ("decimate", po::value(&o.decimate), "track_errors.csv: only every N-th sample and the next (lag-1 pairs kept); default 1 = all")
       ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
   // clang-format on
   po::options_description all;

@@ -759,7 +759,10 @@ std::string ErrorsCsv(const TrackOptions& options, const TrackResult& result, in
   for (size_t k = 0; k < result.subjects.size(); ++k) {
     for (size_t run = 0; run < result.data[k].size(); ++run) {
       const SubjectRun& r = result.data[k][run];
-      for (size_t i = 0; i < r.sample.size(); i += static_cast<size_t>(decimate)) {
+      for (size_t i = 0; i < r.sample.size(); ++i) {
+        // Every decimate-th sample and its successor: adjacent pairs survive for Fig. 6.
+        const size_t phase = i % static_cast<size_t>(decimate);
+        if (phase > 1) continue;
         std::snprintf(buf, sizeof buf, "%s,%zu,%d,%.4f,%.4f,%.4f,%.4f,%.4f,",
                       result.subjects[k].c_str(), run, r.sample[i], r.sample[i] / options.rate_hz,
                       r.est_x_mm[i], r.est_y_mm[i], r.true_x_mm[i], r.true_y_mm[i]);

@@ -192,7 +192,8 @@ double ResidualStdFactor(const stats::SmoothingOptions& options);
 // Output files (CSV text).
 std::string TableCsv(const std::vector<TableRow>& rows);
 std::string SizeTestsCsv(const std::vector<SizeTest>& tests);
-// Per-sample errors; every `decimate`-th kept sample of every subject and run.
+// Per-sample errors of every subject and run: with decimate > 1 only every decimate-th kept
+// sample and the sample after it (so that lag-1 pairs, Fig. 6, survive the decimation).
 std::string ErrorsCsv(const TrackOptions& options, const TrackResult& result, int decimate);
 
 }  // namespace patlab::vision

@@ -78,7 +78,7 @@ TEST(TrackCli, OverridesTakeEffect) {
             0);
   const auto r =
       RunCommand(kPatlab + " track " + experiment +
-                 " -q --seed 6 --pixel-sigma 0 --jitter-px 0 --decimate 4 --out " + dir.Path("b"));
+                 " -q --seed 6 --pixel-sigma 0 --jitter-px 0 --decimate 8 --out " + dir.Path("b"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(testing::ReadFile(dir.Path("a/tiny.csv")), testing::ReadFile(dir.Path("b/tiny.csv")));
   const auto manifest = nlohmann::json::parse(testing::ReadFile(dir.Path("b/tiny.json")));
