@@ -2,24 +2,10 @@
 // global operator new is counted while a frame is detected a second time.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
+#include "../allocation_counter.h"
 
 #include "detect/scene.h"
 #include "detect/settings.h"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace patlab::detect {
 namespace {
@@ -33,13 +19,13 @@ TEST(DetectorAllocation, SecondDetectOfAFrameDoesNotAllocate) {
   const Scene scene = GenerateScene(detector, options, PatchNoise{0.5, {}}, rng);
   std::vector<Detection> detections;
   DetectStats stats;
-  const long start = g_allocations.load();
+  const long start = testing::AllocationCount();
   detector.Detect(scene.blobs, &detections, &stats);  // grows the buffers
-  EXPECT_GT(g_allocations.load() - start, 0);         // the counter sees allocations
+  EXPECT_GT(testing::AllocationCount() - start, 0);   // the counter sees allocations
   ASSERT_EQ(detections.size(), 10u);
-  const long before = g_allocations.load();
+  const long before = testing::AllocationCount();
   detector.Detect(scene.blobs, &detections, &stats);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(testing::AllocationCount() - before, 0);
   EXPECT_EQ(detections.size(), 10u);
 }
 

@@ -2,26 +2,13 @@
 // operator new is counted while a batch of trials runs and while every estimator runs.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
+#include "../allocation_counter.h"
+
 #include <vector>
 
 #include "../test_util.h"
 #include "estimate/bounds.h"
 #include "sim/batch.h"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace patlab::sim {
 namespace {
@@ -29,9 +16,9 @@ namespace {
 using estimate::Estimator;
 
 TEST(Allocation, CounterSeesAllocations) {
-  const long before = g_allocations.load();
+  const long before = testing::AllocationCount();
   std::vector<double> v(100);
-  EXPECT_GT(g_allocations.load() - before, 0);
+  EXPECT_GT(testing::AllocationCount() - before, 0);
 }
 
 TEST(Allocation, BatchOfTrialsDoesNotAllocate) {
@@ -54,9 +41,9 @@ TEST(Allocation, BatchOfTrialsDoesNotAllocate) {
   }
   out.ml_iterations = iterations.data();
   out.ml_termination = termination.data();
-  const long before = g_allocations.load();
+  const long before = testing::AllocationCount();
   for (uint64_t b = 0; b < 4; ++b) RunBatch(setup, b * kBatchSize, kBatchSize, out);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(testing::AllocationCount() - before, 0);
 }
 
 TEST(Allocation, EstimatorsDoNotAllocate) {
@@ -64,14 +51,14 @@ TEST(Allocation, EstimatorsDoNotAllocate) {
   std::array<Vec2, kMaxPatches> v{};
   for (int i = 0; i < model.num_patches; ++i) v[i] = Pose2{1, 2, 0.3}.Apply(model.model_mm[i]);
   v[1] += Vec2(0.7, -0.2);
-  const long before = g_allocations.load();
+  const long before = testing::AllocationCount();
   const Pose2 fast = estimate::Fast(model, v.data());
   estimate::Summary summary;
   estimate::MaximumLikelihood(model, v.data(), fast, estimate::Options{}, &summary);
   estimate::LeastSquares(model, v.data());
   estimate::KeyPatch(model, v.data());
   estimate::CramerRaoBound(model);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(testing::AllocationCount() - before, 0);
   EXPECT_EQ(summary.termination, estimate::Termination::kConverged);
 }
 
