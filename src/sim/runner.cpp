@@ -59,9 +59,15 @@ void FillEstimatorResult(const Samples& s, EstimatorResult* r) {
   r->position_std_mm = std::sqrt((r->x.std * r->x.std + r->y.std * r->y.std) / 2.0);
   PooledInterval(r->position_std_mm, 2.0 * (n - 1.0), &r->position_std_lower_mm,
                  &r->position_std_upper_mm);
+  std::vector<double> radial(s.x.size());
   double sum_sq = 0.0;
-  for (size_t k = 0; k < s.x.size(); ++k) sum_sq += s.x[k] * s.x[k] + s.y[k] * s.y[k];
+  for (size_t k = 0; k < s.x.size(); ++k) {
+    const double sq = s.x[k] * s.x[k] + s.y[k] * s.y[k];
+    sum_sq += sq;
+    radial[k] = std::sqrt(sq);
+  }
   r->radial_rms_mm = std::sqrt(sum_sq / n);
+  r->radial = Summarise(radial);
 }
 
 // Wilcoxon signed-rank of paired samples. A difference below 1e-10 (mm or rad) + 1e-12 relative

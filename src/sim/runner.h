@@ -48,6 +48,7 @@ struct EstimatorResult {
   double position_std_lower_mm = 0.0;  // its 95% interval (chi-square, 2(n - 1) dof)
   double position_std_upper_mm = 0.0;
   double radial_rms_mm = 0.0;     // sqrt(mean(ex^2 + ey^2)), bias included
+  AxisSummary radial;             // |position error| = sqrt(ex^2 + ey^2): mean, std, 95% CI
   double crlb_position_mm = 0.0;  // Cramer-Rao bound, per axis (isotropic Gaussian only)
   double crlb_theta_rad = 0.0;
   double predicted_position_mm = 0.0;  // first-order predicted std of this estimator
