@@ -91,15 +91,14 @@ void Segmenter::Classify(const Image& image) {
 
 void Segmenter::BuildRgbCells() {
   // Each of Y, U, V is floor(affine(r, g, b)) then clamped: monotone along every axis, so over a
-  // cell it ranges between its values at the cell's 8 corners. A cell is pure when every
-  // channel's mask table is constant over that channel's range (then so is the AND).
-  std::array<std::array<int, 256>, 3> change_count;  // number of mask changes in 0..v
-  for (int ch = 0; ch < 3; ++ch) {
-    const auto& t = lut_.table(ch);
-    change_count[ch][0] = 0;
-    for (int v = 1; v < 256; ++v)
-      change_count[ch][v] = change_count[ch][v - 1] + (t[v] != t[v - 1]);
-  }
+  // cell it ranges between its values at the cell's 8 corners, and the cell's colours lie in the
+  // box lo..hi of those ranges. Over the box, bit k of T_Y & T_U & T_V is always set when every
+  // channel's table has it at every value of its range (A, the AND of the ranges' ANDs), and may
+  // be set only when every channel has it at some value (O, the AND of the ranges' ORs). The
+  // winning class (lowest set bit) is the same for every colour of the box when O is empty or
+  // O's lowest bit is in A: then no lower bit is ever set and that one always is. Exact, and much
+  // finer than asking every channel's table to be constant: a cell of carpet whose V crosses the
+  // black class's V bound is pure, since its Y is far from black's.
   rgb_cells_.assign(size_t{1} << 18, 0);
   for (int r = 0; r < 64; ++r) {
     for (int g = 0; g < 64; ++g) {
@@ -114,11 +113,20 @@ void Segmenter::BuildRgbCells() {
             hi[ch] = std::max(hi[ch], yuv[ch]);
           }
         }
-        bool pure = true;
-        for (int ch = 0; ch < 3; ++ch)
-          pure = pure && change_count[ch][lo[ch]] == change_count[ch][hi[ch]];
-        rgb_cells_[static_cast<size_t>(r << 12 | g << 6 | b)] =
-            pure ? ClassOf(lut_.Mask(lo[0], lo[1], lo[2])) : kMixedCell;
+        uint32_t always = ~uint32_t{0}, maybe = ~uint32_t{0};
+        for (int ch = 0; ch < 3; ++ch) {
+          const auto& t = lut_.table(ch);
+          uint32_t a = ~uint32_t{0}, o = 0;
+          for (int v = lo[ch]; v <= hi[ch]; ++v) {
+            a &= t[v];
+            o |= t[v];
+          }
+          always &= a;
+          maybe &= o;
+        }
+        const uint32_t lowest = maybe & (~maybe + 1);
+        const bool pure = maybe == 0 || (always & lowest) != 0;
+        rgb_cells_[static_cast<size_t>(r << 12 | g << 6 | b)] = pure ? ClassOf(lowest) : kMixedCell;
       }
     }
   }

@@ -95,7 +95,7 @@ class Segmenter {
   int height_ = 0;
   std::vector<uint8_t> class_image_;
   // RGB frames with YUV thresholds: a 64^3 table over RGB cells of 4x4x4 values holding the
-  // class + 1 (0: none) where every colour of the cell has the same class mask, or kMixedCell
+  // class + 1 (0: none) where every colour of the cell has the same class, or kMixedCell
   // where it may not; mixed pixels are then classified exactly through BT.601. Built on the
   // first such frame. Exact, and one lookup for almost every pixel.
   static constexpr uint8_t kMixedCell = 0xff;

@@ -2,6 +2,12 @@
 // build-*/bench/vision_opencv_bench (src/vision/bench, built when OpenCV is installed).
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
+
+#include "detect/detector.h"
+#include "detect/settings.h"
+#include "vision/frame_io.h"
+#include "vision/pipeline.h"
 #include "vision/render.h"
 #include "vision/segment.h"
 
@@ -50,6 +56,51 @@ BENCHMARK(BM_Stages2To4)
     ->Args({640, 480, 0})
     ->Args({780, 580, 0})
     ->Args({780, 580, 1})
+    ->Unit(benchmark::kMicrosecond);
+
+// Decoded pixels to detections (stages 2-6, as patlab detect runs them per frame) on the shared
+// real frames with the settings of tests/data/vision; skipped when ../shared/frames is absent.
+// Arg 0: ssl-field-2008.jpg (780x580 RGB, 7 YUV classes); 1: the same frame as UYVY;
+// 2: vss-test-frame.png (765x613 RGB).
+void BM_RealFrameStages2To6(benchmark::State& state) {
+  const std::string frames = std::string(PATLAB_SOURCE_DIR) + "/../shared/frames/";
+  const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
+  if (!std::filesystem::exists(frames)) {
+    state.SkipWithError("no ../shared/frames");
+    return;
+  }
+  const bool vss = state.range(0) == 2;
+  VisionPipeline pipeline(
+      LoadThresholds(data + (vss ? "vss.colors.txt" : "ssl-2008.thresholds.toml")),
+      LoadCalibration(data + (vss ? "vss.calibration.toml" : "ssl-2008.calibration.toml")),
+      SegmenterOptions{});
+  detect::Detector detector(
+      detect::LoadDetectorSettings(data + (vss ? "vss.detector.toml" : "ssl-2008.detector.toml")));
+  std::vector<int> palette_label;
+  for (const ColorClass& c : pipeline.thresholds().classes)
+    palette_label.push_back(detector.ColourLabel(c.name));
+  Image image = ReadFrame(frames + (vss ? "vss-test-frame.png" : "ssl-field-2008.jpg"));
+  if (state.range(0) == 1) image = ToUyvy(image);
+  std::vector<detect::Blob> blobs, palette_blobs;
+  std::vector<detect::Detection> detections;
+  for (auto _ : state) {
+    pipeline.Process(image, &blobs);
+    palette_blobs.clear();
+    for (const detect::Blob& b : blobs) {
+      const int label = palette_label[static_cast<size_t>(b.colour)];
+      if (label >= 0) palette_blobs.push_back(detect::Blob{b.position_mm, label, b.area_mm2});
+    }
+    detector.Detect(palette_blobs, &detections);
+    benchmark::DoNotOptimize(detections.data());
+  }
+  state.counters["blobs"] = static_cast<double>(blobs.size());
+  state.counters["detections"] = static_cast<double>(detections.size());
+}
+BENCHMARK(BM_RealFrameStages2To6)
+    ->ArgName("frame")
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
