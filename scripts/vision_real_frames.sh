@@ -32,4 +32,29 @@ mkdir -p "$R"
   -s "$D/vss.detector.toml" --debug "$R" --out "$R/vss-test-frame.detections.csv" --timing
 "$PATLAB" detect "$F/vss-test-frame.png" -t "$D/vss.colors.txt" -c "$D/vss.calibration.toml" \
   --blobs --out "$R/vss-test-frame.blobs.csv"
+
+# Enlarged crops of the robots in the SSL 2008 debug image (the frame is 780x580 and a robot is
+# ~35 px across): results/vision/ssl-field-2008.robots.png, 6 robots left to right in the order
+# of the README (the 5 on the field, then the one held at the left edge).
+if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then
+  /usr/bin/python3 - "$R/ssl-field-2008.png" "$R/ssl-field-2008.robots.png" <<'PY'
+import sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.image as mpimg
+import numpy as np
+image = mpimg.imread(sys.argv[1])[..., :3]
+centres = [(557, 200), (258, 82), (343, 58), (434, 559), (478, 564), (40, 445)]
+half, scale = 40, 4
+tiles = []
+for x, y in centres:
+    tile = np.zeros((2 * half, 2 * half, 3), dtype=image.dtype)
+    y0, x0 = max(y - half, 0), max(x - half, 0)
+    crop = image[y0:y + half, x0:x + half]
+    tile[y0 - (y - half):y0 - (y - half) + crop.shape[0], x0 - (x - half):x0 - (x - half) + crop.shape[1]] = crop
+    tiles.append(np.repeat(np.repeat(tile, scale, 0), scale, 1))
+    tiles.append(np.ones((2 * half * scale, 6, 3), dtype=image.dtype))
+mpimg.imsave(sys.argv[2], np.concatenate(tiles[:-1], 1))
+PY
+fi
 echo "vision_real_frames: wrote $R"
