@@ -28,7 +28,7 @@ namespace po = boost::program_options;
 namespace fs = std::filesystem;
 
 constexpr const char* kExamples = R"(examples:
-  patlab detect frames/ --thresholds tests/data/vision/ssl-2008.colors.txt \
+  patlab detect frames/ --thresholds tests/data/vision/ssl-2008.thresholds.toml \
       --calibration tests/data/vision/ssl-2008.calibration.toml \
       --settings tests/data/vision/ssl-2008.detector.toml --debug /tmp/debug
   patlab detect cam.yuv --raw-size 780x580 --thresholds colors.txt --calibration cal.toml --blobs
