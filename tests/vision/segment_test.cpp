@@ -291,14 +291,18 @@ TEST(Segmenter, RgbCellTableIsExactForYuvThresholds) {
 }
 
 // Every one of the 2^24 RGB colours, with the thresholds of the real frames (7 and 8 classes,
-// overlapping boxes, a black class whose U/V bounds cut through the carpet's cells).
+// overlapping boxes, a black class whose U/V bounds cut through the carpet's cells). The width,
+// 4099, is not a multiple of the classifier's 4-pixel step, so row tails are covered too.
 TEST(Segmenter, RgbCellTableIsExactForEveryColour) {
+  constexpr int kWidth = 4099, kHeight = ((1 << 24) + kWidth - 1) / kWidth;
   for (const char* file : {"ssl-2008.thresholds.toml", "vss.colors.txt"}) {
     const Thresholds t =
         LoadThresholds(std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/" + file);
-    Image image = Image::Rgb(4096, 4096);
-    for (int c = 0; c < (1 << 24); ++c) {
-      uint8_t* p = image.data.data() + 3 * static_cast<size_t>(c);
+    Image image = Image::Rgb(kWidth, kHeight);
+    const int n = kWidth * kHeight;
+    for (int i = 0; i < n; ++i) {
+      const int c = i & 0xffffff;
+      uint8_t* p = image.data.data() + 3 * static_cast<size_t>(i);
       p[0] = static_cast<uint8_t>(c >> 16);
       p[1] = static_cast<uint8_t>(c >> 8);
       p[2] = static_cast<uint8_t>(c);
@@ -308,10 +312,11 @@ TEST(Segmenter, RgbCellTableIsExactForEveryColour) {
     Segmenter s(t, o);
     s.Classify(image);
     long mismatches = 0;
-    for (int c = 0; c < (1 << 24); ++c) {
+    for (int i = 0; i < n; ++i) {
+      const int c = i & 0xffffff;
       int yy, uu, vv;
       RgbToYuv(c >> 16, (c >> 8) & 255, c & 255, &yy, &uu, &vv);
-      mismatches += s.class_image()[static_cast<size_t>(c)] != s.lut().Classify(yy, uu, vv) + 1;
+      mismatches += s.class_image()[static_cast<size_t>(i)] != s.lut().Classify(yy, uu, vv) + 1;
     }
     EXPECT_EQ(mismatches, 0) << file;
   }
