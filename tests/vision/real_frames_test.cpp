@@ -35,7 +35,7 @@ struct FrameRun {
 
 // Stages 2-6 as patlab detect runs them: blob classes are matched to the palette by name.
 FrameRun DetectFrame(const std::string& frame, const std::string& thresholds,
-                const std::string& calibration, const std::string& settings) {
+                     const std::string& calibration, const std::string& settings) {
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
   VisionPipeline pipeline(LoadThresholds(data + thresholds), LoadCalibration(data + calibration),
                           SegmenterOptions{});
@@ -86,7 +86,7 @@ constexpr auto kMissing = detect::DetectionStatus::kMissingPatch;
 TEST(RealFrames, SslField2008FindsTheFiveRobotsOnTheField) {
   if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   const FrameRun run = DetectFrame("ssl-field-2008.jpg", "ssl-2008.thresholds.toml",
-                              "ssl-2008.calibration.toml", "ssl-2008.detector.toml");
+                                   "ssl-2008.calibration.toml", "ssl-2008.detector.toml");
   ExpectDetections(run, {
                             {"kiks-sectors", "yellow", 5, kOk, -1, 1618.02, -860.93, -2.6837},
                             {"kiks-sectors", "yellow", -1, kMissing, 2, 2246.65, 542.12, -3.0670},
@@ -101,7 +101,7 @@ TEST(RealFrames, SslField2008FindsTheFiveRobotsOnTheField) {
 TEST(RealFrames, VssTestFrameFindsAllFiveRobots) {
   if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   const FrameRun run = DetectFrame("vss-test-frame.png", "vss.colors.txt", "vss.calibration.toml",
-                              "vss.detector.toml");
+                                   "vss.detector.toml");
   ExpectDetections(run, {
                             {"vss-rect-squares", "lime", 2, kOk, -1, 375.64, -634.29, 1.9270},
                             {"vss-rect-squares", "blue", 1, kOk, -1, -470.30, 597.65, 2.4197},
