@@ -1,14 +1,18 @@
 // patlab track: the paper's section II single-patch experiment in simulation (Table I, the
 // Wilcoxon tests between patch sizes, and the data behind Figs. 2, 3 and 6).
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
 
 #include "cli/command.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/toml_util.h"
 #include "vision/track.h"
 
 namespace patlab::cli {
@@ -23,7 +27,8 @@ constexpr const char* kExamples = R"(examples:
   patlab track experiments/table1.toml --seed 7            # another draw of the same experiment
   patlab track experiments/table1.toml --pixel-sigma 0 --jitter-px 0 --out results/track_quantisation
                                                            # pixel quantisation alone
-  python3 scripts/plot_track.py results                    # Figs. 2, 3, 6 from the CSV files
+  patlab track experiments/table1.toml --replay 2,100      # re-measure run 2, frame 100 alone
+  /usr/bin/python3 scripts/plot_track.py                   # Figs. 2, 3, 6 from the CSV files
 
 Writes to <out>: <name>.csv (Table I: per subject std and 95% CI of the paper's estimated error
 and of the true error, x along and y across the travel), <name>_tests.csv (Wilcoxon signed-rank
@@ -38,6 +43,7 @@ struct TrackCliOptions {
   int threads = 0;
   int decimate = 1;
   double pixel_sigma = -1.0, jitter_px = -1.0;
+  std::string replay;
   bool quiet = false;
 };
 
@@ -83,7 +89,7 @@ std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& r
                    {"white_noise_residual_factor", vision::ResidualStdFactor(smoothing)}};
   nlohmann::json runs = nlohmann::json::array();
   for (const vision::RunSetup& s : result.setups) {
-    runs.push_back({{"heading_deg", s.heading_rad * 180.0 / 3.141592653589793},
+    runs.push_back({{"heading_deg", s.heading_rad * 180.0 / std::numbers::pi},
                     {"start_mm", {s.start_mm.x(), s.start_mm.y()}}});
   }
   j["run_setups"] = runs;
@@ -105,6 +111,49 @@ std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& r
   return j.dump(2) + "\n";
 }
 
+int Replay(const vision::TrackOptions& options, const std::string& spec) {
+  long long run = -1, frame = -1;
+  char comma = 0;
+  std::istringstream is(spec);
+  if (!(is >> run >> comma >> frame) || comma != ',' || !is.eof() || run < 0 || frame < 0) {
+    throw InputError("--replay is '" + spec + "'; expected RUN,FRAME (two integers >= 0)");
+  }
+  if (run >= options.runs || frame >= options.samples_per_run) {
+    throw InputError("--replay " + spec + " is out of range; expected RUN < " +
+                     std::to_string(options.runs) + " and FRAME < " +
+                     std::to_string(options.samples_per_run));
+  }
+  const vision::RunSetup setup = vision::MakeRunSetup(options, static_cast<int>(run));
+  std::printf("run %lld, frame %lld, seed %llu: heading %.6f deg, t = %.4f s\n", run, frame,
+              static_cast<unsigned long long>(options.seed),
+              setup.heading_rad * 180 / std::numbers::pi, frame / options.rate_hz);
+  const double c = std::cos(setup.heading_rad), s = std::sin(setup.heading_rad);
+  for (int k = 0; k < vision::NumSubjects(options); ++k) {
+    const std::string name = k < static_cast<int>(options.diameters_mm.size())
+                                 ? io::FormatNumber(options.diameters_mm[k]) + "mm"
+                                 : options.pattern.name;
+    const Pose2 truth = vision::TruthPose(options, setup, static_cast<int>(frame), k);
+    Pose2 measured;
+    if (!vision::MeasureSubject(options, static_cast<int>(run), static_cast<int>(frame), k,
+                                &measured)) {
+      std::printf("%-10s truth (%.4f, %.4f) mm   not found\n", name.c_str(), truth.x_mm,
+                  truth.y_mm);
+      continue;
+    }
+    const double ex = measured.x_mm - truth.x_mm, ey = measured.y_mm - truth.y_mm;
+    std::printf(
+        "%-10s truth (%.4f, %.4f) mm   measured (%.4f, %.4f) mm   true error along %.4f "
+        "across %.4f mm",
+        name.c_str(), truth.x_mm, truth.y_mm, measured.x_mm, measured.y_mm, c * ex + s * ey,
+        -s * ex + c * ey);
+    if (k >= static_cast<int>(options.diameters_mm.size())) {
+      std::printf("   theta error %.6f rad", WrapAngle(measured.theta_rad - truth.theta_rad));
+    }
+    std::printf("\n");
+  }
+  return kExitOk;
+}
+
 int RunTrackCommand(const std::vector<std::string>& args) {
   TrackCliOptions o;
   po::options_description visible("patlab track EXPERIMENT.toml [options]");
@@ -117,6 +166,7 @@ int RunTrackCommand(const std::vector<std::string>& args) {
       ("pixel-sigma", po::value(&o.pixel_sigma), "noise: intensity noise std, grey levels (overrides [noise] pixel_sigma)")
       ("jitter-px", po::value(&o.jitter_px), "noise: per-frame camera jitter std, px (overrides [noise] jitter_sigma_px)")
       ("decimate", po::value(&o.decimate), "track_errors.csv: only every N-th sample and the next (lag-1 pairs kept); default 1 = all")
+      ("replay", po::value(&o.replay), "RUN,FRAME: re-measure every subject in one frame and print it")
       ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
   // clang-format on
   po::options_description all;
@@ -159,6 +209,8 @@ int RunTrackCommand(const std::vector<std::string>& args) {
     if (!problems.empty())
       throw InputError("after the command-line overrides: " + problems.front().message);
   }
+
+  if (!o.replay.empty()) return Replay(options, o.replay);
 
   vision::TrackRunOptions run_options;
   run_options.threads = o.threads;

@@ -144,6 +144,33 @@ bool MeasureWorldDisc(const Frame& f, const Vec2& world_mm, double radius_mm, Se
   return true;
 }
 
+// Measures subject k (a disc, or the pattern after the discs) whose true pose is `truth`.
+bool MeasureSubjectInFrame(const Frame& f, const estimate::Model& model, const Pose2& truth, int k,
+                           Segmenter* segmenter, Pose2* measured) {
+  const TrackOptions& o = *f.options;
+  const int num_discs = static_cast<int>(o.diameters_mm.size());
+  *measured = Pose2{0.0, 0.0, 0.0};
+  if (k < num_discs) {
+    Vec2 p;
+    if (!MeasureWorldDisc(f, Vec2(truth.x_mm, truth.y_mm), 0.5 * o.diameters_mm[k], segmenter,
+                          &p)) {
+      return false;
+    }
+    *measured = Pose2{p.x(), p.y(), 0.0};
+    return true;
+  }
+  std::array<Vec2, kMaxPatches> observed;
+  for (int i = 0; i < o.pattern.size(); ++i) {
+    const Patch& patch = o.pattern.patches[i];
+    if (!MeasureWorldDisc(f, truth.Apply(patch.position_mm), patch.radius_mm, segmenter,
+                          &observed[i])) {
+      return false;
+    }
+  }
+  *measured = estimate::Fast(model, observed.data());
+  return true;
+}
+
 Thresholds PatchThresholds(const TrackOptions& o) {
   Thresholds t;
   t.space = ColorSpace::kRgb;
@@ -484,6 +511,30 @@ bool MeasureDisc(const TrackOptions& options, int run, int frame, const Vec2& wo
   return MeasureWorldDisc(f, world_mm, 0.5 * diameter_mm, &segmenter, measured_mm);
 }
 
+int NumSubjects(const TrackOptions& o) {
+  return static_cast<int>(o.diameters_mm.size()) + (HasPattern(o) ? 1 : 0);
+}
+
+Pose2 TruthPose(const TrackOptions& o, const RunSetup& setup, int frame, int subject) {
+  const Vec2 dir(std::cos(setup.heading_rad), std::sin(setup.heading_rad));
+  const Vec2 across(-dir.y(), dir.x());
+  const Vec2 platform = setup.start_mm + dir * (o.speed_mm_per_s * frame / o.rate_hz);
+  const Vec2 p = platform + across * SubjectOffsetMm(o, subject, NumSubjects(o));
+  return Pose2{p.x(), p.y(), setup.heading_rad};
+}
+
+bool MeasureSubject(const TrackOptions& options, int run, int frame, int subject, Pose2* measured) {
+  PATLAB_CHECK(subject >= 0 && subject < NumSubjects(options));
+  const CameraModel camera = MakeCamera(options);
+  Segmenter segmenter(PatchThresholds(options), SegmenterOptions{});
+  const estimate::Model model =
+      HasPattern(options) ? estimate::Model::FromPattern(options.pattern) : estimate::Model{};
+  const Frame f{&options, &camera, run, frame, FrameJitter(options, run, frame)};
+  return MeasureSubjectInFrame(f, model,
+                               TruthPose(options, MakeRunSetup(options, run), frame, subject),
+                               subject, &segmenter, measured);
+}
+
 TrackResult RunTrack(const TrackOptions& o, const TrackRunOptions& run_options) {
   Validate(o);
   const auto start = std::chrono::steady_clock::now();
@@ -504,12 +555,7 @@ TrackResult RunTrack(const TrackOptions& o, const TrackRunOptions& run_options) 
   std::vector<std::vector<std::vector<RawSample>>> raw(
       num_subjects, std::vector<std::vector<RawSample>>(o.runs, std::vector<RawSample>(samples)));
   auto truth_pose = [&](int run, int frame, int subject) {
-    const RunSetup& s = result.setups[run];
-    const Vec2 dir(std::cos(s.heading_rad), std::sin(s.heading_rad));
-    const Vec2 across(-dir.y(), dir.x());
-    const Vec2 platform = s.start_mm + dir * (o.speed_mm_per_s * frame / o.rate_hz);
-    const Vec2 p = platform + across * SubjectOffsetMm(o, subject, num_subjects);
-    return Pose2{p.x(), p.y(), s.heading_rad};
+    return TruthPose(o, result.setups[run], frame, subject);
   };
   const int blocks_per_run = (samples + kFramesPerBlock - 1) / kFramesPerBlock;
   const int threads =
@@ -523,26 +569,14 @@ TrackResult RunTrack(const TrackOptions& o, const TrackRunOptions& run_options) 
       Segmenter segmenter(thresholds, SegmenterOptions{});
       for (int frame = begin; frame < end; ++frame) {
         const Frame f{&o, &camera, run, frame, FrameJitter(o, run, frame)};
-        for (int k = 0; k < num_discs; ++k) {
+        for (int k = 0; k < num_subjects; ++k) {
           RawSample& s = raw[k][run][frame];
-          const Pose2 t = truth_pose(run, frame, k);
-          s.found = MeasureWorldDisc(f, Vec2(t.x_mm, t.y_mm), 0.5 * o.diameters_mm[k], &segmenter,
-                                     &s.position_mm);
+          Pose2 pose;
+          s.found =
+              MeasureSubjectInFrame(f, model, truth_pose(run, frame, k), k, &segmenter, &pose);
+          s.position_mm = Vec2(pose.x_mm, pose.y_mm);
+          s.theta_rad = pose.theta_rad;
         }
-        if (!HasPattern(o)) continue;
-        RawSample& s = raw[num_discs][run][frame];
-        const Pose2 t = truth_pose(run, frame, num_discs);
-        std::array<Vec2, kMaxPatches> observed;
-        s.found = true;
-        for (int i = 0; i < o.pattern.size() && s.found; ++i) {
-          const Patch& patch = o.pattern.patches[i];
-          s.found = MeasureWorldDisc(f, t.Apply(patch.position_mm), patch.radius_mm, &segmenter,
-                                     &observed[i]);
-        }
-        if (!s.found) continue;
-        const Pose2 pose = estimate::Fast(model, observed.data());
-        s.position_mm = Vec2(pose.x_mm, pose.y_mm);
-        s.theta_rad = pose.theta_rad;
       }
     });
   });

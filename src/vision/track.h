@@ -141,6 +141,15 @@ struct RunSetup {
 };
 RunSetup MakeRunSetup(const TrackOptions& options, int run);
 
+// Subjects: the discs in diameters_mm order, then the pattern (if any).
+int NumSubjects(const TrackOptions& options);
+// True pose of subject `subject` in frame `frame` of a run (theta = the run's heading).
+Pose2 TruthPose(const TrackOptions& options, const RunSetup& setup, int frame, int subject);
+// Re-measures one subject in one frame exactly as RunTrack does (DESIGN.md rule 3: any sample
+// can be replayed alone): a disc's centroid (theta 0), or the pattern's fast-estimator pose.
+// False when a region was not found.
+bool MeasureSubject(const TrackOptions& options, int run, int frame, int subject, Pose2* measured);
+
 struct TrackResult {
   std::vector<std::string> subjects;          // "40mm", "50mm", "60mm", then the pattern name
   std::vector<std::vector<SubjectRun>> data;  // [subject][run]

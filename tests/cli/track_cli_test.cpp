@@ -88,6 +88,22 @@ TEST(TrackCli, OverridesTakeEffect) {
   EXPECT_EQ(std::count(errors.begin(), errors.end(), '\n'), 1 + 3 * 2 * 20);
 }
 
+TEST(TrackCli, ReplayPrintsOneFrame) {
+  testing::TempDir dir;
+  const std::string experiment = dir.Write("tiny.toml", TinyExperiment());
+  const auto r = RunCommand(kPatlab + " track " + experiment + " --replay 1,50");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("run 1, frame 50, seed 5: heading ", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("\n40mm       truth ("), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("theta error "), std::string::npos) << r.out;
+  const auto bad = RunCommand(kPatlab + " track " + experiment + " --replay 2,0");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.err,
+            "patlab track: --replay 2,0 is out of range; expected RUN < 2 and FRAME < 120\n");
+  const auto junk = RunCommand(kPatlab + " track " + experiment + " --replay 1");
+  EXPECT_EQ(junk.err, "patlab track: --replay is '1'; expected RUN,FRAME (two integers >= 0)\n");
+}
+
 TEST(TrackCli, BadInputExitsTwoWithAMessageAndWritesNothing) {
   testing::TempDir dir;
   const std::string experiment = dir.Write("tiny.toml", TinyExperiment());

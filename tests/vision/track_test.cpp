@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "core/rng.h"
 #include "io/pattern_file.h"
@@ -162,13 +163,35 @@ TEST(Track, TableAndTestsHaveOneRowPerSubjectAndPair) {
   EXPECT_EQ(std::count(errors.begin(), errors.end(), '\n'), 1 + 3 * 2 * 60);
 }
 
+TEST(Track, AnySampleCanBeReplayedAlone) {
+  TrackOptions o = Small();
+  o.pixel_sigma = 12.0;
+  o.jitter_sigma_px = 0.1;
+  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
+  o.pattern = io::LoadPatternFile(o.pattern_file);
+  const TrackResult r = RunTrack(o);
+  ASSERT_EQ(NumSubjects(o), 4);
+  for (int k : {0, 3}) {
+    const SubjectRun& run = r.data[k][1];
+    const size_t i = 37;
+    const int frame = run.sample[i];
+    Pose2 measured;
+    ASSERT_TRUE(MeasureSubject(o, 1, frame, k, &measured));
+    const Pose2 truth = TruthPose(o, r.setups[1], frame, k);
+    const double h = r.setups[1].heading_rad;
+    const double ex = measured.x_mm - truth.x_mm, ey = measured.y_mm - truth.y_mm;
+    EXPECT_DOUBLE_EQ(std::cos(h) * ex + std::sin(h) * ey, run.true_x_mm[i]);
+    EXPECT_DOUBLE_EQ(-std::sin(h) * ex + std::cos(h) * ey, run.true_y_mm[i]);
+  }
+}
+
 TEST(Track, RunSetupsComeFromTheRunIdentity) {
   const TrackOptions o;
   const RunSetup a = MakeRunSetup(o, 3), b = MakeRunSetup(o, 3), c = MakeRunSetup(o, 4);
   EXPECT_EQ(a.heading_rad, b.heading_rad);
   EXPECT_EQ(a.start_mm, b.start_mm);
   EXPECT_NE(a.heading_rad, c.heading_rad);
-  EXPECT_LE(std::abs(a.heading_rad), o.heading_max_deg * M_PI / 180.0);
+  EXPECT_LE(std::abs(a.heading_rad), o.heading_max_deg * std::numbers::pi / 180.0);
 }
 
 std::string Parse(const std::string& text) {
