@@ -106,7 +106,9 @@ std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& r
   }
   j["table"] = rows;
   j["threads"] = result.threads;
-  j["timings_s"] = {{"wall", result.wall_seconds}};
+  j["timings_s"] = {{"wall", result.wall_seconds},
+                    {"measure", result.measure_seconds},
+                    {"analysis", result.analysis_seconds}};
   j["outputs"] = outputs;
   return j.dump(2) + "\n";
 }

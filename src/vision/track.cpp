@@ -581,6 +581,9 @@ TrackResult RunTrack(const TrackOptions& o, const TrackRunOptions& run_options) 
     });
   });
 
+  const auto measured = std::chrono::steady_clock::now();
+  result.measure_seconds = std::chrono::duration<double>(measured - start).count();
+
   // Stage 2: smoothing residuals and true errors in the track frame, per subject and run.
   stats::SmoothingOptions smoothing;
   smoothing.sigma_samples = o.smoothing_sigma_samples;
@@ -625,6 +628,8 @@ TrackResult RunTrack(const TrackOptions& o, const TrackRunOptions& run_options) 
     }
   }
   result.threads = threads;
+  result.analysis_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - measured).count();
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -155,6 +155,8 @@ struct TrackResult {
   std::vector<std::vector<SubjectRun>> data;  // [subject][run]
   std::vector<RunSetup> setups;               // per run
   double wall_seconds = 0.0;
+  double measure_seconds = 0.0;   // stage 1: render, segment, camera (and fast estimator)
+  double analysis_seconds = 0.0;  // stage 2: smoothing residuals, track-frame errors
   int threads = 0;
 };
 

@@ -63,6 +63,7 @@ TEST(TrackCli, WritesTableTestsErrorsAndManifestIdenticalForAnyThreadCount) {
   EXPECT_EQ(manifest["run_setups"].size(), 2u);
   EXPECT_EQ(manifest["table"].size(), 3u);
   EXPECT_TRUE(manifest["table"][2].contains("true_theta"));
+  EXPECT_TRUE(manifest["timings_s"].contains("measure"));
   int files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir.Path("one"))) {
     (void)entry;
