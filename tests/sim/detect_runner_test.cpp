@@ -220,5 +220,32 @@ TEST_F(DetectRunnerTest, AFrameReplaysAlone) {
   EXPECT_NE(a.robots[0].pose.x_mm, c.robots[0].pose.x_mm);
 }
 
+TEST_F(DetectRunnerTest, ReplayedFramesAddUpToTheRunnersCounts) {
+  // Every frame the runner scored is the frame GenerateDetectFrame replays (DESIGN.md rule 3).
+  const Experiment e = Load(
+      "false_blob_rate_per_m2 = 3\ncolour_error_probability = 0.03\n"
+      "missing_patch_probability = 0.03\n",
+      "[2]");
+  RunOptions options;
+  options.threads = 2;
+  const DetectRunResult result = RunDetectExperiment(e, options);
+  for (const DetectPointResult& r : result.points) {
+    const DetectPoint point = MakeDetectPoint(e, r.point);
+    detect::Detector detector(point.config);
+    detect::DetectionScore sum;
+    std::vector<detect::Detection> detections;
+    for (int64_t f = 0; f < e.detect.frames; ++f) {
+      const detect::Scene scene = GenerateDetectFrame(e, point, detector, static_cast<uint64_t>(f));
+      detector.Detect(scene.blobs, &detections);
+      sum.Add(detect::ScoreFrame(scene, detections, e.detect.match_radius_mm));
+    }
+    EXPECT_EQ(sum.correct, r.correct);
+    EXPECT_EQ(sum.wrong_id, r.wrong_id);
+    EXPECT_EQ(sum.missed, r.missed);
+    EXPECT_EQ(sum.false_positives, r.false_positives);
+    EXPECT_GT(r.wrong_id + r.missed, 0);  // the frames are not trivial
+  }
+}
+
 }  // namespace
 }  // namespace patlab::sim
