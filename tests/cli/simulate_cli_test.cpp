@@ -41,6 +41,8 @@ TEST(SimulateCli, WritesTidyCsvAndManifestIdenticalForAnyThreadCount) {
   // Header + 2 patterns x 3 estimators x 3 sigmas.
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 3 * 3);
   EXPECT_EQ(csv.rfind("pattern,estimator,sigma_mm,trials,noise,", 0), 0u);
+  EXPECT_NE(csv.find(",rms_radial_mm,mean_radial_mm,std_radial_mm,std_radial_lo_mm,"),
+            std::string::npos);
   EXPECT_NE(csv.find("\nbutterfly,ml,2,3000,isotropic,"), std::string::npos);
 
   const auto manifest = nlohmann::json::parse(testing::ReadFile(dir.Path("one/small.json")));
