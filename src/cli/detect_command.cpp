@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli/arguments.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "detect/detector.h"
@@ -114,15 +115,8 @@ int RunDetect(const std::vector<std::string>& args) {
       "drop regions with fewer pixels (default 4)")(
       "min-fill", po::value(&o.segmenter.min_fill),
       "drop regions filling less of their bounding box (default 0)");
-  po::options_description all;
-  all.add(visible).add_options()("frame", po::value(&o.frames));
-  po::positional_options_description positional;
-  positional.add("frame", -1);
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << visible << "\n" << kExamples;
+  if (!ParseArguments(args, visible, "frame", po::value(&o.frames), -1, kExamples, &vm)) {
     return kExitOk;
   }
   if (o.frames.empty())

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "cli/arguments.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "detect/codebook.h"
@@ -39,27 +40,6 @@ struct IdsOptions {
   std::string patterns_dir = "patterns";
 };
 
-std::vector<int> ParseColours(const std::string& text) {
-  std::vector<int> values;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    size_t used = 0;
-    int v = 0;
-    try {
-      v = std::stoi(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || v < 1 || v > 16) {
-      throw InputError("--colors has '" + item +
-                       "'; expected comma-separated integers from 1 to 16, e.g. 2,3,4");
-    }
-    values.push_back(v);
-  }
-  if (values.empty()) throw InputError("--colors is empty; expected integers, e.g. 2,3,4");
-  return values;
-}
 
 int RunIds(const std::vector<std::string>& args) {
   IdsOptions o;
@@ -72,16 +52,8 @@ int RunIds(const std::vector<std::string>& args) {
                                                                   "also list every ID's colours")(
       "patterns-dir", po::value(&o.patterns_dir)->default_value(o.patterns_dir),
       "where pattern names are looked up")("help,h", "show this help");
-  po::options_description all;
-  all.add(visible);
-  all.add_options()("pattern", po::value(&o.patterns));
-  po::positional_options_description positional;
-  positional.add("pattern", -1);
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << visible << "\n" << kExamples;
+  if (!ParseArguments(args, visible, "pattern", po::value(&o.patterns), -1, kExamples, &vm)) {
     return kExitOk;
   }
   if (o.patterns.empty()) {
@@ -92,7 +64,8 @@ int RunIds(const std::vector<std::string>& args) {
     throw InputError("--tolerance is " + io::FormatNumber(o.tolerance_mm) +
                      "; expected a distance in mm >= 0");
   }
-  const std::vector<int> colours = ParseColours(o.colors);
+  const std::vector<int> colours = ParseIntegerList(
+      o.colors, "--colors", 1, 16, "comma-separated integers from 1 to 16, e.g. 2,3,4");
   if (o.list) {
     for (int n : colours) {
       if (n > 8) {

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "cli/arguments.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -48,27 +49,6 @@ struct SimulateOptions {
   bool quiet = false;
 };
 
-std::vector<double> ParseList(const std::string& text, const char* flag) {
-  std::vector<double> values;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size()) {
-      throw InputError(std::string(flag) + " has '" + item +
-                       "'; expected comma-separated numbers, e.g. 0,0.5,1");
-    }
-    values.push_back(v);
-  }
-  if (values.empty()) throw InputError(std::string(flag) + " is empty; expected numbers");
-  return values;
-}
 
 void ProgressBar(int done, int total) {
   const int width = 40;
@@ -230,39 +210,27 @@ int RunSimulate(const std::vector<std::string>& args) {
       ("replay", po::value(&o.replay), "POINT,TRIAL: re-run one trial and print every estimate (detect mode: POINT,FRAME)")
       ("quiet,q", po::bool_switch(&o.quiet), "no progress bar or summary on stderr");
   // clang-format on
-  po::options_description all;
-  all.add(visible).add_options()("experiment", po::value(&o.experiment));
-  po::positional_options_description positional;
-  positional.add("experiment", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << visible << "\n" << kExamples;
+  if (!ParseArguments(args, visible, "experiment", po::value(&o.experiment), 1, kExamples, &vm)) {
     return kExitOk;
   }
   if (o.experiment.empty()) {
     throw InputError("missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see --help)");
   }
-  if (o.threads < 0) throw InputError("--threads is " + std::to_string(o.threads) + "; expected >= 0");
+  CheckThreads(o.threads);
 
   sim::Experiment experiment = sim::LoadExperimentFile(o.experiment);
   sim::Overrides overrides;
   overrides.trials = o.trials;
   if (vm.count("trials") && o.trials == 0) throw InputError("--trials is 0; expected an integer >= 2");
   if (!o.seed.empty()) {
-    size_t used = 0;
-    try {
-      overrides.seed = std::stoull(o.seed, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != o.seed.size() || o.seed[0] == '-') {
-      throw InputError("--seed is '" + o.seed + "'; expected an integer >= 0");
-    }
+    overrides.seed = ParseSeed(o.seed, "--seed");
     overrides.has_seed = true;
   }
-  if (!o.sigmas.empty()) overrides.sigmas_mm = ParseList(o.sigmas, "--sigmas");
+  if (!o.sigmas.empty()) {
+    overrides.sigmas_mm =
+        ParseNumberList(o.sigmas, "--sigmas", "comma-separated numbers, e.g. 0,0.5,1");
+  }
   sim::ApplyOverrides(overrides, &experiment);
   sim::NoiseModel& noise = experiment.noise;
   if (vm.count("sigma-y-ratio")) noise.sigma_y_ratio = o.sigma_y_ratio;

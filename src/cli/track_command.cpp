@@ -9,6 +9,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "cli/arguments.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -171,38 +172,20 @@ int RunTrackCommand(const std::vector<std::string>& args) {
       ("replay", po::value(&o.replay), "RUN,FRAME: re-measure every subject in one frame and print it")
       ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
   // clang-format on
-  po::options_description all;
-  all.add(visible).add_options()("experiment", po::value(&o.experiment));
-  po::positional_options_description positional;
-  positional.add("experiment", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << visible << "\n" << kExamples;
+  if (!ParseArguments(args, visible, "experiment", po::value(&o.experiment), 1, kExamples, &vm)) {
     return kExitOk;
   }
   if (o.experiment.empty()) {
     throw InputError(
         "missing EXPERIMENT.toml; expected 'patlab track EXPERIMENT.toml' (see --help)");
   }
-  if (o.threads < 0)
-    throw InputError("--threads is " + std::to_string(o.threads) + "; expected >= 0");
+  CheckThreads(o.threads);
   if (o.decimate < 1) {
     throw InputError("--decimate is " + std::to_string(o.decimate) + "; expected an integer >= 1");
   }
   vision::TrackOptions options = vision::LoadTrackExperiment(o.experiment);
-  if (!o.seed.empty()) {
-    size_t used = 0;
-    try {
-      options.seed = std::stoull(o.seed, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != o.seed.size() || o.seed[0] == '-') {
-      throw InputError("--seed is '" + o.seed + "'; expected an integer >= 0");
-    }
-  }
+  if (!o.seed.empty()) options.seed = ParseSeed(o.seed, "--seed");
 
   if (vm.count("pixel-sigma")) options.pixel_sigma = o.pixel_sigma;
   if (vm.count("jitter-px")) options.jitter_sigma_px = o.jitter_px;

@@ -4,29 +4,15 @@
 // new is counted (this replaces it for the whole test_vision binary; it only counts).
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
 #include <filesystem>
-#include <new>
 
+#include "../allocation_counter.h"
 #include "detect/detector.h"
 #include "detect/settings.h"
 #include "test_util.h"
 #include "vision/frame_io.h"
 #include "vision/pipeline.h"
 #include "vision/render.h"
-
-namespace {
-std::atomic<long> g_vision_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  ++g_vision_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace patlab::vision {
 namespace {
@@ -58,13 +44,13 @@ TEST(VisionAllocation, WarmPipelineDoesNotAllocate) {
     VisionPipeline pipeline(thresholds, cal, SegmenterOptions{});
     std::vector<detect::Blob> blobs;
     VisionStats stats;
-    const long start = g_vision_allocations.load();
-    pipeline.Process(*image, &blobs, &stats);           // grows the buffers, builds the cell table
-    EXPECT_GT(g_vision_allocations.load() - start, 0);  // the counter sees allocations
+    const long start = patlab::testing::AllocationCount();
+    pipeline.Process(*image, &blobs, &stats);  // grows the buffers, builds the cell table
+    EXPECT_GT(patlab::testing::AllocationCount() - start, 0);  // the counter sees allocations
     ASSERT_EQ(blobs.size(), 30u);
-    const long before = g_vision_allocations.load();
+    const long before = patlab::testing::AllocationCount();
     pipeline.Process(*image, &blobs, &stats);
-    EXPECT_EQ(g_vision_allocations.load() - before, 0);
+    EXPECT_EQ(patlab::testing::AllocationCount() - before, 0);
     EXPECT_EQ(blobs.size(), 30u);
   }
 }
@@ -96,9 +82,9 @@ TEST(VisionAllocation, WarmRealFrameLoopDoesNotAllocate) {
   };
   frame();
   ASSERT_EQ(detections.size(), 5u);
-  const long before = g_vision_allocations.load();
+  const long before = patlab::testing::AllocationCount();
   frame();
-  EXPECT_EQ(g_vision_allocations.load() - before, 0);
+  EXPECT_EQ(patlab::testing::AllocationCount() - before, 0);
   EXPECT_EQ(detections.size(), 5u);
 }
 

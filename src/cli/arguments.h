@@ -1,0 +1,34 @@
+// Argument handling shared by the subcommands: one way to parse flags plus positional
+// arguments, print --help, and read the list, seed and thread-count values every command takes.
+// Every problem is an InputError naming the flag and what was expected (exit status 2).
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace patlab::cli {
+
+// Parses `args` against the `visible` options plus positional arguments stored through
+// `positional` under the hidden option `positional_name` (at most `max_positional`; -1 = any
+// number). With --help (which `visible` must define), prints the options and `examples` on stdout
+// and returns false: the command then exits 0. Throws boost::program_options::error on bad flags.
+bool ParseArguments(const std::vector<std::string>& args,
+                    const boost::program_options::options_description& visible,
+                    const char* positional_name, boost::program_options::value_semantic* positional,
+                    int max_positional, const char* examples,
+                    boost::program_options::variables_map* vm);
+
+// A comma-separated list of numbers: "--sigmas has 'x'; expected <expected>".
+std::vector<double> ParseNumberList(const std::string& text, const std::string& flag,
+                                    const std::string& expected);
+// A comma-separated list of integers in [lo, hi]: "--colors has '0'; expected <expected>".
+std::vector<int> ParseIntegerList(const std::string& text, const std::string& flag, int lo, int hi,
+                                  const std::string& expected);
+// An unsigned 64-bit seed: "--seed is '-4'; expected an integer >= 0".
+uint64_t ParseSeed(const std::string& text, const std::string& flag);
+// "--threads is -1; expected >= 0" (0 = all cores).
+void CheckThreads(int threads);
+
+}  // namespace patlab::cli
