@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-bash scripts/build.sh
+bash scripts/build.sh patlab
 ./build/patlab simulate experiments/fig5.toml --out results
 /usr/bin/python3 scripts/plot_fig5.py results/fig5.csv results/fig5.png
 echo "wrote results/fig5.png"
