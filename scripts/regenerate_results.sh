@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Regenerates every committed file under results/ from the committed inputs (run after
+# scripts/build.sh). Each line is the documented command of one result; with the same build the
+# CSVs come out byte-identical (the JSON manifests differ only in their timings).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+P=build/patlab
+# Fig. 5 (paper section IV) and its table in the README.
+$P simulate experiments/fig5.toml --out results -q
+/usr/bin/python3 scripts/plot_fig5.py results/fig5.csv results/fig5.png
+# Detect mode: where geometry stops fixing the rotation (issue 4).
+$P simulate experiments/id_confusion.toml --out results -q
+/usr/bin/python3 scripts/plot_id_confusion.py
+# Section II in simulation: Table I, the Wilcoxon tests, Figs. 2, 3, 6.
+$P track experiments/table1.toml --out results -q
+$P track experiments/table1.toml --pixel-sigma 0 --jitter-px 0 --decimate 4 \
+  --out results/track_quantisation -q
+/usr/bin/python3 scripts/plot_track.py
+# Real frames (needs ../shared/frames; skipped cleanly without it).
+bash scripts/vision_real_frames.sh "$P"
