@@ -49,7 +49,6 @@ struct SimulateOptions {
   bool quiet = false;
 };
 
-
 void ProgressBar(int done, int total) {
   const int width = 40;
   const int filled = total > 0 ? done * width / total : width;
@@ -97,9 +96,10 @@ int Replay(const sim::Experiment& experiment, const std::string& spec) {
       estimate::LeastSquares(model, observed.data()), estimate::KeyPatch(model, observed.data())};
   for (estimate::Estimator e : estimate::kAllEstimators) {
     const Pose2& p = estimates[static_cast<int>(e)];
-    std::printf("%-5s      x %.9f mm  y %.9f mm  theta %.12f rad  (error %.3e mm, %.3e mm, %.3e rad)\n",
-                std::string(estimate::EstimatorName(e)).c_str(), p.x_mm, p.y_mm, p.theta_rad,
-                p.x_mm - truth.x_mm, p.y_mm - truth.y_mm, WrapAngle(p.theta_rad - truth.theta_rad));
+    std::printf(
+        "%-5s      x %.9f mm  y %.9f mm  theta %.12f rad  (error %.3e mm, %.3e mm, %.3e rad)\n",
+        std::string(estimate::EstimatorName(e)).c_str(), p.x_mm, p.y_mm, p.theta_rad,
+        p.x_mm - truth.x_mm, p.y_mm - truth.y_mm, WrapAngle(p.theta_rad - truth.theta_rad));
   }
   std::printf("ml summary %s after %d iterations, cost %.6g -> %.6g mm^2\n",
               std::string(estimate::TerminationName(summary.termination)).c_str(),
@@ -157,6 +157,33 @@ int ReplayDetect(const sim::Experiment& experiment, const std::string& spec) {
   return kExitOk;
 }
 
+// The result files of a run: <out>/<base>.csv and .json, and the command line for the manifest.
+struct OutputFiles {
+  std::string csv_path, json_path, command_line;
+};
+
+OutputFiles Outputs(const sim::Experiment& experiment, const SimulateOptions& o,
+                    const std::vector<std::string>& args) {
+  const std::string base = o.name.empty() ? experiment.name : o.name;
+  OutputFiles files;
+  files.csv_path = (std::filesystem::path(o.out_dir) / (base + ".csv")).string();
+  files.json_path = (std::filesystem::path(o.out_dir) / (base + ".json")).string();
+  files.command_line = "patlab simulate";
+  for (const std::string& a : args) files.command_line += " " + a;
+  return files;
+}
+
+// Writes both files atomically; on failure says why on stderr and returns false (exit 1).
+bool WriteOutputs(const OutputFiles& files, const std::string& csv, const std::string& manifest) {
+  try {
+    io::WriteFilesAtomic({{files.csv_path, csv}, {files.json_path, manifest}});
+  } catch (const InputError& e) {
+    std::cerr << "patlab simulate: " << e.what() << "\n";
+    return false;
+  }
+  return true;
+}
+
 // correspondence = "detect": whole frames through the detector.
 int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
                   const std::vector<std::string>& args) {
@@ -167,19 +194,14 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
   if (show_progress) run_options.progress = ProgressBar;
   const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
 
-  const std::string base = o.name.empty() ? experiment.name : o.name;
-  const std::string csv_path = (std::filesystem::path(o.out_dir) / (base + ".csv")).string();
-  const std::string json_path = (std::filesystem::path(o.out_dir) / (base + ".json")).string();
-  std::string command_line = "patlab simulate";
-  for (const std::string& a : args) command_line += " " + a;
-  try {
-    io::WriteFilesAtomic({{csv_path, sim::DetectResultsCsv(experiment, result)},
-                          {json_path, sim::DetectManifestJson(experiment, result, command_line,
-                                                              {csv_path, json_path})}});
-  } catch (const InputError& e) {
-    std::cerr << "patlab simulate: " << e.what() << "\n";
+  const OutputFiles files = Outputs(experiment, o, args);
+  if (!WriteOutputs(files, sim::DetectResultsCsv(experiment, result),
+                    sim::DetectManifestJson(experiment, result, files.command_line,
+                                            {files.csv_path, files.json_path}))) {
     return kExitFailure;
   }
+  const std::string& csv_path = files.csv_path;
+  const std::string& json_path = files.json_path;
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld frames in %.3f s wall (frames %.3f s = %.0f frames/s, "
@@ -215,14 +237,16 @@ int RunSimulate(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (o.experiment.empty()) {
-    throw InputError("missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see --help)");
+    throw InputError(
+        "missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see --help)");
   }
   CheckThreads(o.threads);
 
   sim::Experiment experiment = sim::LoadExperimentFile(o.experiment);
   sim::Overrides overrides;
   overrides.trials = o.trials;
-  if (vm.count("trials") && o.trials == 0) throw InputError("--trials is 0; expected an integer >= 2");
+  if (vm.count("trials") && o.trials == 0)
+    throw InputError("--trials is 0; expected an integer >= 2");
   if (!o.seed.empty()) {
     overrides.seed = ParseSeed(o.seed, "--seed");
     overrides.has_seed = true;
@@ -252,19 +276,14 @@ int RunSimulate(const std::vector<std::string>& args) {
   if (show_progress) run_options.progress = ProgressBar;
   const sim::RunResult result = sim::RunExperiment(experiment, run_options);
 
-  const std::string base = o.name.empty() ? experiment.name : o.name;
-  const std::string csv_path = (std::filesystem::path(o.out_dir) / (base + ".csv")).string();
-  const std::string json_path = (std::filesystem::path(o.out_dir) / (base + ".json")).string();
-  std::string command_line = "patlab simulate";
-  for (const std::string& a : args) command_line += " " + a;
-  try {
-    io::WriteFilesAtomic({{csv_path, sim::ResultsCsv(experiment, result)},
-                          {json_path, sim::ManifestJson(experiment, result, command_line,
-                                                        {csv_path, json_path})}});
-  } catch (const InputError& e) {
-    std::cerr << "patlab simulate: " << e.what() << "\n";
+  const OutputFiles files = Outputs(experiment, o, args);
+  if (!WriteOutputs(files, sim::ResultsCsv(experiment, result),
+                    sim::ManifestJson(experiment, result, files.command_line,
+                                      {files.csv_path, files.json_path}))) {
     return kExitFailure;
   }
+  const std::string& csv_path = files.csv_path;
+  const std::string& json_path = files.json_path;
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "

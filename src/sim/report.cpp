@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <span>
 
 namespace patlab::sim {
 
@@ -18,18 +19,57 @@ std::string Num(double v) {
 
 std::string Int(int64_t v) { return std::to_string(v); }
 
-constexpr const char* kColumns[] = {
-    "pattern", "estimator", "sigma_mm", "trials", "noise",
-    "mean_x_mm", "std_x_mm", "std_x_lo_mm", "std_x_hi_mm",
-    "mean_y_mm", "std_y_mm", "std_y_lo_mm", "std_y_hi_mm",
-    "mean_theta_rad", "std_theta_rad", "std_theta_lo_rad", "std_theta_hi_rad",
-    "std_pos_mm", "std_pos_lo_mm", "std_pos_hi_mm", "rms_radial_mm",
-    "mean_radial_mm", "std_radial_mm", "std_radial_lo_mm", "std_radial_hi_mm",
-    "crlb_pos_mm", "crlb_theta_rad", "pred_pos_mm", "pred_theta_rad",
-    "efficiency_pos", "efficiency_theta",
-    "ml_nonconverged", "ml_first_nonconverged_trial", "ml_mean_iterations",
-    "ks_x_d", "ks_x_p", "ks_y_d", "ks_y_p", "ks_theta_d", "ks_theta_p",
-    "wilcoxon_pos_p", "wilcoxon_theta_p"};
+// Appends one CSV row (fields joined by commas, then a newline).
+void AppendRow(std::span<const std::string> fields, std::string* csv) {
+  for (size_t k = 0; k < fields.size(); ++k) {
+    if (k > 0) *csv += ",";
+    *csv += fields[k];
+  }
+  *csv += "\n";
+}
+
+constexpr const char* kColumns[] = {"pattern",
+                                    "estimator",
+                                    "sigma_mm",
+                                    "trials",
+                                    "noise",
+                                    "mean_x_mm",
+                                    "std_x_mm",
+                                    "std_x_lo_mm",
+                                    "std_x_hi_mm",
+                                    "mean_y_mm",
+                                    "std_y_mm",
+                                    "std_y_lo_mm",
+                                    "std_y_hi_mm",
+                                    "mean_theta_rad",
+                                    "std_theta_rad",
+                                    "std_theta_lo_rad",
+                                    "std_theta_hi_rad",
+                                    "std_pos_mm",
+                                    "std_pos_lo_mm",
+                                    "std_pos_hi_mm",
+                                    "rms_radial_mm",
+                                    "mean_radial_mm",
+                                    "std_radial_mm",
+                                    "std_radial_lo_mm",
+                                    "std_radial_hi_mm",
+                                    "crlb_pos_mm",
+                                    "crlb_theta_rad",
+                                    "pred_pos_mm",
+                                    "pred_theta_rad",
+                                    "efficiency_pos",
+                                    "efficiency_theta",
+                                    "ml_nonconverged",
+                                    "ml_first_nonconverged_trial",
+                                    "ml_mean_iterations",
+                                    "ks_x_d",
+                                    "ks_x_p",
+                                    "ks_y_d",
+                                    "ks_y_p",
+                                    "ks_theta_d",
+                                    "ks_theta_p",
+                                    "wilcoxon_pos_p",
+                                    "wilcoxon_theta_p"};
 
 // Efficiency = CRLB variance / achieved variance (1 = efficient).
 double Efficiency(double bound, double achieved) {
@@ -48,33 +88,49 @@ std::string ResultsCsv(const Experiment& experiment, const RunResult& result) {
     for (const EstimatorResult& r : p.estimators) {
       const bool ml = r.estimator == estimate::Estimator::kMl;
       const Comparison& c = r.vs_fast;
-      const std::string fields[] = {
-          p.pattern, std::string(estimate::EstimatorName(r.estimator)), Num(p.sigma_mm),
-          Int(p.trials), noise,
-          Num(r.x.mean), Num(r.x.std), Num(r.x.std_lower), Num(r.x.std_upper),
-          Num(r.y.mean), Num(r.y.std), Num(r.y.std_lower), Num(r.y.std_upper),
-          Num(r.theta.mean), Num(r.theta.std), Num(r.theta.std_lower), Num(r.theta.std_upper),
-          Num(r.position_std_mm), Num(r.position_std_lower_mm), Num(r.position_std_upper_mm),
-          Num(r.radial_rms_mm), Num(r.radial.mean), Num(r.radial.std), Num(r.radial.std_lower),
-          Num(r.radial.std_upper),
-          Num(r.crlb_position_mm), Num(r.crlb_theta_rad), Num(r.predicted_position_mm),
-          Num(r.predicted_theta_rad),
-          Num(Efficiency(r.crlb_position_mm, r.position_std_mm)),
-          Num(Efficiency(r.crlb_theta_rad, r.theta.std)),
-          ml ? Int(r.nonconverged) : "", ml ? Int(r.first_nonconverged_trial) : "",
-          ml ? Num(r.mean_iterations) : "",
-          c.computed ? Num(c.ks_x.d) : "", c.computed ? Num(c.ks_x.p_value) : "",
-          c.computed ? Num(c.ks_y.d) : "", c.computed ? Num(c.ks_y.p_value) : "",
-          c.computed ? Num(c.ks_theta.d) : "", c.computed ? Num(c.ks_theta.p_value) : "",
-          c.computed ? Num(c.wilcoxon_position.p_value) : "",
-          c.computed ? Num(c.wilcoxon_theta.p_value) : ""};
-      bool first = true;
-      for (const std::string& f : fields) {
-        if (!first) csv += ",";
-        csv += f;
-        first = false;
-      }
-      csv += "\n";
+      const std::string fields[] = {p.pattern,
+                                    std::string(estimate::EstimatorName(r.estimator)),
+                                    Num(p.sigma_mm),
+                                    Int(p.trials),
+                                    noise,
+                                    Num(r.x.mean),
+                                    Num(r.x.std),
+                                    Num(r.x.std_lower),
+                                    Num(r.x.std_upper),
+                                    Num(r.y.mean),
+                                    Num(r.y.std),
+                                    Num(r.y.std_lower),
+                                    Num(r.y.std_upper),
+                                    Num(r.theta.mean),
+                                    Num(r.theta.std),
+                                    Num(r.theta.std_lower),
+                                    Num(r.theta.std_upper),
+                                    Num(r.position_std_mm),
+                                    Num(r.position_std_lower_mm),
+                                    Num(r.position_std_upper_mm),
+                                    Num(r.radial_rms_mm),
+                                    Num(r.radial.mean),
+                                    Num(r.radial.std),
+                                    Num(r.radial.std_lower),
+                                    Num(r.radial.std_upper),
+                                    Num(r.crlb_position_mm),
+                                    Num(r.crlb_theta_rad),
+                                    Num(r.predicted_position_mm),
+                                    Num(r.predicted_theta_rad),
+                                    Num(Efficiency(r.crlb_position_mm, r.position_std_mm)),
+                                    Num(Efficiency(r.crlb_theta_rad, r.theta.std)),
+                                    ml ? Int(r.nonconverged) : "",
+                                    ml ? Int(r.first_nonconverged_trial) : "",
+                                    ml ? Num(r.mean_iterations) : "",
+                                    c.computed ? Num(c.ks_x.d) : "",
+                                    c.computed ? Num(c.ks_x.p_value) : "",
+                                    c.computed ? Num(c.ks_y.d) : "",
+                                    c.computed ? Num(c.ks_y.p_value) : "",
+                                    c.computed ? Num(c.ks_theta.d) : "",
+                                    c.computed ? Num(c.ks_theta.p_value) : "",
+                                    c.computed ? Num(c.wilcoxon_position.p_value) : "",
+                                    c.computed ? Num(c.wilcoxon_theta.p_value) : ""};
+      AppendRow(fields, &csv);
     }
   }
   return csv;
@@ -251,13 +307,7 @@ std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult
         Int(p.stats.geometry_passed),
         Int(p.stats.colour_rejected),
         Int(p.stats.conflicts)};
-    bool first = true;
-    for (const std::string& f : fields) {
-      if (!first) csv += ",";
-      csv += f;
-      first = false;
-    }
-    csv += "\n";
+    AppendRow(fields, &csv);
   }
   return csv;
 }
