@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <tuple>
@@ -33,7 +34,25 @@ std::string_view DetectionStatusName(DetectionStatus status) {
   return "?";
 }
 
+long DetectStageTimes::StagesSum() const {
+  return key_candidates_ns + neighbours_ns + radial_sort_ns + correspondences_ns + colours_ns +
+         conflicts_ns + pose_ns;
+}
+
+DetectStageTimes& DetectStageTimes::operator+=(const DetectStageTimes& o) {
+  key_candidates_ns += o.key_candidates_ns;
+  neighbours_ns += o.neighbours_ns;
+  radial_sort_ns += o.radial_sort_ns;
+  correspondences_ns += o.correspondences_ns;
+  colours_ns += o.colours_ns;
+  conflicts_ns += o.conflicts_ns;
+  pose_ns += o.pose_ns;
+  total_ns += o.total_ns;
+  return *this;
+}
+
 DetectStats& DetectStats::operator+=(const DetectStats& o) {
+  time += o.time;
   key_candidates += o.key_candidates;
   neighbours += o.neighbours;
   neighbours_cut += o.neighbours_cut;
@@ -170,6 +189,34 @@ Pattern WithoutPatch(const Pattern& pattern, int missing) {
   return reduced;
 }
 
+// Stage timing (DetectStats::collect_timing). The code paths are templates on kTiming, so an
+// untimed Detect contains no clock read and no timing branch in its inner loops.
+using Clock = std::chrono::steady_clock;
+
+long Nanoseconds(Clock::time_point from, Clock::time_point to) {
+  return static_cast<long>(std::chrono::duration_cast<std::chrono::nanoseconds>(to - from).count());
+}
+long NanosecondsSince(Clock::time_point start) { return Nanoseconds(start, Clock::now()); }
+
+// Adds the time from construction to destruction to *total_ns; nothing when kOn is false.
+template <bool kOn>
+class ScopedTime {
+ public:
+  explicit ScopedTime(long*) {}
+};
+template <>
+class ScopedTime<true> {
+ public:
+  explicit ScopedTime(long* total_ns) : total_ns_(total_ns), start_(Clock::now()) {}
+  ~ScopedTime() { *total_ns_ += NanosecondsSince(start_); }
+  ScopedTime(const ScopedTime&) = delete;
+  ScopedTime& operator=(const ScopedTime&) = delete;
+
+ private:
+  long* total_ns_;
+  Clock::time_point start_;
+};
+
 }  // namespace
 
 struct Detector::Impl {
@@ -187,8 +234,12 @@ struct Detector::Impl {
   std::vector<int> candidate_order;
   std::vector<char> used;
   DetectStats stats;
+  // Timed Detect only: per-key stage times, summed over the frame's key candidates. Stages 4-7
+  // are timed as one interval (fits_ns), colours inside it; correspondences = fits - colours.
+  long neighbours_ns = 0, radial_sort_ns = 0, fits_ns = 0, colours_ns = 0;
 
   void Build();
+  template <bool kTiming>
   void EvaluateKey(int p, int key, std::span<const Blob> blobs);
   void Finish(const Candidate& c, std::span<const Blob> blobs, Detection* d) const;
 };
@@ -402,7 +453,18 @@ inline double FitError(double sq, double sw, double a, double b) {
 
 }  // namespace
 
+template <bool kTiming>
 void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
+  Clock::time_point stage_start;
+  if constexpr (kTiming) stage_start = Clock::now();
+  // Ends the current stage: adds its time to *total_ns and starts the next.
+  auto end_stage = [&](long* total_ns) {
+    if constexpr (kTiming) {
+      const Clock::time_point now = Clock::now();
+      *total_ns += Nanoseconds(stage_start, now);
+      stage_start = now;
+    }
+  };
   const PatternRuntime& rt = runtimes[p];
   const Vec2 k = blobs[key].position_mm;
 
@@ -449,6 +511,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   }
   const int mk = rt.mk;
   const bool try_missing = rt.can_fit_missing && n >= mk - 1;
+  end_stage(&neighbours_ns);
   if (n < mk && !try_missing) return;
 
   // Stage 3: radial sort (insertion sort: n <= 16).
@@ -474,6 +537,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
     pos[i] = blobs[nb[i]].position_mm;
     label[i] = blobs[nb[i]].colour;
   }
+  end_stage(&radial_sort_ns);
 
   // Stages 4-7 over every choice of `r` neighbours (in angular order, so the circular order is
   // kept) and every rotation; `missing` fits leave out one model position.
@@ -518,6 +582,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
           const double e = FitError(rt.sq[vi], sw, a, b);
           if (e > e_max) continue;
           ++stats.geometry_passed;
+          ScopedTime<kTiming> colour_time(&colours_ns);
           // Colours: fixed patches must match; ID slots form the code.
           bool colours_ok = true;
           int code = 0;
@@ -573,35 +638,39 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
           }
         }
       }
-      // Stage 6 verdict for this choice of neighbours.
-      const bool single = v.valid == 1;
-      const bool amb = !single && v.ok >= 2;
-      if (v.ok == 1 && v.valid == 0) ++stats.colour_rejected;
-      if (single || amb) {
-        Candidate c;
-        c.pattern = p;
-        c.key_blob = key;
-        c.e = single ? v.valid_e : v.best_ok_e;
-        c.score = c.e / e_max;
-        c.id = single ? v.valid_id : -1;
-        const int shift = single ? v.valid_shift : v.best_ok_shift;
-        const int skip = single ? v.valid_skip : v.best_ok_skip;
-        c.status = amb ? DetectionStatus::kAmbiguous
-                       : (missing ? DetectionStatus::kMissingPatch : DetectionStatus::kOk);
-        c.missing_patch = skip >= 0 ? rt.circ_patch[skip] : -1;
-        c.blob.fill(-1);
-        c.blob[rt.key_index] = key;
-        c.num_blobs = r + 1;
-        for (int i = 0; i < r; ++i) {
-          const int pc = missing ? (skip + 1 + (i + shift) % r) % mk : (i + shift) % mk;
-          c.blob[rt.circ_patch[pc]] = nb[pick[i]];
-        }
-        if (single) {
-          if (!found_valid || c.e < best.e) best = c;
-          found_valid = true;
-        } else if (!have_ambiguous || c.e < ambiguous.e) {
-          ambiguous = c;
-          have_ambiguous = true;
+      // Stage 6 verdict for this choice of neighbours (nothing to decide when no rotation
+      // passed geometry and fixed colours).
+      if (v.ok > 0) {
+        ScopedTime<kTiming> colour_time(&colours_ns);
+        const bool single = v.valid == 1;
+        const bool amb = !single && v.ok >= 2;
+        if (v.ok == 1 && v.valid == 0) ++stats.colour_rejected;
+        if (single || amb) {
+          Candidate c;
+          c.pattern = p;
+          c.key_blob = key;
+          c.e = single ? v.valid_e : v.best_ok_e;
+          c.score = c.e / e_max;
+          c.id = single ? v.valid_id : -1;
+          const int shift = single ? v.valid_shift : v.best_ok_shift;
+          const int skip = single ? v.valid_skip : v.best_ok_skip;
+          c.status = amb ? DetectionStatus::kAmbiguous
+                         : (missing ? DetectionStatus::kMissingPatch : DetectionStatus::kOk);
+          c.missing_patch = skip >= 0 ? rt.circ_patch[skip] : -1;
+          c.blob.fill(-1);
+          c.blob[rt.key_index] = key;
+          c.num_blobs = r + 1;
+          for (int i = 0; i < r; ++i) {
+            const int pc = missing ? (skip + 1 + (i + shift) % r) % mk : (i + shift) % mk;
+            c.blob[rt.circ_patch[pc]] = nb[pick[i]];
+          }
+          if (single) {
+            if (!found_valid || c.e < best.e) best = c;
+            found_valid = true;
+          } else if (!have_ambiguous || c.e < ambiguous.e) {
+            ambiguous = c;
+            have_ambiguous = true;
+          }
         }
       }
       // Next combination of r out of n, in lexicographic order.
@@ -620,6 +689,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   };
   run(false);
   if (!have_best && try_missing) run(true);
+  end_stage(&fits_ns);
   if (have_best) candidates.push_back(best);
 }
 
@@ -673,6 +743,12 @@ bool Usable(const Blob& b) {
 void Detector::Detect(std::span<const Blob> blobs, std::vector<Detection>* detections,
                       DetectStats* stats) {
   Impl& s = *impl_;
+  const bool timing = stats != nullptr && stats->collect_timing;
+  Clock::time_point start;
+  if (timing) {
+    start = Clock::now();
+    s.neighbours_ns = s.radial_sort_ns = s.fits_ns = s.colours_ns = 0;
+  }
   s.stats = DetectStats{};
   s.candidates.clear();
   detections->clear();
@@ -716,8 +792,17 @@ void Detector::Detect(std::span<const Blob> blobs, std::vector<Detection>* detec
       const PatternRuntime& rt = s.runtimes[p];
       if (blobs[i].area_mm2 < rt.key_area_min || blobs[i].area_mm2 > rt.key_area_max) continue;
       ++s.stats.key_candidates;
-      s.EvaluateKey(p, i, blobs);
+      if (timing)
+        s.EvaluateKey<true>(p, i, blobs);
+      else
+        s.EvaluateKey<false>(p, i, blobs);
     }
+  }
+  long keys_ns = 0, pose_ns = 0;
+  Clock::time_point conflicts_start;
+  if (timing) {
+    conflicts_start = Clock::now();
+    keys_ns = Nanoseconds(start, conflicts_start);
   }
 
   // Stage 8: each blob goes to the best-fitting candidate that claims it.
@@ -752,15 +837,38 @@ void Detector::Detect(std::span<const Blob> blobs, std::vector<Detection>* detec
     }
     // Stage 9: pose and confidence.
     detections->emplace_back();
-    s.Finish(c, blobs, &detections->back());
+    if (timing) {
+      const Clock::time_point pose_start = Clock::now();
+      s.Finish(c, blobs, &detections->back());
+      pose_ns += NanosecondsSince(pose_start);
+    } else {
+      s.Finish(c, blobs, &detections->back());
+    }
     if (c.status == DetectionStatus::kAmbiguous) ++s.stats.ambiguous;
     if (c.status == DetectionStatus::kMissingPatch) ++s.stats.missing_fits;
   }
+  Clock::time_point order_start;
+  if (timing) order_start = Clock::now();
   std::sort(detections->begin(), detections->end(), [](const Detection& a, const Detection& b) {
     return std::tie(a.pattern, a.team_colour, a.status, a.id, a.pose.x_mm, a.pose.y_mm) <
            std::tie(b.pattern, b.team_colour, b.status, b.id, b.pose.x_mm, b.pose.y_mm);
   });
   s.stats.detections = static_cast<long>(detections->size());
+  if (timing) {
+    // The stages partition [start, end]: stage 1 is the key loop less the per-key stages 2-7,
+    // stage 8 the conflict pass less the poses in it, stage 9 the poses and the final order.
+    const Clock::time_point end = Clock::now();
+    DetectStageTimes& t = s.stats.time;
+    t.neighbours_ns = s.neighbours_ns;
+    t.radial_sort_ns = s.radial_sort_ns;
+    t.correspondences_ns = s.fits_ns - s.colours_ns;
+    t.colours_ns = s.colours_ns;
+    t.key_candidates_ns = keys_ns - s.neighbours_ns - s.radial_sort_ns - s.fits_ns;
+    t.conflicts_ns = Nanoseconds(conflicts_start, order_start) - pose_ns;
+    t.pose_ns = pose_ns + Nanoseconds(order_start, end);
+    t.total_ns = Nanoseconds(start, end);
+    s.stats.collect_timing = true;
+  }
   if (stats != nullptr) *stats = s.stats;
 }
 

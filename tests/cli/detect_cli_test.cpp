@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "vision/frame_io.h"
 #include "vision/render.h"
@@ -114,6 +116,46 @@ TEST(DetectCli, RawFrameOfTheWrongSize) {
   EXPECT_EQ(r.err, "patlab detect: " + dir +
                        "/f.yuv: 100 bytes; expected 6144 bytes for a 64x48 UYVY "
                        "frame (width x height x 2)\n");
+}
+
+// --timing: the vision stages, then stage 6 with the detector's own stages indented under it
+// (detect::DetectStageTimes), each with its time per frame and its counters; without --timing,
+// none of it.
+TEST(DetectCli, TimingShowsTheDetectorStagesUnderStageSix) {
+  const std::string dir = Dir();
+  WriteScene(dir);
+  const std::string args = dir + "/a.png -t " + dir + "/t.toml -c " + dir + "/c.toml -s " +
+                           PATLAB_SOURCE_DIR + "/experiments/detector.toml";
+  const CliRun timed = Detect(dir, args + " --timing");
+  ASSERT_EQ(timed.status, 0) << timed.err;
+  // Stage lines in this order, the detector's stages each with a time per frame.
+  const std::vector<std::string> stages = {"  5 camera    ",
+                                           "  6 detect    ",
+                                           "      6.1 key candidates   ",
+                                           "      6.2 neighbours       ",
+                                           "      6.3 radial sort      ",
+                                           "      6.4 correspondences  ",
+                                           "      6.5 colours / ID     ",
+                                           "      6.6 conflicts        ",
+                                           "      6.7 pose             ",
+                                           "  stages 2-6  "};
+  const std::regex time_per_frame("[0-9]+\\.[0-9]{4} ms");
+  size_t at = 0;
+  for (const std::string& stage : stages) {
+    const size_t found = timed.err.find("\n" + stage, at);
+    ASSERT_NE(found, std::string::npos) << "no '" << stage << "' after offset " << at << " in\n"
+                                        << timed.err;
+    at = found + 1;
+    if (stage.rfind("      6.", 0) == 0) {
+      const std::string rest =
+          timed.err.substr(at + stage.size(), timed.err.find('\n', at) - at - stage.size());
+      EXPECT_TRUE(std::regex_search(rest, time_per_frame, std::regex_constants::match_continuous))
+          << stage << rest;
+    }
+  }
+  const CliRun plain = Detect(dir, args);
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_EQ(plain.err, "");
 }
 
 TEST(DetectCli, DetectsTheSharedStandardPatternSheet) {
