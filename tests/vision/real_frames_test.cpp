@@ -14,6 +14,7 @@
 #include "detect/settings.h"
 #include "test_util.h"
 #include "vision/frame_io.h"
+#include "vision/image.h"
 #include "vision/pipeline.h"
 
 namespace patlab::vision {
@@ -34,13 +35,16 @@ struct FrameRun {
 };
 
 // Stages 2-6 as patlab detect runs them: blob classes are matched to the palette by name.
+// `uyvy`: the frame converted to UYVY 4:2:2 first (vision::ToUyvy), as a camera would send it.
 FrameRun DetectFrame(const std::string& frame, const std::string& thresholds,
-                     const std::string& calibration, const std::string& settings) {
+                     const std::string& calibration, const std::string& settings,
+                     bool uyvy = false) {
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
   VisionPipeline pipeline(LoadThresholds(data + thresholds), LoadCalibration(data + calibration),
                           SegmenterOptions{});
   detect::Detector detector(detect::LoadDetectorSettings(data + settings));
-  const Image image = ReadFrame(testing::SharedFrames() + "/" + frame);
+  Image image = ReadFrame(testing::SharedFrames() + "/" + frame);
+  if (uyvy) image = ToUyvy(image);
   pipeline.CheckFrameSize(image, frame);
   std::vector<detect::Blob> blobs;
   pipeline.Process(image, &blobs);
@@ -94,6 +98,36 @@ TEST(RealFrames, SslField2008FindsTheFiveRobotsOnTheField) {
                             {"kiks-sectors", "blue", 6, kMissing, 4, -109.35, -231.62, 0.7296},
                             {"kiks-sectors", "blue", 15, kMissing, 4, -150.71, -447.00, 0.6954},
                         });
+}
+
+// The same frame as UYVY 4:2:2 gives the same five detections (pattern, team, ID, status,
+// missing patch). 4:2:2 shares U, V between pixel pairs, so a pair straddling a sector's left or
+// right edge may leave the colour class: a region edge moves by at most one pixel (~5.5 mm here)
+// and its centroid by at most half that, so poses agree with the RGB frame's to 3 mm and
+// 3 mm / 50 mm (a sector's distance from the key) = 0.06 rad. The smallest sector (robot at
+// (478, 564) px, green) keeps 15 of its 20 px: ssl-2008.detector.toml's area_ratio_min admits it.
+TEST(RealFrames, SslField2008AsUyvyGivesTheSameDetections) {
+  if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
+  const FrameRun rgb = DetectFrame("ssl-field-2008.jpg", "ssl-2008.thresholds.toml",
+                                   "ssl-2008.calibration.toml", "ssl-2008.detector.toml");
+  const FrameRun uyvy =
+      DetectFrame("ssl-field-2008.jpg", "ssl-2008.thresholds.toml", "ssl-2008.calibration.toml",
+                  "ssl-2008.detector.toml", /*uyvy=*/true);
+  ASSERT_EQ(rgb.detections.size(), 5u);
+  ASSERT_EQ(uyvy.detections.size(), rgb.detections.size());
+  for (size_t i = 0; i < rgb.detections.size(); ++i) {
+    const detect::Detection& a = rgb.detections[i];
+    const detect::Detection& b = uyvy.detections[i];
+    SCOPED_TRACE("detection " + std::to_string(i));
+    EXPECT_EQ(b.pattern, a.pattern);
+    EXPECT_EQ(b.team_colour, a.team_colour);
+    EXPECT_EQ(b.id, a.id);
+    EXPECT_EQ(b.status, a.status);
+    EXPECT_EQ(b.missing_patch, a.missing_patch);
+    EXPECT_NEAR(b.pose.x_mm, a.pose.x_mm, 3.0);
+    EXPECT_NEAR(b.pose.y_mm, a.pose.y_mm, 3.0);
+    EXPECT_NEAR(b.pose.theta_rad, a.pose.theta_rad, 0.06);
+  }
 }
 
 // All five VSS robots: three round-patch robots of the lime team (IDs cyan 0, red 1, green 2)
