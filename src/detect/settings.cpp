@@ -130,28 +130,28 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
     const toml::table& t = *patterns->get(i)->as_table();
     io::TomlReader pr(t, source_name, "[[pattern]] " + std::to_string(i));
     pr.CheckKeys({"pattern", "codebook", "id_colours", "key_colours", "symmetry_tolerance_mm"});
-    DetectorPattern dp;
     const std::string reference = pr.String("pattern");
+    Pattern pattern;
     try {
       const bool is_path = reference.find('/') != std::string::npos || reference.ends_with(".toml");
-      dp.pattern = io::LoadPatternFile(is_path ? Resolve(base_dir, reference)
-                                               : io::ResolvePatternPath(reference, patterns_dir));
+      pattern = io::LoadPatternFile(is_path ? Resolve(base_dir, reference)
+                                            : io::ResolvePatternPath(reference, patterns_dir));
     } catch (const InputError& e) {
       // A pattern that cannot be found is reported at its line here; a broken pattern file
       // reports its own file and line.
       if (std::string(e.what()).starts_with("pattern '")) pr.Fail("pattern", e.what());
       throw;
     }
-    dp.symmetry_tolerance_mm =
-        pr.OptionalNumber("symmetry_tolerance_mm").value_or(dp.symmetry_tolerance_mm);
-    if (dp.symmetry_tolerance_mm < 0.0) {
+    const double symmetry_tolerance_mm = pr.OptionalNumber("symmetry_tolerance_mm")
+                                             .value_or(DetectorPattern{}.symmetry_tolerance_mm);
+    if (symmetry_tolerance_mm < 0.0) {
       pr.Fail("symmetry_tolerance_mm", "symmetry_tolerance_mm is " +
-                                           io::FormatNumber(dp.symmetry_tolerance_mm) +
+                                           io::FormatNumber(symmetry_tolerance_mm) +
                                            "; expected a number >= 0 (mm)");
     }
-    dp.key_colours = StringList(t, "key_colours", source_name, "team colour names");
-    CheckInPalette(dp.key_colours, config.palette, t, "key_colours", source_name);
-    const Symmetry symmetry = FindSymmetry(dp.pattern, dp.symmetry_tolerance_mm);
+    std::vector<std::string> key_colours =
+        StringList(t, "key_colours", source_name, "team colour names");
+    CheckInPalette(key_colours, config.palette, t, "key_colours", source_name);
     const bool has_codebook = pr.Has("codebook");
     const bool has_colours = pr.Has("id_colours");
     if (has_codebook == has_colours) {
@@ -161,29 +161,54 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
                                 : " has neither codebook nor id_colours") +
                   "; expected exactly one of them");
     }
-    if (has_codebook) {
-      dp.codebook =
-          LoadCodebookFile(Resolve(base_dir, pr.String("codebook")), dp.pattern, symmetry);
-      for (const std::string& c : dp.codebook.colours) {
-        if (std::find(config.palette.begin(), config.palette.end(), c) == config.palette.end()) {
-          pr.Fail("codebook", "codebook colour \"" + c +
-                                  "\" is not in the palette; expected "
-                                  "the palette to list every codebook colour");
-        }
+    std::vector<std::string> id_colours;
+    if (has_colours) {
+      id_colours = StringList(t, "id_colours", source_name, "ID colour names");
+      CheckInPalette(id_colours, config.palette, t, "id_colours", source_name);
+    }
+    DetectorPattern dp =
+        MakeDetectorPattern(std::move(pattern), std::move(key_colours),
+                            has_codebook ? Resolve(base_dir, pr.String("codebook")) : std::string(),
+                            id_colours, symmetry_tolerance_mm);
+    for (const std::string& c : dp.codebook.colours) {
+      if (std::find(config.palette.begin(), config.palette.end(), c) == config.palette.end()) {
+        pr.Fail("codebook", "codebook colour \"" + c +
+                                "\" is not in the palette; expected "
+                                "the palette to list every codebook colour");
       }
-    } else {
-      const std::vector<std::string> colours =
-          StringList(t, "id_colours", source_name, "ID colour names");
-      CheckInPalette(colours, config.palette, t, "id_colours", source_name);
-      dp.codebook = GenerateCodebook(dp.pattern, symmetry, colours);
     }
     config.patterns.push_back(std::move(dp));
   }
   try {
-    Detector check(config);  // the remaining cross-checks (fixed colours, max_neighbours)
+    // The remaining cross-checks (fixed colours, max_neighbours).
+    return MakeDetectorConfig(std::move(config.palette), config.options,
+                              std::move(config.patterns));
   } catch (const InputError& e) {
     throw InputError(FileLoc{source_name, 0}, e.what());
   }
+}
+
+DetectorPattern MakeDetectorPattern(Pattern pattern, std::vector<std::string> key_colours,
+                                    const std::string& codebook_file,
+                                    const std::vector<std::string>& id_colours,
+                                    double symmetry_tolerance_mm) {
+  DetectorPattern dp;
+  dp.symmetry_tolerance_mm = symmetry_tolerance_mm;
+  dp.key_colours = std::move(key_colours);
+  const Symmetry symmetry = FindSymmetry(pattern, symmetry_tolerance_mm);
+  dp.codebook = codebook_file.empty() ? GenerateCodebook(pattern, symmetry, id_colours)
+                                      : LoadCodebookFile(codebook_file, pattern, symmetry);
+  dp.pattern = std::move(pattern);
+  return dp;
+}
+
+DetectorConfig MakeDetectorConfig(std::vector<std::string> palette, const DetectorOptions& options,
+                                  std::vector<DetectorPattern> patterns) {
+  DetectorConfig config;
+  config.palette = std::move(palette);
+  config.options = options;
+  config.patterns = std::move(patterns);
+  const Detector check(config);  // throws InputError for the first problem
   return config;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "detect/detector.h"
 
@@ -17,5 +18,18 @@ DetectorConfig LoadDetectorSettings(const std::string& path);
 // relative paths.
 DetectorConfig ParseDetectorSettings(const std::string& text, const std::string& source_name,
                                      const std::string& base_dir);
+
+// The same from values, for callers that build a configuration in code (patlab evaluate); the
+// settings files go through these too. MakeDetectorPattern is one [[pattern]] table: the
+// pattern's symmetry at symmetry_tolerance_mm, then its codebook read from `codebook_file` (when
+// not empty) or generated from `id_colours` (every ID, GenerateCodebook). MakeDetectorConfig
+// checks the whole configuration as the Detector does (palette, options, colours in the
+// palette). Both throw InputError.
+DetectorPattern MakeDetectorPattern(Pattern pattern, std::vector<std::string> key_colours,
+                                    const std::string& codebook_file,
+                                    const std::vector<std::string>& id_colours,
+                                    double symmetry_tolerance_mm = 10.0);
+DetectorConfig MakeDetectorConfig(std::vector<std::string> palette, const DetectorOptions& options,
+                                  std::vector<DetectorPattern> patterns);
 
 }  // namespace patlab::detect
