@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/toml_util.h"
 
 namespace patlab::cli {
 
@@ -84,6 +85,18 @@ uint64_t ParseSeed(const std::string& text, const std::string& flag) {
 
 void CheckThreads(int threads) {
   if (threads < 0) throw InputError("--threads is " + std::to_string(threads) + "; expected >= 0");
+}
+
+void CheckTolerance(double tolerance_mm) {
+  if (!(tolerance_mm >= 0.0) || tolerance_mm > 1e6) {
+    throw InputError("--tolerance is " + io::FormatNumber(tolerance_mm) +
+                     "; expected a distance in mm >= 0");
+  }
+}
+
+std::vector<int> ParseColourCounts(const std::string& text) {
+  return ParseIntegerList(text, "--colors", 1, 16,
+                          "comma-separated integers from 1 to 16, e.g. 2,3,4");
 }
 
 }  // namespace patlab::cli

@@ -30,5 +30,9 @@ std::vector<int> ParseIntegerList(const std::string& text, const std::string& fl
 uint64_t ParseSeed(const std::string& text, const std::string& flag);
 // "--threads is -1; expected >= 0" (0 = all cores).
 void CheckThreads(int threads);
+// The symmetry tolerance of `patlab ids` and `patlab evaluate`: a distance in mm >= 0.
+void CheckTolerance(double tolerance_mm);
+// The ID palette sizes of `patlab ids` and `patlab evaluate` (--colors): integers 1..16.
+std::vector<int> ParseColourCounts(const std::string& text);
 
 }  // namespace patlab::cli

@@ -102,10 +102,7 @@ Settings Validate(const EvaluateOptions& o) {
     throw InputError("--trials is " + std::to_string(o.trials) +
                      "; expected an integer in 2..1000000000");
   }
-  if (!(o.tolerance_mm >= 0.0) || o.tolerance_mm > 1e6) {
-    throw InputError("--tolerance is " + io::FormatNumber(o.tolerance_mm) +
-                     "; expected a distance in mm >= 0");
-  }
+  CheckTolerance(o.tolerance_mm);
   if (o.id_colors_given &&
       (o.id_colors < 1 || o.id_colors > static_cast<int>(kIdColourNames.size()))) {
     throw InputError("--id-colors is " + std::to_string(o.id_colors) +
@@ -117,8 +114,7 @@ Settings Validate(const EvaluateOptions& o) {
   }
   CheckThreads(o.threads);
   Settings s;
-  s.colour_counts = ParseIntegerList(o.colors, "--colors", 1, 16,
-                                     "comma-separated integers from 1 to 16, e.g. 2,3,4");
+  s.colour_counts = ParseColourCounts(o.colors);
   const std::string sigmas_expected = "strictly increasing finite numbers >= 0 (mm), e.g. 1,2,3,4";
   s.sigmas_mm = ParseNumberList(o.sigmas, "--sigmas", sigmas_expected);
   for (size_t k = 0; k < s.sigmas_mm.size(); ++k) {

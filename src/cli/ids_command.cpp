@@ -60,12 +60,8 @@ int RunIds(const std::vector<std::string>& args) {
     throw InputError(
         "missing PATTERN; expected 'patlab ids PATTERN... [--colors 2,3,4]' (see --help)");
   }
-  if (!(o.tolerance_mm >= 0.0) || o.tolerance_mm > 1e6) {
-    throw InputError("--tolerance is " + io::FormatNumber(o.tolerance_mm) +
-                     "; expected a distance in mm >= 0");
-  }
-  const std::vector<int> colours = ParseIntegerList(
-      o.colors, "--colors", 1, 16, "comma-separated integers from 1 to 16, e.g. 2,3,4");
+  CheckTolerance(o.tolerance_mm);
+  const std::vector<int> colours = ParseColourCounts(o.colors);
   if (o.list) {
     for (int n : colours) {
       if (n > 8) {
