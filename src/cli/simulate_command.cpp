@@ -184,14 +184,19 @@ bool WriteOutputs(const OutputFiles& files, const std::string& csv, const std::s
   return true;
 }
 
+// Threads, and a progress bar on stderr when it is a terminal and -q was not given.
+sim::RunOptions RunOptionsFor(const SimulateOptions& o) {
+  sim::RunOptions run_options;
+  run_options.threads = o.threads;
+  if (!o.quiet && ::isatty(STDERR_FILENO)) run_options.progress = ProgressBar;
+  return run_options;
+}
+
 // correspondence = "detect": whole frames through the detector.
 int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
                   const std::vector<std::string>& args) {
   if (!o.replay.empty()) return ReplayDetect(experiment, o.replay);
-  const bool show_progress = !o.quiet && ::isatty(STDERR_FILENO);
-  sim::RunOptions run_options;
-  run_options.threads = o.threads;
-  if (show_progress) run_options.progress = ProgressBar;
+  const sim::RunOptions run_options = RunOptionsFor(o);
   const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
 
   const OutputFiles files = Outputs(experiment, o, args);
@@ -200,15 +205,14 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
                                             {files.csv_path, files.json_path}))) {
     return kExitFailure;
   }
-  const std::string& csv_path = files.csv_path;
-  const std::string& json_path = files.json_path;
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld frames in %.3f s wall (frames %.3f s = %.0f frames/s, "
                  "statistics %.3f s) on %d threads\nwrote %s and %s\n",
                  static_cast<long long>(result.total_frames), result.wall_seconds,
                  result.simulate_seconds, result.total_frames / result.simulate_seconds,
-                 result.statistics_seconds, result.threads, csv_path.c_str(), json_path.c_str());
+                 result.statistics_seconds, result.threads, files.csv_path.c_str(),
+                 files.json_path.c_str());
   }
   return kExitOk;
 }
@@ -270,10 +274,7 @@ int RunSimulate(const std::vector<std::string>& args) {
   }
   if (!o.replay.empty()) return Replay(experiment, o.replay);
 
-  const bool show_progress = !o.quiet && ::isatty(STDERR_FILENO);
-  sim::RunOptions run_options;
-  run_options.threads = o.threads;
-  if (show_progress) run_options.progress = ProgressBar;
+  const sim::RunOptions run_options = RunOptionsFor(o);
   const sim::RunResult result = sim::RunExperiment(experiment, run_options);
 
   const OutputFiles files = Outputs(experiment, o, args);
@@ -282,15 +283,14 @@ int RunSimulate(const std::vector<std::string>& args) {
                                       {files.csv_path, files.json_path}))) {
     return kExitFailure;
   }
-  const std::string& csv_path = files.csv_path;
-  const std::string& json_path = files.json_path;
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "
                  "statistics %.3f s) on %d threads\nwrote %s and %s\n",
                  static_cast<long long>(result.total_trials), result.wall_seconds,
                  result.simulate_seconds, result.total_trials / result.simulate_seconds / 1e6,
-                 result.statistics_seconds, result.threads, csv_path.c_str(), json_path.c_str());
+                 result.statistics_seconds, result.threads, files.csv_path.c_str(),
+                 files.json_path.c_str());
   }
   return kExitOk;
 }
