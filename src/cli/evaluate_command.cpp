@@ -20,6 +20,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/text_output.h"
 #include "core/error.h"
 #include "detect/codebook.h"
 #include "detect/settings.h"
@@ -489,15 +490,7 @@ int RunEvaluate(const std::vector<std::string>& args) {
     if (k > 0) out << "\n";
     PrintText(reports[k], o, s, out);
   }
-  // Columns are padded; drop the padding at line ends.
-  std::string text = out.str(), trimmed;
-  for (char ch : text) {
-    if (ch == '\n') {
-      while (!trimmed.empty() && trimmed.back() == ' ') trimmed.pop_back();
-    }
-    trimmed += ch;
-  }
-  std::cout << trimmed;
+  std::cout << TrimLineEnds(out.str());
   return kExitOk;
 }
 

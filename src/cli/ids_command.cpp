@@ -7,6 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/text_output.h"
 #include "core/error.h"
 #include "detect/codebook.h"
 #include "io/pattern_file.h"
@@ -39,7 +40,6 @@ struct IdsOptions {
   bool list = false;
   std::string patterns_dir = "patterns";
 };
-
 
 int RunIds(const std::vector<std::string>& args) {
   IdsOptions o;
@@ -120,15 +120,7 @@ int RunIds(const std::vector<std::string>& args) {
       }
     }
   }
-  // Columns are padded with setw; drop the padding at line ends.
-  std::string text = out.str(), trimmed;
-  for (char ch : text) {
-    if (ch == '\n') {
-      while (!trimmed.empty() && trimmed.back() == ' ') trimmed.pop_back();
-    }
-    trimmed += ch;
-  }
-  std::cout << trimmed;
+  std::cout << TrimLineEnds(out.str());
   return kExitOk;
 }
 

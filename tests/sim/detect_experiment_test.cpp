@@ -4,6 +4,7 @@
 
 #include "../test_util.h"
 #include "core/error.h"
+#include "experiment_fixture.h"
 #include "sim/experiment.h"
 
 namespace patlab::sim {
@@ -11,13 +12,10 @@ namespace {
 
 // <dir>/patterns/ holds copies of shipped patterns, <dir>/experiments/ the detector settings
 // (det.toml) and the experiment (e.toml), as in the repository.
-class DetectExperimentTest : public ::testing::Test {
+class DetectExperimentTest : public testing_support::ExperimentFixture {
  protected:
   void SetUp() override {
-    for (const char* name : {"simple", "butterfly", "triangle"}) {
-      dir_.Write(std::string("patterns/") + name + ".toml",
-                 testing::ReadFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml"));
-    }
+    CopyPatterns({"simple", "butterfly", "triangle"});
     dir_.Write("experiments/det.toml",
                "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"cyan\", \"white\", "
                "\"orange\"]\n"
@@ -31,20 +29,6 @@ class DetectExperimentTest : public ::testing::Test {
                "[[pattern]]\npattern = \"butterfly\"\nid_colours = [\"pink\", \"green\"]\n"
                "key_colours = [\"blue\", \"yellow\"]\n");
   }
-  std::string Write(const std::string& text) { return dir_.Write("experiments/e.toml", text); }
-  std::string ErrorOf(const std::string& text) {
-    const std::string path = Write(text);
-    try {
-      LoadExperimentFile(path);
-    } catch (const InputError& e) {
-      std::string message = e.what();
-      const std::string prefix = dir_.Path("experiments/");
-      if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-      return message;
-    }
-    return "(no error)";
-  }
-  testing::TempDir dir_;
 };
 
 // Lines 1-3 head, 4-5 [sigma], [detect] from line 6.

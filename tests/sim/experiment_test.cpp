@@ -4,34 +4,16 @@
 
 #include "../test_util.h"
 #include "core/error.h"
+#include "experiment_fixture.h"
 
 namespace patlab::sim {
 namespace {
 
 // Experiment files live in <dir>/experiments/, patterns in <dir>/patterns/ (a copy of two
 // shipped ones), as in the repository.
-class ExperimentFileTest : public ::testing::Test {
+class ExperimentFileTest : public testing_support::ExperimentFixture {
  protected:
-  void SetUp() override {
-    for (const char* name : {"simple", "butterfly"}) {
-      dir_.Write(std::string("patterns/") + name + ".toml",
-                 testing::ReadFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml"));
-    }
-  }
-  std::string Write(const std::string& text) { return dir_.Write("experiments/e.toml", text); }
-  std::string ErrorOf(const std::string& text) {
-    const std::string path = Write(text);
-    try {
-      LoadExperimentFile(path);
-    } catch (const InputError& e) {
-      std::string message = e.what();
-      const std::string prefix = dir_.Path("experiments/");
-      if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-      return message;
-    }
-    return "(no error)";
-  }
-  testing::TempDir dir_;
+  void SetUp() override { CopyPatterns({"simple", "butterfly"}); }
 };
 
 const std::string kHead = "name = \"x\"\npatterns = [\"simple\", \"butterfly\"]\n";
