@@ -1,5 +1,6 @@
 #include "sim/report.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -19,57 +20,77 @@ std::string Num(double v) {
 
 std::string Int(int64_t v) { return std::to_string(v); }
 
-// Appends one CSV row (fields joined by commas, then a newline).
-void AppendRow(std::span<const std::string> fields, std::string* csv) {
-  for (size_t k = 0; k < fields.size(); ++k) {
-    if (k > 0) *csv += ",";
-    *csv += fields[k];
+// The x, y and theta error columns both CSVs share: mean, std and its 95% interval of each.
+constexpr const char* kPoseErrorColumns[] = {
+    "mean_x_mm",      "std_x_mm",      "std_x_lo_mm",      "std_x_hi_mm",
+    "mean_y_mm",      "std_y_mm",      "std_y_lo_mm",      "std_y_hi_mm",
+    "mean_theta_rad", "std_theta_rad", "std_theta_lo_rad", "std_theta_hi_rad"};
+
+std::array<std::string, 12> PoseErrorFields(const AxisSummary& x, const AxisSummary& y,
+                                            const AxisSummary& theta) {
+  std::array<std::string, 12> fields;
+  int k = 0;
+  for (const AxisSummary* a : {&x, &y, &theta}) {
+    fields[k++] = Num(a->mean);
+    fields[k++] = Num(a->std);
+    fields[k++] = Num(a->std_lower);
+    fields[k++] = Num(a->std_upper);
+  }
+  return fields;
+}
+
+// Appends one CSV row: the head fields, the pose-error fields, the tail fields, comma-joined.
+void AppendRow(std::span<const std::string> head, std::span<const std::string> middle,
+               std::span<const std::string> tail, std::string* csv) {
+  bool first = true;
+  for (std::span<const std::string> part : {head, middle, tail}) {
+    for (const std::string& field : part) {
+      if (!first) *csv += ",";
+      *csv += field;
+      first = false;
+    }
   }
   *csv += "\n";
 }
 
-constexpr const char* kColumns[] = {"pattern",
-                                    "estimator",
-                                    "sigma_mm",
-                                    "trials",
-                                    "noise",
-                                    "mean_x_mm",
-                                    "std_x_mm",
-                                    "std_x_lo_mm",
-                                    "std_x_hi_mm",
-                                    "mean_y_mm",
-                                    "std_y_mm",
-                                    "std_y_lo_mm",
-                                    "std_y_hi_mm",
-                                    "mean_theta_rad",
-                                    "std_theta_rad",
-                                    "std_theta_lo_rad",
-                                    "std_theta_hi_rad",
-                                    "std_pos_mm",
-                                    "std_pos_lo_mm",
-                                    "std_pos_hi_mm",
-                                    "rms_radial_mm",
-                                    "mean_radial_mm",
-                                    "std_radial_mm",
-                                    "std_radial_lo_mm",
-                                    "std_radial_hi_mm",
-                                    "crlb_pos_mm",
-                                    "crlb_theta_rad",
-                                    "pred_pos_mm",
-                                    "pred_theta_rad",
-                                    "efficiency_pos",
-                                    "efficiency_theta",
-                                    "ml_nonconverged",
-                                    "ml_first_nonconverged_trial",
-                                    "ml_mean_iterations",
-                                    "ks_x_d",
-                                    "ks_x_p",
-                                    "ks_y_d",
-                                    "ks_y_p",
-                                    "ks_theta_d",
-                                    "ks_theta_p",
-                                    "wilcoxon_pos_p",
-                                    "wilcoxon_theta_p"};
+// The header row: head columns, the pose-error columns, tail columns.
+std::string Header(std::span<const char* const> head, std::span<const char* const> tail) {
+  std::string csv;
+  for (std::span<const char* const> part :
+       {head, std::span<const char* const>(kPoseErrorColumns), tail}) {
+    for (const char* column : part) csv += std::string(csv.empty() ? "" : ",") + column;
+  }
+  return csv + "\n";
+}
+
+constexpr const char* kColumnsHead[] = {
+    "pattern", "estimator", "sigma_mm", "trials", "noise",
+};
+constexpr const char* kColumnsTail[] = {"std_pos_mm",
+                                        "std_pos_lo_mm",
+                                        "std_pos_hi_mm",
+                                        "rms_radial_mm",
+                                        "mean_radial_mm",
+                                        "std_radial_mm",
+                                        "std_radial_lo_mm",
+                                        "std_radial_hi_mm",
+                                        "crlb_pos_mm",
+                                        "crlb_theta_rad",
+                                        "pred_pos_mm",
+                                        "pred_theta_rad",
+                                        "efficiency_pos",
+                                        "efficiency_theta",
+                                        "ml_nonconverged",
+                                        "ml_first_nonconverged_trial",
+                                        "ml_mean_iterations",
+                                        "ks_x_d",
+                                        "ks_x_p",
+                                        "ks_y_d",
+                                        "ks_y_p",
+                                        "ks_theta_d",
+                                        "ks_theta_p",
+                                        "wilcoxon_pos_p",
+                                        "wilcoxon_theta_p"};
 
 // Efficiency = CRLB variance / achieved variance (1 = efficient).
 double Efficiency(double bound, double achieved) {
@@ -80,57 +101,43 @@ double Efficiency(double bound, double achieved) {
 }  // namespace
 
 std::string ResultsCsv(const Experiment& experiment, const RunResult& result) {
-  std::string csv;
-  for (const char* c : kColumns) csv += std::string(csv.empty() ? "" : ",") + c;
-  csv += "\n";
+  std::string csv = Header(kColumnsHead, kColumnsTail);
   const std::string noise = experiment.noise.Describe();
   for (const PointResult& p : result.points) {
     for (const EstimatorResult& r : p.estimators) {
       const bool ml = r.estimator == estimate::Estimator::kMl;
       const Comparison& c = r.vs_fast;
-      const std::string fields[] = {p.pattern,
-                                    std::string(estimate::EstimatorName(r.estimator)),
-                                    Num(p.sigma_mm),
-                                    Int(p.trials),
-                                    noise,
-                                    Num(r.x.mean),
-                                    Num(r.x.std),
-                                    Num(r.x.std_lower),
-                                    Num(r.x.std_upper),
-                                    Num(r.y.mean),
-                                    Num(r.y.std),
-                                    Num(r.y.std_lower),
-                                    Num(r.y.std_upper),
-                                    Num(r.theta.mean),
-                                    Num(r.theta.std),
-                                    Num(r.theta.std_lower),
-                                    Num(r.theta.std_upper),
-                                    Num(r.position_std_mm),
-                                    Num(r.position_std_lower_mm),
-                                    Num(r.position_std_upper_mm),
-                                    Num(r.radial_rms_mm),
-                                    Num(r.radial.mean),
-                                    Num(r.radial.std),
-                                    Num(r.radial.std_lower),
-                                    Num(r.radial.std_upper),
-                                    Num(r.crlb_position_mm),
-                                    Num(r.crlb_theta_rad),
-                                    Num(r.predicted_position_mm),
-                                    Num(r.predicted_theta_rad),
-                                    Num(Efficiency(r.crlb_position_mm, r.position_std_mm)),
-                                    Num(Efficiency(r.crlb_theta_rad, r.theta.std)),
-                                    ml ? Int(r.nonconverged) : "",
-                                    ml ? Int(r.first_nonconverged_trial) : "",
-                                    ml ? Num(r.mean_iterations) : "",
-                                    c.computed ? Num(c.ks_x.d) : "",
-                                    c.computed ? Num(c.ks_x.p_value) : "",
-                                    c.computed ? Num(c.ks_y.d) : "",
-                                    c.computed ? Num(c.ks_y.p_value) : "",
-                                    c.computed ? Num(c.ks_theta.d) : "",
-                                    c.computed ? Num(c.ks_theta.p_value) : "",
-                                    c.computed ? Num(c.wilcoxon_position.p_value) : "",
-                                    c.computed ? Num(c.wilcoxon_theta.p_value) : ""};
-      AppendRow(fields, &csv);
+      const std::string head[] = {
+          p.pattern,       std::string(estimate::EstimatorName(r.estimator)),
+          Num(p.sigma_mm), Int(p.trials),
+          noise,
+      };
+      const std::string tail[] = {Num(r.position_std_mm),
+                                  Num(r.position_std_lower_mm),
+                                  Num(r.position_std_upper_mm),
+                                  Num(r.radial_rms_mm),
+                                  Num(r.radial.mean),
+                                  Num(r.radial.std),
+                                  Num(r.radial.std_lower),
+                                  Num(r.radial.std_upper),
+                                  Num(r.crlb_position_mm),
+                                  Num(r.crlb_theta_rad),
+                                  Num(r.predicted_position_mm),
+                                  Num(r.predicted_theta_rad),
+                                  Num(Efficiency(r.crlb_position_mm, r.position_std_mm)),
+                                  Num(Efficiency(r.crlb_theta_rad, r.theta.std)),
+                                  ml ? Int(r.nonconverged) : "",
+                                  ml ? Int(r.first_nonconverged_trial) : "",
+                                  ml ? Num(r.mean_iterations) : "",
+                                  c.computed ? Num(c.ks_x.d) : "",
+                                  c.computed ? Num(c.ks_x.p_value) : "",
+                                  c.computed ? Num(c.ks_y.d) : "",
+                                  c.computed ? Num(c.ks_y.p_value) : "",
+                                  c.computed ? Num(c.ks_theta.d) : "",
+                                  c.computed ? Num(c.ks_theta.p_value) : "",
+                                  c.computed ? Num(c.wilcoxon_position.p_value) : "",
+                                  c.computed ? Num(c.wilcoxon_theta.p_value) : ""};
+      AppendRow(head, PoseErrorFields(r.x, r.y, r.theta), tail, &csv);
     }
   }
   return csv;
@@ -201,64 +208,47 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
 
 namespace {
 
-constexpr const char* kDetectColumns[] = {"pattern",
-                                          "sigma_mm",
-                                          "false_blob_rate_per_m2",
-                                          "point",
-                                          "frames",
-                                          "robots",
-                                          "noise",
-                                          "detector_sigma_mm",
-                                          "tolerance_mm2",
-                                          "correct",
-                                          "wrong_id",
-                                          "unknown_id",
-                                          "ambiguous",
-                                          "missed",
-                                          "false_positives",
-                                          "detection_rate",
-                                          "detection_rate_lo",
-                                          "detection_rate_hi",
-                                          "wrong_id_rate",
-                                          "wrong_id_rate_lo",
-                                          "wrong_id_rate_hi",
-                                          "ambiguous_rate",
-                                          "ambiguous_rate_lo",
-                                          "ambiguous_rate_hi",
-                                          "false_positives_per_frame",
-                                          "false_positives_per_frame_lo",
-                                          "false_positives_per_frame_hi",
-                                          "mean_x_mm",
-                                          "std_x_mm",
-                                          "std_x_lo_mm",
-                                          "std_x_hi_mm",
-                                          "mean_y_mm",
-                                          "std_y_mm",
-                                          "std_y_lo_mm",
-                                          "std_y_hi_mm",
-                                          "mean_theta_rad",
-                                          "std_theta_rad",
-                                          "std_theta_lo_rad",
-                                          "std_theta_hi_rad",
-                                          "crlb_pos_mm",
-                                          "crlb_theta_rad",
-                                          "false_blobs_per_frame",
-                                          "missing_patches",
-                                          "colour_errors",
-                                          "correspondences",
-                                          "geometry_passed",
-                                          "colour_rejected",
-                                          "conflicts"};
+constexpr const char* kDetectColumnsHead[] = {
+    "pattern",
+    "sigma_mm",
+    "false_blob_rate_per_m2",
+    "point",
+    "frames",
+    "robots",
+    "noise",
+    "detector_sigma_mm",
+    "tolerance_mm2",
+    "correct",
+    "wrong_id",
+    "unknown_id",
+    "ambiguous",
+    "missed",
+    "false_positives",
+    "detection_rate",
+    "detection_rate_lo",
+    "detection_rate_hi",
+    "wrong_id_rate",
+    "wrong_id_rate_lo",
+    "wrong_id_rate_hi",
+    "ambiguous_rate",
+    "ambiguous_rate_lo",
+    "ambiguous_rate_hi",
+    "false_positives_per_frame",
+    "false_positives_per_frame_lo",
+    "false_positives_per_frame_hi",
+};
+constexpr const char* kDetectColumnsTail[] = {
+    "crlb_pos_mm",     "crlb_theta_rad",  "false_blobs_per_frame",
+    "missing_patches", "colour_errors",   "correspondences",
+    "geometry_passed", "colour_rejected", "conflicts"};
 
 }  // namespace
 
 std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult& result) {
-  std::string csv;
-  for (const char* c : kDetectColumns) csv += std::string(csv.empty() ? "" : ",") + c;
-  csv += "\n";
+  std::string csv = Header(kDetectColumnsHead, kDetectColumnsTail);
   const std::string noise = experiment.noise.Describe();
   for (const DetectPointResult& p : result.points) {
-    const std::string fields[] = {
+    const std::string head[] = {
         p.pattern,
         Num(p.sigma_mm),
         Num(p.false_blob_rate_per_m2),
@@ -286,18 +276,8 @@ std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult
         Num(p.false_positives_per_frame.rate),
         Num(p.false_positives_per_frame.lower),
         Num(p.false_positives_per_frame.upper),
-        Num(p.x.mean),
-        Num(p.x.std),
-        Num(p.x.std_lower),
-        Num(p.x.std_upper),
-        Num(p.y.mean),
-        Num(p.y.std),
-        Num(p.y.std_lower),
-        Num(p.y.std_upper),
-        Num(p.theta.mean),
-        Num(p.theta.std),
-        Num(p.theta.std_lower),
-        Num(p.theta.std_upper),
+    };
+    const std::string tail[] = {
         Num(p.crlb_position_mm),
         Num(p.crlb_theta_rad),
         Num(static_cast<double>(p.false_blobs) / static_cast<double>(p.frames)),
@@ -307,7 +287,7 @@ std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult
         Int(p.stats.geometry_passed),
         Int(p.stats.colour_rejected),
         Int(p.stats.conflicts)};
-    AppendRow(fields, &csv);
+    AppendRow(head, PoseErrorFields(p.x, p.y, p.theta), tail, &csv);
   }
   return csv;
 }
