@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <boost/math/distributions/chi_squared.hpp>
 #include <chrono>
 #include <cmath>
 
@@ -43,22 +42,15 @@ AxisSummary Summarise(const std::vector<double>& v) {
   return AxisSummary{stats::Mean(v), s.std, s.lower, s.upper};
 }
 
-// The chi-square interval of a std estimated with `dof` degrees of freedom (as in stats::
-// StdWithConfidence, NIST e-Handbook 1.3.5.8).
-void PooledInterval(double std, double dof, double* lower, double* upper) {
-  const boost::math::chi_squared chi2(dof);
-  *lower = std * std::sqrt(dof / boost::math::quantile(chi2, 0.975));
-  *upper = std * std::sqrt(dof / boost::math::quantile(chi2, 0.025));
-}
-
 void FillEstimatorResult(const Samples& s, EstimatorResult* r) {
   r->x = Summarise(s.x);
   r->y = Summarise(s.y);
   r->theta = Summarise(s.theta);
   const double n = static_cast<double>(s.x.size());
   r->position_std_mm = std::sqrt((r->x.std * r->x.std + r->y.std * r->y.std) / 2.0);
-  PooledInterval(r->position_std_mm, 2.0 * (n - 1.0), &r->position_std_lower_mm,
-                 &r->position_std_upper_mm);
+  const stats::StdWithCi pooled = stats::StdConfidenceInterval(r->position_std_mm, 2.0 * (n - 1.0));
+  r->position_std_lower_mm = pooled.lower;
+  r->position_std_upper_mm = pooled.upper;
   std::vector<double> radial(s.x.size());
   double sum_sq = 0.0;
   for (size_t k = 0; k < s.x.size(); ++k) {

@@ -60,15 +60,29 @@ StdWithCi StdWithConfidence(std::span<const double> x, double level) {
   StdWithCi out;
   out.n = x.size();
   out.level = level;
-  out.std = SampleStd(x);
-  const double dof = static_cast<double>(x.size() - 1);
+  const StdWithCi interval =
+      StdConfidenceInterval(SampleStd(x), static_cast<double>(x.size() - 1), level);
+  out.std = interval.std;
+  out.lower = interval.lower;
+  out.upper = interval.upper;
+  return out;
+}
+
+StdWithCi StdConfidenceInterval(double std, double dof, double level) {
+  RequireLevel(level);
+  if (!(dof > 0.0)) {
+    throw InputError("the std interval needs degrees of freedom > 0, got " + std::to_string(dof));
+  }
+  StdWithCi out;
+  out.level = level;
+  out.std = std;
   const double alpha = 1.0 - level;
   const boost::math::chi_squared chi2(dof);
   // Chi-square interval for sigma: NIST e-Handbook 1.3.5.8.
   const double q_low = boost::math::quantile(chi2, alpha / 2);
   const double q_high = boost::math::quantile(boost::math::complement(chi2, alpha / 2));
-  out.lower = out.std * std::sqrt(dof / q_high);
-  out.upper = out.std * std::sqrt(dof / q_low);
+  out.lower = std * std::sqrt(dof / q_high);
+  out.upper = std * std::sqrt(dof / q_low);
   return out;
 }
 

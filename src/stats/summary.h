@@ -38,6 +38,9 @@ double SampleStd(std::span<const double> x);
 
 // level: confidence level in (0, 1); 0.95 gives the paper's 95% intervals. Needs n >= 2.
 StdWithCi StdWithConfidence(std::span<const double> x, double level = 0.95);
+// The same interval for a std estimated elsewhere with `dof` degrees of freedom (> 0), e.g. a
+// std pooled over two axes (2 (n - 1) dof). n is left 0.
+StdWithCi StdConfidenceInterval(double std, double dof, double level = 0.95);
 MeanWithCi MeanWithConfidence(std::span<const double> x, double level = 0.95);
 
 namespace detail {

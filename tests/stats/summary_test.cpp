@@ -76,5 +76,19 @@ TEST(Summary, RejectsBadInput) {
   EXPECT_THROW(MeanWithConfidence(nan), InputError);
 }
 
+TEST(Summary, IntervalFromAStdAndItsDegreesOfFreedom) {
+  // The interval of a std estimated elsewhere equals the sample one with dof = n - 1.
+  const std::vector<double> x = {1.0, 2.5, -0.5, 4.0, 3.25, 0.75};
+  const StdWithCi sample = StdWithConfidence(x, 0.9);
+  const StdWithCi direct = StdConfidenceInterval(sample.std, 5.0, 0.9);
+  EXPECT_EQ(direct.lower, sample.lower);
+  EXPECT_EQ(direct.upper, sample.upper);
+  // More degrees of freedom, a narrower interval around the same std.
+  const StdWithCi pooled = StdConfidenceInterval(sample.std, 10.0, 0.9);
+  EXPECT_GT(pooled.lower, sample.lower);
+  EXPECT_LT(pooled.upper, sample.upper);
+  EXPECT_THROW(StdConfidenceInterval(1.0, 0.0), InputError);
+}
+
 }  // namespace
 }  // namespace patlab::stats
