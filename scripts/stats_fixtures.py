@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Generate the scipy reference fixtures for src/stats (tests/data/stats/fixtures.json).
+"""Generate the scipy reference fixtures for src/patlab/stats (tests/data/stats/fixtures.json).
 
 Run with Debian's interpreter, which has python3-scipy 1.10.1:
 

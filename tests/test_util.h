@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/pattern.h"
-#include "io/pattern_file.h"
+#include "patlab/core/pattern.h"
+#include "patlab/io/pattern_file.h"
 
 namespace patlab::testing {
 

@@ -3,8 +3,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "core/error.h"
-#include "io/toml_util.h"
+#include "patlab/core/error.h"
+#include "patlab/io/toml_util.h"
 
 namespace patlab::cli {
 

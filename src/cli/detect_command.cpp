@@ -12,14 +12,14 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
-#include "core/error.h"
-#include "detect/detector.h"
-#include "detect/settings.h"
-#include "io/atomic_file.h"
-#include "io/toml_util.h"
-#include "vision/debug_image.h"
-#include "vision/frame_io.h"
-#include "vision/pipeline.h"
+#include "patlab/core/error.h"
+#include "patlab/detect/detector.h"
+#include "patlab/detect/settings.h"
+#include "patlab/io/atomic_file.h"
+#include "patlab/io/toml_util.h"
+#include "patlab/vision/debug_image.h"
+#include "patlab/vision/frame_io.h"
+#include "patlab/vision/pipeline.h"
 
 namespace patlab::cli {
 

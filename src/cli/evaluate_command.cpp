@@ -21,15 +21,15 @@
 #include "cli/arguments.h"
 #include "cli/command.h"
 #include "cli/text_output.h"
-#include "core/error.h"
-#include "detect/codebook.h"
-#include "detect/settings.h"
-#include "estimate/bounds.h"
-#include "io/pattern_file.h"
-#include "io/toml_util.h"
-#include "sim/detect_runner.h"
-#include "sim/experiment.h"
-#include "sim/runner.h"
+#include "patlab/core/error.h"
+#include "patlab/detect/codebook.h"
+#include "patlab/detect/settings.h"
+#include "patlab/estimate/bounds.h"
+#include "patlab/io/pattern_file.h"
+#include "patlab/io/toml_util.h"
+#include "patlab/sim/detect_runner.h"
+#include "patlab/sim/experiment.h"
+#include "patlab/sim/runner.h"
 
 namespace patlab::cli {
 
@@ -276,7 +276,7 @@ double Efficiency(double bound, double achieved) {
   return achieved > 0.0 ? (bound * bound) / (achieved * achieved) : std::nan("");
 }
 
-std::string Rate(const sim::Proportion& p) {
+std::string Rate(const stats::Proportion& p) {
   return Format("%.4f [%.4f, %.4f]", p.rate, p.lower, p.upper);
 }
 
@@ -355,7 +355,7 @@ void PrintText(const Report& r, const EvaluateOptions& o, const Settings& s, std
          "   ambiguous: rotation decided by neither geometry nor colours / robots\n";
 }
 
-nlohmann::json ProportionJson(const sim::Proportion& p) {
+nlohmann::json ProportionJson(const stats::Proportion& p) {
   return {{"count", p.count},
           {"total", p.total},
           {"rate", p.rate},

@@ -8,10 +8,10 @@
 #include "cli/arguments.h"
 #include "cli/command.h"
 #include "cli/text_output.h"
-#include "core/error.h"
-#include "detect/codebook.h"
-#include "io/pattern_file.h"
-#include "io/toml_util.h"
+#include "patlab/core/error.h"
+#include "patlab/detect/codebook.h"
+#include "patlab/io/pattern_file.h"
+#include "patlab/io/toml_util.h"
 
 namespace patlab::cli {
 

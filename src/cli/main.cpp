@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "cli/command.h"
-#include "core/error.h"
+#include "patlab/core/error.h"
 
 namespace patlab::cli {
 

@@ -9,11 +9,11 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
-#include "core/error.h"
-#include "io/atomic_file.h"
-#include "sim/detect_runner.h"
-#include "sim/report.h"
-#include "sim/runner.h"
+#include "patlab/core/error.h"
+#include "patlab/io/atomic_file.h"
+#include "patlab/sim/detect_runner.h"
+#include "patlab/sim/report.h"
+#include "patlab/sim/runner.h"
 
 namespace patlab::cli {
 
@@ -122,19 +122,19 @@ int ReplayDetect(const sim::Experiment& experiment, const std::string& spec) {
   }
   const sim::DetectPoint p = sim::MakeDetectPoint(experiment, static_cast<uint32_t>(point));
   detect::Detector detector(p.config);
-  const detect::Scene scene =
+  const sim::Scene scene =
       sim::GenerateDetectFrame(experiment, p, detector, static_cast<uint64_t>(frame));
   std::vector<detect::Detection> detections;
   detector.Detect(scene.blobs, &detections);
-  const detect::FrameScore score =
-      detect::ScoreFrame(scene, detections, experiment.detect.match_radius_mm);
+  const sim::FrameScore score =
+      sim::ScoreFrame(scene, detections, experiment.detect.match_radius_mm);
   const auto& palette = p.config.palette;
   std::printf(
       "point %lld (pattern %s, sigma %.6g mm, false blobs %.6g /m^2), frame %lld, seed %llu\n",
       static_cast<long long>(point), experiment.patterns[p.pattern_index].name.c_str(), p.sigma_mm,
       p.scene.false_blob_rate_per_m2, static_cast<long long>(frame),
       static_cast<unsigned long long>(experiment.seed));
-  for (const detect::SceneRobot& r : scene.robots) {
+  for (const sim::SceneRobot& r : scene.robots) {
     std::printf("robot      %-7s id %-3d x %.3f mm  y %.3f mm  theta %.6f rad\n",
                 palette[r.team_colour].c_str(), r.id, r.pose.x_mm, r.pose.y_mm, r.pose.theta_rad);
   }

@@ -1,4 +1,4 @@
-// patlab stats: the statistics of src/stats/ on columns of numbers read from files.
+// patlab stats: the statistics of src/patlab/stats/ on columns of numbers read from files.
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <iostream>
@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "cli/command.h"
-#include "core/error.h"
-#include "io/numeric_column.h"
-#include "stats/ks.h"
-#include "stats/summary.h"
-#include "stats/wilcoxon.h"
+#include "patlab/core/error.h"
+#include "patlab/io/numeric_column.h"
+#include "patlab/stats/ks.h"
+#include "patlab/stats/summary.h"
+#include "patlab/stats/wilcoxon.h"
 
 namespace patlab::cli {
 namespace {

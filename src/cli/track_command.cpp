@@ -11,10 +11,10 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
-#include "core/error.h"
-#include "io/atomic_file.h"
-#include "io/toml_util.h"
-#include "vision/track.h"
+#include "patlab/core/error.h"
+#include "patlab/io/atomic_file.h"
+#include "patlab/io/toml_util.h"
+#include "patlab/sim/track.h"
 
 namespace patlab::cli {
 
@@ -52,8 +52,8 @@ nlohmann::json StdJson(const stats::StdWithCi& s) {
   return {{"std", s.std}, {"lower", s.lower}, {"upper", s.upper}, {"n", s.n}};
 }
 
-std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& result,
-                     const std::vector<vision::TableRow>& table, const std::string& command_line,
+std::string Manifest(const sim::TrackOptions& o, const sim::TrackResult& result,
+                     const std::vector<sim::TableRow>& table, const std::string& command_line,
                      const std::vector<std::string>& outputs) {
   nlohmann::json j;
   j["tool"] = "patlab track";
@@ -77,7 +77,7 @@ std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& r
   j["camera"] = {{"height_mm", o.camera.height_mm},
                  {"image_size_px", {o.camera.image_width_px, o.camera.image_height_px}},
                  {"focal_length_px", o.camera.focal_length_px},
-                 {"mm_per_px", vision::MmPerPixel(o)}};
+                 {"mm_per_px", sim::MmPerPixel(o)}};
   j["render"] = {{"background_level", o.background_level},
                  {"patch_level", o.patch_level},
                  {"threshold_level", o.threshold_level},
@@ -87,15 +87,15 @@ std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& r
   smoothing.sigma_samples = o.smoothing_sigma_samples;
   j["analysis"] = {{"smoothing_sigma_samples", o.smoothing_sigma_samples},
                    {"trim_samples", o.trim_samples},
-                   {"white_noise_residual_factor", vision::ResidualStdFactor(smoothing)}};
+                   {"white_noise_residual_factor", sim::ResidualStdFactor(smoothing)}};
   nlohmann::json runs = nlohmann::json::array();
-  for (const vision::RunSetup& s : result.setups) {
+  for (const sim::RunSetup& s : result.setups) {
     runs.push_back({{"heading_deg", s.heading_rad * 180.0 / std::numbers::pi},
                     {"start_mm", {s.start_mm.x(), s.start_mm.y()}}});
   }
   j["run_setups"] = runs;
   nlohmann::json rows = nlohmann::json::array();
-  for (const vision::TableRow& r : table) {
+  for (const sim::TableRow& r : table) {
     nlohmann::json row = {{"subject", r.subject},        {"est_x", StdJson(r.est_x)},
                           {"est_y", StdJson(r.est_y)},   {"true_x", StdJson(r.true_x)},
                           {"true_y", StdJson(r.true_y)}, {"missed_frames", r.missed_frames}};
@@ -114,7 +114,7 @@ std::string Manifest(const vision::TrackOptions& o, const vision::TrackResult& r
   return j.dump(2) + "\n";
 }
 
-int Replay(const vision::TrackOptions& options, const std::string& spec) {
+int Replay(const sim::TrackOptions& options, const std::string& spec) {
   long long run = -1, frame = -1;
   char comma = 0;
   std::istringstream is(spec);
@@ -126,18 +126,18 @@ int Replay(const vision::TrackOptions& options, const std::string& spec) {
                      std::to_string(options.runs) + " and FRAME < " +
                      std::to_string(options.samples_per_run));
   }
-  const vision::RunSetup setup = vision::MakeRunSetup(options, static_cast<int>(run));
+  const sim::RunSetup setup = sim::MakeRunSetup(options, static_cast<int>(run));
   std::printf("run %lld, frame %lld, seed %llu: heading %.6f deg, t = %.4f s\n", run, frame,
               static_cast<unsigned long long>(options.seed),
               setup.heading_rad * 180 / std::numbers::pi, frame / options.rate_hz);
   const double c = std::cos(setup.heading_rad), s = std::sin(setup.heading_rad);
-  for (int k = 0; k < vision::NumSubjects(options); ++k) {
+  for (int k = 0; k < sim::NumSubjects(options); ++k) {
     const std::string name = k < static_cast<int>(options.diameters_mm.size())
                                  ? io::FormatNumber(options.diameters_mm[k]) + "mm"
                                  : options.pattern.name;
-    const Pose2 truth = vision::TruthPose(options, setup, static_cast<int>(frame), k);
+    const Pose2 truth = sim::TruthPose(options, setup, static_cast<int>(frame), k);
     Pose2 measured;
-    if (!vision::MeasureSubject(options, static_cast<int>(run), static_cast<int>(frame), k,
+    if (!sim::MeasureSubject(options, static_cast<int>(run), static_cast<int>(frame), k,
                                 &measured)) {
       std::printf("%-10s truth (%.4f, %.4f) mm   not found\n", name.c_str(), truth.x_mm,
                   truth.y_mm);
@@ -184,24 +184,24 @@ int RunTrackCommand(const std::vector<std::string>& args) {
   if (o.decimate < 1) {
     throw InputError("--decimate is " + std::to_string(o.decimate) + "; expected an integer >= 1");
   }
-  vision::TrackOptions options = vision::LoadTrackExperiment(o.experiment);
+  sim::TrackOptions options = sim::LoadTrackExperiment(o.experiment);
   if (!o.seed.empty()) options.seed = ParseSeed(o.seed, "--seed");
 
   if (vm.count("pixel-sigma")) options.pixel_sigma = o.pixel_sigma;
   if (vm.count("jitter-px")) options.jitter_sigma_px = o.jitter_px;
   if (vm.count("pixel-sigma") || vm.count("jitter-px")) {
-    const auto problems = vision::CheckTrackOptions(options);
+    const auto problems = sim::CheckTrackOptions(options);
     if (!problems.empty())
       throw InputError("after the command-line overrides: " + problems.front().message);
   }
 
   if (!o.replay.empty()) return Replay(options, o.replay);
 
-  vision::TrackRunOptions run_options;
+  sim::TrackRunOptions run_options;
   run_options.threads = o.threads;
-  const vision::TrackResult result = vision::RunTrack(options, run_options);
-  const std::vector<vision::TableRow> table = vision::MakeTable(result);
-  const std::vector<vision::SizeTest> tests = vision::MakeSizeTests(result);
+  const sim::TrackResult result = sim::RunTrack(options, run_options);
+  const std::vector<sim::TableRow> table = sim::MakeTable(result);
+  const std::vector<sim::SizeTest> tests = sim::MakeSizeTests(result);
 
   namespace fs = std::filesystem;
   const std::string table_path = (fs::path(o.out_dir) / (options.name + ".csv")).string();
@@ -211,9 +211,9 @@ int RunTrackCommand(const std::vector<std::string>& args) {
   std::string command_line = "patlab track";
   for (const std::string& a : args) command_line += " " + a;
   try {
-    io::WriteFilesAtomic({{table_path, vision::TableCsv(table)},
-                          {tests_path, vision::SizeTestsCsv(tests)},
-                          {errors_path, vision::ErrorsCsv(options, result, o.decimate)},
+    io::WriteFilesAtomic({{table_path, sim::TableCsv(table)},
+                          {tests_path, sim::SizeTestsCsv(tests)},
+                          {errors_path, sim::ErrorsCsv(options, result, o.decimate)},
                           {json_path, Manifest(options, result, table, command_line,
                                                {table_path, tests_path, errors_path, json_path})}});
   } catch (const InputError& e) {
@@ -223,10 +223,10 @@ int RunTrackCommand(const std::vector<std::string>& args) {
   if (!o.quiet) {
     std::fprintf(stderr, "patlab track: %d runs x %d frames in %.2f s on %d threads (%.3f mm/px)\n",
                  options.runs, options.samples_per_run, result.wall_seconds, result.threads,
-                 vision::MmPerPixel(options));
+                 sim::MmPerPixel(options));
     std::fprintf(stderr, "%-10s %-24s %-24s %-24s %-24s\n", "subject", "est sx [95% CI] mm",
                  "est sy", "true sx", "true sy");
-    for (const vision::TableRow& r : table) {
+    for (const sim::TableRow& r : table) {
       auto cell = [](const stats::StdWithCi& s) {
         char buf[64];
         std::snprintf(buf, sizeof buf, "%.3f [%.3f-%.3f]", s.std, s.lower, s.upper);

@@ -8,8 +8,8 @@
 #include <numbers>
 #include <vector>
 
-#include "detect/detector.h"
-#include "detect/scene.h"
+#include "patlab/detect/detector.h"
+#include "patlab/sim/scene.h"
 
 namespace patlab::detect {
 namespace {
@@ -42,12 +42,12 @@ DetectorConfig SslConfig(estimate::Estimator estimator) {
 
 // Frames of 10 robots + ball with exactly 20 false blobs each (uniform over the field, uniform
 // palette colour, radius 10-30 mm), patch noise 0.5 mm.
-std::vector<Scene> MakeFrames(const Detector& detector, int count) {
-  std::vector<Scene> frames;
-  SceneOptions options;
+std::vector<sim::Scene> MakeFrames(const Detector& detector, int count) {
+  std::vector<sim::Scene> frames;
+  sim::SceneOptions options;
   for (int f = 0; f < count; ++f) {
     RandomStream rng(2003, 4, f);
-    Scene scene = GenerateScene(detector, options, PatchNoise{0.5, {}}, rng);
+    sim::Scene scene = sim::GenerateScene(detector, options, sim::PatchNoise{0.5, {}}, rng);
     for (int i = 0; i < 20; ++i) {
       const double r = rng.Uniform(10.0, 30.0);
       scene.blobs.push_back({Vec2(rng.Uniform(-3025, 3025), rng.Uniform(-2025, 2025)),
@@ -60,12 +60,12 @@ std::vector<Scene> MakeFrames(const Detector& detector, int count) {
 
 void BM_DetectFrame(benchmark::State& state, estimate::Estimator estimator) {
   Detector detector(SslConfig(estimator));
-  const std::vector<Scene> frames = MakeFrames(detector, 256);
+  const std::vector<sim::Scene> frames = MakeFrames(detector, 256);
   std::vector<Detection> detections;
   size_t f = 0;
   long found = 0, blobs = 0;
   for (auto _ : state) {
-    const Scene& scene = frames[f++ & 255];
+    const sim::Scene& scene = frames[f++ & 255];
     detector.Detect(scene.blobs, &detections);
     benchmark::DoNotOptimize(detections.data());
     found += static_cast<long>(detections.size());
@@ -84,12 +84,12 @@ BENCHMARK_CAPTURE(BM_DetectFrame, ml, estimate::Estimator::kMl);
 // Scene generation alone, for scale.
 void BM_GenerateScene(benchmark::State& state) {
   Detector detector(SslConfig(estimate::Estimator::kFast));
-  SceneOptions options;
+  sim::SceneOptions options;
   options.false_blob_rate_per_m2 = 20.0 / (6.05 * 4.05);
   uint64_t frame = 0;
   for (auto _ : state) {
     RandomStream rng(1, 0, frame++);
-    Scene scene = GenerateScene(detector, options, PatchNoise{0.5, {}}, rng);
+    sim::Scene scene = sim::GenerateScene(detector, options, sim::PatchNoise{0.5, {}}, rng);
     benchmark::DoNotOptimize(scene.blobs.data());
   }
   state.counters["frames/s"] =

@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "io/pattern_file.h"
-#include "sim/batch.h"
+#include "patlab/io/pattern_file.h"
+#include "patlab/sim/batch.h"
 
 namespace {
 

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "stats/ks.h"
-#include "stats/summary.h"
-#include "stats/wilcoxon.h"
+#include "patlab/stats/ks.h"
+#include "patlab/stats/summary.h"
+#include "patlab/stats/wilcoxon.h"
 
 namespace {
 

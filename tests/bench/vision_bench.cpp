@@ -1,15 +1,15 @@
 // Our vision stages on a rendered 780x580 field (Google Benchmark). The OpenCV comparison is
-// build-*/bench/vision_opencv_bench (src/vision/bench, built when OpenCV is installed).
+// build-*/bench/vision_opencv_bench (tests/bench, built when OpenCV is installed).
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
 
-#include "detect/detector.h"
-#include "detect/settings.h"
-#include "vision/frame_io.h"
-#include "vision/pipeline.h"
-#include "vision/render.h"
-#include "vision/segment.h"
+#include "patlab/detect/detector.h"
+#include "patlab/detect/settings.h"
+#include "patlab/vision/frame_io.h"
+#include "patlab/vision/pipeline.h"
+#include "patlab/vision/render.h"
+#include "patlab/vision/segment.h"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "vision/frame_io.h"
-#include "vision/render.h"
+#include "patlab/vision/frame_io.h"
+#include "patlab/vision/render.h"
 
 namespace patlab::vision {
 namespace {

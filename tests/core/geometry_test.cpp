@@ -1,4 +1,4 @@
-#include "core/geometry.h"
+#include "patlab/core/geometry.h"
 
 #include <gtest/gtest.h>
 

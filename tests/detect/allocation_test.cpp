@@ -4,8 +4,8 @@
 
 #include "../allocation_counter.h"
 
-#include "detect/scene.h"
-#include "detect/settings.h"
+#include "patlab/sim/scene.h"
+#include "patlab/detect/settings.h"
 
 namespace patlab::detect {
 namespace {
@@ -13,10 +13,10 @@ namespace {
 TEST(DetectorAllocation, SecondDetectOfAFrameDoesNotAllocate) {
   Detector detector(
       LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
-  SceneOptions options;
+  sim::SceneOptions options;
   options.false_blob_rate_per_m2 = 1.0;
   RandomStream rng(8, 0, 0);
-  const Scene scene = GenerateScene(detector, options, PatchNoise{0.5, {}}, rng);
+  const sim::Scene scene = sim::GenerateScene(detector, options, sim::PatchNoise{0.5, {}}, rng);
   std::vector<Detection> detections;
   DetectStats stats;
   const long start = testing::AllocationCount();

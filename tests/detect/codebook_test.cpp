@@ -1,4 +1,4 @@
-#include "detect/codebook.h"
+#include "patlab/detect/codebook.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <numbers>
 #include <set>
 
-#include "core/error.h"
+#include "patlab/core/error.h"
 #include "test_util.h"
 
 namespace patlab::detect {

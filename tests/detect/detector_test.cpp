@@ -1,4 +1,4 @@
-#include "detect/detector.h"
+#include "patlab/detect/detector.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <limits>
 #include <set>
 
-#include "core/error.h"
+#include "patlab/core/error.h"
 #include "test_util.h"
 
 namespace patlab::detect {

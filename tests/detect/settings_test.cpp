@@ -1,8 +1,8 @@
-#include "detect/settings.h"
+#include "patlab/detect/settings.h"
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "patlab/core/error.h"
 
 namespace patlab::detect {
 namespace {

@@ -4,11 +4,11 @@
 #include <string>
 #include <vector>
 
-#include "core/pattern.h"
-#include "core/rng.h"
-#include "detect/blob.h"
-#include "detect/detector.h"
-#include "io/pattern_file.h"
+#include "patlab/core/pattern.h"
+#include "patlab/core/rng.h"
+#include "patlab/detect/blob.h"
+#include "patlab/detect/detector.h"
+#include "patlab/io/pattern_file.h"
 
 namespace patlab::detect::testing {
 

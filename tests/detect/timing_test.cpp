@@ -5,26 +5,26 @@
 #include <chrono>
 #include <vector>
 
-#include "detect/detector.h"
-#include "detect/scene.h"
-#include "detect/settings.h"
+#include "patlab/detect/detector.h"
+#include "patlab/sim/scene.h"
+#include "patlab/detect/settings.h"
 
 namespace patlab::detect {
 namespace {
 
 struct Frame {
   Detector detector;
-  Scene scene;
+  sim::Scene scene;
 };
 
 // Ten robots and a ball with false blobs, as the allocation test and detect_bench use.
 Frame ShippedFrame() {
   Detector detector(
       LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
-  SceneOptions options;
+  sim::SceneOptions options;
   options.false_blob_rate_per_m2 = 1.0;
   RandomStream rng(8, 0, 0);
-  Scene scene = GenerateScene(detector, options, PatchNoise{0.5, {}}, rng);
+  sim::Scene scene = sim::GenerateScene(detector, options, sim::PatchNoise{0.5, {}}, rng);
   return {std::move(detector), std::move(scene)};
 }
 

@@ -1,4 +1,4 @@
-#include "estimate/bounds.h"
+#include "patlab/estimate/bounds.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "estimate/estimators.h"
+#include "patlab/estimate/estimators.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <random>
 
 #include "../test_util.h"
-#include "core/geometry.h"
+#include "patlab/core/geometry.h"
 
 namespace patlab::estimate {
 namespace {

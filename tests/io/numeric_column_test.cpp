@@ -1,4 +1,4 @@
-#include "io/numeric_column.h"
+#include "patlab/io/numeric_column.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "patlab/core/error.h"
 
 namespace patlab::io {
 namespace {

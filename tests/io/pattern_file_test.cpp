@@ -1,9 +1,9 @@
-#include "io/pattern_file.h"
+#include "patlab/io/pattern_file.h"
 
 #include <gtest/gtest.h>
 
 #include "../test_util.h"
-#include "core/error.h"
+#include "patlab/core/error.h"
 
 namespace patlab::io {
 namespace {

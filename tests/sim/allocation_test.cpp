@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "../test_util.h"
-#include "estimate/bounds.h"
-#include "sim/batch.h"
+#include "patlab/estimate/bounds.h"
+#include "patlab/sim/batch.h"
 
 namespace patlab::sim {
 namespace {

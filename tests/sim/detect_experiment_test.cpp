@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include "../test_util.h"
-#include "core/error.h"
+#include "patlab/core/error.h"
 #include "experiment_fixture.h"
-#include "sim/experiment.h"
+#include "patlab/sim/experiment.h"
 
 namespace patlab::sim {
 namespace {

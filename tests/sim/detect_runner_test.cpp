@@ -1,47 +1,18 @@
-// The detect-mode runner: interval formulas, determinism over thread counts, exact scenes,
+// The detect-mode runner: determinism over thread counts, exact scenes,
 // the experiment's noise model reaching the blobs, and replay of one frame.
-#include "sim/detect_runner.h"
+#include "patlab/sim/detect_runner.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "../test_util.h"
-#include "sim/report.h"
-#include "stats/summary.h"
+#include "scene_score.h"
+#include "patlab/sim/report.h"
+#include "patlab/stats/summary.h"
 
 namespace patlab::sim {
 namespace {
-
-TEST(WilsonInterval, MatchesTheClosedForm) {
-  // k = 5, n = 10: centre 1/2, half-width z / (1 + z^2/n) sqrt(1/40 + z^2/400)
-  // (statsmodels proportion_confint(5, 10, method="wilson") = (0.236593, 0.763407)).
-  Proportion p = WilsonInterval(5, 10);
-  EXPECT_EQ(p.rate, 0.5);
-  EXPECT_NEAR(p.lower, 0.2365931, 1e-7);
-  EXPECT_NEAR(p.upper, 0.7634069, 1e-7);
-  // k = 0: [0, z^2 / (n + z^2)]; k = n: [n / (n + z^2), 1].
-  const double z2 = 1.959963984540054 * 1.959963984540054;
-  p = WilsonInterval(0, 10);
-  EXPECT_EQ(p.lower, 0.0);
-  EXPECT_NEAR(p.upper, z2 / (10 + z2), 1e-12);
-  p = WilsonInterval(10, 10);
-  EXPECT_NEAR(p.lower, 10 / (10 + z2), 1e-12);
-  EXPECT_EQ(p.upper, 1.0);
-  EXPECT_TRUE(std::isnan(WilsonInterval(0, 0).rate));
-}
-
-TEST(GarwoodInterval, MatchesPoissonQuantiles) {
-  // K = 10 in one frame: (chi2_20^-1(0.025) / 2, chi2_22^-1(0.975) / 2) = (4.795389, 18.390356).
-  PoissonRate r = GarwoodInterval(10, 1);
-  EXPECT_EQ(r.rate, 10.0);
-  EXPECT_NEAR(r.lower, 4.795389, 1e-5);
-  EXPECT_NEAR(r.upper, 18.390356, 1e-5);
-  // K = 0: upper = -ln(0.025) / F.
-  r = GarwoodInterval(0, 100);
-  EXPECT_EQ(r.lower, 0.0);
-  EXPECT_NEAR(r.upper, -std::log(0.025) / 100, 1e-12);
-}
 
 TEST(NoiseModel, PatchErrorAndCommonOffsetFollowTheFormulas) {
   // Per-axis std within 4 standard errors (SE of a std ~ std / sqrt(2n)).
@@ -161,7 +132,7 @@ TEST_F(DetectRunnerTest, RatesHaveValidIntervals) {
   bool some_wrong = false;
   for (const DetectPointResult& p : result.points) {
     EXPECT_EQ(p.robots, p.correct + p.wrong_id + p.unknown_id + p.ambiguous + p.missed);
-    for (const Proportion& r : {p.detection, p.wrong_id_rate, p.ambiguous_rate}) {
+    for (const stats::Proportion& r : {p.detection, p.wrong_id_rate, p.ambiguous_rate}) {
       EXPECT_LE(0.0, r.lower);
       EXPECT_LE(r.lower, r.rate);
       EXPECT_LE(r.rate, r.upper);
@@ -209,9 +180,9 @@ TEST_F(DetectRunnerTest, AFrameReplaysAlone) {
   EXPECT_EQ(point.sigma_index, 1);
   EXPECT_EQ(point.sigma_mm, 1.0);
   const detect::Detector detector(point.config);
-  const detect::Scene a = GenerateDetectFrame(e, point, detector, 17);
-  const detect::Scene b = GenerateDetectFrame(e, point, detector, 17);
-  const detect::Scene c = GenerateDetectFrame(e, point, detector, 18);
+  const sim::Scene a = GenerateDetectFrame(e, point, detector, 17);
+  const sim::Scene b = GenerateDetectFrame(e, point, detector, 17);
+  const sim::Scene c = GenerateDetectFrame(e, point, detector, 18);
   ASSERT_EQ(a.blobs.size(), b.blobs.size());
   for (size_t k = 0; k < a.blobs.size(); ++k) {
     EXPECT_EQ(a.blobs[k].position_mm, b.blobs[k].position_mm);
@@ -232,12 +203,12 @@ TEST_F(DetectRunnerTest, ReplayedFramesAddUpToTheRunnersCounts) {
   for (const DetectPointResult& r : result.points) {
     const DetectPoint point = MakeDetectPoint(e, r.point);
     detect::Detector detector(point.config);
-    detect::DetectionScore sum;
+    sim::DetectionScore sum;
     std::vector<detect::Detection> detections;
     for (int64_t f = 0; f < e.detect.frames; ++f) {
-      const detect::Scene scene = GenerateDetectFrame(e, point, detector, static_cast<uint64_t>(f));
+      const sim::Scene scene = GenerateDetectFrame(e, point, detector, static_cast<uint64_t>(f));
       detector.Detect(scene.blobs, &detections);
-      sum.Add(detect::ScoreFrame(scene, detections, e.detect.match_radius_mm));
+      sum.Add(sim::ScoreFrame(scene, detections, e.detect.match_radius_mm));
     }
     EXPECT_EQ(sum.correct, r.correct);
     EXPECT_EQ(sum.wrong_id, r.wrong_id);

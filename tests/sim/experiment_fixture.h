@@ -8,8 +8,8 @@
 #include <string>
 
 #include "../test_util.h"
-#include "core/error.h"
-#include "sim/experiment.h"
+#include "patlab/core/error.h"
+#include "patlab/sim/experiment.h"
 
 namespace patlab::sim::testing_support {
 

@@ -1,9 +1,9 @@
-#include "sim/experiment.h"
+#include "patlab/sim/experiment.h"
 
 #include <gtest/gtest.h>
 
 #include "../test_util.h"
-#include "core/error.h"
+#include "patlab/core/error.h"
 #include "experiment_fixture.h"
 
 namespace patlab::sim {

@@ -1,4 +1,4 @@
-#include "sim/runner.h"
+#include "patlab/sim/runner.h"
 
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 #include <numbers>
 
 #include "../test_util.h"
-#include "sim/batch.h"
-#include "sim/report.h"
+#include "patlab/sim/batch.h"
+#include "patlab/sim/report.h"
 
 namespace patlab::sim {
 namespace {

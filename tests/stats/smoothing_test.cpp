@@ -1,4 +1,4 @@
-#include "stats/smoothing.h"
+#include "patlab/stats/smoothing.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <iomanip>
 #include <vector>
 
-#include "core/error.h"
+#include "patlab/core/error.h"
 #include "fixtures.h"
 
 namespace patlab::stats {

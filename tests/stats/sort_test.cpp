@@ -1,4 +1,4 @@
-#include "stats/sort.h"
+#include "patlab/stats/sort.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "stats/wilcoxon.h"
+#include "patlab/stats/wilcoxon.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <iomanip>
 #include <vector>
 
-#include "core/error.h"
+#include "patlab/core/error.h"
 #include "fixtures.h"
 
 namespace patlab::stats {

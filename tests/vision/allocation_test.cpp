@@ -7,12 +7,12 @@
 #include <filesystem>
 
 #include "../allocation_counter.h"
-#include "detect/detector.h"
-#include "detect/settings.h"
+#include "patlab/detect/detector.h"
+#include "patlab/detect/settings.h"
 #include "test_util.h"
-#include "vision/frame_io.h"
-#include "vision/pipeline.h"
-#include "vision/render.h"
+#include "patlab/vision/frame_io.h"
+#include "patlab/vision/pipeline.h"
+#include "patlab/vision/render.h"
 
 namespace patlab::vision {
 namespace {

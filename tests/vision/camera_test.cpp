@@ -1,4 +1,4 @@
-#include "vision/camera.h"
+#include "patlab/vision/camera.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
-#include "vision/color_lut.h"
+#include "patlab/vision/color_lut.h"
 
 #include <gtest/gtest.h>
 
 #include "test_util.h"
-#include "vision/image.h"
+#include "patlab/vision/image.h"
 
 namespace patlab::vision {
 namespace {

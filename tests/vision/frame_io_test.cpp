@@ -1,4 +1,4 @@
-#include "vision/frame_io.h"
+#include "patlab/vision/frame_io.h"
 
 #include <gtest/gtest.h>
 #include <jpeglib.h>

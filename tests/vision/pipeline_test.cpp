@@ -1,11 +1,11 @@
-#include "vision/pipeline.h"
+#include "patlab/vision/pipeline.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "test_util.h"
-#include "vision/render.h"
+#include "patlab/vision/render.h"
 
 namespace patlab::vision {
 namespace {

@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "detect/detector.h"
-#include "detect/settings.h"
+#include "patlab/detect/detector.h"
+#include "patlab/detect/settings.h"
 #include "test_util.h"
-#include "vision/frame_io.h"
-#include "vision/image.h"
-#include "vision/pipeline.h"
+#include "patlab/vision/frame_io.h"
+#include "patlab/vision/image.h"
+#include "patlab/vision/pipeline.h"
 
 namespace patlab::vision {
 namespace {

@@ -1,4 +1,4 @@
-#include "vision/segment.h"
+#include "patlab/vision/segment.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <random>
 
 #include "test_util.h"
-#include "vision/render.h"
+#include "patlab/vision/render.h"
 
 namespace patlab::vision {
 namespace {

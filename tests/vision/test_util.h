@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "patlab/core/error.h"
 
 namespace patlab::vision::testing {
 

@@ -1,0 +1,338 @@
+#include "patlab/detect/codebook.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "patlab/core/error.h"
+#include "patlab/io/toml_util.h"
+
+namespace patlab::detect {
+
+namespace {
+
+// For each effective shift, the permutation of ID slots it induces: slot k moves to slot perm[k].
+std::vector<std::vector<int>> SlotPermutations(const Pattern& pattern, const Symmetry& symmetry) {
+  const int m = static_cast<int>(symmetry.circular_order.size());
+  std::vector<int> circular_position(pattern.size(), -1);
+  for (int j = 0; j < m; ++j) circular_position[symmetry.circular_order[j]] = j;
+  const std::vector<int> slots = IdSlots(pattern);
+  std::vector<int> slot_of_patch(pattern.size(), -1);
+  for (int k = 0; k < static_cast<int>(slots.size()); ++k) slot_of_patch[slots[k]] = k;
+  std::vector<std::vector<int>> perms;
+  for (int shift : symmetry.effective_shifts) {
+    std::vector<int> perm(slots.size());
+    for (int k = 0; k < static_cast<int>(slots.size()); ++k) {
+      const int to = symmetry.circular_order[(circular_position[slots[k]] + shift) % m];
+      perm[k] = slot_of_patch[to];
+      PATLAB_CHECK(perm[k] >= 0);  // effective shifts map ID slots to ID slots
+    }
+    perms.push_back(std::move(perm));
+  }
+  return perms;
+}
+
+bool Stabilises(const std::vector<int>& perm, const std::vector<int>& colour) {
+  for (size_t k = 0; k < perm.size(); ++k) {
+    if (colour[perm[k]] != colour[k]) return false;
+  }
+  return true;
+}
+
+// The colouring moved by `perm`: the colour of slot k goes to slot perm[k].
+std::vector<int> Permuted(const std::vector<int>& perm, const std::vector<int>& colour) {
+  std::vector<int> out(colour.size());
+  for (size_t k = 0; k < perm.size(); ++k) out[perm[k]] = colour[k];
+  return out;
+}
+
+int CountCycles(const std::vector<int>& perm) {
+  std::vector<bool> seen(perm.size(), false);
+  int cycles = 0;
+  for (size_t k = 0; k < perm.size(); ++k) {
+    if (seen[k]) continue;
+    ++cycles;
+    for (size_t j = k; !seen[j]; j = perm[j]) seen[j] = true;
+  }
+  return cycles;
+}
+
+int Moebius(int d) {
+  int result = 1;
+  for (int p = 2; p * p <= d; ++p) {
+    if (d % p != 0) continue;
+    d /= p;
+    if (d % p == 0) return 0;
+    result = -result;
+  }
+  if (d > 1) result = -result;
+  return result;
+}
+
+int64_t CheckedPower(int64_t base, int exponent) {
+  int64_t result = 1;
+  for (int i = 0; i < exponent; ++i) {
+    if (result > (int64_t{1} << 62) / base) {
+      throw InputError(std::to_string(base) + "^" + std::to_string(exponent) +
+                       " colourings are too many to count; expected fewer colours or ID slots");
+    }
+    result *= base;
+  }
+  return result;
+}
+
+// The rotation angle of effective shift number t, in degrees in [0, 360), for messages.
+std::string DegreesText(const Symmetry& symmetry, size_t t) {
+  const auto it =
+      std::find(symmetry.shifts.begin(), symmetry.shifts.end(), symmetry.effective_shifts[t]);
+  double deg = symmetry.angles_rad[it - symmetry.shifts.begin()] * 180.0 / std::numbers::pi;
+  if (deg < 0.0) deg += 360.0;
+  return io::FormatNumber(std::round(deg * 10.0) / 10.0);
+}
+
+}  // namespace
+
+std::vector<int> IdSlots(const Pattern& pattern) {
+  std::vector<int> slots;
+  for (int i = 0; i < pattern.size(); ++i) {
+    if (pattern.patches[i].role == PatchRole::kId) slots.push_back(i);
+  }
+  return slots;
+}
+
+Symmetry FindSymmetry(const Pattern& pattern, double tolerance_mm) {
+  PATLAB_CHECK(tolerance_mm >= 0.0);
+  Symmetry symmetry;
+  symmetry.tolerance_mm = tolerance_mm;
+  const Vec2 key = pattern.patches[pattern.key_index].position_mm;
+  std::vector<std::pair<double, int>> by_angle;
+  for (int i = 0; i < pattern.size(); ++i) {
+    if (i == pattern.key_index) continue;
+    const Vec2 q = pattern.patches[i].position_mm - key;
+    by_angle.push_back({std::atan2(q.y(), q.x()), i});
+  }
+  std::sort(by_angle.begin(), by_angle.end());
+  for (const auto& [angle, index] : by_angle) symmetry.circular_order.push_back(index);
+
+  const int m = static_cast<int>(symmetry.circular_order.size());
+  auto q = [&](int j) {
+    return Vec2(pattern.patches[symmetry.circular_order[j]].position_mm - key);
+  };
+  for (int shift = 0; shift < m; ++shift) {
+    // The rotation that best maps position j onto position j + shift (2-D Procrustes about the
+    // key, Umeyama 1991), then the worst patch distance under it.
+    double dot = 0.0, cross = 0.0;
+    for (int j = 0; j < m; ++j) {
+      const Vec2 a = q(j), b = q((j + shift) % m);
+      dot += a.dot(b);
+      cross += a.x() * b.y() - a.y() * b.x();
+    }
+    const double angle = shift == 0 ? 0.0 : std::atan2(cross, dot);
+    const double c = std::cos(angle), s = std::sin(angle);
+    double worst_mm = 0.0;
+    for (int j = 0; j < m; ++j) {
+      const Vec2 a = q(j);
+      const Vec2 rotated(c * a.x() - s * a.y(), s * a.x() + c * a.y());
+      worst_mm = std::max(worst_mm, (rotated - q((j + shift) % m)).norm());
+    }
+    if (worst_mm > tolerance_mm) continue;
+    symmetry.shifts.push_back(shift);
+    symmetry.angles_rad.push_back(angle);
+    bool preserves_colours = true;
+    for (int j = 0; j < m; ++j) {
+      const Patch& from = pattern.patches[symmetry.circular_order[j]];
+      const Patch& to = pattern.patches[symmetry.circular_order[(j + shift) % m]];
+      if (from.role != to.role || (from.role == PatchRole::kFixed && from.colour != to.colour)) {
+        preserves_colours = false;
+      }
+    }
+    if (preserves_colours) symmetry.effective_shifts.push_back(shift);
+  }
+  return symmetry;
+}
+
+uint64_t CountIds(const Pattern& pattern, const Symmetry& symmetry, int num_colours) {
+  PATLAB_CHECK(num_colours >= 1);
+  const std::vector<std::vector<int>> perms = SlotPermutations(pattern, symmetry);
+  const int k = symmetry.effective_order();
+  // The effective shifts form a subgroup of Z_m, generated by its smallest positive element;
+  // its subgroup of order d is generated by element k / d.
+  int64_t free_colourings = 0;
+  for (int d = 1; d <= k; ++d) {
+    if (k % d != 0) continue;
+    const int mu = Moebius(d);
+    if (mu == 0) continue;
+    const int cycles = CountCycles(perms[(k / d) % k]);
+    free_colourings += mu * CheckedPower(num_colours, cycles);
+  }
+  PATLAB_CHECK(free_colourings % k == 0);
+  return static_cast<uint64_t>(free_colourings / k);
+}
+
+int StabilisingShift(const Pattern& pattern, const Symmetry& symmetry,
+                     const std::vector<int>& colour) {
+  const std::vector<std::vector<int>> perms = SlotPermutations(pattern, symmetry);
+  for (size_t t = 1; t < perms.size(); ++t) {
+    if (Stabilises(perms[t], colour)) return symmetry.effective_shifts[t];
+  }
+  return 0;
+}
+
+Codebook GenerateCodebook(const Pattern& pattern, const Symmetry& symmetry,
+                          const std::vector<std::string>& colours) {
+  PATLAB_CHECK(!colours.empty());
+  Codebook book;
+  book.pattern = pattern.name;
+  book.colours = colours;
+  book.num_slots = static_cast<int>(IdSlots(pattern).size());
+  const int n = static_cast<int>(colours.size());
+  const int64_t total = CheckedPower(n, book.num_slots);
+  if (total > (int64_t{1} << 24)) {
+    throw InputError(std::to_string(n) + "^" + std::to_string(book.num_slots) +
+                     " colourings are too many to list; expected at most 2^24");
+  }
+  const std::vector<std::vector<int>> perms = SlotPermutations(pattern, symmetry);
+  std::vector<int> colour(book.num_slots);
+  for (int64_t code = 0; code < total; ++code) {
+    int64_t rest = code;
+    for (int k = book.num_slots - 1; k >= 0; --k) {
+      colour[k] = static_cast<int>(rest % n);
+      rest /= n;
+    }
+    bool keep = true;
+    for (size_t t = 1; t < perms.size() && keep; ++t) {
+      // An ID needs a trivial stabiliser, and each rotation class is listed once: by its
+      // lexicographically smallest member (std::vector compares lexicographically).
+      keep = !Stabilises(perms[t], colour) && !(Permuted(perms[t], colour) < colour);
+    }
+    if (keep) book.entries.push_back({static_cast<int>(book.entries.size()), colour});
+  }
+  return book;
+}
+
+Codebook ParseCodebook(const std::string& text, const std::string& source_name,
+                       const Pattern& pattern, const Symmetry& symmetry) {
+  const toml::table root = io::ParseTomlText(text, source_name);
+  io::TomlReader reader(root, source_name);
+  reader.CheckKeys({"pattern", "colours", "id"});
+  Codebook book;
+  book.pattern = reader.String("pattern");
+  if (book.pattern != pattern.name) {
+    reader.Fail("pattern", "pattern is \"" + book.pattern + "\"; expected \"" + pattern.name +
+                               "\" (the pattern this codebook is loaded for)");
+  }
+  const toml::node* colours_node = root.get("colours");
+  if (colours_node == nullptr) {
+    reader.Fail("colours", "missing colours; expected an array of ID colour names");
+  }
+  const toml::array* colours = colours_node->as_array();
+  if (colours == nullptr || colours->empty()) {
+    reader.Fail("colours", "colours is " +
+                               (colours == nullptr ? io::TypeName(*colours_node)
+                                                   : std::string("an empty array")) +
+                               "; expected a non-empty array of ID colour names");
+  }
+  for (const toml::node& c : *colours) {
+    const auto* s = c.as_string();
+    if (s == nullptr) {
+      throw InputError(io::LocOf(source_name, c),
+                       "colours holds " + io::TypeName(c) + "; expected colour names (strings)");
+    }
+    if (std::find(book.colours.begin(), book.colours.end(), s->get()) != book.colours.end()) {
+      throw InputError(io::LocOf(source_name, c),
+                       "colour \"" + s->get() + "\" is listed twice; expected distinct colours");
+    }
+    book.colours.push_back(s->get());
+  }
+  std::string colour_list;
+  for (const std::string& c : book.colours) colour_list += (colour_list.empty() ? "" : ", ") + c;
+
+  const std::vector<int> slots = IdSlots(pattern);
+  book.num_slots = static_cast<int>(slots.size());
+  const toml::node* ids_node = root.get("id");
+  const toml::array* ids = ids_node == nullptr ? nullptr : ids_node->as_array();
+  if (ids == nullptr || !ids->is_array_of_tables() || ids->empty()) {
+    throw InputError(
+        ids_node == nullptr ? FileLoc{source_name, 1} : io::LocOf(source_name, *ids_node),
+        "no IDs; expected [[id]] tables with id = <integer> and slots = [<colour "
+        "per ID slot>]");
+  }
+  const std::vector<std::vector<int>> perms = SlotPermutations(pattern, symmetry);
+  std::vector<int> lines;
+  for (size_t e = 0; e < ids->size(); ++e) {
+    const toml::table& t = *ids->get(e)->as_table();
+    io::TomlReader er(t, source_name, "[[id]] " + std::to_string(e));
+    er.CheckKeys({"id", "slots"});
+    const auto id = er.OptionalInteger("id");
+    if (!id) er.Fail("id", "missing id in [[id]] " + std::to_string(e) + "; expected an integer");
+    if (*id < 0 || *id > 1000000) {
+      er.Fail("id", "id is " + std::to_string(*id) + "; expected an integer in [0, 1000000]");
+    }
+    CodebookEntry entry;
+    entry.id = static_cast<int>(*id);
+    const toml::node* slots_node = t.get("slots");
+    const toml::array* slot_colours = slots_node == nullptr ? nullptr : slots_node->as_array();
+    if (slot_colours == nullptr) {
+      er.Fail("slots", "ID " + std::to_string(entry.id) +
+                           " has no slots array; expected slots = [<colour per ID slot>]");
+    }
+    if (static_cast<int>(slot_colours->size()) != book.num_slots) {
+      er.Fail("slots", "ID " + std::to_string(entry.id) + " has " +
+                           std::to_string(slot_colours->size()) + " colours; expected " +
+                           std::to_string(book.num_slots) + " (one per ID slot of " + pattern.name +
+                           ")");
+    }
+    for (const toml::node& c : *slot_colours) {
+      const auto* s = c.as_string();
+      const auto it = s == nullptr ? book.colours.end()
+                                   : std::find(book.colours.begin(), book.colours.end(), s->get());
+      if (it == book.colours.end()) {
+        er.Fail("slots", "ID " + std::to_string(entry.id) + " has colour " +
+                             (s == nullptr ? io::TypeName(c) : "\"" + s->get() + "\"") +
+                             "; expected one of: " + colour_list);
+      }
+      entry.colour.push_back(static_cast<int>(it - book.colours.begin()));
+    }
+    for (size_t t2 = 1; t2 < perms.size(); ++t2) {
+      if (Stabilises(perms[t2], entry.colour)) {
+        er.Fail("slots", "ID " + std::to_string(entry.id) + " is ambiguous: rotating " +
+                             pattern.name + " by " + DegreesText(symmetry, t2) +
+                             " degrees maps it onto itself; expected colours that fix the "
+                             "rotation");
+      }
+    }
+    for (size_t other = 0; other < book.entries.size(); ++other) {
+      const CodebookEntry& o = book.entries[other];
+      if (o.id == entry.id) {
+        er.Fail("id", "id " + std::to_string(entry.id) + " appears twice (first at line " +
+                          std::to_string(lines[other]) + "); expected distinct IDs");
+      }
+      for (size_t t2 = 0; t2 < perms.size(); ++t2) {
+        if (Permuted(perms[t2], o.colour) != entry.colour) continue;
+        er.Fail("slots", "ID " + std::to_string(entry.id) +
+                             (t2 == 0 ? " has the same colours as ID " + std::to_string(o.id)
+                                      : " is ID " + std::to_string(o.id) + " rotated by " +
+                                            DegreesText(symmetry, t2) + " degrees") +
+                             "; expected colourings that differ up to the pattern's symmetry");
+      }
+    }
+    lines.push_back(er.TableLoc().line);
+    book.entries.push_back(std::move(entry));
+  }
+  std::sort(book.entries.begin(), book.entries.end(),
+            [](const CodebookEntry& a, const CodebookEntry& b) { return a.id < b.id; });
+  return book;
+}
+
+Codebook LoadCodebookFile(const std::string& path, const Pattern& pattern,
+                          const Symmetry& symmetry) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable TOML file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return ParseCodebook(buffer.str(), path, pattern, symmetry);
+}
+
+}  // namespace patlab::detect

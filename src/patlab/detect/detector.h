@@ -1,0 +1,188 @@
+// The generic pattern detector of the paper (section III): one frame's unordered blobs in,
+// detections {pattern, team colour, ID, pose, fit residual, confidence} out, in a fixed order.
+//
+// Stages (each counted in DetectStats, and timed on request: DetectStats::collect_timing):
+//  1. key candidates: blobs of an enabled team colour whose area is in the key patch's range;
+//  2. neighbours: blobs of the pattern's ID / fixed colours, area in range, whose distance from
+//     the key is within the ring the model's non-key patches lie on (+- reach_margin_mm);
+//  3. radial sort of the neighbours by angle about the key;
+//  4. correspondences: every choice of as many neighbours as the model has non-key patches (more
+//     than that only when extra blobs are near), and every rotation of them against the model's
+//     circular order;
+//  5. geometric test: the rigid least-squares fit's sum-squared error E against a tolerance from
+//     the expected patch noise, E <= patch_sigma_mm^2 * chi2 quantile (2m - 3 dof) -- this is
+//     what fixes the rotation of a geometrically asymmetric pattern (Butterfly);
+//  6. colour test and ID: fixed-colour patches must have their colour; the ID-slot colours must
+//     be a codebook ID. Exactly one rotation passing both -> a detection; two or more rotations
+//     that geometry cannot tell apart and colours do not decide -> reported kAmbiguous, not
+//     guessed;
+//  7. missing patch (MissingPatchPolicy::kFit): when no full correspondence passes, the same on
+//     one patch fewer, reported kMissingPatch;
+//  8. conflicts: candidates ranked (unambiguous first, more blobs explained first, then lower
+//     E / tolerance); each blob goes to the best candidate only (two robots close together;
+//     patterns sharing a key colour);
+//  9. pose with the chosen estimator (estimate/), confidence, and the fixed output order.
+//
+// The hot path reuses buffers held by the Detector and does not allocate once they have grown.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "patlab/core/geometry.h"
+#include "patlab/core/pattern.h"
+#include "patlab/detect/blob.h"
+#include "patlab/detect/codebook.h"
+#include "patlab/estimate/estimators.h"
+
+namespace patlab::detect {
+
+enum class MissingPatchPolicy {
+  kReject,  // a pattern with a patch missing is not detected
+  kFit,     // fit on the remaining patches and report kMissingPatch
+};
+std::string_view MissingPatchPolicyName(MissingPatchPolicy policy);
+
+// Detector settings. Defaults are the values documented in experiments/detector.toml.
+struct DetectorOptions {
+  // Expected standard deviation of one blob centre per axis (mm). Sets the geometric tolerance:
+  // E <= patch_sigma_mm^2 * chi2_{2m-3}^-1(geometry_confidence), m = patches fitted. Larger
+  // accepts worse blobs but lets wrong rotations of a nearly symmetric pattern pass: the
+  // Butterfly's wrong rotations have E >= 932 mm^2, so keep the tolerance well below that.
+  double patch_sigma_mm = 2.0;
+  // Probability that a correct correspondence with Gaussian noise of patch_sigma_mm passes the
+  // geometric test, in (0, 1). Higher: fewer misses, looser tolerance.
+  double geometry_confidence = 0.9999;
+  // How far (mm) a neighbour's distance from the key may lie outside the range of the model's
+  // non-key patch distances. Larger tolerates more noise but draws in more foreign blobs.
+  double reach_margin_mm = 20.0;
+  // Accepted blob area as a fraction of the model patch area pi r^2, for keys and neighbours.
+  double area_ratio_min = 0.4;
+  double area_ratio_max = 2.5;
+  MissingPatchPolicy missing_patch = MissingPatchPolicy::kReject;
+  // Most neighbours considered around one key (those nearest the model's ring are kept);
+  // the number of correspondences grows as C(max_neighbours, m - 1). In [1, 16].
+  int max_neighbours = 8;
+  estimate::Estimator estimator = estimate::Estimator::kFast;
+  estimate::Options ml;  // for Estimator::kMl
+};
+
+// A broken constraint of DetectorOptions: the field's name and "field is value; expected ...".
+struct OptionsProblem {
+  std::string field;
+  std::string message;
+};
+// The one place options are validated (DESIGN.md rule 4): the first broken constraint, if any.
+std::optional<OptionsProblem> ValidateDetectorOptions(const DetectorOptions& options);
+
+// One pattern the detector looks for.
+struct DetectorPattern {
+  Pattern pattern;
+  Codebook codebook;                     // its IDs (GenerateCodebook or a codebook file)
+  std::vector<std::string> key_colours;  // team colours (palette names) of its key patch
+  double symmetry_tolerance_mm = 10.0;   // see FindSymmetry; paper section III rule of thumb
+};
+
+struct DetectorConfig {
+  // Colour names; a blob's colour label is an index into this (at most 64 colours).
+  std::vector<std::string> palette;
+  DetectorOptions options;
+  std::vector<DetectorPattern> patterns;
+};
+
+enum class DetectionStatus {
+  kOk,            // every patch found; ID from the colours
+  kMissingPatch,  // fitted on one patch fewer (MissingPatchPolicy::kFit); id may be -1
+  kAmbiguous,     // geometry fits but neither it nor the colours fix the rotation: id = -1 and
+                  // theta is one of the symmetric candidates
+};
+std::string_view DetectionStatusName(DetectionStatus status);
+
+struct Detection {
+  int pattern = 0;       // index into DetectorConfig::patterns
+  int team_colour = -1;  // palette label of the key blob
+  int id = -1;           // codebook ID, or -1 when unknown
+  DetectionStatus status = DetectionStatus::kOk;
+  Pose2 pose;                 // of the model origin, with DetectorOptions::estimator
+  double residual_mm2 = 0.0;  // E: sum-squared error of the rigid least-squares fit
+  double confidence = 0.0;    // P(chi2_{2m-3} >= E / patch_sigma_mm^2): 1 perfect, ~0 poor
+  int missing_patch = -1;     // kMissingPatch: the pattern patch index not found
+  std::array<int, kMaxPatches> blob{};  // blob index per pattern patch (-1: missing)
+};
+
+// Wall time of the stages of one Detect call (steady_clock, integer nanoseconds), filled only
+// when DetectStats::collect_timing is set. The stages partition the call: their sum is total_ns.
+// Each steady_clock read costs ~20-30 ns and is charged to the stage it ends, so a timed call is
+// slower than an untimed one (about 5 reads per key candidate, 2 per choice of neighbours with a
+// rotation passing geometry, 2 per detection).
+struct DetectStageTimes {
+  long key_candidates_ns = 0;   // stage 1, with the bucketing of blobs by x it searches from
+  long neighbours_ns = 0;       // stage 2
+  long radial_sort_ns = 0;      // stage 3
+  long correspondences_ns = 0;  // stages 4, 5 and 7: every rotation's fit and geometric test
+  long colours_ns = 0;          // stage 6: colour test, ID and verdict after geometry passes
+  long conflicts_ns = 0;        // stage 8
+  long pose_ns = 0;             // stage 9: pose, confidence and the output order
+  long total_ns = 0;            // the whole call
+
+  long StagesSum() const;
+  DetectStageTimes& operator+=(const DetectStageTimes& other);
+};
+
+// Per-frame counters of the stages (summed over frames by operator+=).
+struct DetectStats {
+  // In: fill `time`. Off by default, and then Detect reads no clock at all (time stays zero).
+  bool collect_timing = false;
+  DetectStageTimes time;
+
+  long key_candidates = 0;   // stage 1: (key blob, pattern) pairs
+  long neighbours = 0;       // stage 2: neighbour blobs found, summed over key candidates
+  long neighbours_cut = 0;   // stage 2: dropped beyond max_neighbours
+  long correspondences = 0;  // stage 4: rotations tried
+  long geometry_passed = 0;  // stage 5
+  long colour_rejected = 0;  // stage 6: a single geometric fit whose colours are no ID
+  long ambiguous = 0;        // stage 6: reported kAmbiguous
+  long missing_fits = 0;     // stage 7: reported kMissingPatch
+  long conflicts = 0;        // stage 8: candidates dropped for sharing a blob
+  long detections = 0;       // stage 9: detections returned
+
+  DetectStats& operator+=(const DetectStats& other);
+};
+
+// P(chi-square with `dof` degrees of freedom >= e), dof >= 1: the detections' confidence.
+double ChiSquaredSurvival(int dof, double e);
+
+class Detector {
+ public:
+  // Validates the configuration (colour names, codebooks against the patterns, options) and
+  // precomputes the models. Throws InputError.
+  explicit Detector(DetectorConfig config);
+  ~Detector();
+  Detector(Detector&&) noexcept;
+  Detector& operator=(Detector&&) noexcept;
+
+  // Detects every enabled pattern in one frame. `detections` is cleared and filled, ordered by
+  // (pattern, team colour, status, id, x, y). `stats` (optional) is overwritten, except its
+  // collect_timing; its `time` is filled when collect_timing is set and zero otherwise. Blob
+  // colours outside the palette and positions beyond 1e9 mm or not finite are ignored. Not
+  // thread-safe: use one Detector per thread.
+  void Detect(std::span<const Blob> blobs, std::vector<Detection>* detections,
+              DetectStats* stats = nullptr);
+
+  const DetectorConfig& config() const;
+  // The palette label of a colour name, or -1.
+  int ColourLabel(std::string_view name) const;
+  // The geometric tolerance on E (mm^2) of pattern p with all patches / one patch missing.
+  double ResidualTolerance(int pattern, bool missing_patch = false) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace patlab::detect

@@ -1,0 +1,184 @@
+#include "patlab/io/pattern_file.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "patlab/io/toml_util.h"
+
+namespace patlab::io {
+
+namespace {
+
+std::string PointText(const Vec2& p) {
+  return "(" + FormatNumber(p.x()) + ", " + FormatNumber(p.y()) + ")";
+}
+
+Pattern ParseTable(const toml::table& root, const std::string& file) {
+  TomlReader reader(root, file);
+  reader.CheckKeys({"name", "description", "orientation_pairs", "patch"});
+  Pattern pattern;
+  pattern.name = reader.String("name");
+  if (pattern.name.empty()) reader.Fail("name", "name is empty; expected a non-empty string");
+  pattern.description = reader.OptionalString("description").value_or("");
+
+  const toml::node* patches_node = root.get("patch");
+  if (patches_node == nullptr) {
+    throw InputError(FileLoc{file, 1},
+                     "no patches; expected at least 2 [[patch]] tables (orientation needs two "
+                     "distinct patch positions)");
+  }
+  const toml::array* patches = patches_node->as_array();
+  if (patches == nullptr || !patches->is_array_of_tables()) {
+    throw InputError(LocOf(file, *patches_node),
+                     "patch is " + TypeName(*patches_node) + "; expected [[patch]] tables");
+  }
+  std::vector<FileLoc> patch_locs;
+  int key_count = 0;
+  for (size_t i = 0; i < patches->size(); ++i) {
+    const toml::table& t = *patches->get(i)->as_table();
+    TomlReader pr(t, file, "[[patch]] " + std::to_string(i));
+    pr.CheckKeys({"x", "y", "radius", "role", "colour"});
+    Patch patch;
+    patch.position_mm = Vec2(pr.Number("x"), pr.Number("y"));
+    patch.radius_mm = pr.Number("radius");
+    if (!(patch.radius_mm > 0.0)) {
+      pr.Fail("radius", pr.Describe("radius") + " is " + FormatNumber(patch.radius_mm) +
+                            "; expected a positive number (mm)");
+    }
+    const std::string role = pr.String("role");
+    if (role == "key") {
+      patch.role = PatchRole::kKey;
+      if (key_count++ == 0) {
+        pattern.key_index = static_cast<int>(i);
+      } else {
+        pr.Fail("role", "second key patch ([[patch]] " + std::to_string(i) +
+                            "; the first is [[patch]] " + std::to_string(pattern.key_index) +
+                            "); expected exactly one patch with role = \"key\"");
+      }
+    } else if (role == "id") {
+      patch.role = PatchRole::kId;
+    } else if (role == "fixed") {
+      patch.role = PatchRole::kFixed;
+    } else {
+      pr.Fail("role",
+              pr.Describe("role") + " is \"" + role + "\"; expected \"key\", \"id\" or \"fixed\"");
+    }
+    patch.colour = pr.OptionalString("colour").value_or("");
+    if (patch.role == PatchRole::kFixed && patch.colour.empty()) {
+      pr.Fail("role", "[[patch]] " + std::to_string(i) +
+                          " has role \"fixed\" but no colour; expected colour = \"<name>\"");
+    }
+    if (patch.role == PatchRole::kId && !patch.colour.empty()) {
+      pr.Fail("colour", "[[patch]] " + std::to_string(i) +
+                            " is an ID slot with a colour; expected no colour (the codebook "
+                            "assigns it) or role = \"fixed\"");
+    }
+    pattern.patches.push_back(patch);
+    patch_locs.push_back(pr.TableLoc());
+  }
+  const int n = pattern.size();
+  if (n < 2) {
+    throw InputError(patch_locs.empty() ? FileLoc{file, 1} : patch_locs.back(),
+                     "pattern has " + std::to_string(n) +
+                         " patch; expected at least 2 (orientation needs two distinct patch "
+                         "positions)");
+  }
+  if (n > kMaxPatches) {
+    throw InputError(patch_locs[kMaxPatches], "pattern has " + std::to_string(n) +
+                                                  " patches; expected at most " +
+                                                  std::to_string(kMaxPatches));
+  }
+  if (key_count == 0) {
+    throw InputError(patch_locs.front(),
+                     "no key patch; expected exactly one patch with role = \"key\"");
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < i; ++j) {
+      const Patch& a = pattern.patches[j];
+      const Patch& b = pattern.patches[i];
+      const double distance = (a.position_mm - b.position_mm).norm();
+      if (distance < 1e-6) {
+        throw InputError(patch_locs[i], "[[patch]] " + std::to_string(i) +
+                                            " coincides with [[patch]] " + std::to_string(j) +
+                                            " at " + PointText(b.position_mm) +
+                                            "; expected distinct patch positions");
+      }
+      if (distance < a.radius_mm + b.radius_mm - 1e-9) {
+        throw InputError(patch_locs[i], "[[patch]] " + std::to_string(i) + " overlaps [[patch]] " +
+                                            std::to_string(j) + ": centres " +
+                                            FormatNumber(distance) + " mm apart, radii " +
+                                            FormatNumber(b.radius_mm) + " + " +
+                                            FormatNumber(a.radius_mm) +
+                                            " mm; expected centre distance >= sum of radii");
+      }
+    }
+  }
+
+  if (const toml::node* pairs_node = root.get("orientation_pairs")) {
+    const toml::array* pairs = pairs_node->as_array();
+    const std::string expected =
+        "expected an array of [from, to] patch index pairs, e.g. [[1, 2], [3, 4]]";
+    if (pairs == nullptr || pairs->empty()) {
+      throw InputError(LocOf(file, *pairs_node),
+                       "orientation_pairs is " +
+                           (pairs == nullptr ? TypeName(*pairs_node) : std::string("empty")) +
+                           "; " + expected);
+    }
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const toml::node& item = *pairs->get(k);
+      const toml::array* pair = item.as_array();
+      const FileLoc loc = LocOf(file, item);
+      if (pair == nullptr || pair->size() != 2 || !pair->get(0)->is_integer() ||
+          !pair->get(1)->is_integer()) {
+        throw InputError(
+            loc, "orientation pair " + std::to_string(k) + " is not two integers; " + expected);
+      }
+      const int64_t from = pair->get(0)->as_integer()->get();
+      const int64_t to = pair->get(1)->as_integer()->get();
+      for (int64_t index : {from, to}) {
+        if (index < 0 || index >= n) {
+          throw InputError(loc, "orientation pair " + std::to_string(k) + " [" +
+                                    std::to_string(from) + ", " + std::to_string(to) +
+                                    "]: patch index " + std::to_string(index) +
+                                    " out of range; expected 0.." + std::to_string(n - 1));
+        }
+      }
+      if (from == to) {
+        throw InputError(loc, "orientation pair " + std::to_string(k) + " [" +
+                                  std::to_string(from) + ", " + std::to_string(to) +
+                                  "] has zero length; expected two different patches");
+      }
+      const OrientationPair op{static_cast<int>(from), static_cast<int>(to)};
+      for (const OrientationPair& seen : pattern.orientation_pairs) {
+        if (seen == op || (seen.from == op.to && seen.to == op.from)) {
+          throw InputError(loc, "orientation pair " + std::to_string(k) + " [" +
+                                    std::to_string(from) + ", " + std::to_string(to) +
+                                    "] is listed twice; expected each pair once");
+        }
+      }
+      pattern.orientation_pairs.push_back(op);
+    }
+  } else {
+    pattern.orientation_pairs = DefaultOrientationPairs(pattern.patches, pattern.key_index);
+  }
+  return pattern;
+}
+
+}  // namespace
+
+Pattern LoadPatternFile(const std::string& path) { return ParseTable(ParseTomlFile(path), path); }
+
+Pattern ParsePattern(std::string_view text, const std::string& source_name) {
+  return ParseTable(ParseTomlText(text, source_name), source_name);
+}
+
+std::string ResolvePatternPath(const std::string& reference, const std::string& patterns_dir) {
+  namespace fs = std::filesystem;
+  if (fs::exists(reference)) return reference;
+  const fs::path candidate = fs::path(patterns_dir) / (reference + ".toml");
+  if (fs::exists(candidate)) return candidate.string();
+  throw InputError("pattern '" + reference +
+                   "' not found; expected a pattern file path or a name in " + patterns_dir + "/");
+}
+
+}  // namespace patlab::io

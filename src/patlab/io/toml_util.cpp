@@ -1,0 +1,154 @@
+#include "patlab/io/toml_util.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace patlab::io {
+
+namespace {
+
+toml::table ParseOrThrow(std::string_view text, const std::string& source_name) {
+  try {
+    return toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    throw InputError(FileLoc{source_name, static_cast<int>(e.source().begin.line)},
+                     "TOML syntax error: " + std::string(e.description()));
+  }
+}
+
+}  // namespace
+
+toml::table ParseTomlFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable TOML file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return ParseOrThrow(buffer.str(), path);
+}
+
+toml::table ParseTomlText(std::string_view text, const std::string& source_name) {
+  return ParseOrThrow(text, source_name);
+}
+
+FileLoc LocOf(const std::string& file, const toml::node& node) {
+  return FileLoc{file, static_cast<int>(node.source().begin.line)};
+}
+
+std::string TypeName(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::date:
+    case toml::node_type::time:
+    case toml::node_type::date_time:
+      return "a date/time";
+    default:
+      return "nothing";
+  }
+}
+
+std::string FormatNumber(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  std::ostringstream os;
+  os.precision(12);
+  os << value;
+  return os.str();
+}
+
+std::string TomlReader::Describe(std::string_view key) const {
+  std::string d(key);
+  if (!context_.empty()) d += " in " + context_;
+  return d;
+}
+
+FileLoc TomlReader::TableLoc() const { return LocOf(file_, table_); }
+
+FileLoc TomlReader::Loc(std::string_view key) const {
+  if (const toml::node* node = table_.get(key)) return LocOf(file_, *node);
+  return TableLoc();
+}
+
+void TomlReader::Fail(std::string_view key, const std::string& message) const {
+  throw InputError(Loc(key), message);
+}
+
+void TomlReader::CheckKeys(std::initializer_list<std::string_view> allowed) const {
+  for (const auto& [key, node] : table_) {
+    bool known = false;
+    for (std::string_view a : allowed) known = known || key.str() == a;
+    if (known) continue;
+    std::string list;
+    for (std::string_view a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+    throw InputError(LocOf(file_, node), "unknown key '" + std::string(key.str()) + "'" +
+                                             (context_.empty() ? "" : " in " + context_) +
+                                             "; expected one of: " + list);
+  }
+}
+
+std::optional<double> TomlReader::OptionalNumber(std::string_view key) const {
+  const toml::node* node = table_.get(key);
+  if (node == nullptr) return std::nullopt;
+  double value;
+  if (const auto* i = node->as_integer()) {
+    value = static_cast<double>(i->get());
+  } else if (const auto* f = node->as_floating_point()) {
+    value = f->get();
+  } else {
+    Fail(key, Describe(key) + " is " + TypeName(*node) + "; expected a number");
+  }
+  if (!std::isfinite(value)) {
+    Fail(key, Describe(key) + " is " + FormatNumber(value) + "; expected a finite number");
+  }
+  return value;
+}
+
+double TomlReader::Number(std::string_view key) const {
+  auto v = OptionalNumber(key);
+  if (!v) Fail(key, "missing " + Describe(key) + "; expected a number");
+  return *v;
+}
+
+std::optional<std::string> TomlReader::OptionalString(std::string_view key) const {
+  const toml::node* node = table_.get(key);
+  if (node == nullptr) return std::nullopt;
+  const auto* s = node->as_string();
+  if (s == nullptr) Fail(key, Describe(key) + " is " + TypeName(*node) + "; expected a string");
+  return s->get();
+}
+
+std::string TomlReader::String(std::string_view key) const {
+  auto v = OptionalString(key);
+  if (!v) Fail(key, "missing " + Describe(key) + "; expected a string");
+  return *v;
+}
+
+std::optional<int64_t> TomlReader::OptionalInteger(std::string_view key) const {
+  const toml::node* node = table_.get(key);
+  if (node == nullptr) return std::nullopt;
+  const auto* i = node->as_integer();
+  if (i == nullptr) Fail(key, Describe(key) + " is " + TypeName(*node) + "; expected an integer");
+  return i->get();
+}
+
+std::optional<bool> TomlReader::OptionalBool(std::string_view key) const {
+  const toml::node* node = table_.get(key);
+  if (node == nullptr) return std::nullopt;
+  const auto* b = node->as_boolean();
+  if (b == nullptr)
+    Fail(key, Describe(key) + " is " + TypeName(*node) + "; expected true or false");
+  return b->get();
+}
+
+}  // namespace patlab::io

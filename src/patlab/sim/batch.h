@@ -1,0 +1,63 @@
+// The Monte-Carlo inner loop: a batch of trials of one data point in structure-of-arrays form.
+//
+// Trial t of point p draws every random number from Philox4x32-10 with counter
+// (t mod 2^32, t div 2^32, p, block) under the experiment seed (DESIGN.md rule 1), each 32-bit
+// word giving one uniform (w + 1/2) 2^-32 in (0, 1); H = ceil(n / 2) for n patches:
+//   block 0              words 0, 1, 2: pose x, y (uniform over the field), theta in (-pi, pi)
+//   block 1 + j          Box-Muller normals of patch 2j (words 0, 1) and patch 2j + 1 (2, 3)
+//   block 1 + H          common-mode normals (words 0, 1; only when common_sigma_ratio > 0)
+//   block 2 + H + j      outlier selection uniforms of patches 4j .. 4j + 3 (only when p > 0)
+// A 32-bit radius uniform caps |z| at sqrt(2 ln 2^33) = 6.76 (a Gaussian exceeds it with
+// probability 1.4e-11): a documented truncation that halves the Philox work per trial.
+// so a trial's numbers do not depend on which thread runs it or which batch it falls in, and
+// any trial can be replayed alone (rule 3).
+//
+// Batches start at multiples of kBatchSize from trial 0, so the vectorised loops see the same
+// lanes for any thread count and the results are byte-identical.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "patlab/core/geometry.h"
+#include "patlab/estimate/estimators.h"
+#include "patlab/sim/noise.h"
+
+namespace patlab::sim {
+
+inline constexpr int kBatchSize = 1024;
+
+struct PointSetup {
+  const estimate::Model* model = nullptr;
+  NoiseModel noise;
+  double sigma_mm = 0.0;
+  double field_length_mm = 0.0;
+  double field_width_mm = 0.0;
+  uint64_t seed = 0;
+  uint32_t point = 0;                          // the point's stream id
+  bool run[4] = {false, false, false, false};  // indexed by estimate::Estimator
+  estimate::Options ml_options;
+};
+
+// Errors of one estimator, estimate minus truth; theta wrapped to (-pi, pi].
+struct ErrorArrays {
+  double* x_mm = nullptr;
+  double* y_mm = nullptr;
+  double* theta_rad = nullptr;
+};
+
+struct BatchOutput {
+  ErrorArrays errors[4];              // indexed by estimate::Estimator; null if not run
+  uint8_t* ml_iterations = nullptr;   // Newton steps per trial (ml only)
+  uint8_t* ml_termination = nullptr;  // estimate::Termination per trial (ml only)
+};
+
+// Runs trials [first_trial, first_trial + count) of a point, count <= kBatchSize, writing slot
+// k of every output array for trial first_trial + k.
+void RunBatch(const PointSetup& setup, uint64_t first_trial, int count, const BatchOutput& out);
+
+// Replays one trial (rule 3): its true pose and noisy patch positions, exactly as RunBatch
+// generated them.
+void GenerateTrial(const PointSetup& setup, uint64_t trial, Pose2* truth, Vec2* observed);
+
+}  // namespace patlab::sim

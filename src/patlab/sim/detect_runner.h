@@ -1,0 +1,85 @@
+// The detect-mode runner (correspondence = "detect"): every pattern x false-blob rate x patch
+// sigma is a data point of `frames` whole frames. A frame is k robots wearing the pattern and a
+// ball (GenerateScene), every patch measured with the experiment's NoiseModel, plus the
+// [detect] table's missing patches, false blobs and colour-label errors; the blobs go through
+// detect::Detector and ScoreFrame matches detections to robots. Per point: detection,
+// wrong-ID and ambiguous rates and false positives per frame, each with a 95% interval, and the
+// pose error statistics of the correct detections.
+//
+// Frame f of point p draws every random number from RandomStream(seed, p, f): first the common
+// offset (NoiseModel::CommonOffset, once per frame), then the scene, each patch's error from
+// NoiseModel::PatchError through PatchNoise::perturb. Frames run in parallel into slots
+// indexed by frame number and are reduced in frame order, so results are identical for any
+// thread count (DESIGN.md rules 1-2), and any frame can be replayed alone (GenerateDetectFrame).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "patlab/sim/scene.h"
+#include "patlab/sim/experiment.h"
+#include "patlab/sim/runner.h"
+#include "patlab/stats/intervals.h"
+
+namespace patlab::sim {
+
+struct DetectPointResult {
+  int pattern_index = 0;
+  std::string pattern;
+  double sigma_mm = 0.0;
+  double false_blob_rate_per_m2 = 0.0;
+  uint32_t point = 0;  // stream id: (pattern_index * num_rates + rate_index) * num_sigmas + sigma
+  int64_t frames = 0;
+  double detector_sigma_mm = 0.0;  // the detector's patch_sigma_mm at this point
+  double tolerance_mm2 = 0.0;      // its geometric tolerance on E (all patches)
+
+  // Robots over all frames, split by how they were detected (FrameScore).
+  int64_t robots = 0, correct = 0, wrong_id = 0, unknown_id = 0, ambiguous = 0, missed = 0;
+  int64_t false_positives = 0;  // detections matching no robot
+  stats::Proportion detection;         // correct / robots
+  stats::Proportion wrong_id_rate;     // wrong_id / (correct + wrong_id): a reported ID is wrong
+  stats::Proportion ambiguous_rate;    // ambiguous / robots: geometry and colours leave the rotation open
+  stats::PoissonRate false_positives_per_frame;
+
+  // Errors of the correct detections (detected minus true; theta wrapped), with the chi-square
+  // interval of each std (stats::StdWithConfidence); NaN with fewer than 2 correct detections.
+  AxisSummary x, y, theta;
+  double crlb_position_mm = 0.0;  // the pattern's Cramer-Rao bound at sigma (isotropic only)
+  double crlb_theta_rad = 0.0;
+
+  // Scene and detector counters, summed over frames.
+  int64_t false_blobs = 0, missing_patches = 0, colour_errors = 0;
+  detect::DetectStats stats;
+};
+
+struct DetectRunResult {
+  std::vector<DetectPointResult> points;  // pattern-major, then false-blob rate, then sigma
+  int threads = 0;
+  int64_t total_frames = 0;
+  double simulate_seconds = 0.0;    // scenes, detection and scoring
+  double statistics_seconds = 0.0;  // per-point reduction and intervals
+  double wall_seconds = 0.0;
+};
+
+// Requires experiment.correspondence == kDetect. Throws InputError if a scene cannot be drawn.
+DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptions& options);
+
+// One data point's set-up: the detector configuration (only the point's pattern enabled, its
+// patch_sigma_mm possibly matched to sigma) and the scene options.
+struct DetectPoint {
+  int pattern_index = 0, rate_index = 0, sigma_index = 0;
+  uint32_t point = 0;
+  double sigma_mm = 0.0;
+  detect::DetectorConfig config;
+  SceneOptions scene;
+};
+int NumDetectPoints(const Experiment& experiment);
+DetectPoint MakeDetectPoint(const Experiment& experiment, uint32_t point);
+
+// Frame `frame` of a point, exactly as the runner draws it (for replaying one frame). `detector`
+// must have been built from point.config.
+Scene GenerateDetectFrame(const Experiment& experiment, const DetectPoint& point,
+                                  const detect::Detector& detector, uint64_t frame);
+
+}  // namespace patlab::sim

@@ -1,0 +1,52 @@
+#include "patlab/sim/noise.h"
+
+#include <cmath>
+
+namespace patlab::sim {
+
+double NoiseModel::EffectiveSigmaRatio() const {
+  const double p = outlier_probability;
+  const double inlier = (1.0 + sigma_y_ratio * sigma_y_ratio) / 2.0;
+  return std::sqrt((1.0 - p) * inlier + p * outlier_sigma_ratio * outlier_sigma_ratio);
+}
+
+std::string NoiseModel::Describe() const {
+  std::string name = sigma_y_ratio == 1.0 ? "isotropic" : "anisotropic";
+  if (common_sigma_ratio > 0.0) name += "+common";
+  if (outlier_probability > 0.0) name += "+outliers";
+  return name;
+}
+
+std::string NoiseModel::Validate() const {
+  if (!(sigma_y_ratio > 0.0 && std::isfinite(sigma_y_ratio))) {
+    return "sigma_y_ratio must be a finite number > 0";
+  }
+  if (!(common_sigma_ratio >= 0.0 && std::isfinite(common_sigma_ratio))) {
+    return "common_sigma_ratio must be a finite number >= 0";
+  }
+  if (!(outlier_probability >= 0.0 && outlier_probability < 1.0)) {
+    return "outlier_probability must be in [0, 1)";
+  }
+  if (!(outlier_sigma_ratio > 0.0 && std::isfinite(outlier_sigma_ratio))) {
+    return "outlier_sigma_ratio must be a finite number > 0";
+  }
+  return "";
+}
+
+Vec2 NoiseModel::PatchError(double sigma_mm, RandomStream& rng) const {
+  const double zx = rng.Normal();
+  const double zy = rng.Normal();
+  if (outlier_probability > 0.0 && rng.Uniform() < outlier_probability) {
+    return sigma_mm * outlier_sigma_ratio * Vec2(zx, zy);
+  }
+  return sigma_mm * Vec2(zx, sigma_y_ratio * zy);
+}
+
+Vec2 NoiseModel::CommonOffset(double sigma_mm, RandomStream& rng) const {
+  if (!(common_sigma_ratio > 0.0 && sigma_mm > 0.0)) return Vec2::Zero();
+  const double zx = rng.Normal();
+  const double zy = rng.Normal();
+  return sigma_mm * common_sigma_ratio * Vec2(zx, zy);
+}
+
+}  // namespace patlab::sim

@@ -1,0 +1,52 @@
+// Patch noise models of the Monte-Carlo engine. One parametrisation covers all four models of the
+// issue; every spread is a multiple of the swept patch sigma, so a sweep scales them together.
+//
+// For trial t with true patch positions P_i (world frame) the observed positions are
+//
+//   V_i = P_i + e_i + c
+//   e_i = sigma (z_ix, r z_iy)        with probability 1 - p   (r = sigma_y_ratio: anisotropic)
+//   e_i = sigma k (z_ix, z_iy)        with probability p       (k = outlier_sigma_ratio: outliers)
+//   c   = sigma g (z_cx, z_cy)        once per trial           (g = common_sigma_ratio: jitter)
+//
+// with all z standard normals, independent between patches and trials. The paper's model
+// (section IV) is the isotropic Gaussian: sigma_y_ratio = 1, p = 0, common = 0; sigma is then
+// "the patch positional standard deviation" along each axis.
+//
+// The known-correspondence kernel (batch.cpp) evaluates these formulas vectorised over a batch
+// of trials; PatchError and CommonOffset below are the scalar form, one draw at a time from a
+// RandomStream, used by the whole-frame (detect) runner through PatchNoise::perturb.
+#pragma once
+
+#include <string>
+
+#include "patlab/core/geometry.h"
+#include "patlab/core/rng.h"
+
+namespace patlab::sim {
+
+struct NoiseModel {
+  double sigma_y_ratio = 1.0;        // sigma_y / sigma_x in the world frame (anisotropic); > 0
+  double common_sigma_ratio = 0.0;   // std of the per-trial offset shared by all patches / sigma
+  double outlier_probability = 0.0;  // probability that a patch is an outlier, in [0, 1)
+  double outlier_sigma_ratio = 10.0; // an outlier's isotropic std / sigma; > 0
+
+  bool IsIsotropicGaussian() const {
+    return sigma_y_ratio == 1.0 && common_sigma_ratio == 0.0 && outlier_probability == 0.0;
+  }
+  // The per-axis std, averaged over the two axes, of an independent patch error per unit sigma:
+  // sqrt(((1 - p)(1 + r^2) / 2 + p k^2)). Linear estimators' first-order std scale with it.
+  double EffectiveSigmaRatio() const;
+  // Human-readable name of the model ("isotropic", "anisotropic+common", ...).
+  std::string Describe() const;
+  // Returns the empty string if valid, else "field: constraint".
+  std::string Validate() const;
+
+  // One patch's independent error e_i (mm) at patch sigma `sigma_mm`. Draws, in this order: two
+  // normals (z_ix, z_iy), then one uniform deciding "outlier" only when outlier_probability > 0.
+  Vec2 PatchError(double sigma_mm, RandomStream& rng) const;
+  // The common offset c (mm), once per trial (a whole frame in detect mode): two normals when
+  // common_sigma_ratio > 0 and sigma_mm > 0, else zero and no draws.
+  Vec2 CommonOffset(double sigma_mm, RandomStream& rng) const;
+};
+
+}  // namespace patlab::sim

@@ -1,0 +1,338 @@
+#include "patlab/sim/report.h"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <span>
+
+namespace patlab::sim {
+
+namespace {
+
+// 10 significant digits: far below the Monte-Carlo error, and identical on every run.
+std::string Num(double v) {
+  if (std::isnan(v)) return "";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", v);
+  return buffer;
+}
+
+std::string Int(int64_t v) { return std::to_string(v); }
+
+// The x, y and theta error columns both CSVs share: mean, std and its 95% interval of each.
+constexpr const char* kPoseErrorColumns[] = {
+    "mean_x_mm",      "std_x_mm",      "std_x_lo_mm",      "std_x_hi_mm",
+    "mean_y_mm",      "std_y_mm",      "std_y_lo_mm",      "std_y_hi_mm",
+    "mean_theta_rad", "std_theta_rad", "std_theta_lo_rad", "std_theta_hi_rad"};
+
+std::array<std::string, 12> PoseErrorFields(const AxisSummary& x, const AxisSummary& y,
+                                            const AxisSummary& theta) {
+  std::array<std::string, 12> fields;
+  int k = 0;
+  for (const AxisSummary* a : {&x, &y, &theta}) {
+    fields[k++] = Num(a->mean);
+    fields[k++] = Num(a->std);
+    fields[k++] = Num(a->std_lower);
+    fields[k++] = Num(a->std_upper);
+  }
+  return fields;
+}
+
+// Appends one CSV row: the head fields, the pose-error fields, the tail fields, comma-joined.
+void AppendRow(std::span<const std::string> head, std::span<const std::string> middle,
+               std::span<const std::string> tail, std::string* csv) {
+  bool first = true;
+  for (std::span<const std::string> part : {head, middle, tail}) {
+    for (const std::string& field : part) {
+      if (!first) *csv += ",";
+      *csv += field;
+      first = false;
+    }
+  }
+  *csv += "\n";
+}
+
+// The header row: head columns, the pose-error columns, tail columns.
+std::string Header(std::span<const char* const> head, std::span<const char* const> tail) {
+  std::string csv;
+  for (std::span<const char* const> part :
+       {head, std::span<const char* const>(kPoseErrorColumns), tail}) {
+    for (const char* column : part) csv += std::string(csv.empty() ? "" : ",") + column;
+  }
+  return csv + "\n";
+}
+
+constexpr const char* kColumnsHead[] = {
+    "pattern", "estimator", "sigma_mm", "trials", "noise",
+};
+constexpr const char* kColumnsTail[] = {"std_pos_mm",
+                                        "std_pos_lo_mm",
+                                        "std_pos_hi_mm",
+                                        "rms_radial_mm",
+                                        "mean_radial_mm",
+                                        "std_radial_mm",
+                                        "std_radial_lo_mm",
+                                        "std_radial_hi_mm",
+                                        "crlb_pos_mm",
+                                        "crlb_theta_rad",
+                                        "pred_pos_mm",
+                                        "pred_theta_rad",
+                                        "efficiency_pos",
+                                        "efficiency_theta",
+                                        "ml_nonconverged",
+                                        "ml_first_nonconverged_trial",
+                                        "ml_mean_iterations",
+                                        "ks_x_d",
+                                        "ks_x_p",
+                                        "ks_y_d",
+                                        "ks_y_p",
+                                        "ks_theta_d",
+                                        "ks_theta_p",
+                                        "wilcoxon_pos_p",
+                                        "wilcoxon_theta_p"};
+
+// Efficiency = CRLB variance / achieved variance (1 = efficient).
+double Efficiency(double bound, double achieved) {
+  if (std::isnan(bound) || !(achieved > 0.0)) return std::nan("");
+  return (bound * bound) / (achieved * achieved);
+}
+
+}  // namespace
+
+std::string ResultsCsv(const Experiment& experiment, const RunResult& result) {
+  std::string csv = Header(kColumnsHead, kColumnsTail);
+  const std::string noise = experiment.noise.Describe();
+  for (const PointResult& p : result.points) {
+    for (const EstimatorResult& r : p.estimators) {
+      const bool ml = r.estimator == estimate::Estimator::kMl;
+      const Comparison& c = r.vs_fast;
+      const std::string head[] = {
+          p.pattern,       std::string(estimate::EstimatorName(r.estimator)),
+          Num(p.sigma_mm), Int(p.trials),
+          noise,
+      };
+      const std::string tail[] = {Num(r.position_std_mm),
+                                  Num(r.position_std_lower_mm),
+                                  Num(r.position_std_upper_mm),
+                                  Num(r.radial_rms_mm),
+                                  Num(r.radial.mean),
+                                  Num(r.radial.std),
+                                  Num(r.radial.std_lower),
+                                  Num(r.radial.std_upper),
+                                  Num(r.crlb_position_mm),
+                                  Num(r.crlb_theta_rad),
+                                  Num(r.predicted_position_mm),
+                                  Num(r.predicted_theta_rad),
+                                  Num(Efficiency(r.crlb_position_mm, r.position_std_mm)),
+                                  Num(Efficiency(r.crlb_theta_rad, r.theta.std)),
+                                  ml ? Int(r.nonconverged) : "",
+                                  ml ? Int(r.first_nonconverged_trial) : "",
+                                  ml ? Num(r.mean_iterations) : "",
+                                  c.computed ? Num(c.ks_x.d) : "",
+                                  c.computed ? Num(c.ks_x.p_value) : "",
+                                  c.computed ? Num(c.ks_y.d) : "",
+                                  c.computed ? Num(c.ks_y.p_value) : "",
+                                  c.computed ? Num(c.ks_theta.d) : "",
+                                  c.computed ? Num(c.ks_theta.p_value) : "",
+                                  c.computed ? Num(c.wilcoxon_position.p_value) : "",
+                                  c.computed ? Num(c.wilcoxon_theta.p_value) : ""};
+      AppendRow(head, PoseErrorFields(r.x, r.y, r.theta), tail, &csv);
+    }
+  }
+  return csv;
+}
+
+namespace {
+
+// The manifest fields both modes share: tool, inputs, grid, seed, field, noise.
+nlohmann::json ManifestCommon(const Experiment& experiment, const std::string& command_line) {
+  using nlohmann::json;
+  json j;
+  j["tool"] = "patlab";
+  j["version"] = PATLAB_VERSION;
+  j["command_line"] = command_line;
+  j["experiment"] = {{"file", experiment.source_file},
+                     {"name", experiment.name},
+                     {"description", experiment.description}};
+  json patterns = json::array();
+  for (size_t k = 0; k < experiment.patterns.size(); ++k) {
+    patterns.push_back({{"name", experiment.patterns[k].name},
+                        {"file", experiment.pattern_files[k]},
+                        {"patches", experiment.patterns[k].size()}});
+  }
+  j["patterns"] = patterns;
+  j["sigmas_mm"] = experiment.sigmas_mm;
+  j["seed"] = experiment.seed;
+  j["field_mm"] = {{"length", experiment.field_length_mm}, {"width", experiment.field_width_mm}};
+  const NoiseModel& n = experiment.noise;
+  j["noise"] = {{"model", n.Describe()},
+                {"sigma_y_ratio", n.sigma_y_ratio},
+                {"common_sigma_ratio", n.common_sigma_ratio},
+                {"outlier_probability", n.outlier_probability},
+                {"outlier_sigma_ratio", n.outlier_sigma_ratio}};
+  return j;
+}
+
+}  // namespace
+
+std::string ManifestJson(const Experiment& experiment, const RunResult& result,
+                         const std::string& command_line, const std::vector<std::string>& outputs) {
+  using nlohmann::json;
+  json j = ManifestCommon(experiment, command_line);
+  json estimators = json::array();
+  for (auto e : experiment.estimators)
+    estimators.push_back(std::string(estimate::EstimatorName(e)));
+  j["estimators"] = estimators;
+  j["trials_per_point"] = experiment.trials;
+  const estimate::Options& o = experiment.ml_options;
+  j["ml_options"] = {{"max_iterations", o.max_iterations},
+                     {"step_tolerance_mm", o.step_tolerance_mm},
+                     {"step_tolerance_rad", o.step_tolerance_rad},
+                     {"gradient_tolerance", o.gradient_tolerance}};
+  int64_t nonconverged = 0;
+  for (const PointResult& p : result.points) {
+    for (const EstimatorResult& r : p.estimators) nonconverged += r.nonconverged;
+  }
+  j["ml_nonconverged_trials"] = nonconverged;
+  j["threads"] = result.threads;
+  j["total_trials"] = result.total_trials;
+  j["timings_s"] = {{"simulate", result.simulate_seconds},
+                    {"statistics", result.statistics_seconds},
+                    {"wall", result.wall_seconds}};
+  j["trials_per_second"] =
+      result.simulate_seconds > 0 ? result.total_trials / result.simulate_seconds : 0.0;
+  j["outputs"] = outputs;
+  return j.dump(2) + "\n";
+}
+
+namespace {
+
+constexpr const char* kDetectColumnsHead[] = {
+    "pattern",
+    "sigma_mm",
+    "false_blob_rate_per_m2",
+    "point",
+    "frames",
+    "robots",
+    "noise",
+    "detector_sigma_mm",
+    "tolerance_mm2",
+    "correct",
+    "wrong_id",
+    "unknown_id",
+    "ambiguous",
+    "missed",
+    "false_positives",
+    "detection_rate",
+    "detection_rate_lo",
+    "detection_rate_hi",
+    "wrong_id_rate",
+    "wrong_id_rate_lo",
+    "wrong_id_rate_hi",
+    "ambiguous_rate",
+    "ambiguous_rate_lo",
+    "ambiguous_rate_hi",
+    "false_positives_per_frame",
+    "false_positives_per_frame_lo",
+    "false_positives_per_frame_hi",
+};
+constexpr const char* kDetectColumnsTail[] = {
+    "crlb_pos_mm",     "crlb_theta_rad",  "false_blobs_per_frame",
+    "missing_patches", "colour_errors",   "correspondences",
+    "geometry_passed", "colour_rejected", "conflicts"};
+
+}  // namespace
+
+std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult& result) {
+  std::string csv = Header(kDetectColumnsHead, kDetectColumnsTail);
+  const std::string noise = experiment.noise.Describe();
+  for (const DetectPointResult& p : result.points) {
+    const std::string head[] = {
+        p.pattern,
+        Num(p.sigma_mm),
+        Num(p.false_blob_rate_per_m2),
+        Int(p.point),
+        Int(p.frames),
+        Int(p.robots),
+        noise,
+        Num(p.detector_sigma_mm),
+        Num(p.tolerance_mm2),
+        Int(p.correct),
+        Int(p.wrong_id),
+        Int(p.unknown_id),
+        Int(p.ambiguous),
+        Int(p.missed),
+        Int(p.false_positives),
+        Num(p.detection.rate),
+        Num(p.detection.lower),
+        Num(p.detection.upper),
+        Num(p.wrong_id_rate.rate),
+        Num(p.wrong_id_rate.lower),
+        Num(p.wrong_id_rate.upper),
+        Num(p.ambiguous_rate.rate),
+        Num(p.ambiguous_rate.lower),
+        Num(p.ambiguous_rate.upper),
+        Num(p.false_positives_per_frame.rate),
+        Num(p.false_positives_per_frame.lower),
+        Num(p.false_positives_per_frame.upper),
+    };
+    const std::string tail[] = {
+        Num(p.crlb_position_mm),
+        Num(p.crlb_theta_rad),
+        Num(static_cast<double>(p.false_blobs) / static_cast<double>(p.frames)),
+        Int(p.missing_patches),
+        Int(p.colour_errors),
+        Int(p.stats.correspondences),
+        Int(p.stats.geometry_passed),
+        Int(p.stats.colour_rejected),
+        Int(p.stats.conflicts)};
+    AppendRow(head, PoseErrorFields(p.x, p.y, p.theta), tail, &csv);
+  }
+  return csv;
+}
+
+std::string DetectManifestJson(const Experiment& experiment, const DetectRunResult& result,
+                               const std::string& command_line,
+                               const std::vector<std::string>& outputs) {
+  using nlohmann::json;
+  json j = ManifestCommon(experiment, command_line);
+  const DetectSettings& d = experiment.detect;
+  const detect::DetectorOptions& o = d.detector.options;
+  const SceneOptions& s = d.scene;
+  j["correspondence"] = "detect";
+  j["frames_per_point"] = d.frames;
+  j["false_blob_rates_per_m2"] = d.false_blob_rates_per_m2;
+  j["detect"] = {{"settings", d.settings_file},
+                 {"detector_sigma", d.matched_sigma ? "matched" : "settings"},
+                 {"match_radius_mm", d.match_radius_mm},
+                 {"robots_per_team", s.robots_per_team},
+                 {"missing_patch_probability", s.missing_patch_probability},
+                 {"colour_error_probability", s.colour_error_probability},
+                 {"false_blob_radius_mm", {s.false_blob_radius_min_mm, s.false_blob_radius_max_mm}},
+                 {"ball", s.ball},
+                 {"ball_colour", s.ball_colour},
+                 {"robot_radius_mm", s.robot_radius_mm},
+                 {"min_separation_mm", s.min_separation_mm}};
+  j["detector"] = {{"patch_sigma_mm", o.patch_sigma_mm},
+                   {"geometry_confidence", o.geometry_confidence},
+                   {"reach_margin_mm", o.reach_margin_mm},
+                   {"area_ratio", {o.area_ratio_min, o.area_ratio_max}},
+                   {"missing_patch", std::string(detect::MissingPatchPolicyName(o.missing_patch))},
+                   {"max_neighbours", o.max_neighbours},
+                   {"estimator", std::string(estimate::EstimatorName(o.estimator))}};
+  j["intervals"] = {{"rates", "Wilson score, 95%"},
+                    {"false_positives_per_frame", "Garwood (exact Poisson), 95%"},
+                    {"stds", "chi-square, 95%"}};
+  j["threads"] = result.threads;
+  j["total_frames"] = result.total_frames;
+  j["timings_s"] = {{"simulate", result.simulate_seconds},
+                    {"statistics", result.statistics_seconds},
+                    {"wall", result.wall_seconds}};
+  j["frames_per_second"] =
+      result.simulate_seconds > 0 ? result.total_frames / result.simulate_seconds : 0.0;
+  j["outputs"] = outputs;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace patlab::sim

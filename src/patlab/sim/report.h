@@ -1,0 +1,26 @@
+// The simulator's results as text: a tidy CSV (one row per pattern x estimator x sigma) and a
+// JSON manifest (inputs, seed, version, timings). Column meanings: README.md, "Results".
+#pragma once
+
+#include <string>
+
+#include "patlab/sim/detect_runner.h"
+#include "patlab/sim/runner.h"
+
+namespace patlab::sim {
+
+// The CSV. Deterministic: the same results give the same bytes.
+std::string ResultsCsv(const Experiment& experiment, const RunResult& result);
+
+// The manifest. `command_line` and `outputs` are recorded as given.
+std::string ManifestJson(const Experiment& experiment, const RunResult& result,
+                         const std::string& command_line, const std::vector<std::string>& outputs);
+
+// Detect mode (correspondence = "detect"): one row per pattern x false-blob rate x sigma
+// (columns: README, "Detect-mode experiments"), and its manifest, with the same common fields.
+std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult& result);
+std::string DetectManifestJson(const Experiment& experiment, const DetectRunResult& result,
+                               const std::string& command_line,
+                               const std::vector<std::string>& outputs);
+
+}  // namespace patlab::sim

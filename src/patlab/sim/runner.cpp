@@ -1,0 +1,266 @@
+#include "patlab/sim/runner.h"
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "patlab/core/error.h"
+#include "patlab/sim/batch.h"
+#include "patlab/stats/summary.h"
+
+namespace patlab::sim {
+
+namespace {
+
+using estimate::Estimator;
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+// Per-estimator sample arrays of one point.
+struct Samples {
+  std::vector<double> x, y, theta;
+  void Resize(int64_t n) {
+    x.resize(n);
+    y.resize(n);
+    theta.resize(n);
+  }
+};
+
+AxisSummary Summarise(const std::vector<double>& v) {
+  const stats::StdWithCi s = stats::StdWithConfidence(v, 0.95);
+  return AxisSummary{stats::Mean(v), s.std, s.lower, s.upper};
+}
+
+void FillEstimatorResult(const Samples& s, EstimatorResult* r) {
+  r->x = Summarise(s.x);
+  r->y = Summarise(s.y);
+  r->theta = Summarise(s.theta);
+  const double n = static_cast<double>(s.x.size());
+  r->position_std_mm = std::sqrt((r->x.std * r->x.std + r->y.std * r->y.std) / 2.0);
+  const stats::StdWithCi pooled = stats::StdConfidenceInterval(r->position_std_mm, 2.0 * (n - 1.0));
+  r->position_std_lower_mm = pooled.lower;
+  r->position_std_upper_mm = pooled.upper;
+  std::vector<double> radial(s.x.size());
+  double sum_sq = 0.0;
+  for (size_t k = 0; k < s.x.size(); ++k) {
+    const double sq = s.x[k] * s.x[k] + s.y[k] * s.y[k];
+    sum_sq += sq;
+    radial[k] = std::sqrt(sq);
+  }
+  r->radial_rms_mm = std::sqrt(sum_sq / n);
+  r->radial = Summarise(radial);
+}
+
+// Wilcoxon signed-rank of paired samples. A difference below 1e-10 (mm or rad) + 1e-12 relative
+// is rounding (fast, ml and lsq are the same estimator on Simple, Linear and Triangle, and the
+// errors carry the ~1e-13 rounding of poses of ~1e3 mm) and counts as a zero, which the 'wilcox'
+// zero method drops; if every difference is a zero, the samples carry no evidence of a difference:
+// p = 1.
+stats::WilcoxonResult PairedTest(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> d(a.size());
+  size_t nonzero = 0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    const double diff = a[k] - b[k];
+    const bool rounding =
+        std::abs(diff) <= 1e-10 + 1e-12 * std::max(std::abs(a[k]), std::abs(b[k]));
+    d[k] = rounding ? 0.0 : diff;
+    nonzero += rounding ? 0 : 1;
+  }
+  if (nonzero == 0) {
+    stats::WilcoxonResult identical;
+    identical.n = identical.n_zero = a.size();
+    identical.p_value = 1.0;
+    return identical;
+  }
+  return stats::WilcoxonSignedRank(d);
+}
+
+Comparison Compare(const Samples& fast, const Samples& other) {
+  Comparison c;
+  c.computed = true;
+  const size_t n = fast.x.size();
+  std::vector<double> fast_pos(n), other_pos(n), fast_abs_t(n), other_abs_t(n);
+  for (size_t k = 0; k < n; ++k) {
+    // |error| (errors are far from overflow, so no need for hypot's scaling).
+    fast_pos[k] = std::sqrt(fast.x[k] * fast.x[k] + fast.y[k] * fast.y[k]);
+    other_pos[k] = std::sqrt(other.x[k] * other.x[k] + other.y[k] * other.y[k]);
+    fast_abs_t[k] = std::abs(fast.theta[k]);
+    other_abs_t[k] = std::abs(other.theta[k]);
+  }
+  tbb::parallel_invoke([&] { c.ks_x = stats::KsTwoSample(fast.x, other.x); },
+                       [&] { c.ks_y = stats::KsTwoSample(fast.y, other.y); },
+                       [&] { c.ks_theta = stats::KsTwoSample(fast.theta, other.theta); },
+                       [&] { c.wilcoxon_position = PairedTest(fast_pos, other_pos); },
+                       [&] { c.wilcoxon_theta = PairedTest(fast_abs_t, other_abs_t); });
+  return c;
+}
+
+}  // namespace
+
+PointSetup MakePointSetup(const Experiment& experiment, const estimate::Model& model,
+                          int pattern_index, int sigma_index) {
+  PointSetup setup;
+  setup.model = &model;
+  setup.noise = experiment.noise;
+  setup.sigma_mm = experiment.sigmas_mm[sigma_index];
+  setup.field_length_mm = experiment.field_length_mm;
+  setup.field_width_mm = experiment.field_width_mm;
+  setup.seed = experiment.seed;
+  setup.point = static_cast<uint32_t>(pattern_index * experiment.sigmas_mm.size() + sigma_index);
+  for (Estimator e : experiment.estimators) setup.run[static_cast<int>(e)] = true;
+  setup.ml_options = experiment.ml_options;
+  return setup;
+}
+
+RunResult RunExperiment(const Experiment& experiment, const RunOptions& options) {
+  PATLAB_CHECK(!experiment.patterns.empty());
+  PATLAB_CHECK(!experiment.sigmas_mm.empty());
+  PATLAB_CHECK(!experiment.estimators.empty());
+  const auto wall_start = Clock::now();
+  const int threads =
+      options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+
+  RunResult result;
+  result.threads = threads;
+  const int64_t trials = experiment.trials;
+  const int num_sigmas = static_cast<int>(experiment.sigmas_mm.size());
+  const int total_points = static_cast<int>(experiment.patterns.size()) * num_sigmas;
+  const int64_t num_batches = (trials + kBatchSize - 1) / kBatchSize;
+  result.points.resize(total_points);
+
+  // Two sets of sample arrays: the statistics of point k (a task) run while point k + 1 is
+  // simulated into the other set, so neither stage waits for the other. Each point's results
+  // are computed by serial code into their own slot: the overlap changes timing only.
+  struct PointBuffers {
+    Samples samples[4];
+    std::vector<uint8_t> ml_iterations, ml_termination;
+    BatchOutput output;
+  };
+  PointBuffers buffers[2];
+  for (PointBuffers& pb : buffers) {
+    for (Estimator e : experiment.estimators) {
+      Samples& s = pb.samples[static_cast<int>(e)];
+      s.Resize(trials);
+      pb.output.errors[static_cast<int>(e)] = ErrorArrays{s.x.data(), s.y.data(), s.theta.data()};
+    }
+    pb.ml_iterations.resize(trials);
+    pb.ml_termination.resize(trials);
+    pb.output.ml_iterations = pb.ml_iterations.data();
+    pb.output.ml_termination = pb.ml_termination.data();
+  }
+  const bool has_fast = std::find(experiment.estimators.begin(), experiment.estimators.end(),
+                                  Estimator::kFast) != experiment.estimators.end();
+  tbb::task_group statistics[2];
+  std::atomic<int64_t> statistics_ns{0};
+
+  int index = 0;
+  for (int pi = 0; pi < static_cast<int>(experiment.patterns.size()); ++pi) {
+    const Pattern& pattern = experiment.patterns[pi];
+    const estimate::Model model = estimate::Model::FromPattern(pattern);
+    const estimate::StdPerSigma crlb = estimate::CramerRaoBound(model);
+    std::array<estimate::StdPerSigma, 4> predicted{};
+    for (Estimator e : experiment.estimators) {
+      predicted[static_cast<int>(e)] = estimate::PredictedStd(model, e);
+    }
+    for (int si = 0; si < num_sigmas; ++si, ++index) {
+      PointBuffers& pb = buffers[index % 2];
+      statistics[index % 2].wait();  // point index - 2 is done with these arrays
+      const PointSetup setup = MakePointSetup(experiment, model, pi, si);
+      // Stage 1: trials, in fixed batches (any thread may run any batch).
+      const auto sim_start = Clock::now();
+      tbb::parallel_for(
+          tbb::blocked_range<int64_t>(0, num_batches, 1),
+          [&](const tbb::blocked_range<int64_t>& range) {
+            for (int64_t b = range.begin(); b != range.end(); ++b) {
+              const int64_t first = b * kBatchSize;
+              const int count = static_cast<int>(std::min<int64_t>(kBatchSize, trials - first));
+              BatchOutput at = pb.output;
+              for (ErrorArrays& e : at.errors) {
+                if (e.x_mm == nullptr) continue;
+                e.x_mm += first;
+                e.y_mm += first;
+                e.theta_rad += first;
+              }
+              at.ml_iterations += first;
+              at.ml_termination += first;
+              RunBatch(setup, static_cast<uint64_t>(first), count, at);
+            }
+          },
+          tbb::simple_partitioner());
+      result.simulate_seconds += Seconds(sim_start);
+
+      // Stage 2: statistics, as a task that overlaps the next point's trials.
+      PointResult& point = result.points[index];
+      point.pattern_index = pi;
+      point.pattern = pattern.name;
+      point.sigma_mm = experiment.sigmas_mm[si];
+      point.point = setup.point;
+      point.trials = trials;
+      point.estimators.resize(experiment.estimators.size());
+      statistics[index % 2].run([&experiment, &pb, &point, &statistics_ns, crlb, predicted,
+                                 has_fast, trials] {
+        const auto stats_start = Clock::now();
+        const double noise_scale = experiment.noise.EffectiveSigmaRatio();
+        tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
+          const Estimator e = experiment.estimators[k];
+          EstimatorResult& r = point.estimators[k];
+          r.estimator = e;
+          FillEstimatorResult(pb.samples[static_cast<int>(e)], &r);
+          if (experiment.noise.IsIsotropicGaussian()) {
+            r.crlb_position_mm = crlb.position_per_axis * point.sigma_mm;
+            r.crlb_theta_rad = crlb.theta * point.sigma_mm;
+          } else {
+            r.crlb_position_mm = r.crlb_theta_rad = std::nan("");
+          }
+          // The linearised estimator's std scales with the effective per-axis patch std; the
+          // common-mode offset moves the position only (every estimator is translation
+          // equivariant), adding its variance per axis.
+          const estimate::StdPerSigma& pr = predicted[static_cast<int>(e)];
+          const double g = experiment.noise.common_sigma_ratio;
+          r.predicted_position_mm =
+              point.sigma_mm * std::sqrt(std::pow(pr.position_per_axis * noise_scale, 2) + g * g);
+          r.predicted_theta_rad = point.sigma_mm * pr.theta * noise_scale;
+          if (e == Estimator::kMl) {
+            int64_t iterations = 0;
+            for (int64_t t = 0; t < trials; ++t) {
+              iterations += pb.ml_iterations[t];
+              if (pb.ml_termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
+                if (r.first_nonconverged_trial < 0) r.first_nonconverged_trial = t;
+                ++r.nonconverged;
+              }
+            }
+            r.mean_iterations = static_cast<double>(iterations) / static_cast<double>(trials);
+          }
+          if (e != Estimator::kFast && has_fast && point.sigma_mm > 0.0) {
+            r.vs_fast = Compare(pb.samples[static_cast<int>(Estimator::kFast)],
+                                pb.samples[static_cast<int>(e)]);
+          }
+        });
+        statistics_ns +=
+            std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - stats_start)
+                .count();
+      });
+      result.total_trials += trials;
+      if (options.progress) options.progress(index + 1, total_points);
+    }
+  }
+  statistics[0].wait();
+  statistics[1].wait();
+  result.statistics_seconds = static_cast<double>(statistics_ns.load()) * 1e-9;
+  result.wall_seconds = Seconds(wall_start);
+  return result;
+}
+
+}  // namespace patlab::sim

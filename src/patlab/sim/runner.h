@@ -1,0 +1,87 @@
+// The experiment runner: every pattern x patch sigma is a data point of `trials` random poses;
+// every chosen estimator runs on the same noisy patches; per point and estimator the error
+// statistics, the Cramer-Rao bound and the first-order predicted std, and (for every estimator
+// but fast) the KS and Wilcoxon comparison with the fast estimator.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "patlab/estimate/bounds.h"
+#include "patlab/sim/batch.h"
+#include "patlab/sim/experiment.h"
+#include "patlab/stats/ks.h"
+#include "patlab/stats/wilcoxon.h"
+
+namespace patlab::sim {
+
+struct RunOptions {
+  int threads = 0;  // worker threads; 0 = all cores. Results do not depend on it.
+  // Called on the calling thread after each data point's trials: (points done, points in all).
+  std::function<void(int, int)> progress;
+};
+
+// Sample std of one error component with its 95% chi-square interval, and the mean (the bias).
+struct AxisSummary {
+  double mean = 0.0;
+  double std = 0.0;
+  double std_lower = 0.0;
+  double std_upper = 0.0;
+};
+
+// The estimator against fast on the same trials: two-sample KS of the x, y and theta errors
+// (two-sided, asymptotic at these sizes), and the Wilcoxon signed-rank test of the paired
+// absolute errors (|position error|, |theta error|; two-sided, normal approximation with tie
+// correction). Not computed at sigma = 0, where all errors are rounding noise.
+struct Comparison {
+  bool computed = false;
+  stats::KsResult ks_x, ks_y, ks_theta;
+  stats::WilcoxonResult wilcoxon_position, wilcoxon_theta;
+};
+
+struct EstimatorResult {
+  estimate::Estimator estimator = estimate::Estimator::kFast;
+  AxisSummary x, y, theta;             // world-frame errors (mm, mm, rad)
+  double position_std_mm = 0.0;        // per-axis std pooled over x and y: sqrt((vx + vy) / 2)
+  double position_std_lower_mm = 0.0;  // its 95% interval (chi-square, 2(n - 1) dof)
+  double position_std_upper_mm = 0.0;
+  double radial_rms_mm = 0.0;     // sqrt(mean(ex^2 + ey^2)), bias included
+  AxisSummary radial;             // |position error| = sqrt(ex^2 + ey^2): mean, std, 95% CI
+  double crlb_position_mm = 0.0;  // Cramer-Rao bound, per axis (isotropic Gaussian only)
+  double crlb_theta_rad = 0.0;
+  double predicted_position_mm = 0.0;  // first-order predicted std of this estimator
+  double predicted_theta_rad = 0.0;
+  int64_t nonconverged = 0;               // ml: trials whose Newton iteration did not converge
+  int64_t first_nonconverged_trial = -1;  // ml: replay it with this trial index (-1: none)
+  double mean_iterations = 0.0;           // ml: mean Newton steps
+  Comparison vs_fast;
+};
+
+struct PointResult {
+  int pattern_index = 0;
+  std::string pattern;
+  double sigma_mm = 0.0;
+  uint32_t point = 0;  // stream id of the point: pattern_index * num_sigmas + sigma_index
+  int64_t trials = 0;
+  std::vector<EstimatorResult> estimators;  // in experiment order
+};
+
+struct RunResult {
+  std::vector<PointResult> points;  // pattern-major, then sigma
+  int threads = 0;
+  int64_t total_trials = 0;
+  double simulate_seconds = 0.0;    // wall time of trial generation and estimation
+  double statistics_seconds = 0.0;  // summed time of the per-point statistics tasks, which
+                                    // overlap the next point's trials
+  double wall_seconds = 0.0;
+};
+
+RunResult RunExperiment(const Experiment& experiment, const RunOptions& options);
+
+// The data point setup the runner uses for (pattern, sigma): for replaying a trial.
+PointSetup MakePointSetup(const Experiment& experiment, const estimate::Model& model,
+                          int pattern_index, int sigma_index);
+
+}  // namespace patlab::sim

@@ -1,0 +1,251 @@
+#include "patlab/sim/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "patlab/core/error.h"
+#include "patlab/io/toml_util.h"
+
+namespace patlab::sim {
+
+std::optional<detect::OptionsProblem> ValidateSceneOptions(const SceneOptions& o) {
+  auto problem = [](std::string field, double value, std::string expected) {
+    return detect::OptionsProblem{
+        field, field + " is " + io::FormatNumber(value) + "; expected " + std::move(expected)};
+  };
+  auto probability = [](double p) { return p >= 0.0 && p <= 1.0; };
+  if (o.robots_per_team < 0)
+    return problem("robots_per_team", o.robots_per_team, "an integer >= 0");
+  if (!(o.field_length_mm > 0.0) || !std::isfinite(o.field_length_mm)) {
+    return problem("field_length_mm", o.field_length_mm, "a finite number > 0 (mm)");
+  }
+  if (!(o.field_width_mm > 0.0) || !std::isfinite(o.field_width_mm)) {
+    return problem("field_width_mm", o.field_width_mm, "a finite number > 0 (mm)");
+  }
+  if (!(o.robot_radius_mm > 0.0) ||
+      2.0 * o.robot_radius_mm > std::min(o.field_length_mm, o.field_width_mm)) {
+    return problem("robot_radius_mm", o.robot_radius_mm, "a number > 0 that fits the field");
+  }
+  if (!(o.min_separation_mm >= 0.0) || !std::isfinite(o.min_separation_mm)) {
+    return problem("min_separation_mm", o.min_separation_mm, "a finite number >= 0 (mm)");
+  }
+  if (!(o.ball_radius_mm > 0.0))
+    return problem("ball_radius_mm", o.ball_radius_mm, "a number > 0 (mm)");
+  if (!probability(o.missing_patch_probability)) {
+    return problem("missing_patch_probability", o.missing_patch_probability,
+                   "a probability in [0, 1]");
+  }
+  if (!(o.false_blob_rate_per_m2 >= 0.0 && o.false_blob_rate_per_m2 <= 1000.0)) {
+    return problem("false_blob_rate_per_m2", o.false_blob_rate_per_m2, "a number in [0, 1000]");
+  }
+  if (!(o.false_blob_radius_min_mm > 0.0)) {
+    return problem("false_blob_radius_min_mm", o.false_blob_radius_min_mm, "a number > 0 (mm)");
+  }
+  if (!(o.false_blob_radius_max_mm >= o.false_blob_radius_min_mm) ||
+      !std::isfinite(o.false_blob_radius_max_mm)) {
+    return problem("false_blob_radius_max_mm", o.false_blob_radius_max_mm,
+                   "a finite number >= false_blob_radius_min_mm");
+  }
+  if (!probability(o.colour_error_probability)) {
+    return problem("colour_error_probability", o.colour_error_probability,
+                   "a probability in [0, 1]");
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+// Poisson(lambda) as the number of unit-rate exponential gaps that fit in lambda (exact;
+// O(lambda)).
+int Poisson(double lambda, RandomStream& rng) {
+  int count = 0;
+  double t = -std::log(rng.Uniform());
+  while (t < lambda) {
+    ++count;
+    t -= std::log(rng.Uniform());
+  }
+  return count;
+}
+
+}  // namespace
+
+Scene GenerateScene(const detect::Detector& detector, const SceneOptions& o, const PatchNoise& noise,
+                    RandomStream& rng) {
+  if (auto p = ValidateSceneOptions(o)) throw InputError("scene: " + p->message);
+  const detect::DetectorConfig& config = detector.config();
+  if (o.pattern < 0 || o.pattern >= static_cast<int>(config.patterns.size())) {
+    throw InputError("scene: pattern is " + std::to_string(o.pattern) +
+                     "; expected an index in [0, " + std::to_string(config.patterns.size()) + ")");
+  }
+  const detect::DetectorPattern& dp = config.patterns[o.pattern];
+  const Pattern& pattern = dp.pattern;
+  const int num_ids = static_cast<int>(dp.codebook.entries.size());
+  if (o.robots_per_team > num_ids) {
+    throw InputError("scene: robots_per_team is " + std::to_string(o.robots_per_team) +
+                     "; expected at most " + std::to_string(num_ids) + " (the IDs of " +
+                     pattern.name + ")");
+  }
+  const int num_labels = static_cast<int>(config.palette.size());
+  std::vector<int> codebook_label;
+  for (const std::string& c : dp.codebook.colours)
+    codebook_label.push_back(detector.ColourLabel(c));
+  const std::vector<int> slots = detect::IdSlots(pattern);
+
+  Scene scene;
+  const double half_l = 0.5 * o.field_length_mm, half_w = 0.5 * o.field_width_mm;
+  auto place = [&](double margin, double clearance_robot, const std::vector<Vec2>& taken) {
+    for (int attempt = 0; attempt < 10000; ++attempt) {
+      const Vec2 p(rng.Uniform(-half_l + margin, half_l - margin),
+                   rng.Uniform(-half_w + margin, half_w - margin));
+      bool free = true;
+      for (const Vec2& t : taken) free = free && (p - t).norm() >= clearance_robot;
+      if (free) return p;
+    }
+    throw InputError("scene: cannot place " + std::to_string(taken.size() + 1) + " objects " +
+                     io::FormatNumber(clearance_robot) +
+                     " mm apart; expected a larger field or fewer robots");
+  };
+
+  // Robots: per team, distinct IDs (partial Fisher-Yates over the codebook).
+  std::vector<Vec2> centres;
+  std::vector<int> ids(num_ids);
+  for (const std::string& team : dp.key_colours) {
+    const int team_label = detector.ColourLabel(team);
+    for (int i = 0; i < num_ids; ++i) ids[i] = i;
+    for (int r = 0; r < o.robots_per_team; ++r) {
+      const int pick = r + static_cast<int>(rng.Below(num_ids - r));
+      std::swap(ids[r], ids[pick]);
+      SceneRobot robot;
+      robot.pattern = o.pattern;
+      robot.team_colour = team_label;
+      robot.id = dp.codebook.entries[ids[r]].id;
+      const Vec2 c = place(o.robot_radius_mm, o.min_separation_mm, centres);
+      centres.push_back(c);
+      robot.pose = Pose2{c.x(), c.y(), WrapAngle(rng.Uniform(-std::numbers::pi, std::numbers::pi))};
+      scene.robots.push_back(robot);
+
+      // Its patches as blobs.
+      const detect::CodebookEntry& entry = dp.codebook.entries[ids[r]];
+      for (int i = 0; i < pattern.size(); ++i) {
+        const Patch& patch = pattern.patches[i];
+        int label;
+        if (patch.role == PatchRole::kKey) {
+          label = team_label;
+        } else if (patch.role == PatchRole::kFixed) {
+          label = detector.ColourLabel(patch.colour);
+        } else {
+          const int slot =
+              static_cast<int>(std::find(slots.begin(), slots.end(), i) - slots.begin());
+          label = codebook_label[entry.colour[slot]];
+        }
+        const Vec2 truth = robot.pose.Apply(patch.position_mm);
+        Vec2 measured;
+        if (noise.perturb) {
+          measured = noise.perturb(truth, patch.radius_mm, rng);
+        } else {
+          measured = truth;
+          if (noise.sigma_mm > 0.0) {
+            const double nx = rng.Normal(), ny = rng.Normal();
+            measured += noise.sigma_mm * Vec2(nx, ny);
+          }
+        }
+        // Fixed order of draws per patch, whether or not the event happens (replayable).
+        const bool missing = rng.Uniform() < o.missing_patch_probability;
+        const bool wrong_colour = rng.Uniform() < o.colour_error_probability;
+        const int other = static_cast<int>(rng.Below(std::max(1, num_labels - 1)));
+        if (missing) {
+          ++scene.num_missing_patches;
+          continue;
+        }
+        if (wrong_colour && num_labels > 1) {
+          label = other >= label ? other + 1 : other;
+          ++scene.num_colour_errors;
+        }
+        scene.blobs.push_back(
+            {measured, label, std::numbers::pi * patch.radius_mm * patch.radius_mm});
+      }
+    }
+  }
+  if (o.ball) {
+    const int ball_label = detector.ColourLabel(o.ball_colour);
+    if (ball_label < 0) {
+      throw InputError("scene: ball_colour \"" + o.ball_colour + "\" is not in the palette");
+    }
+    scene.ball_mm = place(o.ball_radius_mm, o.robot_radius_mm + o.ball_radius_mm, centres);
+    scene.blobs.push_back(
+        {scene.ball_mm, ball_label, std::numbers::pi * o.ball_radius_mm * o.ball_radius_mm});
+  }
+  // False blobs: Poisson over the field, uniform position, radius and colour.
+  const double area_m2 = o.field_length_mm * o.field_width_mm * 1e-6;
+  scene.num_false_blobs = Poisson(o.false_blob_rate_per_m2 * area_m2, rng);
+  for (int i = 0; i < scene.num_false_blobs; ++i) {
+    const Vec2 p(rng.Uniform(-half_l, half_l), rng.Uniform(-half_w, half_w));
+    const double radius = rng.Uniform(o.false_blob_radius_min_mm, o.false_blob_radius_max_mm);
+    const int label = static_cast<int>(rng.Below(num_labels));
+    scene.blobs.push_back({p, label, std::numbers::pi * radius * radius});
+  }
+  // Shuffle (Fisher-Yates).
+  for (int i = static_cast<int>(scene.blobs.size()) - 1; i > 0; --i) {
+    std::swap(scene.blobs[i], scene.blobs[rng.Below(i + 1)]);
+  }
+  return scene;
+}
+
+FrameScore ScoreFrame(const Scene& scene, std::span<const detect::Detection> detections,
+                      double match_radius_mm) {
+  FrameScore score;
+  const int nr = static_cast<int>(scene.robots.size());
+  const int nd = static_cast<int>(detections.size());
+  score.robots = nr;
+  // Candidate (distance, robot, detection) pairs; nearest first, each side used once.
+  struct Pair {
+    double d;
+    int robot, detection;
+  };
+  std::vector<Pair> pairs;
+  for (int r = 0; r < nr; ++r) {
+    const SceneRobot& robot = scene.robots[r];
+    for (int d = 0; d < nd; ++d) {
+      const detect::Detection& det = detections[d];
+      if (det.pattern != robot.pattern || det.team_colour != robot.team_colour) continue;
+      const double dist =
+          std::hypot(det.pose.x_mm - robot.pose.x_mm, det.pose.y_mm - robot.pose.y_mm);
+      if (dist <= match_radius_mm) pairs.push_back({dist, r, d});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+    return std::tie(a.d, a.robot, a.detection) < std::tie(b.d, b.robot, b.detection);
+  });
+  std::vector<int> match_of_robot(nr, -1);
+  std::vector<char> detection_used(nd, 0);
+  for (const Pair& p : pairs) {
+    if (match_of_robot[p.robot] >= 0 || detection_used[p.detection]) continue;
+    match_of_robot[p.robot] = p.detection;
+    detection_used[p.detection] = 1;
+  }
+  for (int r = 0; r < nr; ++r) {
+    const int d = match_of_robot[r];
+    if (d < 0) {
+      ++score.missed;
+      continue;
+    }
+    const detect::Detection& det = detections[d];
+    const SceneRobot& robot = scene.robots[r];
+    if (det.status == detect::DetectionStatus::kAmbiguous) {
+      ++score.ambiguous;
+    } else if (det.id < 0) {
+      ++score.unknown_id;
+    } else if (det.id != robot.id) {
+      ++score.wrong_id;
+    } else {
+      ++score.correct;
+      score.pose_errors.push_back({det.pose.x_mm - robot.pose.x_mm, det.pose.y_mm - robot.pose.y_mm,
+                                   WrapAngle(det.pose.theta_rad - robot.pose.theta_rad)});
+    }
+  }
+  for (int d = 0; d < nd; ++d) score.false_positives += detection_used[d] ? 0 : 1;
+  return score;
+}
+
+}  // namespace patlab::sim

@@ -1,0 +1,73 @@
+// Two-sample Kolmogorov-Smirnov test, following scipy.stats.ks_2samp (scipy 1.10) except where
+// README ("patlab stats") lists a deliberate difference. Used to compare the error samples of
+// two estimators (paper section IV: fast vs ML estimation, "no statistically significant
+// differences could be detected with a Kolmogorov-Smirnov test").
+//
+// The statistic compares the two empirical CDFs after all tied values (a value shared by both
+// samples moves both CDFs before they are compared), as scipy does with searchsorted(side=right).
+// p-values assume continuous distributions (no correction for ties), as in scipy.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+#include "patlab/stats/hypothesis.h"
+
+namespace patlab::stats {
+
+enum class KsMethod {
+  kAuto,        // kExact when max(n1, n2) <= kKsMaxAutoExactN, else kAsymptotic (scipy's rule)
+  kExact,       // exact null distribution; falls back to kAsymptotic beyond the size limits below
+  kAsymptotic,  // two-sided: limiting Kolmogorov law; one-sided: Hodges' (1958) eq. 5.3
+};
+
+std::string_view KsMethodName(KsMethod method);  // "auto", "exact", "asymp"
+KsMethod ParseKsMethod(std::string_view name);   // throws InputError on anything else
+
+// kAuto uses the exact distribution up to this many samples in the larger set (scipy MAX_AUTO_N).
+inline constexpr std::size_t kKsMaxAutoExactN = 10000;
+// For n1 != n2 the exact distribution is a lattice-path recursion costing n1 * n2 steps
+// (~1 ns each); above this many steps kExact falls back to kAsymptotic (reported in
+// KsResult::method_used). n1 == n2 uses closed forms of cost O(n) and has no limit.
+inline constexpr std::uint64_t kKsMaxExactLatticeSteps = 200'000'000;
+
+struct KsOptions {
+  Alternative alternative = Alternative::kTwoSided;
+  KsMethod method = KsMethod::kAuto;
+};
+
+struct KsResult {
+  // two-sided: max |F1 - F2|; greater: max(F1 - F2); less: max(F2 - F1) (clipped at 0).
+  // In exact mode it is rounded to the lattice, h / lcm(n1, n2), as scipy does.
+  double d = 0.0;
+  double d_scaled = 0.0;  // sqrt(n1 n2 / (n1 + n2)) * d, the argument of the limiting law
+  double p_value = 1.0;   // always in [0, 1]
+  KsMethod method_used = KsMethod::kExact;  // kExact or kAsymptotic, never kAuto
+  int sign = 1;                             // +1 if d is max(F1 - F2), -1 if max(F2 - F1)
+  double location = 0.0;  // a sample value where the maximum is reached (first one)
+  std::size_t n1 = 0;
+  std::size_t n2 = 0;
+};
+
+// x, y: the two samples (copied and sorted; any order). Both must be non-empty and finite,
+// otherwise InputError. O((n1 + n2) log(n1 + n2)) plus the p-value (see KsMethod).
+KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
+                     const KsOptions& options = {});
+
+// The pieces, exposed for tests and for callers that already have the statistic.
+// Survival function of the limiting Kolmogorov distribution, P(K > x) with
+// K = sup |Brownian bridge| (Kolmogorov 1933; the two series of Feller 1948).
+double KolmogorovSurvival(double x);
+// Exact P(D >= h/n) for n1 = n2 = n, two-sided: reflection sum 2 sum_k (-1)^(k-1)
+// C(2n, n-kh)/C(2n, n) (Gnedenko & Korolyuk 1951), in scipy's Horner form.
+double KsExactEqualTwoSided(std::int64_t n, std::int64_t h);
+// Exact P(D+ >= h/n) for n1 = n2 = n: C(2n, n-h)/C(2n, n) as a product.
+double KsExactEqualOneSided(std::int64_t n, std::int64_t h);
+// Exact P(D >= h/lcm) (two_sided) or P(D+ >= h/lcm) for any n1, n2 by the lattice-path
+// recursion of Hodges (1958) carried on probabilities of leaving the band rather than path
+// counts (Viehmann 2021, arXiv:2102.08037), so small p-values keep full relative accuracy.
+double KsExactLattice(std::int64_t n1, std::int64_t n2, std::int64_t h, bool two_sided);
+
+}  // namespace patlab::stats

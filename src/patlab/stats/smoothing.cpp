@@ -1,0 +1,87 @@
+#include "patlab/stats/smoothing.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "patlab/core/error.h"
+#include "patlab/stats/summary.h"
+
+namespace patlab::stats {
+
+void Validate(const SmoothingOptions& options) {
+  if (!(std::isfinite(options.sigma_samples) && options.sigma_samples >= 0.0)) {
+    throw InputError("SmoothingOptions.sigma_samples is " + std::to_string(options.sigma_samples) +
+                     "; expected a finite value >= 0");
+  }
+  if (!(std::isfinite(options.truncate_sigmas) && options.truncate_sigmas > 0.0)) {
+    throw InputError("SmoothingOptions.truncate_sigmas is " +
+                     std::to_string(options.truncate_sigmas) + "; expected a finite value > 0");
+  }
+}
+
+std::vector<double> GaussianSmooth(std::span<const double> x, const SmoothingOptions& options) {
+  Validate(options);
+  if (x.empty()) throw InputError("cannot smooth an empty series; expected at least one sample");
+  detail::RequireFinite(x, "series");
+  const double sigma = options.sigma_samples;
+  const auto radius = static_cast<std::ptrdiff_t>(options.truncate_sigmas * sigma + 0.5);
+  if (radius == 0) return {x.begin(), x.end()};
+  // Normalised weights w_k = exp(-k^2 / (2 sigma^2)) / sum, |k| <= radius (scipy
+  // _gaussian_kernel1d).
+  std::vector<double> w(static_cast<std::size_t>(radius) + 1);
+  double sum = 0.0;
+  for (std::ptrdiff_t k = -radius; k <= radius; ++k) {
+    const double v = std::exp(-0.5 / (sigma * sigma) * static_cast<double>(k * k));
+    sum += v;
+    if (k >= 0) w[static_cast<std::size_t>(k)] = v;
+  }
+  for (double& v : w) v /= sum;
+
+  const auto n = static_cast<std::ptrdiff_t>(x.size());
+  // Index into the reflected extension: period 2n, mirrored in the second half.
+  auto at = [&](std::ptrdiff_t i) {
+    std::ptrdiff_t m = i % (2 * n);
+    if (m < 0) m += 2 * n;
+    if (m >= n) m = 2 * n - 1 - m;
+    return x[static_cast<std::size_t>(m)];
+  };
+  std::vector<double> out(x.size());
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    double acc = x[static_cast<std::size_t>(i)] * w[0];
+    if (i >= radius && i + radius < n) {
+      for (std::ptrdiff_t k = 1; k <= radius; ++k) {
+        acc += (x[static_cast<std::size_t>(i - k)] + x[static_cast<std::size_t>(i + k)]) *
+               w[static_cast<std::size_t>(k)];
+      }
+    } else {
+      for (std::ptrdiff_t k = 1; k <= radius; ++k) {
+        acc += (at(i - k) + at(i + k)) * w[static_cast<std::size_t>(k)];
+      }
+    }
+    out[static_cast<std::size_t>(i)] = acc;
+  }
+  return out;
+}
+
+std::vector<double> SmoothingResiduals(std::span<const double> x, const SmoothingOptions& options) {
+  std::vector<double> r = GaussianSmooth(x, options);
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = x[i] - r[i];
+  return r;
+}
+
+double Autocorrelation(std::span<const double> x, std::size_t lag) {
+  if (lag >= x.size()) {
+    throw InputError("autocorrelation at lag " + std::to_string(lag) + " needs more than " +
+                     std::to_string(lag) + " samples, got " + std::to_string(x.size()));
+  }
+  detail::RequireFinite(x, "series");
+  const double mean = Mean(x);
+  double num = 0.0, den = 0.0;
+  for (std::size_t t = 0; t < x.size(); ++t) den += (x[t] - mean) * (x[t] - mean);
+  for (std::size_t t = 0; t + lag < x.size(); ++t) num += (x[t] - mean) * (x[t + lag] - mean);
+  if (den == 0.0) return std::numeric_limits<double>::quiet_NaN();
+  return num / den;
+}
+
+}  // namespace patlab::stats

@@ -1,0 +1,68 @@
+// Wilcoxon signed-rank test for paired samples, following scipy.stats.wilcoxon (scipy 1.10)
+// except where README ("patlab stats") lists a deliberate difference. The paper (section II)
+// uses it to compare paired absolute errors of patch sizes and of patterns.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string_view>
+
+#include "patlab/stats/hypothesis.h"
+
+namespace patlab::stats {
+
+// What to do with zero differences x_i - y_i == 0 (scipy's zero_method).
+enum class ZeroMethod {
+  kWilcox,  // drop the zeros before ranking (Wilcoxon 1945); the default
+  kPratt,   // rank the zeros with the rest, then drop their ranks (Pratt 1959; Cureton 1967
+            // for the adjusted normal approximation)
+  kZsplit,  // rank the zeros and give half of their rank sum to each side
+};
+std::string_view ZeroMethodName(ZeroMethod method);  // "wilcox", "pratt", "zsplit"
+ZeroMethod ParseZeroMethod(std::string_view name);
+
+enum class WilcoxonMethod {
+  kAuto,    // kExact when n <= kWilcoxonMaxAutoExactN and there are no zeros and no ties
+  kExact,   // exact null distribution of R+; falls back to kApprox with zeros, ties or
+            // n > kWilcoxonMaxExactN (reported in WilcoxonResult::method_used)
+  kApprox,  // normal approximation with tie-corrected variance (optional continuity correction)
+};
+std::string_view WilcoxonMethodName(WilcoxonMethod method);  // "auto", "exact", "approx"
+WilcoxonMethod ParseWilcoxonMethod(std::string_view name);
+
+inline constexpr std::size_t kWilcoxonMaxAutoExactN = 50;  // scipy 1.10's auto rule
+// The exact distribution costs ~n^3/4 additions: 3e7 at n = 500.
+inline constexpr std::size_t kWilcoxonMaxExactN = 500;
+
+struct WilcoxonOptions {
+  Alternative alternative = Alternative::kTwoSided;
+  ZeroMethod zero_method = ZeroMethod::kWilcox;
+  // Continuity correction of the normal approximation: shifts R+ by 0.5 towards the mean.
+  // Ignored by the exact method.
+  bool correction = false;
+  WilcoxonMethod method = WilcoxonMethod::kAuto;
+};
+
+struct WilcoxonResult {
+  // two-sided: min(R+, R-); one-sided: R+ (scipy's convention).
+  double statistic = 0.0;
+  double r_plus = 0.0;   // sum of the (average) ranks of |d| over d > 0 (+ half the zeros' ranks
+                         // for kZsplit)
+  double r_minus = 0.0;  // likewise over d < 0
+  double z = 0.0;        // standardised statistic of the normal approximation; NaN when exact
+  double p_value = 1.0;  // always in [0, 1]; tails computed directly, not as 1 - cdf
+  WilcoxonMethod method_used = WilcoxonMethod::kApprox;  // never kAuto
+  std::size_t n = 0;                                     // number of pairs
+  std::size_t n_zero = 0;                                // pairs with x_i == y_i
+  bool has_ties = false;                                 // tied non-zero |d| values
+};
+
+// Paired samples x, y (equal lengths, finite, non-empty, otherwise InputError); d = x - y.
+// Also InputError when every difference is zero under kWilcox or kPratt (nothing to rank).
+// O(n log n) for the normal approximation.
+WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const double> y,
+                                  const WilcoxonOptions& options = {});
+// The same on the differences d directly.
+WilcoxonResult WilcoxonSignedRank(std::span<const double> d, const WilcoxonOptions& options = {});
+
+}  // namespace patlab::stats

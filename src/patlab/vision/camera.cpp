@@ -1,0 +1,287 @@
+#include "patlab/vision/camera.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "patlab/core/error.h"
+#include "patlab/io/toml_util.h"
+
+namespace patlab::vision {
+
+namespace {
+constexpr double kHeightToleranceMm = 0.5;  // a homography serves heights within this
+}
+
+Eigen::Matrix3d RotationFromRodrigues(const Eigen::Vector3d& rodrigues) {
+  const double angle = rodrigues.norm();
+  if (angle < 1e-15) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, rodrigues / angle).toRotationMatrix();
+}
+
+CameraModel CameraModel::Pinhole(const PinholeCamera& pinhole) {
+  CameraModel m;
+  m.is_pinhole_ = true;
+  m.pinhole_ = pinhole;
+  return m;
+}
+
+CameraModel CameraModel::Homographies(std::vector<PlaneHomography> homographies) {
+  CameraModel m;
+  m.is_pinhole_ = false;
+  m.homographies_ = std::move(homographies);
+  for (const PlaneHomography& h : m.homographies_)
+    m.inverses_.push_back(h.pixel_to_world.inverse());
+  return m;
+}
+
+const PlaneHomography* CameraModel::FindHomography(double height_mm) const {
+  for (const PlaneHomography& h : homographies_) {
+    if (std::abs(h.height_mm - height_mm) <= kHeightToleranceMm) return &h;
+  }
+  return nullptr;
+}
+
+bool CameraModel::SupportsHeight(double height_mm) const {
+  return is_pinhole_ || FindHomography(height_mm) != nullptr;
+}
+
+std::optional<Vec2> CameraModel::PixelToWorld(const Vec2& pixel, double height_mm) const {
+  if (!is_pinhole_) {
+    const PlaneHomography* h = FindHomography(height_mm);
+    if (h == nullptr) return std::nullopt;
+    const Eigen::Vector3d w = h->pixel_to_world * Eigen::Vector3d(pixel.x(), pixel.y(), 1.0);
+    if (std::abs(w.z()) < 1e-12) return std::nullopt;
+    return Vec2(w.x() / w.z(), w.y() / w.z());
+  }
+  const PinholeCamera& c = pinhole_;
+  // Undistort: solve r_d = r (1 + k1 r^2 + k2 r^4) for r by Newton's method from r = r_d.
+  const double xd = (pixel.x() - c.cx_px) / c.fx_px;
+  const double yd = (pixel.y() - c.cy_px) / c.fy_px;
+  const double rd = std::hypot(xd, yd);
+  double scale = 1.0;  // r / r_d
+  if (rd > 0.0 && (c.k1 != 0.0 || c.k2 != 0.0)) {
+    double r = rd;
+    for (int iteration = 0; iteration < 20; ++iteration) {
+      const double r2 = r * r;
+      const double g = r * (1.0 + c.k1 * r2 + c.k2 * r2 * r2) - rd;
+      const double dg = 1.0 + 3.0 * c.k1 * r2 + 5.0 * c.k2 * r2 * r2;
+      if (dg <= 0.0) return std::nullopt;  // beyond the fold of the distortion polynomial
+      const double step = g / dg;
+      r -= step;
+      if (std::abs(step) < 1e-14) break;
+    }
+    if (!(r >= 0.0)) return std::nullopt;
+    const double r2 = r * r;
+    if (1.0 + 3.0 * c.k1 * r2 + 5.0 * c.k2 * r2 * r2 <= 0.0) return std::nullopt;
+    scale = r / rd;
+  }
+  // Ray through the undistorted point, in world coordinates, from the camera centre C.
+  const Eigen::Vector3d ray_camera(xd * scale, yd * scale, 1.0);
+  const Eigen::Matrix3d rt = c.rotation.transpose();
+  const Eigen::Vector3d centre = -rt * c.translation_mm;
+  const Eigen::Vector3d ray = rt * ray_camera;
+  if (std::abs(ray.z()) < 1e-12) return std::nullopt;
+  const double s = (height_mm - centre.z()) / ray.z();
+  if (s <= 0.0) return std::nullopt;  // the plane is behind the camera
+  return Vec2(centre.x() + s * ray.x(), centre.y() + s * ray.y());
+}
+
+std::optional<Vec2> CameraModel::WorldToPixel(const Vec2& world_mm, double height_mm) const {
+  if (!is_pinhole_) {
+    const PlaneHomography* h = FindHomography(height_mm);
+    if (h == nullptr) return std::nullopt;
+    const Eigen::Matrix3d& inverse = inverses_[static_cast<size_t>(h - homographies_.data())];
+    const Eigen::Vector3d p = inverse * Eigen::Vector3d(world_mm.x(), world_mm.y(), 1.0);
+    if (std::abs(p.z()) < 1e-12) return std::nullopt;
+    return Vec2(p.x() / p.z(), p.y() / p.z());
+  }
+  const PinholeCamera& c = pinhole_;
+  const Eigen::Vector3d pc =
+      c.rotation * Eigen::Vector3d(world_mm.x(), world_mm.y(), height_mm) + c.translation_mm;
+  if (pc.z() <= 0.0) return std::nullopt;
+  const double x = pc.x() / pc.z(), y = pc.y() / pc.z();
+  const double r2 = x * x + y * y;
+  const double f = 1.0 + c.k1 * r2 + c.k2 * r2 * r2;
+  return Vec2(c.fx_px * x * f + c.cx_px, c.fy_px * y * f + c.cy_px);
+}
+
+double CameraModel::AreaScale(const Vec2& pixel, double height_mm) const {
+  constexpr double h = 0.5;
+  const auto xp = PixelToWorld(pixel + Vec2(h, 0), height_mm);
+  const auto xm = PixelToWorld(pixel - Vec2(h, 0), height_mm);
+  const auto yp = PixelToWorld(pixel + Vec2(0, h), height_mm);
+  const auto ym = PixelToWorld(pixel - Vec2(0, h), height_mm);
+  if (!xp || !xm || !yp || !ym) return 0.0;
+  const Vec2 du = (*xp - *xm) / (2 * h), dv = (*yp - *ym) / (2 * h);
+  return std::abs(du.x() * dv.y() - du.y() * dv.x());
+}
+
+namespace {
+
+std::vector<double> NumberArray(const io::TomlReader& r, std::string_view key, size_t n,
+                                const std::string& expected) {
+  const toml::node* node = r.table().get(key);
+  if (node == nullptr) r.Fail(key, "missing " + r.Describe(key) + "; expected " + expected);
+  const toml::array* a = node->as_array();
+  std::vector<double> out;
+  if (a != nullptr && a->size() == n) {
+    for (const toml::node& e : *a) {
+      if (const auto* i = e.as_integer()) {
+        out.push_back(static_cast<double>(i->get()));
+      } else if (const auto* f = e.as_floating_point(); f && std::isfinite(f->get())) {
+        out.push_back(f->get());
+      }
+    }
+  }
+  if (out.size() != n) r.Fail(key, r.Describe(key) + " is malformed; expected " + expected);
+  return out;
+}
+
+double Positive(const io::TomlReader& r, std::string_view key) {
+  const double v = r.Number(key);
+  if (!(v > 0.0)) r.Fail(key, r.Describe(key) + " is " + io::FormatNumber(v) + "; expected > 0");
+  return v;
+}
+
+}  // namespace
+
+Calibration ParseCalibration(std::string_view text, const std::string& name) {
+  const toml::table root = io::ParseTomlText(text, name);
+  const io::TomlReader top(root, name);
+  top.CheckKeys({"model", "image_size_px", "pinhole", "homography", "heights"});
+  Calibration cal;
+  cal.source = name;
+  if (top.Has("image_size_px")) {
+    const auto size = NumberArray(top, "image_size_px", 2, "[width, height] in pixels");
+    if (size[0] < 1 || size[1] < 1 || size[0] != std::floor(size[0]) ||
+        size[1] != std::floor(size[1])) {
+      top.Fail("image_size_px",
+               "image_size_px is not two positive integers; expected [width, height] in pixels");
+    }
+    cal.image_width_px = static_cast<int>(size[0]);
+    cal.image_height_px = static_cast<int>(size[1]);
+  }
+  const std::string model = top.String("model");
+  if (model == "pinhole") {
+    const toml::table* t = root["pinhole"].as_table();
+    if (t == nullptr)
+      top.Fail("pinhole",
+               "model = \"pinhole\" needs a [pinhole] table; expected fx_px, fy_px, cx_px, cy_px "
+               "and extrinsics");
+    const io::TomlReader r(*t, name, "[pinhole]");
+    r.CheckKeys({"fx_px", "fy_px", "cx_px", "cy_px", "k1", "k2", "rotation_rodrigues",
+                 "translation_mm", "camera_position_mm", "yaw_deg"});
+    PinholeCamera c;
+    c.fx_px = Positive(r, "fx_px");
+    c.fy_px = Positive(r, "fy_px");
+    c.cx_px = r.Number("cx_px");
+    c.cy_px = r.Number("cy_px");
+    c.k1 = r.OptionalNumber("k1").value_or(0.0);
+    c.k2 = r.OptionalNumber("k2").value_or(0.0);
+    const bool opencv = r.Has("rotation_rodrigues") || r.Has("translation_mm");
+    const bool overhead = r.Has("camera_position_mm") || r.Has("yaw_deg");
+    if (opencv == overhead) {
+      r.Fail(opencv ? "camera_position_mm" : "fx_px",
+             "[pinhole] needs exactly one form of extrinsics; expected rotation_rodrigues and "
+             "translation_mm, or camera_position_mm and yaw_deg");
+    }
+    if (opencv) {
+      const auto rv = NumberArray(r, "rotation_rodrigues", 3, "[rx, ry, rz] in radians");
+      const auto tv = NumberArray(r, "translation_mm", 3, "[tx, ty, tz] in mm");
+      c.rotation = RotationFromRodrigues(Eigen::Vector3d(rv[0], rv[1], rv[2]));
+      c.translation_mm = Eigen::Vector3d(tv[0], tv[1], tv[2]);
+    } else {
+      const auto p = NumberArray(r, "camera_position_mm", 3, "[x, y, z] in mm");
+      const double yaw = r.OptionalNumber("yaw_deg").value_or(0.0) * std::numbers::pi / 180.0;
+      // Camera axes in world coordinates: image right, image down, optical axis (straight down).
+      Eigen::Matrix3d camera_to_world;
+      camera_to_world.col(0) = Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0.0);
+      camera_to_world.col(1) = Eigen::Vector3d(std::sin(yaw), -std::cos(yaw), 0.0);
+      camera_to_world.col(2) = Eigen::Vector3d(0.0, 0.0, -1.0);
+      c.rotation = camera_to_world.transpose();
+      c.translation_mm = -c.rotation * Eigen::Vector3d(p[0], p[1], p[2]);
+    }
+    cal.camera = CameraModel::Pinhole(c);
+  } else if (model == "homography") {
+    const toml::node* node = root.get("homography");
+    const toml::array* list = node ? node->as_array() : nullptr;
+    if (list == nullptr || list->empty()) {
+      top.Fail("homography",
+               "model = \"homography\" needs [[homography]] tables; expected height_mm and matrix");
+    }
+    std::vector<PlaneHomography> hs;
+    for (size_t i = 0; i < list->size(); ++i) {
+      const toml::table* t = (*list)[i].as_table();
+      const std::string context = "[[homography]] " + std::to_string(i + 1);
+      if (t == nullptr)
+        throw InputError(io::LocOf(name, (*list)[i]),
+                         context + " is not a table; expected [[homography]] tables");
+      const io::TomlReader r(*t, name, context);
+      r.CheckKeys({"height_mm", "matrix"});
+      PlaneHomography h;
+      h.height_mm = r.Number("height_mm");
+      const toml::node* m = t->get("matrix");
+      const toml::array* rows = m ? m->as_array() : nullptr;
+      bool ok = rows != nullptr && rows->size() == 3;
+      for (size_t row = 0; ok && row < 3; ++row) {
+        const toml::array* cols = (*rows)[row].as_array();
+        ok = cols != nullptr && cols->size() == 3;
+        for (size_t col = 0; ok && col < 3; ++col) {
+          const toml::node& e = (*cols)[col];
+          if (const auto* iv = e.as_integer()) {
+            h.pixel_to_world(row, col) = static_cast<double>(iv->get());
+          } else if (const auto* fv = e.as_floating_point(); fv && std::isfinite(fv->get())) {
+            h.pixel_to_world(row, col) = fv->get();
+          } else {
+            ok = false;
+          }
+        }
+      }
+      if (!ok)
+        r.Fail("matrix", "matrix in " + context + " is malformed; expected 3 rows of 3 numbers");
+      const double norm = h.pixel_to_world.norm();
+      if (std::abs(h.pixel_to_world.determinant()) <= 1e-12 * norm * norm * norm) {
+        r.Fail("matrix",
+               "matrix in " + context + " is singular; expected an invertible homography");
+      }
+      for (const PlaneHomography& other : hs) {
+        if (std::abs(other.height_mm - h.height_mm) <= kHeightToleranceMm) {
+          r.Fail("height_mm", "height_mm " + io::FormatNumber(h.height_mm) + " in " + context +
+                                  " repeats an earlier homography; expected one matrix per height");
+        }
+      }
+      hs.push_back(h);
+    }
+    cal.camera = CameraModel::Homographies(std::move(hs));
+  } else {
+    top.Fail("model", "model is \"" + model + "\"; expected \"pinhole\" or \"homography\"");
+  }
+  if (const toml::table* t = root["heights"].as_table()) {
+    const io::TomlReader r(*t, name, "[heights]");
+    for (const auto& [key, node] : *t) {
+      const double v = r.Number(key.str());
+      if (key.str() == "default_mm") {
+        cal.default_height_mm = v;
+      } else {
+        cal.class_height_mm[std::string(key.str())] = v;
+      }
+    }
+  }
+  return cal;
+}
+
+Calibration LoadCalibration(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError(FileLoc{path, 0},
+                     "cannot open file; expected a readable calibration TOML file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return ParseCalibration(buffer.str(), path);
+}
+
+}  // namespace patlab::vision

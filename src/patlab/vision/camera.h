@@ -1,0 +1,110 @@
+// Stage 5 of the vision pipeline: from pixels to millimetres on a horizontal plane at a known
+// height (the top of a pattern, or the centre of a ball). World frame: x, y on the floor in mm,
+// z up; a plane at height h is z = h.
+//
+// Two models:
+//  - pinhole: intrinsics fx, fy, cx, cy (px), radial distortion k1, k2 (Brown-Conrady, as in
+//    OpenCV: x_d = x (1 + k1 r^2 + k2 r^4) on normalised coordinates), and extrinsics R, t with
+//    X_camera = R X_world + t (OpenCV's rvec/tvec convention). Works for any plane height.
+//  - homography: a 3x3 matrix H per plane height taking (u, v, 1) to (x, y, w) mm; for flat
+//    scenes or when only the pattern tops matter. Heights with no matrix are refused.
+#pragma once
+
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "patlab/core/geometry.h"
+
+namespace patlab::vision {
+
+struct PinholeCamera {
+  double fx_px = 1.0;  // focal length in pixels, > 0
+  double fy_px = 1.0;
+  double cx_px = 0.0;  // principal point
+  double cy_px = 0.0;
+  double k1 = 0.0;  // radial distortion, unitless
+  double k2 = 0.0;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // world -> camera
+  Eigen::Vector3d translation_mm = Eigen::Vector3d::Zero();
+};
+
+struct PlaneHomography {
+  double height_mm = 0.0;
+  Eigen::Matrix3d pixel_to_world = Eigen::Matrix3d::Identity();
+};
+
+class CameraModel {
+ public:
+  static CameraModel Pinhole(const PinholeCamera& pinhole);
+  static CameraModel Homographies(std::vector<PlaneHomography> homographies);
+
+  bool is_pinhole() const { return is_pinhole_; }
+  const PinholeCamera& pinhole() const { return pinhole_; }
+  // Whether points on the plane at this height can be mapped (always for a pinhole camera).
+  bool SupportsHeight(double height_mm) const;
+
+  // The world point (mm) on the plane z = height_mm seen at `pixel`; nullopt when the ray misses
+  // the plane (behind the camera, parallel) or lies outside the distortion model's valid range.
+  std::optional<Vec2> PixelToWorld(const Vec2& pixel, double height_mm) const;
+  // The pixel where world point (x, y, height_mm) appears; nullopt behind the camera.
+  std::optional<Vec2> WorldToPixel(const Vec2& world_mm, double height_mm) const;
+  // mm^2 of plane per px^2 of image around `pixel`: |det| of the Jacobian of PixelToWorld
+  // (central differences, 0.5 px step). 0 when it cannot be evaluated.
+  double AreaScale(const Vec2& pixel, double height_mm) const;
+
+ private:
+  const PlaneHomography* FindHomography(double height_mm) const;
+  bool is_pinhole_ = true;
+  PinholeCamera pinhole_;
+  std::vector<PlaneHomography> homographies_;
+  std::vector<Eigen::Matrix3d> inverses_;
+};
+
+// A calibration file: the camera model plus the plane height of each colour class.
+struct Calibration {
+  CameraModel camera = CameraModel::Pinhole(PinholeCamera{});
+  double default_height_mm = 0.0;                 // plane height for classes not listed
+  std::map<std::string, double> class_height_mm;  // class name -> plane height (mm)
+  int image_width_px = 0;                         // 0 = any size; else frames must match
+  int image_height_px = 0;
+  std::string source;
+
+  double HeightOf(const std::string& class_name) const {
+    auto it = class_height_mm.find(class_name);
+    return it == class_height_mm.end() ? default_height_mm : it->second;
+  }
+};
+
+// Reads a calibration TOML file:
+//   model = "pinhole"                 # or "homography"
+//   image_size_px = [780, 580]        # optional
+//   [pinhole]
+//   fx_px = 520.0
+//   fy_px = 520.0
+//   cx_px = 390.0
+//   cy_px = 290.0
+//   k1 = -0.2                         # optional, default 0
+//   k2 = 0.0                          # optional, default 0
+//   # extrinsics, either OpenCV's (world -> camera):
+//   rotation_rodrigues = [3.14159, 0, 0]
+//   translation_mm = [0, 0, 4000]
+//   # or a camera looking straight down from camera_position_mm, image right = world x
+//   # rotated by yaw_deg counter-clockwise:
+//   camera_position_mm = [0, 0, 4000]
+//   yaw_deg = 0
+//   [[homography]]                    # model = "homography": one table per plane height
+//   height_mm = 140
+//   matrix = [[1, 0, -400], [0, -1, 400], [0, 0, 1]]   # (u, v, 1) -> (x, y, w) mm
+//   [heights]
+//   default_mm = 140                  # plane height of every class not listed (default 0)
+//   orange = 21                       # class name = plane height in mm
+Calibration LoadCalibration(const std::string& path);
+Calibration ParseCalibration(std::string_view text, const std::string& name);
+
+// Rodrigues vector (axis * angle, rad) -> rotation matrix.
+Eigen::Matrix3d RotationFromRodrigues(const Eigen::Vector3d& rodrigues);
+
+}  // namespace patlab::vision

@@ -1,0 +1,329 @@
+#include "patlab/vision/color_lut.h"
+
+#include <cctype>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "patlab/core/error.h"
+#include "patlab/io/toml_util.h"
+
+namespace patlab::vision {
+
+namespace {
+
+// A cursor over one line of colors.txt. Each Expect* returns false on a mismatch so the caller
+// can report the whole line with the expected form.
+class LineCursor {
+ public:
+  explicit LineCursor(std::string_view line) : line_(line) {}
+
+  void SkipSpace() {
+    while (pos_ < line_.size() && std::isspace(static_cast<unsigned char>(line_[pos_]))) ++pos_;
+  }
+  bool Char(char c) {
+    SkipSpace();
+    if (pos_ < line_.size() && line_[pos_] == c) {
+      ++pos_;
+      return true;
+    }
+    return false;
+  }
+  bool Integer(long* value) {
+    SkipSpace();
+    const std::string rest(line_.substr(pos_));
+    char* end = nullptr;
+    *value = std::strtol(rest.c_str(), &end, 10);
+    if (end == rest.c_str()) return false;
+    pos_ += static_cast<size_t>(end - rest.c_str());
+    return true;
+  }
+  bool Real(double* value) {
+    SkipSpace();
+    const std::string rest(line_.substr(pos_));
+    char* end = nullptr;
+    *value = std::strtod(rest.c_str(), &end);
+    if (end == rest.c_str()) return false;
+    pos_ += static_cast<size_t>(end - rest.c_str());
+    return true;
+  }
+  std::string Rest() {
+    SkipSpace();
+    std::string rest(line_.substr(pos_));
+    while (!rest.empty() && std::isspace(static_cast<unsigned char>(rest.back()))) rest.pop_back();
+    pos_ = line_.size();
+    return rest;
+  }
+  bool AtEnd() {
+    SkipSpace();
+    return pos_ == line_.size();
+  }
+
+ private:
+  std::string_view line_;
+  size_t pos_ = 0;
+};
+
+constexpr const char* kChannelNames[2][3] = {{"Y", "U", "V"}, {"R", "G", "B"}};
+
+std::string Trim(std::string_view s) {
+  size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return std::string(s.substr(b, e - b));
+}
+
+void CheckRange(const FileLoc& loc, const char* channel, long lo, long hi) {
+  for (long v : {lo, hi}) {
+    if (v < 0 || v > 255) {
+      throw InputError(loc, std::string(channel) + " bound " + std::to_string(v) +
+                                " out of range; expected 0..255");
+    }
+  }
+  if (lo > hi) {
+    throw InputError(loc, std::string("empty ") + channel + " range " + std::to_string(lo) + ":" +
+                              std::to_string(hi) + "; expected lo <= hi");
+  }
+}
+
+}  // namespace
+
+const char* ColorSpaceName(ColorSpace space) { return space == ColorSpace::kYuv ? "yuv" : "rgb"; }
+
+int Thresholds::Find(std::string_view name) const {
+  for (size_t i = 0; i < classes.size(); ++i) {
+    if (classes[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
+  Thresholds t;
+  t.space = ColorSpace::kYuv;
+  t.source = name;
+  enum class Section { kNone, kColors, kThresholds } section = Section::kNone;
+  size_t num_thresholds = 0;
+  int line_number = 0;
+  int last_threshold_line = 0;
+  std::istringstream in{std::string(text)};
+  std::string raw;
+  while (std::getline(in, raw)) {
+    ++line_number;
+    const FileLoc loc{name, line_number};
+    const std::string line = Trim(raw);
+    if (line.empty() || line[0] == '#' || line[0] == ';') continue;
+    if (line[0] == '[') {
+      if (line == "[Colors]") {
+        section = Section::kColors;
+      } else if (line == "[Thresholds]") {
+        section = Section::kThresholds;
+      } else {
+        throw InputError(loc, "unknown section " + line + "; expected [Colors] or [Thresholds]");
+      }
+      continue;
+    }
+    LineCursor c(line);
+    if (section == Section::kNone) {
+      throw InputError(loc, "line outside a section; expected [Colors] or [Thresholds] first");
+    }
+    if (section == Section::kColors) {
+      long r, g, b, expected;
+      double merge;
+      if (!(c.Char('(') && c.Integer(&r) && c.Char(',') && c.Integer(&g) && c.Char(',') &&
+            c.Integer(&b) && c.Char(')') && c.Real(&merge) && c.Integer(&expected))) {
+        throw InputError(
+            loc, "bad [Colors] line '" + line + "'; expected (R,G,B) merge expected_num Name");
+      }
+      const std::string class_name = c.Rest();
+      if (class_name.empty()) {
+        throw InputError(loc, "bad [Colors] line '" + line +
+                                  "': no name; expected (R,G,B) merge expected_num Name");
+      }
+      for (long v : {r, g, b}) {
+        if (v < 0 || v > 255) {
+          throw InputError(loc, "display colour component " + std::to_string(v) +
+                                    " out of range; expected 0..255");
+        }
+      }
+      if (expected < 0) {
+        throw InputError(loc, "expected_num " + std::to_string(expected) + "; expected >= 0");
+      }
+      if (t.classes.size() == kMaxColorClasses) {
+        throw InputError(loc, "colour " + std::to_string(kMaxColorClasses + 1) +
+                                  "; expected at most " + std::to_string(kMaxColorClasses) +
+                                  " colour classes");
+      }
+      ColorClass cls;
+      cls.name = class_name;
+      cls.display_rgb = {static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)};
+      cls.merge = merge;
+      cls.expected_num = static_cast<int>(expected);
+      t.classes.push_back(cls);
+    } else {
+      long v[6];
+      if (!(c.Char('(') && c.Integer(&v[0]) && c.Char(':') && c.Integer(&v[1]) && c.Char(',') &&
+            c.Integer(&v[2]) && c.Char(':') && c.Integer(&v[3]) && c.Char(',') &&
+            c.Integer(&v[4]) && c.Char(':') && c.Integer(&v[5]) && c.Char(')') && c.AtEnd())) {
+        throw InputError(
+            loc, "bad [Thresholds] line '" + line + "'; expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)");
+      }
+      if (num_thresholds >= t.classes.size()) {
+        throw InputError(loc, "threshold " + std::to_string(num_thresholds + 1) + " but only " +
+                                  std::to_string(t.classes.size()) +
+                                  " colours; expected one [Thresholds] line per [Colors] line");
+      }
+      ColorClass& cls = t.classes[num_thresholds];
+      for (int ch = 0; ch < 3; ++ch) {
+        CheckRange(loc, kChannelNames[0][ch], v[2 * ch], v[2 * ch + 1]);
+        cls.range[ch] = {static_cast<int>(v[2 * ch]), static_cast<int>(v[2 * ch + 1])};
+      }
+      ++num_thresholds;
+      last_threshold_line = line_number;
+    }
+  }
+  if (t.classes.empty()) {
+    throw InputError(FileLoc{name, 0},
+                     "no colours; expected a [Colors] section with at least one line");
+  }
+  if (num_thresholds != t.classes.size()) {
+    throw InputError(FileLoc{name, last_threshold_line},
+                     std::to_string(t.classes.size()) + " colours but " +
+                         std::to_string(num_thresholds) +
+                         " thresholds; expected one [Thresholds] line per [Colors] line");
+  }
+  return t;
+}
+
+namespace {
+
+ChannelRange ReadRange(const io::TomlReader& reader, std::string_view key, const char* channel) {
+  const toml::node* node = reader.table().get(key);
+  if (node == nullptr) return ChannelRange{};
+  const auto* array = node->as_array();
+  const FileLoc loc = reader.Loc(key);
+  if (array == nullptr || array->size() != 2 || !(*array)[0].is_integer() ||
+      !(*array)[1].is_integer()) {
+    throw InputError(
+        loc, reader.Describe(key) + " is not a pair of integers; expected [lo, hi] in 0..255");
+  }
+  const long lo = static_cast<long>((*array)[0].as_integer()->get());
+  const long hi = static_cast<long>((*array)[1].as_integer()->get());
+  CheckRange(loc, channel, lo, hi);
+  return {static_cast<int>(lo), static_cast<int>(hi)};
+}
+
+}  // namespace
+
+Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
+  const toml::table root = io::ParseTomlText(text, name);
+  const io::TomlReader top(root, name);
+  top.CheckKeys({"space", "class"});
+  Thresholds t;
+  t.source = name;
+  const std::string space = top.OptionalString("space").value_or("yuv");
+  if (space == "yuv") {
+    t.space = ColorSpace::kYuv;
+  } else if (space == "rgb") {
+    t.space = ColorSpace::kRgb;
+  } else {
+    top.Fail("space", "space is \"" + space + "\"; expected \"yuv\" or \"rgb\"");
+  }
+  const toml::node* classes_node = root.get("class");
+  const toml::array* classes = classes_node ? classes_node->as_array() : nullptr;
+  if (classes == nullptr || classes->empty()) {
+    throw InputError(
+        FileLoc{name, classes_node ? static_cast<int>(classes_node->source().begin.line) : 0},
+        "no colour classes; expected at least one [[class]] table");
+  }
+  if (classes->size() > kMaxColorClasses) {
+    throw InputError(io::LocOf(name, (*classes)[kMaxColorClasses]),
+                     "[[class]] " + std::to_string(kMaxColorClasses + 1) + "; expected at most " +
+                         std::to_string(kMaxColorClasses) + " colour classes");
+  }
+  const int sp = t.space == ColorSpace::kYuv ? 0 : 1;
+  for (size_t i = 0; i < classes->size(); ++i) {
+    const toml::table* table = (*classes)[i].as_table();
+    const std::string context = "[[class]] " + std::to_string(i + 1);
+    if (table == nullptr) {
+      throw InputError(io::LocOf(name, (*classes)[i]),
+                       context + " is not a table; expected [[class]] tables");
+    }
+    const io::TomlReader r(*table, name, context);
+    if (sp == 0) {
+      r.CheckKeys({"name", "display", "y", "u", "v", "min_area_px", "max_area_px", "merge",
+                   "expected_num"});
+    } else {
+      r.CheckKeys({"name", "display", "r", "g", "b", "min_area_px", "max_area_px", "merge",
+                   "expected_num"});
+    }
+    ColorClass cls;
+    cls.name = r.String("name");
+    if (cls.name.empty()) r.Fail("name", "empty name in " + context + "; expected a class name");
+    if (t.Find(cls.name) >= 0) {
+      r.Fail("name", "duplicate class name \"" + cls.name + "\"; expected unique names");
+    }
+    const char* keys[2][3] = {{"y", "u", "v"}, {"r", "g", "b"}};
+    for (int ch = 0; ch < 3; ++ch)
+      cls.range[ch] = ReadRange(r, keys[sp][ch], kChannelNames[sp][ch]);
+    if (const toml::node* d = table->get("display")) {
+      const auto* a = d->as_array();
+      bool ok = a != nullptr && a->size() == 3;
+      for (size_t k = 0; ok && k < 3; ++k) {
+        const auto* v = (*a)[k].as_integer();
+        ok = v != nullptr && v->get() >= 0 && v->get() <= 255;
+        if (ok) cls.display_rgb[k] = static_cast<uint8_t>(v->get());
+      }
+      if (!ok)
+        r.Fail("display",
+               "display in " + context + " is not [R, G, B]; expected three integers in 0..255");
+    }
+    if (auto v = r.OptionalInteger("min_area_px")) {
+      if (*v < 0)
+        r.Fail("min_area_px",
+               "min_area_px " + std::to_string(*v) + " in " + context + "; expected >= 0");
+      cls.min_area_px = static_cast<int>(*v);
+    }
+    if (auto v = r.OptionalInteger("max_area_px")) {
+      if (*v < 0 || (*v > 0 && *v < cls.min_area_px))
+        r.Fail("max_area_px", "max_area_px " + std::to_string(*v) + " in " + context +
+                                  "; expected 0 (no limit) or >= min_area_px");
+      cls.max_area_px = static_cast<int>(*v);
+    }
+    cls.merge = r.OptionalNumber("merge").value_or(0.0);
+    if (auto v = r.OptionalInteger("expected_num")) cls.expected_num = static_cast<int>(*v);
+    t.classes.push_back(cls);
+  }
+  return t;
+}
+
+Thresholds LoadThresholds(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable thresholds file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  // CMVision's format is recognised by its first non-blank, non-comment line.
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const std::string t = Trim(line);
+    if (t.empty() || t[0] == '#' || t[0] == ';') continue;
+    if (t == "[Colors]" || t == "[Thresholds]") return ParseCmvisionColors(text, path);
+    break;
+  }
+  return ParseThresholdsToml(text, path);
+}
+
+ColorLut::ColorLut(const Thresholds& thresholds)
+    : space_(thresholds.space), num_classes_(static_cast<int>(thresholds.classes.size())) {
+  PATLAB_CHECK(num_classes_ <= kMaxColorClasses);
+  for (int k = 0; k < num_classes_; ++k) {
+    for (int ch = 0; ch < 3; ++ch) {
+      const ChannelRange& range = thresholds.classes[k].range[ch];
+      for (int v = range.lo; v <= range.hi; ++v) tables_[ch][v] |= uint32_t{1} << k;
+    }
+  }
+}
+
+}  // namespace patlab::vision

@@ -1,0 +1,115 @@
+#include "patlab/vision/debug_image.h"
+
+#include <cctype>
+#include <cmath>
+
+namespace patlab::vision {
+
+namespace {
+
+void Put(Image* image, int x, int y, const std::array<uint8_t, 3>& rgb) {
+  if (x < 0 || y < 0 || x >= image->width_px || y >= image->height_px) return;
+  uint8_t* p = image->Row(y) + 3 * x;
+  p[0] = rgb[0];
+  p[1] = rgb[1];
+  p[2] = rgb[2];
+}
+
+// 3x5 glyphs, one row per 3 bits (MSB = left column).
+const uint8_t* Glyph(char c) {
+  static const uint8_t kDigits[10][5] = {
+      {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7}, {5, 5, 7, 1, 1},
+      {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}};
+  static const uint8_t kLetters[26][5] = {
+      {2, 5, 7, 5, 5}, {6, 5, 6, 5, 6}, {7, 4, 4, 4, 7}, {6, 5, 5, 5, 6}, {7, 4, 6, 4, 7},
+      {7, 4, 6, 4, 4}, {7, 4, 5, 5, 7}, {5, 5, 7, 5, 5}, {7, 2, 2, 2, 7}, {1, 1, 1, 5, 7},
+      {5, 5, 6, 5, 5}, {4, 4, 4, 4, 7}, {5, 7, 7, 5, 5}, {6, 5, 5, 5, 5}, {7, 5, 5, 5, 7},
+      {7, 5, 7, 4, 4}, {7, 5, 5, 7, 1}, {6, 5, 6, 5, 5}, {7, 4, 7, 1, 7}, {7, 2, 2, 2, 2},
+      {5, 5, 5, 5, 7}, {5, 5, 5, 5, 2}, {5, 5, 7, 7, 5}, {5, 5, 2, 5, 5}, {5, 5, 2, 2, 2},
+      {7, 1, 2, 4, 7}};
+  static const uint8_t kDash[5] = {0, 0, 7, 0, 0};
+  static const uint8_t kQuestion[5] = {7, 1, 2, 0, 2};
+  if (c >= '0' && c <= '9') return kDigits[c - '0'];
+  if (std::isalpha(static_cast<unsigned char>(c)))
+    return kLetters[std::toupper(static_cast<unsigned char>(c)) - 'A'];
+  if (c == '-') return kDash;
+  return kQuestion;
+}
+
+}  // namespace
+
+void DrawLine(Image* image, const Vec2& a, const Vec2& b, const std::array<uint8_t, 3>& rgb) {
+  const int steps = static_cast<int>(std::ceil((b - a).lpNorm<Eigen::Infinity>())) + 1;
+  for (int i = 0; i <= steps; ++i) {
+    const Vec2 p = a + (b - a) * (static_cast<double>(i) / steps);
+    Put(image, static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())), rgb);
+  }
+}
+
+void DrawText(Image* image, int x, int y, const std::string& text,
+              const std::array<uint8_t, 3>& rgb, int scale) {
+  for (size_t k = 0; k < text.size(); ++k) {
+    if (text[k] == ' ') continue;
+    const uint8_t* g = Glyph(text[k]);
+    for (int row = 0; row < 5; ++row) {
+      for (int col = 0; col < 3; ++col) {
+        if (!(g[row] & (4 >> col))) continue;
+        for (int dy = 0; dy < scale; ++dy) {
+          for (int dx = 0; dx < scale; ++dx) {
+            Put(image, x + static_cast<int>(k) * 4 * scale + col * scale + dx, y + row * scale + dy,
+                rgb);
+          }
+        }
+      }
+    }
+  }
+}
+
+void DrawDetection(Image* image, const Vec2& centre_px, double radius_px,
+                   const Vec2& heading_tip_px, const std::string& text,
+                   const std::array<uint8_t, 3>& rgb) {
+  const int n = std::max(16, static_cast<int>(radius_px * 8));
+  for (int i = 0; i < n; ++i) {
+    const double a0 = 2 * M_PI * i / n, a1 = 2 * M_PI * (i + 1) / n;
+    DrawLine(image, centre_px + radius_px * Vec2(std::cos(a0), std::sin(a0)),
+             centre_px + radius_px * Vec2(std::cos(a1), std::sin(a1)), rgb);
+  }
+  DrawLine(image, centre_px, heading_tip_px, rgb);
+  DrawText(image, static_cast<int>(centre_px.x() + radius_px + 2),
+           static_cast<int>(centre_px.y() - radius_px), text, rgb);
+}
+
+Image DrawRegions(const Image& frame, const Segmenter& segmenter, const Thresholds& thresholds) {
+  Image out = ToRgb(frame);
+  for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);  // dim, so the marks stand out
+  const int w = segmenter.width_px(), h = segmenter.height_px();
+  const std::vector<uint8_t>& cls = segmenter.class_image();
+  // Class boundaries: classified pixels with a 4-neighbour of another class.
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const uint8_t c = cls[static_cast<size_t>(y) * w + x];
+      if (c == 0) continue;
+      const bool edge = x == 0 || y == 0 || x == w - 1 || y == h - 1 ||
+                        cls[static_cast<size_t>(y) * w + x - 1] != c ||
+                        cls[static_cast<size_t>(y) * w + x + 1] != c ||
+                        cls[static_cast<size_t>(y - 1) * w + x] != c ||
+                        cls[static_cast<size_t>(y + 1) * w + x] != c;
+      if (edge) Put(&out, x, y, thresholds.classes[c - 1].display_rgb);
+    }
+  }
+  // Kept regions: bounding box and centroid cross in the class colour.
+  for (const Region& r : segmenter.regions()) {
+    const auto& rgb = thresholds.classes[static_cast<size_t>(r.colour)].display_rgb;
+    const Vec2 a(r.x_min - 1, r.y_min - 1), b(r.x_max + 1, r.y_max + 1);
+    DrawLine(&out, a, Vec2(b.x(), a.y()), rgb);
+    DrawLine(&out, Vec2(b.x(), a.y()), b, rgb);
+    DrawLine(&out, b, Vec2(a.x(), b.y()), rgb);
+    DrawLine(&out, Vec2(a.x(), b.y()), a, rgb);
+    const Vec2 c = r.centroid_px;
+    DrawLine(&out, c - Vec2(2, 0), c + Vec2(2, 0), {255, 255, 255});
+    DrawLine(&out, c - Vec2(0, 2), c + Vec2(0, 2), {255, 255, 255});
+  }
+  return out;
+}
+
+}  // namespace patlab::vision

@@ -1,0 +1,28 @@
+// Debug images of the vision stages (DESIGN.md rule 8): the frame dimmed, the boundary of every
+// classified pixel area drawn in its class's display colour, each kept region's bounding box
+// and centroid, and -- drawn by the caller with DrawDetection -- detections with ID and heading.
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "patlab/vision/color_lut.h"
+#include "patlab/vision/image.h"
+#include "patlab/vision/segment.h"
+
+namespace patlab::vision {
+
+// The annotated RGB image of the segmenter's last frame (`frame` must be that frame).
+Image DrawRegions(const Image& frame, const Segmenter& segmenter, const Thresholds& thresholds);
+
+// A detection: a circle of radius_px at centre_px, a heading line to heading_tip_px, and the
+// text (digits, '-', letters A-Z) beside it.
+void DrawDetection(Image* image, const Vec2& centre_px, double radius_px,
+                   const Vec2& heading_tip_px, const std::string& text,
+                   const std::array<uint8_t, 3>& rgb);
+
+void DrawLine(Image* image, const Vec2& a, const Vec2& b, const std::array<uint8_t, 3>& rgb);
+void DrawText(Image* image, int x, int y, const std::string& text,
+              const std::array<uint8_t, 3>& rgb, int scale = 2);
+
+}  // namespace patlab::vision

@@ -1,0 +1,43 @@
+// Stage 1 of the vision pipeline: reading frames. PNG (libpng), JPEG (libjpeg-turbo), binary
+// PPM (P6), and raw YUV 4:2:2 (UYVY) of a given size, as cameras deliver them. Every problem
+// with a file is an InputError "file: byte N: what is wrong; expected what" (or "file: ..."
+// when no byte offset is known); nothing is returned for a bad file, so no partial frame leaks.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "patlab/vision/image.h"
+
+namespace patlab::vision {
+
+// Reads a PNG, JPEG or PPM (P6, maxval 255) frame, chosen by the file's first bytes (not its
+// name). Grey, palette, 16-bit and alpha PNGs are converted to 8-bit RGB.
+Image ReadFrame(const std::string& path);
+
+// Reads a raw UYVY frame: exactly width_px * height_px * 2 bytes, width even.
+Image ReadRawUyvy(const std::string& path, int width_px, int height_px);
+
+// Decoders from memory; `name` is used in messages.
+Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name);
+Image DecodeJpeg(const std::vector<uint8_t>& bytes, const std::string& name);
+Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name);
+
+// Writes an RGB frame as PNG atomically (temp file + rename). Throws InputError when the file
+// cannot be written.
+void WritePng(const Image& image, const std::string& path);
+// Encodes an RGB frame as PNG bytes.
+std::vector<uint8_t> EncodePng(const Image& image);
+// Writes an RGB frame as binary PPM (P6).
+void WritePpm(const Image& image, const std::string& path);
+
+// Expands the frame arguments of `patlab detect`, in order: a directory gives its frame files
+// (.png .jpg .jpeg .ppm .yuv .uyvy .raw, sorted by name); a file ending in .txt or .list is a
+// list of frame paths, one per line (relative to the list's directory, '#' starts a comment);
+// anything else is a frame path. Throws InputError for a missing path or an empty directory.
+std::vector<std::string> ExpandFrameList(const std::vector<std::string>& arguments);
+
+// Reads a whole file; InputError when it cannot be opened.
+std::vector<uint8_t> ReadFileBytes(const std::string& path);
+
+}  // namespace patlab::vision

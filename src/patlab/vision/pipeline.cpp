@@ -1,0 +1,105 @@
+#include "patlab/vision/pipeline.h"
+
+#include <chrono>
+
+#include "patlab/core/error.h"
+#include "patlab/io/toml_util.h"
+
+namespace patlab::vision {
+
+namespace {
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+}  // namespace
+
+VisionStats& VisionStats::operator+=(const VisionStats& o) {
+  classify_ms += o.classify_ms;
+  encode_ms += o.encode_ms;
+  regions_ms += o.regions_ms;
+  camera_ms += o.camera_ms;
+  runs += o.runs;
+  raw_regions += o.raw_regions;
+  regions += o.regions;
+  blobs += o.blobs;
+  off_plane += o.off_plane;
+  return *this;
+}
+
+VisionPipeline::VisionPipeline(Thresholds thresholds, Calibration calibration,
+                               const SegmenterOptions& options)
+    : thresholds_(std::move(thresholds)),
+      calibration_(std::move(calibration)),
+      segmenter_(thresholds_, options) {
+  for (const auto& [name, height] : calibration_.class_height_mm) {
+    if (thresholds_.Find(name) < 0) {
+      std::string names;
+      for (const ColorClass& c : thresholds_.classes) names += (names.empty() ? "" : ", ") + c.name;
+      throw InputError(calibration_.source + ": [heights] names class '" + name + "', which " +
+                       thresholds_.source + " does not define; expected one of: " + names);
+    }
+  }
+  for (const ColorClass& c : thresholds_.classes) {
+    const double h = calibration_.HeightOf(c.name);
+    if (!calibration_.camera.SupportsHeight(h)) {
+      throw InputError(calibration_.source + ": no homography for height " + io::FormatNumber(h) +
+                       " mm (class '" + c.name +
+                       "'); expected a [[homography]] with that height_mm");
+    }
+    heights_mm_.push_back(h);
+  }
+}
+
+void VisionPipeline::CheckFrameSize(const Image& image, const std::string& frame_name) const {
+  if (calibration_.image_width_px == 0) return;
+  if (image.width_px != calibration_.image_width_px ||
+      image.height_px != calibration_.image_height_px) {
+    throw InputError(frame_name + ": image is " + std::to_string(image.width_px) + "x" +
+                     std::to_string(image.height_px) + "; expected " +
+                     std::to_string(calibration_.image_width_px) + "x" +
+                     std::to_string(calibration_.image_height_px) + " as in " +
+                     calibration_.source);
+  }
+}
+
+void VisionPipeline::Process(const Image& image, std::vector<detect::Blob>* blobs,
+                             VisionStats* stats) {
+  VisionStats s;
+  auto t = std::chrono::steady_clock::now();
+  segmenter_.Classify(image);
+  s.classify_ms = MillisecondsSince(t);
+
+  t = std::chrono::steady_clock::now();
+  segmenter_.EncodeRuns();
+  s.encode_ms = MillisecondsSince(t);
+  s.runs = static_cast<long>(segmenter_.runs().size());
+
+  t = std::chrono::steady_clock::now();
+  segmenter_.ExtractRegions();
+  s.regions_ms = MillisecondsSince(t);
+  s.raw_regions = segmenter_.num_raw_regions();
+  s.regions = static_cast<long>(segmenter_.regions().size());
+
+  t = std::chrono::steady_clock::now();
+  blobs->clear();
+  blob_region_.clear();
+  const std::vector<Region>& regions = segmenter_.regions();
+  for (size_t i = 0; i < regions.size(); ++i) {
+    const Region& r = regions[i];
+    const double height = heights_mm_[r.colour];
+    const auto world = calibration_.camera.PixelToWorld(r.centroid_px, height);
+    const double scale = calibration_.camera.AreaScale(r.centroid_px, height);
+    if (!world || scale <= 0.0) {
+      ++s.off_plane;
+      continue;
+    }
+    blobs->push_back(detect::Blob{*world, r.colour, r.area_px * scale});
+    blob_region_.push_back(static_cast<int>(i));
+  }
+  s.blobs = static_cast<long>(blobs->size());
+  s.camera_ms = MillisecondsSince(t);
+  if (stats != nullptr) *stats = s;
+}
+
+}  // namespace patlab::vision

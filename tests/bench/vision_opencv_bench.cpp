@@ -1,0 +1,147 @@
+// Side-by-side benchmark: our stages 2-4 (CMVision LUT -> runs -> union-find -> regions) against
+// the OpenCV pipeline (cvtColor to YUV once, then per colour class cv::inRange +
+// cv::connectedComponentsWithStats), on the same frames, one core. Prints both and the ratio.
+//
+//   build-vision/bench/vision_opencv_bench [frames_dir]   (default ../shared/frames if present)
+//
+// Built only when OpenCV is found (scripts/setup.sh --bench installs libopencv-dev).
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "patlab/vision/color_lut.h"
+#include "patlab/vision/frame_io.h"
+#include "patlab/vision/pipeline.h"
+#include "patlab/vision/render.h"
+#include "patlab/vision/segment.h"
+
+using namespace patlab;
+using namespace patlab::vision;
+
+namespace {
+
+// Median wall time of `reps` runs, in ms.
+double MedianMs(const std::function<void()>& fn, int reps) {
+  fn();  // warm-up: buffers grow once
+  std::vector<double> t;
+  for (int i = 0; i < reps; ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    fn();
+    t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                    .count());
+  }
+  std::nth_element(t.begin(), t.begin() + reps / 2, t.end());
+  return t[static_cast<size_t>(reps / 2)];
+}
+
+// The SSL 2008 thresholds (tests/data/vision/ssl-2008.colors.txt), five YUV classes.
+const char* kColors =
+    "[Colors]\n(255,128,0) 0.5 1 orange\n(255,255,0) 0.6 5 yellow\n(0,0,255) 0.6 5 blue\n"
+    "(255,0,255) 0.6 10 pink\n(0,255,128) 0.6 10 green\n[Thresholds]\n"
+    "(60:160,60:115,160:200)\n(100:255,0:95,135:175)\n(30:160,150:255,60:125)\n"
+    "(150:255,90:135,165:255)\n(70:180,105:150,0:100)\n";
+
+// A synthetic field: green carpet with mild texture and 10 robots (SSL standard patterns) plus a
+// ball, at the scale of the 2008 frame (about 5 mm per pixel).
+Image SyntheticField(int width, int height) {
+  std::vector<Disc> discs;
+  const Rgb blue{50, 75, 160}, yellow{255, 250, 120}, pink{248, 140, 135}, green{30, 125, 75};
+  const Rgb black{20, 20, 25};
+  for (int i = 0; i < 10; ++i) {
+    const Vec2 c(width * (0.1 + 0.08 * i), height * (0.2 + 0.06 * ((i * 7) % 10)));
+    discs.push_back({c, 18, black});
+    discs.push_back({c, 5, i < 5 ? blue : yellow});
+    const double a = 0.3 * i;
+    const double angles[4] = {0.96, -0.96, 2.57, -2.57};
+    for (int k = 0; k < 4; ++k) {
+      discs.push_back({c + 13.0 * Vec2(std::cos(a + angles[k]), std::sin(a + angles[k])), 4,
+                       ((i >> k) & 1) ? pink : green});
+    }
+  }
+  discs.push_back({Vec2(width * 0.6, height * 0.77), 2.5, {200, 113, 90}});
+  Image image = RenderDiscs(width, height, {40, 66, 21}, discs, 4);
+  uint32_t state = 12345;  // texture: +-6 levels of deterministic noise
+  for (uint8_t& v : image.data) {
+    state = state * 1664525u + 1013904223u;
+    const int n = static_cast<int>(state >> 28) - 8;
+    v = static_cast<uint8_t>(std::clamp(v + n, 0, 255));
+  }
+  return image;
+}
+
+struct Result {
+  double ours_ms, opencv_ms;
+  long ours_regions, opencv_regions;
+};
+
+Result Compare(const Image& frame, const Thresholds& thresholds) {
+  SegmenterOptions options;
+  options.min_area_px = 1;
+  Segmenter segmenter(thresholds, options);
+  Result r{};
+  r.ours_ms = MedianMs([&] { segmenter.Process(frame); }, 200);
+  r.ours_regions = segmenter.num_raw_regions();
+
+  // OpenCV: the frame as a cv::Mat (no copy), YUV once, then per class inRange + CC with stats.
+  const cv::Mat rgb(frame.height_px, frame.width_px, CV_8UC3,
+                    const_cast<uint8_t*>(frame.data.data()));
+  cv::Mat yuv, mask, labels, stats, centroids;
+  long regions = 0;
+  r.opencv_ms = MedianMs(
+      [&] {
+        regions = 0;
+        cv::cvtColor(rgb, yuv, cv::COLOR_RGB2YUV);
+        for (const ColorClass& c : thresholds.classes) {
+          cv::inRange(yuv, cv::Scalar(c.range[0].lo, c.range[1].lo, c.range[2].lo),
+                      cv::Scalar(c.range[0].hi, c.range[1].hi, c.range[2].hi), mask);
+          regions +=
+              cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S) - 1;
+        }
+      },
+      50);
+  r.opencv_regions = regions;
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cv::setNumThreads(1);  // one core, like ours
+  const Thresholds thresholds = ParseCmvisionColors(kColors, "ssl-2008.colors.txt");
+  std::vector<std::pair<std::string, Image>> frames;
+  frames.emplace_back("synthetic 640x480", SyntheticField(640, 480));
+  frames.emplace_back("synthetic 780x580", SyntheticField(780, 580));
+  const std::string dir = argc > 1 ? argv[1] : std::string(PATLAB_SOURCE_DIR) + "/../shared/frames";
+  if (std::filesystem::exists(dir + "/ssl-field-2008.jpg")) {
+    frames.emplace_back("ssl-field-2008.jpg 780x580", ReadFrame(dir + "/ssl-field-2008.jpg"));
+    // The same real frame cropped to 640x480.
+    Image crop = Image::Rgb(640, 480);
+    const Image& full = frames.back().second;
+    for (int y = 0; y < 480; ++y) std::copy_n(full.Row(y + 50), 640 * 3, crop.Row(y));
+    frames.emplace_back("ssl-field-2008.jpg crop 640x480", crop);
+  }
+  std::printf(
+      "stages 2-4 (classify, runs + union-find, regions), %zu YUV classes, RGB frames, one core,\n"
+      "median of 200 (ours) / 50 (OpenCV %s) runs\n\n",
+      thresholds.classes.size(), CV_VERSION);
+  std::printf("%-34s %12s %12s %8s %10s %10s\n", "frame", "ours ms", "OpenCV ms", "ratio",
+              "regions", "cv regions");
+  for (const auto& [name, frame] : frames) {
+    const Result r = Compare(frame, thresholds);
+    std::printf("%-34s %12.3f %12.3f %7.1fx %10ld %10ld\n", name.c_str(), r.ours_ms, r.opencv_ms,
+                r.opencv_ms / r.ours_ms, r.ours_regions, r.opencv_regions);
+  }
+  // Also from camera-native UYVY (no colour conversion needed).
+  const Image uyvy = ToUyvy(frames[1].second);
+  Segmenter segmenter(thresholds, SegmenterOptions{1, 0.0});
+  std::printf("\nours on UYVY 780x580 (camera-native, no conversion): %.3f ms\n",
+              MedianMs([&] { segmenter.Process(uyvy); }, 200));
+  return 0;
+}
