@@ -1,4 +1,4 @@
-// Counts heap allocations, for the tests of DESIGN.md rule 7 ("the inner loop does not
+// Counts heap allocations, for the tests of docs/architecture.md rule 7 ("the inner loop does not
 // allocate"). It replaces the global operator new and delete, so include it in exactly one
 // source file of a test executable; read AllocationCount() before and after the code under test.
 #pragma once

@@ -12,6 +12,7 @@
 
 #include "patlab/core/pattern.h"
 #include "patlab/io/pattern_file.h"
+#include "expect_error.h"
 
 namespace patlab::testing {
 

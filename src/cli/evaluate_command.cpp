@@ -83,7 +83,7 @@ struct EvaluateOptions {
   std::string patterns_dir = "patterns";
 };
 
-// Everything the flags say, checked in one place (DESIGN.md rule 4).
+// Everything the flags say, checked in one place (docs/architecture.md rule 4).
 struct Settings {
   std::vector<int> colour_counts;
   std::vector<double> sigmas_mm;

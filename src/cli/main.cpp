@@ -1,5 +1,5 @@
 // patlab: the command-line front end. Dispatches to the registered subcommands and turns
-// bad-input exceptions into a message on stderr and exit status 2 (DESIGN.md rule 9).
+// bad-input exceptions into a message on stderr and exit status 2 (docs/architecture.md rule 9).
 #include <malloc.h>
 
 #include <boost/program_options/errors.hpp>

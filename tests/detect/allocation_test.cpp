@@ -1,4 +1,4 @@
-// The detector's hot path does not allocate once its buffers have grown (DESIGN.md rule 7):
+// The detector's hot path does not allocate once its buffers have grown (docs/architecture.md rule 7):
 // global operator new is counted while a frame is detected a second time.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// DESIGN.md rule 7 for the real-frame loop: once a pipeline has seen a frame of a size (its
+// docs/architecture.md rule 7 for the real-frame loop: once a pipeline has seen a frame of a size (its
 // buffers have grown, the RGB cell table is built), stages 2-5 -- and stage 6 with the blobs
 // matched to the detector palette as patlab detect does it -- do not allocate. Global operator
 // new is counted (this replaces it for the whole test_vision binary; it only counts).

@@ -8,20 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "../expect_error.h"
 #include "patlab/core/error.h"
 
 namespace patlab::vision::testing {
-
-// Asserts that `statement` throws InputError whose message is exactly `message`.
-#define EXPECT_INPUT_ERROR(statement, message)                \
-  do {                                                        \
-    try {                                                     \
-      statement;                                              \
-      ADD_FAILURE() << "expected InputError: " << (message);  \
-    } catch (const ::patlab::InputError& e) {                 \
-      EXPECT_EQ(std::string(e.what()), std::string(message)); \
-    }                                                         \
-  } while (false)
 
 // A fresh scratch directory per test.
 inline std::string ScratchDir() {

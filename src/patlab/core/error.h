@@ -1,4 +1,4 @@
-// Errors, in the three tiers of DESIGN.md rule 9:
+// Errors, in the three tiers of docs/architecture.md rule 9:
 //  1. bad input      -> InputError carrying "file:line: what is wrong; expected what", caught in
 //  cli/
 //                       and printed on stderr with exit status 2;

@@ -77,7 +77,7 @@ struct OptionsProblem {
   std::string field;
   std::string message;
 };
-// The one place options are validated (DESIGN.md rule 4): the first broken constraint, if any.
+// The one place options are validated (docs/architecture.md rule 4): the first broken constraint, if any.
 std::optional<OptionsProblem> ValidateDetectorOptions(const DetectorOptions& options);
 
 // One pattern the detector looks for.

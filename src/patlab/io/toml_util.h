@@ -1,5 +1,5 @@
 // Helpers for reading our TOML input files with precise, tested error messages. Every error is
-// an InputError "file:line: what is wrong; expected what" (DESIGN.md rule 9).
+// an InputError "file:line: what is wrong; expected what" (docs/architecture.md rule 9).
 #pragma once
 
 #include <toml++/toml.h>

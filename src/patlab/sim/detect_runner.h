@@ -10,7 +10,7 @@
 // offset (NoiseModel::CommonOffset, once per frame), then the scene, each patch's error from
 // NoiseModel::PatchError through PatchNoise::perturb. Frames run in parallel into slots
 // indexed by frame number and are reduced in frame order, so results are identical for any
-// thread count (DESIGN.md rules 1-2), and any frame can be replayed alone (GenerateDetectFrame).
+// thread count (docs/architecture.md rules 1-2), and any frame can be replayed alone (GenerateDetectFrame).
 #pragma once
 
 #include <cstdint>

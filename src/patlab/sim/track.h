@@ -14,7 +14,7 @@
 // direction of travel. Errors are reported in the track frame: x along the travel, y across it
 // (the paper's convention).
 //
-// Randomness (DESIGN.md rule 1): everything is a pure function of (seed, run, frame, pixel):
+// Randomness (docs/architecture.md rule 1): everything is a pure function of (seed, run, frame, pixel):
 //   run setup (heading, start)   RandomStream(seed, kRunStream, run)
 //   camera jitter of a frame     RandomStream(seed, kJitterStream, run << 32 | frame)
 //   intensity noise of a pixel   Philox block (frame, run, kPixelStream, y * width + x)
@@ -110,7 +110,7 @@ struct TrackProblem {
   std::string key;
   std::string message;
 };
-// Every constraint on TrackOptions, checked in one place (DESIGN.md rule 4); empty when valid.
+// Every constraint on TrackOptions, checked in one place (docs/architecture.md rule 4); empty when valid.
 // Geometry is checked too: every subject must stay inside the image for the whole run.
 std::vector<TrackProblem> CheckTrackOptions(const TrackOptions& options);
 // Throws InputError with the first problem's message.
@@ -145,7 +145,7 @@ RunSetup MakeRunSetup(const TrackOptions& options, int run);
 int NumSubjects(const TrackOptions& options);
 // True pose of subject `subject` in frame `frame` of a run (theta = the run's heading).
 Pose2 TruthPose(const TrackOptions& options, const RunSetup& setup, int frame, int subject);
-// Re-measures one subject in one frame exactly as RunTrack does (DESIGN.md rule 3: any sample
+// Re-measures one subject in one frame exactly as RunTrack does (docs/architecture.md rule 3: any sample
 // can be replayed alone): a disc's centroid (theta 0), or the pattern's fast-estimator pose.
 // False when a region was not found.
 bool MeasureSubject(const TrackOptions& options, int run, int frame, int subject, Pose2* measured);

@@ -1,4 +1,4 @@
-// Debug images of the vision stages (DESIGN.md rule 8): the frame dimmed, the boundary of every
+// Debug images of the vision stages (docs/architecture.md rule 8): the frame dimmed, the boundary of every
 // classified pixel area drawn in its class's display colour, each kept region's bounding box
 // and centroid, and -- drawn by the caller with DrawDetection -- detections with ID and heading.
 #pragma once

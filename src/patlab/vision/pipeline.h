@@ -1,5 +1,5 @@
 // The real-frame low-level vision pipeline (paper section III: CMVision feeding the detector),
-// as numbered stages with per-stage timing and counters (DESIGN.md rule 8):
+// as numbered stages with per-stage timing and counters (docs/architecture.md rule 8):
 //   1. read      - frame_io.h (timed by the caller, which owns the files);
 //   2. classify  - colour lookup table -> class image;
 //   3. encode    - run-length encoding + union-find of runs;
