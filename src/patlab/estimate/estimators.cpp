@@ -221,4 +221,16 @@ bool ParseEstimator(std::string_view name, Estimator* estimator) {
   return false;
 }
 
+std::vector<OptionsProblem> Check(const Options& options, std::string_view field_prefix) {
+  const std::string p(field_prefix);
+  OptionsChecker check;
+  check.IntegerInRange(p + "max_iterations", options.max_iterations, 1, 1000)
+      .NonNegative(p + "step_tolerance_mm", options.step_tolerance_mm, "mm")
+      .NonNegative(p + "step_tolerance_rad", options.step_tolerance_rad, "rad")
+      .NonNegative(p + "gradient_tolerance", options.gradient_tolerance);
+  return check.Take();
+}
+
+void Validate(const Options& options) { ThrowFirstProblem(Check(options)); }
+
 }  // namespace patlab::estimate

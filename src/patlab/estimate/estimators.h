@@ -8,8 +8,10 @@
 
 #include <array>
 #include <string_view>
+#include <vector>
 
 #include "patlab/core/geometry.h"
+#include "patlab/core/options.h"
 #include "patlab/core/pattern.h"
 
 namespace patlab::estimate {
@@ -64,6 +66,12 @@ struct Options {
   double step_tolerance_rad = 1e-9;   // |d theta| (rad)
   double gradient_tolerance = 1e-12;  // or when |grad E| (mm, mm, mm^2 units) is below this
 };
+// The one place these options are checked (core/options.h): max_iterations in [1, 1000] (more
+// never helps a method that converges in 2-4 steps, and bounds the work of a diverging trial),
+// each tolerance a finite number >= 0. Experiment files ([ml]) and detector settings
+// (ml_max_iterations, with field prefix "ml_") report these problems at their key's line.
+std::vector<OptionsProblem> Check(const Options& options, std::string_view field_prefix = "");
+void Validate(const Options& options);
 
 enum class Termination {
   kConverged,         // a step or gradient tolerance was met
