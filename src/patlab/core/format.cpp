@@ -17,7 +17,9 @@ std::string FormatSignificant(double value, int digits) {
   return StringPrintf("%.*g", digits, value);
 }
 
-std::string FormatFixed(double value, int decimals) { return StringPrintf("%.*f", decimals, value); }
+std::string FormatFixed(double value, int decimals) {
+  return StringPrintf("%.*f", decimals, value);
+}
 
 std::string FormatRoundTrip(double value) {
   std::string text;

@@ -22,8 +22,8 @@ OptionsChecker& OptionsChecker::Require(std::string_view field, double value, bo
                                         std::string_view expected) {
   if (!ok) {
     const std::string name = Name(field);
-    problems_.push_back({name, name + " is " + FormatNumber(value) + "; expected " +
-                                   std::string(expected)});
+    problems_.push_back(
+        {name, name + " is " + FormatNumber(value) + "; expected " + std::string(expected)});
   }
   return *this;
 }
@@ -42,8 +42,9 @@ OptionsChecker& OptionsChecker::NonNegative(std::string_view field, double value
 
 OptionsChecker& OptionsChecker::InRange(std::string_view field, double value, double lo, double hi,
                                         std::string_view unit) {
-  return Require(field, value, value >= lo && value <= hi,
-                 WithUnit("a number in [" + FormatNumber(lo) + ", " + FormatNumber(hi) + "]", unit));
+  return Require(
+      field, value, value >= lo && value <= hi,
+      WithUnit("a number in [" + FormatNumber(lo) + ", " + FormatNumber(hi) + "]", unit));
 }
 
 OptionsChecker& OptionsChecker::InOpenRange(std::string_view field, double value, double lo,
@@ -57,8 +58,9 @@ OptionsChecker& OptionsChecker::IntegerInRange(std::string_view field, int64_t v
                                                int64_t hi) {
   if (value < lo || value > hi) {
     const std::string name = Name(field);
-    problems_.push_back({name, name + " is " + std::to_string(value) + "; expected an integer in [" +
-                                   std::to_string(lo) + ", " + std::to_string(hi) + "]"});
+    problems_.push_back({name, name + " is " + std::to_string(value) +
+                                   "; expected an integer in [" + std::to_string(lo) + ", " +
+                                   std::to_string(hi) + "]"});
   }
   return *this;
 }

@@ -40,8 +40,7 @@ class OptionsChecker {
   // An integer in [lo, hi].
   OptionsChecker& IntegerInRange(std::string_view field, int64_t value, int64_t lo, int64_t hi);
   // Any other constraint: `ok` false adds "<field> is <value>; expected <expected>".
-  OptionsChecker& Require(std::string_view field, double value, bool ok,
-                          std::string_view expected);
+  OptionsChecker& Require(std::string_view field, double value, bool ok, std::string_view expected);
   // A problem whose message is not of the "<field> is <value>" shape (e.g. an empty list).
   OptionsChecker& Fail(std::string_view field, std::string message);
 
