@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
-# Installs the dependencies, builds patlab and runs the whole test suite with ctest.
+# Installs the dependencies, builds patlab and runs every check CI runs: the whole test suite
+# (ctest), the style guard rails (clang-format, clang-tidy limits), and the installed package
+# with the consumer example built against it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)"
+bash scripts/check_install.sh
+bash scripts/check_style.sh
