@@ -321,23 +321,6 @@ def acf_cases():
     return cases
 
 
-def histogram_cases():
-    rng = np.random.default_rng(20030606)
-    x = np.round(rng.normal(0, 1, 2000), 1)
-    cases = []
-    for bins, rng_ in [(10, None), (7, (-1.0, 1.0)), (1, None), (33, (-0.3, 2.9))]:
-        counts, edges = np.histogram(x, bins=bins, range=rng_)
-        cases.append({"name": f"hist_{bins}", "x": inline(x), "bins": bins,
-                      "range": list(rng_) if rng_ else None,
-                      "expect": {"counts": [int(c) for c in counts],
-                                 "edges": [float(v) for v in edges]}})
-    vals, counts = np.unique(x, return_counts=True)
-    ecdf = {"name": "ecdf_2000", "x": inline(x),
-            "expect": {"values": [float(v) for v in vals],
-                       "cumulative_fraction": [float(v) for v in np.cumsum(counts) / len(x)]}}
-    return cases, [ecdf]
-
-
 def kolmogorov_table():
     xs = [0.01, 0.1, 0.2, 0.3, 0.5, 0.7, 0.82, 0.9, 0.99, 1.0, 1.01, 1.18, 1.36, 1.5, 2.0, 3.0,
           5.0, 8.0, 12.0, 15.0, 17.0, 18.0]
@@ -359,7 +342,6 @@ def main():
         "autocorrelation": acf_cases(),
         "kolmogorov_limit": kolmogorov_table(),
     }
-    fixtures["histogram"], fixtures["ecdf"] = histogram_cases()
     path = os.path.join(out_dir, "fixtures.json")
     with open(path, "w") as f:
         json.dump(fixtures, f, separators=(",", ":"))

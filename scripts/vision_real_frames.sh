@@ -20,14 +20,14 @@ mkdir -p "$R"
   -c "$D/ssl-standard-sheet.calibration.toml" -s experiments/detector.toml --debug "$R" \
   --out "$R/ssl-standard-sheet.detections.csv"
 
-# SSL field 2008 (780x580 JPEG): pre-2010 sector patterns (patterns/kiks-sectors.toml).
+# SSL field 2008 (780x580 JPEG): pre-2010 sector patterns (tests/data/vision/patterns/kiks-sectors.toml).
 "$PATLAB" detect "$F/ssl-field-2008.jpg" -t "$D/ssl-2008.thresholds.toml" \
   -c "$D/ssl-2008.calibration.toml" -s "$D/ssl-2008.detector.toml" --debug "$R" \
   --out "$R/ssl-field-2008.detections.csv" --timing
 "$PATLAB" detect "$F/ssl-field-2008.jpg" -t "$D/ssl-2008.thresholds.toml" \
   -c "$D/ssl-2008.calibration.toml" --blobs --out "$R/ssl-field-2008.blobs.csv"
 
-# VSS test frame (765x613 PNG): two VSS designs (patterns/vss-*.toml).
+# VSS test frame (765x613 PNG): two VSS designs (tests/data/vision/patterns/vss-*.toml).
 "$PATLAB" detect "$F/vss-test-frame.png" -t "$D/vss.colors.txt" -c "$D/vss.calibration.toml" \
   -s "$D/vss.detector.toml" --debug "$R" --out "$R/vss-test-frame.detections.csv" --timing
 "$PATLAB" detect "$F/vss-test-frame.png" -t "$D/vss.colors.txt" -c "$D/vss.calibration.toml" \
