@@ -27,9 +27,10 @@ const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden
 const std::string kBinary = PATLAB_BINARY;
 
 // A CSV file as rows of named cells (the detect CSV may gain columns: compare by name).
+using Row = std::map<std::string, std::string>;
 struct Csv {
   std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
+  std::vector<Row> rows;
 };
 
 std::vector<std::string> SplitCells(const std::string& line) {
@@ -50,7 +51,7 @@ Csv ParseCsv(const std::string& text) {
     if (line.empty()) continue;
     const std::vector<std::string> cells = SplitCells(line);
     EXPECT_EQ(cells.size(), csv.header.size()) << line;
-    std::map<std::string, std::string> row;
+    Row row;
     for (size_t i = 0; i < cells.size() && i < csv.header.size(); ++i)
       row[csv.header[i]] = cells[i];
     csv.rows.push_back(row);
@@ -58,13 +59,13 @@ Csv ParseCsv(const std::string& text) {
   return csv;
 }
 
-double Number(const std::map<std::string, std::string>& row, const std::string& column) {
+double Number(const Row& row, const std::string& column) {
   const auto it = row.find(column);
   EXPECT_NE(it, row.end()) << "no column " << column;
   return it == row.end() ? NAN : std::stod(it->second);
 }
 
-std::string Cell(const std::map<std::string, std::string>& row, const std::string& column) {
+std::string Cell(const Row& row, const std::string& column) {
   const auto it = row.find(column);
   EXPECT_NE(it, row.end()) << "no column " << column;
   return it == row.end() ? "" : it->second;
@@ -127,6 +128,25 @@ TEST(GoldenFrame, RenderReproducesTheCommittedFrameAndTruth) {
 constexpr double kPositionToleranceMm = 0.8;
 constexpr double kHeadingToleranceRad = 0.015;
 
+// The detections of the robot of truth row `t` (same team and ID).
+std::vector<Row> DetectionsOf(const Csv& detected, const Row& t) {
+  std::vector<Row> found;
+  for (const Row& d : detected.rows) {
+    if (Cell(d, "team") == Cell(t, "team") && Cell(d, "id") == Cell(t, "id")) found.push_back(d);
+  }
+  return found;
+}
+
+// Detection `d` is the robot of truth row `t`, fully identified, within the tolerances.
+void ExpectAtTruePose(const Row& d, const Row& t) {
+  EXPECT_EQ(Cell(d, "pattern"), "ssl-standard");
+  EXPECT_EQ(Cell(d, "status"), "ok");
+  EXPECT_NEAR(Number(d, "x_mm"), Number(t, "x_mm"), kPositionToleranceMm);
+  EXPECT_NEAR(Number(d, "y_mm"), Number(t, "y_mm"), kPositionToleranceMm);
+  EXPECT_NEAR(WrapAngle(Number(d, "theta_rad") - Number(t, "theta_rad")), 0.0,
+              kHeadingToleranceRad);
+}
+
 TEST(GoldenFrame, DetectFindsEveryRobotAtItsTruePose) {
   const CommandResult r = DetectGolden();
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -134,20 +154,11 @@ TEST(GoldenFrame, DetectFindsEveryRobotAtItsTruePose) {
   const Csv truth = ParseCsv(ReadFile(kGolden + "ssl-frame.truth.csv"));
   ASSERT_EQ(truth.rows.size(), 10u);
   EXPECT_EQ(detected.rows.size(), truth.rows.size()) << r.out;  // none missed, no false positive
-  for (const auto& t : truth.rows) {
+  for (const Row& t : truth.rows) {
     SCOPED_TRACE(Cell(t, "team") + " " + Cell(t, "id"));
-    int found = 0;
-    for (const auto& d : detected.rows) {
-      if (Cell(d, "team") != Cell(t, "team") || Cell(d, "id") != Cell(t, "id")) continue;
-      ++found;
-      EXPECT_EQ(Cell(d, "pattern"), "ssl-standard");
-      EXPECT_EQ(Cell(d, "status"), "ok");
-      EXPECT_NEAR(Number(d, "x_mm"), Number(t, "x_mm"), kPositionToleranceMm);
-      EXPECT_NEAR(Number(d, "y_mm"), Number(t, "y_mm"), kPositionToleranceMm);
-      EXPECT_NEAR(WrapAngle(Number(d, "theta_rad") - Number(t, "theta_rad")), 0.0,
-                  kHeadingToleranceRad);
-    }
-    EXPECT_EQ(found, 1);
+    const std::vector<Row> found = DetectionsOf(detected, t);
+    ASSERT_EQ(found.size(), 1u);
+    ExpectAtTruePose(found.front(), t);
   }
 }
 
@@ -156,6 +167,26 @@ TEST(GoldenFrame, DetectFindsEveryRobotAtItsTruePose) {
 // printed digit: one unit of it is allowed (0.01 mm, 0.0001 rad, 0.01 mm^2, 0.0001). Columns
 // are matched by name, so columns added to the detect CSV later do not break this test; the
 // frame column is compared by file name (the expected CSV was written from the repository root).
+// Every cell of `want` (columns `header`) in `got`: numbers within one unit of the CSV's last
+// digit, the frame by file name, the rest exactly.
+void ExpectSameCells(const Row& got, const Row& want, const std::vector<std::string>& header) {
+  const std::map<std::string, double> tolerance = {{"x_mm", 0.01},
+                                                   {"y_mm", 0.01},
+                                                   {"theta_rad", 1e-4},
+                                                   {"residual_mm2", 0.01},
+                                                   {"confidence", 1e-4}};
+  for (const std::string& column : header) {
+    const std::string w = Cell(want, column), g = Cell(got, column);
+    if (column == "frame") {
+      EXPECT_EQ(std::filesystem::path(g).filename(), std::filesystem::path(w).filename());
+    } else if (tolerance.count(column)) {
+      EXPECT_NEAR(std::stod(g), std::stod(w), tolerance.at(column)) << column;
+    } else {
+      EXPECT_EQ(g, w) << column;
+    }
+  }
+}
+
 TEST(GoldenFrame, DetectWritesTheExpectedDetections) {
   const CommandResult r = DetectGolden();
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -163,24 +194,9 @@ TEST(GoldenFrame, DetectWritesTheExpectedDetections) {
   const Csv expected = ParseCsv(ReadFile(kGolden + "ssl-frame.expected.csv"));
   ASSERT_FALSE(expected.rows.empty());
   ASSERT_EQ(detected.rows.size(), expected.rows.size()) << r.out;
-  const std::map<std::string, double> tolerance = {{"x_mm", 0.01},
-                                                   {"y_mm", 0.01},
-                                                   {"theta_rad", 1e-4},
-                                                   {"residual_mm2", 0.01},
-                                                   {"confidence", 1e-4}};
   for (size_t i = 0; i < expected.rows.size(); ++i) {
     SCOPED_TRACE("detection " + std::to_string(i));
-    for (const std::string& column : expected.header) {
-      const std::string want = Cell(expected.rows[i], column);
-      const std::string got = Cell(detected.rows[i], column);
-      if (column == "frame") {
-        EXPECT_EQ(std::filesystem::path(got).filename(), std::filesystem::path(want).filename());
-      } else if (tolerance.count(column)) {
-        EXPECT_NEAR(std::stod(got), std::stod(want), tolerance.at(column)) << column;
-      } else {
-        EXPECT_EQ(got, want) << column;
-      }
-    }
+    ExpectSameCells(detected.rows[i], expected.rows[i], expected.header);
   }
 }
 

@@ -141,10 +141,10 @@ TEST(SceneRender, BlurSoftensEdgesWithoutMovingThem) {
 // A robot is its black top cover with the pattern on it: the key in the team colour at the
 // pose, the ID dots in their codebook colours (ID 0 = pink, pink, green, pink).
 TEST(SceneRender, RobotWearsItsTeamAndIdColours) {
-  EXPECT_EQ(PatchColours(EmptyScene().pattern, EmptyScene().codebook, "blue", 0),
+  FieldScene scene = EmptyScene();
+  EXPECT_EQ(PatchColours(scene.pattern, scene.codebook, "blue", 0),
             (std::vector<std::string>{"blue", "pink", "pink", "green", "pink"}));
   const Calibration cal = GoldenCalibration();
-  FieldScene scene = EmptyScene();
   scene.robots.push_back({"blue", 0, Pose2{-300.0, 200.0, 0.5}});
   const Image image = RenderScene(scene, cal.camera);
   auto pixel_at = [&](const Vec2& model_mm) {
@@ -200,7 +200,11 @@ TEST(SceneRender, RefusesWhatItCannotDraw) {
   EXPECT_INPUT_ERROR(
       RenderScene(scene, camera),
       "id 16 is not in the codebook of pattern \"ssl-standard\"; expected one of its 16 IDs");
-  scene.robots.clear();
+}
+
+TEST(SceneRender, NeedsAPinholeCameraAboveTheScene) {
+  const CameraModel camera = GoldenCalibration().camera;
+  FieldScene scene = EmptyScene();
   EXPECT_INPUT_ERROR(RenderScene(scene, CameraModel::Homographies({PlaneHomography{}})),
                      "the camera is a homography; expected a pinhole camera to render with");
   scene.options.robot_height_mm = 900.0;
@@ -214,19 +218,16 @@ TEST(SceneRender, RefusesWhatItCannotDraw) {
 // Scene files: every problem at its line.
 class SceneFileTest : public ::testing::Test {
  protected:
-  std::string Parse(const std::string& body) {
-    const std::string text =
+  // Parses the golden scene's header lines (1-3: calibration, pattern, codebook) plus `body`.
+  static void Parse(const std::string& body) {
+    ParseSceneFile(
         "calibration = \"ssl-frame.calibration.toml\"\n"
         "pattern = \"../../../patterns/ssl-standard.toml\"\n"
         "codebook = \"../../../patterns/ssl-standard.codebook.toml\"\n" +
-        body;
-    try {
-      ParseSceneFile(text, "s.toml", kGolden);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
+            body,
+        "s.toml", kGolden);
   }
+  // Lines 4-9.
   const std::string colours_ =
       "[colours]\nfield = [1, 2, 3]\nbody = [0, 0, 0]\nblue = [0, 0, 255]\n"
       "pink = [255, 0, 255]\ngreen = [0, 255, 0]\n";
@@ -246,30 +247,41 @@ TEST_F(SceneFileTest, ReadsTheGoldenScene) {
   EXPECT_EQ(file.scene.robots[1].pose.theta_rad, 3.13);
 }
 
-TEST_F(SceneFileTest, ReportsEachProblemAtItsLine) {
-  EXPECT_EQ(Parse("[render]\nnoise_sigma_levels = 100\n" + colours_),
-            "s.toml:5: noise_sigma_levels is 100; expected a number in [0, 64] (8-bit levels)");
-  EXPECT_EQ(Parse("[render]\nblur = 1\n"),
-            "s.toml:5: unknown key 'blur' in [render]; expected one of: supersampling, "
-            "robot_height_mm, robot_radius_mm, ball_radius_mm, blur_sigma_px, "
-            "noise_sigma_levels, seed");
-  EXPECT_EQ(Parse(colours_ + "[[robot]]\nteam = \"yellow\"\nid = 1\nx_mm = 0\ny_mm = 0\n"
-                             "theta_rad = 0\n"),
-            "s.toml:11: team \"yellow\" has no RGB in [colours]; expected a colour listed there");
-  EXPECT_EQ(Parse(colours_ + "[[robot]]\nteam = \"blue\"\nid = 99\nx_mm = 0\ny_mm = 0\n"
-                             "theta_rad = 0\n"),
-            "s.toml:12: id 99 is not in the codebook of pattern \"ssl-standard\"; expected one "
-            "of its 16 IDs");
-  EXPECT_EQ(Parse(colours_ + "[[robot]]\nteam = \"blue\"\nx_mm = 0\n"),
-            "s.toml:10: missing id in [[robot]] 1; expected an integer");
-  EXPECT_EQ(Parse(colours_ + "[ball]\nx_mm = 0\ny_mm = 0\n"),
-            "s.toml:11: ball colour \"orange\" has no RGB in [colours]; expected a colour listed "
-            "there");
-  EXPECT_EQ(Parse("[colours]\nfield = [1, 2]\n"),
-            "s.toml:5: field in [colours] is not [R, G, B]; expected three integers in 0..255");
-  EXPECT_EQ(Parse("[colours]\nfield = [1, 2, 3]\n"),
-            "s.toml:4: [colours] has no \"body\"; expected the RGB of the field and of the robots' "
-            "top covers");
+TEST_F(SceneFileTest, ReportsRenderOptionsAtTheirLine) {
+  EXPECT_INPUT_ERROR(
+      Parse("[render]\nnoise_sigma_levels = 100\n" + colours_),
+      "s.toml:5: noise_sigma_levels is 100; expected a number in [0, 64] (8-bit levels)");
+  EXPECT_INPUT_ERROR(Parse("[render]\nblur = 1\n"),
+                     "s.toml:5: unknown key 'blur' in [render]; expected one of: supersampling, "
+                     "robot_height_mm, robot_radius_mm, ball_radius_mm, blur_sigma_px, "
+                     "noise_sigma_levels, seed");
+}
+
+TEST_F(SceneFileTest, ReportsRobotsAtTheirLine) {
+  EXPECT_INPUT_ERROR(
+      Parse(colours_ + "[[robot]]\nteam = \"yellow\"\nid = 1\nx_mm = 0\ny_mm = 0\ntheta_rad = 0\n"),
+      "s.toml:11: team \"yellow\" has no RGB in [colours]; expected a colour listed there");
+  EXPECT_INPUT_ERROR(
+      Parse(colours_ + "[[robot]]\nteam = \"blue\"\nid = 99\nx_mm = 0\ny_mm = 0\ntheta_rad = 0\n"),
+      "s.toml:12: id 99 is not in the codebook of pattern \"ssl-standard\"; expected one of its "
+      "16 IDs");
+  EXPECT_INPUT_ERROR(Parse(colours_ + "[[robot]]\nteam = \"blue\"\nx_mm = 0\n"),
+                     "s.toml:10: missing id in [[robot]] 1; expected an integer");
+}
+
+TEST_F(SceneFileTest, ReportsTheBallAtItsLine) {
+  EXPECT_INPUT_ERROR(Parse(colours_ + "[ball]\nx_mm = 0\ny_mm = 0\n"),
+                     "s.toml:11: ball colour \"orange\" has no RGB in [colours]; expected a "
+                     "colour listed there");
+}
+
+TEST_F(SceneFileTest, ReportsColoursAtTheirLine) {
+  EXPECT_INPUT_ERROR(
+      Parse("[colours]\nfield = [1, 2]\n"),
+      "s.toml:5: field in [colours] is not [R, G, B]; expected three integers in 0..255");
+  EXPECT_INPUT_ERROR(Parse("[colours]\nfield = [1, 2, 3]\n"),
+                     "s.toml:4: [colours] has no \"body\"; expected the RGB of the field and of "
+                     "the robots' top covers");
 }
 
 TEST_F(SceneFileTest, NeedsAReadablePinholeCalibrationWithAnImageSize) {
