@@ -30,10 +30,11 @@ const Rgb& ColourOf(const FieldScene& scene, const std::string& name) {
   return it->second;
 }
 
-// The world point on the plane at height `to_mm` that lies on the camera's ray through the point
-// `p_mm` at height `from_mm`. Central projection between parallel planes is a homothety about the
-// camera centre's foot point with ratio (c_z - to) / (c_z - from): a disc stays a disc, its
-// radius scales by the same ratio, and lens distortion (a function of the ray) is unchanged.
+// Moves a point of the plane at height `from` to the plane at height `to` along the camera's ray
+// through it, so it is seen at the same pixel. Central projection between parallel planes is a
+// homothety about the camera centre's foot point with ratio (c_z - to) / (c_z - from): a disc
+// stays a disc, its radius scales by the same ratio, and lens distortion (a function of the ray
+// alone) is unchanged. This draws the ball and the robot tops in one pass on one plane.
 struct PlaneTransfer {
   Vec2 centre_mm;  // the camera centre's (x, y)
   double ratio = 1.0;
@@ -97,7 +98,7 @@ int Reflect(int i, int n) {
   return i;
 }
 
-// One pass of the separable blur along x (dx = 1) or y (dx = 0) on interleaved RGB planes.
+// One pass of the separable blur, along rows (along_x) or columns, on interleaved RGB levels.
 std::vector<double> BlurPass(const std::vector<double>& in, int width, int height,
                              const std::vector<double>& kernel, bool along_x) {
   const int radius = static_cast<int>(kernel.size() / 2);
