@@ -1,0 +1,394 @@
+#include "patlab/vision/scene_render.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "patlab/core/error.h"
+#include "patlab/core/format.h"
+#include "patlab/core/rng.h"
+#include "patlab/detect/settings.h"
+#include "patlab/io/pattern_file.h"
+#include "patlab/io/toml_util.h"
+
+namespace patlab::vision {
+
+namespace {
+
+// The noise stream of RandomStream(seed, stream, pixel index); any fixed value would do.
+constexpr uint32_t kNoiseStream = 0;
+// The blur kernel is cut at this many sigma and renormalised (scipy.ndimage's truncate = 4).
+constexpr double kBlurTruncateSigmas = 4.0;
+
+const Rgb& ColourOf(const FieldScene& scene, const std::string& name) {
+  const auto it = scene.colours.find(name);
+  if (it == scene.colours.end()) {
+    throw InputError("colour \"" + name + "\" has no RGB; expected the scene's colours to list it");
+  }
+  return it->second;
+}
+
+// Moves a point of the plane at height `from` to the plane at height `to` along the camera's ray
+// through it, so it is seen at the same pixel. Central projection between parallel planes is a
+// homothety about the camera centre's foot point with ratio (c_z - to) / (c_z - from): a disc
+// stays a disc, its radius scales by the same ratio, and lens distortion (a function of the ray
+// alone) is unchanged. This draws the ball and the robot tops in one pass on one plane.
+struct PlaneTransfer {
+  Vec2 centre_mm;  // the camera centre's (x, y)
+  double ratio = 1.0;
+  Vec2 Apply(const Vec2& p_mm) const { return centre_mm + ratio * (p_mm - centre_mm); }
+};
+
+// The camera centre C = -R^T t in world coordinates (mm).
+Eigen::Vector3d CameraCentre(const PinholeCamera& c) {
+  return -c.rotation.transpose() * c.translation_mm;
+}
+
+PlaneTransfer TransferBetweenPlanes(const PinholeCamera& c, double from_mm, double to_mm) {
+  const Eigen::Vector3d centre = CameraCentre(c);
+  return {Vec2(centre.x(), centre.y()), (centre.z() - to_mm) / (centre.z() - from_mm)};
+}
+
+// Every disc of the scene on the plane of the pattern tops, in paint order: the ball (lowest),
+// then per robot its top cover and its patches.
+std::vector<Disc> SceneDiscs(const FieldScene& scene, const CameraModel& camera) {
+  const RenderOptions& o = scene.options;
+  std::vector<Disc> discs;
+  if (scene.ball_mm) {
+    const PlaneTransfer t =
+        TransferBetweenPlanes(camera.pinhole(), o.ball_radius_mm, o.robot_height_mm);
+    discs.push_back(
+        {t.Apply(*scene.ball_mm), t.ratio * o.ball_radius_mm, ColourOf(scene, scene.ball_colour)});
+  }
+  for (const RobotPlacement& robot : scene.robots) {
+    const std::vector<std::string> names =
+        PatchColours(scene.pattern, scene.codebook, robot.team, robot.id);
+    if (o.robot_radius_mm > 0.0) {
+      discs.push_back(
+          {Vec2(robot.pose.x_mm, robot.pose.y_mm), o.robot_radius_mm, ColourOf(scene, "body")});
+    }
+    for (int i = 0; i < scene.pattern.size(); ++i) {
+      const Patch& patch = scene.pattern.patches[static_cast<size_t>(i)];
+      discs.push_back({robot.pose.Apply(patch.position_mm), patch.radius_mm,
+                       ColourOf(scene, names[static_cast<size_t>(i)])});
+    }
+  }
+  return discs;
+}
+
+// A normalised Gaussian kernel of radius floor(truncate * sigma + 0.5), taps k = -radius..radius.
+std::vector<double> GaussianKernel(double sigma_px) {
+  const int radius = static_cast<int>(kBlurTruncateSigmas * sigma_px + 0.5);
+  std::vector<double> kernel(static_cast<size_t>(2 * radius + 1));
+  double sum = 0.0;
+  for (int k = -radius; k <= radius; ++k) {
+    const double w = std::exp(-0.5 * (k * k) / (sigma_px * sigma_px));
+    kernel[static_cast<size_t>(k + radius)] = w;
+    sum += w;
+  }
+  for (double& w : kernel) w /= sum;
+  return kernel;
+}
+
+// Index i reflected into [0, n) about the edges, edge sample included (d c b a | a b c d).
+int Reflect(int i, int n) {
+  while (i < 0 || i >= n) i = i < 0 ? -i - 1 : 2 * n - i - 1;
+  return i;
+}
+
+// One pass of the separable blur, along rows (along_x) or columns, on interleaved RGB levels.
+std::vector<double> BlurPass(const std::vector<double>& in, int width, int height,
+                             const std::vector<double>& kernel, bool along_x) {
+  const int radius = static_cast<int>(kernel.size() / 2);
+  std::vector<double> out(in.size());
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      double sum[3] = {0.0, 0.0, 0.0};
+      for (int k = -radius; k <= radius; ++k) {
+        const int sx = along_x ? Reflect(x + k, width) : x;
+        const int sy = along_x ? y : Reflect(y + k, height);
+        const double* p = &in[3 * (static_cast<size_t>(sy) * width + sx)];
+        const double w = kernel[static_cast<size_t>(k + radius)];
+        for (int c = 0; c < 3; ++c) sum[c] += w * p[c];
+      }
+      double* q = &out[3 * (static_cast<size_t>(y) * width + x)];
+      for (int c = 0; c < 3; ++c) q[c] = sum[c];
+    }
+  }
+  return out;
+}
+
+// Stages 2 and 3: blur, noise keyed by (seed, pixel), rounding to 8 bits.
+void BlurAndNoise(const RenderOptions& o, Image* image) {
+  std::vector<double> level(image->data.begin(), image->data.end());
+  if (o.blur_sigma_px > 0.0) {
+    const std::vector<double> kernel = GaussianKernel(o.blur_sigma_px);
+    level = BlurPass(BlurPass(level, image->width_px, image->height_px, kernel, true),
+                     image->width_px, image->height_px, kernel, false);
+  }
+  const size_t pixels = static_cast<size_t>(image->width_px) * image->height_px;
+  for (size_t p = 0; p < pixels; ++p) {
+    RandomStream rng(o.seed, kNoiseStream, p);
+    for (size_t c = 0; c < 3; ++c) {
+      const double noisy = level[3 * p + c] + o.noise_sigma_levels * rng.Normal();
+      image->data[3 * p + c] = static_cast<uint8_t>(std::clamp(std::lround(noisy), 0L, 255L));
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<OptionsProblem> Check(const RenderOptions& o) {
+  OptionsChecker check;
+  check.IntegerInRange("width_px", o.width_px, 1, 8192)
+      .IntegerInRange("height_px", o.height_px, 1, 8192)
+      .IntegerInRange("supersampling", o.supersampling, 1, 16)
+      .InRange("robot_height_mm", o.robot_height_mm, 0.0, 1000.0, "mm")
+      .InRange("robot_radius_mm", o.robot_radius_mm, 0.0, 500.0, "mm")
+      .Require("ball_radius_mm", o.ball_radius_mm,
+               o.ball_radius_mm > 0.0 && o.ball_radius_mm <= 500.0, "a number in (0, 500] (mm)")
+      .InRange("blur_sigma_px", o.blur_sigma_px, 0.0, 10.0, "px")
+      .InRange("noise_sigma_levels", o.noise_sigma_levels, 0.0, 64.0, "8-bit levels");
+  return check.Take();
+}
+
+void Validate(const RenderOptions& options) { ThrowFirstProblem(Check(options)); }
+
+std::vector<std::string> PatchColours(const Pattern& pattern, const detect::Codebook& codebook,
+                                      const std::string& team, int id) {
+  const auto entry = std::find_if(codebook.entries.begin(), codebook.entries.end(),
+                                  [id](const detect::CodebookEntry& e) { return e.id == id; });
+  if (entry == codebook.entries.end()) {
+    throw InputError("id " + std::to_string(id) + " is not in the codebook of pattern \"" +
+                     pattern.name + "\"; expected one of its " +
+                     std::to_string(codebook.entries.size()) + " IDs");
+  }
+  const std::vector<int> slots = detect::IdSlots(pattern);
+  std::vector<std::string> names;
+  for (int i = 0; i < pattern.size(); ++i) {
+    const Patch& patch = pattern.patches[static_cast<size_t>(i)];
+    if (patch.role == PatchRole::kKey) {
+      names.push_back(team);
+    } else if (patch.role == PatchRole::kFixed) {
+      names.push_back(patch.colour);
+    } else {
+      const auto slot = std::find(slots.begin(), slots.end(), i) - slots.begin();
+      names.push_back(codebook.colours[static_cast<size_t>(entry->colour[slot])]);
+    }
+  }
+  return names;
+}
+
+Image RenderScene(const FieldScene& scene, const CameraModel& camera) {
+  const RenderOptions& o = scene.options;
+  Validate(o);
+  if (!camera.is_pinhole()) {
+    throw InputError("the camera is a homography; expected a pinhole camera to render with");
+  }
+  const double camera_height_mm = CameraCentre(camera.pinhole()).z();
+  if (!(camera_height_mm > std::max(o.robot_height_mm, o.ball_radius_mm))) {
+    throw InputError("the camera centre is at height " + FormatNumber(camera_height_mm) +
+                     " mm; expected it above the robot tops and the ball");
+  }
+  const std::vector<Disc> discs = SceneDiscs(scene, camera);
+  // Stage 1: geometry, every disc tested on the plane of the pattern tops.
+  Image image = RenderWorldDiscs(o.width_px, o.height_px, camera, o.robot_height_mm,
+                                 ColourOf(scene, "field"), discs, o.supersampling);
+  BlurAndNoise(o, &image);  // stages 2 and 3
+  return image;
+}
+
+std::string TruthCsv(const FieldScene& scene) {
+  std::string csv = "team,id,x_mm,y_mm,theta_rad\n";
+  for (const RobotPlacement& r : scene.robots) {
+    csv += r.team + "," + std::to_string(r.id) + "," + FormatRoundTrip(r.pose.x_mm) + "," +
+           FormatRoundTrip(r.pose.y_mm) + "," + FormatRoundTrip(r.pose.theta_rad) + "\n";
+  }
+  return csv;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene files.
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Resolve(const std::string& base_dir, const std::string& path) {
+  if (path.empty() || fs::path(path).is_absolute()) return path;
+  return (fs::path(base_dir) / path).lexically_normal().string();
+}
+
+// A table of the root, or an empty one when absent; InputError when the key is not a table.
+const toml::table& OptionalTable(const io::TomlReader& root, std::string_view key) {
+  static const toml::table kEmpty;
+  const toml::node* node = root.table().get(key);
+  if (node == nullptr) return kEmpty;
+  if (!node->is_table()) {
+    root.Fail(key, std::string(key) + " is " + io::TypeName(*node) + "; expected a table");
+  }
+  return *node->as_table();
+}
+
+Rgb ReadRgb(const io::TomlReader& r, std::string_view key) {
+  const toml::node* node = r.table().get(key);
+  const toml::array* a = node->as_array();
+  Rgb rgb{};
+  bool ok = a != nullptr && a->size() == 3;
+  for (size_t k = 0; ok && k < 3; ++k) {
+    const auto* v = (*a)[k].as_integer();
+    ok = v != nullptr && v->get() >= 0 && v->get() <= 255;
+    if (ok) rgb[k] = static_cast<uint8_t>(v->get());
+  }
+  if (!ok) r.Fail(key, r.Describe(key) + " is not [R, G, B]; expected three integers in 0..255");
+  return rgb;
+}
+
+void ReadRenderOptions(const io::TomlReader& r, RenderOptions* o) {
+  r.CheckKeys({"supersampling", "robot_height_mm", "robot_radius_mm", "ball_radius_mm",
+               "blur_sigma_px", "noise_sigma_levels", "seed"});
+  const auto clamp_int = [](int64_t v) {
+    return static_cast<int>(std::clamp<int64_t>(v, -1000000, 1000000));
+  };
+  if (auto v = r.OptionalInteger("supersampling")) o->supersampling = clamp_int(*v);
+  o->robot_height_mm = r.OptionalNumber("robot_height_mm").value_or(o->robot_height_mm);
+  o->robot_radius_mm = r.OptionalNumber("robot_radius_mm").value_or(o->robot_radius_mm);
+  o->ball_radius_mm = r.OptionalNumber("ball_radius_mm").value_or(o->ball_radius_mm);
+  o->blur_sigma_px = r.OptionalNumber("blur_sigma_px").value_or(o->blur_sigma_px);
+  o->noise_sigma_levels = r.OptionalNumber("noise_sigma_levels").value_or(o->noise_sigma_levels);
+  if (auto v = r.OptionalInteger("seed")) {
+    if (*v < 0) r.Fail("seed", "seed is " + std::to_string(*v) + "; expected an integer >= 0");
+    o->seed = static_cast<uint64_t>(*v);
+  }
+  const std::vector<OptionsProblem> problems = Check(*o);
+  if (!problems.empty()) r.Fail(problems.front().field, problems.front().message);
+}
+
+// The path of the file that `key` names, relative to the scene's folder; InputError at the key's
+// line when it cannot be read (the loaders would report the missing file without that line).
+std::string ExistingFile(const io::TomlReader& top, std::string_view key,
+                         const std::string& base_dir) {
+  const std::string path = Resolve(base_dir, top.String(key));
+  if (!std::ifstream(path)) {
+    top.Fail(key,
+             std::string(key) + " file \"" + path + "\" cannot be read; expected a readable file");
+  }
+  return path;
+}
+
+// The calibration the scene names: a pinhole camera with an image size.
+Calibration ReadCalibration(const io::TomlReader& top, const std::string& base_dir) {
+  Calibration calibration = LoadCalibration(ExistingFile(top, "calibration", base_dir));
+  if (!calibration.camera.is_pinhole()) {
+    top.Fail("calibration", "calibration " + calibration.source +
+                                " is a homography; expected a pinhole camera to render with");
+  }
+  if (calibration.image_width_px == 0) {
+    top.Fail("calibration", "calibration " + calibration.source +
+                                " has no image_size_px; expected the size of the frame to render");
+  }
+  return calibration;
+}
+
+RobotPlacement ReadRobot(const io::TomlReader& r, const FieldScene& scene) {
+  r.CheckKeys({"team", "id", "x_mm", "y_mm", "theta_rad"});
+  RobotPlacement robot;
+  robot.team = r.String("team");
+  const std::optional<int64_t> id = r.OptionalInteger("id");
+  if (!id) r.Fail("id", "missing " + r.Describe("id") + "; expected an integer");
+  robot.id = static_cast<int>(std::clamp<int64_t>(*id, -1, 1 << 30));
+  robot.pose = {r.Number("x_mm"), r.Number("y_mm"), r.Number("theta_rad")};
+  if (scene.colours.count(robot.team) == 0) {
+    r.Fail("team",
+           "team \"" + robot.team + "\" has no RGB in [colours]; expected a colour listed there");
+  }
+  std::vector<std::string> names;
+  try {
+    names = PatchColours(scene.pattern, scene.codebook, robot.team, robot.id);
+  } catch (const InputError& e) {
+    r.Fail("id", e.what());
+  }
+  for (const std::string& name : names) {
+    if (scene.colours.count(name) == 0) {
+      r.Fail("id",
+             "ID colour \"" + name + "\" has no RGB in [colours]; expected a colour listed there");
+    }
+  }
+  return robot;
+}
+
+void ReadBall(const io::TomlReader& r, FieldScene* scene) {
+  r.CheckKeys({"x_mm", "y_mm", "colour"});
+  scene->ball_mm = Vec2(r.Number("x_mm"), r.Number("y_mm"));
+  scene->ball_colour = r.OptionalString("colour").value_or(scene->ball_colour);
+  if (scene->colours.count(scene->ball_colour) == 0) {
+    r.Fail(r.Has("colour") ? "colour" : "x_mm",
+           "ball colour \"" + scene->ball_colour +
+               "\" has no RGB in [colours]; expected a colour listed there");
+  }
+}
+
+void ReadColours(const io::TomlReader& top, FieldScene* scene) {
+  if (!top.Has("colours"))
+    top.Fail("colours", "missing [colours]; expected name = [R, G, B] per colour");
+  const io::TomlReader r(OptionalTable(top, "colours"), top.file(), "[colours]");
+  for (const auto& [key, node] : r.table())
+    scene->colours[std::string(key.str())] = ReadRgb(r, key.str());
+  for (const char* required : {"field", "body"}) {
+    if (scene->colours.count(required) == 0) {
+      r.Fail(required, "[colours] has no \"" + std::string(required) +
+                           "\"; expected the RGB of the field and of the robots' top covers");
+    }
+  }
+}
+
+}  // namespace
+
+SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
+                         const std::string& base_dir) {
+  const toml::table root = io::ParseTomlText(text, source_name);
+  const io::TomlReader top(root, source_name);
+  top.CheckKeys({"calibration", "pattern", "codebook", "render", "colours", "robot", "ball"});
+  SceneFile file;
+  file.calibration = ReadCalibration(top, base_dir);
+  FieldScene& scene = file.scene;
+  scene.options.width_px = file.calibration.image_width_px;
+  scene.options.height_px = file.calibration.image_height_px;
+  ReadRenderOptions(io::TomlReader(OptionalTable(top, "render"), source_name, "[render]"),
+                    &scene.options);
+  // The pattern and its codebook, checked against each other as the detector settings do.
+  detect::DetectorPattern worn =
+      detect::MakeDetectorPattern(io::LoadPatternFile(ExistingFile(top, "pattern", base_dir)), {},
+                                  ExistingFile(top, "codebook", base_dir), {});
+  scene.pattern = std::move(worn.pattern);
+  scene.codebook = std::move(worn.codebook);
+  ReadColours(top, &scene);
+  if (const toml::node* robots = root.get("robot")) {
+    const toml::array* list = robots->as_array();
+    if (list == nullptr || !list->is_array_of_tables()) {
+      top.Fail("robot", "robot is " + io::TypeName(*robots) + "; expected [[robot]] tables");
+    }
+    for (size_t i = 0; i < list->size(); ++i) {
+      const io::TomlReader r(*list->get(i)->as_table(), source_name,
+                             "[[robot]] " + std::to_string(i + 1));
+      scene.robots.push_back(ReadRobot(r, scene));
+    }
+  }
+  if (top.Has("ball")) {
+    ReadBall(io::TomlReader(OptionalTable(top, "ball"), source_name, "[ball]"), &scene);
+  }
+  return file;
+}
+
+SceneFile LoadSceneFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable scene TOML file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return ParseSceneFile(buffer.str(), path, fs::path(path).parent_path().string());
+}
+
+}  // namespace patlab::vision
