@@ -12,7 +12,7 @@ cmake -S examples/detect_blobs -B build/example -DCMAKE_PREFIX_PATH="$prefix" > 
 cmake --build build/example 2>&1 | tail -n 1
 
 golden=tests/data/golden
-frame_args=("$golden/ssl-frame.png" --thresholds "$golden/ssl-frame.colors.txt"
+frame_args=("$golden/ssl-frame.png" --thresholds "$golden/ssl-frame.thresholds.toml"
             --calibration "$golden/ssl-frame.calibration.toml")
 "$prefix/bin/patlab" detect "${frame_args[@]}" --blobs --out build/example/blobs.csv
 "$prefix/bin/patlab" detect "${frame_args[@]}" --settings "$golden/ssl-frame.detector.toml" \
