@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "patlab/core/error.h"
+#include "../expect_error.h"
 #include "fixtures.h"
 
 namespace patlab::stats {
@@ -52,17 +53,7 @@ TEST(Smoothing, PreservesConstantsAndLines) {
 TEST(Smoothing, ValidatesOptions) {
   SmoothingOptions bad;
   bad.sigma_samples = -1.0;
-  EXPECT_THROW(
-      {
-        try {
-          Validate(bad);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(),
-                       "SmoothingOptions.sigma_samples is -1.000000; expected a finite value >= 0");
-          throw;
-        }
-      },
-      InputError);
+  EXPECT_INPUT_ERROR(Validate(bad), "sigma_samples is -1; expected a finite number >= 0");
   EXPECT_THROW(GaussianSmooth(std::vector<double>{}), InputError);
 }
 
@@ -82,16 +73,7 @@ TEST(Autocorrelation, HandComputed) {
   EXPECT_DOUBLE_EQ(Autocorrelation(x, 0), 1.0);
   EXPECT_DOUBLE_EQ(Autocorrelation(x, 1), 0.25);
   EXPECT_TRUE(std::isnan(Autocorrelation(std::vector<double>{2.0, 2.0}, 1)));
-  EXPECT_THROW(
-      {
-        try {
-          Autocorrelation(x, 4);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(), "autocorrelation at lag 4 needs more than 4 samples, got 4");
-          throw;
-        }
-      },
-      InputError);
+  EXPECT_INPUT_ERROR(Autocorrelation(x, 4), "autocorrelation at lag 4 needs more than 4 samples, got 4");
 }
 
 }  // namespace

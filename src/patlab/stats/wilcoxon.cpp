@@ -15,46 +15,6 @@
 
 namespace patlab::stats {
 
-std::string_view ZeroMethodName(ZeroMethod method) {
-  switch (method) {
-    case ZeroMethod::kWilcox:
-      return "wilcox";
-    case ZeroMethod::kPratt:
-      return "pratt";
-    case ZeroMethod::kZsplit:
-      return "zsplit";
-  }
-  return "?";
-}
-
-ZeroMethod ParseZeroMethod(std::string_view name) {
-  if (name == "wilcox") return ZeroMethod::kWilcox;
-  if (name == "pratt") return ZeroMethod::kPratt;
-  if (name == "zsplit") return ZeroMethod::kZsplit;
-  throw InputError("unknown zero method '" + std::string(name) +
-                   "'; expected wilcox, pratt or zsplit");
-}
-
-std::string_view WilcoxonMethodName(WilcoxonMethod method) {
-  switch (method) {
-    case WilcoxonMethod::kAuto:
-      return "auto";
-    case WilcoxonMethod::kExact:
-      return "exact";
-    case WilcoxonMethod::kApprox:
-      return "approx";
-  }
-  return "?";
-}
-
-WilcoxonMethod ParseWilcoxonMethod(std::string_view name) {
-  if (name == "auto") return WilcoxonMethod::kAuto;
-  if (name == "exact") return WilcoxonMethod::kExact;
-  if (name == "approx") return WilcoxonMethod::kApprox;
-  throw InputError("unknown Wilcoxon method '" + std::string(name) +
-                   "'; expected auto, exact or approx");
-}
-
 namespace {
 
 // Exact null distribution of R+ for n untied, non-zero differences: each rank k enters R+
