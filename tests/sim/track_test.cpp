@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <nlohmann/json.hpp>
 
 #include "patlab/core/rng.h"
 #include "patlab/io/pattern_file.h"
@@ -173,6 +174,83 @@ TEST(Track, RunSetupsComeFromTheRunIdentity) {
   EXPECT_EQ(a.start_mm, b.start_mm);
   EXPECT_NE(a.heading_rad, c.heading_rad);
   EXPECT_LE(std::abs(a.heading_rad), o.heading_max_deg * std::numbers::pi / 180.0);
+}
+
+TEST(Track, ReplayFrameAgreesWithTheRun) {
+  TrackOptions o = Small();
+  o.pixel_sigma = 12.0;
+  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
+  o.pattern = io::LoadPatternFile(o.pattern_file);
+  const TrackResult r = RunTrack(o);
+  const size_t i = 11;
+  const int frame = r.data[0][1].sample[i];
+  const std::vector<ReplayedSubject> replay = ReplayFrame(o, 1, frame);
+  ASSERT_EQ(replay.size(), 4u);
+  for (size_t k = 0; k < replay.size(); ++k) {
+    SCOPED_TRACE(k);
+    const SubjectRun& run = r.data[k][1];
+    ASSERT_EQ(run.sample[i], frame);
+    EXPECT_EQ(replay[k].name, r.subjects[k]);
+    ASSERT_TRUE(replay[k].found);
+    EXPECT_DOUBLE_EQ(replay[k].true_error_mm.x(), run.true_x_mm[i]);
+    EXPECT_DOUBLE_EQ(replay[k].true_error_mm.y(), run.true_y_mm[i]);
+    EXPECT_EQ(replay[k].has_theta, k == 3);
+  }
+  EXPECT_DOUBLE_EQ(replay[3].true_theta_error_rad, r.data[3][1].true_theta_rad[i]);
+}
+
+TEST(Track, SubjectsAreNamedByDiameterThenPattern) {
+  TrackOptions o;
+  o.diameters_mm = {40.0, 45.5};
+  EXPECT_EQ(SubjectNames(o), (std::vector<std::string>{"40mm", "45.5mm"}));
+  EXPECT_EQ(NumSubjects(o), 2);
+  EXPECT_DOUBLE_EQ(SubjectOffsetMm(o, 0), -0.5 * o.spacing_mm);
+  const Vec2 along = ToTrackFrame(Vec2(1.0, 1.0), std::numbers::pi / 4);
+  EXPECT_NEAR(along.x(), std::sqrt(2.0), 1e-15);
+  EXPECT_NEAR(along.y(), 0.0, 1e-15);
+}
+
+TEST(Track, ManifestRecordsOptionsTableAndOutputs) {
+  const TrackOptions o = Small();
+  const TrackResult r = RunTrack(o);
+  const std::vector<TableRow> table = MakeTable(r);
+  const auto j = nlohmann::json::parse(TrackManifestJson(o, r, table, "patlab track x", {"a.csv"}));
+  EXPECT_EQ(j.at("command"), "patlab track x");
+  EXPECT_EQ(j.at("platform").at("samples_per_run"), 160);
+  EXPECT_EQ(j.at("run_setups").size(), 2u);
+  EXPECT_EQ(j.at("table").size(), 3u);
+  EXPECT_EQ(j.at("table")[0].at("est_x").at("n"), table[0].est_x.n);
+  EXPECT_EQ(j.at("outputs"), nlohmann::json::array({"a.csv"}));
+  stats::SmoothingOptions smoothing;
+  smoothing.sigma_samples = o.smoothing_sigma_samples;
+  EXPECT_EQ(j.at("analysis").at("white_noise_residual_factor").get<double>(),
+            stats::ResidualStdFactor(smoothing));
+}
+
+TEST(TrackOptions, CheckNamesEveryBrokenFieldAndTheGeometryOnlyOfValidFields) {
+  TrackOptions o;
+  o.runs = 0;
+  o.rate_hz = 0.0;
+  o.pixel_sigma = -1.0;
+  o.spacing_mm = 40.0;  // neighbours touch, but that is checked only once the fields are valid
+  std::vector<std::string> fields;
+  for (const OptionsProblem& p : Check(o)) fields.push_back(p.field);
+  EXPECT_EQ(fields, (std::vector<std::string>{"runs", "platform.rate_hz", "noise.pixel_sigma"}));
+  o.runs = 5;
+  o.rate_hz = 30.0;
+  o.pixel_sigma = 0.0;
+  const std::vector<OptionsProblem> geometry = Check(o);
+  ASSERT_EQ(geometry.size(), 1u);
+  EXPECT_EQ(geometry[0].field, "platform.spacing_mm");
+  o.camera.image_width_px = 8;
+  EXPECT_INPUT_ERROR(Validate(o),
+                     "camera.image_size_px has 8; expected two integers in [16, 20000] (width, "
+                     "height)");
+  o = TrackOptions();
+  o.patch_level = 30;
+  EXPECT_INPUT_ERROR(Validate(o),
+                     "render.patch_level is 30; expected an integer in [41, 255] (white patches on "
+                     "a darker floor, above background_level)");
 }
 
 TrackOptions Parse(const std::string& text) { return ParseTrackExperiment(text, "t.toml"); }
