@@ -174,8 +174,10 @@ int RunSummary(const StatsCliOptions& o) {
   }
   std::cout << "summary (" << FormatRoundTrip(100 * s.level) << "% confidence intervals)\n";
   PrintRows({{"n", std::to_string(s.n)},
-             {"mean", FormatRoundTrip(m.mean) + "   [" + FormatRoundTrip(m.lower) + ", " + FormatRoundTrip(m.upper) + "]"},
-             {"std", FormatRoundTrip(s.std) + "   [" + FormatRoundTrip(s.lower) + ", " + FormatRoundTrip(s.upper) + "]"}});
+             {"mean", FormatRoundTrip(m.mean) + "   [" + FormatRoundTrip(m.lower) + ", " +
+                          FormatRoundTrip(m.upper) + "]"},
+             {"std", FormatRoundTrip(s.std) + "   [" + FormatRoundTrip(s.lower) + ", " +
+                         FormatRoundTrip(s.upper) + "]"}});
   return kExitOk;
 }
 

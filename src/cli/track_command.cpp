@@ -117,12 +117,11 @@ std::optional<std::array<std::string, 4>> WriteOutputs(const TrackCliOptions& o,
       (fs::path(o.out_dir) / "track_errors.csv").string(),
       (fs::path(o.out_dir) / (options.name + ".json")).string()};
   try {
-    io::WriteFilesAtomic(
-        {{paths[0], sim::TableCsv(table)},
-         {paths[1], sim::SizeTestsCsv(sim::MakeSizeTests(result))},
-         {paths[2], sim::ErrorsCsv(options, result, o.decimate)},
-         {paths[3], sim::TrackManifestJson(options, result, table, command_line,
-                                           {paths.begin(), paths.end()})}});
+    io::WriteFilesAtomic({{paths[0], sim::TableCsv(table)},
+                          {paths[1], sim::SizeTestsCsv(sim::MakeSizeTests(result))},
+                          {paths[2], sim::ErrorsCsv(options, result, o.decimate)},
+                          {paths[3], sim::TrackManifestJson(options, result, table, command_line,
+                                                            {paths.begin(), paths.end()})}});
   } catch (const InputError& e) {
     std::cerr << "patlab track: " << e.what() << "\n";
     return std::nullopt;
@@ -131,12 +130,13 @@ std::optional<std::array<std::string, 4>> WriteOutputs(const TrackCliOptions& o,
 }
 
 void PrintSummary(const sim::TrackOptions& options, const sim::TrackResult& result,
-                  const std::vector<sim::TableRow>& table, const std::array<std::string, 4>& paths) {
+                  const std::vector<sim::TableRow>& table,
+                  const std::array<std::string, 4>& paths) {
   std::fprintf(stderr, "patlab track: %d runs x %d frames in %.2f s on %d threads (%.3f mm/px)\n",
                options.runs, options.samples_per_run, result.wall_seconds, result.threads,
                sim::MmPerPixel(options));
-  std::fprintf(stderr, "%-10s %-24s %-24s %-24s %-24s\n", "subject", "est sx [95% CI] mm",
-               "est sy", "true sx", "true sy");
+  std::fprintf(stderr, "%-10s %-24s %-24s %-24s %-24s\n", "subject", "est sx [95% CI] mm", "est sy",
+               "true sx", "true sy");
   auto cell = [](const stats::StdWithCi& s) {
     return StringPrintf("%.3f [%.3f-%.3f]", s.std, s.lower, s.upper);
   };

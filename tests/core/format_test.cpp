@@ -43,7 +43,7 @@ TEST(FormatFixed, IsPrintfF) {
 TEST(FormatRoundTrip, ShortestTextThatReadsBackExactly) {
   EXPECT_EQ(FormatRoundTrip(0.1), "0.1");
   EXPECT_EQ(FormatRoundTrip(0.5), "0.5");
-  EXPECT_EQ(FormatRoundTrip(1.0 / 3.0), "0.3333333333333333");  // 16 digits
+  EXPECT_EQ(FormatRoundTrip(1.0 / 3.0), "0.3333333333333333");   // 16 digits
   EXPECT_EQ(FormatRoundTrip(0.1 + 0.2), "0.30000000000000004");  // 17 digits
   for (const double v : {0.1, 1.0 / 3.0, 0.1 + 0.2, 1e-300, DBL_MAX, -DBL_MIN, 4.9e-324, 2003.0}) {
     SCOPED_TRACE(v);

@@ -35,9 +35,9 @@ TEST(FieldLoc, ThrowFirstProblemAtPlacesTheMessage) {
   const toml::table root = ParseTomlText(kText, "e.toml");
   ThrowFirstProblemAt(root, "e.toml", {});
   EXPECT_INPUT_ERROR(
-      ThrowFirstProblemAt(root, "e.toml",
-                          {{"noise.pixel_sigma", "noise.pixel_sigma is -1; expected >= 0"},
-                           {"runs", "second"}}),
+      ThrowFirstProblemAt(
+          root, "e.toml",
+          {{"noise.pixel_sigma", "noise.pixel_sigma is -1; expected >= 0"}, {"runs", "second"}}),
       "e.toml:5: noise.pixel_sigma is -1; expected >= 0");
 }
 

@@ -4,14 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
+#include "../vision/test_util.h"
 #include "patlab/core/rng.h"
 #include "patlab/io/pattern_file.h"
 #include "patlab/stats/smoothing.h"
 #include "patlab/stats/summary.h"
-#include "../vision/test_util.h"
 
 namespace patlab::sim {
 namespace {
@@ -22,6 +22,16 @@ TrackOptions Small() {
   o.runs = 2;
   o.samples_per_run = 160;
   o.trim_samples = 20;
+  return o;
+}
+
+// Small() with intensity noise, camera jitter and the butterfly pattern as a fourth subject.
+TrackOptions NoisyWithButterfly() {
+  TrackOptions o = Small();
+  o.pixel_sigma = 12.0;
+  o.jitter_sigma_px = 0.1;
+  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
+  o.pattern = io::LoadPatternFile(o.pattern_file);
   return o;
 }
 
@@ -78,11 +88,7 @@ TEST(Track, MeasureDiscFindsTheDiscWithinQuantisation) {
 }
 
 TEST(Track, ResultsAreIdenticalForAnyThreadCount) {
-  TrackOptions o = Small();
-  o.pixel_sigma = 12.0;
-  o.jitter_sigma_px = 0.1;
-  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
-  o.pattern = io::LoadPatternFile(o.pattern_file);
+  TrackOptions o = NoisyWithButterfly();
   const TrackResult one = RunTrack(o, {.threads = 1});
   const TrackResult three = RunTrack(o, {.threads = 3});
   ASSERT_EQ(one.subjects.size(), 4u);
@@ -146,11 +152,7 @@ TEST(Track, TableAndTestsHaveOneRowPerSubjectAndPair) {
 }
 
 TEST(Track, AnySampleCanBeReplayedAlone) {
-  TrackOptions o = Small();
-  o.pixel_sigma = 12.0;
-  o.jitter_sigma_px = 0.1;
-  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
-  o.pattern = io::LoadPatternFile(o.pattern_file);
+  TrackOptions o = NoisyWithButterfly();
   const TrackResult r = RunTrack(o);
   ASSERT_EQ(NumSubjects(o), 4);
   for (int k : {0, 3}) {
@@ -177,10 +179,7 @@ TEST(Track, RunSetupsComeFromTheRunIdentity) {
 }
 
 TEST(Track, ReplayFrameAgreesWithTheRun) {
-  TrackOptions o = Small();
-  o.pixel_sigma = 12.0;
-  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
-  o.pattern = io::LoadPatternFile(o.pattern_file);
+  TrackOptions o = NoisyWithButterfly();
   const TrackResult r = RunTrack(o);
   const size_t i = 11;
   const int frame = r.data[0][1].sample[i];
@@ -302,38 +301,45 @@ TEST(TrackExperiment, ShippedTable1FileLoads) {
 
 TEST(TrackExperiment, BadFilesNameTheLineAndWhatIsExpected) {
   EXPECT_INPUT_ERROR(Parse("runs = 0\n"), "t.toml:1: runs is 0; expected an integer in [1, 1000]");
-  EXPECT_INPUT_ERROR(Parse("seed = 1\nradius = 3\n"),
-            "t.toml:2: unknown key 'radius'; expected one of: name, description, seed, runs, "
-            "diameters_mm, pattern, patterns_dir, platform, camera, render, noise, analysis");
+  EXPECT_INPUT_ERROR(
+      Parse("seed = 1\nradius = 3\n"),
+      "t.toml:2: unknown key 'radius'; expected one of: name, description, seed, runs, "
+      "diameters_mm, pattern, patterns_dir, platform, camera, render, noise, analysis");
   EXPECT_INPUT_ERROR(Parse("diameters_mm = [40, \"big\"]\n"),
-            "t.toml:1: diameters_mm contains a string; expected numbers (mm)");
+                     "t.toml:1: diameters_mm contains a string; expected numbers (mm)");
   EXPECT_INPUT_ERROR(Parse("diameters_mm = [40, -5]\n"),
-            "t.toml:1: diameters_mm has -5; expected diameters > 0 (mm)");
+                     "t.toml:1: diameters_mm has -5; expected diameters > 0 (mm)");
   EXPECT_INPUT_ERROR(Parse("diameters_mm = [40, 40]\n"),
-            "t.toml:1: diameters_mm lists 40 twice; expected distinct diameters");
-  EXPECT_INPUT_ERROR(Parse("\n[noise]\npixel_sigma = -1\n"),
-            "t.toml:3: noise.pixel_sigma is -1; expected a finite number >= 0 (grey levels)");
+                     "t.toml:1: diameters_mm lists 40 twice; expected distinct diameters");
+  EXPECT_INPUT_ERROR(
+      Parse("\n[noise]\npixel_sigma = -1\n"),
+      "t.toml:3: noise.pixel_sigma is -1; expected a finite number >= 0 (grey levels)");
   EXPECT_INPUT_ERROR(Parse("[noise]\njitter_px = 1\n"),
-            "t.toml:2: unknown key 'jitter_px' in [noise]; expected one of: pixel_sigma, "
-            "jitter_sigma_px");
-  EXPECT_INPUT_ERROR(Parse("[render]\nthreshold_level = 30\n"),
-            "t.toml:2: render.threshold_level is 30; expected an integer in [41, 230] (above "
-            "background_level, at most patch_level)");
-  EXPECT_INPUT_ERROR(Parse("[platform]\nsamples_per_run = 50\n"),
-            "t.toml:2: platform.samples_per_run is 50; expected an integer in [83, 1000000] "
-            "(2 trim_samples + 3 or more)");
+                     "t.toml:2: unknown key 'jitter_px' in [noise]; expected one of: pixel_sigma, "
+                     "jitter_sigma_px");
+  EXPECT_INPUT_ERROR(
+      Parse("[render]\nthreshold_level = 30\n"),
+      "t.toml:2: render.threshold_level is 30; expected an integer in [41, 230] (above "
+      "background_level, at most patch_level)");
+  EXPECT_INPUT_ERROR(
+      Parse("[platform]\nsamples_per_run = 50\n"),
+      "t.toml:2: platform.samples_per_run is 50; expected an integer in [83, 1000000] "
+      "(2 trim_samples + 3 or more)");
   EXPECT_INPUT_ERROR(Parse("[platform]\nspacing_mm = 40\n"),
-            "t.toml:2: platform.spacing_mm is 40; expected more than 53.75 mm so that "
-            "neighbouring subjects do not touch");
-  EXPECT_INPUT_ERROR(Parse("[platform]\nspeed_mm_per_s = 40\n"),
-            "t.toml:1: the track does not fit in the image: subjects reach +-1789.8 x +-361.64 mm "
-            "from the image centre but the view is +-1397.2 x +-1047.4 mm; expected a shorter "
-            "track (samples_per_run, speed_mm_per_s), a smaller lateral_range_mm, spacing_mm or "
-            "heading_max_deg, or a larger image");
-  EXPECT_INPUT_ERROR(Parse("[camera]\nimage_size_px = [640]\n"),
-            "t.toml:2: image_size_px in [camera] is not two integers; expected [width, height] "
-            "(px)");
-  EXPECT_INPUT_ERROR(Parse("camera = 3\n"), "t.toml:1: camera is an integer; expected a table [camera]");
+                     "t.toml:2: platform.spacing_mm is 40; expected more than 53.75 mm so that "
+                     "neighbouring subjects do not touch");
+  EXPECT_INPUT_ERROR(
+      Parse("[platform]\nspeed_mm_per_s = 40\n"),
+      "t.toml:1: the track does not fit in the image: subjects reach +-1789.8 x +-361.64 mm "
+      "from the image centre but the view is +-1397.2 x +-1047.4 mm; expected a shorter "
+      "track (samples_per_run, speed_mm_per_s), a smaller lateral_range_mm, spacing_mm or "
+      "heading_max_deg, or a larger image");
+  EXPECT_INPUT_ERROR(
+      Parse("[camera]\nimage_size_px = [640]\n"),
+      "t.toml:2: image_size_px in [camera] is not two integers; expected [width, height] "
+      "(px)");
+  EXPECT_INPUT_ERROR(Parse("camera = 3\n"),
+                     "t.toml:1: camera is an integer; expected a table [camera]");
   EXPECT_INPUT_ERROR_STARTS_WITH(
       Parse("pattern = \"no-such-pattern\"\npatterns_dir = \"/nonexistent\"\n"),
       "t.toml:1: pattern 'no-such-pattern' not found; expected a pattern file path or a name in ");

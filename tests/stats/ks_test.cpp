@@ -6,9 +6,9 @@
 #include <iomanip>
 #include <vector>
 
-#include "patlab/core/error.h"
 #include "../expect_error.h"
 #include "fixtures.h"
+#include "patlab/core/error.h"
 
 namespace patlab::stats {
 namespace {
@@ -110,7 +110,8 @@ TEST(Ks, RejectsEmptyAndNonFiniteInput) {
   const std::vector<double> empty;
   const std::vector<double> one = {1.0};
   const std::vector<double> bad = {1.0, std::nan("")};
-  EXPECT_INPUT_ERROR(KsTwoSample(one, empty), "the KS test needs two non-empty samples, got 1 and 0 values");
+  EXPECT_INPUT_ERROR(KsTwoSample(one, empty),
+                     "the KS test needs two non-empty samples, got 1 and 0 values");
   EXPECT_INPUT_ERROR(KsTwoSample(one, bad), "sample 2 value 2 is NaN; expected finite numbers");
   EXPECT_INPUT_ERROR(ParseKsMethod("approx"),
                      "method is \"approx\"; expected \"auto\", \"exact\" or \"asymp\"");

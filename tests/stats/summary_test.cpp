@@ -6,9 +6,9 @@
 #include <iomanip>
 #include <vector>
 
-#include "patlab/core/error.h"
 #include "../expect_error.h"
 #include "fixtures.h"
+#include "patlab/core/error.h"
 
 namespace patlab::stats {
 namespace {
@@ -52,7 +52,8 @@ TEST(Summary, HandComputed) {
 
 TEST(Summary, RejectsBadInput) {
   const std::vector<double> one = {1.0};
-  EXPECT_INPUT_ERROR(StdWithConfidence(one), "the standard deviation needs at least 2 samples, got 1");
+  EXPECT_INPUT_ERROR(StdWithConfidence(one),
+                     "the standard deviation needs at least 2 samples, got 1");
   const std::vector<double> x = {1.0, 2.0};
   EXPECT_INPUT_ERROR(StdWithConfidence(x, 1.0), "level is 1; expected a number in (0, 1)");
   const std::vector<double> nan = {1.0, std::nan("")};

@@ -32,13 +32,13 @@ Patch ParsePatch(const toml::table& t, const std::string& file, size_t i, int ke
   const std::string role = pr.String("role");
   const std::optional<PatchRole> parsed = FindName(role, kPatchRoleNames);
   if (!parsed) {
-    pr.Fail("role", pr.Describe("role") + " is \"" + role + "\"; expected " +
-                        NameList(kPatchRoleNames));
+    pr.Fail("role",
+            pr.Describe("role") + " is \"" + role + "\"; expected " + NameList(kPatchRoleNames));
   }
   patch.role = *parsed;
   if (patch.role == PatchRole::kKey && key_index >= 0) {
-    pr.Fail("role", "second key patch ([[patch]] " + std::to_string(i) + "; the first is [[patch]] " +
-                        std::to_string(key_index) +
+    pr.Fail("role", "second key patch ([[patch]] " + std::to_string(i) +
+                        "; the first is [[patch]] " + std::to_string(key_index) +
                         "); expected exactly one patch with role = \"key\"");
   }
   patch.colour = pr.OptionalString("colour").value_or("");

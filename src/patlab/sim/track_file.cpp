@@ -137,8 +137,7 @@ void ParseNoise(const io::TomlReader& s, TrackOptions* o) {
 
 void ParseAnalysis(const io::TomlReader& s, TrackOptions* o) {
   s.CheckKeys({"smoothing_sigma_samples", "trim_samples"});
-  o->smoothing_sigma_samples =
-      ReadNumber(s, "smoothing_sigma_samples", o->smoothing_sigma_samples);
+  o->smoothing_sigma_samples = ReadNumber(s, "smoothing_sigma_samples", o->smoothing_sigma_samples);
   o->trim_samples = ReadInt(s, "trim_samples", o->trim_samples);
 }
 

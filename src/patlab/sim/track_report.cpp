@@ -17,7 +17,8 @@ namespace {
 std::vector<double> Pool(const std::vector<SubjectRun>& runs,
                          const std::vector<double> SubjectRun::*field) {
   std::vector<double> pooled;
-  for (const SubjectRun& r : runs) pooled.insert(pooled.end(), (r.*field).begin(), (r.*field).end());
+  for (const SubjectRun& r : runs)
+    pooled.insert(pooled.end(), (r.*field).begin(), (r.*field).end());
   return pooled;
 }
 

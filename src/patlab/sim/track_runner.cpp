@@ -98,8 +98,8 @@ bool MeasureWindow(const Frame& f, const Vec2& centre_px, double radius_px,
   const int half = static_cast<int>(std::ceil(radius_px)) + kWindowMarginPx;
   const int side = 2 * half + 1;
   const int width = o.camera.image_width_px, height = o.camera.image_height_px;
-  const int x0 = std::clamp(static_cast<int>(std::lround(centre_px.x())) - half, 0,
-                            std::max(0, width - side));
+  const int x0 =
+      std::clamp(static_cast<int>(std::lround(centre_px.x())) - half, 0, std::max(0, width - side));
   const int y0 = std::clamp(static_cast<int>(std::lround(centre_px.y())) - half, 0,
                             std::max(0, height - side));
   const auto level = static_cast<uint8_t>(o.patch_level);
@@ -175,8 +175,8 @@ RawSamples MeasureAllFrames(const TrackOptions& o, const std::vector<RunSetup>& 
   const estimate::Model model = PatternModel(o);
   const int num_subjects = NumSubjects(o);
   const int samples = o.samples_per_run;
-  RawSamples raw(num_subjects, std::vector<std::vector<RawSample>>(
-                                   o.runs, std::vector<RawSample>(samples)));
+  RawSamples raw(num_subjects,
+                 std::vector<std::vector<RawSample>>(o.runs, std::vector<RawSample>(samples)));
   const int blocks_per_run = (samples + kFramesPerBlock - 1) / kFramesPerBlock;
   tbb::task_arena arena(threads);
   arena.execute([&] {
@@ -208,8 +208,8 @@ void FillMissing(std::vector<double>* v, const std::vector<bool>& found) {
   for (int i = 0; i < n; ++i) {
     if (!found[i]) continue;
     for (int k = prev + 1; k < i; ++k) {
-      (*v)[k] = prev < 0 ? (*v)[i]
-                         : (*v)[prev] + ((*v)[i] - (*v)[prev]) * (k - prev) / double(i - prev);
+      (*v)[k] =
+          prev < 0 ? (*v)[i] : (*v)[prev] + ((*v)[i] - (*v)[prev]) * (k - prev) / double(i - prev);
     }
     prev = i;
   }
@@ -218,8 +218,8 @@ void FillMissing(std::vector<double>* v, const std::vector<bool>& found) {
 
 // Stage 2 for subject k in one run: the smoothing residuals (the paper's estimate, section II)
 // and the true errors, both in the track frame, over the kept (trimmed, found) samples.
-SubjectRun AnalyseRun(const TrackOptions& o, const std::vector<RawSample>& r,
-                      const RunSetup& setup, int k) {
+SubjectRun AnalyseRun(const TrackOptions& o, const std::vector<RawSample>& r, const RunSetup& setup,
+                      int k) {
   const int samples = o.samples_per_run;
   const bool is_pattern = k >= static_cast<int>(o.diameters_mm.size());
   SubjectRun out;
