@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "cli/command.h"
+#include "patlab/core/enum_names.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/io/numeric_column.h"
 #include "patlab/stats/ks.h"
 #include "patlab/stats/summary.h"
@@ -51,16 +53,6 @@ struct StatsCliOptions {
   bool json = false;
 };
 
-// Shortest text that reads back as the same double.
-std::string Num(double v) {
-  char buf[32];
-  for (int precision = 15; precision <= 17; ++precision) {
-    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
-    if (std::stod(buf) == v) break;
-  }
-  return buf;
-}
-
 void PrintRows(const std::vector<std::pair<std::string, std::string>>& rows) {
   for (const auto& [key, value] : rows) {
     std::string padded = key;
@@ -86,8 +78,8 @@ void RequireFiles(const StatsCliOptions& o, std::size_t n) {
 int RunKs(const StatsCliOptions& o) {
   RequireFiles(o, 2);
   stats::KsOptions options;
-  options.alternative = stats::ParseAlternative(o.alternative);
-  options.method = stats::ParseKsMethod(o.method);
+  options.alternative = ParseName(o.alternative, stats::kAlternativeNames, "--alternative");
+  options.method = ParseName(o.method, stats::kKsMethodNames, "--method");
   const std::vector<double> a = Load(o.files[0], o);
   const std::vector<double> b = Load(o.files[1], o);
   const stats::KsResult r = stats::KsTwoSample(a, b, options);
@@ -110,18 +102,18 @@ int RunKs(const StatsCliOptions& o) {
              {"method", std::string(stats::KsMethodName(r.method_used))},
              {"n1", std::to_string(r.n1)},
              {"n2", std::to_string(r.n2)},
-             {"D", Num(r.d)},
-             {"D_scaled", Num(r.d_scaled) + "   (sqrt(n1*n2/(n1+n2)) * D)"},
-             {"p_value", Num(r.p_value)}});
+             {"D", FormatRoundTrip(r.d)},
+             {"D_scaled", FormatRoundTrip(r.d_scaled) + "   (sqrt(n1*n2/(n1+n2)) * D)"},
+             {"p_value", FormatRoundTrip(r.p_value)}});
   return kExitOk;
 }
 
 int RunWilcoxon(const StatsCliOptions& o) {
   RequireFiles(o, 2);
   stats::WilcoxonOptions options;
-  options.alternative = stats::ParseAlternative(o.alternative);
-  options.method = stats::ParseWilcoxonMethod(o.method);
-  options.zero_method = stats::ParseZeroMethod(o.zero_method);
+  options.alternative = ParseName(o.alternative, stats::kAlternativeNames, "--alternative");
+  options.method = ParseName(o.method, stats::kWilcoxonMethodNames, "--method");
+  options.zero_method = ParseName(o.zero_method, stats::kZeroMethodNames, "--zero-method");
   options.correction = o.correction;
   const std::vector<double> a = Load(o.files[0], o);
   const std::vector<double> b = Load(o.files[1], o);
@@ -156,12 +148,12 @@ int RunWilcoxon(const StatsCliOptions& o) {
       {"n", std::to_string(r.n)},
       {"n_zero", std::to_string(r.n_zero)},
       {"statistic",
-       Num(r.statistic) +
+       FormatRoundTrip(r.statistic) +
            (options.alternative == stats::Alternative::kTwoSided ? "   (min(R+, R-))" : "   (R+)")},
-      {"r_plus", Num(r.r_plus)},
-      {"r_minus", Num(r.r_minus)}};
-  if (r.method_used == stats::WilcoxonMethod::kApprox) rows.push_back({"z", Num(r.z)});
-  rows.push_back({"p_value", Num(r.p_value)});
+      {"r_plus", FormatRoundTrip(r.r_plus)},
+      {"r_minus", FormatRoundTrip(r.r_minus)}};
+  if (r.method_used == stats::WilcoxonMethod::kApprox) rows.push_back({"z", FormatRoundTrip(r.z)});
+  rows.push_back({"p_value", FormatRoundTrip(r.p_value)});
   PrintRows(rows);
   return kExitOk;
 }
@@ -180,10 +172,12 @@ int RunSummary(const StatsCliOptions& o) {
     std::cout << j.dump(2) << "\n";
     return kExitOk;
   }
-  std::cout << "summary (" << Num(100 * s.level) << "% confidence intervals)\n";
+  std::cout << "summary (" << FormatRoundTrip(100 * s.level) << "% confidence intervals)\n";
   PrintRows({{"n", std::to_string(s.n)},
-             {"mean", Num(m.mean) + "   [" + Num(m.lower) + ", " + Num(m.upper) + "]"},
-             {"std", Num(s.std) + "   [" + Num(s.lower) + ", " + Num(s.upper) + "]"}});
+             {"mean", FormatRoundTrip(m.mean) + "   [" + FormatRoundTrip(m.lower) + ", " +
+                          FormatRoundTrip(m.upper) + "]"},
+             {"std", FormatRoundTrip(s.std) + "   [" + FormatRoundTrip(s.lower) + ", " +
+                         FormatRoundTrip(s.upper) + "]"}});
   return kExitOk;
 }
 

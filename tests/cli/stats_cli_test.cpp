@@ -149,9 +149,11 @@ TEST_F(StatsCli, ErrorsAreClearAndExitWith2) {
        "expected a finite number (no NaN or infinity)\n"},
       {"ks a.txt", "patlab stats: 'ks' takes 2 files, got 1; expected patlab stats ks A B\n"},
       {"ks a.txt b.txt --alternative both",
-       "patlab stats: unknown alternative 'both'; expected two-sided, less or greater\n"},
+       "patlab stats: --alternative is \"both\"; expected \"two-sided\", \"less\" or "
+       "\"greater\"\n"},
       {"wilcoxon a.txt a.txt --zero-method drop",
-       "patlab stats: unknown zero method 'drop'; expected wilcox, pratt or zsplit\n"},
+       "patlab stats: --zero-method is \"drop\"; expected \"wilcox\", \"pratt\" or "
+       "\"zsplit\"\n"},
       {"wilcoxon a.txt a.txt",
        "patlab stats: every difference is zero, so zero method 'wilcox' leaves nothing to rank; "
        "expected at least one non-zero difference (or use zsplit)\n"},

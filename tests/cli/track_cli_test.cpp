@@ -116,7 +116,7 @@ TEST(TrackCli, BadInputExitsTwoWithAMessageAndWritesNothing) {
            ": cannot open file; expected a readable TOML file\n"},
       {kPatlab + " track " + bad + out,
        "patlab track: " + bad +
-           ":3: pixel_sigma in [noise] is -3; expected a number >= 0 (grey levels)\n"},
+           ":3: noise.pixel_sigma is -3; expected a finite number >= 0 (grey levels)\n"},
       {kPatlab + " track " + experiment + " --seed x1" + out,
        "patlab track: --seed is 'x1'; expected an integer >= 0\n"},
       {kPatlab + " track " + experiment + " --threads -1" + out,
@@ -124,8 +124,8 @@ TEST(TrackCli, BadInputExitsTwoWithAMessageAndWritesNothing) {
       {kPatlab + " track " + experiment + " --decimate 0" + out,
        "patlab track: --decimate is 0; expected an integer >= 1\n"},
       {kPatlab + " track " + experiment + " --jitter-px -1" + out,
-       "patlab track: after the command-line overrides: jitter_sigma_px in [noise] is -1; "
-       "expected a number >= 0 (px)\n"},
+       "patlab track: after the command-line overrides: noise.jitter_sigma_px is -1; "
+       "expected a finite number >= 0 (px)\n"},
       {kPatlab + " track" + out,
        "patlab track: missing EXPERIMENT.toml; expected 'patlab track EXPERIMENT.toml' (see "
        "--help)\n"},

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -196,6 +197,43 @@ TEST(Estimators, NamesRoundTrip) {
   }
   Estimator unused;
   EXPECT_FALSE(ParseEstimator("newton", &unused));
+}
+
+TEST(Estimators, TerminationNames) {
+  EXPECT_EQ(TerminationName(Termination::kConverged), "converged");
+  EXPECT_EQ(TerminationName(Termination::kMaxIterations), "max_iterations");
+  EXPECT_EQ(TerminationName(Termination::kNumericalFailure), "numerical_failure");
+}
+
+TEST(EstimatorOptions, DefaultsAreValid) {
+  EXPECT_TRUE(Check(Options{}).empty());
+  Validate(Options{});
+}
+
+TEST(EstimatorOptions, MaxIterationsIsOneToAThousand) {
+  Options o;
+  o.max_iterations = 1000;
+  EXPECT_TRUE(Check(o).empty());
+  o.max_iterations = 0;
+  EXPECT_INPUT_ERROR(Validate(o), "max_iterations is 0; expected an integer in [1, 1000]");
+  o.max_iterations = 1001;
+  EXPECT_INPUT_ERROR(Validate(o), "max_iterations is 1001; expected an integer in [1, 1000]");
+}
+
+TEST(EstimatorOptions, EveryProblemIsListedWithTheFieldPrefix) {
+  Options o;
+  o.max_iterations = 0;
+  o.step_tolerance_mm = -1.0;
+  o.step_tolerance_rad = std::nan("");
+  o.gradient_tolerance = std::numeric_limits<double>::infinity();
+  const std::vector<OptionsProblem> problems = Check(o, "ml_");
+  ASSERT_EQ(problems.size(), 4u);
+  EXPECT_EQ(problems[0].field, "ml_max_iterations");
+  EXPECT_EQ(problems[0].message, "ml_max_iterations is 0; expected an integer in [1, 1000]");
+  EXPECT_EQ(problems[1].message, "ml_step_tolerance_mm is -1; expected a finite number >= 0 (mm)");
+  EXPECT_EQ(problems[2].message,
+            "ml_step_tolerance_rad is nan; expected a finite number >= 0 (rad)");
+  EXPECT_EQ(problems[3].message, "ml_gradient_tolerance is inf; expected a finite number >= 0");
 }
 
 }  // namespace

@@ -14,15 +14,6 @@ std::string Patch(const std::string& x, const std::string& y, const std::string&
   return "[[patch]]\nrole = \"id\"\nx = " + x + "\ny = " + y + "\nradius = 20.0\n" + extra;
 }
 
-std::string ErrorOf(const std::string& text) {
-  try {
-    ParsePattern(text, "p.toml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
 TEST(PatternFile, ShippedPatternsLoadWithTheDocumentedGeometry) {
   const Pattern ssl = testing::ShippedPattern("ssl-standard");
   ASSERT_EQ(ssl.size(), 5);
@@ -111,16 +102,15 @@ TEST(PatternFile, BadFilesAreRejectedWithFileLineAndWhatWasExpected) {
        head + kKey + "[[patch]]\nrole = \"fixed\"\nx = 65.0\ny = 0.0\nradius = 20.0\n",
        "p.toml:8: [[patch]] 1 has role \"fixed\" but no colour; expected colour = \"<name>\""},
   };
-  for (const BadCase& c : cases) EXPECT_EQ(ErrorOf(c.text), c.message) << c.what;
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.what);
+    EXPECT_INPUT_ERROR(ParsePattern(c.text, "p.toml"), c.message);
+  }
 }
 
 TEST(PatternFile, MissingFileIsAnInputError) {
-  try {
-    LoadPatternFile("/nonexistent/p.toml");
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "/nonexistent/p.toml: cannot open file; expected a readable TOML file");
-  }
+  EXPECT_INPUT_ERROR(LoadPatternFile("/nonexistent/p.toml"),
+                     "/nonexistent/p.toml: cannot open file; expected a readable TOML file");
 }
 
 }  // namespace

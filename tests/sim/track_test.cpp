@@ -4,13 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "../vision/test_util.h"
 #include "patlab/core/rng.h"
 #include "patlab/io/pattern_file.h"
 #include "patlab/stats/smoothing.h"
 #include "patlab/stats/summary.h"
-#include "../vision/test_util.h"
 
 namespace patlab::sim {
 namespace {
@@ -24,9 +25,19 @@ TrackOptions Small() {
   return o;
 }
 
+// Small() with intensity noise, camera jitter and the butterfly pattern as a fourth subject.
+TrackOptions NoisyWithButterfly() {
+  TrackOptions o = Small();
+  o.pixel_sigma = 12.0;
+  o.jitter_sigma_px = 0.1;
+  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
+  o.pattern = io::LoadPatternFile(o.pattern_file);
+  return o;
+}
+
 TEST(Track, DefaultsAreValidAndDescribeThePaperSetup) {
   const TrackOptions o;
-  EXPECT_TRUE(CheckTrackOptions(o).empty());
+  EXPECT_TRUE(Check(o).empty());
   // ~4.4 mm/px: the 2.8 m field across 640 px from 3 m.
   EXPECT_NEAR(MmPerPixel(o), 4.373, 0.001);
 }
@@ -76,31 +87,8 @@ TEST(Track, MeasureDiscFindsTheDiscWithinQuantisation) {
   EXPECT_NEAR(measured.y(), -56.7, 0.3 * MmPerPixel(o));
 }
 
-TEST(Track, SmoothedResidualsRecoverTheStdOfWhiteNoiseUpToTheKernelFactor) {
-  // A linear track (the platform's constant speed) plus iid Gaussian noise of std sigma.
-  constexpr int kN = 200000;
-  constexpr double kSigma = 0.5;
-  RandomStream rng(11, 0, 0);
-  std::vector<double> x(kN);
-  for (int i = 0; i < kN; ++i) x[i] = 0.77 * i + kSigma * rng.Normal();
-  const stats::SmoothingOptions smoothing;  // sigma = 10 samples, as in the paper
-  const std::vector<double> r = stats::SmoothingResiduals(x, smoothing);
-  const std::vector<double> kept(r.begin() + 40, r.end() - 40);
-  const double s = stats::SampleStd(kept);
-  const double se = kSigma / std::sqrt(2.0 * kept.size());  // standard error of a std
-  const double factor = ResidualStdFactor(smoothing);
-  EXPECT_NEAR(factor, 0.974, 0.001);
-  EXPECT_NEAR(s / factor, kSigma, 4 * se);
-  // Uncorrected, the paper's estimate is low by 2.6%: far more than 4 standard errors here.
-  EXPECT_GT(std::abs(s - kSigma), 4 * se);
-}
-
 TEST(Track, ResultsAreIdenticalForAnyThreadCount) {
-  TrackOptions o = Small();
-  o.pixel_sigma = 12.0;
-  o.jitter_sigma_px = 0.1;
-  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
-  o.pattern = io::LoadPatternFile(o.pattern_file);
+  TrackOptions o = NoisyWithButterfly();
   const TrackResult one = RunTrack(o, {.threads = 1});
   const TrackResult three = RunTrack(o, {.threads = 3});
   ASSERT_EQ(one.subjects.size(), 4u);
@@ -164,11 +152,7 @@ TEST(Track, TableAndTestsHaveOneRowPerSubjectAndPair) {
 }
 
 TEST(Track, AnySampleCanBeReplayedAlone) {
-  TrackOptions o = Small();
-  o.pixel_sigma = 12.0;
-  o.jitter_sigma_px = 0.1;
-  o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
-  o.pattern = io::LoadPatternFile(o.pattern_file);
+  TrackOptions o = NoisyWithButterfly();
   const TrackResult r = RunTrack(o);
   ASSERT_EQ(NumSubjects(o), 4);
   for (int k : {0, 3}) {
@@ -194,14 +178,81 @@ TEST(Track, RunSetupsComeFromTheRunIdentity) {
   EXPECT_LE(std::abs(a.heading_rad), o.heading_max_deg * std::numbers::pi / 180.0);
 }
 
-std::string Parse(const std::string& text) {
-  try {
-    ParseTrackExperiment(text, "t.toml");
-  } catch (const InputError& e) {
-    return e.what();
+TEST(Track, ReplayFrameAgreesWithTheRun) {
+  TrackOptions o = NoisyWithButterfly();
+  const TrackResult r = RunTrack(o);
+  const size_t i = 11;
+  const int frame = r.data[0][1].sample[i];
+  const std::vector<ReplayedSubject> replay = ReplayFrame(o, 1, frame);
+  ASSERT_EQ(replay.size(), 4u);
+  for (size_t k = 0; k < replay.size(); ++k) {
+    SCOPED_TRACE(k);
+    const SubjectRun& run = r.data[k][1];
+    ASSERT_EQ(run.sample[i], frame);
+    EXPECT_EQ(replay[k].name, r.subjects[k]);
+    ASSERT_TRUE(replay[k].found);
+    EXPECT_DOUBLE_EQ(replay[k].true_error_mm.x(), run.true_x_mm[i]);
+    EXPECT_DOUBLE_EQ(replay[k].true_error_mm.y(), run.true_y_mm[i]);
+    EXPECT_EQ(replay[k].has_theta, k == 3);
   }
-  return "";
+  EXPECT_DOUBLE_EQ(replay[3].true_theta_error_rad, r.data[3][1].true_theta_rad[i]);
 }
+
+TEST(Track, SubjectsAreNamedByDiameterThenPattern) {
+  TrackOptions o;
+  o.diameters_mm = {40.0, 45.5};
+  EXPECT_EQ(SubjectNames(o), (std::vector<std::string>{"40mm", "45.5mm"}));
+  EXPECT_EQ(NumSubjects(o), 2);
+  EXPECT_DOUBLE_EQ(SubjectOffsetMm(o, 0), -0.5 * o.spacing_mm);
+  const Vec2 along = ToTrackFrame(Vec2(1.0, 1.0), std::numbers::pi / 4);
+  EXPECT_NEAR(along.x(), std::sqrt(2.0), 1e-15);
+  EXPECT_NEAR(along.y(), 0.0, 1e-15);
+}
+
+TEST(Track, ManifestRecordsOptionsTableAndOutputs) {
+  const TrackOptions o = Small();
+  const TrackResult r = RunTrack(o);
+  const std::vector<TableRow> table = MakeTable(r);
+  const auto j = nlohmann::json::parse(TrackManifestJson(o, r, table, "patlab track x", {"a.csv"}));
+  EXPECT_EQ(j.at("command"), "patlab track x");
+  EXPECT_EQ(j.at("platform").at("samples_per_run"), 160);
+  EXPECT_EQ(j.at("run_setups").size(), 2u);
+  EXPECT_EQ(j.at("table").size(), 3u);
+  EXPECT_EQ(j.at("table")[0].at("est_x").at("n"), table[0].est_x.n);
+  EXPECT_EQ(j.at("outputs"), nlohmann::json::array({"a.csv"}));
+  stats::SmoothingOptions smoothing;
+  smoothing.sigma_samples = o.smoothing_sigma_samples;
+  EXPECT_EQ(j.at("analysis").at("white_noise_residual_factor").get<double>(),
+            stats::ResidualStdFactor(smoothing));
+}
+
+TEST(TrackOptions, CheckNamesEveryBrokenFieldAndTheGeometryOnlyOfValidFields) {
+  TrackOptions o;
+  o.runs = 0;
+  o.rate_hz = 0.0;
+  o.pixel_sigma = -1.0;
+  o.spacing_mm = 40.0;  // neighbours touch, but that is checked only once the fields are valid
+  std::vector<std::string> fields;
+  for (const OptionsProblem& p : Check(o)) fields.push_back(p.field);
+  EXPECT_EQ(fields, (std::vector<std::string>{"runs", "platform.rate_hz", "noise.pixel_sigma"}));
+  o.runs = 5;
+  o.rate_hz = 30.0;
+  o.pixel_sigma = 0.0;
+  const std::vector<OptionsProblem> geometry = Check(o);
+  ASSERT_EQ(geometry.size(), 1u);
+  EXPECT_EQ(geometry[0].field, "platform.spacing_mm");
+  o.camera.image_width_px = 8;
+  EXPECT_INPUT_ERROR(Validate(o),
+                     "camera.image_size_px has 8; expected two integers in [16, 20000] (width, "
+                     "height)");
+  o = TrackOptions();
+  o.patch_level = 30;
+  EXPECT_INPUT_ERROR(Validate(o),
+                     "render.patch_level is 30; expected an integer in [41, 255] (white patches on "
+                     "a darker floor, above background_level)");
+}
+
+TrackOptions Parse(const std::string& text) { return ParseTrackExperiment(text, "t.toml"); }
 
 TEST(TrackExperiment, ParsesEveryKey) {
   const TrackOptions o = ParseTrackExperiment(
@@ -249,54 +300,61 @@ TEST(TrackExperiment, ShippedTable1FileLoads) {
 }
 
 TEST(TrackExperiment, BadFilesNameTheLineAndWhatIsExpected) {
-  EXPECT_EQ(Parse("runs = 0\n"), "t.toml:1: runs is 0; expected an integer in 1..1000");
-  EXPECT_EQ(Parse("seed = 1\nradius = 3\n"),
-            "t.toml:2: unknown key 'radius'; expected one of: name, description, seed, runs, "
-            "diameters_mm, pattern, patterns_dir, platform, camera, render, noise, analysis");
-  EXPECT_EQ(Parse("diameters_mm = [40, \"big\"]\n"),
-            "t.toml:1: diameters_mm contains a string; expected numbers (mm)");
-  EXPECT_EQ(Parse("diameters_mm = [40, -5]\n"),
-            "t.toml:1: diameters_mm has -5; expected diameters > 0 (mm)");
-  EXPECT_EQ(Parse("diameters_mm = [40, 40]\n"),
-            "t.toml:1: diameters_mm lists 40 twice; expected distinct diameters");
-  EXPECT_EQ(Parse("\n[noise]\npixel_sigma = -1\n"),
-            "t.toml:3: pixel_sigma in [noise] is -1; expected a number >= 0 (grey levels)");
-  EXPECT_EQ(Parse("[noise]\njitter_px = 1\n"),
-            "t.toml:2: unknown key 'jitter_px' in [noise]; expected one of: pixel_sigma, "
-            "jitter_sigma_px");
-  EXPECT_EQ(Parse("[render]\nthreshold_level = 30\n"),
-            "t.toml:2: threshold_level in [render] is 30; expected an integer in 41..230 (above "
-            "background_level, at most patch_level)");
-  EXPECT_EQ(Parse("[platform]\nsamples_per_run = 50\n"),
-            "t.toml:2: samples_per_run in [platform] is 50; expected an integer in 83..1000000 "
-            "(2 trim_samples + 3 or more)");
-  EXPECT_EQ(Parse("[platform]\nspacing_mm = 40\n"),
-            "t.toml:2: spacing_mm in [platform] is 40; expected more than 53.75 mm so that "
-            "neighbouring subjects do not touch");
-  EXPECT_EQ(Parse("[platform]\nspeed_mm_per_s = 40\n"),
-            "t.toml:1: the track does not fit in the image: subjects reach +-1789.8 x +-361.64 mm "
-            "from the image centre but the view is +-1397.2 x +-1047.4 mm; expected a shorter "
-            "track (samples_per_run, speed_mm_per_s), a smaller lateral_range_mm, spacing_mm or "
-            "heading_max_deg, or a larger image");
-  EXPECT_EQ(Parse("[camera]\nimage_size_px = [640]\n"),
-            "t.toml:2: image_size_px in [camera] is not two integers; expected [width, height] "
-            "(px)");
-  EXPECT_EQ(Parse("camera = 3\n"), "t.toml:1: camera is an integer; expected a table [camera]");
-  EXPECT_EQ(Parse("pattern = \"no-such-pattern\"\npatterns_dir = \"/nonexistent\"\n")
-                .rfind("t.toml:1: ", 0),
-            0u);
-  EXPECT_EQ(Parse("runs = [\n"), Parse("runs = [\n"));  // a syntax error, reported with its line
-  EXPECT_EQ(Parse("runs = [\n").rfind("t.toml:", 0), 0u);
+  EXPECT_INPUT_ERROR(Parse("runs = 0\n"), "t.toml:1: runs is 0; expected an integer in [1, 1000]");
+  EXPECT_INPUT_ERROR(
+      Parse("seed = 1\nradius = 3\n"),
+      "t.toml:2: unknown key 'radius'; expected one of: name, description, seed, runs, "
+      "diameters_mm, pattern, patterns_dir, platform, camera, render, noise, analysis");
+  EXPECT_INPUT_ERROR(Parse("diameters_mm = [40, \"big\"]\n"),
+                     "t.toml:1: diameters_mm contains a string; expected numbers (mm)");
+  EXPECT_INPUT_ERROR(Parse("diameters_mm = [40, -5]\n"),
+                     "t.toml:1: diameters_mm has -5; expected diameters > 0 (mm)");
+  EXPECT_INPUT_ERROR(Parse("diameters_mm = [40, 40]\n"),
+                     "t.toml:1: diameters_mm lists 40 twice; expected distinct diameters");
+  EXPECT_INPUT_ERROR(
+      Parse("\n[noise]\npixel_sigma = -1\n"),
+      "t.toml:3: noise.pixel_sigma is -1; expected a finite number >= 0 (grey levels)");
+  EXPECT_INPUT_ERROR(Parse("[noise]\njitter_px = 1\n"),
+                     "t.toml:2: unknown key 'jitter_px' in [noise]; expected one of: pixel_sigma, "
+                     "jitter_sigma_px");
+  EXPECT_INPUT_ERROR(
+      Parse("[render]\nthreshold_level = 30\n"),
+      "t.toml:2: render.threshold_level is 30; expected an integer in [41, 230] (above "
+      "background_level, at most patch_level)");
+  EXPECT_INPUT_ERROR(
+      Parse("[platform]\nsamples_per_run = 50\n"),
+      "t.toml:2: platform.samples_per_run is 50; expected an integer in [83, 1000000] "
+      "(2 trim_samples + 3 or more)");
+  EXPECT_INPUT_ERROR(Parse("[platform]\nspacing_mm = 40\n"),
+                     "t.toml:2: platform.spacing_mm is 40; expected more than 53.75 mm so that "
+                     "neighbouring subjects do not touch");
+  EXPECT_INPUT_ERROR(
+      Parse("[platform]\nspeed_mm_per_s = 40\n"),
+      "t.toml:1: the track does not fit in the image: subjects reach +-1789.8 x +-361.64 mm "
+      "from the image centre but the view is +-1397.2 x +-1047.4 mm; expected a shorter "
+      "track (samples_per_run, speed_mm_per_s), a smaller lateral_range_mm, spacing_mm or "
+      "heading_max_deg, or a larger image");
+  EXPECT_INPUT_ERROR(
+      Parse("[camera]\nimage_size_px = [640]\n"),
+      "t.toml:2: image_size_px in [camera] is not two integers; expected [width, height] "
+      "(px)");
+  EXPECT_INPUT_ERROR(Parse("camera = 3\n"),
+                     "t.toml:1: camera is an integer; expected a table [camera]");
+  EXPECT_INPUT_ERROR_STARTS_WITH(
+      Parse("pattern = \"no-such-pattern\"\npatterns_dir = \"/nonexistent\"\n"),
+      "t.toml:1: pattern 'no-such-pattern' not found; expected a pattern file path or a name in ");
+  // A syntax error, reported with its line.
+  EXPECT_INPUT_ERROR_STARTS_WITH(Parse("runs = [\n"), "t.toml:");
 }
 
 TEST(TrackExperiment, ValidateNamesTheField) {
   TrackOptions o;
   o.supersampling = 0;
-  EXPECT_INPUT_ERROR(Validate(o), "supersampling in [render] is 0; expected an integer in 1..32");
+  EXPECT_INPUT_ERROR(Validate(o), "render.supersampling is 0; expected an integer in [1, 32]");
   o = TrackOptions();
   o.smoothing_sigma_samples = 0;
   EXPECT_INPUT_ERROR(RunTrack(o),
-                     "smoothing_sigma_samples in [analysis] is 0; expected a number in (0, 10000] "
+                     "analysis.smoothing_sigma_samples is 0; expected a number in (0, 10000] "
                      "(samples)");
 }
 

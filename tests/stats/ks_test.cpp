@@ -6,8 +6,9 @@
 #include <iomanip>
 #include <vector>
 
-#include "patlab/core/error.h"
+#include "../expect_error.h"
 #include "fixtures.h"
+#include "patlab/core/error.h"
 
 namespace patlab::stats {
 namespace {
@@ -109,27 +110,13 @@ TEST(Ks, RejectsEmptyAndNonFiniteInput) {
   const std::vector<double> empty;
   const std::vector<double> one = {1.0};
   const std::vector<double> bad = {1.0, std::nan("")};
-  EXPECT_THROW(
-      {
-        try {
-          KsTwoSample(one, empty);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(), "the KS test needs two non-empty samples, got 1 and 0 values");
-          throw;
-        }
-      },
-      InputError);
-  EXPECT_THROW(
-      {
-        try {
-          KsTwoSample(one, bad);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(), "sample 2 value 2 is NaN; expected finite numbers");
-          throw;
-        }
-      },
-      InputError);
-  EXPECT_THROW(ParseKsMethod("approx"), InputError);
+  EXPECT_INPUT_ERROR(KsTwoSample(one, empty),
+                     "the KS test needs two non-empty samples, got 1 and 0 values");
+  EXPECT_INPUT_ERROR(KsTwoSample(one, bad), "sample 2 value 2 is NaN; expected finite numbers");
+  EXPECT_INPUT_ERROR(ParseKsMethod("approx"),
+                     "method is \"approx\"; expected \"auto\", \"exact\" or \"asymp\"");
+  EXPECT_EQ(ParseKsMethod("asymp"), KsMethod::kAsymptotic);
+  EXPECT_EQ(KsMethodName(KsMethod::kAsymptotic), "asymp");
 }
 
 }  // namespace

@@ -6,8 +6,9 @@
 #include <iomanip>
 #include <vector>
 
-#include "patlab/core/error.h"
+#include "../expect_error.h"
 #include "fixtures.h"
+#include "patlab/core/error.h"
 
 namespace patlab::stats {
 namespace {
@@ -51,27 +52,10 @@ TEST(Summary, HandComputed) {
 
 TEST(Summary, RejectsBadInput) {
   const std::vector<double> one = {1.0};
-  EXPECT_THROW(
-      {
-        try {
-          StdWithConfidence(one);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(), "the standard deviation needs at least 2 samples, got 1");
-          throw;
-        }
-      },
-      InputError);
+  EXPECT_INPUT_ERROR(StdWithConfidence(one),
+                     "the standard deviation needs at least 2 samples, got 1");
   const std::vector<double> x = {1.0, 2.0};
-  EXPECT_THROW(
-      {
-        try {
-          StdWithConfidence(x, 1.0);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(), "confidence level 1.000000 is outside (0, 1)");
-          throw;
-        }
-      },
-      InputError);
+  EXPECT_INPUT_ERROR(StdWithConfidence(x, 1.0), "level is 1; expected a number in (0, 1)");
   const std::vector<double> nan = {1.0, std::nan("")};
   EXPECT_THROW(MeanWithConfidence(nan), InputError);
 }

@@ -6,8 +6,9 @@
 #include <iomanip>
 #include <vector>
 
-#include "patlab/core/error.h"
+#include "../expect_error.h"
 #include "fixtures.h"
+#include "patlab/core/error.h"
 
 namespace patlab::stats {
 namespace {
@@ -106,43 +107,18 @@ TEST(Wilcoxon, TinyTailSurvivesThroughComplements) {
 TEST(Wilcoxon, RejectsBadInput) {
   const std::vector<double> a = {1.0, 2.0, 3.0};
   const std::vector<double> b = {1.0, 2.0};
-  EXPECT_THROW(
-      {
-        try {
-          WilcoxonSignedRank(a, b);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(),
-                       "the Wilcoxon test needs paired samples of equal length, got 3 and 2 "
-                       "values");
-          throw;
-        }
-      },
-      InputError);
-  EXPECT_THROW(
-      {
-        try {
-          WilcoxonSignedRank(a, a);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(),
-                       "every difference is zero, so zero method 'wilcox' leaves nothing to "
-                       "rank; expected at least one non-zero difference (or use zsplit)");
-          throw;
-        }
-      },
-      InputError);
+  EXPECT_INPUT_ERROR(WilcoxonSignedRank(a, b),
+                     "the Wilcoxon test needs paired samples of equal length, got 3 and 2 "
+                     "values");
+  EXPECT_INPUT_ERROR(WilcoxonSignedRank(a, a),
+                     "every difference is zero, so zero method 'wilcox' leaves nothing to "
+                     "rank; expected at least one non-zero difference (or use zsplit)");
   EXPECT_THROW(WilcoxonSignedRank(std::vector<double>{}), InputError);
   const std::vector<double> inf = {1.0, INFINITY, 3.0};
-  EXPECT_THROW(
-      {
-        try {
-          WilcoxonSignedRank(a, inf);
-        } catch (const InputError& e) {
-          EXPECT_STREQ(e.what(), "sample 2 value 2 is infinite; expected finite numbers");
-          throw;
-        }
-      },
-      InputError);
-  EXPECT_THROW(ParseZeroMethod("none"), InputError);
+  EXPECT_INPUT_ERROR(WilcoxonSignedRank(a, inf),
+                     "sample 2 value 2 is infinite; expected finite numbers");
+  EXPECT_INPUT_ERROR(ParseZeroMethod("none"),
+                     "zero_method is \"none\"; expected \"wilcox\", \"pratt\" or \"zsplit\"");
 }
 
 }  // namespace

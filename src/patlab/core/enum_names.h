@@ -49,7 +49,11 @@ std::string NameList(const EnumNames<E, N>& names) {
   std::string out;
   for (size_t i = 0; i < N; ++i) {
     if (i > 0) out += i + 1 == N ? " or " : ", ";
-    out += "\"" + std::string(names.entries[i].second) + "\"";
+    // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on
+    // "\"" + std::string(...) here.
+    out += '"';
+    out += names.entries[i].second;
+    out += '"';
   }
   return out;
 }

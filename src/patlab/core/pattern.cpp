@@ -2,18 +2,6 @@
 
 namespace patlab {
 
-const char* PatchRoleName(PatchRole role) {
-  switch (role) {
-    case PatchRole::kKey:
-      return "key";
-    case PatchRole::kId:
-      return "id";
-    case PatchRole::kFixed:
-      return "fixed";
-  }
-  return "?";
-}
-
 Vec2 Pattern::Centroid() const {
   Vec2 sum = Vec2::Zero();
   for (const Patch& p : patches) sum += p.position_mm;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "patlab/core/enum_names.h"
 #include "patlab/core/geometry.h"
 
 namespace patlab {
@@ -19,7 +20,12 @@ enum class PatchRole {
   kFixed,  // a fixed colour that is the same on every instance (e.g. a direction marker)
 };
 
-const char* PatchRoleName(PatchRole role);
+// How pattern files spell the roles (role = "key").
+inline constexpr EnumNames<PatchRole, 3> kPatchRoleNames{{{
+    {PatchRole::kKey, "key"},
+    {PatchRole::kId, "id"},
+    {PatchRole::kFixed, "fixed"},
+}}};
 
 struct Patch {
   Vec2 position_mm = Vec2::Zero();  // centre in the model frame

@@ -1,5 +1,5 @@
-// Counter-based random numbers (docs/architecture.md rule 1): every random number of a trial is a pure
-// function of (experiment seed, stream id, trial index, draw index), computed with Random123's
+// Counter-based random numbers (docs/architecture.md rule 1): every random number of a trial is a
+// pure function of (experiment seed, stream id, trial index, draw index), computed with Random123's
 // Philox4x32-10. Nothing is shared between trials, so results are identical for any thread count
 // and any trial can be replayed alone.
 //

@@ -185,42 +185,6 @@ Pose2 MaximumLikelihood(const Model& model, const Vec2* observed, const Pose2& s
   return r;
 }
 
-std::string_view TerminationName(Termination termination) {
-  switch (termination) {
-    case Termination::kConverged:
-      return "converged";
-    case Termination::kMaxIterations:
-      return "max_iterations";
-    case Termination::kNumericalFailure:
-      return "numerical_failure";
-  }
-  return "?";
-}
-
-std::string_view EstimatorName(Estimator estimator) {
-  switch (estimator) {
-    case Estimator::kFast:
-      return "fast";
-    case Estimator::kMl:
-      return "ml";
-    case Estimator::kLsq:
-      return "lsq";
-    case Estimator::kKey:
-      return "key";
-  }
-  return "?";
-}
-
-bool ParseEstimator(std::string_view name, Estimator* estimator) {
-  for (Estimator e : kAllEstimators) {
-    if (EstimatorName(e) == name) {
-      *estimator = e;
-      return true;
-    }
-  }
-  return false;
-}
-
 std::vector<OptionsProblem> Check(const Options& options, std::string_view field_prefix) {
   const std::string p(field_prefix);
   OptionsChecker check;

@@ -7,9 +7,11 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string_view>
 #include <vector>
 
+#include "patlab/core/enum_names.h"
 #include "patlab/core/geometry.h"
 #include "patlab/core/options.h"
 #include "patlab/core/pattern.h"
@@ -78,7 +80,14 @@ enum class Termination {
   kMaxIterations,     // Options::max_iterations steps without meeting a tolerance
   kNumericalFailure,  // a non-finite cost or an indefinite Hessian that damping could not fix
 };
-std::string_view TerminationName(Termination termination);
+inline constexpr EnumNames<Termination, 3> kTerminationNames{{{
+    {Termination::kConverged, "converged"},
+    {Termination::kMaxIterations, "max_iterations"},
+    {Termination::kNumericalFailure, "numerical_failure"},
+}}};
+inline std::string_view TerminationName(Termination termination) {
+  return NameOf(termination, kTerminationNames);
+}
 
 struct Summary {
   Termination termination = Termination::kConverged;
@@ -96,8 +105,21 @@ Pose2 MaximumLikelihood(const Model& model, const Vec2* observed, const Pose2& s
 enum class Estimator { kFast, kMl, kLsq, kKey };
 inline constexpr std::array<Estimator, 4> kAllEstimators = {Estimator::kFast, Estimator::kMl,
                                                             Estimator::kLsq, Estimator::kKey};
-std::string_view EstimatorName(Estimator estimator);
-// Returns false if `name` is not an estimator name.
-bool ParseEstimator(std::string_view name, Estimator* estimator);
+inline constexpr EnumNames<Estimator, 4> kEstimatorNames{{{
+    {Estimator::kFast, "fast"},
+    {Estimator::kMl, "ml"},
+    {Estimator::kLsq, "lsq"},
+    {Estimator::kKey, "key"},
+}}};
+inline std::string_view EstimatorName(Estimator estimator) {
+  return NameOf(estimator, kEstimatorNames);
+}
+// Returns false if `name` is not an estimator name. (FindName(name, kEstimatorNames) is the same;
+// this form serves the callers in detect/settings.cpp and sim/experiment.cpp.)
+inline bool ParseEstimator(std::string_view name, Estimator* estimator) {
+  const std::optional<Estimator> found = FindName(name, kEstimatorNames);
+  if (found) *estimator = *found;
+  return found.has_value();
+}
 
 }  // namespace patlab::estimate

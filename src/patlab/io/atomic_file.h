@@ -9,8 +9,8 @@
 namespace patlab::io {
 
 // Writes several files, creating missing parent directories; throws
-// InputError("<path>: cannot write: <reason>") on failure. Each file is fully written to its temporary before any is renamed, so a
-// failure while writing leaves every target untouched.
+// InputError("<path>: cannot write: <reason>") on failure. Each file is fully written to its
+// temporary before any is renamed, so a failure while writing leaves every target untouched.
 void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace patlab::io

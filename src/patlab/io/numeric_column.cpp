@@ -63,8 +63,22 @@ double ParseCell(std::string_view cell, const FileLoc& loc, const std::string& w
 
 }  // namespace
 
+std::vector<OptionsProblem> Check(const NumericColumnOptions& options) {
+  OptionsChecker check;
+  const std::string_view column = options.column;
+  if (column.find_first_of(",\r\n") != std::string_view::npos || Trim(column) != column) {
+    check.Fail("column", "column is \"" + options.column +
+                             "\"; expected a CSV column name (no comma, line break, or leading "
+                             "or trailing blank)");
+  }
+  return check.Take();
+}
+
+void Validate(const NumericColumnOptions& options) { ThrowFirstProblem(Check(options)); }
+
 std::vector<double> ParseNumericColumn(std::istream& in, const std::string& source_name,
                                        const NumericColumnOptions& options) {
+  Validate(options);
   std::vector<double> values;
   const bool csv = !options.column.empty();
   std::size_t column_index = 0;
@@ -122,6 +136,7 @@ std::vector<double> ParseNumericColumn(std::istream& in, const std::string& sour
 
 std::vector<double> ReadNumericColumn(const std::string& path,
                                       const NumericColumnOptions& options) {
+  Validate(options);
   std::ifstream in(path);
   if (!in) {
     throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable file of numbers");

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "patlab/core/options.h"
+
 namespace patlab::io {
 
 struct NumericColumnOptions {
@@ -19,8 +21,13 @@ struct NumericColumnOptions {
   // double quotes). Empty: the file holds one number a line, no header.
   std::string column;
 };
+// column must be a name a header cell can have: no comma, no line break, no leading or trailing
+// blank (cells are split on commas and trimmed), so that a typo is reported as such and not as
+// "no column ... in the header".
+std::vector<OptionsProblem> Check(const NumericColumnOptions& options);
+void Validate(const NumericColumnOptions& options);
 
-// Reads `path`; throws InputError if it cannot be opened.
+// Reads `path`; throws InputError if it cannot be opened. Both readers validate the options.
 std::vector<double> ReadNumericColumn(const std::string& path,
                                       const NumericColumnOptions& options = {});
 

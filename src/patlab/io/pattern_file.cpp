@@ -1,26 +1,62 @@
 #include "patlab/io/pattern_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
+#include "patlab/core/format.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::io {
 
 namespace {
 
+using patlab::FormatNumber;
+
 std::string PointText(const Vec2& p) {
   return "(" + FormatNumber(p.x()) + ", " + FormatNumber(p.y()) + ")";
 }
 
-Pattern ParseTable(const toml::table& root, const std::string& file) {
-  TomlReader reader(root, file);
-  reader.CheckKeys({"name", "description", "orientation_pairs", "patch"});
-  Pattern pattern;
-  pattern.name = reader.String("name");
-  if (pattern.name.empty()) reader.Fail("name", "name is empty; expected a non-empty string");
-  pattern.description = reader.OptionalString("description").value_or("");
+// One [[patch]] table, number i. `key_index` is the first key patch seen so far (-1: none).
+Patch ParsePatch(const toml::table& t, const std::string& file, size_t i, int key_index) {
+  TomlReader pr(t, file, "[[patch]] " + std::to_string(i));
+  pr.CheckKeys({"x", "y", "radius", "role", "colour"});
+  Patch patch;
+  patch.position_mm = Vec2(pr.Number("x"), pr.Number("y"));
+  patch.radius_mm = pr.Number("radius");
+  if (!(patch.radius_mm > 0.0)) {
+    pr.Fail("radius", pr.Describe("radius") + " is " + FormatNumber(patch.radius_mm) +
+                          "; expected a positive number (mm)");
+  }
+  const std::string role = pr.String("role");
+  const std::optional<PatchRole> parsed = FindName(role, kPatchRoleNames);
+  if (!parsed) {
+    pr.Fail("role",
+            pr.Describe("role") + " is \"" + role + "\"; expected " + NameList(kPatchRoleNames));
+  }
+  patch.role = *parsed;
+  if (patch.role == PatchRole::kKey && key_index >= 0) {
+    pr.Fail("role", "second key patch ([[patch]] " + std::to_string(i) +
+                        "; the first is [[patch]] " + std::to_string(key_index) +
+                        "); expected exactly one patch with role = \"key\"");
+  }
+  patch.colour = pr.OptionalString("colour").value_or("");
+  if (patch.role == PatchRole::kFixed && patch.colour.empty()) {
+    pr.Fail("role", "[[patch]] " + std::to_string(i) +
+                        " has role \"fixed\" but no colour; expected colour = \"<name>\"");
+  }
+  if (patch.role == PatchRole::kId && !patch.colour.empty()) {
+    pr.Fail("colour", "[[patch]] " + std::to_string(i) +
+                          " is an ID slot with a colour; expected no colour (the codebook "
+                          "assigns it) or role = \"fixed\"");
+  }
+  return patch;
+}
 
+// Every [[patch]] table into pattern->patches and key_index; their locations into *locs.
+void ParsePatches(const toml::table& root, const std::string& file, Pattern* pattern,
+                  std::vector<FileLoc>* locs) {
   const toml::node* patches_node = root.get("patch");
   if (patches_node == nullptr) {
     throw InputError(FileLoc{file, 1},
@@ -32,132 +68,117 @@ Pattern ParseTable(const toml::table& root, const std::string& file) {
     throw InputError(LocOf(file, *patches_node),
                      "patch is " + TypeName(*patches_node) + "; expected [[patch]] tables");
   }
-  std::vector<FileLoc> patch_locs;
-  int key_count = 0;
+  int key_index = -1;
   for (size_t i = 0; i < patches->size(); ++i) {
     const toml::table& t = *patches->get(i)->as_table();
-    TomlReader pr(t, file, "[[patch]] " + std::to_string(i));
-    pr.CheckKeys({"x", "y", "radius", "role", "colour"});
-    Patch patch;
-    patch.position_mm = Vec2(pr.Number("x"), pr.Number("y"));
-    patch.radius_mm = pr.Number("radius");
-    if (!(patch.radius_mm > 0.0)) {
-      pr.Fail("radius", pr.Describe("radius") + " is " + FormatNumber(patch.radius_mm) +
-                            "; expected a positive number (mm)");
-    }
-    const std::string role = pr.String("role");
-    if (role == "key") {
-      patch.role = PatchRole::kKey;
-      if (key_count++ == 0) {
-        pattern.key_index = static_cast<int>(i);
-      } else {
-        pr.Fail("role", "second key patch ([[patch]] " + std::to_string(i) +
-                            "; the first is [[patch]] " + std::to_string(pattern.key_index) +
-                            "); expected exactly one patch with role = \"key\"");
-      }
-    } else if (role == "id") {
-      patch.role = PatchRole::kId;
-    } else if (role == "fixed") {
-      patch.role = PatchRole::kFixed;
-    } else {
-      pr.Fail("role",
-              pr.Describe("role") + " is \"" + role + "\"; expected \"key\", \"id\" or \"fixed\"");
-    }
-    patch.colour = pr.OptionalString("colour").value_or("");
-    if (patch.role == PatchRole::kFixed && patch.colour.empty()) {
-      pr.Fail("role", "[[patch]] " + std::to_string(i) +
-                          " has role \"fixed\" but no colour; expected colour = \"<name>\"");
-    }
-    if (patch.role == PatchRole::kId && !patch.colour.empty()) {
-      pr.Fail("colour", "[[patch]] " + std::to_string(i) +
-                            " is an ID slot with a colour; expected no colour (the codebook "
-                            "assigns it) or role = \"fixed\"");
-    }
-    pattern.patches.push_back(patch);
-    patch_locs.push_back(pr.TableLoc());
+    pattern->patches.push_back(ParsePatch(t, file, i, key_index));
+    if (pattern->patches.back().role == PatchRole::kKey) key_index = static_cast<int>(i);
+    locs->push_back(LocOf(file, t));
   }
-  const int n = pattern.size();
+  pattern->key_index = std::max(key_index, 0);
+  const int n = pattern->size();
   if (n < 2) {
-    throw InputError(patch_locs.empty() ? FileLoc{file, 1} : patch_locs.back(),
+    throw InputError(locs->empty() ? FileLoc{file, 1} : locs->back(),
                      "pattern has " + std::to_string(n) +
                          " patch; expected at least 2 (orientation needs two distinct patch "
                          "positions)");
   }
   if (n > kMaxPatches) {
-    throw InputError(patch_locs[kMaxPatches], "pattern has " + std::to_string(n) +
-                                                  " patches; expected at most " +
-                                                  std::to_string(kMaxPatches));
+    throw InputError((*locs)[kMaxPatches], "pattern has " + std::to_string(n) +
+                                               " patches; expected at most " +
+                                               std::to_string(kMaxPatches));
   }
-  if (key_count == 0) {
-    throw InputError(patch_locs.front(),
-                     "no key patch; expected exactly one patch with role = \"key\"");
+  if (key_index < 0) {
+    throw InputError(locs->front(), "no key patch; expected exactly one patch with role = \"key\"");
   }
-  for (int i = 0; i < n; ++i) {
+}
+
+// Patches must not coincide or overlap.
+void CheckPatchLayout(const Pattern& pattern, const std::vector<FileLoc>& locs) {
+  for (int i = 0; i < pattern.size(); ++i) {
     for (int j = 0; j < i; ++j) {
       const Patch& a = pattern.patches[j];
       const Patch& b = pattern.patches[i];
       const double distance = (a.position_mm - b.position_mm).norm();
       if (distance < 1e-6) {
-        throw InputError(patch_locs[i], "[[patch]] " + std::to_string(i) +
-                                            " coincides with [[patch]] " + std::to_string(j) +
-                                            " at " + PointText(b.position_mm) +
-                                            "; expected distinct patch positions");
+        throw InputError(locs[i], "[[patch]] " + std::to_string(i) + " coincides with [[patch]] " +
+                                      std::to_string(j) + " at " + PointText(b.position_mm) +
+                                      "; expected distinct patch positions");
       }
       if (distance < a.radius_mm + b.radius_mm - 1e-9) {
-        throw InputError(patch_locs[i], "[[patch]] " + std::to_string(i) + " overlaps [[patch]] " +
-                                            std::to_string(j) + ": centres " +
-                                            FormatNumber(distance) + " mm apart, radii " +
-                                            FormatNumber(b.radius_mm) + " + " +
-                                            FormatNumber(a.radius_mm) +
-                                            " mm; expected centre distance >= sum of radii");
+        throw InputError(locs[i], "[[patch]] " + std::to_string(i) + " overlaps [[patch]] " +
+                                      std::to_string(j) + ": centres " + FormatNumber(distance) +
+                                      " mm apart, radii " + FormatNumber(b.radius_mm) + " + " +
+                                      FormatNumber(a.radius_mm) +
+                                      " mm; expected centre distance >= sum of radii");
       }
     }
   }
+}
 
+// Orientation pair k, [from, to], checked against n patches and the pairs before it.
+OrientationPair ParseOrientationPair(const toml::node& item, const FileLoc& loc, size_t k, int n,
+                                     const std::vector<OrientationPair>& seen,
+                                     const std::string& expected) {
+  const toml::array* pair = item.as_array();
+  if (pair == nullptr || pair->size() != 2 || !pair->get(0)->is_integer() ||
+      !pair->get(1)->is_integer()) {
+    throw InputError(loc,
+                     "orientation pair " + std::to_string(k) + " is not two integers; " + expected);
+  }
+  const int64_t from = pair->get(0)->as_integer()->get();
+  const int64_t to = pair->get(1)->as_integer()->get();
+  const std::string name = "orientation pair " + std::to_string(k) + " [" + std::to_string(from) +
+                           ", " + std::to_string(to) + "]";
+  for (int64_t index : {from, to}) {
+    if (index < 0 || index >= n) {
+      throw InputError(loc, name + ": patch index " + std::to_string(index) +
+                                " out of range; expected 0.." + std::to_string(n - 1));
+    }
+  }
+  if (from == to) {
+    throw InputError(loc, name + " has zero length; expected two different patches");
+  }
+  const OrientationPair op{static_cast<int>(from), static_cast<int>(to)};
+  for (const OrientationPair& s : seen) {
+    if (s == op || (s.from == op.to && s.to == op.from)) {
+      throw InputError(loc, name + " is listed twice; expected each pair once");
+    }
+  }
+  return op;
+}
+
+std::vector<OrientationPair> ParseOrientationPairs(const toml::node& pairs_node,
+                                                   const std::string& file, int n) {
+  const toml::array* pairs = pairs_node.as_array();
+  const std::string expected =
+      "expected an array of [from, to] patch index pairs, e.g. [[1, 2], [3, 4]]";
+  if (pairs == nullptr || pairs->empty()) {
+    throw InputError(LocOf(file, pairs_node),
+                     "orientation_pairs is " +
+                         (pairs == nullptr ? TypeName(pairs_node) : std::string("empty")) + "; " +
+                         expected);
+  }
+  std::vector<OrientationPair> result;
+  for (size_t k = 0; k < pairs->size(); ++k) {
+    const toml::node& item = *pairs->get(k);
+    result.push_back(ParseOrientationPair(item, LocOf(file, item), k, n, result, expected));
+  }
+  return result;
+}
+
+Pattern ParseTable(const toml::table& root, const std::string& file) {
+  TomlReader reader(root, file);
+  reader.CheckKeys({"name", "description", "orientation_pairs", "patch"});
+  Pattern pattern;
+  pattern.name = reader.String("name");
+  if (pattern.name.empty()) reader.Fail("name", "name is empty; expected a non-empty string");
+  pattern.description = reader.OptionalString("description").value_or("");
+  std::vector<FileLoc> patch_locs;
+  ParsePatches(root, file, &pattern, &patch_locs);
+  CheckPatchLayout(pattern, patch_locs);
   if (const toml::node* pairs_node = root.get("orientation_pairs")) {
-    const toml::array* pairs = pairs_node->as_array();
-    const std::string expected =
-        "expected an array of [from, to] patch index pairs, e.g. [[1, 2], [3, 4]]";
-    if (pairs == nullptr || pairs->empty()) {
-      throw InputError(LocOf(file, *pairs_node),
-                       "orientation_pairs is " +
-                           (pairs == nullptr ? TypeName(*pairs_node) : std::string("empty")) +
-                           "; " + expected);
-    }
-    for (size_t k = 0; k < pairs->size(); ++k) {
-      const toml::node& item = *pairs->get(k);
-      const toml::array* pair = item.as_array();
-      const FileLoc loc = LocOf(file, item);
-      if (pair == nullptr || pair->size() != 2 || !pair->get(0)->is_integer() ||
-          !pair->get(1)->is_integer()) {
-        throw InputError(
-            loc, "orientation pair " + std::to_string(k) + " is not two integers; " + expected);
-      }
-      const int64_t from = pair->get(0)->as_integer()->get();
-      const int64_t to = pair->get(1)->as_integer()->get();
-      for (int64_t index : {from, to}) {
-        if (index < 0 || index >= n) {
-          throw InputError(loc, "orientation pair " + std::to_string(k) + " [" +
-                                    std::to_string(from) + ", " + std::to_string(to) +
-                                    "]: patch index " + std::to_string(index) +
-                                    " out of range; expected 0.." + std::to_string(n - 1));
-        }
-      }
-      if (from == to) {
-        throw InputError(loc, "orientation pair " + std::to_string(k) + " [" +
-                                  std::to_string(from) + ", " + std::to_string(to) +
-                                  "] has zero length; expected two different patches");
-      }
-      const OrientationPair op{static_cast<int>(from), static_cast<int>(to)};
-      for (const OrientationPair& seen : pattern.orientation_pairs) {
-        if (seen == op || (seen.from == op.to && seen.to == op.from)) {
-          throw InputError(loc, "orientation pair " + std::to_string(k) + " [" +
-                                    std::to_string(from) + ", " + std::to_string(to) +
-                                    "] is listed twice; expected each pair once");
-        }
-      }
-      pattern.orientation_pairs.push_back(op);
-    }
+    pattern.orientation_pairs = ParseOrientationPairs(*pairs_node, file, pattern.size());
   } else {
     pattern.orientation_pairs = DefaultOrientationPairs(pattern.patches, pattern.key_index);
   }

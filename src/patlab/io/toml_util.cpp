@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "patlab/core/format.h"
+
 namespace patlab::io {
 
 namespace {
@@ -58,13 +60,25 @@ std::string TypeName(const toml::node& node) {
   }
 }
 
-std::string FormatNumber(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  std::ostringstream os;
-  os.precision(12);
-  os << value;
-  return os.str();
+std::string FormatNumber(double value) { return patlab::FormatNumber(value); }
+
+FileLoc FieldLoc(const toml::table& root, const std::string& file, std::string_view field) {
+  const toml::table* table = &root;
+  while (true) {
+    const size_t dot = field.find('.');
+    const toml::node* node = table->get(field.substr(0, dot));
+    if (node == nullptr) return LocOf(file, *table);
+    if (dot == std::string_view::npos) return LocOf(file, *node);
+    if (node->as_table() == nullptr) return LocOf(file, *node);
+    table = node->as_table();
+    field.remove_prefix(dot + 1);
+  }
+}
+
+void ThrowFirstProblemAt(const toml::table& root, const std::string& file,
+                         const std::vector<OptionsProblem>& problems) {
+  if (problems.empty()) return;
+  throw InputError(FieldLoc(root, file, problems.front().field), problems.front().message);
 }
 
 std::string TomlReader::Describe(std::string_view key) const {
@@ -109,7 +123,7 @@ std::optional<double> TomlReader::OptionalNumber(std::string_view key) const {
     Fail(key, Describe(key) + " is " + TypeName(*node) + "; expected a number");
   }
   if (!std::isfinite(value)) {
-    Fail(key, Describe(key) + " is " + FormatNumber(value) + "; expected a finite number");
+    Fail(key, Describe(key) + " is " + patlab::FormatNumber(value) + "; expected a finite number");
   }
   return value;
 }

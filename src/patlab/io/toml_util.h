@@ -7,8 +7,10 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "patlab/core/error.h"
+#include "patlab/core/options.h"
 
 namespace patlab::io {
 
@@ -56,7 +58,16 @@ class TomlReader {
 FileLoc LocOf(const std::string& file, const toml::node& node);
 // The TOML type name of a node for messages: "a string", "an integer", "a table", ...
 std::string TypeName(const toml::node& node);
-// A number (integer or float) as written for messages: 65, 2.5, nan, inf.
+// Where the option `field` (as OptionsProblem::field names it: "runs", "camera.height_mm") is
+// set in the file whose root table is `root`: the line of its value, else the line of the deepest
+// table of its path that the file has, else the file's first table.
+FileLoc FieldLoc(const toml::table& root, const std::string& file, std::string_view field);
+// Throws the first of `problems` (core/options.h), if any, as InputError at its field's line.
+void ThrowFirstProblemAt(const toml::table& root, const std::string& file,
+                         const std::vector<OptionsProblem>& problems);
+
+// Kept for callers outside io/ and sim/track*: patlab::FormatNumber (core/format.h) is the one
+// number formatter; this forwards to it.
 std::string FormatNumber(double value);
 
 }  // namespace patlab::io

@@ -5,6 +5,8 @@
 #include <string>
 #include <string_view>
 
+#include "patlab/core/enum_names.h"
+
 namespace patlab::stats {
 
 // The alternative hypothesis, with scipy's meaning (scipy.stats.ks_2samp / wilcoxon, 1.10):
@@ -13,10 +15,20 @@ namespace patlab::stats {
 //               larger values); Wilcoxon: the differences x - y are stochastically below zero;
 //  - kGreater:  the opposite of kLess.
 enum class Alternative { kTwoSided, kLess, kGreater };
+inline constexpr EnumNames<Alternative, 3> kAlternativeNames{{{
+    {Alternative::kTwoSided, "two-sided"},
+    {Alternative::kLess, "less"},
+    {Alternative::kGreater, "greater"},
+}}};
 
 // "two-sided", "less", "greater".
-std::string_view AlternativeName(Alternative alternative);
-// Inverse of AlternativeName; throws patlab::InputError naming the accepted values.
-Alternative ParseAlternative(std::string_view name);
+inline std::string_view AlternativeName(Alternative alternative) {
+  return NameOf(alternative, kAlternativeNames);
+}
+// Inverse of AlternativeName; throws patlab::InputError
+// "alternative is \"both\"; expected \"two-sided\", \"less\" or \"greater\"".
+inline Alternative ParseAlternative(std::string_view name) {
+  return ParseName(name, kAlternativeNames, "alternative");
+}
 
 }  // namespace patlab::stats

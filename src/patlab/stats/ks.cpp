@@ -14,25 +14,6 @@
 
 namespace patlab::stats {
 
-std::string_view KsMethodName(KsMethod method) {
-  switch (method) {
-    case KsMethod::kAuto:
-      return "auto";
-    case KsMethod::kExact:
-      return "exact";
-    case KsMethod::kAsymptotic:
-      return "asymp";
-  }
-  return "?";
-}
-
-KsMethod ParseKsMethod(std::string_view name) {
-  if (name == "auto") return KsMethod::kAuto;
-  if (name == "exact") return KsMethod::kExact;
-  if (name == "asymp") return KsMethod::kAsymptotic;
-  throw InputError("unknown KS method '" + std::string(name) + "'; expected auto, exact or asymp");
-}
-
 double KolmogorovSurvival(double x) {
   if (!(x > 0.0)) return 1.0;
   if (x < 1.0) {

@@ -23,8 +23,17 @@ enum class KsMethod {
   kAsymptotic,  // two-sided: limiting Kolmogorov law; one-sided: Hodges' (1958) eq. 5.3
 };
 
-std::string_view KsMethodName(KsMethod method);  // "auto", "exact", "asymp"
-KsMethod ParseKsMethod(std::string_view name);   // throws InputError on anything else
+inline constexpr EnumNames<KsMethod, 3> kKsMethodNames{{{
+    {KsMethod::kAuto, "auto"},
+    {KsMethod::kExact, "exact"},
+    {KsMethod::kAsymptotic, "asymp"},
+}}};
+// "auto", "exact", "asymp".
+inline std::string_view KsMethodName(KsMethod method) { return NameOf(method, kKsMethodNames); }
+// Throws InputError "method is \"x\"; expected \"auto\", \"exact\" or \"asymp\"".
+inline KsMethod ParseKsMethod(std::string_view name) {
+  return ParseName(name, kKsMethodNames, "method");
+}
 
 // kAuto uses the exact distribution up to this many samples in the larger set (scipy MAX_AUTO_N).
 inline constexpr std::size_t kKsMaxAutoExactN = 10000;

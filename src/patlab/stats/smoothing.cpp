@@ -3,32 +3,27 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "patlab/core/error.h"
 #include "patlab/stats/summary.h"
 
 namespace patlab::stats {
 
-void Validate(const SmoothingOptions& options) {
-  if (!(std::isfinite(options.sigma_samples) && options.sigma_samples >= 0.0)) {
-    throw InputError("SmoothingOptions.sigma_samples is " + std::to_string(options.sigma_samples) +
-                     "; expected a finite value >= 0");
-  }
-  if (!(std::isfinite(options.truncate_sigmas) && options.truncate_sigmas > 0.0)) {
-    throw InputError("SmoothingOptions.truncate_sigmas is " +
-                     std::to_string(options.truncate_sigmas) + "; expected a finite value > 0");
-  }
+std::vector<OptionsProblem> Check(const SmoothingOptions& options) {
+  OptionsChecker check;
+  check.NonNegative("sigma_samples", options.sigma_samples)
+      .Positive("truncate_sigmas", options.truncate_sigmas);
+  return check.Take();
 }
 
-std::vector<double> GaussianSmooth(std::span<const double> x, const SmoothingOptions& options) {
+void Validate(const SmoothingOptions& options) { ThrowFirstProblem(Check(options)); }
+
+std::vector<double> GaussianKernel(const SmoothingOptions& options) {
   Validate(options);
-  if (x.empty()) throw InputError("cannot smooth an empty series; expected at least one sample");
-  detail::RequireFinite(x, "series");
   const double sigma = options.sigma_samples;
   const auto radius = static_cast<std::ptrdiff_t>(options.truncate_sigmas * sigma + 0.5);
-  if (radius == 0) return {x.begin(), x.end()};
-  // Normalised weights w_k = exp(-k^2 / (2 sigma^2)) / sum, |k| <= radius (scipy
-  // _gaussian_kernel1d).
+  if (radius == 0) return {1.0};  // also sigma = 0, where the formula would give 0/0
   std::vector<double> w(static_cast<std::size_t>(radius) + 1);
   double sum = 0.0;
   for (std::ptrdiff_t k = -radius; k <= radius; ++k) {
@@ -37,6 +32,23 @@ std::vector<double> GaussianSmooth(std::span<const double> x, const SmoothingOpt
     if (k >= 0) w[static_cast<std::size_t>(k)] = v;
   }
   for (double& v : w) v /= sum;
+  return w;
+}
+
+double ResidualStdFactor(const SmoothingOptions& options) {
+  const std::vector<double> w = GaussianKernel(options);
+  if (w.size() == 1) return 0.0;
+  double sum_sq = w[0] * w[0];
+  for (std::size_t k = 1; k < w.size(); ++k) sum_sq += 2.0 * w[k] * w[k];
+  return std::sqrt(1.0 - 2.0 * w[0] + sum_sq);
+}
+
+std::vector<double> GaussianSmooth(std::span<const double> x, const SmoothingOptions& options) {
+  const std::vector<double> w = GaussianKernel(options);
+  if (x.empty()) throw InputError("cannot smooth an empty series; expected at least one sample");
+  detail::RequireFinite(x, "series");
+  const auto radius = static_cast<std::ptrdiff_t>(w.size()) - 1;
+  if (radius == 0) return {x.begin(), x.end()};
 
   const auto n = static_cast<std::ptrdiff_t>(x.size());
   // Index into the reflected extension: period 2n, mirrored in the second half.

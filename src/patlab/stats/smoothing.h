@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "patlab/core/options.h"
+
 namespace patlab::stats {
 
 struct SmoothingOptions {
@@ -19,8 +21,14 @@ struct SmoothingOptions {
   // renormalised to sum 1 (scipy.ndimage.gaussian_filter1d's truncate).
   double truncate_sigmas = 4.0;
 };
-// Throws InputError naming the field unless sigma_samples >= 0 and truncate_sigmas > 0, finite.
+// sigma_samples a finite number >= 0, truncate_sigmas a finite number > 0 (core/options.h).
+std::vector<OptionsProblem> Check(const SmoothingOptions& options);
 void Validate(const SmoothingOptions& options);
+
+// The smoothing kernel, one half of it: w[k] = exp(-k^2 / (2 sigma^2)) / sum for k = 0..radius,
+// sum over |k| <= radius so that w[0] + 2 sum_{k>=1} w[k] = 1 (scipy _gaussian_kernel1d).
+// {1} when the radius is 0. Validates first.
+std::vector<double> GaussianKernel(const SmoothingOptions& options);
 
 // Gaussian-smoothed series, same length as x. Boundary: reflection about the edge including the
 // edge sample (d c b a | a b c d | d c b a), repeated as needed; this is
@@ -31,6 +39,12 @@ std::vector<double> GaussianSmooth(std::span<const double> x, const SmoothingOpt
 // x - GaussianSmooth(x): the per-sample error estimate of section II.
 std::vector<double> SmoothingResiduals(std::span<const double> x,
                                        const SmoothingOptions& options = {});
+
+// White-noise factor of the section II error estimate: for iid errors of std s, the residual
+// x - GaussianSmooth(x) has std s * sqrt(1 - 2 w_0 + sum_k w_k^2) away from the ends, w the
+// kernel above (0.974 for sigma = 10), since Var(e - w * e) = s^2 (1 - 2 w_0 + sum w_k^2).
+// 0 when the radius is 0 (the residual is then exactly 0).
+double ResidualStdFactor(const SmoothingOptions& options);
 
 // Sample autocorrelation at lag k (Box & Jenkins; what statsmodels.tsa.acf returns):
 //   r_k = sum_{t<n-k} (x_t - m)(x_{t+k} - m) / sum_t (x_t - m)^2,  m = mean(x).

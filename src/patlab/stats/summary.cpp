@@ -6,6 +6,8 @@
 #include <string>
 
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
+#include "patlab/core/options.h"
 
 namespace patlab::stats {
 namespace detail {
@@ -31,9 +33,7 @@ void RequireCount(std::span<const double> x, std::size_t min_n, const char* what
 }
 
 void RequireLevel(double level) {
-  if (!(level > 0.0 && level < 1.0)) {
-    throw InputError("confidence level " + std::to_string(level) + " is outside (0, 1)");
-  }
+  ThrowFirstProblem(OptionsChecker().InOpenRange("level", level, 0.0, 1.0).problems());
 }
 
 }  // namespace
@@ -71,7 +71,7 @@ StdWithCi StdWithConfidence(std::span<const double> x, double level) {
 StdWithCi StdConfidenceInterval(double std, double dof, double level) {
   RequireLevel(level);
   if (!(dof > 0.0)) {
-    throw InputError("the std interval needs degrees of freedom > 0, got " + std::to_string(dof));
+    throw InputError("the std interval needs degrees of freedom > 0, got " + FormatNumber(dof));
   }
   StdWithCi out;
   out.level = level;

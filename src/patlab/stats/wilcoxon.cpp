@@ -15,46 +15,6 @@
 
 namespace patlab::stats {
 
-std::string_view ZeroMethodName(ZeroMethod method) {
-  switch (method) {
-    case ZeroMethod::kWilcox:
-      return "wilcox";
-    case ZeroMethod::kPratt:
-      return "pratt";
-    case ZeroMethod::kZsplit:
-      return "zsplit";
-  }
-  return "?";
-}
-
-ZeroMethod ParseZeroMethod(std::string_view name) {
-  if (name == "wilcox") return ZeroMethod::kWilcox;
-  if (name == "pratt") return ZeroMethod::kPratt;
-  if (name == "zsplit") return ZeroMethod::kZsplit;
-  throw InputError("unknown zero method '" + std::string(name) +
-                   "'; expected wilcox, pratt or zsplit");
-}
-
-std::string_view WilcoxonMethodName(WilcoxonMethod method) {
-  switch (method) {
-    case WilcoxonMethod::kAuto:
-      return "auto";
-    case WilcoxonMethod::kExact:
-      return "exact";
-    case WilcoxonMethod::kApprox:
-      return "approx";
-  }
-  return "?";
-}
-
-WilcoxonMethod ParseWilcoxonMethod(std::string_view name) {
-  if (name == "auto") return WilcoxonMethod::kAuto;
-  if (name == "exact") return WilcoxonMethod::kExact;
-  if (name == "approx") return WilcoxonMethod::kApprox;
-  throw InputError("unknown Wilcoxon method '" + std::string(name) +
-                   "'; expected auto, exact or approx");
-}
-
 namespace {
 
 // Exact null distribution of R+ for n untied, non-zero differences: each rank k enters R+
@@ -74,6 +34,114 @@ std::pair<double, double> ExactTails(std::size_t n, std::size_t r) {
   for (std::size_t s = 0; s <= r; ++s) lower += pmf[s];
   for (std::size_t s = total + 1; s-- > r;) upper += pmf[s];
   return {lower, upper};
+}
+
+// The signed-rank sums of the sorted differences d (average ranks for ties, scipy rankdata
+// 'average'; zeros first), with the tie term sum of t^3 - t over the groups that stay ranked.
+struct RankSums {
+  double r_plus = 0.0, r_minus = 0.0;
+  double tie_sum = 0.0;
+  bool has_ties = false;
+};
+RankSums SignedRankSums(const std::vector<double>& d, std::size_t n_zero, ZeroMethod zero_method) {
+  RankSums sums;
+  double r_zero = 0.0;
+  const bool drop_zero_ranks = zero_method != ZeroMethod::kZsplit;
+  // Under kWilcox the zeros are removed before ranking: ranks start after them.
+  const double offset = zero_method == ZeroMethod::kWilcox ? static_cast<double>(n_zero) : 0.0;
+  for (std::size_t start = 0; start < d.size();) {
+    std::size_t end = start + 1;
+    while (end < d.size() && std::fabs(d[end]) == std::fabs(d[start])) ++end;
+    const double t = static_cast<double>(end - start);
+    if (d[start] != 0.0) {
+      if (t > 1) sums.has_ties = true;
+      sums.tie_sum += t * t * t - t;
+    } else if (!drop_zero_ranks) {
+      sums.tie_sum += t * t * t - t;
+    }
+    const double rank = 0.5 * static_cast<double>(start + 1 + end) - offset;
+    for (std::size_t k = start; k < end; ++k) {
+      if (d[k] > 0) {
+        sums.r_plus += rank;
+      } else if (d[k] < 0) {
+        sums.r_minus += rank;
+      } else {
+        r_zero += rank;
+      }
+    }
+    start = end;
+  }
+  if (zero_method == ZeroMethod::kZsplit) {
+    sums.r_plus += r_zero / 2.0;
+    sums.r_minus += r_zero / 2.0;
+  }
+  return sums;
+}
+
+WilcoxonMethod ChooseMethod(WilcoxonMethod method, std::size_t n, std::size_t n_zero,
+                            bool has_ties) {
+  if (method == WilcoxonMethod::kAuto) {
+    method = n <= kWilcoxonMaxAutoExactN ? WilcoxonMethod::kExact : WilcoxonMethod::kApprox;
+  }
+  if (method == WilcoxonMethod::kExact && (n_zero > 0 || has_ties || n > kWilcoxonMaxExactN)) {
+    method = WilcoxonMethod::kApprox;
+  }
+  return method;
+}
+
+double ExactPValue(std::size_t n, double r_plus, Alternative alt) {
+  const auto r = static_cast<std::size_t>(r_plus);  // an integer: no ties, no zeros
+  const auto [p_less, p_greater] = ExactTails(n, r);
+  double p = 0.0;
+  if (alt == Alternative::kTwoSided) {
+    p = (r == n * (n + 1) / 4) ? 1.0 : 2.0 * std::min(p_less, p_greater);
+  } else {
+    p = alt == Alternative::kGreater ? p_greater : p_less;
+  }
+  return std::clamp(p, 0.0, 1.0);
+}
+
+// The normal approximation: z and its p-value into *result (statistic already set).
+void ApproximatePValue(std::size_t n, std::size_t n_zero, double tie_sum,
+                       const WilcoxonOptions& options, WilcoxonResult* result) {
+  const Alternative alt = options.alternative;
+  const double count =
+      static_cast<double>(options.zero_method == ZeroMethod::kWilcox ? n - n_zero : n);
+  double mean = count * (count + 1.0) * 0.25;
+  double var24 = count * (count + 1.0) * (2.0 * count + 1.0);  // 24 Var(R+) without ties
+  if (options.zero_method == ZeroMethod::kPratt) {
+    // Cureton (1967): the zeros' ranks 1..n_zero are excluded from both moments.
+    const double nz = static_cast<double>(n_zero);
+    mean -= nz * (nz + 1.0) * 0.25;
+    var24 -= nz * (nz + 1.0) * (2.0 * nz + 1.0);
+  }
+  var24 -= 0.5 * tie_sum;  // tie correction (e.g. Hollander & Wolfe, eq. 3.13)
+  const double se = std::sqrt(var24 / 24.0);
+  double shift = 0.0;
+  if (options.correction) {
+    if (alt == Alternative::kTwoSided) {
+      const double diff = result->statistic - mean;
+      shift = diff > 0 ? 0.5 : (diff < 0 ? -0.5 : 0.0);
+    } else {
+      shift = alt == Alternative::kLess ? -0.5 : 0.5;
+    }
+  }
+  if (!(se > 0.0)) {  // cannot happen for n >= 1, but never feed NaN to Boost
+    result->z = std::numeric_limits<double>::quiet_NaN();
+    result->p_value = 1.0;
+    return;
+  }
+  result->z = (result->statistic - mean - shift) / se;
+  const boost::math::normal normal;
+  // Tails straight from erfc (Boost complement), so p = 1e-270 keeps its digits.
+  if (alt == Alternative::kTwoSided) {
+    result->p_value = 2.0 * boost::math::cdf(boost::math::complement(normal, std::fabs(result->z)));
+  } else if (alt == Alternative::kGreater) {
+    result->p_value = boost::math::cdf(boost::math::complement(normal, result->z));
+  } else {
+    result->p_value = boost::math::cdf(normal, result->z);
+  }
+  result->p_value = std::clamp(result->p_value, 0.0, 1.0);
 }
 
 }  // namespace
@@ -99,112 +167,28 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOp
   result.n_zero = static_cast<std::size_t>(std::count(d_in.begin(), d_in.end(), 0.0));
   const std::size_t n_zero = result.n_zero;
 
-  // Rank |d| with average ranks for ties (scipy rankdata 'average'); zeros come first.
   std::vector<double> d(d_in.begin(), d_in.end());
   SortByMagnitude(d);
-  double r_plus = 0.0, r_minus = 0.0, r_zero = 0.0;
-  double tie_sum = 0.0;  // sum of t^3 - t over the tie groups that stay in the ranking
-  const bool drop_zero_ranks = options.zero_method != ZeroMethod::kZsplit;
-  for (std::size_t start = 0; start < d.size();) {
-    std::size_t end = start + 1;
-    while (end < d.size() && std::fabs(d[end]) == std::fabs(d[start])) ++end;
-    const double t = static_cast<double>(end - start);
-    if (d[start] != 0.0) {
-      if (t > 1) result.has_ties = true;
-      tie_sum += t * t * t - t;
-    } else if (!drop_zero_ranks) {
-      tie_sum += t * t * t - t;
-    }
-    // Under kWilcox the zeros are removed before ranking: ranks start after them.
-    const double offset =
-        options.zero_method == ZeroMethod::kWilcox ? static_cast<double>(n_zero) : 0.0;
-    const double rank = 0.5 * static_cast<double>(start + 1 + end) - offset;
-    for (std::size_t k = start; k < end; ++k) {
-      if (d[k] > 0)
-        r_plus += rank;
-      else if (d[k] < 0)
-        r_minus += rank;
-      else
-        r_zero += rank;
-    }
-    start = end;
-  }
-  if (options.zero_method == ZeroMethod::kZsplit) {
-    r_plus += r_zero / 2.0;
-    r_minus += r_zero / 2.0;
-  }
-  result.r_plus = r_plus;
-  result.r_minus = r_minus;
+  const RankSums sums = SignedRankSums(d, n_zero, options.zero_method);
+  result.has_ties = sums.has_ties;
+  result.r_plus = sums.r_plus;
+  result.r_minus = sums.r_minus;
   const Alternative alt = options.alternative;
-  result.statistic = alt == Alternative::kTwoSided ? std::min(r_plus, r_minus) : r_plus;
-
-  WilcoxonMethod method = options.method;
-  if (method == WilcoxonMethod::kAuto) {
-    method = d.size() <= kWilcoxonMaxAutoExactN ? WilcoxonMethod::kExact : WilcoxonMethod::kApprox;
-  }
-  if (method == WilcoxonMethod::kExact &&
-      (n_zero > 0 || result.has_ties || d.size() > kWilcoxonMaxExactN)) {
-    method = WilcoxonMethod::kApprox;
-  }
-  result.method_used = method;
-
-  if (method == WilcoxonMethod::kExact) {
+  result.statistic =
+      alt == Alternative::kTwoSided ? std::min(sums.r_plus, sums.r_minus) : sums.r_plus;
+  result.method_used = ChooseMethod(options.method, d.size(), n_zero, result.has_ties);
+  if (result.method_used == WilcoxonMethod::kExact) {
     result.z = std::numeric_limits<double>::quiet_NaN();
-    const std::size_t n = d.size();
-    const auto r = static_cast<std::size_t>(r_plus);  // an integer: no ties, no zeros
-    const auto [p_less, p_greater] = ExactTails(n, r);
-    if (alt == Alternative::kTwoSided) {
-      result.p_value = (r == n * (n + 1) / 4) ? 1.0 : 2.0 * std::min(p_less, p_greater);
-    } else {
-      result.p_value = alt == Alternative::kGreater ? p_greater : p_less;
-    }
-    result.p_value = std::clamp(result.p_value, 0.0, 1.0);
+    result.p_value = ExactPValue(d.size(), sums.r_plus, alt);
     return result;
   }
-
   if (options.zero_method != ZeroMethod::kZsplit && n_zero == d.size()) {
     throw InputError("every difference is zero, so zero method '" +
                      std::string(ZeroMethodName(options.zero_method)) +
                      "' leaves nothing to rank; expected at least one non-zero difference "
                      "(or use zsplit)");
   }
-  const double count = static_cast<double>(
-      options.zero_method == ZeroMethod::kWilcox ? d.size() - n_zero : d.size());
-  double mean = count * (count + 1.0) * 0.25;
-  double var24 = count * (count + 1.0) * (2.0 * count + 1.0);  // 24 Var(R+) without ties
-  if (options.zero_method == ZeroMethod::kPratt) {
-    // Cureton (1967): the zeros' ranks 1..n_zero are excluded from both moments.
-    const double nz = static_cast<double>(n_zero);
-    mean -= nz * (nz + 1.0) * 0.25;
-    var24 -= nz * (nz + 1.0) * (2.0 * nz + 1.0);
-  }
-  var24 -= 0.5 * tie_sum;  // tie correction (e.g. Hollander & Wolfe, eq. 3.13)
-  const double se = std::sqrt(var24 / 24.0);
-  double shift = 0.0;
-  if (options.correction) {
-    if (alt == Alternative::kTwoSided) {
-      const double diff = result.statistic - mean;
-      shift = diff > 0 ? 0.5 : (diff < 0 ? -0.5 : 0.0);
-    } else {
-      shift = alt == Alternative::kLess ? -0.5 : 0.5;
-    }
-  }
-  if (!(se > 0.0)) {  // cannot happen for n >= 1, but never feed NaN to Boost
-    result.z = std::numeric_limits<double>::quiet_NaN();
-    result.p_value = 1.0;
-    return result;
-  }
-  result.z = (result.statistic - mean - shift) / se;
-  const boost::math::normal normal;
-  // Tails straight from erfc (Boost complement), so p = 1e-270 keeps its digits.
-  if (alt == Alternative::kTwoSided) {
-    result.p_value = 2.0 * boost::math::cdf(boost::math::complement(normal, std::fabs(result.z)));
-  } else if (alt == Alternative::kGreater) {
-    result.p_value = boost::math::cdf(boost::math::complement(normal, result.z));
-  } else {
-    result.p_value = boost::math::cdf(normal, result.z);
-  }
-  result.p_value = std::clamp(result.p_value, 0.0, 1.0);
+  ApproximatePValue(d.size(), n_zero, sums.tie_sum, options, &result);
   return result;
 }
 

@@ -18,8 +18,19 @@ enum class ZeroMethod {
             // for the adjusted normal approximation)
   kZsplit,  // rank the zeros and give half of their rank sum to each side
 };
-std::string_view ZeroMethodName(ZeroMethod method);  // "wilcox", "pratt", "zsplit"
-ZeroMethod ParseZeroMethod(std::string_view name);
+inline constexpr EnumNames<ZeroMethod, 3> kZeroMethodNames{{{
+    {ZeroMethod::kWilcox, "wilcox"},
+    {ZeroMethod::kPratt, "pratt"},
+    {ZeroMethod::kZsplit, "zsplit"},
+}}};
+// "wilcox", "pratt", "zsplit".
+inline std::string_view ZeroMethodName(ZeroMethod method) {
+  return NameOf(method, kZeroMethodNames);
+}
+// Throws InputError "zero_method is \"x\"; expected \"wilcox\", \"pratt\" or \"zsplit\"".
+inline ZeroMethod ParseZeroMethod(std::string_view name) {
+  return ParseName(name, kZeroMethodNames, "zero_method");
+}
 
 enum class WilcoxonMethod {
   kAuto,    // kExact when n <= kWilcoxonMaxAutoExactN and there are no zeros and no ties
@@ -27,8 +38,19 @@ enum class WilcoxonMethod {
             // n > kWilcoxonMaxExactN (reported in WilcoxonResult::method_used)
   kApprox,  // normal approximation with tie-corrected variance (optional continuity correction)
 };
-std::string_view WilcoxonMethodName(WilcoxonMethod method);  // "auto", "exact", "approx"
-WilcoxonMethod ParseWilcoxonMethod(std::string_view name);
+inline constexpr EnumNames<WilcoxonMethod, 3> kWilcoxonMethodNames{{{
+    {WilcoxonMethod::kAuto, "auto"},
+    {WilcoxonMethod::kExact, "exact"},
+    {WilcoxonMethod::kApprox, "approx"},
+}}};
+// "auto", "exact", "approx".
+inline std::string_view WilcoxonMethodName(WilcoxonMethod method) {
+  return NameOf(method, kWilcoxonMethodNames);
+}
+// Throws InputError "method is \"x\"; expected \"auto\", \"exact\" or \"approx\"".
+inline WilcoxonMethod ParseWilcoxonMethod(std::string_view name) {
+  return ParseName(name, kWilcoxonMethodNames, "method");
+}
 
 inline constexpr std::size_t kWilcoxonMaxAutoExactN = 50;  // scipy 1.10's auto rule
 // The exact distribution costs ~n^3/4 additions: 3e7 at n = 500.
