@@ -71,7 +71,7 @@ DetectPoint MakeDetectPoint(const Experiment& experiment, uint32_t point) {
 }
 
 Scene GenerateDetectFrame(const Experiment& experiment, const DetectPoint& point,
-                                  const detect::Detector& detector, uint64_t frame) {
+                          const detect::Detector& detector, uint64_t frame) {
   RandomStream rng(experiment.seed, point.point, frame);
   const NoiseModel& noise = experiment.noise;
   const double sigma = point.sigma_mm;
@@ -89,6 +89,7 @@ DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptio
   PATLAB_CHECK(experiment.correspondence == Correspondence::kDetect);
   PATLAB_CHECK(!experiment.patterns.empty());
   PATLAB_CHECK(!experiment.sigmas_mm.empty());
+  Validate(options);
   const auto wall_start = Clock::now();
   const int threads =
       options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();

@@ -22,6 +22,9 @@ struct RunOptions {
   // Called on the calling thread after each data point's trials: (points done, points in all).
   std::function<void(int, int)> progress;
 };
+// threads an integer >= 0; both runners validate their options.
+std::vector<OptionsProblem> Check(const RunOptions& options);
+void Validate(const RunOptions& options);
 
 // Sample std of one error component with its 95% chi-square interval, and the mean (the bias).
 struct AxisSummary {

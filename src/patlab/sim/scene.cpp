@@ -5,54 +5,36 @@
 #include <numbers>
 
 #include "patlab/core/error.h"
-#include "patlab/io/toml_util.h"
+#include "patlab/core/format.h"
 
 namespace patlab::sim {
 
-std::optional<detect::OptionsProblem> ValidateSceneOptions(const SceneOptions& o) {
-  auto problem = [](std::string field, double value, std::string expected) {
-    return detect::OptionsProblem{
-        field, field + " is " + io::FormatNumber(value) + "; expected " + std::move(expected)};
-  };
-  auto probability = [](double p) { return p >= 0.0 && p <= 1.0; };
-  if (o.robots_per_team < 0)
-    return problem("robots_per_team", o.robots_per_team, "an integer >= 0");
-  if (!(o.field_length_mm > 0.0) || !std::isfinite(o.field_length_mm)) {
-    return problem("field_length_mm", o.field_length_mm, "a finite number > 0 (mm)");
-  }
-  if (!(o.field_width_mm > 0.0) || !std::isfinite(o.field_width_mm)) {
-    return problem("field_width_mm", o.field_width_mm, "a finite number > 0 (mm)");
-  }
-  if (!(o.robot_radius_mm > 0.0) ||
-      2.0 * o.robot_radius_mm > std::min(o.field_length_mm, o.field_width_mm)) {
-    return problem("robot_radius_mm", o.robot_radius_mm, "a number > 0 that fits the field");
-  }
-  if (!(o.min_separation_mm >= 0.0) || !std::isfinite(o.min_separation_mm)) {
-    return problem("min_separation_mm", o.min_separation_mm, "a finite number >= 0 (mm)");
-  }
-  if (!(o.ball_radius_mm > 0.0))
-    return problem("ball_radius_mm", o.ball_radius_mm, "a number > 0 (mm)");
-  if (!probability(o.missing_patch_probability)) {
-    return problem("missing_patch_probability", o.missing_patch_probability,
-                   "a probability in [0, 1]");
-  }
-  if (!(o.false_blob_rate_per_m2 >= 0.0 && o.false_blob_rate_per_m2 <= 1000.0)) {
-    return problem("false_blob_rate_per_m2", o.false_blob_rate_per_m2, "a number in [0, 1000]");
-  }
-  if (!(o.false_blob_radius_min_mm > 0.0)) {
-    return problem("false_blob_radius_min_mm", o.false_blob_radius_min_mm, "a number > 0 (mm)");
-  }
-  if (!(o.false_blob_radius_max_mm >= o.false_blob_radius_min_mm) ||
-      !std::isfinite(o.false_blob_radius_max_mm)) {
-    return problem("false_blob_radius_max_mm", o.false_blob_radius_max_mm,
-                   "a finite number >= false_blob_radius_min_mm");
-  }
-  if (!probability(o.colour_error_probability)) {
-    return problem("colour_error_probability", o.colour_error_probability,
-                   "a probability in [0, 1]");
-  }
-  return std::nullopt;
+std::vector<OptionsProblem> Check(const SceneOptions& o) {
+  const auto probability = [](double p) { return p >= 0.0 && p <= 1.0; };
+  const double fits = 0.5 * std::min(o.field_length_mm, o.field_width_mm);
+  OptionsChecker check;
+  check.IntegerInRange("robots_per_team", o.robots_per_team, 1, 1000)
+      .Positive("field_length_mm", o.field_length_mm, "mm")
+      .Positive("field_width_mm", o.field_width_mm, "mm")
+      .Require("robot_radius_mm", o.robot_radius_mm,
+               o.robot_radius_mm > 0.0 && o.robot_radius_mm <= fits,
+               "a number > 0 that fits the field")
+      .NonNegative("min_separation_mm", o.min_separation_mm, "mm")
+      .Positive("ball_radius_mm", o.ball_radius_mm, "mm")
+      .Require("missing_patch_probability", o.missing_patch_probability,
+               probability(o.missing_patch_probability), "a probability in [0, 1]")
+      .InRange("false_blob_rate_per_m2", o.false_blob_rate_per_m2, 0.0, 1000.0)
+      .Positive("false_blob_radius_min_mm", o.false_blob_radius_min_mm, "mm")
+      .Require("false_blob_radius_max_mm", o.false_blob_radius_max_mm,
+               o.false_blob_radius_max_mm >= o.false_blob_radius_min_mm &&
+                   std::isfinite(o.false_blob_radius_max_mm),
+               "a finite number >= false_blob_radius_min_mm")
+      .Require("colour_error_probability", o.colour_error_probability,
+               probability(o.colour_error_probability), "a probability in [0, 1]");
+  return check.Take();
 }
+
+void Validate(const SceneOptions& options) { ThrowFirstProblem(Check(options)); }
 
 namespace {
 
@@ -70,9 +52,11 @@ int Poisson(double lambda, RandomStream& rng) {
 
 }  // namespace
 
-Scene GenerateScene(const detect::Detector& detector, const SceneOptions& o, const PatchNoise& noise,
-                    RandomStream& rng) {
-  if (auto p = ValidateSceneOptions(o)) throw InputError("scene: " + p->message);
+Scene GenerateScene(const detect::Detector& detector, const SceneOptions& o,
+                    const PatchNoise& noise, RandomStream& rng) {
+  if (const auto problems = Check(o); !problems.empty()) {
+    throw InputError("scene: " + problems.front().message);
+  }
   const detect::DetectorConfig& config = detector.config();
   if (o.pattern < 0 || o.pattern >= static_cast<int>(config.patterns.size())) {
     throw InputError("scene: pattern is " + std::to_string(o.pattern) +
@@ -103,7 +87,7 @@ Scene GenerateScene(const detect::Detector& detector, const SceneOptions& o, con
       if (free) return p;
     }
     throw InputError("scene: cannot place " + std::to_string(taken.size() + 1) + " objects " +
-                     io::FormatNumber(clearance_robot) +
+                     FormatNumber(clearance_robot) +
                      " mm apart; expected a larger field or fewer robots");
   };
 
