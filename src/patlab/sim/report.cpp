@@ -92,12 +92,6 @@ constexpr const char* kColumnsTail[] = {"std_pos_mm",
                                         "wilcoxon_pos_p",
                                         "wilcoxon_theta_p"};
 
-// Efficiency = CRLB variance / achieved variance (1 = efficient).
-double Efficiency(double bound, double achieved) {
-  if (std::isnan(bound) || !(achieved > 0.0)) return std::nan("");
-  return (bound * bound) / (achieved * achieved);
-}
-
 }  // namespace
 
 std::string ResultsCsv(const Experiment& experiment, const RunResult& result) {

@@ -305,6 +305,11 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   return result;
 }
 
+double Efficiency(double bound, double achieved) {
+  if (std::isnan(bound) || !(achieved > 0.0)) return std::nan("");
+  return (bound * bound) / (achieved * achieved);
+}
+
 std::vector<OptionsProblem> Check(const RunOptions& options) {
   OptionsChecker check;
   check.Require("threads", options.threads, options.threads >= 0,

@@ -62,6 +62,10 @@ struct EstimatorResult {
   Comparison vs_fast;
 };
 
+// Efficiency = bound^2 / achieved^2 (1 = efficient); NaN without a bound (NaN) or without a
+// positive achieved std.
+double Efficiency(double bound, double achieved);
+
 struct PointResult {
   int pattern_index = 0;
   std::string pattern;
