@@ -2,21 +2,18 @@
 
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <span>
+
+#include "patlab/core/format.h"
 
 namespace patlab::sim {
 
 namespace {
 
-// 10 significant digits: far below the Monte-Carlo error, and identical on every run.
-std::string Num(double v) {
-  if (std::isnan(v)) return "";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.10g", v);
-  return buffer;
-}
+// A number cell: 10 significant digits, far below the Monte-Carlo error and identical on every
+// run; NaN (no value) is an empty cell.
+std::string Num(double v) { return std::isnan(v) ? "" : FormatSignificant(v, 10); }
 
 std::string Int(int64_t v) { return std::to_string(v); }
 
@@ -298,7 +295,7 @@ std::string DetectManifestJson(const Experiment& experiment, const DetectRunResu
   j["frames_per_point"] = d.frames;
   j["false_blob_rates_per_m2"] = d.false_blob_rates_per_m2;
   j["detect"] = {{"settings", d.settings_file},
-                 {"detector_sigma", d.matched_sigma ? "matched" : "settings"},
+                 {"detector_sigma", std::string(NameOf(d.matched_sigma, kDetectorSigmaNames))},
                  {"match_radius_mm", d.match_radius_mm},
                  {"robots_per_team", s.robots_per_team},
                  {"missing_patch_probability", s.missing_patch_probability},
