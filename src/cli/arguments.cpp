@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "patlab/core/error.h"
-#include "patlab/io/toml_util.h"
+#include "patlab/core/format.h"
 
 namespace patlab::cli {
 
@@ -89,7 +89,7 @@ void CheckThreads(int threads) {
 
 void CheckTolerance(double tolerance_mm) {
   if (!(tolerance_mm >= 0.0) || tolerance_mm > 1e6) {
-    throw InputError("--tolerance is " + io::FormatNumber(tolerance_mm) +
+    throw InputError("--tolerance is " + FormatNumber(tolerance_mm) +
                      "; expected a distance in mm >= 0");
   }
 }

@@ -248,13 +248,8 @@ int RunSimulate(const std::vector<std::string>& args) {
 
   sim::Experiment experiment = sim::LoadExperimentFile(o.experiment);
   sim::Overrides overrides;
-  overrides.trials = o.trials;
-  if (vm.count("trials") && o.trials == 0)
-    throw InputError("--trials is 0; expected an integer >= 2");
-  if (!o.seed.empty()) {
-    overrides.seed = ParseSeed(o.seed, "--seed");
-    overrides.has_seed = true;
-  }
+  if (vm.count("trials")) overrides.trials = o.trials;
+  if (!o.seed.empty()) overrides.seed = ParseSeed(o.seed, "--seed");
   if (!o.sigmas.empty()) {
     overrides.sigmas_mm =
         ParseNumberList(o.sigmas, "--sigmas", "comma-separated numbers, e.g. 0,0.5,1");
@@ -265,8 +260,8 @@ int RunSimulate(const std::vector<std::string>& args) {
   if (vm.count("common-sigma-ratio")) noise.common_sigma_ratio = o.common_sigma_ratio;
   if (vm.count("outlier-probability")) noise.outlier_probability = o.outlier_probability;
   if (vm.count("outlier-sigma-ratio")) noise.outlier_sigma_ratio = o.outlier_sigma_ratio;
-  if (const std::string problem = noise.Validate(); !problem.empty()) {
-    throw InputError("noise options: " + problem);
+  if (const auto problems = sim::Check(noise); !problems.empty()) {
+    throw InputError("noise options: " + problems.front().message);
   }
 
   if (experiment.correspondence == sim::Correspondence::kDetect) {

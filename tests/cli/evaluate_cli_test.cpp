@@ -212,16 +212,16 @@ TEST(EvaluateCli, BadInputExitsTwoWithMessage) {
          "patlab evaluate: --colors has '0'; expected comma-separated integers from 1 to 16, e.g. "
          "2,3,4\n");
   expect("butterfly --sigmas 2,1",
-         "patlab evaluate: --sigmas has 1; expected strictly increasing finite numbers >= 0 (mm), "
-         "e.g. 1,2,3,4\n");
+         "patlab evaluate: --sigmas has 1; expected strictly increasing finite numbers >= 0 "
+         "(mm)\n");
   expect("butterfly --trials 1",
-         "patlab evaluate: --trials is 1; expected an integer in 2..1000000000\n");
+         "patlab evaluate: --trials is 1; expected an integer in [2, 1000000000]\n");
   expect("butterfly --frames 0",
-         "patlab evaluate: --frames is 0; expected an integer in 1..100000000\n");
+         "patlab evaluate: --frames is 0; expected an integer in [1, 100000000]\n");
   expect("butterfly --id-colors 9",
-         "patlab evaluate: --id-colors is 9; expected an integer from 1 to 8\n");
+         "patlab evaluate: --id-colors is 9; expected an integer in [1, 8]\n");
   expect("butterfly --id-colors 0",
-         "patlab evaluate: --id-colors is 0; expected an integer from 1 to 8\n");
+         "patlab evaluate: --id-colors is 0; expected an integer in [1, 8]\n");
   expect("butterfly --tolerance -1",
          "patlab evaluate: --tolerance is -1; expected a distance in mm >= 0\n");
   expect("butterfly --seed -4", "patlab evaluate: --seed is '-4'; expected an integer >= 0\n");

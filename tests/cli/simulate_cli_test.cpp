@@ -80,13 +80,14 @@ TEST(SimulateCli, BadInputExitsTwoWithAMessageAndWritesNothing) {
        "patlab simulate: " + dir.Path("missing.toml") +
            ": cannot open file; expected a readable TOML file\n"},
       {kPatlab + " simulate " + experiment + " --trials 1" + out,
-       "patlab simulate: --trials is 1; expected an integer in 2..1000000000\n"},
+       "patlab simulate: --trials is 1; expected an integer in [2, 1000000000]\n"},
       {kPatlab + " simulate " + experiment + " --seed -4" + out,
        "patlab simulate: --seed is '-4'; expected an integer >= 0\n"},
       {kPatlab + " simulate " + experiment + " --sigmas 1,x" + out,
        "patlab simulate: --sigmas has 'x'; expected comma-separated numbers, e.g. 0,0.5,1\n"},
       {kPatlab + " simulate " + experiment + " --outlier-probability 2" + out,
-       "patlab simulate: noise options: outlier_probability must be in [0, 1)\n"},
+       "patlab simulate: noise options: outlier_probability is 2; expected a probability in [0, "
+       "1)\n"},
       {kPatlab + " simulate" + out,
        "patlab simulate: missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see "
        "--help)\n"},

@@ -102,8 +102,7 @@ TEST(SimulateDetectCli, BadDetectTablesExitTwoWithTheirMessages) {
   const std::string out = " -q --out " + dir.Path("out");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {SmallExperiment("", "0"),
-       ":9: frames in [detect] is 0; expected an integer in "
-       "1..100000000"},
+       ":9: frames in [detect] is 0; expected an integer in [1, 100000000]"},
       {SmallExperiment("colour_error_probability = 2\n"),
        ":12: colour_error_probability in [detect] is 2; expected a probability in [0, 1]"},
       {SmallExperiment("robots_per_team = 17\n"),
@@ -121,8 +120,8 @@ TEST(SimulateDetectCli, BadDetectTablesExitTwoWithTheirMessages) {
   const auto r = RunCommand(kPatlab + " simulate " + experiment + " --trials -1" + out);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err,
-            "patlab simulate: --trials is -1; expected an integer in 1..100000000 (frames per "
-            "point in detect mode)\n");
+            "patlab simulate: --trials is -1; expected an integer in [1, 100000000] (frames "
+            "per point in detect mode)\n");
   EXPECT_FALSE(std::filesystem::exists(dir.Path("out")));
 }
 

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "../test_util.h"
-#include "patlab/core/error.h"
 #include "experiment_fixture.h"
+#include "patlab/core/error.h"
 #include "patlab/sim/experiment.h"
 
 namespace patlab::sim {
@@ -129,17 +129,17 @@ TEST_F(DetectExperimentTest, BadFilesGiveTheirMessages) {
       {kHead + kSigma + kDetect + "frame = 10\n",
        "e.toml:8: unknown key 'frame' in [detect]; expected one of: " + keys},
       {kHead + kSigma + kDetect + "frames = 0\n",
-       "e.toml:8: frames in [detect] is 0; expected an integer in 1..100000000"},
+       "e.toml:8: frames in [detect] is 0; expected an integer in [1, 100000000]"},
       {kHead + kSigma + kDetect + "robots_per_team = 0\n",
-       "e.toml:8: robots_per_team in [detect] is 0; expected an integer in 1..1000"},
+       "e.toml:8: robots_per_team in [detect] is 0; expected an integer in [1, 1000]"},
       {kHead + kSigma + kDetect + "robots_per_team = 17\n",
        "e.toml:8: robots_per_team in [detect] is 17; expected at most 16 (the IDs of butterfly)"},
       {kHead + kSigma + "[field]\nlength_mm = 500\nwidth_mm = 500\n" + kDetect,
        "e.toml:9: robots_per_team in [detect] is 5 (butterfly): cannot place 4 objects 180 mm "
        "apart; expected a larger field or fewer robots"},
       {kHead + kSigma + "[field]\nwidth_mm = 0\n" + kDetect,
-       "e.toml:7: width_mm in [field] is 0; expected a number > 0 (mm) with correspondence = "
-       "\"detect\""},
+       "e.toml:7: width_mm in [field] is 0; expected a finite number > 0 (mm) with "
+       "correspondence = \"detect\""},
       {kHead + kSigma + kDetect + "false_blob_rate_per_m2 = [2, 1]\n",
        "e.toml:8: false_blob_rate_per_m2 in [detect] is not increasing at 1; expected strictly "
        "increasing values"},
@@ -159,7 +159,7 @@ TEST_F(DetectExperimentTest, BadFilesGiveTheirMessages) {
        "e.toml:8: false_blob_radius_max_mm in [detect] is 5; expected a finite number >= "
        "false_blob_radius_min_mm"},
       {kHead + kSigma + kDetect + "match_radius_mm = 0\n",
-       "e.toml:8: match_radius_mm in [detect] is 0; expected a number > 0 (mm)"},
+       "e.toml:8: match_radius_mm in [detect] is 0; expected a finite number > 0 (mm)"},
       {kHead + kSigma + kDetect + "detector_sigma = \"auto\"\n",
        "e.toml:8: detector_sigma in [detect] is \"auto\"; expected \"settings\" or \"matched\""},
       {kHead + kSigma + "[detect]\nsettings = \"no-orange.toml\"\n",
@@ -180,13 +180,13 @@ TEST_F(DetectExperimentTest, BadFilesGiveTheirMessages) {
       {"name = \"x\"\ncorrespondence = \"guess\"\npatterns = [\"simple\"]\n" + kSigma,
        "e.toml:2: correspondence is \"guess\"; expected \"known\" or \"detect\""},
   };
-  for (const auto& [text, message] : cases) EXPECT_EQ(ErrorOf(text), message) << text;
+  for (const auto& [text, message] : cases) ExpectLoadError(text, message);
 }
 
 TEST_F(DetectExperimentTest, BadDetectorSettingsReportTheSettingsFile) {
   dir_.Write("experiments/broken.toml", "palette = [\"blue\"]\n[detector]\npatch_sigma_mm = -1\n");
-  EXPECT_EQ(ErrorOf(kHead + kSigma + "[detect]\nsettings = \"broken.toml\"\n"),
-            "broken.toml:3: patch_sigma_mm is -1; expected a finite number > 0 (mm)");
+  ExpectLoadError(kHead + kSigma + "[detect]\nsettings = \"broken.toml\"\n",
+                  "broken.toml:3: patch_sigma_mm is -1; expected a finite number > 0 (mm)");
 }
 
 TEST_F(DetectExperimentTest, TrialsOverrideSetsFrames) {
@@ -197,14 +197,9 @@ TEST_F(DetectExperimentTest, TrialsOverrideSetsFrames) {
   EXPECT_EQ(e.detect.frames, 1);
   EXPECT_EQ(e.trials, 100000);  // the known-mode field is untouched
   o.trials = -3;
-  try {
-    ApplyOverrides(o, &e);
-    FAIL();
-  } catch (const InputError& error) {
-    EXPECT_STREQ(error.what(),
-                 "--trials is -3; expected an integer in 1..100000000 (frames per point in detect "
-                 "mode)");
-  }
+  EXPECT_INPUT_ERROR(ApplyOverrides(o, &e),
+                     "--trials is -3; expected an integer in [1, 100000000] (frames per point in "
+                     "detect mode)");
 }
 
 }  // namespace

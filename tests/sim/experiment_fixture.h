@@ -23,19 +23,14 @@ class ExperimentFixture : public ::testing::Test {
     }
   }
   std::string Write(const std::string& text) { return dir_.Write("experiments/e.toml", text); }
-  // The message LoadExperimentFile gives for `text`, with the scratch experiments/ prefix cut so
-  // that messages read "e.toml:3: ..."; "(no error)" if it loads.
-  std::string ErrorOf(const std::string& text) {
+  // LoadExperimentFile must reject `text` with `message`, word for word; a message that does
+  // not start with '/' names a file of the scratch experiments/ ("e.toml:3: ...").
+  void ExpectLoadError(const std::string& text, const std::string& message) {
+    SCOPED_TRACE(text);
     const std::string path = Write(text);
-    try {
-      LoadExperimentFile(path);
-    } catch (const InputError& e) {
-      std::string message = e.what();
-      const std::string prefix = dir_.Path("experiments/");
-      if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-      return message;
-    }
-    return "(no error)";
+    const std::string full =
+        message.starts_with("/") ? message : dir_.Path("experiments/") + message;
+    EXPECT_INPUT_ERROR(LoadExperimentFile(path), full);
   }
   patlab::testing::TempDir dir_;
 };

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "../test_util.h"
-#include "patlab/core/error.h"
 #include "experiment_fixture.h"
+#include "patlab/core/error.h"
 
 namespace patlab::sim {
 namespace {
@@ -55,7 +55,7 @@ TEST_F(ExperimentFileTest, NoiseFileIsReadRelativeToTheExperiment) {
 TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {kHead + "trials = 1\n" + kSigma,
-       "e.toml:3: trials is 1; expected an integer in 2..1000000000"},
+       "e.toml:3: trials is 1; expected an integer in [2, 1000000000]"},
       {kHead + "estimators = [\"fast\", \"newton\"]\n" + kSigma,
        "e.toml:3: unknown estimator \"newton\"; expected \"fast\", \"ml\", \"lsq\" or \"key\""},
       {kHead + "estimators = [\"ml\", \"ml\"]\n" + kSigma,
@@ -68,39 +68,40 @@ TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
        "estimators, trials, seed, correspondence, sigma, field, noise, noise_file, ml"},
       {kHead, "e.toml:1: missing [sigma]; expected a table with values = [...] or from, to, steps"},
       {kHead + "[sigma]\nvalues = [1, 0.5]\n",
-       "e.toml:4: sigma values in [sigma] are not increasing at 0.5; expected strictly increasing "
-       "values"},
+       "e.toml:4: values in [sigma] has 0.5; expected strictly increasing finite numbers >= 0 "
+       "(mm)"},
       {kHead + "[sigma]\nvalues = [-1]\n",
-       "e.toml:4: sigma -1 in [sigma]; expected finite numbers >= 0 (mm)"},
+       "e.toml:4: values in [sigma] has -1; expected strictly increasing finite numbers >= 0 "
+       "(mm)"},
       {kHead + "[sigma]\nfrom = 0\nto = 4\nsteps = 1\n",
-       "e.toml:6: steps in [sigma] is 1; expected an integer in 2..10000"},
+       "e.toml:6: steps in [sigma] is 1; expected an integer in [2, 10000]"},
       {kHead + "[sigma]\nfrom = 0\nto = 4\nsteps = 3\nvalues = [1]\n",
        "e.toml:7: [sigma] has both values and from/to/steps; expected one of the two forms"},
       {kHead + kSigma + "[noise]\noutlier_probability = 1.5\n",
        "e.toml:8: outlier_probability in [noise] is 1.5; expected a probability in [0, 1)"},
       {kHead + kSigma + "[noise]\nsigma_y_ratio = 0\n",
-       "e.toml:8: sigma_y_ratio in [noise] is 0; expected a number > 0"},
+       "e.toml:8: sigma_y_ratio in [noise] is 0; expected a finite number > 0"},
       {kHead + kSigma + "[noise]\nsigma = 3\n",
        "e.toml:8: unknown key 'sigma' in [noise]; expected one of: sigma_y_ratio, "
        "common_sigma_ratio, outlier_probability, outlier_sigma_ratio"},
       {kHead + kSigma + "[ml]\nmax_iterations = 0\n",
-       "e.toml:8: max_iterations in [ml] is 0; expected an integer in 1..1000"},
+       "e.toml:8: max_iterations in [ml] is 0; expected an integer in [1, 1000]"},
       {kHead + "correspondence = \"guess\"\n" + kSigma,
        "e.toml:3: correspondence is \"guess\"; expected \"known\" or \"detect\""},
       {kHead + "trials = \"many\"\n" + kSigma, "e.toml:3: trials is a string; expected an integer"},
       {"name = \"x\"\npatterns = [\"simple\", \"simple\"]\n" + kSigma,
        "e.toml:2: pattern 'simple' is listed twice; expected each pattern once"},
   };
-  for (const auto& [text, message] : cases) EXPECT_EQ(ErrorOf(text), message) << text;
+  for (const auto& [text, message] : cases) ExpectLoadError(text, message);
 }
 
 TEST_F(ExperimentFileTest, BadPatternFileReportsThePatternFileAndLine) {
   dir_.Write("patterns/broken.toml",
              "name = \"b\"\n[[patch]]\nrole = \"id\"\nx = 0\ny = 0\nradius = 1\n"
              "[[patch]]\nrole = \"id\"\nx = 5\ny = 0\nradius = 1\n");
-  const std::string message = ErrorOf("name = \"x\"\npatterns = [\"broken\"]\n" + kSigma);
-  EXPECT_EQ(message, dir_.Path("patterns/broken.toml") +
-                         ":2: no key patch; expected exactly one patch with role = \"key\"");
+  ExpectLoadError("name = \"x\"\npatterns = [\"broken\"]\n" + kSigma,
+                  dir_.Path("patterns/broken.toml") +
+                      ":2: no key patch; expected exactly one patch with role = \"key\"");
 }
 
 TEST(Overrides, AreValidatedLikeTheFile) {
@@ -108,21 +109,12 @@ TEST(Overrides, AreValidatedLikeTheFile) {
   e.sigmas_mm = {1.0};
   Overrides o;
   o.trials = 1;
-  try {
-    ApplyOverrides(o, &e);
-    FAIL();
-  } catch (const InputError& error) {
-    EXPECT_STREQ(error.what(), "--trials is 1; expected an integer in 2..1000000000");
-  }
+  EXPECT_INPUT_ERROR(ApplyOverrides(o, &e),
+                     "--trials is 1; expected an integer in [2, 1000000000]");
   o = Overrides{};
   o.sigmas_mm = {1.0, 1.0};
-  try {
-    ApplyOverrides(o, &e);
-    FAIL();
-  } catch (const InputError& error) {
-    EXPECT_STREQ(error.what(),
-                 "--sigmas has 1; expected strictly increasing finite numbers >= 0 (mm)");
-  }
+  EXPECT_INPUT_ERROR(ApplyOverrides(o, &e),
+                     "--sigmas has 1; expected strictly increasing finite numbers >= 0 (mm)");
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "../test_util.h"
 #include "patlab/core/error.h"
 #include "patlab/detect/settings.h"
 
@@ -121,22 +122,12 @@ TEST(Scene, BadOptions) {
   SceneOptions options;
   options.robots_per_team = 17;
   RandomStream rng(1, 0, 0);
-  try {
-    GenerateScene(detector, options, PatchNoise{}, rng);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "scene: robots_per_team is 17; expected at most 16 (the IDs of ssl-standard)");
-  }
+  EXPECT_INPUT_ERROR(GenerateScene(detector, options, PatchNoise{}, rng),
+                     "scene: robots_per_team is 17; expected at most 16 (the IDs of ssl-standard)");
   options = SceneOptions{};
   options.colour_error_probability = 1.5;
-  try {
-    GenerateScene(detector, options, PatchNoise{}, rng);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "scene: colour_error_probability is 1.5; expected a probability in [0, 1]");
-  }
+  EXPECT_INPUT_ERROR(GenerateScene(detector, options, PatchNoise{}, rng),
+                     "scene: colour_error_probability is 1.5; expected a probability in [0, 1]");
 }
 
 }  // namespace

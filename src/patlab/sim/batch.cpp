@@ -1,5 +1,5 @@
-// Compiled with -O3 -ffast-math (src/patlab/sim/CMakeLists.txt) so that GCC vectorises log, sqrt, sin,
-// cos and atan2 through glibc's libmvec. Every stage is a plain loop over the trials of the
+// Compiled with -O3 -ffast-math (src/patlab/sim/CMakeLists.txt) so that GCC vectorises log, sqrt,
+// sin, cos and atan2 through glibc's libmvec. Every stage is a plain loop over the trials of the
 // batch; sin and cos of one angle are computed in separate loops because GCC 12 will not
 // vectorise a loop that needs both. Fast-math may reassociate sums, which changes results only
 // between builds, never between thread counts (the batch layout is fixed). Nothing here relies on
@@ -66,11 +66,8 @@ void Normals(const uint32_t* radius_word, const uint32_t* angle_word, int m, Scr
   for (int k = 0; k < m; ++k) w.zy[k] = w.radius[k] * std::sin(w.u2[k]);
 }
 
-// Stage 1: true poses and noisy patch positions, with the block layout of batch.h.
-void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
-  const estimate::Model& model = *s.model;
-  const int n = model.num_patches;
-  const uint32_t first_common_block = 1 + static_cast<uint32_t>((n + 1) / 2);
+// The true poses: uniform over the field and in (-pi, pi] (block 0), with cos and sin.
+void TruePoses(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
   Blocks(s, t0, m, 0, w);
   for (int k = 0; k < m; ++k) {
     w.true_x[k] = (UniformOpen01(w.words[0][k]) - 0.5) * s.field_length_mm;
@@ -79,24 +76,64 @@ void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
   }
   for (int k = 0; k < m; ++k) w.true_c[k] = std::cos(w.true_t[k]);
   for (int k = 0; k < m; ++k) w.true_s[k] = std::sin(w.true_t[k]);
+}
 
+// The common-mode offset of each trial (block first_common_block), or zero.
+void CommonOffsets(const PointSetup& s, uint64_t t0, int m, uint32_t first_common_block,
+                   Scratch& w) {
+  if (!(s.noise.common_sigma_ratio > 0.0 && s.sigma_mm > 0.0)) {
+    for (int k = 0; k < m; ++k) w.common_x[k] = w.common_y[k] = 0.0;
+    return;
+  }
+  Blocks(s, t0, m, first_common_block, w);
+  Normals(w.words[0], w.words[1], m, w);
+  const double g = s.sigma_mm * s.noise.common_sigma_ratio;
+  for (int k = 0; k < m; ++k) {
+    w.common_x[k] = g * w.zx[k];
+    w.common_y[k] = g * w.zy[k];
+  }
+}
+
+// Patch i's standard normals (w.zx, w.zy) scaled to its error: sigma (x), sigma r (y), or an
+// outlier's sigma k. Outlier selection of patch i: word i % 4 of block first_common_block + 1 +
+// i / 4. The words of the normals' block are saved first: patch i + 1 still needs them.
+void ScalePatchNormals(const PointSetup& s, uint64_t t0, int m, int i, uint32_t first_common_block,
+                       Scratch& w) {
   const double sigma_x = s.sigma_mm;
   const double sigma_y = s.sigma_mm * s.noise.sigma_y_ratio;
-  const double sigma_out = s.sigma_mm * s.noise.outlier_sigma_ratio;
   const double p_out = s.noise.outlier_probability;
-
-  if (s.noise.common_sigma_ratio > 0.0 && s.sigma_mm > 0.0) {
-    Blocks(s, t0, m, first_common_block, w);
-    Normals(w.words[0], w.words[1], m, w);
-    const double g = s.sigma_mm * s.noise.common_sigma_ratio;
+  if (!(p_out > 0.0)) {
     for (int k = 0; k < m; ++k) {
-      w.common_x[k] = g * w.zx[k];
-      w.common_y[k] = g * w.zy[k];
+      w.zx[k] *= sigma_x;
+      w.zy[k] *= sigma_y;
     }
-  } else {
-    for (int k = 0; k < m; ++k) w.common_x[k] = w.common_y[k] = 0.0;
+    return;
   }
+  const double sigma_out = s.sigma_mm * s.noise.outlier_sigma_ratio;
+  for (int k = 0; k < m; ++k) {
+    w.saved[0][k] = w.words[2][k];
+    w.saved[1][k] = w.words[3][k];
+  }
+  Blocks(s, t0, m, first_common_block + 1 + static_cast<uint32_t>(i / 4), w);
+  const uint32_t* word = w.words[i % 4];
+  for (int k = 0; k < m; ++k) {
+    const bool outlier = UniformOpen01(word[k]) < p_out;
+    w.zx[k] *= outlier ? sigma_out : sigma_x;
+    w.zy[k] *= outlier ? sigma_out : sigma_y;
+  }
+  for (int k = 0; k < m; ++k) {
+    w.words[2][k] = w.saved[0][k];
+    w.words[3][k] = w.saved[1][k];
+  }
+}
 
+// Stage 1: true poses and noisy patch positions, with the block layout of batch.h.
+void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
+  const estimate::Model& model = *s.model;
+  const int n = model.num_patches;
+  const uint32_t first_common_block = 1 + static_cast<uint32_t>((n + 1) / 2);
+  TruePoses(s, t0, m, w);
+  CommonOffsets(s, t0, m, first_common_block, w);
   for (int i = 0; i < n; ++i) {
     const double px = model.model_mm[i].x(), py = model.model_mm[i].y();
     double* ox = w.ox[i];
@@ -108,30 +145,7 @@ void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
     } else {
       for (int k = 0; k < m; ++k) w.zx[k] = w.zy[k] = 0.0;
     }
-    if (p_out > 0.0) {
-      // Outlier selection of patch i: word i % 4 of block first_common_block + 1 + i / 4. The
-      // words of the normals' block are saved first: patch i + 1 still needs them.
-      for (int k = 0; k < m; ++k) {
-        w.saved[0][k] = w.words[2][k];
-        w.saved[1][k] = w.words[3][k];
-      }
-      Blocks(s, t0, m, first_common_block + 1 + static_cast<uint32_t>(i / 4), w);
-      const uint32_t* word = w.words[i % 4];
-      for (int k = 0; k < m; ++k) {
-        const bool outlier = UniformOpen01(word[k]) < p_out;
-        w.zx[k] *= outlier ? sigma_out : sigma_x;
-        w.zy[k] *= outlier ? sigma_out : sigma_y;
-      }
-      for (int k = 0; k < m; ++k) {
-        w.words[2][k] = w.saved[0][k];
-        w.words[3][k] = w.saved[1][k];
-      }
-    } else {
-      for (int k = 0; k < m; ++k) {
-        w.zx[k] *= sigma_x;
-        w.zy[k] *= sigma_y;
-      }
-    }
+    ScalePatchNormals(s, t0, m, i, first_common_block, w);
     for (int k = 0; k < m; ++k) {
       ox[k] = w.true_x[k] + w.true_c[k] * px - w.true_s[k] * py + w.zx[k] + w.common_x[k];
       oy[k] = w.true_y[k] + w.true_s[k] * px + w.true_c[k] * py + w.zy[k] + w.common_y[k];
@@ -214,19 +228,11 @@ void LeastSquares(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out
 // (expand x_i = x + a_i - u_ix, y_i = y + b_i - u_iy and use sum a_i (-b_i) + b_i a_i = 0), so
 // an iteration costs O(1) per trial instead of O(n). Trials that need the Levenberg damping or
 // do not converge are re-run by the reference estimator, whose Summary is then reported.
-void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out,
-                       uint8_t* iterations_out, uint8_t* termination_out) {
-  const estimate::Model& model = *s.model;
-  const estimate::Options& o = s.ml_options;
-  const int n = model.num_patches;
-  double px_sum = 0.0, py_sum = 0.0;
-  for (int i = 0; i < n; ++i) {
-    px_sum += model.model_mm[i].x();
-    py_sum += model.model_mm[i].y();
-  }
-  // Per-trial sums D and C (in sum_a, sum_b), fixed during the iteration.
+// The per-trial sums D and C (in w.sum_a, w.sum_b), fixed during the iteration, and the start:
+// the fast estimate with its origin measured from mean(v).
+void StartNewton(const estimate::Model& model, int m, Scratch& w) {
   for (int k = 0; k < m; ++k) w.sum_a[k] = w.sum_b[k] = 0.0;
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < model.num_patches; ++i) {
     const double px = model.model_mm[i].x(), py = model.model_mm[i].y();
     for (int k = 0; k < m; ++k) {
       const double ux = w.ox[i][k] - w.mean_x[k], uy = w.oy[i][k] - w.mean_y[k];
@@ -242,6 +248,17 @@ void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays
     w.active[k] = 1.0;
     w.needs_reference[k] = 0.0;
     w.iterations[k] = 0.0;
+  }
+}
+
+// Newton steps until every trial has stopped (gradient or step tolerance, an indefinite
+// Hessian, or max_iterations).
+void NewtonSteps(const estimate::Model& model, const estimate::Options& o, int m, Scratch& w) {
+  const int n = model.num_patches;
+  double px_sum = 0.0, py_sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    px_sum += model.model_mm[i].x();
+    py_sum += model.model_mm[i].y();
   }
   const double dn = n, two_n = 2.0 * n;
   const double grad_tol2 = o.gradient_tolerance * o.gradient_tolerance;
@@ -284,6 +301,40 @@ void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays
     }
     if (any_active == 0.0) break;
   }
+}
+
+// Rare: the Hessian was indefinite or max_iterations was reached. The reference estimator
+// decides trial k, and its Summary is what the results report.
+void ReferenceTrial(const estimate::Model& model, const estimate::Options& o, int k,
+                    const Scratch& w, const ErrorArrays& out, uint8_t* iterations_out,
+                    uint8_t* termination_out) {
+  std::array<Vec2, kMaxPatches> observed;
+  for (int i = 0; i < model.num_patches; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
+  const Pose2 start = estimate::Fast(model, observed.data());
+  estimate::Summary summary;
+  const Pose2 pose = estimate::MaximumLikelihood(model, observed.data(), start, o, &summary);
+  out.x_mm[k] = pose.x_mm - w.true_x[k];
+  out.y_mm[k] = pose.y_mm - w.true_y[k];
+  out.theta_rad[k] = WrapAngle(pose.theta_rad - w.true_t[k]);
+  iterations_out[k] = static_cast<uint8_t>(std::min(summary.iterations, 255));
+  termination_out[k] = static_cast<uint8_t>(summary.termination);
+}
+
+// Newton's method on the sum-squared error, every trial of the batch in lock step, from the fast
+// estimate: the iteration of estimate::MaximumLikelihood, with the paper's gradient and the
+// exact Hessian evaluated through per-trial sums. With u_i = v_i - mean(v) and the origin
+// (x, y) measured from mean(v), a_i = c p_ix - s p_iy, b_i = s p_ix + c p_iy, A = sum a_i,
+// B = sum b_i, D = sum u_i . p_i, C = sum p_i x u_i, the paper's sums reduce to
+//   dE/dx = 2 (n x + A)          dE/dy = 2 (n y + B)        dE/dtheta = 2 (y A - x B + s D - c C)
+//   d2E/dxdtheta = -2 B          d2E/dydtheta = 2 A         d2E/dtheta2 = 2 (c D + s C - x A - y B)
+// (expand x_i = x + a_i - u_ix, y_i = y + b_i - u_iy and use sum a_i (-b_i) + b_i a_i = 0), so
+// an iteration costs O(1) per trial instead of O(n). Trials that need the Levenberg damping or
+// do not converge are re-run by the reference estimator, whose Summary is then reported.
+void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out,
+                       uint8_t* iterations_out, uint8_t* termination_out) {
+  const estimate::Model& model = *s.model;
+  StartNewton(model, m, w);
+  NewtonSteps(model, s.ml_options, m, w);
   for (int k = 0; k < m; ++k) {
     w.ml_x[k] += w.mean_x[k];
     w.ml_y[k] += w.mean_y[k];
@@ -297,18 +348,7 @@ void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays
     iterations_out[k] = static_cast<uint8_t>(w.iterations[k]);
     termination_out[k] = static_cast<uint8_t>(estimate::Termination::kConverged);
     if (w.active[k] == 0.0 && w.needs_reference[k] == 0.0) continue;
-    // Rare: the Hessian was indefinite or max_iterations was reached. The reference estimator
-    // decides, and its Summary is what the results report.
-    std::array<Vec2, kMaxPatches> observed;
-    for (int i = 0; i < n; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
-    const Pose2 start = estimate::Fast(model, observed.data());
-    estimate::Summary summary;
-    const Pose2 pose = estimate::MaximumLikelihood(model, observed.data(), start, o, &summary);
-    out.x_mm[k] = pose.x_mm - w.true_x[k];
-    out.y_mm[k] = pose.y_mm - w.true_y[k];
-    out.theta_rad[k] = WrapAngle(pose.theta_rad - w.true_t[k]);
-    iterations_out[k] = static_cast<uint8_t>(std::min(summary.iterations, 255));
-    termination_out[k] = static_cast<uint8_t>(summary.termination);
+    ReferenceTrial(model, s.ml_options, k, w, out, iterations_out, termination_out);
   }
 }
 

@@ -1,8 +1,8 @@
 // The Monte-Carlo inner loop: a batch of trials of one data point in structure-of-arrays form.
 //
 // Trial t of point p draws every random number from Philox4x32-10 with counter
-// (t mod 2^32, t div 2^32, p, block) under the experiment seed (docs/architecture.md rule 1), each 32-bit
-// word giving one uniform (w + 1/2) 2^-32 in (0, 1); H = ceil(n / 2) for n patches:
+// (t mod 2^32, t div 2^32, p, block) under the experiment seed (docs/architecture.md rule 1), each
+// 32-bit word giving one uniform (w + 1/2) 2^-32 in (0, 1); H = ceil(n / 2) for n patches:
 //   block 0              words 0, 1, 2: pose x, y (uniform over the field), theta in (-pi, pi)
 //   block 1 + j          Box-Muller normals of patch 2j (words 0, 1) and patch 2j + 1 (2, 3)
 //   block 1 + H          common-mode normals (words 0, 1; only when common_sigma_ratio > 0)

@@ -71,7 +71,7 @@ DetectPoint MakeDetectPoint(const Experiment& experiment, uint32_t point) {
 }
 
 Scene GenerateDetectFrame(const Experiment& experiment, const DetectPoint& point,
-                                  const detect::Detector& detector, uint64_t frame) {
+                          const detect::Detector& detector, uint64_t frame) {
   RandomStream rng(experiment.seed, point.point, frame);
   const NoiseModel& noise = experiment.noise;
   const double sigma = point.sigma_mm;
@@ -85,10 +85,96 @@ Scene GenerateDetectFrame(const Experiment& experiment, const DetectPoint& point
   return GenerateScene(detector, point.scene, patch_noise, rng);
 }
 
+namespace {
+
+// Stage 1: the point's frames in parallel, each into its slot. A Detector is not thread-safe:
+// one per thread, all built from the same configuration (their output does not depend on
+// which). Returns the geometric tolerance the detectors applied.
+double RunFrames(const Experiment& experiment, const DetectPoint& point,
+                 std::vector<FrameSlot>* slots) {
+  const double match_radius_mm = experiment.detect.match_radius_mm;
+  tbb::enumerable_thread_specific<detect::Detector> detectors(
+      [&point] { return detect::Detector(point.config); });
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, static_cast<int64_t>(slots->size()), 16),
+                    [&](const tbb::blocked_range<int64_t>& range) {
+                      detect::Detector& detector = detectors.local();
+                      std::vector<detect::Detection> detections;
+                      for (int64_t f = range.begin(); f != range.end(); ++f) {
+                        const Scene scene = GenerateDetectFrame(experiment, point, detector,
+                                                                static_cast<uint64_t>(f));
+                        FrameSlot& slot = (*slots)[f];
+                        detector.Detect(scene.blobs, &detections, &slot.stats);
+                        slot.score = ScoreFrame(scene, detections, match_radius_mm);
+                        slot.false_blobs = scene.num_false_blobs;
+                        slot.missing_patches = scene.num_missing_patches;
+                        slot.colour_errors = scene.num_colour_errors;
+                      }
+                    });
+  return detectors.local().ResidualTolerance(0);
+}
+
+// Stage 2a: the counters and pose errors of every frame, summed serially in frame order.
+void SumFrames(const std::vector<FrameSlot>& slots, DetectPointResult* r) {
+  std::vector<double> ex, ey, et;
+  for (const FrameSlot& slot : slots) {
+    const FrameScore& s = slot.score;
+    r->robots += s.robots;
+    r->correct += s.correct;
+    r->wrong_id += s.wrong_id;
+    r->unknown_id += s.unknown_id;
+    r->ambiguous += s.ambiguous;
+    r->missed += s.missed;
+    r->false_positives += s.false_positives;
+    r->false_blobs += slot.false_blobs;
+    r->missing_patches += slot.missing_patches;
+    r->colour_errors += slot.colour_errors;
+    r->stats += slot.stats;
+    for (const PoseError& e : s.pose_errors) {
+      ex.push_back(e.dx_mm);
+      ey.push_back(e.dy_mm);
+      et.push_back(e.dtheta_rad);
+    }
+  }
+  r->x = Summarise(ex);
+  r->y = Summarise(ey);
+  r->theta = Summarise(et);
+}
+
+// Stage 2b: the rates with their 95% intervals, and the bound at the point's sigma.
+void FillRates(const Experiment& experiment, const DetectPoint& point, DetectPointResult* r) {
+  r->detection = stats::WilsonInterval(r->correct, r->robots);
+  r->wrong_id_rate = stats::WilsonInterval(r->wrong_id, r->correct + r->wrong_id);
+  r->ambiguous_rate = stats::WilsonInterval(r->ambiguous, r->robots);
+  r->false_positives_per_frame = stats::GarwoodInterval(r->false_positives, r->frames);
+  if (experiment.noise.IsIsotropicGaussian()) {
+    const estimate::StdPerSigma crlb = estimate::CramerRaoBound(
+        estimate::Model::FromPattern(experiment.patterns[point.pattern_index]));
+    r->crlb_position_mm = crlb.position_per_axis * r->sigma_mm;
+    r->crlb_theta_rad = crlb.theta * r->sigma_mm;
+  } else {
+    r->crlb_position_mm = r->crlb_theta_rad = std::nan("");
+  }
+}
+
+DetectPointResult PointHeader(const Experiment& experiment, const DetectPoint& point) {
+  DetectPointResult r;
+  r.pattern_index = point.pattern_index;
+  r.pattern = experiment.patterns[point.pattern_index].name;
+  r.sigma_mm = point.sigma_mm;
+  r.false_blob_rate_per_m2 = point.scene.false_blob_rate_per_m2;
+  r.point = point.point;
+  r.frames = experiment.detect.frames;
+  r.detector_sigma_mm = point.config.options.patch_sigma_mm;
+  return r;
+}
+
+}  // namespace
+
 DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptions& options) {
   PATLAB_CHECK(experiment.correspondence == Correspondence::kDetect);
   PATLAB_CHECK(!experiment.patterns.empty());
   PATLAB_CHECK(!experiment.sigmas_mm.empty());
+  Validate(options);
   const auto wall_start = Clock::now();
   const int threads =
       options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
@@ -96,84 +182,21 @@ DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptio
 
   DetectRunResult result;
   result.threads = threads;
-  const int64_t frames = experiment.detect.frames;
-  const double match_radius_mm = experiment.detect.match_radius_mm;
   const int total_points = NumDetectPoints(experiment);
-  std::vector<FrameSlot> slots(frames);
-
+  std::vector<FrameSlot> slots(experiment.detect.frames);
   for (int index = 0; index < total_points; ++index) {
     const DetectPoint point = MakeDetectPoint(experiment, static_cast<uint32_t>(index));
-
-    // Stage 1: frames in parallel, each into its slot. A Detector is not thread-safe: one per
-    // thread, all built from the same configuration (their output does not depend on which).
     const auto sim_start = Clock::now();
-    tbb::enumerable_thread_specific<detect::Detector> detectors(
-        [&point] { return detect::Detector(point.config); });
-    tbb::parallel_for(
-        tbb::blocked_range<int64_t>(0, frames, 16), [&](const tbb::blocked_range<int64_t>& range) {
-          detect::Detector& detector = detectors.local();
-          std::vector<detect::Detection> detections;
-          for (int64_t f = range.begin(); f != range.end(); ++f) {
-            const Scene scene =
-                GenerateDetectFrame(experiment, point, detector, static_cast<uint64_t>(f));
-            FrameSlot& slot = slots[f];
-            detector.Detect(scene.blobs, &detections, &slot.stats);
-            slot.score = ScoreFrame(scene, detections, match_radius_mm);
-            slot.false_blobs = scene.num_false_blobs;
-            slot.missing_patches = scene.num_missing_patches;
-            slot.colour_errors = scene.num_colour_errors;
-          }
-        });
+    const double tolerance_mm2 = RunFrames(experiment, point, &slots);
     result.simulate_seconds += Seconds(sim_start);
 
-    // Stage 2: the reduction, serial in frame order.
     const auto stats_start = Clock::now();
-    DetectPointResult r;
-    r.pattern_index = point.pattern_index;
-    r.pattern = experiment.patterns[point.pattern_index].name;
-    r.sigma_mm = point.sigma_mm;
-    r.false_blob_rate_per_m2 = point.scene.false_blob_rate_per_m2;
-    r.point = point.point;
-    r.frames = frames;
-    r.detector_sigma_mm = point.config.options.patch_sigma_mm;
-    r.tolerance_mm2 = detectors.local().ResidualTolerance(0);
-    std::vector<double> ex, ey, et;
-    for (const FrameSlot& slot : slots) {
-      const FrameScore& s = slot.score;
-      r.robots += s.robots;
-      r.correct += s.correct;
-      r.wrong_id += s.wrong_id;
-      r.unknown_id += s.unknown_id;
-      r.ambiguous += s.ambiguous;
-      r.missed += s.missed;
-      r.false_positives += s.false_positives;
-      r.false_blobs += slot.false_blobs;
-      r.missing_patches += slot.missing_patches;
-      r.colour_errors += slot.colour_errors;
-      r.stats += slot.stats;
-      for (const PoseError& e : s.pose_errors) {
-        ex.push_back(e.dx_mm);
-        ey.push_back(e.dy_mm);
-        et.push_back(e.dtheta_rad);
-      }
-    }
-    r.detection = stats::WilsonInterval(r.correct, r.robots);
-    r.wrong_id_rate = stats::WilsonInterval(r.wrong_id, r.correct + r.wrong_id);
-    r.ambiguous_rate = stats::WilsonInterval(r.ambiguous, r.robots);
-    r.false_positives_per_frame = stats::GarwoodInterval(r.false_positives, frames);
-    r.x = Summarise(ex);
-    r.y = Summarise(ey);
-    r.theta = Summarise(et);
-    if (experiment.noise.IsIsotropicGaussian()) {
-      const estimate::StdPerSigma crlb = estimate::CramerRaoBound(
-          estimate::Model::FromPattern(experiment.patterns[point.pattern_index]));
-      r.crlb_position_mm = crlb.position_per_axis * r.sigma_mm;
-      r.crlb_theta_rad = crlb.theta * r.sigma_mm;
-    } else {
-      r.crlb_position_mm = r.crlb_theta_rad = std::nan("");
-    }
+    DetectPointResult r = PointHeader(experiment, point);
+    r.tolerance_mm2 = tolerance_mm2;
+    SumFrames(slots, &r);
+    FillRates(experiment, point, &r);
     result.statistics_seconds += Seconds(stats_start);
-    result.total_frames += frames;
+    result.total_frames += r.frames;
     result.points.push_back(std::move(r));
     if (options.progress) options.progress(index + 1, total_points);
   }

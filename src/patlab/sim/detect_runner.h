@@ -10,16 +10,17 @@
 // offset (NoiseModel::CommonOffset, once per frame), then the scene, each patch's error from
 // NoiseModel::PatchError through PatchNoise::perturb. Frames run in parallel into slots
 // indexed by frame number and are reduced in frame order, so results are identical for any
-// thread count (docs/architecture.md rules 1-2), and any frame can be replayed alone (GenerateDetectFrame).
+// thread count (docs/architecture.md rules 1-2), and any frame can be replayed alone
+// (GenerateDetectFrame).
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "patlab/sim/scene.h"
 #include "patlab/sim/experiment.h"
 #include "patlab/sim/runner.h"
+#include "patlab/sim/scene.h"
 #include "patlab/stats/intervals.h"
 
 namespace patlab::sim {
@@ -36,10 +37,11 @@ struct DetectPointResult {
 
   // Robots over all frames, split by how they were detected (FrameScore).
   int64_t robots = 0, correct = 0, wrong_id = 0, unknown_id = 0, ambiguous = 0, missed = 0;
-  int64_t false_positives = 0;  // detections matching no robot
-  stats::Proportion detection;         // correct / robots
-  stats::Proportion wrong_id_rate;     // wrong_id / (correct + wrong_id): a reported ID is wrong
-  stats::Proportion ambiguous_rate;    // ambiguous / robots: geometry and colours leave the rotation open
+  int64_t false_positives = 0;      // detections matching no robot
+  stats::Proportion detection;      // correct / robots
+  stats::Proportion wrong_id_rate;  // wrong_id / (correct + wrong_id): a reported ID is wrong
+  stats::Proportion
+      ambiguous_rate;  // ambiguous / robots: geometry and colours leave the rotation open
   stats::PoissonRate false_positives_per_frame;
 
   // Errors of the correct detections (detected minus true; theta wrapped), with the chi-square
@@ -80,6 +82,6 @@ DetectPoint MakeDetectPoint(const Experiment& experiment, uint32_t point);
 // Frame `frame` of a point, exactly as the runner draws it (for replaying one frame). `detector`
 // must have been built from point.config.
 Scene GenerateDetectFrame(const Experiment& experiment, const DetectPoint& point,
-                                  const detect::Detector& detector, uint64_t frame);
+                          const detect::Detector& detector, uint64_t frame);
 
 }  // namespace patlab::sim

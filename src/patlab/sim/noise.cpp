@@ -17,21 +17,17 @@ std::string NoiseModel::Describe() const {
   return name;
 }
 
-std::string NoiseModel::Validate() const {
-  if (!(sigma_y_ratio > 0.0 && std::isfinite(sigma_y_ratio))) {
-    return "sigma_y_ratio must be a finite number > 0";
-  }
-  if (!(common_sigma_ratio >= 0.0 && std::isfinite(common_sigma_ratio))) {
-    return "common_sigma_ratio must be a finite number >= 0";
-  }
-  if (!(outlier_probability >= 0.0 && outlier_probability < 1.0)) {
-    return "outlier_probability must be in [0, 1)";
-  }
-  if (!(outlier_sigma_ratio > 0.0 && std::isfinite(outlier_sigma_ratio))) {
-    return "outlier_sigma_ratio must be a finite number > 0";
-  }
-  return "";
+std::vector<OptionsProblem> Check(const NoiseModel& noise) {
+  const double p = noise.outlier_probability;
+  OptionsChecker check;
+  check.Positive("sigma_y_ratio", noise.sigma_y_ratio)
+      .NonNegative("common_sigma_ratio", noise.common_sigma_ratio)
+      .Require("outlier_probability", p, p >= 0.0 && p < 1.0, "a probability in [0, 1)")
+      .Positive("outlier_sigma_ratio", noise.outlier_sigma_ratio);
+  return check.Take();
 }
+
+void Validate(const NoiseModel& noise) { ThrowFirstProblem(Check(noise)); }
 
 Vec2 NoiseModel::PatchError(double sigma_mm, RandomStream& rng) const {
   const double zx = rng.Normal();

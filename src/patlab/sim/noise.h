@@ -18,17 +18,19 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "patlab/core/geometry.h"
+#include "patlab/core/options.h"
 #include "patlab/core/rng.h"
 
 namespace patlab::sim {
 
 struct NoiseModel {
-  double sigma_y_ratio = 1.0;        // sigma_y / sigma_x in the world frame (anisotropic); > 0
-  double common_sigma_ratio = 0.0;   // std of the per-trial offset shared by all patches / sigma
-  double outlier_probability = 0.0;  // probability that a patch is an outlier, in [0, 1)
-  double outlier_sigma_ratio = 10.0; // an outlier's isotropic std / sigma; > 0
+  double sigma_y_ratio = 1.0;         // sigma_y / sigma_x in the world frame (anisotropic); > 0
+  double common_sigma_ratio = 0.0;    // std of the per-trial offset shared by all patches / sigma
+  double outlier_probability = 0.0;   // probability that a patch is an outlier, in [0, 1)
+  double outlier_sigma_ratio = 10.0;  // an outlier's isotropic std / sigma; > 0
 
   bool IsIsotropicGaussian() const {
     return sigma_y_ratio == 1.0 && common_sigma_ratio == 0.0 && outlier_probability == 0.0;
@@ -38,8 +40,6 @@ struct NoiseModel {
   double EffectiveSigmaRatio() const;
   // Human-readable name of the model ("isotropic", "anisotropic+common", ...).
   std::string Describe() const;
-  // Returns the empty string if valid, else "field: constraint".
-  std::string Validate() const;
 
   // One patch's independent error e_i (mm) at patch sigma `sigma_mm`. Draws, in this order: two
   // normals (z_ix, z_iy), then one uniform deciding "outlier" only when outlier_probability > 0.
@@ -48,5 +48,12 @@ struct NoiseModel {
   // common_sigma_ratio > 0 and sigma_mm > 0, else zero and no draws.
   Vec2 CommonOffset(double sigma_mm, RandomStream& rng) const;
 };
+
+// The one place the noise model is checked (core/options.h), fields named as the keys of an
+// experiment's [noise] table: sigma_y_ratio a finite number > 0, common_sigma_ratio a finite
+// number >= 0, outlier_probability in [0, 1) (1 would make every patch an outlier),
+// outlier_sigma_ratio a finite number > 0.
+std::vector<OptionsProblem> Check(const NoiseModel& noise);
+void Validate(const NoiseModel& noise);
 
 }  // namespace patlab::sim

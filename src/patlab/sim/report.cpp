@@ -2,21 +2,18 @@
 
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <span>
+
+#include "patlab/core/format.h"
 
 namespace patlab::sim {
 
 namespace {
 
-// 10 significant digits: far below the Monte-Carlo error, and identical on every run.
-std::string Num(double v) {
-  if (std::isnan(v)) return "";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.10g", v);
-  return buffer;
-}
+// A number cell: 10 significant digits, far below the Monte-Carlo error and identical on every
+// run; NaN (no value) is an empty cell.
+std::string Num(double v) { return std::isnan(v) ? "" : FormatSignificant(v, 10); }
 
 std::string Int(int64_t v) { return std::to_string(v); }
 
@@ -91,12 +88,6 @@ constexpr const char* kColumnsTail[] = {"std_pos_mm",
                                         "ks_theta_p",
                                         "wilcoxon_pos_p",
                                         "wilcoxon_theta_p"};
-
-// Efficiency = CRLB variance / achieved variance (1 = efficient).
-double Efficiency(double bound, double achieved) {
-  if (std::isnan(bound) || !(achieved > 0.0)) return std::nan("");
-  return (bound * bound) / (achieved * achieved);
-}
 
 }  // namespace
 
@@ -304,7 +295,7 @@ std::string DetectManifestJson(const Experiment& experiment, const DetectRunResu
   j["frames_per_point"] = d.frames;
   j["false_blob_rates_per_m2"] = d.false_blob_rates_per_m2;
   j["detect"] = {{"settings", d.settings_file},
-                 {"detector_sigma", d.matched_sigma ? "matched" : "settings"},
+                 {"detector_sigma", std::string(NameOf(d.matched_sigma, kDetectorSigmaNames))},
                  {"match_radius_mm", d.match_radius_mm},
                  {"robots_per_team", s.robots_per_team},
                  {"missing_patch_probability", s.missing_patch_probability},

@@ -123,10 +123,146 @@ PointSetup MakePointSetup(const Experiment& experiment, const estimate::Model& m
   return setup;
 }
 
+namespace {
+
+// Two sets of sample arrays: the statistics of point k (a task) run while point k + 1 is
+// simulated into the other set, so neither stage waits for the other. Each point's results are
+// computed by serial code into their own slot: the overlap changes timing only.
+struct PointBuffers {
+  Samples samples[4];  // indexed by estimate::Estimator
+  std::vector<uint8_t> ml_iterations, ml_termination;
+  BatchOutput output;  // views of the arrays above
+
+  PointBuffers(const std::vector<Estimator>& estimators, int64_t trials) {
+    for (Estimator e : estimators) {
+      Samples& s = samples[static_cast<int>(e)];
+      s.Resize(trials);
+      output.errors[static_cast<int>(e)] = ErrorArrays{s.x.data(), s.y.data(), s.theta.data()};
+    }
+    ml_iterations.resize(trials);
+    ml_termination.resize(trials);
+    output.ml_iterations = ml_iterations.data();
+    output.ml_termination = ml_termination.data();
+  }
+  PointBuffers(const PointBuffers&) = delete;
+  PointBuffers& operator=(const PointBuffers&) = delete;
+};
+
+// What the statistics of every point of one pattern share.
+struct PatternBounds {
+  estimate::StdPerSigma crlb;
+  std::array<estimate::StdPerSigma, 4> predicted{};  // indexed by estimate::Estimator
+};
+
+PatternBounds BoundsOf(const estimate::Model& model, const std::vector<Estimator>& estimators) {
+  PatternBounds bounds;
+  bounds.crlb = estimate::CramerRaoBound(model);
+  for (Estimator e : estimators) {
+    bounds.predicted[static_cast<int>(e)] = estimate::PredictedStd(model, e);
+  }
+  return bounds;
+}
+
+// Stage 1: the point's trials in fixed batches (any thread may run any batch), each batch
+// writing at its first trial's offset of every output array.
+void RunTrials(const PointSetup& setup, int64_t trials, const BatchOutput& output) {
+  const int64_t num_batches = (trials + kBatchSize - 1) / kBatchSize;
+  tbb::parallel_for(
+      tbb::blocked_range<int64_t>(0, num_batches, 1),
+      [&](const tbb::blocked_range<int64_t>& range) {
+        for (int64_t b = range.begin(); b != range.end(); ++b) {
+          const int64_t first = b * kBatchSize;
+          const int count = static_cast<int>(std::min<int64_t>(kBatchSize, trials - first));
+          BatchOutput at = output;
+          for (ErrorArrays& e : at.errors) {
+            if (e.x_mm == nullptr) continue;
+            e.x_mm += first;
+            e.y_mm += first;
+            e.theta_rad += first;
+          }
+          at.ml_iterations += first;
+          at.ml_termination += first;
+          RunBatch(setup, static_cast<uint64_t>(first), count, at);
+        }
+      },
+      tbb::simple_partitioner());
+}
+
+// The bound (isotropic Gaussian only) and the first-order prediction at the point's sigma. The
+// linearised estimator's std scales with the effective per-axis patch std; the common-mode
+// offset moves the position only (every estimator is translation equivariant), adding its
+// variance per axis.
+void FillBounds(const NoiseModel& noise, const PatternBounds& bounds, double sigma_mm,
+                EstimatorResult* r) {
+  if (noise.IsIsotropicGaussian()) {
+    r->crlb_position_mm = bounds.crlb.position_per_axis * sigma_mm;
+    r->crlb_theta_rad = bounds.crlb.theta * sigma_mm;
+  } else {
+    r->crlb_position_mm = r->crlb_theta_rad = std::nan("");
+  }
+  const estimate::StdPerSigma& pr = bounds.predicted[static_cast<int>(r->estimator)];
+  const double noise_scale = noise.EffectiveSigmaRatio();
+  const double g = noise.common_sigma_ratio;
+  r->predicted_position_mm =
+      sigma_mm * std::sqrt(std::pow(pr.position_per_axis * noise_scale, 2) + g * g);
+  r->predicted_theta_rad = sigma_mm * pr.theta * noise_scale;
+}
+
+// ml: non-converged trials (the first for replay) and the mean Newton steps.
+void FillMlCounters(const PointBuffers& pb, int64_t trials, EstimatorResult* r) {
+  int64_t iterations = 0;
+  for (int64_t t = 0; t < trials; ++t) {
+    iterations += pb.ml_iterations[t];
+    if (pb.ml_termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
+      if (r->first_nonconverged_trial < 0) r->first_nonconverged_trial = t;
+      ++r->nonconverged;
+    }
+  }
+  r->mean_iterations = static_cast<double>(iterations) / static_cast<double>(trials);
+}
+
+// Stage 2: every estimator's statistics of one point, from its samples in `pb`.
+void PointStatistics(const Experiment& experiment, const PointBuffers& pb,
+                     const PatternBounds& bounds, PointResult* point) {
+  const bool has_fast = std::find(experiment.estimators.begin(), experiment.estimators.end(),
+                                  Estimator::kFast) != experiment.estimators.end();
+  tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
+    const Estimator e = experiment.estimators[k];
+    EstimatorResult& r = point->estimators[k];
+    r.estimator = e;
+    FillEstimatorResult(pb.samples[static_cast<int>(e)], &r);
+    FillBounds(experiment.noise, bounds, point->sigma_mm, &r);
+    if (e == Estimator::kMl) FillMlCounters(pb, point->trials, &r);
+    if (e != Estimator::kFast && has_fast && point->sigma_mm > 0.0) {
+      r.vs_fast =
+          Compare(pb.samples[static_cast<int>(Estimator::kFast)], pb.samples[static_cast<int>(e)]);
+    }
+  });
+}
+
+PointResult PointHeader(const Experiment& experiment, const PointSetup& setup, int pattern_index,
+                        int sigma_index) {
+  PointResult point;
+  point.pattern_index = pattern_index;
+  point.pattern = experiment.patterns[pattern_index].name;
+  point.sigma_mm = experiment.sigmas_mm[sigma_index];
+  point.point = setup.point;
+  point.trials = experiment.trials;
+  point.estimators.resize(experiment.estimators.size());
+  return point;
+}
+
+int64_t Nanoseconds(Clock::time_point since) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - since).count();
+}
+
+}  // namespace
+
 RunResult RunExperiment(const Experiment& experiment, const RunOptions& options) {
   PATLAB_CHECK(!experiment.patterns.empty());
   PATLAB_CHECK(!experiment.sigmas_mm.empty());
   PATLAB_CHECK(!experiment.estimators.empty());
+  Validate(options);
   const auto wall_start = Clock::now();
   const int threads =
       options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
@@ -134,127 +270,33 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
 
   RunResult result;
   result.threads = threads;
-  const int64_t trials = experiment.trials;
   const int num_sigmas = static_cast<int>(experiment.sigmas_mm.size());
   const int total_points = static_cast<int>(experiment.patterns.size()) * num_sigmas;
-  const int64_t num_batches = (trials + kBatchSize - 1) / kBatchSize;
   result.points.resize(total_points);
-
-  // Two sets of sample arrays: the statistics of point k (a task) run while point k + 1 is
-  // simulated into the other set, so neither stage waits for the other. Each point's results
-  // are computed by serial code into their own slot: the overlap changes timing only.
-  struct PointBuffers {
-    Samples samples[4];
-    std::vector<uint8_t> ml_iterations, ml_termination;
-    BatchOutput output;
-  };
-  PointBuffers buffers[2];
-  for (PointBuffers& pb : buffers) {
-    for (Estimator e : experiment.estimators) {
-      Samples& s = pb.samples[static_cast<int>(e)];
-      s.Resize(trials);
-      pb.output.errors[static_cast<int>(e)] = ErrorArrays{s.x.data(), s.y.data(), s.theta.data()};
-    }
-    pb.ml_iterations.resize(trials);
-    pb.ml_termination.resize(trials);
-    pb.output.ml_iterations = pb.ml_iterations.data();
-    pb.output.ml_termination = pb.ml_termination.data();
-  }
-  const bool has_fast = std::find(experiment.estimators.begin(), experiment.estimators.end(),
-                                  Estimator::kFast) != experiment.estimators.end();
+  PointBuffers buffers[2] = {{experiment.estimators, experiment.trials},
+                             {experiment.estimators, experiment.trials}};
   tbb::task_group statistics[2];
   std::atomic<int64_t> statistics_ns{0};
 
-  int index = 0;
-  for (int pi = 0; pi < static_cast<int>(experiment.patterns.size()); ++pi) {
-    const Pattern& pattern = experiment.patterns[pi];
-    const estimate::Model model = estimate::Model::FromPattern(pattern);
-    const estimate::StdPerSigma crlb = estimate::CramerRaoBound(model);
-    std::array<estimate::StdPerSigma, 4> predicted{};
-    for (Estimator e : experiment.estimators) {
-      predicted[static_cast<int>(e)] = estimate::PredictedStd(model, e);
-    }
-    for (int si = 0; si < num_sigmas; ++si, ++index) {
-      PointBuffers& pb = buffers[index % 2];
-      statistics[index % 2].wait();  // point index - 2 is done with these arrays
-      const PointSetup setup = MakePointSetup(experiment, model, pi, si);
-      // Stage 1: trials, in fixed batches (any thread may run any batch).
-      const auto sim_start = Clock::now();
-      tbb::parallel_for(
-          tbb::blocked_range<int64_t>(0, num_batches, 1),
-          [&](const tbb::blocked_range<int64_t>& range) {
-            for (int64_t b = range.begin(); b != range.end(); ++b) {
-              const int64_t first = b * kBatchSize;
-              const int count = static_cast<int>(std::min<int64_t>(kBatchSize, trials - first));
-              BatchOutput at = pb.output;
-              for (ErrorArrays& e : at.errors) {
-                if (e.x_mm == nullptr) continue;
-                e.x_mm += first;
-                e.y_mm += first;
-                e.theta_rad += first;
-              }
-              at.ml_iterations += first;
-              at.ml_termination += first;
-              RunBatch(setup, static_cast<uint64_t>(first), count, at);
-            }
-          },
-          tbb::simple_partitioner());
-      result.simulate_seconds += Seconds(sim_start);
+  for (int index = 0; index < total_points; ++index) {
+    const int pi = index / num_sigmas, si = index % num_sigmas;
+    PointBuffers& pb = buffers[index % 2];
+    statistics[index % 2].wait();  // point index - 2 is done with these arrays
+    const estimate::Model model = estimate::Model::FromPattern(experiment.patterns[pi]);
+    const PointSetup setup = MakePointSetup(experiment, model, pi, si);
+    const auto sim_start = Clock::now();
+    RunTrials(setup, experiment.trials, pb.output);
+    result.simulate_seconds += Seconds(sim_start);
 
-      // Stage 2: statistics, as a task that overlaps the next point's trials.
-      PointResult& point = result.points[index];
-      point.pattern_index = pi;
-      point.pattern = pattern.name;
-      point.sigma_mm = experiment.sigmas_mm[si];
-      point.point = setup.point;
-      point.trials = trials;
-      point.estimators.resize(experiment.estimators.size());
-      statistics[index % 2].run([&experiment, &pb, &point, &statistics_ns, crlb, predicted,
-                                 has_fast, trials] {
-        const auto stats_start = Clock::now();
-        const double noise_scale = experiment.noise.EffectiveSigmaRatio();
-        tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
-          const Estimator e = experiment.estimators[k];
-          EstimatorResult& r = point.estimators[k];
-          r.estimator = e;
-          FillEstimatorResult(pb.samples[static_cast<int>(e)], &r);
-          if (experiment.noise.IsIsotropicGaussian()) {
-            r.crlb_position_mm = crlb.position_per_axis * point.sigma_mm;
-            r.crlb_theta_rad = crlb.theta * point.sigma_mm;
-          } else {
-            r.crlb_position_mm = r.crlb_theta_rad = std::nan("");
-          }
-          // The linearised estimator's std scales with the effective per-axis patch std; the
-          // common-mode offset moves the position only (every estimator is translation
-          // equivariant), adding its variance per axis.
-          const estimate::StdPerSigma& pr = predicted[static_cast<int>(e)];
-          const double g = experiment.noise.common_sigma_ratio;
-          r.predicted_position_mm =
-              point.sigma_mm * std::sqrt(std::pow(pr.position_per_axis * noise_scale, 2) + g * g);
-          r.predicted_theta_rad = point.sigma_mm * pr.theta * noise_scale;
-          if (e == Estimator::kMl) {
-            int64_t iterations = 0;
-            for (int64_t t = 0; t < trials; ++t) {
-              iterations += pb.ml_iterations[t];
-              if (pb.ml_termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
-                if (r.first_nonconverged_trial < 0) r.first_nonconverged_trial = t;
-                ++r.nonconverged;
-              }
-            }
-            r.mean_iterations = static_cast<double>(iterations) / static_cast<double>(trials);
-          }
-          if (e != Estimator::kFast && has_fast && point.sigma_mm > 0.0) {
-            r.vs_fast = Compare(pb.samples[static_cast<int>(Estimator::kFast)],
-                                pb.samples[static_cast<int>(e)]);
-          }
-        });
-        statistics_ns +=
-            std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - stats_start)
-                .count();
-      });
-      result.total_trials += trials;
-      if (options.progress) options.progress(index + 1, total_points);
-    }
+    PointResult& point = result.points[index] = PointHeader(experiment, setup, pi, si);
+    statistics[index % 2].run([&experiment, &pb, &point, &statistics_ns,
+                               bounds = BoundsOf(model, experiment.estimators)] {
+      const auto stats_start = Clock::now();
+      PointStatistics(experiment, pb, bounds, &point);
+      statistics_ns += Nanoseconds(stats_start);
+    });
+    result.total_trials += experiment.trials;
+    if (options.progress) options.progress(index + 1, total_points);
   }
   statistics[0].wait();
   statistics[1].wait();
@@ -262,5 +304,19 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   result.wall_seconds = Seconds(wall_start);
   return result;
 }
+
+double Efficiency(double bound, double achieved) {
+  if (std::isnan(bound) || !(achieved > 0.0)) return std::nan("");
+  return (bound * bound) / (achieved * achieved);
+}
+
+std::vector<OptionsProblem> Check(const RunOptions& options) {
+  OptionsChecker check;
+  check.Require("threads", options.threads, options.threads >= 0,
+                "an integer >= 0 (0 = all cores)");
+  return check.Take();
+}
+
+void Validate(const RunOptions& options) { ThrowFirstProblem(Check(options)); }
 
 }  // namespace patlab::sim

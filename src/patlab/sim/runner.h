@@ -22,6 +22,9 @@ struct RunOptions {
   // Called on the calling thread after each data point's trials: (points done, points in all).
   std::function<void(int, int)> progress;
 };
+// threads an integer >= 0; both runners validate their options.
+std::vector<OptionsProblem> Check(const RunOptions& options);
+void Validate(const RunOptions& options);
 
 // Sample std of one error component with its 95% chi-square interval, and the mean (the bias).
 struct AxisSummary {
@@ -58,6 +61,10 @@ struct EstimatorResult {
   double mean_iterations = 0.0;           // ml: mean Newton steps
   Comparison vs_fast;
 };
+
+// Efficiency = bound^2 / achieved^2 (1 = efficient); NaN without a bound (NaN) or without a
+// positive achieved std.
+double Efficiency(double bound, double achieved);
 
 struct PointResult {
   int pattern_index = 0;

@@ -5,12 +5,12 @@
 #pragma once
 
 #include <functional>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "patlab/core/geometry.h"
+#include "patlab/core/options.h"
 #include "patlab/core/rng.h"
 #include "patlab/detect/blob.h"
 #include "patlab/detect/detector.h"
@@ -26,7 +26,7 @@ struct PatchNoise {
 };
 
 struct SceneOptions {
-  int pattern = 0;          // index into detect::DetectorConfig::patterns: the pattern every robot wears
+  int pattern = 0;  // index into detect::DetectorConfig::patterns: the pattern every robot wears
   int robots_per_team = 5;  // robots per key (team) colour of that pattern, distinct IDs per team
   // The field robots stand on, centred on the origin (default: SSL division B field, mm).
   double field_length_mm = 6050.0;
@@ -42,8 +42,13 @@ struct SceneOptions {
   double false_blob_radius_max_mm = 30.0;
   double colour_error_probability = 0.0;  // each patch independently gets a wrong colour label
 };
-// The one place scene options are validated: the first broken constraint, if any.
-std::optional<detect::OptionsProblem> ValidateSceneOptions(const SceneOptions& options);
+// The one place scene options are checked (core/options.h), fields named as the keys of an
+// experiment's [detect] table (the field dimensions as field_length_mm, field_width_mm):
+// robots_per_team an integer in [1, 1000], the field and radii finite and > 0 (a robot must fit
+// the field), min_separation_mm >= 0, the probabilities in [0, 1], false_blob_rate_per_m2 in
+// [0, 1000] (more is no longer a frame but noise), the false-blob radius range ordered.
+std::vector<OptionsProblem> Check(const SceneOptions& options);
+void Validate(const SceneOptions& options);
 
 struct SceneRobot {
   int pattern = 0;
@@ -65,8 +70,8 @@ struct Scene {
 // RandomStream(seed, stream, frame)), so a frame is replayable alone. Throws InputError for
 // invalid options, a pattern with too few IDs for robots_per_team, a ball colour not in the
 // palette, or a field too small to place the robots.
-Scene GenerateScene(const detect::Detector& detector, const SceneOptions& options, const PatchNoise& noise,
-                    RandomStream& rng);
+Scene GenerateScene(const detect::Detector& detector, const SceneOptions& options,
+                    const PatchNoise& noise, RandomStream& rng);
 
 // The error of one correct detection: detected minus true pose.
 struct PoseError {
