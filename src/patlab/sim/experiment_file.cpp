@@ -2,10 +2,6 @@
 // structure are checked as they are read (io::TomlReader); every limit comes from the options'
 // Check functions (experiment.h, noise.h, scene.h, estimate::Check), their first problem placed
 // at the line of its key.
-// GCC 12 reports a false -Wrestrict inside std::string's operator+ as NameList (core/enum_names.h)
-// uses it (GCC bug 105329); the lead will change NameList to append, then this goes.
-#pragma GCC diagnostic ignored "-Wrestrict"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
