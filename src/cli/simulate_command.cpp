@@ -32,7 +32,7 @@ constexpr const char* kExamples = R"(examples:
 Writes <out>/<name>.csv (one row per pattern x estimator x sigma; with correspondence = "detect"
 one row per pattern x false-blob rate x sigma) and <out>/<name>.json (the manifest: inputs,
 seed, version, timings), both atomically. In detect mode --trials sets the frames per point.
-Exit status: 0 ok, 2 bad input.
+Exit status: 0 ok, 1 cannot write results, 2 bad input.
 )";
 
 struct SimulateOptions {

@@ -214,7 +214,7 @@ TEST(Track, ManifestRecordsOptionsTableAndOutputs) {
   const TrackResult r = RunTrack(o);
   const std::vector<TableRow> table = MakeTable(r);
   const auto j = nlohmann::json::parse(TrackManifestJson(o, r, table, "patlab track x", {"a.csv"}));
-  EXPECT_EQ(j.at("command"), "patlab track x");
+  EXPECT_EQ(j.at("command_line"), "patlab track x");
   EXPECT_EQ(j.at("platform").at("samples_per_run"), 160);
   EXPECT_EQ(j.at("run_setups").size(), 2u);
   EXPECT_EQ(j.at("table").size(), 3u);

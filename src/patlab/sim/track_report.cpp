@@ -242,7 +242,7 @@ std::string TrackManifestJson(const TrackOptions& o, const TrackResult& result,
   nlohmann::json j;
   j["tool"] = "patlab track";
   j["version"] = PATLAB_VERSION;
-  j["command"] = command_line;
+  j["command_line"] = command_line;
   j["experiment"] = o.source_file;
   j["name"] = o.name;
   j["description"] = o.description;
