@@ -53,4 +53,9 @@ class TimeProfile {
   std::vector<Entry> entries_;
 };
 
+// Wall seconds since `start` on the steady clock: for run totals that are not pipeline stages.
+inline double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 }  // namespace patlab

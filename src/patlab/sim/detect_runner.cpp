@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "patlab/core/error.h"
+#include "patlab/core/timeprofile.h"
 #include "patlab/estimate/bounds.h"
 #include "patlab/stats/summary.h"
 
@@ -18,10 +19,6 @@ namespace patlab::sim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
 
 // What one frame leaves in its slot.
 struct FrameSlot {
@@ -176,31 +173,29 @@ DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptio
   PATLAB_CHECK(!experiment.sigmas_mm.empty());
   Validate(options);
   const auto wall_start = Clock::now();
-  const int threads =
-      options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  const ThreadLimit limit(options);
 
   DetectRunResult result;
-  result.threads = threads;
+  result.threads = limit.threads();
   const int total_points = NumDetectPoints(experiment);
   std::vector<FrameSlot> slots(experiment.detect.frames);
   for (int index = 0; index < total_points; ++index) {
     const DetectPoint point = MakeDetectPoint(experiment, static_cast<uint32_t>(index));
     const auto sim_start = Clock::now();
     const double tolerance_mm2 = RunFrames(experiment, point, &slots);
-    result.simulate_seconds += Seconds(sim_start);
+    result.simulate_seconds += SecondsSince(sim_start);
 
     const auto stats_start = Clock::now();
     DetectPointResult r = PointHeader(experiment, point);
     r.tolerance_mm2 = tolerance_mm2;
     SumFrames(slots, &r);
     FillRates(experiment, point, &r);
-    result.statistics_seconds += Seconds(stats_start);
+    result.statistics_seconds += SecondsSince(stats_start);
     result.total_frames += r.frames;
     result.points.push_back(std::move(r));
     if (options.progress) options.progress(index + 1, total_points);
   }
-  result.wall_seconds = Seconds(wall_start);
+  result.wall_seconds = SecondsSince(wall_start);
   return result;
 }
 

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "patlab/core/error.h"
+#include "patlab/core/timeprofile.h"
 #include "patlab/sim/batch.h"
 #include "patlab/stats/summary.h"
 
@@ -22,10 +23,6 @@ namespace {
 
 using estimate::Estimator;
 using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
 
 // Per-estimator sample arrays of one point.
 struct Samples {
@@ -258,18 +255,21 @@ int64_t Nanoseconds(Clock::time_point since) {
 
 }  // namespace
 
+ThreadLimit::ThreadLimit(const RunOptions& options)
+    : threads_(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()),
+      limit_(std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                   threads_)) {}
+
 RunResult RunExperiment(const Experiment& experiment, const RunOptions& options) {
   PATLAB_CHECK(!experiment.patterns.empty());
   PATLAB_CHECK(!experiment.sigmas_mm.empty());
   PATLAB_CHECK(!experiment.estimators.empty());
   Validate(options);
   const auto wall_start = Clock::now();
-  const int threads =
-      options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  const ThreadLimit limit(options);
 
   RunResult result;
-  result.threads = threads;
+  result.threads = limit.threads();
   const int num_sigmas = static_cast<int>(experiment.sigmas_mm.size());
   const int total_points = static_cast<int>(experiment.patterns.size()) * num_sigmas;
   result.points.resize(total_points);
@@ -286,7 +286,7 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
     const PointSetup setup = MakePointSetup(experiment, model, pi, si);
     const auto sim_start = Clock::now();
     RunTrials(setup, experiment.trials, pb.output);
-    result.simulate_seconds += Seconds(sim_start);
+    result.simulate_seconds += SecondsSince(sim_start);
 
     PointResult& point = result.points[index] = PointHeader(experiment, setup, pi, si);
     statistics[index % 2].run([&experiment, &pb, &point, &statistics_ns,
@@ -301,7 +301,7 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   statistics[0].wait();
   statistics[1].wait();
   result.statistics_seconds = static_cast<double>(statistics_ns.load()) * 1e-9;
-  result.wall_seconds = Seconds(wall_start);
+  result.wall_seconds = SecondsSince(wall_start);
   return result;
 }
 

@@ -4,8 +4,11 @@
 // but fast) the KS and Wilcoxon comparison with the fast estimator.
 #pragma once
 
+#include <tbb/global_control.h>
+
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,6 +28,18 @@ struct RunOptions {
 // threads an integer >= 0; both runners validate their options.
 std::vector<OptionsProblem> Check(const RunOptions& options);
 void Validate(const RunOptions& options);
+
+// The worker threads a run uses (options.threads, or every core for 0) and the TBB limit that
+// holds them to it while it lives: both runners start with one.
+class ThreadLimit {
+ public:
+  explicit ThreadLimit(const RunOptions& options);
+  int threads() const { return threads_; }
+
+ private:
+  int threads_;
+  std::unique_ptr<tbb::global_control> limit_;
+};
 
 // Sample std of one error component with its 95% chi-square interval, and the mean (the bias).
 struct AxisSummary {
