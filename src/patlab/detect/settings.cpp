@@ -1,11 +1,16 @@
+// GCC 12 reports a false -Wrestrict inside core/enum_names.h NameList ("\"" + std::string);
+// remove this once that header appends piece by piece.
+#pragma GCC diagnostic ignored "-Wrestrict"
 #include "patlab/detect/settings.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/io/pattern_file.h"
 #include "patlab/io/toml_util.h"
 
@@ -96,19 +101,20 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
   o.reach_margin_mm = dr.OptionalNumber("reach_margin_mm").value_or(o.reach_margin_mm);
   o.area_ratio_min = dr.OptionalNumber("area_ratio_min").value_or(o.area_ratio_min);
   o.area_ratio_max = dr.OptionalNumber("area_ratio_max").value_or(o.area_ratio_max);
-  const auto clamp_int = [](int64_t v) {
-    return static_cast<int>(std::clamp<int64_t>(v, -1000000, 1000000));
+  // Integers beyond int saturate; the limits themselves are Check's (one per field).
+  const auto to_int = [](int64_t v) {
+    return static_cast<int>(
+        std::clamp<int64_t>(v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
   };
-  if (auto v = dr.OptionalInteger("max_neighbours")) o.max_neighbours = clamp_int(*v);
-  if (auto v = dr.OptionalInteger("ml_max_iterations")) o.ml.max_iterations = clamp_int(*v);
+  if (auto v = dr.OptionalInteger("max_neighbours")) o.max_neighbours = to_int(*v);
+  if (auto v = dr.OptionalInteger("ml_max_iterations")) o.ml.max_iterations = to_int(*v);
   if (auto v = dr.OptionalString("missing_patch")) {
-    if (*v == "reject") {
-      o.missing_patch = MissingPatchPolicy::kReject;
-    } else if (*v == "fit") {
-      o.missing_patch = MissingPatchPolicy::kFit;
-    } else {
-      dr.Fail("missing_patch", "missing_patch is \"" + *v + "\"; expected \"reject\" or \"fit\"");
+    const auto policy = FindName(*v, kMissingPatchPolicyNames);
+    if (!policy) {
+      dr.Fail("missing_patch",
+              "missing_patch is \"" + *v + "\"; expected " + NameList(kMissingPatchPolicyNames));
     }
+    o.missing_patch = *policy;
   }
   if (auto v = dr.OptionalString("estimator")) {
     if (!estimate::ParseEstimator(*v, &o.estimator)) {
@@ -116,7 +122,8 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
               "estimator is \"" + *v + "\"; expected \"fast\", \"ml\", \"lsq\" or \"key\"");
     }
   }
-  if (auto problem = ValidateDetectorOptions(o)) dr.Fail(problem->field, problem->message);
+  const std::vector<OptionsProblem> problems = Check(o);
+  if (!problems.empty()) dr.Fail(problems.front().field, problems.front().message);
 
   // [[pattern]] tables.
   const toml::node* patterns_node = root.get("pattern");
@@ -146,7 +153,7 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
                                              .value_or(DetectorPattern{}.symmetry_tolerance_mm);
     if (symmetry_tolerance_mm < 0.0) {
       pr.Fail("symmetry_tolerance_mm", "symmetry_tolerance_mm is " +
-                                           io::FormatNumber(symmetry_tolerance_mm) +
+                                           FormatNumber(symmetry_tolerance_mm) +
                                            "; expected a number >= 0 (mm)");
     }
     std::vector<std::string> key_colours =
