@@ -9,6 +9,7 @@
 #include "cli/command.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/detect/codebook.h"
 #include "patlab/io/pattern_file.h"
 #include "patlab/io/toml_util.h"
@@ -85,7 +86,7 @@ int RunIds(const std::vector<std::string>& args) {
   std::ostringstream out;
   out << "IDs per ID palette size (paper Table II; key patch and key colour excluded), symmetry "
          "tolerance "
-      << io::FormatNumber(o.tolerance_mm) << " mm\n\n";
+      << FormatNumber(o.tolerance_mm) << " mm\n\n";
   size_t name_width = 7;
   for (const Row& r : rows) name_width = std::max(name_width, r.pattern.name.size());
   out << std::left << std::setw(static_cast<int>(name_width) + 2) << "pattern" << std::setw(7)
