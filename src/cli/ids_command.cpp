@@ -9,6 +9,7 @@
 #include "cli/command.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/detect/codebook.h"
 #include "patlab/io/pattern_file.h"
 #include "patlab/io/toml_util.h"
@@ -41,6 +42,59 @@ struct IdsOptions {
   std::string patterns_dir = "patterns";
 };
 
+struct Row {
+  Pattern pattern;
+  detect::Symmetry symmetry;
+};
+
+// Table II: one row per pattern, one column per palette size.
+std::string IdsTable(const std::vector<Row>& rows, const std::vector<int>& colours,
+                     double tolerance_mm) {
+  std::ostringstream out;
+  out << "IDs per ID palette size (paper Table II; key patch and key colour excluded), symmetry "
+         "tolerance "
+      << FormatNumber(tolerance_mm) << " mm\n\n";
+  size_t name_width = 7;
+  for (const Row& r : rows) name_width = std::max(name_width, r.pattern.name.size());
+  out << std::left << std::setw(static_cast<int>(name_width) + 2) << "pattern" << std::setw(7)
+      << "slots" << std::setw(11) << "rotations";
+  for (int n : colours)
+    out << std::setw(12) << (std::to_string(n) + (n == 1 ? " colour" : " colours"));
+  out << "\n";
+  for (const Row& r : rows) {
+    out << std::setw(static_cast<int>(name_width) + 2) << r.pattern.name << std::setw(7)
+        << detect::IdSlots(r.pattern).size() << std::setw(11) << r.symmetry.effective_order();
+    for (int n : colours) out << std::setw(12) << detect::CountIds(r.pattern, r.symmetry, n);
+    out << "\n";
+  }
+  out << "\nrotations: rotations about the key that geometry cannot tell apart and colours must "
+         "decide\n";
+  return out.str();
+}
+
+// --list: every ID's colours (letters A, B, ...) slot by slot, per pattern and palette size.
+std::string IdLists(const std::vector<Row>& rows, const std::vector<int>& colours) {
+  std::ostringstream out;
+  for (const Row& r : rows) {
+    for (int n : colours) {
+      std::vector<std::string> names;
+      for (int c = 0; c < n; ++c) names.emplace_back(1, static_cast<char>('A' + c));
+      const detect::Codebook book = detect::GenerateCodebook(r.pattern, r.symmetry, names);
+      out << "\n"
+          << r.pattern.name << ", " << n << (n == 1 ? " colour" : " colours") << ": "
+          << book.entries.size() << " IDs (slots = patches";
+      for (int slot : detect::IdSlots(r.pattern)) out << " " << slot;
+      out << ")\n";
+      for (const detect::CodebookEntry& e : book.entries) {
+        out << "  " << std::right << std::setw(4) << e.id << " " << std::left;
+        for (int c : e.colour) out << " " << names[c];
+        out << "\n";
+      }
+    }
+  }
+  return out.str();
+}
+
 int RunIds(const std::vector<std::string>& args) {
   IdsOptions o;
   po::options_description visible("usage: patlab ids PATTERN... [options]\n\noptions");
@@ -70,10 +124,6 @@ int RunIds(const std::vector<std::string>& args) {
       }
     }
   }
-  struct Row {
-    Pattern pattern;
-    detect::Symmetry symmetry;
-  };
   std::vector<Row> rows;
   for (const std::string& reference : o.patterns) {
     Row row;
@@ -81,46 +131,8 @@ int RunIds(const std::vector<std::string>& args) {
     row.symmetry = detect::FindSymmetry(row.pattern, o.tolerance_mm);
     rows.push_back(std::move(row));
   }
-
-  std::ostringstream out;
-  out << "IDs per ID palette size (paper Table II; key patch and key colour excluded), symmetry "
-         "tolerance "
-      << io::FormatNumber(o.tolerance_mm) << " mm\n\n";
-  size_t name_width = 7;
-  for (const Row& r : rows) name_width = std::max(name_width, r.pattern.name.size());
-  out << std::left << std::setw(static_cast<int>(name_width) + 2) << "pattern" << std::setw(7)
-      << "slots" << std::setw(11) << "rotations";
-  for (int n : colours)
-    out << std::setw(12) << (std::to_string(n) + (n == 1 ? " colour" : " colours"));
-  out << "\n";
-  for (const Row& r : rows) {
-    out << std::setw(static_cast<int>(name_width) + 2) << r.pattern.name << std::setw(7)
-        << detect::IdSlots(r.pattern).size() << std::setw(11) << r.symmetry.effective_order();
-    for (int n : colours) out << std::setw(12) << detect::CountIds(r.pattern, r.symmetry, n);
-    out << "\n";
-  }
-  out << "\nrotations: rotations about the key that geometry cannot tell apart and colours must "
-         "decide\n";
-  if (o.list) {
-    for (const Row& r : rows) {
-      for (int n : colours) {
-        std::vector<std::string> names;
-        for (int c = 0; c < n; ++c) names.emplace_back(1, static_cast<char>('A' + c));
-        const detect::Codebook book = detect::GenerateCodebook(r.pattern, r.symmetry, names);
-        out << "\n"
-            << r.pattern.name << ", " << n << (n == 1 ? " colour" : " colours") << ": "
-            << book.entries.size() << " IDs (slots = patches";
-        for (int slot : detect::IdSlots(r.pattern)) out << " " << slot;
-        out << ")\n";
-        for (const detect::CodebookEntry& e : book.entries) {
-          out << "  " << std::right << std::setw(4) << e.id << " " << std::left;
-          for (int c : e.colour) out << " " << names[c];
-          out << "\n";
-        }
-      }
-    }
-  }
-  std::cout << TrimLineEnds(out.str());
+  std::cout << TrimLineEnds(IdsTable(rows, colours, o.tolerance_mm) +
+                            (o.list ? IdLists(rows, colours) : std::string()));
   return kExitOk;
 }
 

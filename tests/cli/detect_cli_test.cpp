@@ -118,9 +118,9 @@ TEST(DetectCli, RawFrameOfTheWrongSize) {
                        "frame (width x height x 2)\n");
 }
 
-// --timing: the vision stages, then stage 6 with the detector's own stages indented under it
-// (detect::DetectStageTimes), each with its time per frame and its counters; without --timing,
-// none of it.
+// --timing: one table from the stage profiles -- the frame's stages named as vision/pipeline.h
+// numbers them, then under "6 detect" the detector's own stages named as detect/detector.h numbers
+// them -- each with its time per frame (and its counters); without --timing, none of it.
 TEST(DetectCli, TimingShowsTheDetectorStagesUnderStageSix) {
   const std::string dir = Dir();
   WriteScene(dir);
@@ -128,34 +128,43 @@ TEST(DetectCli, TimingShowsTheDetectorStagesUnderStageSix) {
                            PATLAB_SOURCE_DIR + "/experiments/detector.toml";
   const CliRun timed = Detect(dir, args + " --timing");
   ASSERT_EQ(timed.status, 0) << timed.err;
-  // Stage lines in this order, the detector's stages each with a time per frame.
-  const std::vector<std::string> stages = {"  5 camera    ",
-                                           "  6 detect    ",
-                                           "      6.1 key candidates   ",
-                                           "      6.2 neighbours       ",
-                                           "      6.3 radial sort      ",
-                                           "      6.4 correspondences  ",
-                                           "      6.5 colours / ID     ",
-                                           "      6.6 conflicts        ",
-                                           "      6.7 pose             ",
-                                           "  stages 2-6  "};
-  const std::regex time_per_frame("[0-9]+\\.[0-9]{4} ms");
+  // Stage lines in this order, each with a time per frame.
+  const std::vector<std::string> stages = {
+      "  1 read           ",     "  2 colour lookup  ",     "  3 runs           ",
+      "  4 regions        ",     "  5 blobs to mm    ",     "  6 detect         ",
+      "      1 candidates     ", "      2 neighbours     ", "      3 radial sort    ",
+      "      4 fit rotations  ", "      5 identify       ", "      6 missing patch  ",
+      "      7 conflicts      ", "      8 pose           ", "  total            "};
+  const std::regex time_per_frame(" *[0-9]+\\.[0-9]{4} ms");
   size_t at = 0;
   for (const std::string& stage : stages) {
     const size_t found = timed.err.find("\n" + stage, at);
     ASSERT_NE(found, std::string::npos) << "no '" << stage << "' after offset " << at << " in\n"
                                         << timed.err;
     at = found + 1;
-    if (stage.rfind("      6.", 0) == 0) {
-      const std::string rest =
-          timed.err.substr(at + stage.size(), timed.err.find('\n', at) - at - stage.size());
-      EXPECT_TRUE(std::regex_search(rest, time_per_frame, std::regex_constants::match_continuous))
-          << stage << rest;
-    }
+    const std::string rest =
+        timed.err.substr(at + stage.size(), timed.err.find('\n', at) - at - stage.size());
+    EXPECT_TRUE(std::regex_search(rest, time_per_frame, std::regex_constants::match_continuous))
+        << stage << rest;
   }
+  EXPECT_EQ(timed.err.find("6.1"), std::string::npos) << timed.err;
   const CliRun plain = Detect(dir, args);
   ASSERT_EQ(plain.status, 0) << plain.err;
   EXPECT_EQ(plain.err, "");
+}
+
+// --debug DIR: the library's numbered per-stage images of each frame.
+TEST(DetectCli, DebugWritesTheNumberedStageImages) {
+  const std::string dir = Dir();
+  WriteScene(dir);
+  const CliRun r =
+      Detect(dir, dir + "/a.png -t " + dir + "/t.toml -c " + dir + "/c.toml -s " +
+                      PATLAB_SOURCE_DIR + "/experiments/detector.toml --debug " + dir + "/debug");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* name :
+       {"a.2_colour_lookup.png", "a.4_regions.png", "a.5_blobs_to_mm.png", "a.6_detect.png"}) {
+    EXPECT_EQ(ReadFrame(dir + "/debug/" + name).width_px, 64) << name;
+  }
 }
 
 TEST(DetectCli, DetectsTheSharedStandardPatternSheet) {

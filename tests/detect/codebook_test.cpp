@@ -6,6 +6,7 @@
 #include <numbers>
 #include <set>
 
+#include "../expect_error.h"
 #include "patlab/core/error.h"
 #include "test_util.h"
 
@@ -164,12 +165,8 @@ TEST(CodebookFile, SslStandardHasTheSixteenReadmeIds) {
 void ExpectCodebookError(const std::string& pattern_name, const std::string& text,
                          const std::string& message) {
   const Pattern pattern = LoadPattern(pattern_name);
-  try {
-    ParseCodebook(text, "book.toml", pattern, FindSymmetry(pattern, 10.0));
-    ADD_FAILURE() << "no error; expected: " << message;
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), message);
-  }
+  EXPECT_INPUT_ERROR(ParseCodebook(text, "book.toml", pattern, FindSymmetry(pattern, 10.0)),
+                     message);
 }
 
 TEST(CodebookFile, BadFilesGiveTheirMessages) {

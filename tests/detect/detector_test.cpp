@@ -8,6 +8,7 @@
 #include <limits>
 #include <set>
 
+#include "../expect_error.h"
 #include "patlab/core/error.h"
 #include "test_util.h"
 
@@ -336,12 +337,7 @@ TEST(Detector, NoisyButterflyMissesAtTheConfiguredRate) {
 
 TEST(Detector, ConfigurationErrors) {
   auto expect_error = [](DetectorConfig config, const std::string& message) {
-    try {
-      Detector detector(std::move(config));
-      ADD_FAILURE() << "no error; expected: " << message;
-    } catch (const InputError& e) {
-      EXPECT_EQ(std::string(e.what()), message);
-    }
+    EXPECT_INPUT_ERROR(Detector detector(std::move(config)), message);
   };
   DetectorConfig config = MakeConfig({SslDetectorPattern()});
   config.patterns[0].key_colours = {"purple"};
@@ -357,6 +353,33 @@ TEST(Detector, ConfigurationErrors) {
   config = MakeConfig({SslDetectorPattern()});
   config.palette.push_back("blue");
   expect_error(config, "palette colour \"blue\" is listed twice; expected distinct colour names");
+  config = MakeConfig({SslDetectorPattern()});
+  config.options.ml.max_iterations = 0;  // the one limit, estimate::Check with prefix "ml_"
+  expect_error(config, "ml_max_iterations is 0; expected an integer in [1, 1000]");
+}
+
+TEST(DetectorOptions, CheckReportsEveryBrokenConstraint) {
+  DetectorOptions options;
+  EXPECT_TRUE(Check(options).empty());
+  options.patch_sigma_mm = 0.0;
+  options.area_ratio_max = 0.1;  // below area_ratio_min 0.4
+  options.ml.max_iterations = 1001;
+  const std::vector<OptionsProblem> problems = Check(options);
+  ASSERT_EQ(problems.size(), 3u);
+  EXPECT_EQ(problems[0].field, "patch_sigma_mm");
+  EXPECT_EQ(problems[1].message,
+            "area_ratio_max is 0.1; expected a finite number > area_ratio_min (0.4)");
+  EXPECT_EQ(problems[2].message, "ml_max_iterations is 1001; expected an integer in [1, 1000]");
+  EXPECT_INPUT_ERROR(Validate(options), "patch_sigma_mm is 0; expected a finite number > 0 (mm)");
+}
+
+TEST(DetectorEnums, NamesRoundTrip) {
+  for (const auto& [status, name] : kDetectionStatusNames.entries) {
+    EXPECT_EQ(DetectionStatusName(status), name);
+    EXPECT_EQ(FindName(name, kDetectionStatusNames), status);
+  }
+  EXPECT_EQ(MissingPatchPolicyName(MissingPatchPolicy::kFit), "fit");
+  EXPECT_EQ(FindName("reject", kMissingPatchPolicyNames), MissingPatchPolicy::kReject);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../expect_error.h"
 #include "patlab/core/error.h"
 
 namespace patlab::detect {
@@ -40,12 +41,7 @@ TEST(Settings, MinimalFileGeneratesTheCodebook) {
 }
 
 void ExpectSettingsError(const std::string& text, const std::string& message) {
-  try {
-    ParseDetectorSettings(text, "bad.toml", kExperiments);
-    ADD_FAILURE() << "no error; expected: " << message;
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), message);
-  }
+  EXPECT_INPUT_ERROR(ParseDetectorSettings(text, "bad.toml", kExperiments), message);
 }
 
 const std::string kHead = "palette = [\"blue\", \"yellow\", \"pink\", \"green\"]\n";  // line 1
@@ -71,6 +67,13 @@ TEST(Settings, BadFilesGiveTheirMessages) {
                       "\"key\"");
   ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 2.5\n" + kPattern,
                       "bad.toml:3: max_neighbours in [detector] is a float; expected an integer");
+  // One limit for ml_max_iterations (estimate::Check), at the key's line.
+  ExpectSettingsError(kHead + "[detector]\nml_max_iterations = 0\n" + kPattern,
+                      "bad.toml:3: ml_max_iterations is 0; expected an integer in [1, 1000]");
+  ExpectSettingsError(kHead + "[detector]\nml_max_iterations = 5000000\n" + kPattern,
+                      "bad.toml:3: ml_max_iterations is 5000000; expected an integer in [1, 1000]");
+  ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 17\n" + kPattern,
+                      "bad.toml:3: max_neighbours is 17; expected an integer in [1, 16]");
   ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 3\n" + kPattern,
                       "bad.toml: pattern ssl-standard: max_neighbours is 3; expected at least 4 "
                       "(its non-key patches)");

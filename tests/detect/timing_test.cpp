@@ -1,13 +1,15 @@
-// Per-stage timing of the detector (DetectStats::collect_timing): filled only when asked for,
-// each stage non-negative, the stages partitioning the call, and no change to what is detected.
+// Per-stage timing of the detector (a TimeProfile passed to Detect): filled only when asked for,
+// named as detector.h numbers the stages, each non-negative, the stages partitioning the call,
+// and no change to what is detected.
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <string_view>
 #include <vector>
 
 #include "patlab/detect/detector.h"
-#include "patlab/sim/scene.h"
 #include "patlab/detect/settings.h"
+#include "patlab/sim/scene.h"
 
 namespace patlab::detect {
 namespace {
@@ -28,61 +30,72 @@ Frame ShippedFrame() {
   return {std::move(detector), std::move(scene)};
 }
 
-std::vector<long> Stages(const DetectStageTimes& t) {
-  return {t.key_candidates_ns, t.neighbours_ns, t.radial_sort_ns, t.correspondences_ns,
-          t.colours_ns,        t.conflicts_ns,  t.pose_ns};
+// The profile's stage names, in order.
+std::vector<std::string_view> Names(const TimeProfile& profile) {
+  std::vector<std::string_view> names;
+  for (const TimeProfile::Entry& e : profile.entries()) names.push_back(e.stage);
+  return names;
 }
 
-TEST(DetectorTiming, NotRequestedLeavesEveryTimeZero) {
+double Seconds(const TimeProfile& profile, std::string_view stage) {
+  for (const TimeProfile::Entry& e : profile.entries()) {
+    if (e.stage == stage) return e.seconds;
+  }
+  return -1.0;
+}
+
+TEST(DetectorTiming, NotRequestedLeavesTheProfileEmpty) {
   Frame f = ShippedFrame();
   std::vector<Detection> detections;
   DetectStats stats;
-  stats.time.total_ns = 123;  // overwritten: times are zero unless requested
-  stats.time.pose_ns = 45;
-  f.detector.Detect(f.scene.blobs, &detections, &stats);
+  TimeProfile disabled;  // not enabled: Detect reads no clock and adds nothing
+  f.detector.Detect(f.scene.blobs, &detections, &stats, &disabled);
   ASSERT_EQ(detections.size(), 10u);
-  EXPECT_FALSE(stats.collect_timing);
-  EXPECT_EQ(stats.time.total_ns, 0);
-  for (long ns : Stages(stats.time)) EXPECT_EQ(ns, 0);
+  EXPECT_FALSE(disabled.enabled());
+  EXPECT_TRUE(disabled.entries().empty());
+  f.detector.Detect(f.scene.blobs, &detections, &stats, nullptr);
+  EXPECT_EQ(detections.size(), 10u);
 }
 
 TEST(DetectorTiming, RequestedFillsEveryStageAndTheyPartitionTheCall) {
   Frame f = ShippedFrame();
   std::vector<Detection> detections;
   DetectStats stats;
-  stats.collect_timing = true;
+  TimeProfile profile(/*enabled=*/true);
   const auto before = std::chrono::steady_clock::now();
-  f.detector.Detect(f.scene.blobs, &detections, &stats);
-  const long outside_ns = static_cast<long>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                std::chrono::steady_clock::now() - before)
-                                                .count());
+  f.detector.Detect(f.scene.blobs, &detections, &stats, &profile);
+  const double outside_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
   ASSERT_EQ(detections.size(), 10u);
-  EXPECT_TRUE(stats.collect_timing);  // kept: the next call is timed too
-  const DetectStageTimes& t = stats.time;
-  for (long ns : Stages(t)) EXPECT_GE(ns, 0);
-  EXPECT_GT(t.total_ns, 0);
-  EXPECT_LE(t.total_ns, outside_ns);
+  // One entry per stage of the header, in its order, each stamped once.
+  EXPECT_EQ(Names(profile),
+            std::vector<std::string_view>(kDetectStageNames.begin(), kDetectStageNames.end()));
+  for (const TimeProfile::Entry& e : profile.entries()) {
+    EXPECT_GE(e.seconds, 0.0) << e.stage;
+    EXPECT_EQ(e.count, 1) << e.stage;
+  }
+  EXPECT_GT(profile.total_seconds(), 0.0);
+  // The stages partition the call, so their sum is the call's time (and never more).
+  EXPECT_LE(profile.total_seconds(), outside_s);
   // Every stage here did work (10 robots: keys, neighbours, rotations, IDs, poses), and each
   // timed interval holds at least one clock read.
   EXPECT_GT(stats.key_candidates, 0);
   EXPECT_GT(stats.correspondences, 0);
-  EXPECT_GT(t.neighbours_ns, 0);
-  EXPECT_GT(t.radial_sort_ns, 0);
-  EXPECT_GT(t.correspondences_ns, 0);
-  EXPECT_GT(t.colours_ns, 0);
-  EXPECT_GT(t.pose_ns, 0);
-  // The stages partition the call, so their sum is the total (and never more).
-  EXPECT_LE(t.StagesSum(), t.total_ns);
-  EXPECT_EQ(t.StagesSum(), t.total_ns);
+  EXPECT_GT(Seconds(profile, "2 neighbours"), 0.0);
+  EXPECT_GT(Seconds(profile, "3 radial sort"), 0.0);
+  EXPECT_GT(Seconds(profile, "4 fit rotations"), 0.0);
+  EXPECT_GT(Seconds(profile, "5 identify"), 0.0);
+  EXPECT_GT(Seconds(profile, "8 pose"), 0.0);
+  EXPECT_EQ(Seconds(profile, "6 missing patch"), 0.0);  // MissingPatchPolicy::kReject
 }
 
 TEST(DetectorTiming, TimingChangesNeitherDetectionsNorCounters) {
   Frame f = ShippedFrame();
   std::vector<Detection> plain, timed;
   DetectStats plain_stats, timed_stats;
-  timed_stats.collect_timing = true;
+  TimeProfile profile(/*enabled=*/true);
   f.detector.Detect(f.scene.blobs, &plain, &plain_stats);
-  f.detector.Detect(f.scene.blobs, &timed, &timed_stats);
+  f.detector.Detect(f.scene.blobs, &timed, &timed_stats, &profile);
   ASSERT_EQ(plain.size(), timed.size());
   for (size_t i = 0; i < plain.size(); ++i) {
     EXPECT_EQ(plain[i].id, timed[i].id);
@@ -97,24 +110,29 @@ TEST(DetectorTiming, TimingChangesNeitherDetectionsNorCounters) {
   EXPECT_EQ(plain_stats.colour_rejected, timed_stats.colour_rejected);
   EXPECT_EQ(plain_stats.conflicts, timed_stats.conflicts);
   EXPECT_EQ(plain_stats.detections, timed_stats.detections);
-  // A timed call followed by an untimed one on the same Detector: no stale times.
+  // A timed call followed by an untimed one on the same Detector: nothing added to the profile.
+  const double timed_total = profile.total_seconds();
   DetectStats again;
   f.detector.Detect(f.scene.blobs, &plain, &again);
-  EXPECT_EQ(again.time.total_ns, 0);
+  EXPECT_EQ(profile.total_seconds(), timed_total);
 }
 
 TEST(DetectorTiming, SumsOverFrames) {
+  Frame f = ShippedFrame();
+  std::vector<Detection> detections;
   DetectStats a, b;
-  a.time.neighbours_ns = 5;
-  a.time.total_ns = 7;
-  b.time.neighbours_ns = 11;
-  b.time.pose_ns = 2;
-  b.time.total_ns = 13;
+  TimeProfile first(true), second(true);
+  f.detector.Detect(f.scene.blobs, &detections, &a, &first);
+  f.detector.Detect(f.scene.blobs, &detections, &b, &second);
+  const double expected = first.total_seconds() + second.total_seconds();
+  first += second;  // stage by stage, in the header's order
+  EXPECT_EQ(Names(first), Names(second));
+  for (const TimeProfile::Entry& e : first.entries()) EXPECT_EQ(e.count, 2) << e.stage;
+  EXPECT_NEAR(first.total_seconds(), expected, 1e-12);
+  const long candidates = a.key_candidates;
   a += b;
-  EXPECT_EQ(a.time.neighbours_ns, 16);
-  EXPECT_EQ(a.time.pose_ns, 2);
-  EXPECT_EQ(a.time.total_ns, 20);
-  EXPECT_EQ(a.time.StagesSum(), 18);
+  EXPECT_EQ(a.key_candidates, 2 * candidates);
+  EXPECT_EQ(a.detections, 20);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
-// docs/architecture.md rule 7 for the real-frame loop: once a pipeline has seen a frame of a size (its
-// buffers have grown, the RGB cell table is built), stages 2-5 -- and stage 6 with the blobs
-// matched to the detector palette as patlab detect does it -- do not allocate. Global operator
-// new is counted (this replaces it for the whole test_vision binary; it only counts).
+// docs/architecture.md rule 7 for the real-frame loop: once a pipeline has seen a frame of a size
+// (its buffers have grown, the RGB cell table is built), stages 2-5 -- and stage 6 with the blobs
+// matched to the detector palette, FrameDetector as patlab detect runs it -- do not allocate.
+// Global operator new is counted (this replaces it for the whole test_vision binary; it only
+// counts).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,10 +10,11 @@
 #include "../allocation_counter.h"
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
-#include "test_util.h"
+#include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/pipeline.h"
 #include "patlab/vision/render.h"
+#include "test_util.h"
 
 namespace patlab::vision {
 namespace {
@@ -55,37 +57,26 @@ TEST(VisionAllocation, WarmPipelineDoesNotAllocate) {
   }
 }
 
-// Stages 2-6 on the real SSL 2008 frame, as patlab detect runs them per frame.
+// Stages 2-6 on the real SSL 2008 frame, as patlab detect runs them per frame (FrameDetector),
+// with and without timing.
 TEST(VisionAllocation, WarmRealFrameLoopDoesNotAllocate) {
   if (!std::filesystem::exists(testing::SharedFrames()))
     GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
-  VisionPipeline pipeline(LoadThresholds(data + "ssl-2008.thresholds.toml"),
-                          LoadCalibration(data + "ssl-2008.calibration.toml"), SegmenterOptions{});
-  detect::Detector detector(detect::LoadDetectorSettings(data + "ssl-2008.detector.toml"));
-  std::vector<int> palette_label;
-  for (const ColorClass& c : pipeline.thresholds().classes)
-    palette_label.push_back(detector.ColourLabel(c.name));
   const Image image = ReadFrame(testing::SharedFrames() + "/ssl-field-2008.jpg");
-  std::vector<detect::Blob> blobs, palette_blobs;
-  std::vector<detect::Detection> detections;
-  VisionStats vstats;
-  detect::DetectStats dstats;
-  auto frame = [&] {
-    pipeline.Process(image, &blobs, &vstats);
-    palette_blobs.clear();
-    for (const detect::Blob& b : blobs) {
-      const int label = palette_label[static_cast<size_t>(b.colour)];
-      if (label >= 0) palette_blobs.push_back(detect::Blob{b.position_mm, label, b.area_mm2});
-    }
-    detector.Detect(palette_blobs, &detections, &dstats);
-  };
-  frame();
-  ASSERT_EQ(detections.size(), 5u);
-  const long before = patlab::testing::AllocationCount();
-  frame();
-  EXPECT_EQ(patlab::testing::AllocationCount() - before, 0);
-  EXPECT_EQ(detections.size(), 5u);
+  for (bool timing : {false, true}) {
+    FrameDetectorOptions options;
+    options.collect_timing = timing;
+    FrameDetector frames(LoadThresholds(data + "ssl-2008.thresholds.toml"),
+                         LoadCalibration(data + "ssl-2008.calibration.toml"),
+                         detect::LoadDetectorSettings(data + "ssl-2008.detector.toml"), options);
+    const std::string name = "ssl-field-2008.jpg";
+    ASSERT_EQ(frames.Detect(image, name).detections.size(), 5u);
+    const long before = patlab::testing::AllocationCount();
+    const FrameResult& result = frames.Detect(image, name);
+    EXPECT_EQ(patlab::testing::AllocationCount() - before, 0) << "timing " << timing;
+    EXPECT_EQ(result.detections.size(), 5u);
+  }
 }
 
 }  // namespace

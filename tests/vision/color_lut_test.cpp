@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "test_util.h"
 #include "patlab/vision/image.h"
+#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

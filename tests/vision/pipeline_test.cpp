@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "test_util.h"
 #include "patlab/vision/render.h"
+#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

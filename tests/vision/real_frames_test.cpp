@@ -12,10 +12,10 @@
 
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
-#include "test_util.h"
+#include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/image.h"
-#include "patlab/vision/pipeline.h"
+#include "test_util.h"
 
 namespace patlab::vision {
 namespace {
@@ -34,28 +34,25 @@ struct FrameRun {
   std::vector<std::string> pattern_names, palette;
 };
 
-// Stages 2-6 as patlab detect runs them: blob classes are matched to the palette by name.
-// `uyvy`: the frame converted to UYVY 4:2:2 first (vision::ToUyvy), as a camera would send it.
+// Stages 2-6 as patlab detect runs them (FrameDetector: blob classes matched to the palette by
+// name). `uyvy`: the frame converted to UYVY 4:2:2 first (vision::ToUyvy), as a camera would
+// send it.
 FrameRun DetectFrame(const std::string& frame, const std::string& thresholds,
                      const std::string& calibration, const std::string& settings,
                      bool uyvy = false) {
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
-  VisionPipeline pipeline(LoadThresholds(data + thresholds), LoadCalibration(data + calibration),
-                          SegmenterOptions{});
-  detect::Detector detector(detect::LoadDetectorSettings(data + settings));
+  FrameDetector frames(LoadThresholds(data + thresholds), LoadCalibration(data + calibration),
+                       detect::LoadDetectorSettings(data + settings), FrameDetectorOptions{});
   Image image = ReadFrame(testing::SharedFrames() + "/" + frame);
   if (uyvy) image = ToUyvy(image);
-  pipeline.CheckFrameSize(image, frame);
-  std::vector<detect::Blob> blobs;
-  pipeline.Process(image, &blobs);
+  const FrameResult& result = frames.Detect(image, frame);
   FrameRun run;
-  for (const detect::Blob& b : blobs) {
-    const int label = detector.ColourLabel(pipeline.thresholds().classes[b.colour].name);
-    if (label >= 0) run.blobs.push_back(detect::Blob{b.position_mm, label, b.area_mm2});
+  run.detections = result.detections;
+  run.blobs = result.detector_blobs;
+  for (const auto& p : frames.detector().config().patterns) {
+    run.pattern_names.push_back(p.pattern.name);
   }
-  detector.Detect(run.blobs, &run.detections);
-  for (const auto& p : detector.config().patterns) run.pattern_names.push_back(p.pattern.name);
-  run.palette = detector.config().palette;
+  run.palette = frames.detector().config().palette;
   return run;
 }
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "test_util.h"
 #include "patlab/vision/render.h"
+#include "test_util.h"
 
 namespace patlab::vision {
 namespace {
@@ -251,10 +251,15 @@ TEST(Segmenter, ManyDiscsAllFoundInAreaOrder) {
 TEST(Segmenter, OptionsAreValidated) {
   SegmenterOptions o;
   o.min_area_px = 0;
-  EXPECT_INPUT_ERROR(Validate(o), "min_area_px is 0; expected >= 1");
+  EXPECT_INPUT_ERROR(Validate(o), "min_area_px is 0; expected an integer >= 1");
   o.min_area_px = 1;
   o.min_fill = 1.5;
-  EXPECT_INPUT_ERROR(Validate(o), "min_fill is 1.500000; expected 0 <= min_fill <= 1");
+  EXPECT_INPUT_ERROR(Validate(o), "min_fill is 1.5; expected a number in [0, 1]");
+  o.min_area_px = -3;  // Check reports every broken constraint
+  const std::vector<OptionsProblem> problems = Check(o);
+  ASSERT_EQ(problems.size(), 2u);
+  EXPECT_EQ(problems[0].field, "min_area_px");
+  EXPECT_EQ(problems[1].field, "min_fill");
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::detect {
@@ -89,7 +90,7 @@ std::string DegreesText(const Symmetry& symmetry, size_t t) {
       std::find(symmetry.shifts.begin(), symmetry.shifts.end(), symmetry.effective_shifts[t]);
   double deg = symmetry.angles_rad[it - symmetry.shifts.begin()] * 180.0 / std::numbers::pi;
   if (deg < 0.0) deg += 360.0;
-  return io::FormatNumber(std::round(deg * 10.0) / 10.0);
+  return FormatNumber(std::round(deg * 10.0) / 10.0);
 }
 
 }  // namespace

@@ -1,41 +1,47 @@
 // The generic pattern detector of the paper (section III): one frame's unordered blobs in,
 // detections {pattern, team colour, ID, pose, fit residual, confidence} out, in a fixed order.
 //
-// Stages (each counted in DetectStats, and timed on request: DetectStats::collect_timing):
-//  1. key candidates: blobs of an enabled team colour whose area is in the key patch's range;
-//  2. neighbours: blobs of the pattern's ID / fixed colours, area in range, whose distance from
-//     the key is within the ring the model's non-key patches lie on (+- reach_margin_mm);
-//  3. radial sort of the neighbours by angle about the key;
-//  4. correspondences: every choice of as many neighbours as the model has non-key patches (more
-//     than that only when extra blobs are near), and every rotation of them against the model's
-//     circular order;
-//  5. geometric test: the rigid least-squares fit's sum-squared error E against a tolerance from
-//     the expected patch noise, E <= patch_sigma_mm^2 * chi2 quantile (2m - 3 dof) -- this is
-//     what fixes the rotation of a geometrically asymmetric pattern (Butterfly);
-//  6. colour test and ID: fixed-colour patches must have their colour; the ID-slot colours must
-//     be a codebook ID. Exactly one rotation passing both -> a detection; two or more rotations
-//     that geometry cannot tell apart and colours do not decide -> reported kAmbiguous, not
-//     guessed;
-//  7. missing patch (MissingPatchPolicy::kFit): when no full correspondence passes, the same on
-//     one patch fewer, reported kMissingPatch;
-//  8. conflicts: candidates ranked (unambiguous first, more blobs explained first, then lower
-//     E / tolerance); each blob goes to the best candidate only (two robots close together;
-//     patterns sharing a key colour);
-//  9. pose with the chosen estimator (estimate/), confidence, and the fixed output order.
+// Numbered stages (docs/architecture.md rule 8). Each is counted in DetectStats and, when a
+// TimeProfile is passed to Detect, timed under exactly the name given here (kDetectStageNames):
+//  1 candidates:    blobs of an enabled team colour whose area is in the key patch's range (with
+//                   the bucketing of blobs by x that stage 2 searches);
+//  2 neighbours:    blobs of the pattern's ID / fixed colours, area in range, whose distance from
+//                   the key is within the ring the model's non-key patches lie on
+//                   (+- reach_margin_mm); at most max_neighbours, those nearest the ring;
+//  3 radial sort:   the neighbours by angle about the key;
+//  4 fit rotations: every choice of as many neighbours as the model has non-key patches, and
+//                   every rotation of them against the model's circular order, through the rigid
+//                   least-squares fit and the chi-square geometric test
+//                   E <= patch_sigma_mm^2 * chi2 quantile (2m - 3 dof) -- this is what fixes the
+//                   rotation of a geometrically asymmetric pattern (Butterfly);
+//  5 identify:      for the rotations passing geometry, the colour test and ID: fixed-colour
+//                   patches must have their colour; the ID-slot colours must be a codebook ID.
+//                   Exactly one rotation passing both -> a candidate; two or more rotations that
+//                   geometry cannot tell apart and colours do not decide -> kAmbiguous, not
+//                   guessed;
+//  6 missing patch: (MissingPatchPolicy::kFit) when no full correspondence passes, stages 4 and 5
+//                   on one patch fewer, reported kMissingPatch (timed here as a whole);
+//  7 conflicts:     candidates ranked (unambiguous first, more blobs explained first, then lower
+//                   E / tolerance); each blob goes to the best candidate only (two robots close
+//                   together; patterns sharing a key colour);
+//  8 pose:          pose with the chosen estimator (estimate/), confidence, and the fixed output
+//                   order.
 //
 // The hot path reuses buffers held by the Detector and does not allocate once they have grown.
 #pragma once
 
 #include <array>
 #include <memory>
-#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "patlab/core/enum_names.h"
 #include "patlab/core/geometry.h"
+#include "patlab/core/options.h"
 #include "patlab/core/pattern.h"
+#include "patlab/core/timeprofile.h"
 #include "patlab/detect/blob.h"
 #include "patlab/detect/codebook.h"
 #include "patlab/estimate/estimators.h"
@@ -46,6 +52,9 @@ enum class MissingPatchPolicy {
   kReject,  // a pattern with a patch missing is not detected
   kFit,     // fit on the remaining patches and report kMissingPatch
 };
+inline constexpr EnumNames<MissingPatchPolicy, 2> kMissingPatchPolicyNames{
+    {{{MissingPatchPolicy::kReject, "reject"}, {MissingPatchPolicy::kFit, "fit"}}}};
+// NameOf(policy, kMissingPatchPolicyNames), for the callers outside detect/.
 std::string_view MissingPatchPolicyName(MissingPatchPolicy policy);
 
 // Detector settings. Defaults are the values documented in experiments/detector.toml.
@@ -72,13 +81,13 @@ struct DetectorOptions {
   estimate::Options ml;  // for Estimator::kMl
 };
 
-// A broken constraint of DetectorOptions: the field's name and "field is value; expected ...".
-struct OptionsProblem {
-  std::string field;
-  std::string message;
-};
-// The one place options are validated (docs/architecture.md rule 4): the first broken constraint, if any.
-std::optional<OptionsProblem> ValidateDetectorOptions(const DetectorOptions& options);
+// The one place DetectorOptions are checked (core/options.h): every broken constraint, field names
+// as the settings file spells them (the ML options with prefix "ml_", estimate::Check).
+std::vector<OptionsProblem> Check(const DetectorOptions& options);
+// Throws InputError with the first problem of Check, if any.
+void Validate(const DetectorOptions& options);
+// sim/scene.cpp still spells the problem type detect::OptionsProblem; it is patlab's one type.
+using patlab::OptionsProblem;
 
 // One pattern the detector looks for.
 struct DetectorPattern {
@@ -101,6 +110,11 @@ enum class DetectionStatus {
   kAmbiguous,     // geometry fits but neither it nor the colours fix the rotation: id = -1 and
                   // theta is one of the symmetric candidates
 };
+inline constexpr EnumNames<DetectionStatus, 3> kDetectionStatusNames{
+    {{{DetectionStatus::kOk, "ok"},
+      {DetectionStatus::kMissingPatch, "missing_patch"},
+      {DetectionStatus::kAmbiguous, "ambiguous"}}}};
+// NameOf(status, kDetectionStatusNames), for the callers outside detect/.
 std::string_view DetectionStatusName(DetectionStatus status);
 
 struct Detection {
@@ -115,41 +129,23 @@ struct Detection {
   std::array<int, kMaxPatches> blob{};  // blob index per pattern patch (-1: missing)
 };
 
-// Wall time of the stages of one Detect call (steady_clock, integer nanoseconds), filled only
-// when DetectStats::collect_timing is set. The stages partition the call: their sum is total_ns.
-// Each steady_clock read costs ~20-30 ns and is charged to the stage it ends, so a timed call is
-// slower than an untimed one (about 5 reads per key candidate, 2 per choice of neighbours with a
-// rotation passing geometry, 2 per detection).
-struct DetectStageTimes {
-  long key_candidates_ns = 0;   // stage 1, with the bucketing of blobs by x it searches from
-  long neighbours_ns = 0;       // stage 2
-  long radial_sort_ns = 0;      // stage 3
-  long correspondences_ns = 0;  // stages 4, 5 and 7: every rotation's fit and geometric test
-  long colours_ns = 0;          // stage 6: colour test, ID and verdict after geometry passes
-  long conflicts_ns = 0;        // stage 8
-  long pose_ns = 0;             // stage 9: pose, confidence and the output order
-  long total_ns = 0;            // the whole call
-
-  long StagesSum() const;
-  DetectStageTimes& operator+=(const DetectStageTimes& other);
-};
+// The stage names of the header comment, in order: what Detect stamps into a TimeProfile.
+inline constexpr std::array<std::string_view, 8> kDetectStageNames = {
+    "1 candidates", "2 neighbours",    "3 radial sort", "4 fit rotations",
+    "5 identify",   "6 missing patch", "7 conflicts",   "8 pose"};
 
 // Per-frame counters of the stages (summed over frames by operator+=).
 struct DetectStats {
-  // In: fill `time`. Off by default, and then Detect reads no clock at all (time stays zero).
-  bool collect_timing = false;
-  DetectStageTimes time;
-
   long key_candidates = 0;   // stage 1: (key blob, pattern) pairs
   long neighbours = 0;       // stage 2: neighbour blobs found, summed over key candidates
   long neighbours_cut = 0;   // stage 2: dropped beyond max_neighbours
-  long correspondences = 0;  // stage 4: rotations tried
-  long geometry_passed = 0;  // stage 5
-  long colour_rejected = 0;  // stage 6: a single geometric fit whose colours are no ID
-  long ambiguous = 0;        // stage 6: reported kAmbiguous
-  long missing_fits = 0;     // stage 7: reported kMissingPatch
-  long conflicts = 0;        // stage 8: candidates dropped for sharing a blob
-  long detections = 0;       // stage 9: detections returned
+  long correspondences = 0;  // stage 4: rotations tried (stage 6's included)
+  long geometry_passed = 0;  // stage 4: rotations passing the geometric test
+  long colour_rejected = 0;  // stage 5: a single geometric fit whose colours are no ID
+  long ambiguous = 0;        // stage 5: reported kAmbiguous
+  long missing_fits = 0;     // stage 6: reported kMissingPatch
+  long conflicts = 0;        // stage 7: candidates dropped for sharing a blob
+  long detections = 0;       // stage 8: detections returned
 
   DetectStats& operator+=(const DetectStats& other);
 };
@@ -167,12 +163,15 @@ class Detector {
   Detector& operator=(Detector&&) noexcept;
 
   // Detects every enabled pattern in one frame. `detections` is cleared and filled, ordered by
-  // (pattern, team colour, status, id, x, y). `stats` (optional) is overwritten, except its
-  // collect_timing; its `time` is filled when collect_timing is set and zero otherwise. Blob
-  // colours outside the palette and positions beyond 1e9 mm or not finite are ignored. Not
-  // thread-safe: use one Detector per thread.
+  // (pattern, team colour, status, id, x, y). `stats` (optional) is overwritten. When `profile`
+  // is given and enabled, the wall time of each stage of kDetectStageNames is added to it (one
+  // entry per stage, count 1 per call; the stages partition the call). The clock reads cost
+  // ~20-30 ns each, charged to the stage they end (about 5 per key candidate, 2 per choice of
+  // neighbours with a rotation passing geometry, 2 per detection); without an enabled profile no
+  // clock is read. Blob colours outside the palette and positions beyond 1e9 mm or not finite
+  // are ignored. Not thread-safe: use one Detector per thread.
   void Detect(std::span<const Blob> blobs, std::vector<Detection>* detections,
-              DetectStats* stats = nullptr);
+              DetectStats* stats = nullptr, TimeProfile* profile = nullptr);
 
   const DetectorConfig& config() const;
   // The palette label of a colour name, or -1.

@@ -1,11 +1,16 @@
+// GCC 12 reports a false -Wrestrict inside core/enum_names.h NameList ("\"" + std::string);
+// remove this once that header appends piece by piece.
+#pragma GCC diagnostic ignored "-Wrestrict"
 #include "patlab/detect/settings.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/io/pattern_file.h"
 #include "patlab/io/toml_util.h"
 
@@ -63,6 +68,112 @@ void CheckInPalette(const std::vector<std::string>& names, const std::vector<std
   }
 }
 
+// [detector]: every field optional, defaults from DetectorOptions; a broken constraint
+// (Check) at its key's line.
+DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReader& reader,
+                                    const std::string& file) {
+  DetectorOptions o;
+  static const toml::table kEmpty;
+  const toml::node* detector_node = root.get("detector");
+  if (detector_node != nullptr && !detector_node->is_table()) {
+    reader.Fail("detector", "detector is " + io::TypeName(*detector_node) + "; expected a table");
+  }
+  const toml::table& dt = detector_node != nullptr ? *detector_node->as_table() : kEmpty;
+  io::TomlReader dr(dt, file, "[detector]");
+  dr.CheckKeys({"patch_sigma_mm", "geometry_confidence", "reach_margin_mm", "area_ratio_min",
+                "area_ratio_max", "missing_patch", "max_neighbours", "estimator",
+                "ml_max_iterations"});
+  o.patch_sigma_mm = dr.OptionalNumber("patch_sigma_mm").value_or(o.patch_sigma_mm);
+  o.geometry_confidence = dr.OptionalNumber("geometry_confidence").value_or(o.geometry_confidence);
+  o.reach_margin_mm = dr.OptionalNumber("reach_margin_mm").value_or(o.reach_margin_mm);
+  o.area_ratio_min = dr.OptionalNumber("area_ratio_min").value_or(o.area_ratio_min);
+  o.area_ratio_max = dr.OptionalNumber("area_ratio_max").value_or(o.area_ratio_max);
+  // Integers beyond int saturate; the limits themselves are Check's (one per field).
+  const auto to_int = [](int64_t v) {
+    return static_cast<int>(
+        std::clamp<int64_t>(v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+  };
+  if (auto v = dr.OptionalInteger("max_neighbours")) o.max_neighbours = to_int(*v);
+  if (auto v = dr.OptionalInteger("ml_max_iterations")) o.ml.max_iterations = to_int(*v);
+  if (auto v = dr.OptionalString("missing_patch")) {
+    const auto policy = FindName(*v, kMissingPatchPolicyNames);
+    if (!policy) {
+      dr.Fail("missing_patch",
+              "missing_patch is \"" + *v + "\"; expected " + NameList(kMissingPatchPolicyNames));
+    }
+    o.missing_patch = *policy;
+  }
+  if (auto v = dr.OptionalString("estimator")) {
+    if (!estimate::ParseEstimator(*v, &o.estimator)) {
+      dr.Fail("estimator",
+              "estimator is \"" + *v + "\"; expected \"fast\", \"ml\", \"lsq\" or \"key\"");
+    }
+  }
+  const std::vector<OptionsProblem> problems = Check(o);
+  if (!problems.empty()) dr.Fail(problems.front().field, problems.front().message);
+  return o;
+}
+
+// The pattern a [[pattern]] table names: a path (relative to the settings file) or a name in
+// patterns_dir. One that cannot be found is reported at its line; a broken pattern file reports
+// its own file and line.
+Pattern ReadPattern(const io::TomlReader& pr, const std::string& base_dir,
+                    const std::string& patterns_dir) {
+  const std::string reference = pr.String("pattern");
+  try {
+    const bool is_path = reference.find('/') != std::string::npos || reference.ends_with(".toml");
+    return io::LoadPatternFile(is_path ? Resolve(base_dir, reference)
+                                       : io::ResolvePatternPath(reference, patterns_dir));
+  } catch (const InputError& e) {
+    if (std::string(e.what()).starts_with("pattern '")) pr.Fail("pattern", e.what());
+    throw;
+  }
+}
+
+// [[pattern]] table i: its pattern, key colours, and codebook file or ID colours.
+DetectorPattern ReadPatternTable(const toml::table& t, size_t i, const DetectorConfig& config,
+                                 const std::string& file, const std::string& base_dir,
+                                 const std::string& patterns_dir) {
+  io::TomlReader pr(t, file, "[[pattern]] " + std::to_string(i));
+  pr.CheckKeys({"pattern", "codebook", "id_colours", "key_colours", "symmetry_tolerance_mm"});
+  Pattern pattern = ReadPattern(pr, base_dir, patterns_dir);
+  const double symmetry_tolerance_mm =
+      pr.OptionalNumber("symmetry_tolerance_mm").value_or(DetectorPattern{}.symmetry_tolerance_mm);
+  if (symmetry_tolerance_mm < 0.0) {
+    pr.Fail("symmetry_tolerance_mm", "symmetry_tolerance_mm is " +
+                                         FormatNumber(symmetry_tolerance_mm) +
+                                         "; expected a number >= 0 (mm)");
+  }
+  std::vector<std::string> key_colours = StringList(t, "key_colours", file, "team colour names");
+  CheckInPalette(key_colours, config.palette, t, "key_colours", file);
+  const bool has_codebook = pr.Has("codebook");
+  const bool has_colours = pr.Has("id_colours");
+  if (has_codebook == has_colours) {
+    pr.Fail(has_codebook ? "id_colours" : "pattern",
+            "[[pattern]] " + std::to_string(i) +
+                (has_codebook ? " has both codebook and id_colours"
+                              : " has neither codebook nor id_colours") +
+                "; expected exactly one of them");
+  }
+  std::vector<std::string> id_colours;
+  if (has_colours) {
+    id_colours = StringList(t, "id_colours", file, "ID colour names");
+    CheckInPalette(id_colours, config.palette, t, "id_colours", file);
+  }
+  DetectorPattern dp =
+      MakeDetectorPattern(std::move(pattern), std::move(key_colours),
+                          has_codebook ? Resolve(base_dir, pr.String("codebook")) : std::string(),
+                          id_colours, symmetry_tolerance_mm);
+  for (const std::string& c : dp.codebook.colours) {
+    if (std::find(config.palette.begin(), config.palette.end(), c) == config.palette.end()) {
+      pr.Fail("codebook", "codebook colour \"" + c +
+                              "\" is not in the palette; expected "
+                              "the palette to list every codebook colour");
+    }
+  }
+  return dp;
+}
+
 }  // namespace
 
 DetectorConfig ParseDetectorSettings(const std::string& text, const std::string& source_name,
@@ -78,47 +189,8 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
   }
   const std::string patterns_dir =
       Resolve(base_dir, reader.OptionalString("patterns_dir").value_or("../patterns"));
+  config.options = ReadDetectorOptions(root, reader, source_name);
 
-  // [detector]: every field optional, defaults from DetectorOptions.
-  DetectorOptions& o = config.options;
-  static const toml::table kEmpty;
-  const toml::node* detector_node = root.get("detector");
-  if (detector_node != nullptr && !detector_node->is_table()) {
-    reader.Fail("detector", "detector is " + io::TypeName(*detector_node) + "; expected a table");
-  }
-  const toml::table& dt = detector_node != nullptr ? *detector_node->as_table() : kEmpty;
-  io::TomlReader dr(dt, source_name, "[detector]");
-  dr.CheckKeys({"patch_sigma_mm", "geometry_confidence", "reach_margin_mm", "area_ratio_min",
-                "area_ratio_max", "missing_patch", "max_neighbours", "estimator",
-                "ml_max_iterations"});
-  o.patch_sigma_mm = dr.OptionalNumber("patch_sigma_mm").value_or(o.patch_sigma_mm);
-  o.geometry_confidence = dr.OptionalNumber("geometry_confidence").value_or(o.geometry_confidence);
-  o.reach_margin_mm = dr.OptionalNumber("reach_margin_mm").value_or(o.reach_margin_mm);
-  o.area_ratio_min = dr.OptionalNumber("area_ratio_min").value_or(o.area_ratio_min);
-  o.area_ratio_max = dr.OptionalNumber("area_ratio_max").value_or(o.area_ratio_max);
-  const auto clamp_int = [](int64_t v) {
-    return static_cast<int>(std::clamp<int64_t>(v, -1000000, 1000000));
-  };
-  if (auto v = dr.OptionalInteger("max_neighbours")) o.max_neighbours = clamp_int(*v);
-  if (auto v = dr.OptionalInteger("ml_max_iterations")) o.ml.max_iterations = clamp_int(*v);
-  if (auto v = dr.OptionalString("missing_patch")) {
-    if (*v == "reject") {
-      o.missing_patch = MissingPatchPolicy::kReject;
-    } else if (*v == "fit") {
-      o.missing_patch = MissingPatchPolicy::kFit;
-    } else {
-      dr.Fail("missing_patch", "missing_patch is \"" + *v + "\"; expected \"reject\" or \"fit\"");
-    }
-  }
-  if (auto v = dr.OptionalString("estimator")) {
-    if (!estimate::ParseEstimator(*v, &o.estimator)) {
-      dr.Fail("estimator",
-              "estimator is \"" + *v + "\"; expected \"fast\", \"ml\", \"lsq\" or \"key\"");
-    }
-  }
-  if (auto problem = ValidateDetectorOptions(o)) dr.Fail(problem->field, problem->message);
-
-  // [[pattern]] tables.
   const toml::node* patterns_node = root.get("pattern");
   const toml::array* patterns = patterns_node == nullptr ? nullptr : patterns_node->as_array();
   if (patterns == nullptr || !patterns->is_array_of_tables() || patterns->empty()) {
@@ -127,57 +199,8 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
         "no patterns; expected at least one [[pattern]] table");
   }
   for (size_t i = 0; i < patterns->size(); ++i) {
-    const toml::table& t = *patterns->get(i)->as_table();
-    io::TomlReader pr(t, source_name, "[[pattern]] " + std::to_string(i));
-    pr.CheckKeys({"pattern", "codebook", "id_colours", "key_colours", "symmetry_tolerance_mm"});
-    const std::string reference = pr.String("pattern");
-    Pattern pattern;
-    try {
-      const bool is_path = reference.find('/') != std::string::npos || reference.ends_with(".toml");
-      pattern = io::LoadPatternFile(is_path ? Resolve(base_dir, reference)
-                                            : io::ResolvePatternPath(reference, patterns_dir));
-    } catch (const InputError& e) {
-      // A pattern that cannot be found is reported at its line here; a broken pattern file
-      // reports its own file and line.
-      if (std::string(e.what()).starts_with("pattern '")) pr.Fail("pattern", e.what());
-      throw;
-    }
-    const double symmetry_tolerance_mm = pr.OptionalNumber("symmetry_tolerance_mm")
-                                             .value_or(DetectorPattern{}.symmetry_tolerance_mm);
-    if (symmetry_tolerance_mm < 0.0) {
-      pr.Fail("symmetry_tolerance_mm", "symmetry_tolerance_mm is " +
-                                           io::FormatNumber(symmetry_tolerance_mm) +
-                                           "; expected a number >= 0 (mm)");
-    }
-    std::vector<std::string> key_colours =
-        StringList(t, "key_colours", source_name, "team colour names");
-    CheckInPalette(key_colours, config.palette, t, "key_colours", source_name);
-    const bool has_codebook = pr.Has("codebook");
-    const bool has_colours = pr.Has("id_colours");
-    if (has_codebook == has_colours) {
-      pr.Fail(has_codebook ? "id_colours" : "pattern",
-              "[[pattern]] " + std::to_string(i) +
-                  (has_codebook ? " has both codebook and id_colours"
-                                : " has neither codebook nor id_colours") +
-                  "; expected exactly one of them");
-    }
-    std::vector<std::string> id_colours;
-    if (has_colours) {
-      id_colours = StringList(t, "id_colours", source_name, "ID colour names");
-      CheckInPalette(id_colours, config.palette, t, "id_colours", source_name);
-    }
-    DetectorPattern dp =
-        MakeDetectorPattern(std::move(pattern), std::move(key_colours),
-                            has_codebook ? Resolve(base_dir, pr.String("codebook")) : std::string(),
-                            id_colours, symmetry_tolerance_mm);
-    for (const std::string& c : dp.codebook.colours) {
-      if (std::find(config.palette.begin(), config.palette.end(), c) == config.palette.end()) {
-        pr.Fail("codebook", "codebook colour \"" + c +
-                                "\" is not in the palette; expected "
-                                "the palette to list every codebook colour");
-      }
-    }
-    config.patterns.push_back(std::move(dp));
+    config.patterns.push_back(ReadPatternTable(*patterns->get(i)->as_table(), i, config,
+                                               source_name, base_dir, patterns_dir));
   }
   try {
     // The remaining cross-checks (fixed colours, max_neighbours).

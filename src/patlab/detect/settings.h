@@ -12,7 +12,7 @@ namespace patlab::detect {
 // enabled pattern (pattern file, codebook file or ID colours, team key colours, symmetry
 // tolerance). Relative paths are relative to the settings file's folder. Throws InputError
 // "file:line: what is wrong; expected what" for the first problem, including a broken option
-// constraint (ValidateDetectorOptions) at the line of that option.
+// constraint (Check(const DetectorOptions&)) at the line of that option.
 DetectorConfig LoadDetectorSettings(const std::string& path);
 // The same from text; `source_name` stands for the file in messages and `base_dir` resolves
 // relative paths.

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::vision {
@@ -143,7 +144,7 @@ std::vector<double> NumberArray(const io::TomlReader& r, std::string_view key, s
 
 double Positive(const io::TomlReader& r, std::string_view key) {
   const double v = r.Number(key);
-  if (!(v > 0.0)) r.Fail(key, r.Describe(key) + " is " + io::FormatNumber(v) + "; expected > 0");
+  if (!(v > 0.0)) r.Fail(key, r.Describe(key) + " is " + FormatNumber(v) + "; expected > 0");
   return v;
 }
 
@@ -250,7 +251,7 @@ Calibration ParseCalibration(std::string_view text, const std::string& name) {
       }
       for (const PlaneHomography& other : hs) {
         if (std::abs(other.height_mm - h.height_mm) <= kHeightToleranceMm) {
-          r.Fail("height_mm", "height_mm " + io::FormatNumber(h.height_mm) + " in " + context +
+          r.Fail("height_mm", "height_mm " + FormatNumber(h.height_mm) + " in " + context +
                                   " repeats an earlier homography; expected one matrix per height");
         }
       }

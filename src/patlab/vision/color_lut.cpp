@@ -1,3 +1,6 @@
+// GCC 12 reports a false -Wrestrict inside core/enum_names.h NameList ("\"" + std::string);
+// remove this once that header appends piece by piece.
+#pragma GCC diagnostic ignored "-Wrestrict"
 #include "patlab/vision/color_lut.h"
 
 #include <cctype>
@@ -30,22 +33,10 @@ class LineCursor {
     return false;
   }
   bool Integer(long* value) {
-    SkipSpace();
-    const std::string rest(line_.substr(pos_));
-    char* end = nullptr;
-    *value = std::strtol(rest.c_str(), &end, 10);
-    if (end == rest.c_str()) return false;
-    pos_ += static_cast<size_t>(end - rest.c_str());
-    return true;
+    return Number([](const char* text, char** end) { return std::strtol(text, end, 10); }, value);
   }
   bool Real(double* value) {
-    SkipSpace();
-    const std::string rest(line_.substr(pos_));
-    char* end = nullptr;
-    *value = std::strtod(rest.c_str(), &end);
-    if (end == rest.c_str()) return false;
-    pos_ += static_cast<size_t>(end - rest.c_str());
-    return true;
+    return Number([](const char* text, char** end) { return std::strtod(text, end); }, value);
   }
   std::string Rest() {
     SkipSpace();
@@ -60,6 +51,18 @@ class LineCursor {
   }
 
  private:
+  // One number at the cursor, read by `convert` (strtol or strtod); false when there is none.
+  template <typename T, typename Convert>
+  bool Number(Convert convert, T* value) {
+    SkipSpace();
+    const std::string rest(line_.substr(pos_));
+    char* end = nullptr;
+    *value = convert(rest.c_str(), &end);
+    if (end == rest.c_str()) return false;
+    pos_ += static_cast<size_t>(end - rest.c_str());
+    return true;
+  }
+
   std::string_view line_;
   size_t pos_ = 0;
 };
@@ -87,8 +90,6 @@ void CheckRange(const FileLoc& loc, const char* channel, long lo, long hi) {
 }
 
 }  // namespace
-
-const char* ColorSpaceName(ColorSpace space) { return space == ColorSpace::kYuv ? "yuv" : "rgb"; }
 
 int Thresholds::Find(std::string_view name) const {
   for (size_t i = 0; i < classes.size(); ++i) {
@@ -221,13 +222,12 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
   Thresholds t;
   t.source = name;
   const std::string space = top.OptionalString("space").value_or("yuv");
-  if (space == "yuv") {
-    t.space = ColorSpace::kYuv;
-  } else if (space == "rgb") {
-    t.space = ColorSpace::kRgb;
-  } else {
-    top.Fail("space", "space is \"" + space + "\"; expected \"yuv\" or \"rgb\"");
+  const auto parsed = FindName(space, kColorSpaceNames);
+  if (!parsed) {
+    top.Fail("space", "space is \"" + space + "\"; expected " + NameList(kColorSpaceNames));
   }
+  t.space = *parsed;
+
   const toml::node* classes_node = root.get("class");
   const toml::array* classes = classes_node ? classes_node->as_array() : nullptr;
   if (classes == nullptr || classes->empty()) {

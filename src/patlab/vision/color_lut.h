@@ -12,12 +12,15 @@
 #include <string_view>
 #include <vector>
 
+#include "patlab/core/enum_names.h"
+
 namespace patlab::vision {
 
 inline constexpr int kMaxColorClasses = 32;  // one bit each in a 32-bit mask
 
 enum class ColorSpace { kYuv, kRgb };
-const char* ColorSpaceName(ColorSpace space);
+inline constexpr EnumNames<ColorSpace, 2> kColorSpaceNames{
+    {{{ColorSpace::kYuv, "yuv"}, {ColorSpace::kRgb, "rgb"}}}};
 
 struct ChannelRange {
   int lo = 0;  // 0..255, inclusive

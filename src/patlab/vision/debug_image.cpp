@@ -79,6 +79,31 @@ void DrawDetection(Image* image, const Vec2& centre_px, double radius_px,
            static_cast<int>(centre_px.y() - radius_px), text, rgb);
 }
 
+Image DrawClasses(const Segmenter& segmenter, const Thresholds& thresholds) {
+  Image out = Image::Rgb(segmenter.width_px(), segmenter.height_px());
+  const std::vector<uint8_t>& cls = segmenter.class_image();
+  for (int y = 0; y < out.height_px; ++y) {
+    for (int x = 0; x < out.width_px; ++x) {
+      const uint8_t c = cls[static_cast<size_t>(y) * out.width_px + x];
+      if (c != 0) Put(&out, x, y, thresholds.classes[c - 1].display_rgb);
+    }
+  }
+  return out;
+}
+
+void DrawDisc(Image* image, const Vec2& centre_px, double radius_px,
+              const std::array<uint8_t, 3>& rgb) {
+  const int x0 = static_cast<int>(std::floor(centre_px.x() - radius_px));
+  const int x1 = static_cast<int>(std::ceil(centre_px.x() + radius_px));
+  const int y0 = static_cast<int>(std::floor(centre_px.y() - radius_px));
+  const int y1 = static_cast<int>(std::ceil(centre_px.y() + radius_px));
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      if ((Vec2(x, y) - centre_px).squaredNorm() <= radius_px * radius_px) Put(image, x, y, rgb);
+    }
+  }
+}
+
 Image DrawRegions(const Image& frame, const Segmenter& segmenter, const Thresholds& thresholds) {
   Image out = ToRgb(frame);
   for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);  // dim, so the marks stand out

@@ -286,10 +286,21 @@ Image ReadFrame(const std::string& path) {
     return DecodeJpeg(bytes, path);
   }
   if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] == '6') return DecodePpm(bytes, path);
-  if (HasExtension(path, {".yuv", ".uyvy", ".raw"})) {
+  if (IsRawFrameFile(path)) {
     throw InputError(path + ": a raw YUV frame has no header; expected --raw-size WIDTHxHEIGHT");
   }
   FailAt(path, 0, "unknown image format; expected a PNG, JPEG or binary PPM (P6) file");
+}
+
+bool IsRawFrameFile(const std::string& path) {
+  return HasExtension(path, {".yuv", ".uyvy", ".raw"});
+}
+
+Image ReadFrameFile(const std::string& path, int raw_width_px, int raw_height_px) {
+  if (raw_width_px > 0 && IsRawFrameFile(path)) {
+    return ReadRawUyvy(path, raw_width_px, raw_height_px);
+  }
+  return ReadFrame(path);
 }
 
 Image ReadRawUyvy(const std::string& path, int width_px, int height_px) {

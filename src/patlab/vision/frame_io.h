@@ -18,6 +18,12 @@ Image ReadFrame(const std::string& path);
 // Reads a raw UYVY frame: exactly width_px * height_px * 2 bytes, width even.
 Image ReadRawUyvy(const std::string& path, int width_px, int height_px);
 
+// True for the names of raw UYVY frames: .yuv .uyvy .raw (any case).
+bool IsRawFrameFile(const std::string& path);
+// A frame file as patlab detect reads it: a raw UYVY file of raw_width_px x raw_height_px when
+// IsRawFrameFile(path) and a size is given (> 0), otherwise ReadFrame.
+Image ReadFrameFile(const std::string& path, int raw_width_px, int raw_height_px);
+
 // Decoders from memory; `name` is used in messages.
 Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name);
 Image DecodeJpeg(const std::vector<uint8_t>& bytes, const std::string& name);

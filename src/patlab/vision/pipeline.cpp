@@ -1,24 +1,11 @@
 #include "patlab/vision/pipeline.h"
 
-#include <chrono>
-
 #include "patlab/core/error.h"
-#include "patlab/io/toml_util.h"
+#include "patlab/core/format.h"
 
 namespace patlab::vision {
 
-namespace {
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
-}  // namespace
-
 VisionStats& VisionStats::operator+=(const VisionStats& o) {
-  classify_ms += o.classify_ms;
-  encode_ms += o.encode_ms;
-  regions_ms += o.regions_ms;
-  camera_ms += o.camera_ms;
   runs += o.runs;
   raw_regions += o.raw_regions;
   regions += o.regions;
@@ -43,7 +30,7 @@ VisionPipeline::VisionPipeline(Thresholds thresholds, Calibration calibration,
   for (const ColorClass& c : thresholds_.classes) {
     const double h = calibration_.HeightOf(c.name);
     if (!calibration_.camera.SupportsHeight(h)) {
-      throw InputError(calibration_.source + ": no homography for height " + io::FormatNumber(h) +
+      throw InputError(calibration_.source + ": no homography for height " + FormatNumber(h) +
                        " mm (class '" + c.name +
                        "'); expected a [[homography]] with that height_mm");
     }
@@ -64,24 +51,23 @@ void VisionPipeline::CheckFrameSize(const Image& image, const std::string& frame
 }
 
 void VisionPipeline::Process(const Image& image, std::vector<detect::Blob>* blobs,
-                             VisionStats* stats) {
+                             VisionStats* stats, TimeProfile* profile) {
+  TimeProfile untimed;
+  TimeProfile& time = profile != nullptr ? *profile : untimed;
   VisionStats s;
-  auto t = std::chrono::steady_clock::now();
+  time.Start();
   segmenter_.Classify(image);
-  s.classify_ms = MillisecondsSince(t);
+  time.Stamp(kFrameStageNames[1]);
 
-  t = std::chrono::steady_clock::now();
   segmenter_.EncodeRuns();
-  s.encode_ms = MillisecondsSince(t);
   s.runs = static_cast<long>(segmenter_.runs().size());
+  time.Stamp(kFrameStageNames[2]);
 
-  t = std::chrono::steady_clock::now();
   segmenter_.ExtractRegions();
-  s.regions_ms = MillisecondsSince(t);
   s.raw_regions = segmenter_.num_raw_regions();
   s.regions = static_cast<long>(segmenter_.regions().size());
+  time.Stamp(kFrameStageNames[3]);
 
-  t = std::chrono::steady_clock::now();
   blobs->clear();
   blob_region_.clear();
   const std::vector<Region>& regions = segmenter_.regions();
@@ -98,7 +84,7 @@ void VisionPipeline::Process(const Image& image, std::vector<detect::Blob>* blob
     blob_region_.push_back(static_cast<int>(i));
   }
   s.blobs = static_cast<long>(blobs->size());
-  s.camera_ms = MillisecondsSince(t);
+  time.Stamp(kFrameStageNames[4]);
   if (stats != nullptr) *stats = s;
 }
 

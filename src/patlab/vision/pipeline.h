@@ -1,15 +1,23 @@
 // The real-frame low-level vision pipeline (paper section III: CMVision feeding the detector),
-// as numbered stages with per-stage timing and counters (docs/architecture.md rule 8):
-//   1. read      - frame_io.h (timed by the caller, which owns the files);
-//   2. classify  - colour lookup table -> class image;
-//   3. encode    - run-length encoding + union-find of runs;
-//   4. regions   - region statistics, area / fill filters, per-class sort;
-//   5. camera    - region centroid and area -> mm on the plane at the class's height;
-//   6. detect    - detect::Detector on the blobs (in cli/, when patterns are given).
+// as numbered stages with per-stage timing and counters (docs/architecture.md rule 8). The stage
+// names, numbered once here and used as they are in every TimeProfile (kFrameStageNames):
+//   1 read          - frame_io.h: the frame file decoded (FrameDetector);
+//   2 colour lookup - colour lookup table -> class image (Segmenter::Classify);
+//   3 runs          - run-length encoding + union-find of runs (Segmenter::EncodeRuns);
+//   4 regions       - region statistics, area / fill filters, per-class sort
+//                     (Segmenter::ExtractRegions);
+//   5 blobs to mm   - region centroid and area -> mm on the plane at the class's height (camera);
+//   6 detect        - detect::Detector on the blobs of its palette (FrameDetector), whose own
+//                     stages are numbered in detect/detector.h.
+// VisionPipeline runs stages 2-5; FrameDetector (frame_detector.h) the whole frame.
 #pragma once
 
+#include <array>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "patlab/core/timeprofile.h"
 
 #include "patlab/detect/blob.h"
 #include "patlab/vision/camera.h"
@@ -19,16 +27,16 @@
 
 namespace patlab::vision {
 
+inline constexpr std::array<std::string_view, 6> kFrameStageNames = {
+    "1 read", "2 colour lookup", "3 runs", "4 regions", "5 blobs to mm", "6 detect"};
+
+// Per-frame counters of stages 3-5 (summed over frames by operator+=).
 struct VisionStats {
-  double classify_ms = 0.0;  // stage 2
-  double encode_ms = 0.0;    // stage 3
-  double regions_ms = 0.0;   // stage 4
-  double camera_ms = 0.0;    // stage 5
-  long runs = 0;             // stage 3: runs of any class
-  long raw_regions = 0;      // stage 4: connected regions before filters
-  long regions = 0;          // stage 4: regions kept
-  long blobs = 0;            // stage 5: regions mapped to the plane
-  long off_plane = 0;        // stage 5: regions whose centroid does not map (dropped)
+  long runs = 0;         // stage 3: runs of any class
+  long raw_regions = 0;  // stage 4: connected regions before filters
+  long regions = 0;      // stage 4: regions kept
+  long blobs = 0;        // stage 5: regions mapped to the plane
+  long off_plane = 0;    // stage 5: regions whose centroid does not map (dropped)
 
   VisionStats& operator+=(const VisionStats& o);
 };
@@ -44,8 +52,11 @@ class VisionPipeline {
   void CheckFrameSize(const Image& image, const std::string& frame_name) const;
 
   // Stages 2-5. `blobs` is cleared and filled in region order (class, then area); blob i
-  // came from segmenter().regions()[blob_region()[i]]. Blob colours are class indices.
-  void Process(const Image& image, std::vector<detect::Blob>* blobs, VisionStats* stats = nullptr);
+  // came from segmenter().regions()[blob_region()[i]]. Blob colours are class indices. `stats`
+  // (optional) is overwritten; an enabled `profile` gets the time of stages 2-5 added under
+  // their names (no clock is read otherwise).
+  void Process(const Image& image, std::vector<detect::Blob>* blobs, VisionStats* stats = nullptr,
+               TimeProfile* profile = nullptr);
 
   const Segmenter& segmenter() const { return segmenter_; }
   const Thresholds& thresholds() const { return thresholds_; }

@@ -10,15 +10,14 @@
 
 namespace patlab::vision {
 
-void Validate(const SegmenterOptions& options) {
-  if (options.min_area_px < 1) {
-    throw InputError("min_area_px is " + std::to_string(options.min_area_px) + "; expected >= 1");
-  }
-  if (!(options.min_fill >= 0.0 && options.min_fill <= 1.0)) {
-    throw InputError("min_fill is " + std::to_string(options.min_fill) +
-                     "; expected 0 <= min_fill <= 1");
-  }
+std::vector<OptionsProblem> Check(const SegmenterOptions& options) {
+  OptionsChecker check;
+  check.Require("min_area_px", options.min_area_px, options.min_area_px >= 1, "an integer >= 1")
+      .InRange("min_fill", options.min_fill, 0.0, 1.0);
+  return check.Take();
 }
+
+void Validate(const SegmenterOptions& options) { ThrowFirstProblem(Check(options)); }
 
 Segmenter::Segmenter(const Thresholds& thresholds, const SegmenterOptions& options)
     : lut_(thresholds), options_(options) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "patlab/core/geometry.h"
+#include "patlab/core/options.h"
 #include "patlab/vision/color_lut.h"
 #include "patlab/vision/image.h"
 
@@ -51,7 +52,8 @@ struct SegmenterOptions {
   double min_fill = 0.0;
 };
 
-// Validates options; InputError naming the field and the broken constraint.
+// Every broken constraint (core/options.h); Validate throws InputError with the first.
+std::vector<OptionsProblem> Check(const SegmenterOptions& options);
 void Validate(const SegmenterOptions& options);
 
 class Segmenter {

@@ -1,0 +1,191 @@
+// Internals of detect::Detector shared by its source files: detector_build.cpp (the models,
+// precomputed once), detector_stages.cpp (stages 2-6 around one key candidate) and detector.cpp
+// (the frame: stages 1, 7 and 8). Not part of the public API: include detector.h instead.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "patlab/detect/detector.h"
+
+namespace patlab::detect::internal {
+
+constexpr int kMaxLabels = 64;
+constexpr int kMaxGathered = 64;    // neighbours collected before the max_neighbours cut
+constexpr int kMaxNeighbours = 16;  // DetectorOptions::max_neighbours at most
+constexpr int kFixedAny = -2;       // circular position holds an ID slot, not a fixed colour
+
+// Indices of kDetectStageNames.
+enum Stage {
+  kCandidates,
+  kNeighbours,
+  kRadialSort,
+  kFitRotations,
+  kIdentify,
+  kMissingPatch,
+  kConflicts,
+  kPose,
+  kNumStages
+};
+
+// One pattern as the hot path needs it, precomputed by Detector::Impl::Build.
+struct PatternRuntime {
+  int m = 0;   // patches
+  int mk = 0;  // non-key patches, in circular order
+  int key_index = 0;
+  std::array<int, kMaxPatches> circ_patch{};  // patch index at circular position j
+  // Model positions centred on the centroid of the patches fitted. Index [0] of the arrays is
+  // the full fit; [1 + k] the fit without circular position k.
+  std::array<Vec2, kMaxPatches + 1> key_centred{};
+  std::array<std::array<Vec2, kMaxPatches>, kMaxPatches + 1> circ_centred{};
+  std::array<double, kMaxPatches + 1> sq{};
+  double e_max_full = 0.0, e_max_missing = 0.0;
+  int dof_full = 0, dof_missing = 0;
+  bool can_fit_missing = false;
+  std::array<int, kMaxPatches> fixed_label{};  // per circular position; kFixedAny: ID slot
+  std::array<int, kMaxPatches> slot_weight{};  // per circular position: code weight of its slot
+  std::array<int8_t, kMaxLabels> codebook_colour{};  // palette label -> codebook colour, or -1
+  int num_codebook_colours = 0;
+  std::vector<int> code_to_id;  // dense: base-n code of the slot colours -> ID or -1
+  uint64_t neighbour_mask = 0;
+  double key_area_min = 0.0, key_area_max = 0.0;
+  double nb_area_min = 0.0, nb_area_max = 0.0;
+  double ring_min_mm = 0.0, ring_max_mm = 0.0;  // model distances of non-key patches from key
+  double reach_min2 = 0.0, reach_max2 = 0.0, reach_max_mm = 0.0;
+  estimate::Model model;
+  std::array<estimate::Model, kMaxPatches> missing_model{};  // by missing patch index
+};
+
+// A pattern found around one key blob, before stage 7 settles conflicts.
+struct Candidate {
+  double score = 0.0;  // E / tolerance; lower is better
+  double e = 0.0;
+  int pattern = 0;
+  int key_blob = 0;
+  int id = -1;
+  DetectionStatus status = DetectionStatus::kOk;
+  int missing_patch = -1;
+  int num_blobs = 0;  // blobs explained (patches found)
+  std::array<int, kMaxPatches> blob{};
+};
+
+// Stages 2-3 around one key: the neighbours kept, in angular order once stage 3 ran.
+struct Neighbours {
+  int n = 0;
+  std::array<int, kMaxGathered> blob;  // blob indices
+  std::array<Vec2, kMaxNeighbours> position_mm;
+  std::array<int, kMaxNeighbours> label;
+};
+
+// Stage timing. The code paths are templates on kOn, so an untimed Detect contains no clock read
+// and no timing branch in its inner loops.
+using Clock = std::chrono::steady_clock;
+
+inline long Nanoseconds(Clock::time_point from, Clock::time_point to) {
+  return static_cast<long>(std::chrono::duration_cast<std::chrono::nanoseconds>(to - from).count());
+}
+
+// Lap() returns the nanoseconds since construction or the previous Lap; 0 when kOn is false.
+template <bool kOn>
+class StageClock {
+ public:
+  long Lap() { return 0; }
+};
+template <>
+class StageClock<true> {
+ public:
+  long Lap() {
+    const Clock::time_point now = Clock::now();
+    const long ns = Nanoseconds(last_, now);
+    last_ = now;
+    return ns;
+  }
+
+ private:
+  Clock::time_point last_ = Clock::now();
+};
+
+// Adds the time from construction to destruction to *total_ns; nothing when kOn is false.
+template <bool kOn>
+class ScopedTime {
+ public:
+  explicit ScopedTime(long* /*total_ns*/) {}
+};
+template <>
+class ScopedTime<true> {
+ public:
+  explicit ScopedTime(long* total_ns) : total_ns_(total_ns), start_(Clock::now()) {}
+  ~ScopedTime() { *total_ns_ += Nanoseconds(start_, Clock::now()); }
+  ScopedTime(const ScopedTime&) = delete;
+  ScopedTime& operator=(const ScopedTime&) = delete;
+
+ private:
+  long* total_ns_;
+  Clock::time_point start_;
+};
+
+}  // namespace patlab::detect::internal
+
+namespace patlab::detect {
+
+struct Detector::Impl {
+  using PatternRuntime = internal::PatternRuntime;
+  using Candidate = internal::Candidate;
+  using Neighbours = internal::Neighbours;
+
+  DetectorConfig config;
+  std::vector<PatternRuntime> runtimes;
+  std::array<std::vector<int>, internal::kMaxLabels> patterns_by_key_label;
+  double max_reach_mm = 0.0;
+
+  // Per-frame buffers, reused.
+  std::vector<int> by_x;          // blob indices, bucketed by x
+  std::vector<int> bucket_start;  // bucket b holds by_x[bucket_start[b] .. bucket_start[b + 1])
+  std::vector<int> bucket_fill;
+  double bucket_min_x = 0.0, bucket_width_mm = 1.0;
+  std::vector<Candidate> candidates;
+  std::vector<int> candidate_order;
+  std::vector<char> used;
+  DetectStats stats;
+  // Timed Detect only: nanoseconds per stage of this frame. Stages 2-6 are summed over the key
+  // candidates; kFitRotations holds stages 4 and 5 of the full fits until Detect takes stage 5
+  // (timed inside it) out.
+  std::array<long, internal::kNumStages> stage_ns{};
+
+  // detector_build.cpp: checks the configuration and precomputes the runtimes.
+  void Build();
+  void CheckPalette() const;
+  int LabelOf(const std::string& name) const;
+  PatternRuntime BuildRuntime(int p);
+  void BuildCodebook(const DetectorPattern& dp, const std::string& where, PatternRuntime* rt) const;
+  void BuildCircularColours(const Pattern& pattern, const std::string& where,
+                            PatternRuntime* rt) const;
+  void BuildTolerancesAndReach(const Pattern& pattern, PatternRuntime* rt);
+
+  // detector.cpp: the frame.
+  template <bool kTiming>
+  void DetectFrame(std::span<const Blob> blobs, std::vector<Detection>* detections);
+  void BucketBlobs(std::span<const Blob> blobs);  // stage 1
+  template <bool kTiming>
+  void FindKeyCandidates(std::span<const Blob> blobs);  // stage 1, calling EvaluateKey
+  template <bool kTiming>
+  void ResolveConflicts(std::span<const Blob> blobs,
+                        std::vector<Detection>* detections);  // stage 7
+  void EstimatePose(const Candidate& c, std::span<const Blob> blobs,
+                    Detection* d) const;  // stage 8
+
+  // detector_stages.cpp: stages 2-6 for the key blob `key` of pattern p.
+  template <bool kTiming>
+  void EvaluateKey(int p, int key, std::span<const Blob> blobs);
+  void FindNeighbours(const PatternRuntime& rt, int key, std::span<const Blob> blobs,
+                      Neighbours* nb);  // stage 2
+  template <bool kTiming>
+  bool FitAndIdentify(int p, int key, const Vec2& key_mm, const Neighbours& nb, bool missing,
+                      long* identify_ns, Candidate* best);  // stages 4 and 5 (6: missing)
+};
+
+}  // namespace patlab::detect

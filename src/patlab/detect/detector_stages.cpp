@@ -1,0 +1,358 @@
+// Stages 2-6 of the detector (detector.h) around one key candidate: neighbours, radial sort, fit
+// rotations, identify, and the missing-patch refit. This is the hot path: everything here works
+// on fixed-size arrays on the stack and allocates nothing.
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "patlab/detect/detector_internal.h"
+
+namespace patlab::detect {
+
+using internal::Candidate;
+using internal::kFixedAny;
+using internal::kMaxGathered;
+using internal::kMaxLabels;
+using internal::kMaxNeighbours;
+using internal::Neighbours;
+using internal::PatternRuntime;
+using internal::ScopedTime;
+using internal::StageClock;
+
+namespace {
+
+// One choice of r neighbours (indices into Neighbours, in angular order) with the key, centred on
+// their centroid.
+struct Choice {
+  int r = 0;
+  std::array<int, kMaxNeighbours> pick;
+  std::array<Vec2, kMaxNeighbours> w;  // centred neighbour positions
+  Vec2 wk;                             // centred key position
+  double sw = 0.0;                     // sum of squared centred norms
+};
+
+// What stage 5 made of one rotation's colours.
+struct RotationColours {
+  bool fixed_ok = true;  // fixed patches have their colour
+  bool has_id = false;   // the ID slots' colours are a codebook ID (id may still be -1: see below)
+  int id = -1;
+};
+
+// The result of every rotation of one choice of neighbours.
+struct SubsetVerdict {
+  int ok = 0;     // rotations passing geometry and fixed colours
+  int valid = 0;  // ... whose colours are an ID
+  double best_ok_e = 1e300;
+  int best_ok_shift = 0, best_ok_skip = -1;
+  double valid_e = 1e300;
+  int valid_shift = 0, valid_skip = -1, valid_id = -1;
+};
+
+// Minimum sum-squared error of the rigid fit of model points q (centred) to observed points w
+// (centred): E = sum|q|^2 + sum|w|^2 - 2 sqrt(A^2 + B^2), A = sum q.w, B = sum q x w
+// (2-D Procrustes, Umeyama 1991); no trigonometry.
+inline double FitError(double sq, double sw, double a, double b) {
+  return std::max(0.0, sq + sw - 2.0 * std::sqrt(a * a + b * b));
+}
+
+// The model's circular position matched to the i-th chosen neighbour under rotation `shift`;
+// a missing-patch fit (skip >= 0) leaves circular position `skip` out.
+inline int CircularPosition(int i, int shift, int r, int mk, int skip, bool missing) {
+  return missing ? (skip + 1 + (i + shift) % r) % mk : (i + shift) % mk;
+}
+
+// The next choice of r out of n in lexicographic order; false after the last.
+inline bool NextCombination(int r, int n, std::array<int, kMaxNeighbours>* pick) {
+  int i = r - 1;
+  while (i >= 0 && (*pick)[i] == n - r + i) --i;
+  if (i < 0) return false;
+  ++(*pick)[i];
+  for (int j = i + 1; j < r; ++j) (*pick)[j] = (*pick)[j - 1] + 1;
+  return true;
+}
+
+// Observed centroid and centred points of the choice in `pick`.
+inline void CentreChoice(const Vec2& key_mm, const Neighbours& nb, Choice* ch) {
+  Vec2 centroid = key_mm;
+  for (int i = 0; i < ch->r; ++i) centroid += nb.position_mm[ch->pick[i]];
+  centroid /= (ch->r + 1);
+  ch->wk = key_mm - centroid;
+  ch->sw = ch->wk.squaredNorm();
+  for (int i = 0; i < ch->r; ++i) {
+    ch->w[i] = nb.position_mm[ch->pick[i]] - centroid;
+    ch->sw += ch->w[i].squaredNorm();
+  }
+}
+
+// Stage 4: E of the rigid fit of the choice to model variant vi under rotation `shift`.
+inline double RotationError(const PatternRuntime& rt, const Choice& ch, int vi, int skip, int shift,
+                            bool missing) {
+  const auto& q = rt.circ_centred[vi];
+  const Vec2& qk = rt.key_centred[vi];
+  double a = qk.dot(ch.wk), b = qk.x() * ch.wk.y() - qk.y() * ch.wk.x();
+  for (int i = 0; i < ch.r; ++i) {
+    const int c = CircularPosition(i, shift, ch.r, rt.mk, skip, missing);
+    a += q[c].dot(ch.w[i]);
+    b += q[c].x() * ch.w[i].y() - q[c].y() * ch.w[i].x();
+  }
+  return FitError(rt.sq[vi], ch.sw, a, b);
+}
+
+// Stage 5 with the ID slot at circular position `skip` missing: its colour is unknown, so the ID
+// is known only if exactly one completion of `code` is in the codebook.
+inline RotationColours CompleteMissingSlot(const PatternRuntime& rt, int code, int skip) {
+  RotationColours out;
+  int found = 0;
+  for (int c = 0; c < rt.num_codebook_colours; ++c) {
+    const int cid = rt.code_to_id[code + c * rt.slot_weight[skip]];
+    if (cid >= 0) {
+      out.id = cid;
+      ++found;
+    }
+  }
+  out.has_id = found > 0;
+  if (found > 1) out.id = -1;
+  return out;
+}
+
+// Stage 5 for one rotation that passed geometry: fixed patches must match; ID slots form the
+// code, looked up in the codebook.
+inline RotationColours IdentifyRotation(const PatternRuntime& rt, const Choice& ch,
+                                        const Neighbours& nb, int skip, int shift, bool missing) {
+  int code = 0;
+  bool code_ok = true;
+  for (int i = 0; i < ch.r; ++i) {
+    const int c = CircularPosition(i, shift, ch.r, rt.mk, skip, missing);
+    const int label = nb.label[ch.pick[i]];
+    if (rt.fixed_label[c] != kFixedAny) {
+      if (label != rt.fixed_label[c]) return {.fixed_ok = false};
+    } else {
+      const int cb = rt.codebook_colour[label];
+      if (cb < 0) {
+        code_ok = false;
+      } else {
+        code += cb * rt.slot_weight[c];
+      }
+    }
+  }
+  if (!code_ok) return {};
+  if (skip >= 0 && rt.fixed_label[skip] == kFixedAny) return CompleteMissingSlot(rt, code, skip);
+  const int id = rt.code_to_id[code];
+  return {.has_id = id >= 0, .id = id};
+}
+
+inline void Record(double e, int shift, int skip, const RotationColours& colours,
+                   SubsetVerdict* v) {
+  ++v->ok;
+  if (e < v->best_ok_e) {
+    v->best_ok_e = e;
+    v->best_ok_shift = shift;
+    v->best_ok_skip = skip;
+  }
+  if (colours.has_id) {
+    ++v->valid;
+    if (e < v->valid_e) {
+      v->valid_e = e;
+      v->valid_shift = shift;
+      v->valid_skip = skip;
+      v->valid_id = colours.id;
+    }
+  }
+}
+
+// Stages 4 and 5 for every rotation of one choice (and, for a missing-patch fit, every circular
+// position left out); stage 5 runs only on rotations passing geometry and is timed apart.
+template <bool kTiming>
+inline SubsetVerdict FitRotations(const PatternRuntime& rt, const Choice& ch, const Neighbours& nb,
+                                  bool missing, double e_max, long* identify_ns,
+                                  DetectStats* stats) {
+  SubsetVerdict v;
+  const int variants = missing ? rt.mk : 1;
+  for (int variant = 0; variant < variants; ++variant) {
+    const int skip = missing ? variant : -1;
+    for (int shift = 0; shift < ch.r; ++shift) {
+      ++stats->correspondences;
+      const double e = RotationError(rt, ch, skip + 1, skip, shift, missing);
+      if (e > e_max) continue;
+      ++stats->geometry_passed;
+      ScopedTime<kTiming> identify_time(identify_ns);
+      const RotationColours colours = IdentifyRotation(rt, ch, nb, skip, shift, missing);
+      if (colours.fixed_ok) Record(e, shift, skip, colours, &v);
+    }
+  }
+  return v;
+}
+
+// Stage 5 verdict on one choice whose rotations passed geometry and fixed colours (v.ok > 0):
+// exactly one rotation with an ID -> a candidate; otherwise two or more rotations -> an
+// ambiguous candidate; a single rotation whose colours are no ID -> none.
+inline bool JudgeChoice(const PatternRuntime& rt, int p, int key, const Neighbours& nb,
+                        const Choice& ch, const SubsetVerdict& v, bool missing, double e_max,
+                        DetectStats* stats, Candidate* c) {
+  const bool single = v.valid == 1;
+  const bool amb = !single && v.ok >= 2;
+  if (v.ok == 1 && v.valid == 0) ++stats->colour_rejected;
+  if (!single && !amb) return false;
+  c->pattern = p;
+  c->key_blob = key;
+  c->e = single ? v.valid_e : v.best_ok_e;
+  c->score = c->e / e_max;
+  c->id = single ? v.valid_id : -1;
+  const int shift = single ? v.valid_shift : v.best_ok_shift;
+  const int skip = single ? v.valid_skip : v.best_ok_skip;
+  c->status = amb ? DetectionStatus::kAmbiguous
+                  : (missing ? DetectionStatus::kMissingPatch : DetectionStatus::kOk);
+  c->missing_patch = skip >= 0 ? rt.circ_patch[skip] : -1;
+  c->blob.fill(-1);
+  c->blob[rt.key_index] = key;
+  c->num_blobs = ch.r + 1;
+  for (int i = 0; i < ch.r; ++i) {
+    c->blob[rt.circ_patch[CircularPosition(i, shift, ch.r, rt.mk, skip, missing)]] =
+        nb.blob[ch.pick[i]];
+  }
+  return true;
+}
+
+// Stage 3: the neighbours by angle about the key (insertion sort: n <= 16), ties by blob index.
+void RadialSort(const Vec2& key_mm, std::span<const Blob> blobs, Neighbours* nb) {
+  std::array<double, kMaxNeighbours> angle;
+  for (int i = 0; i < nb->n; ++i) {
+    const Vec2 d = blobs[nb->blob[i]].position_mm - key_mm;
+    angle[i] = std::atan2(d.y(), d.x());
+  }
+  for (int i = 1; i < nb->n; ++i) {
+    const double a = angle[i];
+    const int b = nb->blob[i];
+    int j = i - 1;
+    for (; j >= 0 && (angle[j] > a || (angle[j] == a && nb->blob[j] > b)); --j) {
+      angle[j + 1] = angle[j];
+      nb->blob[j + 1] = nb->blob[j];
+    }
+    angle[j + 1] = a;
+    nb->blob[j + 1] = b;
+  }
+  for (int i = 0; i < nb->n; ++i) {
+    nb->position_mm[i] = blobs[nb->blob[i]].position_mm;
+    nb->label[i] = blobs[nb->blob[i]].colour;
+  }
+}
+
+// Stage 2's cut: keeps the max_nb neighbours closest to the model's ring (ring_dev: distance
+// outside the ring), ties by blob index.
+void KeepNearestToRing(int max_nb, const std::array<double, kMaxGathered>& ring_dev,
+                       Neighbours* nb) {
+  std::array<int, kMaxGathered> order;
+  for (int i = 0; i < nb->n; ++i) order[i] = i;
+  std::partial_sort(
+      order.begin(), order.begin() + max_nb, order.begin() + nb->n, [&](int a, int b) {
+        return std::tie(ring_dev[a], nb->blob[a]) < std::tie(ring_dev[b], nb->blob[b]);
+      });
+  std::array<int, kMaxGathered> kept;
+  for (int i = 0; i < max_nb; ++i) kept[i] = nb->blob[order[i]];
+  std::copy(kept.begin(), kept.begin() + max_nb, nb->blob.begin());
+  nb->n = max_nb;
+}
+
+}  // namespace
+
+// Stage 2: neighbours in the ring around the key (x-bucketed search).
+void Detector::Impl::FindNeighbours(const PatternRuntime& rt, int key, std::span<const Blob> blobs,
+                                    Neighbours* nb) {
+  const Vec2 k = blobs[key].position_mm;
+  std::array<double, kMaxGathered> ring_dev;
+  nb->n = 0;
+  const int num_buckets = static_cast<int>(bucket_start.size()) - 1;
+  auto bucket_of = [&](double x) {
+    return std::clamp(static_cast<int>(std::floor((x - bucket_min_x) / bucket_width_mm)), 0,
+                      num_buckets - 1);
+  };
+  const int first = bucket_of(k.x() - rt.reach_max_mm), last = bucket_of(k.x() + rt.reach_max_mm);
+  for (int t = bucket_start[first]; t < bucket_start[last + 1]; ++t) {
+    const int j = by_x[t];
+    if (j == key) continue;
+    const Blob& b = blobs[j];
+    if (b.colour < 0 || b.colour >= kMaxLabels || !((rt.neighbour_mask >> b.colour) & 1)) continue;
+    if (b.area_mm2 < rt.nb_area_min || b.area_mm2 > rt.nb_area_max) continue;
+    const double d2 = (b.position_mm - k).squaredNorm();
+    if (d2 < rt.reach_min2 || d2 > rt.reach_max2) continue;
+    if (nb->n == kMaxGathered) {
+      ++stats.neighbours_cut;
+      continue;
+    }
+    const double d = std::sqrt(d2);
+    ring_dev[nb->n] = d < rt.ring_min_mm ? rt.ring_min_mm - d : std::max(0.0, d - rt.ring_max_mm);
+    nb->blob[nb->n++] = j;
+  }
+  stats.neighbours += nb->n;
+  const int max_nb = config.options.max_neighbours;
+  if (nb->n > max_nb) {
+    stats.neighbours_cut += nb->n - max_nb;
+    KeepNearestToRing(max_nb, ring_dev, nb);
+  }
+}
+
+// Stages 4 and 5 (or, with `missing`, stage 6) over every choice of r neighbours (in angular
+// order, so the circular order is kept): the best candidate with an ID, else the best ambiguous
+// one. False when there is neither.
+template <bool kTiming>
+bool Detector::Impl::FitAndIdentify(int p, int key, const Vec2& key_mm, const Neighbours& nb,
+                                    bool missing, long* identify_ns, Candidate* best) {
+  const PatternRuntime& rt = runtimes[p];
+  Choice ch;
+  ch.r = missing ? rt.mk - 1 : rt.mk;
+  if (nb.n < ch.r) return false;
+  const double e_max = missing ? rt.e_max_missing : rt.e_max_full;
+  for (int i = 0; i < ch.r; ++i) ch.pick[i] = i;
+  bool found_valid = false, have_ambiguous = false;
+  Candidate ambiguous;
+  do {
+    CentreChoice(key_mm, nb, &ch);
+    const SubsetVerdict v = FitRotations<kTiming>(rt, ch, nb, missing, e_max, identify_ns, &stats);
+    if (v.ok == 0) continue;  // nothing passed geometry and fixed colours: nothing to decide
+    ScopedTime<kTiming> identify_time(identify_ns);
+    Candidate c;
+    if (!JudgeChoice(rt, p, key, nb, ch, v, missing, e_max, &stats, &c)) continue;
+    if (c.status != DetectionStatus::kAmbiguous) {
+      if (!found_valid || c.e < best->e) *best = c;
+      found_valid = true;
+    } else if (!have_ambiguous || c.e < ambiguous.e) {
+      ambiguous = c;
+      have_ambiguous = true;
+    }
+  } while (NextCombination(ch.r, nb.n, &ch.pick));
+  if (found_valid) return true;
+  if (have_ambiguous) *best = ambiguous;
+  return have_ambiguous;
+}
+
+template <bool kTiming>
+void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
+  StageClock<kTiming> clock;
+  const PatternRuntime& rt = runtimes[p];
+  Neighbours nb;
+  FindNeighbours(rt, key, blobs, &nb);
+  stage_ns[internal::kNeighbours] += clock.Lap();
+  const bool try_missing = rt.can_fit_missing && nb.n >= rt.mk - 1;
+  if (nb.n < rt.mk && !try_missing) return;
+
+  const Vec2 key_mm = blobs[key].position_mm;
+  RadialSort(key_mm, blobs, &nb);
+  stage_ns[internal::kRadialSort] += clock.Lap();
+
+  Candidate best;
+  bool found = FitAndIdentify<kTiming>(p, key, key_mm, nb, /*missing=*/false,
+                                       &stage_ns[internal::kIdentify], &best);
+  stage_ns[internal::kFitRotations] += clock.Lap();
+  if (!found && try_missing) {
+    long identify_in_missing_ns = 0;  // charged to stage 6 as a whole
+    found = FitAndIdentify<kTiming>(p, key, key_mm, nb, /*missing=*/true, &identify_in_missing_ns,
+                                    &best);
+    stage_ns[internal::kMissingPatch] += clock.Lap();
+  }
+  if (found) candidates.push_back(best);
+}
+
+template void Detector::Impl::EvaluateKey<false>(int, int, std::span<const Blob>);
+template void Detector::Impl::EvaluateKey<true>(int, int, std::span<const Blob>);
+
+}  // namespace patlab::detect

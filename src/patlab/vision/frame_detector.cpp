@@ -1,0 +1,182 @@
+#include "patlab/vision/frame_detector.h"
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "patlab/core/error.h"
+#include "patlab/vision/debug_image.h"
+#include "patlab/vision/frame_io.h"
+
+namespace patlab::vision {
+
+namespace fs = std::filesystem;
+
+std::vector<OptionsProblem> Check(const FrameDetectorOptions& o) {
+  std::vector<OptionsProblem> problems = Check(o.segmenter);
+  const bool no_raw = o.raw_width_px == 0 && o.raw_height_px == 0;
+  const bool raw_ok = o.raw_width_px > 0 && o.raw_width_px % 2 == 0 && o.raw_height_px > 0;
+  if (!no_raw && !raw_ok) {
+    problems.push_back({"raw_size", "raw frame size " + std::to_string(o.raw_width_px) + "x" +
+                                        std::to_string(o.raw_height_px) +
+                                        "; expected a positive even width and a positive height"});
+  }
+  return problems;
+}
+
+void Validate(const FrameDetectorOptions& options) { ThrowFirstProblem(Check(options)); }
+
+namespace {
+
+// "6 detect" -> "6_detect": a stage name as a file name part.
+std::string FileNamePart(std::string_view stage) {
+  std::string out(stage);
+  for (char& c : out) {
+    if (c == ' ') c = '_';
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> DebugImageNames(const std::string& stem, bool with_detections) {
+  std::vector<std::string> names;
+  for (int stage : {1, 3, 4, 5}) {  // kFrameStageNames index: stages 2, 4, 5 and 6
+    if (stage == 5 && !with_detections) continue;
+    names.push_back(stem + "." + FileNamePart(kFrameStageNames[stage]) + ".png");
+  }
+  return names;
+}
+
+FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
+                             std::optional<detect::DetectorConfig> detector,
+                             FrameDetectorOptions options)
+    : options_((Validate(options), std::move(options))),
+      pipeline_(std::move(thresholds), std::move(calibration), options_.segmenter) {
+  result_.profile = TimeProfile(options_.collect_timing);
+  result_.detect_profile = TimeProfile(options_.collect_timing);
+  if (!detector) return;
+  detector_.emplace(std::move(*detector));
+  for (const ColorClass& c : pipeline_.thresholds().classes) {
+    palette_label_.push_back(detector_->ColourLabel(c.name));
+  }
+}
+
+FrameDetector::~FrameDetector() = default;
+FrameDetector::FrameDetector(FrameDetector&&) noexcept = default;
+FrameDetector& FrameDetector::operator=(FrameDetector&&) noexcept = default;
+
+const FrameResult& FrameDetector::DetectFile(const std::string& path) {
+  TimeProfile& profile = result_.profile;
+  profile.Clear();
+  profile.Start();
+  const Image image = ReadFrameFile(path, options_.raw_width_px, options_.raw_height_px);
+  profile.Stamp(kFrameStageNames[0]);
+  Process(image, path);
+  return result_;
+}
+
+const FrameResult& FrameDetector::Detect(const Image& image, const std::string& name) {
+  result_.profile.Clear();
+  Process(image, name);
+  return result_;
+}
+
+void FrameDetector::Process(const Image& image, const std::string& name) {
+  result_.frame = name;
+  pipeline_.CheckFrameSize(image, name);
+  RunStages(image);
+  if (!options_.debug_dir.empty()) WriteDebugImages(image);
+}
+
+// Stages 2-5 (the pipeline) and 6: the blobs whose class is in the detector's palette, relabelled
+// with their palette label, through the detector.
+void FrameDetector::RunStages(const Image& image) {
+  FrameResult& r = result_;
+  r.detect_profile.Clear();
+  pipeline_.Process(image, &r.blobs, &r.vision_stats, &r.profile);
+  r.blob_regions.clear();
+  for (int region : pipeline_.blob_region()) {
+    r.blob_regions.push_back(pipeline_.segmenter().regions()[static_cast<size_t>(region)]);
+  }
+  r.detector_blobs.clear();
+  r.detector_blob_source.clear();
+  r.detections.clear();
+  r.detect_stats = detect::DetectStats{};
+  if (!detector_) return;
+  r.profile.Start();
+  for (size_t i = 0; i < r.blobs.size(); ++i) {
+    const detect::Blob& b = r.blobs[i];
+    const int label = palette_label_[static_cast<size_t>(b.colour)];
+    if (label < 0) continue;
+    r.detector_blobs.push_back(detect::Blob{b.position_mm, label, b.area_mm2});
+    r.detector_blob_source.push_back(static_cast<int>(i));
+  }
+  detector_->Detect(r.detector_blobs, &r.detections, &r.detect_stats, &r.detect_profile);
+  r.profile.Stamp(kFrameStageNames[5]);
+}
+
+namespace {
+
+// Detections on the debug image: drawn at the key blob's plane height; the heading is the model
+// x axis, 100 mm long; the circle passes 90 mm from the centre.
+void DrawDetections(const FrameResult& r, const VisionPipeline& pipeline,
+                    const detect::Detector& detector, Image* debug) {
+  const Calibration& calibration = pipeline.calibration();
+  for (const detect::Detection& d : r.detections) {
+    const int key = d.blob[static_cast<size_t>(
+        detector.config().patterns[static_cast<size_t>(d.pattern)].pattern.key_index)];
+    const double height =
+        key >= 0
+            ? pipeline.class_height_mm(
+                  r.blobs[static_cast<size_t>(r.detector_blob_source[static_cast<size_t>(key)])]
+                      .colour)
+            : calibration.default_height_mm;
+    const auto centre = calibration.camera.WorldToPixel(Vec2(d.pose.x_mm, d.pose.y_mm), height);
+    const auto tip = calibration.camera.WorldToPixel(d.pose.Apply(Vec2(100, 0)), height);
+    const auto rim = calibration.camera.WorldToPixel(d.pose.Apply(Vec2(0, 90)), height);
+    if (!centre || !tip || !rim) continue;
+    const std::string label = d.id >= 0 ? std::to_string(d.id) : "?";
+    DrawDetection(debug, *centre, (*rim - *centre).norm(), *tip, label, {255, 255, 255});
+  }
+}
+
+// The blobs the next stage sees: with a detector, those in its palette; discs of the region's
+// area at its centroid, in the class colour, on the dimmed frame.
+Image DrawBlobs(const Image& frame, const FrameResult& r, const Thresholds& thresholds,
+                bool detector_blobs_only) {
+  Image out = ToRgb(frame);
+  for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);
+  const size_t count = detector_blobs_only ? r.detector_blob_source.size() : r.blobs.size();
+  for (size_t k = 0; k < count; ++k) {
+    const size_t i = detector_blobs_only ? static_cast<size_t>(r.detector_blob_source[k]) : k;
+    const Region& region = r.blob_regions[i];
+    DrawDisc(&out, region.centroid_px, std::sqrt(region.area_px / std::numbers::pi),
+             thresholds.classes[static_cast<size_t>(r.blobs[i].colour)].display_rgb);
+  }
+  return out;
+}
+
+}  // namespace
+
+void FrameDetector::WriteDebugImages(const Image& image) const {
+  const Thresholds& thresholds = pipeline_.thresholds();
+  const std::vector<std::string> names =
+      DebugImageNames(fs::path(result_.frame).stem().string(), has_detector());
+  const fs::path dir(options_.debug_dir);
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error) {
+    throw InputError(options_.debug_dir + ": cannot create the debug directory (" +
+                     error.message() + "); expected a writable directory");
+  }
+  WritePng(DrawClasses(pipeline_.segmenter(), thresholds), (dir / names[0]).string());
+  Image regions = DrawRegions(image, pipeline_.segmenter(), thresholds);
+  WritePng(regions, (dir / names[1]).string());
+  WritePng(DrawBlobs(image, result_, thresholds, has_detector()), (dir / names[2]).string());
+  if (!has_detector()) return;
+  DrawDetections(result_, pipeline_, *detector_, &regions);
+  WritePng(regions, (dir / names[3]).string());
+}
+
+}  // namespace patlab::vision

@@ -1,0 +1,115 @@
+// The real-frame front end of the detector: a frame (file or image) in; blobs, detections,
+// counters and stage times out. It owns the vision pipeline (stages 2-5 of pipeline.h), the
+// camera calibration, and -- when patterns are to be detected -- a detect::Detector with the
+// mapping from colour classes to the detector's palette (by name; classes the palette does not
+// name are not shown to the detector). This is what `patlab detect` runs per frame; a robot's
+// vision stack can call it the same way:
+//
+//   vision::FrameDetector frames(LoadThresholds(t), LoadCalibration(c),
+//                                detect::LoadDetectorSettings(s), {});
+//   const vision::FrameResult& result = frames.DetectFile("frame.png");
+//   for (const detect::Detection& d : result.detections) ...
+//
+// With FrameDetectorOptions::debug_dir set, the numbered per-stage debug images of each frame are
+// written there (apriltag's `debug` flag and debug_*.pnm are the model; see DebugImageNames).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "patlab/core/options.h"
+#include "patlab/core/timeprofile.h"
+#include "patlab/detect/detector.h"
+#include "patlab/vision/image.h"
+#include "patlab/vision/pipeline.h"
+
+namespace patlab::vision {
+
+struct FrameDetectorOptions {
+  SegmenterOptions segmenter;
+  // Size of raw UYVY frames (.yuv .uyvy .raw files), which carry no header. 0 x 0: no raw
+  // frames expected (reading one is then an error that asks for the size).
+  int raw_width_px = 0;
+  int raw_height_px = 0;
+  // When not empty, every frame's per-stage debug images are written into this directory (created
+  // if needed) as PNGs named by DebugImageNames. Costs a PNG encode per image: for debugging.
+  std::string debug_dir;
+  // Time the stages into FrameResult::profile and FrameResult::detect_profile. Off: no clock is
+  // read.
+  bool collect_timing = false;
+};
+
+// Every broken constraint (core/options.h): the segmenter's, and a raw size that is either
+// 0 x 0 or a positive even width and a positive height.
+std::vector<OptionsProblem> Check(const FrameDetectorOptions& options);
+void Validate(const FrameDetectorOptions& options);
+
+// The debug images of a frame whose file stem is `stem`, one per stage that has a picture, named
+// "<stem>.<stage number>_<stage name>.png" after kFrameStageNames:
+//   <stem>.2_colour_lookup.png - the class image: each classified pixel in its class's colour;
+//   <stem>.4_regions.png       - the frame dimmed, class boundaries, each kept region's bounding
+//                                box and centroid;
+//   <stem>.5_blobs_to_mm.png   - the blobs mapped to the plane (the detector's input when patterns
+//                                are detected), as discs of their area at their centroids;
+//   <stem>.6_detect.png        - the regions image with each detection's circle, heading and ID.
+// The last only when patterns are detected.
+std::vector<std::string> DebugImageNames(const std::string& stem, bool with_detections);
+
+// One frame's results; valid until the next call on the FrameDetector that returned it.
+struct FrameResult {
+  std::string frame;                // the path (or name) of the frame
+  std::vector<detect::Blob> blobs;  // stage 5, colour = class index into the thresholds
+  // Per blob: the region it came from (pixel centroid and area).
+  std::vector<Region> blob_regions;
+  // Stage 6 (empty without a detector): the blobs whose class the detector's palette names,
+  // colour = palette label; detection blob indices refer to these. detector_blob_source[i] is
+  // the index into `blobs` of detector_blobs[i].
+  std::vector<detect::Blob> detector_blobs;
+  std::vector<int> detector_blob_source;
+  std::vector<detect::Detection> detections;
+  VisionStats vision_stats;
+  detect::DetectStats detect_stats;
+  // With FrameDetectorOptions::collect_timing: this frame's stage times under kFrameStageNames,
+  // and stage 6's own stages under detect::kDetectStageNames. Sum frames with +=.
+  TimeProfile profile;
+  TimeProfile detect_profile;
+};
+
+class FrameDetector {
+ public:
+  // `detector`: the patterns to detect, or nullopt for blobs only. Throws InputError for a bad
+  // configuration (options, thresholds against calibration heights, detector settings).
+  FrameDetector(Thresholds thresholds, Calibration calibration,
+                std::optional<detect::DetectorConfig> detector, FrameDetectorOptions options);
+  ~FrameDetector();
+  FrameDetector(FrameDetector&&) noexcept;
+  FrameDetector& operator=(FrameDetector&&) noexcept;
+
+  // Stages 1-6 on a frame file (ReadFrameFile with the options' raw size); InputError for a bad
+  // file or a frame whose size differs from the calibration's.
+  const FrameResult& DetectFile(const std::string& path);
+  // Stages 2-6 on a frame in memory; `name` stands for it in messages, results and debug images.
+  const FrameResult& Detect(const Image& image, const std::string& name);
+
+  bool has_detector() const { return detector_.has_value(); }
+  const detect::Detector& detector() const { return *detector_; }  // has_detector() only
+  const VisionPipeline& pipeline() const { return pipeline_; }
+  const FrameDetectorOptions& options() const { return options_; }
+
+ private:
+  void Process(const Image& image, const std::string& name);
+  void RunStages(const Image& image);
+  void WriteDebugImages(const Image& image) const;
+
+  FrameDetectorOptions options_;
+  VisionPipeline pipeline_;
+  std::optional<detect::Detector> detector_;
+  std::vector<int> palette_label_;  // class index -> detector palette label, or -1
+  FrameResult result_;
+};
+
+}  // namespace patlab::vision

@@ -1,0 +1,82 @@
+#include "patlab/vision/frame_results.h"
+
+#include <nlohmann/json.hpp>
+
+#include "patlab/core/format.h"
+
+namespace patlab::vision {
+
+struct FrameResultsWriter::JsonFrames {
+  nlohmann::json frames = nlohmann::json::array();
+};
+
+FrameResultsWriter::FrameResultsWriter(const FrameDetector& frames, bool blobs)
+    : frames_(frames),
+      blobs_(blobs || !frames.has_detector()),
+      json_(std::make_unique<JsonFrames>()) {
+  csv_ = blobs_ ? "frame,colour,x_mm,y_mm,area_mm2,x_px,y_px,area_px\n"
+                : "frame,pattern,team,id,status,x_mm,y_mm,theta_rad,residual_mm2,confidence\n";
+}
+
+FrameResultsWriter::~FrameResultsWriter() = default;
+
+void FrameResultsWriter::Add(const FrameResult& frame) {
+  if (blobs_) {
+    AddBlobs(frame);
+  } else {
+    AddDetections(frame);
+  }
+}
+
+void FrameResultsWriter::AddBlobs(const FrameResult& frame) {
+  const Thresholds& thresholds = frames_.pipeline().thresholds();
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t i = 0; i < frame.blobs.size(); ++i) {
+    const detect::Blob& b = frame.blobs[i];
+    const Region& r = frame.blob_regions[i];
+    const std::string& colour = thresholds.classes[static_cast<size_t>(b.colour)].name;
+    csv_ += frame.frame + "," + colour + "," + FormatFixed(b.position_mm.x(), 2) + "," +
+            FormatFixed(b.position_mm.y(), 2) + "," + FormatFixed(b.area_mm2, 1) + "," +
+            FormatFixed(r.centroid_px.x(), 3) + "," + FormatFixed(r.centroid_px.y(), 3) + "," +
+            std::to_string(r.area_px) + "\n";
+    list.push_back({{"colour", colour},
+                    {"x_mm", b.position_mm.x()},
+                    {"y_mm", b.position_mm.y()},
+                    {"area_mm2", b.area_mm2},
+                    {"x_px", r.centroid_px.x()},
+                    {"y_px", r.centroid_px.y()},
+                    {"area_px", r.area_px}});
+  }
+  json_->frames.push_back({{"frame", frame.frame}, {"blobs", list}});
+}
+
+void FrameResultsWriter::AddDetections(const FrameResult& frame) {
+  const detect::DetectorConfig& config = frames_.detector().config();
+  nlohmann::json list = nlohmann::json::array();
+  for (const detect::Detection& d : frame.detections) {
+    const std::string& pattern = config.patterns[static_cast<size_t>(d.pattern)].pattern.name;
+    const std::string team =
+        d.team_colour >= 0 ? config.palette[static_cast<size_t>(d.team_colour)] : "";
+    const std::string status(NameOf(d.status, detect::kDetectionStatusNames));
+    csv_ += frame.frame + "," + pattern + "," + team + "," + std::to_string(d.id) + "," + status +
+            "," + FormatFixed(d.pose.x_mm, 2) + "," + FormatFixed(d.pose.y_mm, 2) + "," +
+            FormatFixed(d.pose.theta_rad, 4) + "," + FormatFixed(d.residual_mm2, 2) + "," +
+            FormatFixed(d.confidence, 4) + "\n";
+    list.push_back({{"pattern", pattern},
+                    {"team", team},
+                    {"id", d.id},
+                    {"status", status},
+                    {"x_mm", d.pose.x_mm},
+                    {"y_mm", d.pose.y_mm},
+                    {"theta_rad", d.pose.theta_rad},
+                    {"residual_mm2", d.residual_mm2},
+                    {"confidence", d.confidence}});
+  }
+  json_->frames.push_back({{"frame", frame.frame}, {"detections", list}});
+}
+
+std::string FrameResultsWriter::Csv() const { return csv_; }
+
+std::string FrameResultsWriter::Json() const { return json_->frames.dump(2) + "\n"; }
+
+}  // namespace patlab::vision

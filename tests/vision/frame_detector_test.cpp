@@ -1,0 +1,158 @@
+// FrameDetector end to end on a rendered frame: two SSL robots through stages 1-6 come back with
+// their IDs and poses; the class -> palette mapping; the results writer's CSV; the stage profile
+// named as pipeline.h and detector.h number the stages; the numbered debug images.
+#include "patlab/vision/frame_detector.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "patlab/detect/settings.h"
+#include "patlab/vision/frame_io.h"
+#include "patlab/vision/frame_results.h"
+#include "patlab/vision/render.h"
+#include "test_util.h"
+
+namespace patlab::vision {
+namespace {
+
+const std::string kSettings = std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml";
+
+// Blue, yellow (a class the detector's palette also names), pink, green and a class ("grass")
+// the palette does not name.
+Thresholds Classes() {
+  return ParseThresholdsToml(
+      "space = \"rgb\"\n"
+      "[[class]]\nname = \"blue\"\nr = [0, 80]\ng = [0, 100]\nb = [180, 255]\n"
+      "[[class]]\nname = \"pink\"\nr = [200, 255]\ng = [0, 110]\nb = [160, 255]\n"
+      "[[class]]\nname = \"green\"\nr = [0, 90]\ng = [180, 255]\nb = [0, 110]\n"
+      "[[class]]\nname = \"grass\"\nr = [100, 140]\ng = [100, 140]\nb = [0, 60]\n",
+      "t.toml");
+}
+
+// 2 mm per px, y up, 400 x 300 px = 800 x 600 mm.
+Calibration TwoMmPerPixel() {
+  return ParseCalibration(
+      "model = \"homography\"\nimage_size_px = [400, 300]\n[[homography]]\nheight_mm = 0\n"
+      "matrix = [[2, 0, -400], [0, -2, 300], [0, 0, 1]]\n",
+      "c.toml");
+}
+
+struct Robot {
+  Pose2 pose;
+  int entry;  // codebook entry
+};
+
+// The robots of the shipped settings' pattern (ssl-standard), blue team, plus a grass blob.
+Image RenderRobots(const detect::DetectorConfig& config, const std::vector<Robot>& robots,
+                   const Calibration& calibration) {
+  const detect::DetectorPattern& dp = config.patterns[0];
+  const std::vector<int> slots = detect::IdSlots(dp.pattern);
+  std::vector<Disc> discs = {{Vec2(-300, -200), 30, {120, 120, 30}}};
+  for (const Robot& robot : robots) {
+    for (int i = 0; i < dp.pattern.size(); ++i) {
+      const Patch& patch = dp.pattern.patches[i];
+      Rgb rgb = {20, 40, 230};  // blue key
+      if (patch.role == PatchRole::kId) {
+        const int slot = static_cast<int>(std::find(slots.begin(), slots.end(), i) - slots.begin());
+        const std::string& colour =
+            dp.codebook.colours[dp.codebook.entries[robot.entry].colour[slot]];
+        rgb = colour == "pink" ? Rgb{250, 60, 220} : Rgb{40, 230, 60};
+      }
+      discs.push_back({robot.pose.Apply(patch.position_mm), patch.radius_mm, rgb});
+    }
+  }
+  return RenderWorldDiscs(400, 300, calibration.camera, 0.0, {70, 70, 70}, discs);
+}
+
+TEST(FrameDetector, RenderedRobotsComeBackWithIdsPosesAndStageTimes) {
+  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  const std::vector<Robot> robots = {{Pose2{-150, 50, 0.5}, 3}, {Pose2{180, -40, -2.0}, 12}};
+  const Image image = RenderRobots(config, robots, TwoMmPerPixel());
+  FrameDetectorOptions options;
+  options.collect_timing = true;
+  FrameDetector frames(Classes(), TwoMmPerPixel(), config, options);
+  const FrameResult& r = frames.Detect(image, "robots");
+  // 2 x 5 patches and the grass blob; the detector sees only the palette's classes.
+  EXPECT_EQ(r.blobs.size(), 11u);
+  EXPECT_EQ(r.detector_blobs.size(), 10u);
+  for (size_t i = 0; i < r.detector_blobs.size(); ++i) {
+    const detect::Blob& source = r.blobs[static_cast<size_t>(r.detector_blob_source[i])];
+    EXPECT_EQ(config.palette[static_cast<size_t>(r.detector_blobs[i].colour)],
+              frames.pipeline().thresholds().classes[static_cast<size_t>(source.colour)].name);
+  }
+  ASSERT_EQ(r.detections.size(), 2u);
+  for (const detect::Detection& d : r.detections) {
+    const Robot& robot = d.pose.x_mm < 0 ? robots[0] : robots[1];
+    EXPECT_EQ(d.id, config.patterns[0].codebook.entries[robot.entry].id);
+    EXPECT_EQ(d.status, detect::DetectionStatus::kOk);
+    EXPECT_NEAR(d.pose.x_mm, robot.pose.x_mm, 1.0);
+    EXPECT_NEAR(d.pose.y_mm, robot.pose.y_mm, 1.0);
+    EXPECT_NEAR(d.pose.theta_rad, robot.pose.theta_rad, 0.02);
+  }
+  // Stages 2-6 of pipeline.h (Detect reads no file), the detector's 1-8 of detector.h.
+  std::vector<std::string_view> stages;
+  for (const auto& e : r.profile.entries()) stages.push_back(e.stage);
+  EXPECT_EQ(stages,
+            std::vector<std::string_view>(kFrameStageNames.begin() + 1, kFrameStageNames.end()));
+  EXPECT_EQ(r.detect_profile.entries().size(), detect::kDetectStageNames.size());
+  EXPECT_EQ(r.detect_stats.detections, 2);
+  EXPECT_EQ(r.vision_stats.blobs, 11);
+}
+
+TEST(FrameDetector, WritesTheNumberedDebugImagesAndReadsFiles) {
+  const std::string dir = testing::ScratchDir();
+  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  WritePng(RenderRobots(config, {{Pose2{0, 0, 1.0}, 5}}, TwoMmPerPixel()), dir + "/f1.png");
+  FrameDetectorOptions options;
+  options.debug_dir = dir + "/debug";
+  FrameDetector frames(Classes(), TwoMmPerPixel(), config, options);
+  const FrameResult& r = frames.DetectFile(dir + "/f1.png");
+  ASSERT_EQ(r.detections.size(), 1u);
+  EXPECT_TRUE(r.profile.entries().empty());  // timing off
+  const std::vector<std::string> names = DebugImageNames("f1", /*with_detections=*/true);
+  EXPECT_EQ(names, (std::vector<std::string>{"f1.2_colour_lookup.png", "f1.4_regions.png",
+                                             "f1.5_blobs_to_mm.png", "f1.6_detect.png"}));
+  for (const std::string& name : names) {
+    const Image debug = ReadFrame(dir + "/debug/" + name);
+    EXPECT_EQ(debug.width_px, 400) << name;
+    EXPECT_EQ(debug.height_px, 300) << name;
+  }
+  EXPECT_EQ(DebugImageNames("f1", false).size(), 3u);
+}
+
+TEST(FrameDetector, ResultsWriterCsvAndJson) {
+  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  const Image image = RenderRobots(config, {{Pose2{10, 20, 0.25}, 0}}, TwoMmPerPixel());
+  FrameDetector frames(Classes(), TwoMmPerPixel(), config, {});
+  FrameResultsWriter detections(frames, /*blobs=*/false), blobs(frames, /*blobs=*/true);
+  const FrameResult& r = frames.Detect(image, "a.png");
+  detections.Add(r);
+  blobs.Add(r);
+  const std::string csv = detections.Csv();
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "frame,pattern,team,id,status,x_mm,y_mm,theta_rad,residual_mm2,confidence");
+  EXPECT_NE(csv.find("\na.png,ssl-standard,blue,0,ok,"), std::string::npos) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2);
+  const std::string blob_csv = blobs.Csv();
+  EXPECT_EQ(std::count(blob_csv.begin(), blob_csv.end(), '\n'), 7);  // header + 6 blobs
+  EXPECT_NE(blobs.Json().find("\"colour\": \"grass\""), std::string::npos);
+  EXPECT_NE(detections.Json().find("\"status\": \"ok\""), std::string::npos);
+}
+
+TEST(FrameDetector, OptionsAreChecked) {
+  FrameDetectorOptions options;
+  EXPECT_TRUE(Check(options).empty());
+  options.raw_width_px = 63;
+  options.raw_height_px = 48;
+  EXPECT_INPUT_ERROR(Validate(options),
+                     "raw frame size 63x48; expected a positive even width and a positive height");
+  options.raw_width_px = 64;
+  options.segmenter.min_area_px = 0;
+  EXPECT_INPUT_ERROR(FrameDetector(Classes(), TwoMmPerPixel(), std::nullopt, options),
+                     "min_area_px is 0; expected an integer >= 1");
+}
+
+}  // namespace
+}  // namespace patlab::vision
