@@ -14,24 +14,32 @@ if [ ! -d "$F" ]; then
   exit 0
 fi
 mkdir -p "$R"
+# --debug writes an image per stage (<stem>.2_colour_lookup.png ... <stem>.6_detect.png); the
+# committed picture of each frame is its last stage, the annotated detections.
+DBG=$(mktemp -d)
+trap 'rm -rf "$DBG"' EXIT
 
 # SSL standard pattern sheet (800x800 PNG, 1 px = 1 mm): 16 robots, IDs 0-15.
 "$PATLAB" detect "$F/ssl-standard-pattern-2010-16ids.png" -t "$D/ssl-standard-sheet.thresholds.toml" \
-  -c "$D/ssl-standard-sheet.calibration.toml" -s experiments/detector.toml --debug "$R" \
+  -c "$D/ssl-standard-sheet.calibration.toml" -s experiments/detector.toml --debug "$DBG" \
   --out "$R/ssl-standard-sheet.detections.csv"
 
 # SSL field 2008 (780x580 JPEG): pre-2010 sector patterns (tests/data/vision/patterns/kiks-sectors.toml).
 "$PATLAB" detect "$F/ssl-field-2008.jpg" -t "$D/ssl-2008.thresholds.toml" \
-  -c "$D/ssl-2008.calibration.toml" -s "$D/ssl-2008.detector.toml" --debug "$R" \
+  -c "$D/ssl-2008.calibration.toml" -s "$D/ssl-2008.detector.toml" --debug "$DBG" \
   --out "$R/ssl-field-2008.detections.csv" --timing
 "$PATLAB" detect "$F/ssl-field-2008.jpg" -t "$D/ssl-2008.thresholds.toml" \
   -c "$D/ssl-2008.calibration.toml" --blobs --out "$R/ssl-field-2008.blobs.csv"
 
 # VSS test frame (765x613 PNG): two VSS designs (tests/data/vision/patterns/vss-*.toml).
 "$PATLAB" detect "$F/vss-test-frame.png" -t "$D/vss.colors.txt" -c "$D/vss.calibration.toml" \
-  -s "$D/vss.detector.toml" --debug "$R" --out "$R/vss-test-frame.detections.csv" --timing
+  -s "$D/vss.detector.toml" --debug "$DBG" --out "$R/vss-test-frame.detections.csv" --timing
 "$PATLAB" detect "$F/vss-test-frame.png" -t "$D/vss.colors.txt" -c "$D/vss.calibration.toml" \
   --blobs --out "$R/vss-test-frame.blobs.csv"
+
+for stem in ssl-standard-pattern-2010-16ids ssl-field-2008 vss-test-frame; do
+  cp "$DBG/$stem.6_detect.png" "$R/$stem.png"
+done
 
 # Enlarged crops of the robots in the SSL 2008 debug image (the frame is 780x580 and a robot is
 # ~35 px across): results/vision/ssl-field-2008.robots.png, 6 robots left to right in the order

@@ -86,8 +86,6 @@ struct DetectorOptions {
 std::vector<OptionsProblem> Check(const DetectorOptions& options);
 // Throws InputError with the first problem of Check, if any.
 void Validate(const DetectorOptions& options);
-// sim/scene.cpp still spells the problem type detect::OptionsProblem; it is patlab's one type.
-using patlab::OptionsProblem;
 
 // One pattern the detector looks for.
 struct DetectorPattern {
