@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "expect_error.h"
 #include "patlab/core/pattern.h"
 #include "patlab/io/pattern_file.h"
-#include "expect_error.h"
 
 namespace patlab::testing {
 

@@ -1,5 +1,5 @@
-// The Monte-Carlo inner loop and the estimators do not allocate (docs/architecture.md rule 7): global
-// operator new is counted while a batch of trials runs and while every estimator runs.
+// The Monte-Carlo inner loop and the estimators do not allocate (docs/architecture.md rule 7):
+// global operator new is counted while a batch of trials runs and while every estimator runs.
 #include <gtest/gtest.h>
 
 #include "../allocation_counter.h"

@@ -7,9 +7,9 @@
 #include <cmath>
 
 #include "../test_util.h"
-#include "scene_score.h"
 #include "patlab/sim/report.h"
 #include "patlab/stats/summary.h"
+#include "scene_score.h"
 
 namespace patlab::sim {
 namespace {
@@ -192,7 +192,8 @@ TEST_F(DetectRunnerTest, AFrameReplaysAlone) {
 }
 
 TEST_F(DetectRunnerTest, ReplayedFramesAddUpToTheRunnersCounts) {
-  // Every frame the runner scored is the frame GenerateDetectFrame replays (docs/architecture.md rule 3).
+  // Every frame the runner scored is the frame GenerateDetectFrame replays (docs/architecture.md
+  // rule 3).
   const Experiment e = Load(
       "false_blob_rate_per_m2 = 3\ncolour_error_probability = 0.03\n"
       "missing_patch_probability = 0.03\n",
