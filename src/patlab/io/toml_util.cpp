@@ -33,6 +33,17 @@ toml::table ParseTomlText(std::string_view text, const std::string& source_name)
   return ParseOrThrow(text, source_name);
 }
 
+std::string ReadTextFile(const std::string& path, std::string_view what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw InputError(FileLoc{path, 0},
+                     "cannot open file; expected a readable " + std::string(what));
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
 FileLoc LocOf(const std::string& file, const toml::node& node) {
   return FileLoc{file, static_cast<int>(node.source().begin.line)};
 }

@@ -19,6 +19,9 @@ namespace patlab::io {
 toml::table ParseTomlFile(const std::string& path);
 // Parses TOML text; `source_name` is used in messages (e.g. a file name).
 toml::table ParseTomlText(std::string_view text, const std::string& source_name);
+// The whole content of a text file. A missing or unreadable file is an InputError "cannot open
+// file; expected a readable <what>", e.g. what = "calibration TOML file".
+std::string ReadTextFile(const std::string& path, std::string_view what);
 
 // Reads typed values from one TOML table of one file.
 class TomlReader {
