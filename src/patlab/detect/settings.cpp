@@ -5,9 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -236,11 +234,8 @@ DetectorConfig MakeDetectorConfig(std::vector<std::string> palette, const Detect
 }
 
 DetectorConfig LoadDetectorSettings(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable TOML file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return ParseDetectorSettings(buffer.str(), path, fs::path(path).parent_path().string());
+  return ParseDetectorSettings(io::ReadTextFile(path, "TOML file"), path,
+                               fs::path(path).parent_path().string());
 }
 
 }  // namespace patlab::detect

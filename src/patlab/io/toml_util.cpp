@@ -22,11 +22,7 @@ toml::table ParseOrThrow(std::string_view text, const std::string& source_name) 
 }  // namespace
 
 toml::table ParseTomlFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable TOML file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return ParseOrThrow(buffer.str(), path);
+  return ParseOrThrow(ReadTextFile(path, "TOML file"), path);
 }
 
 toml::table ParseTomlText(std::string_view text, const std::string& source_name) {

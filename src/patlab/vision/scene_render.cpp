@@ -383,12 +383,8 @@ SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
 }
 
 SceneFile LoadSceneFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable scene TOML file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return ParseSceneFile(buffer.str(), path, fs::path(path).parent_path().string());
+  return ParseSceneFile(io::ReadTextFile(path, "scene TOML file"), path,
+                        fs::path(path).parent_path().string());
 }
 
 }  // namespace patlab::vision
