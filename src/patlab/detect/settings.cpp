@@ -1,6 +1,3 @@
-// GCC 12 reports a false -Wrestrict inside core/enum_names.h NameList ("\"" + std::string);
-// remove this once that header appends piece by piece.
-#pragma GCC diagnostic ignored "-Wrestrict"
 #include "patlab/detect/settings.h"
 
 #include <algorithm>

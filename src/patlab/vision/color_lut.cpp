@@ -1,6 +1,3 @@
-// GCC 12 reports a false -Wrestrict inside core/enum_names.h NameList ("\"" + std::string);
-// remove this once that header appends piece by piece.
-#pragma GCC diagnostic ignored "-Wrestrict"
 #include "patlab/vision/color_lut.h"
 
 #include <cctype>
@@ -89,6 +86,88 @@ void CheckRange(const FileLoc& loc, const char* channel, long lo, long hi) {
   }
 }
 
+enum class Section { kNone, kColors, kThresholds };
+
+Section ParseSectionHeader(const FileLoc& loc, const std::string& line) {
+  if (line == "[Colors]") return Section::kColors;
+  if (line == "[Thresholds]") return Section::kThresholds;
+  throw InputError(loc, "unknown section " + line + "; expected [Colors] or [Thresholds]");
+}
+
+// `num_classes` is how many [Colors] lines came before this one.
+ColorClass ParseColorsLine(const FileLoc& loc, const std::string& line, size_t num_classes) {
+  LineCursor c(line);
+  long r, g, b, expected;
+  double merge;
+  if (!(c.Char('(') && c.Integer(&r) && c.Char(',') && c.Integer(&g) && c.Char(',') &&
+        c.Integer(&b) && c.Char(')') && c.Real(&merge) && c.Integer(&expected))) {
+    throw InputError(loc,
+                     "bad [Colors] line '" + line + "'; expected (R,G,B) merge expected_num Name");
+  }
+  const std::string class_name = c.Rest();
+  if (class_name.empty()) {
+    throw InputError(
+        loc, "bad [Colors] line '" + line + "': no name; expected (R,G,B) merge expected_num Name");
+  }
+  for (long v : {r, g, b}) {
+    if (v < 0 || v > 255) {
+      throw InputError(
+          loc, "display colour component " + std::to_string(v) + " out of range; expected 0..255");
+    }
+  }
+  if (expected < 0) {
+    throw InputError(loc, "expected_num " + std::to_string(expected) + "; expected >= 0");
+  }
+  if (num_classes == kMaxColorClasses) {
+    throw InputError(loc, "colour " + std::to_string(kMaxColorClasses + 1) + "; expected at most " +
+                              std::to_string(kMaxColorClasses) + " colour classes");
+  }
+  ColorClass cls;
+  cls.name = class_name;
+  cls.display_rgb = {static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)};
+  cls.merge = merge;
+  cls.expected_num = static_cast<int>(expected);
+  return cls;
+}
+
+// Sets the ranges of classes[index]: [Thresholds] lines pair with [Colors] lines in order.
+void ParseThresholdsLine(const FileLoc& loc, const std::string& line, size_t index,
+                         std::vector<ColorClass>* classes) {
+  LineCursor c(line);
+  long v[6];
+  if (!(c.Char('(') && c.Integer(&v[0]) && c.Char(':') && c.Integer(&v[1]) && c.Char(',') &&
+        c.Integer(&v[2]) && c.Char(':') && c.Integer(&v[3]) && c.Char(',') && c.Integer(&v[4]) &&
+        c.Char(':') && c.Integer(&v[5]) && c.Char(')') && c.AtEnd())) {
+    throw InputError(loc,
+                     "bad [Thresholds] line '" + line + "'; expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)");
+  }
+  if (index >= classes->size()) {
+    throw InputError(loc, "threshold " + std::to_string(index + 1) + " but only " +
+                              std::to_string(classes->size()) +
+                              " colours; expected one [Thresholds] line per [Colors] line");
+  }
+  ColorClass& cls = (*classes)[index];
+  for (int ch = 0; ch < 3; ++ch) {
+    CheckRange(loc, kChannelNames[0][ch], v[2 * ch], v[2 * ch + 1]);
+    cls.range[ch] = {static_cast<int>(v[2 * ch]), static_cast<int>(v[2 * ch + 1])};
+  }
+}
+
+// Only the whole file tells whether every colour got its threshold line.
+void CheckCmvisionCounts(const std::string& name, size_t num_classes, size_t num_thresholds,
+                         int last_threshold_line) {
+  if (num_classes == 0) {
+    throw InputError(FileLoc{name, 0},
+                     "no colours; expected a [Colors] section with at least one line");
+  }
+  if (num_thresholds != num_classes) {
+    throw InputError(FileLoc{name, last_threshold_line},
+                     std::to_string(num_classes) + " colours but " +
+                         std::to_string(num_thresholds) +
+                         " thresholds; expected one [Thresholds] line per [Colors] line");
+  }
+}
+
 }  // namespace
 
 int Thresholds::Find(std::string_view name) const {
@@ -102,7 +181,7 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
   Thresholds t;
   t.space = ColorSpace::kYuv;
   t.source = name;
-  enum class Section { kNone, kColors, kThresholds } section = Section::kNone;
+  Section section = Section::kNone;
   size_t num_thresholds = 0;
   int line_number = 0;
   int last_threshold_line = 0;
@@ -114,84 +193,21 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
     const std::string line = Trim(raw);
     if (line.empty() || line[0] == '#' || line[0] == ';') continue;
     if (line[0] == '[') {
-      if (line == "[Colors]") {
-        section = Section::kColors;
-      } else if (line == "[Thresholds]") {
-        section = Section::kThresholds;
-      } else {
-        throw InputError(loc, "unknown section " + line + "; expected [Colors] or [Thresholds]");
-      }
+      section = ParseSectionHeader(loc, line);
       continue;
     }
-    LineCursor c(line);
     if (section == Section::kNone) {
       throw InputError(loc, "line outside a section; expected [Colors] or [Thresholds] first");
     }
     if (section == Section::kColors) {
-      long r, g, b, expected;
-      double merge;
-      if (!(c.Char('(') && c.Integer(&r) && c.Char(',') && c.Integer(&g) && c.Char(',') &&
-            c.Integer(&b) && c.Char(')') && c.Real(&merge) && c.Integer(&expected))) {
-        throw InputError(
-            loc, "bad [Colors] line '" + line + "'; expected (R,G,B) merge expected_num Name");
-      }
-      const std::string class_name = c.Rest();
-      if (class_name.empty()) {
-        throw InputError(loc, "bad [Colors] line '" + line +
-                                  "': no name; expected (R,G,B) merge expected_num Name");
-      }
-      for (long v : {r, g, b}) {
-        if (v < 0 || v > 255) {
-          throw InputError(loc, "display colour component " + std::to_string(v) +
-                                    " out of range; expected 0..255");
-        }
-      }
-      if (expected < 0) {
-        throw InputError(loc, "expected_num " + std::to_string(expected) + "; expected >= 0");
-      }
-      if (t.classes.size() == kMaxColorClasses) {
-        throw InputError(loc, "colour " + std::to_string(kMaxColorClasses + 1) +
-                                  "; expected at most " + std::to_string(kMaxColorClasses) +
-                                  " colour classes");
-      }
-      ColorClass cls;
-      cls.name = class_name;
-      cls.display_rgb = {static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)};
-      cls.merge = merge;
-      cls.expected_num = static_cast<int>(expected);
-      t.classes.push_back(cls);
+      t.classes.push_back(ParseColorsLine(loc, line, t.classes.size()));
     } else {
-      long v[6];
-      if (!(c.Char('(') && c.Integer(&v[0]) && c.Char(':') && c.Integer(&v[1]) && c.Char(',') &&
-            c.Integer(&v[2]) && c.Char(':') && c.Integer(&v[3]) && c.Char(',') &&
-            c.Integer(&v[4]) && c.Char(':') && c.Integer(&v[5]) && c.Char(')') && c.AtEnd())) {
-        throw InputError(
-            loc, "bad [Thresholds] line '" + line + "'; expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)");
-      }
-      if (num_thresholds >= t.classes.size()) {
-        throw InputError(loc, "threshold " + std::to_string(num_thresholds + 1) + " but only " +
-                                  std::to_string(t.classes.size()) +
-                                  " colours; expected one [Thresholds] line per [Colors] line");
-      }
-      ColorClass& cls = t.classes[num_thresholds];
-      for (int ch = 0; ch < 3; ++ch) {
-        CheckRange(loc, kChannelNames[0][ch], v[2 * ch], v[2 * ch + 1]);
-        cls.range[ch] = {static_cast<int>(v[2 * ch]), static_cast<int>(v[2 * ch + 1])};
-      }
+      ParseThresholdsLine(loc, line, num_thresholds, &t.classes);
       ++num_thresholds;
       last_threshold_line = line_number;
     }
   }
-  if (t.classes.empty()) {
-    throw InputError(FileLoc{name, 0},
-                     "no colours; expected a [Colors] section with at least one line");
-  }
-  if (num_thresholds != t.classes.size()) {
-    throw InputError(FileLoc{name, last_threshold_line},
-                     std::to_string(t.classes.size()) + " colours but " +
-                         std::to_string(num_thresholds) +
-                         " thresholds; expected one [Thresholds] line per [Colors] line");
-  }
+  CheckCmvisionCounts(name, t.classes.size(), num_thresholds, last_threshold_line);
   return t;
 }
 
@@ -213,21 +229,17 @@ ChannelRange ReadRange(const io::TomlReader& reader, std::string_view key, const
   return {static_cast<int>(lo), static_cast<int>(hi)};
 }
 
-}  // namespace
-
-Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
-  const toml::table root = io::ParseTomlText(text, name);
-  const io::TomlReader top(root, name);
-  top.CheckKeys({"space", "class"});
-  Thresholds t;
-  t.source = name;
+ColorSpace ReadSpace(const io::TomlReader& top) {
   const std::string space = top.OptionalString("space").value_or("yuv");
   const auto parsed = FindName(space, kColorSpaceNames);
   if (!parsed) {
     top.Fail("space", "space is \"" + space + "\"; expected " + NameList(kColorSpaceNames));
   }
-  t.space = *parsed;
+  return *parsed;
+}
 
+// The [[class]] array: present, not empty, and no longer than a ColorLut mask holds.
+const toml::array& ReadClassArray(const toml::table& root, const std::string& name) {
   const toml::node* classes_node = root.get("class");
   const toml::array* classes = classes_node ? classes_node->as_array() : nullptr;
   if (classes == nullptr || classes->empty()) {
@@ -240,59 +252,83 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
                      "[[class]] " + std::to_string(kMaxColorClasses + 1) + "; expected at most " +
                          std::to_string(kMaxColorClasses) + " colour classes");
   }
-  const int sp = t.space == ColorSpace::kYuv ? 0 : 1;
-  for (size_t i = 0; i < classes->size(); ++i) {
-    const toml::table* table = (*classes)[i].as_table();
-    const std::string context = "[[class]] " + std::to_string(i + 1);
-    if (table == nullptr) {
-      throw InputError(io::LocOf(name, (*classes)[i]),
-                       context + " is not a table; expected [[class]] tables");
-    }
-    const io::TomlReader r(*table, name, context);
-    if (sp == 0) {
-      r.CheckKeys({"name", "display", "y", "u", "v", "min_area_px", "max_area_px", "merge",
-                   "expected_num"});
-    } else {
-      r.CheckKeys({"name", "display", "r", "g", "b", "min_area_px", "max_area_px", "merge",
-                   "expected_num"});
-    }
-    ColorClass cls;
-    cls.name = r.String("name");
-    if (cls.name.empty()) r.Fail("name", "empty name in " + context + "; expected a class name");
-    if (t.Find(cls.name) >= 0) {
-      r.Fail("name", "duplicate class name \"" + cls.name + "\"; expected unique names");
-    }
-    const char* keys[2][3] = {{"y", "u", "v"}, {"r", "g", "b"}};
-    for (int ch = 0; ch < 3; ++ch)
-      cls.range[ch] = ReadRange(r, keys[sp][ch], kChannelNames[sp][ch]);
-    if (const toml::node* d = table->get("display")) {
-      const auto* a = d->as_array();
-      bool ok = a != nullptr && a->size() == 3;
-      for (size_t k = 0; ok && k < 3; ++k) {
-        const auto* v = (*a)[k].as_integer();
-        ok = v != nullptr && v->get() >= 0 && v->get() <= 255;
-        if (ok) cls.display_rgb[k] = static_cast<uint8_t>(v->get());
-      }
-      if (!ok)
-        r.Fail("display",
-               "display in " + context + " is not [R, G, B]; expected three integers in 0..255");
-    }
-    if (auto v = r.OptionalInteger("min_area_px")) {
-      if (*v < 0)
-        r.Fail("min_area_px",
-               "min_area_px " + std::to_string(*v) + " in " + context + "; expected >= 0");
-      cls.min_area_px = static_cast<int>(*v);
-    }
-    if (auto v = r.OptionalInteger("max_area_px")) {
-      if (*v < 0 || (*v > 0 && *v < cls.min_area_px))
-        r.Fail("max_area_px", "max_area_px " + std::to_string(*v) + " in " + context +
-                                  "; expected 0 (no limit) or >= min_area_px");
-      cls.max_area_px = static_cast<int>(*v);
-    }
-    cls.merge = r.OptionalNumber("merge").value_or(0.0);
-    if (auto v = r.OptionalInteger("expected_num")) cls.expected_num = static_cast<int>(*v);
-    t.classes.push_back(cls);
+  return *classes;
+}
+
+void ReadDisplay(const io::TomlReader& r, const std::string& context, ColorClass* cls) {
+  const toml::node* d = r.table().get("display");
+  if (d == nullptr) return;
+  const auto* a = d->as_array();
+  bool ok = a != nullptr && a->size() == 3;
+  for (size_t k = 0; ok && k < 3; ++k) {
+    const auto* v = (*a)[k].as_integer();
+    ok = v != nullptr && v->get() >= 0 && v->get() <= 255;
+    if (ok) cls->display_rgb[k] = static_cast<uint8_t>(v->get());
   }
+  if (!ok)
+    r.Fail("display",
+           "display in " + context + " is not [R, G, B]; expected three integers in 0..255");
+}
+
+void ReadAreas(const io::TomlReader& r, const std::string& context, ColorClass* cls) {
+  if (auto v = r.OptionalInteger("min_area_px")) {
+    if (*v < 0)
+      r.Fail("min_area_px",
+             "min_area_px " + std::to_string(*v) + " in " + context + "; expected >= 0");
+    cls->min_area_px = static_cast<int>(*v);
+  }
+  if (auto v = r.OptionalInteger("max_area_px")) {
+    if (*v < 0 || (*v > 0 && *v < cls->min_area_px))
+      r.Fail("max_area_px", "max_area_px " + std::to_string(*v) + " in " + context +
+                                "; expected 0 (no limit) or >= min_area_px");
+    cls->max_area_px = static_cast<int>(*v);
+  }
+}
+
+// The [[class]] table at `index`; `t` holds the classes before it, for the duplicate-name check.
+ColorClass ReadClass(const toml::node& node, const std::string& name, size_t index,
+                     const Thresholds& t) {
+  const toml::table* table = node.as_table();
+  const std::string context = "[[class]] " + std::to_string(index + 1);
+  if (table == nullptr) {
+    throw InputError(io::LocOf(name, node), context + " is not a table; expected [[class]] tables");
+  }
+  const io::TomlReader r(*table, name, context);
+  const int sp = t.space == ColorSpace::kYuv ? 0 : 1;
+  if (sp == 0) {
+    r.CheckKeys(
+        {"name", "display", "y", "u", "v", "min_area_px", "max_area_px", "merge", "expected_num"});
+  } else {
+    r.CheckKeys(
+        {"name", "display", "r", "g", "b", "min_area_px", "max_area_px", "merge", "expected_num"});
+  }
+  ColorClass cls;
+  cls.name = r.String("name");
+  if (cls.name.empty()) r.Fail("name", "empty name in " + context + "; expected a class name");
+  if (t.Find(cls.name) >= 0) {
+    r.Fail("name", "duplicate class name \"" + cls.name + "\"; expected unique names");
+  }
+  const char* keys[2][3] = {{"y", "u", "v"}, {"r", "g", "b"}};
+  for (int ch = 0; ch < 3; ++ch) cls.range[ch] = ReadRange(r, keys[sp][ch], kChannelNames[sp][ch]);
+  ReadDisplay(r, context, &cls);
+  ReadAreas(r, context, &cls);
+  cls.merge = r.OptionalNumber("merge").value_or(0.0);
+  if (auto v = r.OptionalInteger("expected_num")) cls.expected_num = static_cast<int>(*v);
+  return cls;
+}
+
+}  // namespace
+
+Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
+  const toml::table root = io::ParseTomlText(text, name);
+  const io::TomlReader top(root, name);
+  top.CheckKeys({"space", "class"});
+  Thresholds t;
+  t.source = name;
+  t.space = ReadSpace(top);
+  const toml::array& classes = ReadClassArray(root, name);
+  for (size_t i = 0; i < classes.size(); ++i)
+    t.classes.push_back(ReadClass(classes[i], name, i, t));
   return t;
 }
 

@@ -109,6 +109,43 @@ void Segmenter::Classify(const Image& image) {
   }
 }
 
+namespace {
+
+// The box lo..hi of Y, U, V over the RGB cell (r, g, b) of 4x4x4 values: each channel is
+// monotone along every axis, so its extremes are at the cell's 8 corners.
+inline void CellYuvBox(int r, int g, int b, int lo[3], int hi[3]) {
+  for (int corner = 0; corner < 8; ++corner) {
+    int yuv[3];
+    RgbToYuv(4 * r + (corner & 1 ? 3 : 0), 4 * g + (corner & 2 ? 3 : 0),
+             4 * b + (corner & 4 ? 3 : 0), &yuv[0], &yuv[1], &yuv[2]);
+    for (int ch = 0; ch < 3; ++ch) {
+      lo[ch] = std::min(lo[ch], yuv[ch]);
+      hi[ch] = std::max(hi[ch], yuv[ch]);
+    }
+  }
+}
+
+// The class + 1 (0: none) shared by every colour of the box lo..hi, or `mixed_cell` when the
+// box may hold more than one (see BuildRgbCells).
+inline uint8_t BoxClass(const ColorLut& lut, const int lo[3], const int hi[3], uint8_t mixed_cell) {
+  uint32_t always = ~uint32_t{0}, maybe = ~uint32_t{0};
+  for (int ch = 0; ch < 3; ++ch) {
+    const auto& t = lut.table(ch);
+    uint32_t a = ~uint32_t{0}, o = 0;
+    for (int v = lo[ch]; v <= hi[ch]; ++v) {
+      a &= t[v];
+      o |= t[v];
+    }
+    always &= a;
+    maybe &= o;
+  }
+  const uint32_t lowest = maybe & (~maybe + 1);
+  const bool pure = maybe == 0 || (always & lowest) != 0;
+  return pure ? ClassOf(lowest) : mixed_cell;
+}
+
+}  // namespace
+
 void Segmenter::BuildRgbCells() {
   // Each of Y, U, V is floor(affine(r, g, b)) then clamped: monotone along every axis, so over a
   // cell it ranges between its values at the cell's 8 corners, and the cell's colours lie in the
@@ -124,29 +161,8 @@ void Segmenter::BuildRgbCells() {
     for (int g = 0; g < 64; ++g) {
       for (int b = 0; b < 64; ++b) {
         int lo[3] = {255, 255, 255}, hi[3] = {0, 0, 0};
-        for (int corner = 0; corner < 8; ++corner) {
-          int yuv[3];
-          RgbToYuv(4 * r + (corner & 1 ? 3 : 0), 4 * g + (corner & 2 ? 3 : 0),
-                   4 * b + (corner & 4 ? 3 : 0), &yuv[0], &yuv[1], &yuv[2]);
-          for (int ch = 0; ch < 3; ++ch) {
-            lo[ch] = std::min(lo[ch], yuv[ch]);
-            hi[ch] = std::max(hi[ch], yuv[ch]);
-          }
-        }
-        uint32_t always = ~uint32_t{0}, maybe = ~uint32_t{0};
-        for (int ch = 0; ch < 3; ++ch) {
-          const auto& t = lut_.table(ch);
-          uint32_t a = ~uint32_t{0}, o = 0;
-          for (int v = lo[ch]; v <= hi[ch]; ++v) {
-            a &= t[v];
-            o |= t[v];
-          }
-          always &= a;
-          maybe &= o;
-        }
-        const uint32_t lowest = maybe & (~maybe + 1);
-        const bool pure = maybe == 0 || (always & lowest) != 0;
-        rgb_cells_[static_cast<size_t>(r << 12 | g << 6 | b)] = pure ? ClassOf(lowest) : kMixedCell;
+        CellYuvBox(r, g, b, lo, hi);
+        rgb_cells_[static_cast<size_t>(r << 12 | g << 6 | b)] = BoxClass(lut_, lo, hi, kMixedCell);
       }
     }
   }
