@@ -41,10 +41,5 @@ TEST(FieldLoc, ThrowFirstProblemAtPlacesTheMessage) {
       "e.toml:5: noise.pixel_sigma is -1; expected >= 0");
 }
 
-TEST(FormatNumber, ForwardsToTheOneFormatter) {
-  EXPECT_EQ(FormatNumber(1.0 / 3.0), patlab::FormatNumber(1.0 / 3.0));
-  EXPECT_EQ(FormatNumber(-std::numeric_limits<double>::infinity()), "-inf");
-}
-
 }  // namespace
 }  // namespace patlab::io

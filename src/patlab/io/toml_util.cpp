@@ -67,8 +67,6 @@ std::string TypeName(const toml::node& node) {
   }
 }
 
-std::string FormatNumber(double value) { return patlab::FormatNumber(value); }
-
 FileLoc FieldLoc(const toml::table& root, const std::string& file, std::string_view field) {
   const toml::table* table = &root;
   while (true) {

@@ -69,8 +69,4 @@ FileLoc FieldLoc(const toml::table& root, const std::string& file, std::string_v
 void ThrowFirstProblemAt(const toml::table& root, const std::string& file,
                          const std::vector<OptionsProblem>& problems);
 
-// Kept for callers outside io/ and sim/track*: patlab::FormatNumber (core/format.h) is the one
-// number formatter; this forwards to it.
-std::string FormatNumber(double value);
-
 }  // namespace patlab::io

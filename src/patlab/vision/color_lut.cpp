@@ -2,7 +2,6 @@
 
 #include <cctype>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 #include "patlab/core/error.h"
@@ -333,12 +332,7 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
 }
 
 Thresholds LoadThresholds(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable thresholds file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  const std::string text = io::ReadTextFile(path, "thresholds file");
   // CMVision's format is recognised by its first non-blank, non-comment line.
   std::istringstream lines(text);
   std::string line;
