@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Prints the README's Fig. 5 summary table (markdown) from `patlab simulate` results.
+"""Prints the Fig. 5 summary table of docs/paper-reproduction.md (markdown) from `patlab simulate` results.
 
 usage: /usr/bin/python3 scripts/fig5_table.py results/fig5.csv [SIGMA_MM]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""A vectorised numpy version of one Fig. 5 data point, for the speed comparison in the README.
+"""A vectorised numpy version of one Fig. 5 data point, for the speed comparison in docs/performance.md.
 
 usage: /usr/bin/python3 scripts/numpy_baseline.py [TRIALS] [SIGMA_MM]
 

@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 P=build/patlab
-# Fig. 5 (paper section IV) and its table in the README.
+# Fig. 5 (paper section IV) and its table in docs/paper-reproduction.md.
 $P simulate experiments/fig5.toml --out results -q
 /usr/bin/python3 scripts/plot_fig5.py results/fig5.csv results/fig5.png
 # Detect mode: where geometry stops fixing the rotation (issue 4).

@@ -43,7 +43,7 @@ done
 
 # Enlarged crops of the robots in the SSL 2008 debug image (the frame is 780x580 and a robot is
 # ~35 px across): results/vision/ssl-field-2008.robots.png, 6 robots left to right in the order
-# of the README (the 5 on the field, then the one held at the left edge).
+# of docs/paper-reproduction.md (the 5 on the field, then the one held at the left edge).
 if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then
   /usr/bin/python3 - "$R/ssl-field-2008.png" "$R/ssl-field-2008.robots.png" <<'PY'
 import sys

@@ -1,4 +1,5 @@
-// Monte-Carlo kernel throughput (noise generation included), the numbers the README reports:
+// Monte-Carlo kernel throughput (noise generation included), the numbers docs/performance.md
+// reports:
 //   build/bench/sim_bench --benchmark_filter=Kernel
 // items_per_second is trials per second over all threads (real time).
 #include <benchmark/benchmark.h>

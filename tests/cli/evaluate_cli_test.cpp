@@ -60,7 +60,8 @@ TEST(EvaluateCli, GeometryEqualsTheClosedForms) {
               butterfly["crlb_position_mm_per_mm"].get<double>(), 1e-7);
   EXPECT_NEAR(ml["efficiency_theta"].get<double>(), 1.0, 1e-6);
   // The fast estimator weights the Butterfly's pairs by length: angle std 7.800 against the
-  // bound's 7.765 mrad per mm (README, Fig. 5), efficiency (7.765 / 7.800)^2 = 0.991.
+  // bound's 7.765 mrad per mm (docs/paper-reproduction.md, Fig. 5), efficiency (7.765 / 7.800)^2 =
+  // 0.991.
   EXPECT_NEAR(Estimator(butterfly["estimators"], "fast")["efficiency_theta"].get<double>(), 0.991,
               0.001);
 }
@@ -85,7 +86,8 @@ TEST(EvaluateCli, MonteCarloMatchesThePrediction) {
     EXPECT_LT(e["std_theta_lo_rad"].get<double>(), e["std_theta_rad"].get<double>());
     EXPECT_GT(e["std_theta_hi_rad"].get<double>(), e["std_theta_rad"].get<double>());
   }
-  // The prediction and the bound are per mm of sigma times sigma (README: 7.765 mrad per mm).
+  // The prediction and the bound are per mm of sigma times sigma (docs/paper-reproduction.md: 7.765
+  // mrad per mm).
   const nlohmann::json& ml = Estimator(mc["estimators"], "ml");
   EXPECT_NEAR(ml["crlb_theta_rad"].get<double>(), 2.0 * 7.765e-3, 1e-6);
   EXPECT_NEAR(ml["predicted_theta_rad"].get<double>(), ml["crlb_theta_rad"].get<double>(), 1e-9);

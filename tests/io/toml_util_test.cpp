@@ -3,7 +3,6 @@
 
 #include <gtest/gtest.h>
 
-
 #include "../expect_error.h"
 #include "patlab/core/format.h"
 

@@ -1,6 +1,6 @@
 // The shared real frames (../shared/frames, not in the repository) through stages 2-6 with the
 // thresholds, calibrations, patterns and detector settings of tests/data/vision: exactly the
-// detections the README reports (results/vision/*.detections.csv). Skipped when the frames are
+// detections docs/detect.md reports (results/vision/*.detections.csv). Skipped when the frames are
 // absent.
 #include <gtest/gtest.h>
 
@@ -142,8 +142,8 @@ TEST(RealFrames, VssTestFrameFindsAllFiveRobots) {
                         });
 }
 
-// The CSV results committed in results/vision are what the detector gives now (the README shows
-// them): same number of detections per frame.
+// The CSV results committed in results/vision are what the detector gives now
+// (docs/paper-reproduction.md shows them): same number of detections per frame.
 TEST(RealFrames, CommittedResultsHaveTheSameCounts) {
   for (const auto& [file, count] : std::vector<std::pair<std::string, int>>{
            {"ssl-field-2008.detections.csv", 5}, {"vss-test-frame.detections.csv", 5}}) {

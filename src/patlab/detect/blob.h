@@ -1,5 +1,5 @@
 // One frame's measurements as the detector sees them: unordered blobs of colour-labelled regions
-// on the world plane. The simulator (detect/scene.h) and the vision pipeline (vision/) both
+// on the world plane. The simulator (sim/scene.h) and the vision pipeline (vision/) both
 // produce them; the detector never knows which.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Experiment files (experiments/*.toml; format documented in README.md, "Experiment files").
+// Experiment files (experiments/*.toml; format documented in docs/file-formats.md).
 #pragma once
 
 #include <cstdint>
@@ -31,7 +31,7 @@ inline constexpr EnumNames<Correspondence, 2> kCorrespondenceNames{
 inline constexpr EnumNames<bool, 2> kDetectorSigmaNames{{{{false, "settings"}, {true, "matched"}}}};
 
 // What the detector sees in every frame of a detect-mode data point, and how detections are
-// scored (the [detect] table; README "Detect-mode experiments" lists every key and default).
+// scored (the [detect] table; docs/file-formats.md lists every key and default).
 struct DetectSettings {
   std::string settings_file;          // the detector settings file, resolved
   detect::DetectorConfig detector;    // as loaded; a data point enables one of its patterns

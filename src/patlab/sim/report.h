@@ -1,5 +1,5 @@
 // The simulator's results as text: a tidy CSV (one row per pattern x estimator x sigma) and a
-// JSON manifest (inputs, seed, version, timings). Column meanings: README.md, "Results".
+// JSON manifest (inputs, seed, version, timings). Column meanings: docs/file-formats.md.
 #pragma once
 
 #include <string>
@@ -17,7 +17,7 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
                          const std::string& command_line, const std::vector<std::string>& outputs);
 
 // Detect mode (correspondence = "detect"): one row per pattern x false-blob rate x sigma
-// (columns: README, "Detect-mode experiments"), and its manifest, with the same common fields.
+// (columns: docs/file-formats.md), and its manifest, with the same common fields.
 std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult& result);
 std::string DetectManifestJson(const Experiment& experiment, const DetectRunResult& result,
                                const std::string& command_line,

@@ -1,5 +1,5 @@
 // Two-sample Kolmogorov-Smirnov test, following scipy.stats.ks_2samp (scipy 1.10) except where
-// README ("patlab stats") lists a deliberate difference. Used to compare the error samples of
+// docs/stats.md lists a deliberate difference. Used to compare the error samples of
 // two estimators (paper section IV: fast vs ML estimation, "no statistically significant
 // differences could be detected with a Kolmogorov-Smirnov test").
 //

@@ -1,5 +1,5 @@
 // Wilcoxon signed-rank test for paired samples, following scipy.stats.wilcoxon (scipy 1.10)
-// except where README ("patlab stats") lists a deliberate difference. The paper (section II)
+// except where docs/stats.md lists a deliberate difference. The paper (section II)
 // uses it to compare paired absolute errors of patch sizes and of patterns.
 #pragma once
 
