@@ -30,7 +30,8 @@ def function_sizes(sources):
                           cwd=ROOT, capture_output=True, text=True)
     sizes, name = {}, None
     for line in proc.stdout.splitlines():
-        m = re.search(r"(src/[^:]+):(\d+):\d+: warning: function '([^']+)' exceeds", line)
+        line = re.sub(r"\x1b\[[0-9;]*m", "", line)  # run-clang-tidy colours its output
+        m = re.search(r"(src/[^:]+):(\d+):\d+: (?:warning|error): function '([^']+)' exceeds", line)
         if m:
             name = (m.group(1), int(m.group(2)), m.group(3))
             continue
