@@ -12,6 +12,7 @@
 #include "patlab/core/error.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/sim/detect_runner.h"
+#include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
 #include "patlab/sim/runner.h"
 
@@ -58,105 +59,6 @@ void ProgressBar(int done, int total) {
   std::fflush(stderr);
 }
 
-int Replay(const sim::Experiment& experiment, const std::string& spec) {
-  int64_t point = -1, trial = -1;
-  char comma = 0;
-  std::istringstream is(spec);
-  if (!(is >> point >> comma >> trial) || comma != ',' || !is.eof() || point < 0 || trial < 0) {
-    throw InputError("--replay is '" + spec + "'; expected POINT,TRIAL (two integers >= 0)");
-  }
-  const int64_t num_sigmas = static_cast<int64_t>(experiment.sigmas_mm.size());
-  const int64_t num_points = static_cast<int64_t>(experiment.patterns.size()) * num_sigmas;
-  if (point >= num_points || trial >= experiment.trials) {
-    throw InputError("--replay " + spec + " is out of range; expected POINT < " +
-                     std::to_string(num_points) + " and TRIAL < " +
-                     std::to_string(experiment.trials));
-  }
-  const int pattern_index = static_cast<int>(point / num_sigmas);
-  const int sigma_index = static_cast<int>(point % num_sigmas);
-  const Pattern& pattern = experiment.patterns[pattern_index];
-  const estimate::Model model = estimate::Model::FromPattern(pattern);
-  const sim::PointSetup setup = sim::MakePointSetup(experiment, model, pattern_index, sigma_index);
-  Pose2 truth;
-  std::array<Vec2, kMaxPatches> observed;
-  sim::GenerateTrial(setup, static_cast<uint64_t>(trial), &truth, observed.data());
-  std::printf("point %lld (pattern %s, sigma %.6g mm), trial %lld, seed %llu\n",
-              static_cast<long long>(point), pattern.name.c_str(), setup.sigma_mm,
-              static_cast<long long>(trial), static_cast<unsigned long long>(experiment.seed));
-  std::printf("truth      x %.9f mm  y %.9f mm  theta %.12f rad\n", truth.x_mm, truth.y_mm,
-              truth.theta_rad);
-  for (int i = 0; i < pattern.size(); ++i) {
-    std::printf("patch %-2d   observed (%.9f, %.9f) mm\n", i, observed[i].x(), observed[i].y());
-  }
-  const Pose2 fast = estimate::Fast(model, observed.data());
-  estimate::Summary summary;
-  const Pose2 estimates[] = {
-      fast,
-      estimate::MaximumLikelihood(model, observed.data(), fast, experiment.ml_options, &summary),
-      estimate::LeastSquares(model, observed.data()), estimate::KeyPatch(model, observed.data())};
-  for (estimate::Estimator e : estimate::kAllEstimators) {
-    const Pose2& p = estimates[static_cast<int>(e)];
-    std::printf(
-        "%-5s      x %.9f mm  y %.9f mm  theta %.12f rad  (error %.3e mm, %.3e mm, %.3e rad)\n",
-        std::string(estimate::EstimatorName(e)).c_str(), p.x_mm, p.y_mm, p.theta_rad,
-        p.x_mm - truth.x_mm, p.y_mm - truth.y_mm, WrapAngle(p.theta_rad - truth.theta_rad));
-  }
-  std::printf("ml summary %s after %d iterations, cost %.6g -> %.6g mm^2\n",
-              std::string(estimate::TerminationName(summary.termination)).c_str(),
-              summary.iterations, summary.initial_cost, summary.final_cost);
-  return kExitOk;
-}
-
-int ReplayDetect(const sim::Experiment& experiment, const std::string& spec) {
-  int64_t point = -1, frame = -1;
-  char comma = 0;
-  std::istringstream is(spec);
-  if (!(is >> point >> comma >> frame) || comma != ',' || !is.eof() || point < 0 || frame < 0) {
-    throw InputError("--replay is '" + spec + "'; expected POINT,FRAME (two integers >= 0)");
-  }
-  const int64_t num_points = sim::NumDetectPoints(experiment);
-  if (point >= num_points || frame >= experiment.detect.frames) {
-    throw InputError("--replay " + spec + " is out of range; expected POINT < " +
-                     std::to_string(num_points) + " and FRAME < " +
-                     std::to_string(experiment.detect.frames));
-  }
-  const sim::DetectPoint p = sim::MakeDetectPoint(experiment, static_cast<uint32_t>(point));
-  detect::Detector detector(p.config);
-  const sim::Scene scene =
-      sim::GenerateDetectFrame(experiment, p, detector, static_cast<uint64_t>(frame));
-  std::vector<detect::Detection> detections;
-  detector.Detect(scene.blobs, &detections);
-  const sim::FrameScore score =
-      sim::ScoreFrame(scene, detections, experiment.detect.match_radius_mm);
-  const auto& palette = p.config.palette;
-  std::printf(
-      "point %lld (pattern %s, sigma %.6g mm, false blobs %.6g /m^2), frame %lld, seed %llu\n",
-      static_cast<long long>(point), experiment.patterns[p.pattern_index].name.c_str(), p.sigma_mm,
-      p.scene.false_blob_rate_per_m2, static_cast<long long>(frame),
-      static_cast<unsigned long long>(experiment.seed));
-  for (const sim::SceneRobot& r : scene.robots) {
-    std::printf("robot      %-7s id %-3d x %.3f mm  y %.3f mm  theta %.6f rad\n",
-                palette[r.team_colour].c_str(), r.id, r.pose.x_mm, r.pose.y_mm, r.pose.theta_rad);
-  }
-  for (size_t k = 0; k < scene.blobs.size(); ++k) {
-    const detect::Blob& b = scene.blobs[k];
-    std::printf("blob %-5zu %-7s (%.3f, %.3f) mm  area %.1f mm^2\n", k, palette[b.colour].c_str(),
-                b.position_mm.x(), b.position_mm.y(), b.area_mm2);
-  }
-  for (const detect::Detection& d : detections) {
-    std::printf("detection  %-7s id %-3d %-12s x %.3f mm  y %.3f mm  theta %.6f rad  E %.3f mm^2\n",
-                palette[d.team_colour].c_str(), d.id,
-                std::string(detect::DetectionStatusName(d.status)).c_str(), d.pose.x_mm,
-                d.pose.y_mm, d.pose.theta_rad, d.residual_mm2);
-  }
-  std::printf(
-      "score      robots %d correct %d wrong_id %d unknown_id %d ambiguous %d missed %d "
-      "false_positives %d\n",
-      score.robots, score.correct, score.wrong_id, score.unknown_id, score.ambiguous, score.missed,
-      score.false_positives);
-  return kExitOk;
-}
-
 // The result files of a run: <out>/<base>.csv and .json, and the command line for the manifest.
 struct OutputFiles {
   std::string csv_path, json_path, command_line;
@@ -195,7 +97,11 @@ sim::RunOptions RunOptionsFor(const SimulateOptions& o) {
 // correspondence = "detect": whole frames through the detector.
 int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
                   const std::vector<std::string>& args) {
-  if (!o.replay.empty()) return ReplayDetect(experiment, o.replay);
+  if (!o.replay.empty()) {
+    std::cout << sim::ReplayText(
+        sim::ReplayDetectFrame(experiment, sim::ParseReplayIndex(o.replay, "FRAME")));
+    return kExitOk;
+  }
   const sim::RunOptions run_options = RunOptionsFor(o);
   const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
 
@@ -267,7 +173,11 @@ int RunSimulate(const std::vector<std::string>& args) {
   if (experiment.correspondence == sim::Correspondence::kDetect) {
     return RunDetectMode(experiment, o, args);
   }
-  if (!o.replay.empty()) return Replay(experiment, o.replay);
+  if (!o.replay.empty()) {
+    std::cout << sim::ReplayText(
+        sim::ReplayTrial(experiment, sim::ParseReplayIndex(o.replay, "TRIAL")));
+    return kExitOk;
+  }
 
   const sim::RunOptions run_options = RunOptionsFor(o);
   const sim::RunResult result = sim::RunExperiment(experiment, run_options);

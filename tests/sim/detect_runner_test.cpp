@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "../test_util.h"
+#include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
 #include "patlab/stats/summary.h"
 #include "scene_score.h"
@@ -217,6 +218,25 @@ TEST_F(DetectRunnerTest, ReplayedFramesAddUpToTheRunnersCounts) {
     EXPECT_EQ(sum.false_positives, r.false_positives);
     EXPECT_GT(r.wrong_id + r.missed, 0);  // the frames are not trivial
   }
+}
+
+TEST_F(DetectRunnerTest, ReplayDetectFrameScoresWhatTheRunnerScored) {
+  // The library replay behind `patlab simulate --replay` (sim/replay.h) is the runner's frame.
+  const Experiment e = Load("false_blob_rate_per_m2 = 3\ncolour_error_probability = 0.03\n", "[2]");
+  const DetectRunResult result = RunDetectExperiment(e, RunOptions{});
+  for (const DetectPointResult& r : result.points) {
+    int64_t correct = 0, false_positives = 0;
+    for (int64_t f = 0; f < e.detect.frames; ++f) {
+      const FrameReplay replay = ReplayDetectFrame(e, {r.point, f, ""});
+      correct += replay.score.correct;
+      false_positives += replay.score.false_positives;
+    }
+    EXPECT_EQ(correct, r.correct);
+    EXPECT_EQ(false_positives, r.false_positives);
+  }
+  EXPECT_INPUT_ERROR(ReplayDetectFrame(e, ParseReplayIndex("0,999999", "FRAME")),
+                     "--replay 0,999999 is out of range; expected POINT < 2 and FRAME < " +
+                         std::to_string(e.detect.frames));
 }
 
 }  // namespace

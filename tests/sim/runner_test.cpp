@@ -7,6 +7,7 @@
 
 #include "../test_util.h"
 #include "patlab/sim/batch.h"
+#include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
 
 namespace patlab::sim {
@@ -214,6 +215,38 @@ TEST(Runner, FastVsMlTestsSeparateIdenticalEstimatorsFromRealDifferences) {
   EXPECT_LT(butterfly.wilcoxon_theta.p_value, 1e-4);
   EXPECT_GT(butterfly.ks_theta.p_value, 0.05);
   EXPECT_FALSE(r.points[0].estimators[0].vs_fast.computed);  // fast is the reference
+}
+
+TEST(Replay, NoiseFreeTrialIsRecoveredByEveryEstimator) {
+  // Point 0 is (triangle, sigma 0): every estimator must return the true pose of the trial.
+  const Experiment e = SmallExperiment({"triangle", "butterfly"}, {0.0, 2.0}, 100);
+  const TrialReplay r = ReplayTrial(e, ParseReplayIndex("0,42", "TRIAL"));
+  EXPECT_EQ(r.pattern->name, e.patterns[0].name);
+  EXPECT_EQ(r.observed.size(), static_cast<size_t>(e.patterns[0].size()));
+  for (const Pose2& p : r.estimates) {
+    EXPECT_NEAR(p.x_mm, r.truth.x_mm, 1e-9);
+    EXPECT_NEAR(p.y_mm, r.truth.y_mm, 1e-9);
+    EXPECT_NEAR(WrapAngle(p.theta_rad - r.truth.theta_rad), 0.0, 1e-12);
+  }
+  // Point 3 is (butterfly, sigma 2): the same trial drawn twice is the same, another differs.
+  const TrialReplay a = ReplayTrial(e, {3, 7, "3,7"});
+  const TrialReplay b = ReplayTrial(e, {3, 7, "3,7"});
+  const TrialReplay c = ReplayTrial(e, {3, 8, "3,8"});
+  EXPECT_EQ(a.observed[0], b.observed[0]);
+  EXPECT_NE(a.observed[0], c.observed[0]);
+  EXPECT_NE(a.estimates[0].x_mm, a.truth.x_mm);
+}
+
+TEST(Replay, BadRequestsAreInputErrors) {
+  const Experiment e = SmallExperiment({"triangle"}, {1.0}, 100);
+  EXPECT_INPUT_ERROR(ParseReplayIndex("3;4", "TRIAL"),
+                     "--replay is '3;4'; expected POINT,TRIAL (two integers >= 0)");
+  EXPECT_INPUT_ERROR(ParseReplayIndex("-1,4", "FRAME"),
+                     "--replay is '-1,4'; expected POINT,FRAME (two integers >= 0)");
+  EXPECT_INPUT_ERROR(ReplayTrial(e, ParseReplayIndex("1,0", "TRIAL")),
+                     "--replay 1,0 is out of range; expected POINT < 1 and TRIAL < 100");
+  EXPECT_INPUT_ERROR(ReplayTrial(e, ParseReplayIndex("0,100", "TRIAL")),
+                     "--replay 0,100 is out of range; expected POINT < 1 and TRIAL < 100");
 }
 
 }  // namespace
