@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "patlab/core/error.h"
+#include "patlab/core/gaussian.h"
 #include "patlab/stats/summary.h"
 
 namespace patlab::stats {
@@ -21,18 +22,7 @@ void Validate(const SmoothingOptions& options) { ThrowFirstProblem(Check(options
 
 std::vector<double> GaussianKernel(const SmoothingOptions& options) {
   Validate(options);
-  const double sigma = options.sigma_samples;
-  const auto radius = static_cast<std::ptrdiff_t>(options.truncate_sigmas * sigma + 0.5);
-  if (radius == 0) return {1.0};  // also sigma = 0, where the formula would give 0/0
-  std::vector<double> w(static_cast<std::size_t>(radius) + 1);
-  double sum = 0.0;
-  for (std::ptrdiff_t k = -radius; k <= radius; ++k) {
-    const double v = std::exp(-0.5 / (sigma * sigma) * static_cast<double>(k * k));
-    sum += v;
-    if (k >= 0) w[static_cast<std::size_t>(k)] = v;
-  }
-  for (double& v : w) v /= sum;
-  return w;
+  return GaussianHalfKernel(options.sigma_samples, options.truncate_sigmas);
 }
 
 double ResidualStdFactor(const SmoothingOptions& options) {

@@ -8,6 +8,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/core/gaussian.h"
 #include "patlab/core/rng.h"
 #include "patlab/detect/settings.h"
 #include "patlab/io/pattern_file.h"
@@ -78,17 +79,12 @@ std::vector<Disc> SceneDiscs(const FieldScene& scene, const CameraModel& camera)
   return discs;
 }
 
-// A normalised Gaussian kernel of radius floor(truncate * sigma + 0.5), taps k = -radius..radius.
+// The blur's taps k = -radius..radius, from the one Gaussian kernel (core/gaussian.h).
 std::vector<double> GaussianKernel(double sigma_px) {
-  const int radius = static_cast<int>(kBlurTruncateSigmas * sigma_px + 0.5);
-  std::vector<double> kernel(static_cast<size_t>(2 * radius + 1));
-  double sum = 0.0;
-  for (int k = -radius; k <= radius; ++k) {
-    const double w = std::exp(-0.5 * (k * k) / (sigma_px * sigma_px));
-    kernel[static_cast<size_t>(k + radius)] = w;
-    sum += w;
-  }
-  for (double& w : kernel) w /= sum;
+  const std::vector<double> half = GaussianHalfKernel(sigma_px, kBlurTruncateSigmas);
+  const size_t radius = half.size() - 1;
+  std::vector<double> kernel(2 * radius + 1);
+  for (size_t k = 0; k <= radius; ++k) kernel[radius + k] = kernel[radius - k] = half[k];
   return kernel;
 }
 
