@@ -165,6 +165,20 @@ nlohmann::json ManifestCommon(const Experiment& experiment, const std::string& c
   return j;
 }
 
+// The end every manifest of a run shares: threads, the stage timings, the simulation rate of
+// `count` trials or frames under `rate_key`, and the files written. Returns the text.
+template <typename Result>
+std::string WithRunTotals(nlohmann::json j, const Result& result, const char* rate_key,
+                          int64_t count, const std::vector<std::string>& outputs) {
+  j["threads"] = result.threads;
+  j["timings_s"] = {{"simulate", result.simulate_seconds},
+                    {"statistics", result.statistics_seconds},
+                    {"wall", result.wall_seconds}};
+  j[rate_key] = result.simulate_seconds > 0 ? count / result.simulate_seconds : 0.0;
+  j["outputs"] = outputs;
+  return j.dump(2) + "\n";
+}
+
 }  // namespace
 
 std::string ManifestJson(const Experiment& experiment, const RunResult& result,
@@ -186,15 +200,8 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
     for (const EstimatorResult& r : p.estimators) nonconverged += r.nonconverged;
   }
   j["ml_nonconverged_trials"] = nonconverged;
-  j["threads"] = result.threads;
   j["total_trials"] = result.total_trials;
-  j["timings_s"] = {{"simulate", result.simulate_seconds},
-                    {"statistics", result.statistics_seconds},
-                    {"wall", result.wall_seconds}};
-  j["trials_per_second"] =
-      result.simulate_seconds > 0 ? result.total_trials / result.simulate_seconds : 0.0;
-  j["outputs"] = outputs;
-  return j.dump(2) + "\n";
+  return WithRunTotals(std::move(j), result, "trials_per_second", result.total_trials, outputs);
 }
 
 namespace {
@@ -315,15 +322,8 @@ std::string DetectManifestJson(const Experiment& experiment, const DetectRunResu
   j["intervals"] = {{"rates", "Wilson score, 95%"},
                     {"false_positives_per_frame", "Garwood (exact Poisson), 95%"},
                     {"stds", "chi-square, 95%"}};
-  j["threads"] = result.threads;
   j["total_frames"] = result.total_frames;
-  j["timings_s"] = {{"simulate", result.simulate_seconds},
-                    {"statistics", result.statistics_seconds},
-                    {"wall", result.wall_seconds}};
-  j["frames_per_second"] =
-      result.simulate_seconds > 0 ? result.total_frames / result.simulate_seconds : 0.0;
-  j["outputs"] = outputs;
-  return j.dump(2) + "\n";
+  return WithRunTotals(std::move(j), result, "frames_per_second", result.total_frames, outputs);
 }
 
 }  // namespace patlab::sim
