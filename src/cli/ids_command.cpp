@@ -27,9 +27,11 @@ constexpr const char* kExamples = R"(examples:
   patlab ids patterns/my-pattern.toml --colors 1,2,3,4,5
 
 A PATTERN is a pattern file path or a name in --patterns-dir. Counting rule: a rotation about
-the key patch that maps the patches onto themselves within --tolerance mm cannot be decided by
-geometry; a colouring of the ID slots is an ID only if no such rotation maps it onto itself, and
-colourings such rotations map onto each other are one ID. With --list, colours are letters A, B,
+the key patch that maps every patch to within --tolerance mm of another cannot be decided by
+geometry, nor can any composition of such rotations (the group they generate); a colouring of
+the ID slots is an ID only if no rotation of that group maps it onto itself, and colourings the
+group maps onto each other are one ID. The table after the counts says, per rotation, its
+residual (worst patch distance) against the tolerance and what decides it. With --list, colours are letters A, B,
 ... and each ID lists one colour per ID slot in the pattern file's patch order. Exit status: 0
 ok, 2 bad input.
 )";
@@ -67,8 +69,13 @@ std::string IdsTable(const std::vector<Row>& rows, const std::vector<int>& colou
     for (int n : colours) out << std::setw(12) << detect::CountIds(r.pattern, r.symmetry, n);
     out << "\n";
   }
-  out << "\nrotations: rotations about the key that geometry cannot tell apart and colours must "
-         "decide\n";
+  out << "\nrotations: rotations about the key that geometry cannot tell apart and ID colours "
+         "must decide\n";
+  for (const Row& r : rows) {
+    out << "\n"
+        << r.pattern.name << ": " << detect::SymmetrySummary(r.symmetry) << "\n"
+        << detect::SymmetryTable(r.symmetry, "  ");
+  }
   return out.str();
 }
 

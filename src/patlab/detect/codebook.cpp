@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -85,9 +86,7 @@ int64_t CheckedPower(int64_t base, int exponent) {
 
 // The rotation angle of effective shift number t, in degrees in [0, 360), for messages.
 std::string DegreesText(const Symmetry& symmetry, size_t t) {
-  const auto it =
-      std::find(symmetry.shifts.begin(), symmetry.shifts.end(), symmetry.effective_shifts[t]);
-  double deg = symmetry.angles_rad[it - symmetry.shifts.begin()] * 180.0 / std::numbers::pi;
+  double deg = symmetry.fits[symmetry.effective_shifts[t]].angle_rad * 180.0 / std::numbers::pi;
   if (deg < 0.0) deg += 360.0;
   return FormatNumber(std::round(deg * 10.0) / 10.0);
 }
@@ -102,6 +101,45 @@ std::vector<int> IdSlots(const Pattern& pattern) {
   return slots;
 }
 
+namespace {
+
+// The least-squares rotation about the key that maps circular position j onto j + shift (2-D
+// Procrustes about a fixed centre, Umeyama 1991), and the worst patch distance under it.
+ShiftFit FitShift(const std::vector<Vec2>& q, int shift) {
+  const int m = static_cast<int>(q.size());
+  ShiftFit fit;
+  fit.shift = shift;
+  double dot = 0.0, cross = 0.0;
+  for (int j = 0; j < m; ++j) {
+    const Vec2& a = q[j];
+    const Vec2& b = q[(j + shift) % m];
+    dot += a.dot(b);
+    cross += a.x() * b.y() - a.y() * b.x();
+  }
+  fit.angle_rad = shift == 0 ? 0.0 : std::atan2(cross, dot);
+  const double c = std::cos(fit.angle_rad), s = std::sin(fit.angle_rad);
+  for (int j = 0; j < m; ++j) {
+    const Vec2& a = q[j];
+    const Vec2 rotated(c * a.x() - s * a.y(), s * a.x() + c * a.y());
+    fit.residual_mm = std::max(fit.residual_mm, (rotated - q[(j + shift) % m]).norm());
+  }
+  return fit;
+}
+
+bool PreservesRoles(const Pattern& pattern, const std::vector<int>& circular_order, int shift) {
+  const int m = static_cast<int>(circular_order.size());
+  for (int j = 0; j < m; ++j) {
+    const Patch& from = pattern.patches[circular_order[j]];
+    const Patch& to = pattern.patches[circular_order[(j + shift) % m]];
+    if (from.role != to.role || (from.role == PatchRole::kFixed && from.colour != to.colour)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 Symmetry FindSymmetry(const Pattern& pattern, double tolerance_mm) {
   PATLAB_CHECK(tolerance_mm >= 0.0);
   Symmetry symmetry;
@@ -114,43 +152,68 @@ Symmetry FindSymmetry(const Pattern& pattern, double tolerance_mm) {
     by_angle.push_back({std::atan2(q.y(), q.x()), i});
   }
   std::sort(by_angle.begin(), by_angle.end());
-  for (const auto& [angle, index] : by_angle) symmetry.circular_order.push_back(index);
+  std::vector<Vec2> q;
+  for (const auto& [angle, index] : by_angle) {
+    symmetry.circular_order.push_back(index);
+    q.push_back(pattern.patches[index].position_mm - key);
+  }
 
-  const int m = static_cast<int>(symmetry.circular_order.size());
-  auto q = [&](int j) {
-    return Vec2(pattern.patches[symmetry.circular_order[j]].position_mm - key);
-  };
+  const int m = static_cast<int>(q.size());
+  int generator = m;  // gcd of m and the accepted shifts: the group is its multiples
   for (int shift = 0; shift < m; ++shift) {
-    // The rotation that best maps position j onto position j + shift (2-D Procrustes about the
-    // key, Umeyama 1991), then the worst patch distance under it.
-    double dot = 0.0, cross = 0.0;
-    for (int j = 0; j < m; ++j) {
-      const Vec2 a = q(j), b = q((j + shift) % m);
-      dot += a.dot(b);
-      cross += a.x() * b.y() - a.y() * b.x();
+    ShiftFit fit = FitShift(q, shift);
+    fit.accepted = fit.residual_mm <= tolerance_mm || shift == 0;
+    fit.preserves_roles = PreservesRoles(pattern, symmetry.circular_order, shift);
+    if (fit.accepted) {
+      symmetry.shifts.push_back(shift);
+      symmetry.angles_rad.push_back(fit.angle_rad);
+      generator = std::gcd(generator, shift);
     }
-    const double angle = shift == 0 ? 0.0 : std::atan2(cross, dot);
-    const double c = std::cos(angle), s = std::sin(angle);
-    double worst_mm = 0.0;
-    for (int j = 0; j < m; ++j) {
-      const Vec2 a = q(j);
-      const Vec2 rotated(c * a.x() - s * a.y(), s * a.x() + c * a.y());
-      worst_mm = std::max(worst_mm, (rotated - q((j + shift) % m)).norm());
-    }
-    if (worst_mm > tolerance_mm) continue;
-    symmetry.shifts.push_back(shift);
-    symmetry.angles_rad.push_back(angle);
-    bool preserves_colours = true;
-    for (int j = 0; j < m; ++j) {
-      const Patch& from = pattern.patches[symmetry.circular_order[j]];
-      const Patch& to = pattern.patches[symmetry.circular_order[(j + shift) % m]];
-      if (from.role != to.role || (from.role == PatchRole::kFixed && from.colour != to.colour)) {
-        preserves_colours = false;
-      }
-    }
-    if (preserves_colours) symmetry.effective_shifts.push_back(shift);
+    symmetry.fits.push_back(fit);
+  }
+  for (ShiftFit& fit : symmetry.fits) {
+    fit.in_group = fit.shift % generator == 0;
+    if (!fit.in_group) continue;
+    symmetry.group_shifts.push_back(fit.shift);
+    if (fit.preserves_roles) symmetry.effective_shifts.push_back(fit.shift);
   }
   return symmetry;
+}
+
+std::string SymmetrySummary(const Symmetry& symmetry) {
+  auto list = [](const std::vector<int>& shifts) {
+    std::string text;
+    for (int s : shifts) text += (text.empty() ? "{" : ", ") + std::to_string(s);
+    return text + "}";
+  };
+  const int k = symmetry.effective_order();
+  const std::string head = "accepted shifts " + list(symmetry.shifts) + ", group generated " +
+                           list(symmetry.group_shifts);
+  if (k == 1) return head + ": geometry and fixed colours fix the rotation";
+  return head + ", ID colours decide among " + list(symmetry.effective_shifts) + ": " +
+         std::to_string(k) + " rotations";
+}
+
+std::string SymmetryTable(const Symmetry& symmetry, const std::string& indent) {
+  std::string out = indent + "shift  angle deg  residual mm  geometry (tolerance " +
+                    FormatNumber(symmetry.tolerance_mm) +
+                    " mm)                      rotation decided by\n";
+  for (const ShiftFit& fit : symmetry.fits) {
+    double deg = fit.angle_rad * 180.0 / std::numbers::pi;
+    if (deg < 0.0) deg += 360.0;
+    const char* geometry = fit.shift == 0 ? "identity"
+                           : fit.accepted ? "accepted: residual <= tolerance"
+                           : fit.in_group ? "rejected, but composed of accepted shifts"
+                                          : "rejected: residual > tolerance";
+    const char* decided = fit.shift == 0         ? "-"
+                          : !fit.in_group        ? "geometry"
+                          : !fit.preserves_roles ? "fixed colours"
+                                                 : "ID colours";
+    out += indent + StringPrintf("%-5d  %-9s  %-11s  %-46s %s\n", fit.shift,
+                                 FormatFixed(deg, 1).c_str(),
+                                 FormatFixed(fit.residual_mm, 2).c_str(), geometry, decided);
+  }
+  return out;
 }
 
 uint64_t CountIds(const Pattern& pattern, const Symmetry& symmetry, int num_colours) {
@@ -159,6 +222,9 @@ uint64_t CountIds(const Pattern& pattern, const Symmetry& symmetry, int num_colo
   const int k = symmetry.effective_order();
   // The effective shifts form a subgroup of Z_m, generated by its smallest positive element;
   // its subgroup of order d is generated by element k / d.
+  for (int t = 0; t < k; ++t) {
+    PATLAB_CHECK(symmetry.effective_shifts[t] == t * (k > 1 ? symmetry.effective_shifts[1] : 0));
+  }
   int64_t free_colourings = 0;
   for (int d = 1; d <= k; ++d) {
     if (k % d != 0) continue;
@@ -169,6 +235,14 @@ uint64_t CountIds(const Pattern& pattern, const Symmetry& symmetry, int num_colo
   }
   PATLAB_CHECK(free_colourings % k == 0);
   return static_cast<uint64_t>(free_colourings / k);
+}
+
+bool Confusable(const Pattern& pattern, const Symmetry& symmetry, const std::vector<int>& a,
+                const std::vector<int>& b) {
+  for (const std::vector<int>& perm : SlotPermutations(pattern, symmetry)) {
+    if (Permuted(perm, a) == b) return true;
+  }
+  return false;
 }
 
 int StabilisingShift(const Pattern& pattern, const Symmetry& symmetry,

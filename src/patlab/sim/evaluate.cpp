@@ -101,6 +101,9 @@ Misidentification EvaluateMisidentification(const Pattern& pattern, const std::s
   Validate(e);
   RunOptions run;
   run.threads = o.threads;
+  if (o.progress) {
+    run.progress = [&o](int done, int total) { o.progress(1 + done, 1 + total); };
+  }
   part.result = RunDetectExperiment(e, run);
   part.run = true;
   return part;
@@ -119,6 +122,8 @@ RunResult MonteCarlo(const Pattern& pattern, const std::string& file, const Eval
   Validate(e);
   RunOptions run;
   run.threads = o.threads;
+  const int units = 1 + static_cast<int>(o.sigmas_mm.size());
+  if (o.progress) run.progress = [&o, units](int done, int) { o.progress(done, units); };
   return RunExperiment(e, run);
 }
 
@@ -232,7 +237,8 @@ std::string IdCapacityText(const EvaluationReport& r) {
   for (const auto& [n, ids] : r.ids.counts) {
     out += StringPrintf("  %8llu", static_cast<unsigned long long>(ids));
   }
-  return out + "\n";
+  out += "\n   " + detect::SymmetrySummary(r.ids.symmetry) + "\n";
+  return out + detect::SymmetryTable(r.ids.symmetry, "   ");
 }
 
 std::string MisidentificationText(const EvaluationReport& r) {
@@ -321,9 +327,22 @@ json MonteCarloJson(const EvaluationReport& r) {
 }
 
 json IdCapacityJson(const EvaluationReport& r) {
+  const detect::Symmetry& sym = r.ids.symmetry;
   json ids = {{"tolerance_mm", r.options.tolerance_mm},
-              {"rotations", r.ids.symmetry.effective_order()},
+              {"rotations", sym.effective_order()},
+              {"accepted_shifts", sym.shifts},
+              {"group_shifts", sym.group_shifts},
+              {"effective_shifts", sym.effective_shifts},
+              {"shift_fits", json::array()},
               {"counts", json::array()}};
+  for (const detect::ShiftFit& fit : sym.fits) {
+    ids["shift_fits"].push_back({{"shift", fit.shift},
+                                 {"angle_rad", fit.angle_rad},
+                                 {"residual_mm", fit.residual_mm},
+                                 {"accepted", fit.accepted},
+                                 {"in_group", fit.in_group},
+                                 {"preserves_roles", fit.preserves_roles}});
+  }
   for (const auto& [n, count] : r.ids.counts) {
     ids["counts"].push_back({{"colours", n}, {"ids", count}});
   }

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -43,6 +44,9 @@ struct EvaluateOptions {
   std::optional<int> id_colours;
   uint64_t seed = 1;
   int threads = 0;  // 0 = all cores; the report does not depend on it
+  // Called on the calling thread after part 2's Monte-Carlo point and after each of part 4's
+  // sigmas: (units done, 1 + sigmas). Optional; the report does not depend on it.
+  std::function<void(int, int)> progress;
 };
 // Fields named as the flags of `patlab evaluate` ("--sigma"): sigma a patch std > 0 and at most
 // 1e6 mm, trials and frames as in experiment files (experiment.h), sigmas a sigma grid, id_colours
