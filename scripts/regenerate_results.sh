@@ -18,3 +18,7 @@ $P track experiments/table1.toml --pixel-sigma 0 --jitter-px 0 --decimate 4 \
 /usr/bin/python3 scripts/plot_track.py
 # Real frames (needs ../shared/frames; skipped cleanly without it).
 bash scripts/vision_real_frames.sh "$P"
+# Pattern designs side by side (issue 9): the shipped patterns, and the real team designs of
+# c. 2009-2013 imported from their SSL-Vision sheets (needs ../shared/frames; skipped without it).
+$P compare simple linear triangle butterfly ssl-standard --out results/compare -q
+/usr/bin/python3 scripts/plot_compare.py results/compare/compare.csv results/compare/compare.png

@@ -1,0 +1,121 @@
+#include "patlab/sim/compare.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../expect_error.h"
+#include "patlab/detect/codebook.h"
+#include "patlab/io/pattern_file.h"
+
+namespace patlab::sim {
+namespace {
+
+std::pair<Pattern, std::string> Design(const std::string& name) {
+  const std::string file = std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml";
+  return {io::LoadPatternFile(file), file};
+}
+
+CompareOptions Small() {
+  CompareOptions o;
+  o.evaluate.trials = 3000;
+  o.evaluate.frames = 20;
+  o.evaluate.sigmas_mm = {1.0, 4.0};
+  return o;
+}
+
+// SSL standard, hand computed: dots of radius 20 at |p| = 65 mm -> diameter 2 (65 + 20) = 170;
+// the smallest gap is key to dot, 65 - 25 - 20 = 20 mm. The nearest wrong rotation is a quarter
+// turn, E0 = 932 mm^2 (docs/paper-reproduction.md, detect mode), chi2_7^-1(0.9999) = 29.88:
+// sigma0 = sqrt(932 / 29.88) = 5.58 mm; the onset solves 932 + 7 s^2 - 6.18 sqrt(932) s = 29.88
+// s^2: s = 3.48 mm (measured in frames: first rotation errors at 3.5 mm).
+TEST(DesignGeometry, SslStandardByHand) {
+  const auto [ssl, file] = Design("ssl-standard");
+  const DesignGeometry g = ComputeDesignGeometry(ssl, detect::FindSymmetry(ssl, 10.0));
+  EXPECT_NEAR(g.outer_diameter_mm, 170.0, 1e-3);
+  EXPECT_NEAR(g.min_gap_mm, 20.0, 1e-3);
+  EXPECT_NEAR(g.wrong_rotation_e0_mm2, 932.0, 1.0);
+  EXPECT_NEAR(g.chi2_quantile, 29.88, 0.01);
+  EXPECT_NEAR(g.rotation_sigma0_mm, 5.58, 0.01);
+  EXPECT_NEAR(g.rotation_onset_mm, 3.48, 0.01);
+}
+
+TEST(DesignGeometry, ColoursDecideEveryRotationOfTheTriangle) {
+  const auto [triangle, file] = Design("triangle");
+  const DesignGeometry g = ComputeDesignGeometry(triangle, detect::FindSymmetry(triangle, 10.0));
+  EXPECT_TRUE(std::isinf(g.wrong_rotation_e0_mm2));
+  EXPECT_TRUE(std::isnan(g.rotation_sigma0_mm));
+  EXPECT_TRUE(std::isnan(g.rotation_onset_mm));
+}
+
+TEST(CompareDesigns, RanksByTheChosenColumnBestFirst) {
+  CompareOptions o = Small();
+  o.sort_by = "ids_2c";
+  const CompareResult r =
+      CompareDesigns({Design("triangle"), Design("butterfly"), Design("linear")}, o);
+  ASSERT_EQ(r.rows.size(), 3u);
+  EXPECT_EQ(r.rows[0].design, "butterfly");  // 16 IDs
+  EXPECT_EQ(r.rows[1].design, "triangle");   // 2
+  EXPECT_EQ(r.rows[2].design, "linear");     // 1
+  EXPECT_EQ(r.rows[2].rank, 3);
+  o.sort_by = "crlb_theta_mrad_per_mm";  // smaller is better: the butterfly's four dots
+  const CompareResult by_angle = CompareDesigns({Design("linear"), Design("butterfly")}, o);
+  EXPECT_EQ(by_angle.rows[0].design, "butterfly");
+}
+
+TEST(CompareDesigns, SameNumbersForAnyThreadCountAndAnyCompanions) {
+  CompareOptions o = Small();
+  o.evaluate.threads = 1;
+  const CompareResult one = CompareDesigns({Design("ssl-standard"), Design("triangle")}, o);
+  o.evaluate.threads = 2;
+  const CompareResult two = CompareDesigns({Design("ssl-standard"), Design("triangle")}, o);
+  EXPECT_EQ(CompareCsv(one), CompareCsv(two));
+  EXPECT_EQ(CompareText(one), CompareText(two));
+  // A design's numbers do not depend on which designs it is compared with.
+  const CompareResult alone = CompareDesigns({Design("triangle")}, o);
+  const CompareRow& with = one.rows[0].design == "triangle" ? one.rows[0] : one.rows[1];
+  ASSERT_EQ(alone.rows[0].cells.size(), with.cells.size());
+  for (size_t k = 0; k < with.cells.size(); ++k) {
+    const auto& [name, value] = with.cells[k];
+    EXPECT_EQ(alone.rows[0].cells[k].first, name);
+    const double a = alone.rows[0].cells[k].second;
+    EXPECT_TRUE(a == value || (std::isnan(a) && std::isnan(value))) << name;  // bit for bit
+  }
+}
+
+TEST(CompareDesigns, ProgressCountsEveryRunOnce) {
+  CompareOptions o = Small();
+  std::vector<std::pair<int, int>> calls;
+  o.progress = [&](int done, int total) { calls.push_back({done, total}); };
+  CompareDesigns({Design("simple"), Design("linear")}, o);
+  ASSERT_FALSE(calls.empty());
+  EXPECT_EQ(calls.back(), std::make_pair(6, 6));  // 2 designs x (1 Monte-Carlo + 2 sigmas)
+  for (size_t k = 1; k < calls.size(); ++k) EXPECT_GE(calls[k].first, calls[k - 1].first);
+}
+
+TEST(CompareDesigns, BadInputNamesWhatAndWhere) {
+  auto [no_ids, file] = Design("simple");
+  no_ids.patches[1].role = PatchRole::kFixed;
+  no_ids.patches[1].colour = "red";
+  EXPECT_INPUT_ERROR(CompareDesigns({{no_ids, "x.toml"}}, Small()),
+                     "x.toml: design simple has no ID slots; expected at least one patch with "
+                     "role = \"id\"");
+  EXPECT_INPUT_ERROR(
+      CompareDesigns({Design("simple"), {Design("simple").first, "y.toml"}}, Small()),
+      "y.toml: design name \"simple\" is also the name in " + std::string(PATLAB_SOURCE_DIR) +
+          "/patterns/simple.toml; expected distinct design names");
+  CompareOptions o = Small();
+  o.sort_by = "speed";
+  o.evaluate.colour_counts = {2};
+  o.evaluate.sigmas_mm = {2.0};
+  EXPECT_INPUT_ERROR(
+      CompareDesigns({Design("simple")}, o),
+      "--sort-by is \"speed\"; expected one of: diameter_mm, min_gap_mm, rotations, "
+      "crlb_pos_per_mm, fast_pos_per_mm, ml_pos_per_mm, crlb_theta_mrad_per_mm, "
+      "fast_theta_mrad_per_mm, ml_theta_mrad_per_mm, fast_eff_pos, fast_eff_theta, ids_2c, "
+      "rotation_sigma0_mm, rotation_onset_mm, detection_2mm, wrong_id_2mm, "
+      "ambiguous_2mm, rotation_errors_2mm");
+}
+
+}  // namespace
+}  // namespace patlab::sim
