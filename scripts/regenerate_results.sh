@@ -22,3 +22,4 @@ bash scripts/vision_real_frames.sh "$P"
 # c. 2009-2013 imported from their SSL-Vision sheets (needs ../shared/frames; skipped without it).
 $P compare simple linear triangle butterfly ssl-standard --out results/compare -q
 /usr/bin/python3 scripts/plot_compare.py results/compare/compare.csv results/compare/compare.png
+bash scripts/team_designs.sh "$P"
