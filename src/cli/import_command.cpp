@@ -48,8 +48,10 @@ std::string Summary(const vision::SheetImport& sheet) {
   for (const vision::ImportedLayout& l : sheet.layouts) {
     out += "  " + l.pattern.name + ": " + std::to_string(l.pattern.size() - 1) + " dots, " +
            std::to_string(l.codebook.entries.size()) + " IDs";
-    for (const auto& [id, why] : l.dropped)
+    if (l.codebook.entries.empty()) out += " (no codebook written)";
+    for (const auto& [id, why] : l.dropped) {
       out += "; ID " + std::to_string(id) + " left out: " + why;
+    }
     out += "\n";
   }
   return out;
@@ -92,8 +94,11 @@ int RunImport(const std::vector<std::string>& args) {
       const std::filesystem::path dir(f.out_dir);
       files.emplace_back((dir / (l.pattern.name + ".toml")).string(),
                          vision::PatternFileText(l, sheet));
-      files.emplace_back((dir / (l.pattern.name + ".codebook.toml")).string(),
-                         vision::CodebookFileText(l, sheet));
+      // A layout whose every colouring the symmetry rule rejects has no codebook to write.
+      if (!l.codebook.entries.empty()) {
+        files.emplace_back((dir / (l.pattern.name + ".codebook.toml")).string(),
+                           vision::CodebookFileText(l, sheet));
+      }
     }
   }
   for (size_t a = 0; a < files.size(); ++a) {

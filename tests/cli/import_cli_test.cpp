@@ -2,6 +2,8 @@
 // the shared SSL standard sheet (../shared/frames, not in the repository).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -34,6 +36,37 @@ TEST(ImportCli, BadSheetsExitTwoAndWriteNothing) {
   EXPECT_NE(missing.err.find("none.png"), std::string::npos) << missing.err;
   EXPECT_EQ(Import("").exit_code, 2);
   EXPECT_EQ(Import(blank + " " + blank + " --name x").exit_code, 2);
+}
+
+// One cell: three green dots 120 degrees apart. Colours must decide the rotation, and a
+// monochrome colouring cannot: the layout has no ID, so no codebook file is written.
+TEST(ImportCli, LayoutWithoutIdsGetsNoCodebook) {
+  const testing::TempDir dir;
+  vision::Image image = vision::Image::Rgb(200, 200);
+  auto disc = [&image](double cx, double cy, double r, std::array<uint8_t, 3> rgb) {
+    for (int y = 0; y < 200; ++y) {
+      for (int x = 0; x < 200; ++x) {
+        if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) {
+          std::copy(rgb.begin(), rgb.end(), image.Row(y) + 3 * x);
+        }
+      }
+    }
+  };
+  disc(100, 100, 25, {0, 0, 255});
+  for (int k = 0; k < 3; ++k) {
+    const double a = 2.0 * 3.14159265358979 * k / 3.0;
+    disc(100 + 65 * std::sin(a), 100 - 65 * std::cos(a), 18, {0, 255, 0});
+  }
+  const std::string sheet = dir.Path("tri.png");
+  vision::WritePng(image, sheet);
+  const CommandResult run = Import(sheet + " --out " + dir.Path("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("  tri: 3 dots, 0 IDs (no codebook written); ID 0 left out: a rotation by "
+                         "shift 1 maps it onto itself\n"),
+            std::string::npos)
+      << run.out;
+  EXPECT_TRUE(std::filesystem::exists(dir.Path("out/tri.toml")));
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("out/tri.codebook.toml")));
 }
 
 TEST(ImportCli, StandardSheetGivesFilesTheOtherCommandsRead) {
