@@ -23,9 +23,9 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab compare ssl-standard butterfly triangle            # ranked table on stdout
-  patlab compare patterns/*.toml --sort-by ids_2c --csv     # CSV on stdout
-  patlab compare a.toml b.toml --out results/ab             # compare.txt, .csv, .json in a dir
+  patlab compare ssl-standard butterfly triangle              # ranked table on stdout
+  patlab compare simple linear triangle --sort-by ids_2c --csv  # CSV on stdout
+  patlab compare a.toml b.toml --out results/ab               # compare.txt, .csv, .json in a dir
   patlab compare ssl-standard butterfly --trials 100000 --frames 10000 --sigmas 2,3,3.5,4
 
 A DESIGN is a pattern file path or a name in --patterns-dir. Every design runs the work of

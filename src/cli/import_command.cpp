@@ -21,7 +21,7 @@ namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
   patlab import ../shared/frames/ssl-standard-pattern-2010-16ids.png --name ssl-standard --out /tmp/p
-  patlab import sheets/*.png --out results/team-designs
+  patlab import sheets/*.png --out /tmp/designs           # every sheet, all or nothing
 
 A SHEET is an SSL-Vision pattern sheet (PNG/JPEG/PPM): 200 px cells at 1 px = 1 mm, one robot
 top per cell (ID = cell index, row-major), blue centre (key) patch, pink/green/cyan/white dots,

@@ -67,6 +67,17 @@ TEST(SheetImport, AbsentDotMakesAnotherLayout) {
   }
 }
 
+TEST(SheetImport, BadOptionsNameTheFlag) {
+  SheetImportOptions o;
+  o.cell_px = 0;
+  EXPECT_INPUT_ERROR(ImportSheet(Image::Rgb(400, 200), "x.png", o),
+                     "--cell-px is 0; expected an integer in [20, 10000]");
+  o = {};
+  o.slot_tolerance_mm = -1.0;
+  EXPECT_INPUT_ERROR(ImportSheet(Image::Rgb(400, 200), "x.png", o),
+                     "--slot-tolerance is -1; expected a finite number > 0 (mm)");
+}
+
 TEST(SheetImport, BadSheetsNameTheFile) {
   EXPECT_INPUT_ERROR(ImportSheet(Image::Rgb(300, 200), "odd.png", {}),
                      "odd.png: the sheet is 300x200 px; expected a grid of 200 px cells");

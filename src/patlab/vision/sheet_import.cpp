@@ -216,10 +216,10 @@ void BuildCodebook(const SheetImport& sheet, double tolerance_mm, ImportedLayout
 
 std::vector<OptionsProblem> Check(const SheetImportOptions& o) {
   OptionsChecker check;
-  check.IntegerInRange("cell_px", o.cell_px, 20, 10000);
-  check.Positive("mm_per_px", o.mm_per_px);
-  check.Positive("slot_tolerance_mm", o.slot_tolerance_mm, "mm");
-  check.NonNegative("symmetry_tolerance_mm", o.symmetry_tolerance_mm, "mm");
+  check.IntegerInRange("--cell-px", o.cell_px, 20, 10000);
+  check.Positive("--mm-per-px", o.mm_per_px);
+  check.Positive("--slot-tolerance", o.slot_tolerance_mm, "mm");
+  check.NonNegative("--tolerance", o.symmetry_tolerance_mm, "mm");
   return check.Take();
 }
 

@@ -42,6 +42,8 @@ struct SheetImportOptions {
   // The name of the patterns: <name> for a single layout, <name>-<k> (k = 1, 2, ...) for more.
   std::string name;
 };
+// Fields named as the flags of `patlab import`: --cell-px in [20, 10000], --mm-per-px > 0,
+// --slot-tolerance > 0, --tolerance >= 0.
 std::vector<OptionsProblem> Check(const SheetImportOptions& options);
 void Validate(const SheetImportOptions& options);
 
