@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <string>
@@ -95,6 +96,65 @@ double KsExactLattice(std::int64_t n1, std::int64_t n2, std::int64_t h, bool two
   return std::clamp(b[n2], 0.0, 1.0);
 }
 
+namespace {
+
+// The extremes of F1 - F2 over the merged order, with a sample value where each is first reached.
+struct EcdfExtremes {
+  double max_diff = -1.0, min_diff = 1.0;
+  double max_loc = 0.0, min_loc = 0.0;
+};
+
+// The two samples sorted into this thread's buffers, each followed by a +infinity sentinel (the
+// samples are finite). The buffers grow to the largest sample seen and are then reused: fresh
+// 100,000-element arrays cost more in page faults than the sorts. Only serial code uses them.
+struct SortedPair {
+  std::vector<double> a, b;
+};
+SortedPair& SortCopies(std::span<const double> x, std::span<const double> y) {
+  thread_local SortedPair pair;
+  if (pair.a.size() < x.size() + 1) pair.a.resize(x.size() + 1);
+  if (pair.b.size() < y.size() + 1) pair.b.resize(y.size() + 1);
+  std::copy(x.begin(), x.end(), pair.a.begin());
+  std::copy(y.begin(), y.end(), pair.b.begin());
+  SortAscending(std::span<double>(pair.a.data(), x.size()));
+  SortAscending(std::span<double>(pair.b.data(), y.size()));
+  pair.a[x.size()] = pair.b[y.size()] = std::numeric_limits<double>::infinity();
+  return pair;
+}
+
+// Walks the merged order and compares the ECDFs only after every copy of a tied value, as scipy
+// does with searchsorted(side=right). Each step consumes the smaller head value from one or both
+// samples without a branch on which (the branch mispredicted every other element); a step ends a
+// group of equal values when neither head still equals it, and only then is F1 - F2 compared.
+// The group's value is taken at its first step, as the element-at-a-time walk would.
+EcdfExtremes CompareEcdfs(std::span<const double> x, std::span<const double> y) {
+  const SortedPair& sorted = SortCopies(x, y);
+  const double* a = sorted.a.data();
+  const double* b = sorted.b.data();
+  const std::size_t n1 = x.size(), n2 = y.size();
+  const double dn1 = static_cast<double>(n1), dn2 = static_cast<double>(n2);
+  EcdfExtremes e;
+  std::size_t i = 0, j = 0;
+  double group_v = 0.0;
+  bool group_start = true;
+  while (i < n1 || j < n2) {
+    const double ai = a[i], bj = b[j];
+    const double v = ai <= bj ? ai : bj;
+    i += ai == v ? 1 : 0;
+    j += bj == v ? 1 : 0;
+    group_v = group_start ? v : group_v;
+    group_start = a[i] != v && b[j] != v;
+    if (!group_start) continue;
+    // Same operations as scipy: searchsorted(...)/n1 - searchsorted(...)/n2.
+    const double diff = static_cast<double>(i) / dn1 - static_cast<double>(j) / dn2;
+    if (diff > e.max_diff) e.max_diff = diff, e.max_loc = group_v;
+    if (diff < e.min_diff) e.min_diff = diff, e.min_loc = group_v;
+  }
+  return e;
+}
+
+}  // namespace
+
 KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
                      const KsOptions& options) {
   if (x.empty() || y.empty()) {
@@ -103,28 +163,13 @@ KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
   }
   detail::RequireFinite(x, "sample 1");
   detail::RequireFinite(y, "sample 2");
-  std::vector<double> a(x.begin(), x.end());
-  std::vector<double> b(y.begin(), y.end());
-  SortAscending(a);
-  SortAscending(b);
-  const std::size_t n1 = a.size();
-  const std::size_t n2 = b.size();
+  const std::size_t n1 = x.size();
+  const std::size_t n2 = y.size();
+  const EcdfExtremes e = CompareEcdfs(x, y);
   const double dn1 = static_cast<double>(n1);
   const double dn2 = static_cast<double>(n2);
-
-  // Walk the merged order; compare the ECDFs only after every copy of a tied value.
-  double max_diff = -1.0, min_diff = 1.0;  // of F1 - F2
-  double max_loc = 0.0, min_loc = 0.0;
-  std::size_t i = 0, j = 0;
-  while (i < n1 || j < n2) {
-    const double v = (j >= n2 || (i < n1 && a[i] <= b[j])) ? a[i] : b[j];
-    while (i < n1 && a[i] == v) ++i;
-    while (j < n2 && b[j] == v) ++j;
-    // Same operations as scipy: searchsorted(...)/n1 - searchsorted(...)/n2.
-    const double diff = static_cast<double>(i) / dn1 - static_cast<double>(j) / dn2;
-    if (diff > max_diff) max_diff = diff, max_loc = v;
-    if (diff < min_diff) min_diff = diff, min_loc = v;
-  }
+  const double max_diff = e.max_diff, min_diff = e.min_diff;
+  const double max_loc = e.max_loc, min_loc = e.min_loc;
   const double min_s = std::clamp(-min_diff, 0.0, 1.0);
 
   KsResult result;
