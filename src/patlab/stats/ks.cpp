@@ -219,7 +219,7 @@ EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const do
   const auto [x_lo, x_hi] = MinMax(x);
   const auto [y_lo, y_hi] = MinMax(y);
   const double lo = std::min(x_lo, y_lo), hi = std::max(x_hi, y_hi);
-  const std::size_t buckets = std::max<std::size_t>(1, (x.size() + y.size()) / 8);
+  const std::size_t buckets = std::max<std::size_t>(1, (x.size() + y.size()) / 2);
   const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
   constexpr double kSlack = 1e-9;
   const double scale = static_cast<double>(buckets) / (hi - lo);

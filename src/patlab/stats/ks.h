@@ -89,7 +89,7 @@ struct EcdfExtremes {
 };
 // Sorts both samples whole and walks their merged order: O(n log n).
 EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const double> y);
-// Counting-sorts both samples into (n1 + n2) / 8 buckets of equal width between the smallest and
+// Counting-sorts both samples into (n1 + n2) / 2 buckets of equal width between the smallest and
 // the largest value, keeps the ECDFs' counts at every bucket end, and sorts and walks only the
 // buckets inside which F1 - F2 could still exceed its extremes so far (for continuous samples,
 // a few percent of them): O(n) for continuous data, never worse than sorting. KsTwoSample uses
