@@ -49,6 +49,9 @@ void Kernel(benchmark::State& state, std::vector<estimate::Estimator> estimators
   state.SetItemsProcessed(state.iterations() * kBatchSize);
 }
 
+// The floor: true poses and noisy patch positions only (Philox, Box-Muller, the rigid motion),
+// no estimator.
+BENCHMARK_CAPTURE(Kernel, butterfly_inputs_only, {})->Threads(1)->Threads(2)->UseRealTime();
 BENCHMARK_CAPTURE(Kernel, butterfly_fast, {estimate::Estimator::kFast})
     ->Threads(1)
     ->Threads(2)

@@ -3,10 +3,12 @@
 //   build-stats/bench/stats_bench --benchmark_min_time=0.5
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 #include "patlab/stats/ks.h"
+#include "patlab/stats/sort.h"
 #include "patlab/stats/summary.h"
 #include "patlab/stats/wilcoxon.h"
 
@@ -66,6 +68,23 @@ BENCHMARK(BM_Wilcoxon)
     ->Args({100000, 0})
     ->Args({100000, 1})
     ->Unit(benchmark::kMillisecond);
+
+// One sort of 100,000 doubles (the unit of work of the tests above), and the same with
+// std::sort for scale.
+void BM_SortAscending(benchmark::State& state) {
+  const std::vector<double> x = Sample(6, 100000, 0.0, 0.0);
+  std::vector<double> v(x.size());
+  for (auto _ : state) {
+    std::copy(x.begin(), x.end(), v.begin());
+    if (state.range(0) != 0) {
+      patlab::stats::SortAscending(v);
+    } else {
+      std::sort(v.begin(), v.end());
+    }
+    benchmark::DoNotOptimize(v.data());
+  }
+}
+BENCHMARK(BM_SortAscending)->ArgName("radix")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_StdWithCi(benchmark::State& state) {
   const std::vector<double> x = Sample(5, 100000, 0.0, 0.0);

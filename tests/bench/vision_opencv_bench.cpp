@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "patlab/detect/detector.h"
+#include "patlab/detect/settings.h"
 #include "patlab/vision/color_lut.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/pipeline.h"
@@ -110,6 +112,76 @@ Result Compare(const Image& frame, const Thresholds& thresholds) {
   return r;
 }
 
+// OpenCV's way to the same regions: YUV once (from RGB, or from UYVY through RGB), then per
+// class inRange + connectedComponentsWithStats.
+double OpenCvMs(const Image& frame, const Thresholds& thresholds) {
+  const bool uyvy = frame.format == PixelFormat::kUyvy;
+  const cv::Mat in(frame.height_px, frame.width_px, uyvy ? CV_8UC2 : CV_8UC3,
+                   const_cast<uint8_t*>(frame.data.data()));
+  cv::Mat rgb, yuv, mask, labels, stats, centroids;
+  return MedianMs(
+      [&] {
+        if (uyvy) {
+          cv::cvtColor(in, rgb, cv::COLOR_YUV2RGB_UYVY);
+          cv::cvtColor(rgb, yuv, cv::COLOR_RGB2YUV);
+        } else {
+          cv::cvtColor(in, yuv, cv::COLOR_RGB2YUV);
+        }
+        for (const ColorClass& c : thresholds.classes) {
+          cv::inRange(yuv, cv::Scalar(c.range[0].lo, c.range[1].lo, c.range[2].lo),
+                      cv::Scalar(c.range[0].hi, c.range[1].hi, c.range[2].hi), mask);
+          cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S);
+        }
+      },
+      50);
+}
+
+// Decoded pixels -> detections (stages 2-6, as patlab detect runs them per frame) on the real SSL
+// 2008 frame with the settings of tests/data/vision, RGB and UYVY, beside OpenCV's stages 2-4
+// alone on the same frame and classes; then the decode time of each shared frame file.
+void RealFrames(const std::string& dir) {
+  const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
+  VisionPipeline pipeline(LoadThresholds(data + "ssl-2008.thresholds.toml"),
+                          LoadCalibration(data + "ssl-2008.calibration.toml"), SegmenterOptions{});
+  detect::Detector detector(detect::LoadDetectorSettings(data + "ssl-2008.detector.toml"));
+  std::vector<int> palette_label;
+  for (const ColorClass& c : pipeline.thresholds().classes) {
+    palette_label.push_back(detector.ColourLabel(c.name));
+  }
+  const Image rgb = ReadFrame(dir + "/ssl-field-2008.jpg");
+  std::vector<detect::Blob> blobs, palette_blobs;
+  std::vector<detect::Detection> detections;
+  std::printf(
+      "\nssl-field-2008.jpg 780x580, %zu classes: decoded pixels -> detections "
+      "(stages 2-6), one core\n%-8s %12s %22s %8s %11s\n",
+      pipeline.thresholds().classes.size(), "pixels", "patlab ms", "OpenCV ms (2-4 only)", "ratio",
+      "detections");
+  for (const Image& frame : {rgb, ToUyvy(rgb)}) {
+    const double ours = MedianMs(
+        [&] {
+          pipeline.Process(frame, &blobs);
+          palette_blobs.clear();
+          for (const detect::Blob& b : blobs) {
+            const int label = palette_label[static_cast<size_t>(b.colour)];
+            if (label >= 0) palette_blobs.push_back(detect::Blob{b.position_mm, label, b.area_mm2});
+          }
+          detector.Detect(palette_blobs, &detections);
+        },
+        200);
+    const double cv_ms = OpenCvMs(frame, pipeline.thresholds());
+    std::printf("%-8s %12.3f %22.3f %7.1fx %11zu\n",
+                frame.format == PixelFormat::kUyvy ? "UYVY" : "RGB", ours, cv_ms, cv_ms / ours,
+                detections.size());
+  }
+  std::printf("\ndecode (patlab::vision::ReadFrame: libjpeg / libpng), median of 20, one core\n");
+  for (const char* name :
+       {"ssl-field-2008.jpg", "vss-test-frame.png", "ssl-standard-pattern-2010-16ids.png"}) {
+    Image image;
+    const double ms = MedianMs([&] { image = ReadFrame(dir + "/" + name); }, 20);
+    std::printf("%-38s %5dx%-5d %8.3f ms\n", name, image.width_px, image.height_px, ms);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -143,5 +215,6 @@ int main(int argc, char** argv) {
   Segmenter segmenter(thresholds, SegmenterOptions{1, 0.0});
   std::printf("\nours on UYVY 780x580 (camera-native, no conversion): %.3f ms\n",
               MedianMs([&] { segmenter.Process(uyvy); }, 200));
+  if (std::filesystem::exists(dir + "/ssl-field-2008.jpg")) RealFrames(dir);
   return 0;
 }

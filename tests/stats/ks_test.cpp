@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iomanip>
+#include <utility>
 #include <vector>
 
 #include "../expect_error.h"
@@ -117,6 +120,74 @@ TEST(Ks, RejectsEmptyAndNonFiniteInput) {
                      "method is \"approx\"; expected \"auto\", \"exact\" or \"asymp\"");
   EXPECT_EQ(ParseKsMethod("asymp"), KsMethod::kAsymptotic);
   EXPECT_EQ(KsMethodName(KsMethod::kAsymptotic), "asymp");
+}
+
+// The walk as first written: std::sort, then one tied value at a time.
+detail::EcdfExtremes StraightforwardExtremes(std::vector<double> a, std::vector<double> b) {
+  // -0.0 before +0.0, as SortAscending orders them.
+  const auto less = [](double p, double q) {
+    return p < q || (p == q && std::signbit(p) && !std::signbit(q));
+  };
+  std::sort(a.begin(), a.end(), less);
+  std::sort(b.begin(), b.end(), less);
+  const size_t n1 = a.size(), n2 = b.size();
+  detail::EcdfExtremes e;
+  size_t i = 0, j = 0;
+  while (i < n1 || j < n2) {
+    const double v = (j >= n2 || (i < n1 && a[i] <= b[j])) ? a[i] : b[j];
+    while (i < n1 && a[i] == v) ++i;
+    while (j < n2 && b[j] == v) ++j;
+    const double diff = static_cast<double>(i) / static_cast<double>(n1) -
+                        static_cast<double>(j) / static_cast<double>(n2);
+    if (diff > e.max_diff) e.max_diff = diff, e.max_loc = v;
+    if (diff < e.min_diff) e.min_diff = diff, e.min_loc = v;
+  }
+  return e;
+}
+
+void ExpectSameExtremes(const detail::EcdfExtremes& got, const detail::EcdfExtremes& want) {
+  EXPECT_EQ(got.max_diff, want.max_diff);
+  EXPECT_EQ(got.min_diff, want.min_diff);
+  EXPECT_EQ(got.max_loc, want.max_loc);
+  EXPECT_EQ(got.min_loc, want.min_loc);
+  EXPECT_EQ(std::signbit(got.max_loc), std::signbit(want.max_loc));
+  EXPECT_EQ(std::signbit(got.min_loc), std::signbit(want.min_loc));
+}
+
+TEST(Ks, BucketedAndSortedWalksAgreeWithTheStraightforwardOne) {
+  uint64_t state = 12345;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<double>(state >> 11) + 0.5) * 0x1p-53;
+  };
+  const auto normal = [&] {
+    return std::sqrt(-2.0 * std::log(uniform())) * std::cos(6.283185307179586 * uniform());
+  };
+  // kinds: 0 normal, 1 shifted and scaled, 2 quantised (ties within and between samples, signed
+  // zeros), 3 heavy tails (outliers 1000x), 4 constant, 5 two values.
+  for (int kind = 0; kind < 6; ++kind) {
+    for (const auto& [n1, n2] :
+         {std::pair{1, 1}, {3, 7}, {1000, 1000}, {5000, 3000}, {20000, 20000}}) {
+      SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n1 << "," << n2);
+      std::vector<double> x(n1), y(n2);
+      for (auto* v : {&x, &y}) {
+        const double shift = v == &y && kind == 1 ? 0.05 : 0.0;
+        for (double& z : *v) {
+          z = normal() * (kind == 1 && v == &y ? 1.1 : 1.0) + shift;
+          if (kind == 2) z = std::round(z * 8.0) / 8.0 * (uniform() < 0.5 ? 1.0 : -1.0);
+          if (kind == 3 && uniform() < 0.01) z *= 1000.0;
+          if (kind == 4) z = 2.5;
+          if (kind == 5) z = uniform() < 0.3 ? -0.0 : 0.0;
+        }
+      }
+      const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
+      ExpectSameExtremes(detail::EcdfExtremesBySorting(x, y), want);
+      ExpectSameExtremes(detail::EcdfExtremesByBuckets(x, y), want);
+      const KsResult r =
+          KsTwoSample(x, y, KsOptions{Alternative::kTwoSided, KsMethod::kAsymptotic});
+      EXPECT_EQ(r.d, std::max(want.max_diff, std::clamp(-want.min_diff, 0.0, 1.0)));
+    }
+  }
 }
 
 }  // namespace

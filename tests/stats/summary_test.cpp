@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <iomanip>
+#include <span>
 #include <vector>
 
 #include "../expect_error.h"
@@ -72,6 +74,51 @@ TEST(Summary, IntervalFromAStdAndItsDegreesOfFreedom) {
   EXPECT_GT(pooled.lower, sample.lower);
   EXPECT_LT(pooled.upper, sample.upper);
   EXPECT_THROW(StdConfidenceInterval(1.0, 0.0), InputError);
+}
+
+TEST(Summary, MeanAndStdOfEachIsBitIdenticalToMeanAndSampleStd) {
+  // Five samples (one group of four and one of one), values of very different scales so that a
+  // different order of additions would round differently.
+  std::vector<std::vector<double>> samples(5, std::vector<double>(1001));
+  uint64_t state = 1;
+  for (size_t c = 0; c < samples.size(); ++c) {
+    for (double& v : samples[c]) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      v = (static_cast<double>(state >> 11) * 0x1p-53 - 0.3) * std::pow(10.0, c * 3.0 - 6.0);
+    }
+  }
+  for (size_t count = 1; count <= samples.size(); ++count) {
+    std::vector<std::span<const double>> spans(samples.begin(), samples.begin() + count);
+    std::vector<MeanAndStd> out(count);
+    MeanAndStdOfEach(spans, out);
+    for (size_t c = 0; c < count; ++c) {
+      EXPECT_EQ(out[c].mean, Mean(samples[c])) << count << " " << c;
+      EXPECT_EQ(out[c].std, SampleStd(samples[c])) << count << " " << c;
+    }
+  }
+  const std::vector<double> one = {1.0}, nan = {1.0, std::nan("")}, two = {1.0, 2.0};
+  std::vector<MeanAndStd> out(2);
+  EXPECT_INPUT_ERROR(MeanAndStdOfEach(std::vector<std::span<const double>>{one},
+                                      std::span<MeanAndStd>(out.data(), 1)),
+                     "the standard deviation needs at least 2 samples, got 1");
+  EXPECT_INPUT_ERROR(MeanAndStdOfEach(std::vector<std::span<const double>>{two, nan}, out),
+                     "sample value 2 is NaN; expected finite numbers");
+}
+
+TEST(Summary, RepeatedIntervalsAreTheSame) {
+  // The quantiles are cached per thread; alternating between more (dof, level) pairs than the
+  // cache holds must give the values of the first computation every time.
+  const StdWithCi first = StdConfidenceInterval(2.0, 99999.0);
+  for (int round = 0; round < 3; ++round) {
+    for (double dof : {5.0, 99999.0, 199998.0, 7.0, 11.0, 13.0}) {
+      const StdWithCi again = StdConfidenceInterval(2.0, dof);
+      if (dof == 99999.0) {
+        EXPECT_EQ(again.lower, first.lower);
+        EXPECT_EQ(again.upper, first.upper);
+      }
+    }
+  }
+  EXPECT_NEAR(first.lower, 2.0 * (1.0 - 1.96 / std::sqrt(2.0 * 99999.0)), 1e-4);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -18,6 +19,17 @@ constexpr int kMaxLabels = 64;
 constexpr int kMaxGathered = 64;    // neighbours collected before the max_neighbours cut
 constexpr int kMaxNeighbours = 16;  // DetectorOptions::max_neighbours at most
 constexpr int kFixedAny = -2;       // circular position holds an ID slot, not a fixed colour
+
+// A pseudo-angle of d in [-2, 2], strictly increasing with atan2(d.y, d.x) over (-pi, pi] and
+// with the same cut (y = -0 with x < 0 is -pi, -2 here): y / (|x| + |y|) on the right half, 2 or
+// -2 minus it on the left. Stage 3 sorts by it with a division instead of atan2 (~20% of a
+// frame's detection time before), and falls back to atan2 for near-ties. NaN for d = 0.
+inline double PseudoAngle(const Vec2& d) {
+  const double x = d.x(), y = d.y();
+  const double r = y / (std::fabs(x) + std::fabs(y));
+  if (x >= 0.0) return r;
+  return std::signbit(y) ? -2.0 - r : 2.0 - r;
+}
 
 // Indices of kDetectStageNames.
 enum Stage {

@@ -213,22 +213,43 @@ inline bool JudgeChoice(const PatternRuntime& rt, int p, int key, const Neighbou
   return true;
 }
 
+// Whether neighbour a comes before b: by atan2 of its offset from the key, ties by blob index.
+// Pseudo-angles further apart than kPseudoAngleSlack order the angles as atan2 does (the slack
+// is orders of magnitude above the rounding of either), so atan2 itself, whose order defines
+// the result, is only evaluated for the rare near-ties.
+struct RadialOrder {
+  static constexpr double kPseudoAngleSlack = 1e-9;
+  const std::array<double, kMaxNeighbours>& pseudo;
+  const std::array<Vec2, kMaxNeighbours>& offset;
+  bool operator()(int a, int b, int blob_a, int blob_b) const {
+    const double pa = pseudo[a], pb = pseudo[b];
+    if (std::fabs(pa - pb) > kPseudoAngleSlack) return pa < pb;  // false for NaN
+    const double ta = std::atan2(offset[a].y(), offset[a].x());
+    const double tb = std::atan2(offset[b].y(), offset[b].x());
+    return ta < tb || (ta == tb && blob_a < blob_b);
+  }
+};
+
 // Stage 3: the neighbours by angle about the key (insertion sort: n <= 16), ties by blob index.
 void RadialSort(const Vec2& key_mm, std::span<const Blob> blobs, Neighbours* nb) {
-  std::array<double, kMaxNeighbours> angle;
+  std::array<double, kMaxNeighbours> pseudo;
+  std::array<Vec2, kMaxNeighbours> offset;
+  std::array<int, kMaxNeighbours> slot;  // slot[i]: the index into pseudo/offset of position i
   for (int i = 0; i < nb->n; ++i) {
-    const Vec2 d = blobs[nb->blob[i]].position_mm - key_mm;
-    angle[i] = std::atan2(d.y(), d.x());
+    offset[i] = blobs[nb->blob[i]].position_mm - key_mm;
+    pseudo[i] = internal::PseudoAngle(offset[i]);
+    slot[i] = i;
   }
+  const RadialOrder before{pseudo, offset};
   for (int i = 1; i < nb->n; ++i) {
-    const double a = angle[i];
+    const int s = slot[i];
     const int b = nb->blob[i];
     int j = i - 1;
-    for (; j >= 0 && (angle[j] > a || (angle[j] == a && nb->blob[j] > b)); --j) {
-      angle[j + 1] = angle[j];
+    for (; j >= 0 && before(s, slot[j], b, nb->blob[j]); --j) {
+      slot[j + 1] = slot[j];
       nb->blob[j + 1] = nb->blob[j];
     }
-    angle[j + 1] = a;
+    slot[j + 1] = s;
     nb->blob[j + 1] = b;
   }
   for (int i = 0; i < nb->n; ++i) {

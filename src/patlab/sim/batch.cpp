@@ -361,6 +361,8 @@ void RunBatch(const PointSetup& setup, uint64_t first_trial, int count, const Ba
   Generate(setup, first_trial, kB, w);
   using estimate::Estimator;
   const estimate::Model& model = *setup.model;
+  // With no estimator to run (sim_bench's floor: the cost of the noisy inputs alone), stop here.
+  if (!setup.run[0] && !setup.run[1] && !setup.run[2] && !setup.run[3]) return;
   Fast(setup, m, w);
   if (setup.run[static_cast<int>(Estimator::kFast)]) {
     WriteErrors(w.mean_x, w.mean_y, model.centroid_mm, w.fast_t, w.fast_c, w.fast_s, m, w,

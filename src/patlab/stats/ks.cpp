@@ -1,12 +1,14 @@
 #include "patlab/stats/ks.h"
 
-#include "patlab/stats/sort.h"
-
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "patlab/core/error.h"
@@ -95,6 +97,174 @@ double KsExactLattice(std::int64_t n1, std::int64_t n2, std::int64_t h, bool two
   return std::clamp(b[n2], 0.0, 1.0);
 }
 
+namespace detail {
+
+namespace {
+
+// The order of SortAscending as unsigned integers (-0.0 before +0.0).
+inline uint64_t OrderKey(double v) {
+  const uint64_t u = std::bit_cast<uint64_t>(v);
+  constexpr uint64_t kSign = uint64_t{1} << 63;
+  return (u & kSign) ? ~u : (u | kSign);
+}
+
+// Walks the merged order of a[0, n1) and b[0, n2), both sorted and followed by a +infinity
+// sentinel, whose first elements are elements i0 and j0 of the whole samples, and compares the
+// ECDFs only after every copy of a tied value, as scipy does with searchsorted(side=right). Each
+// step consumes the smaller head value from one or both samples without a branch on which (that
+// branch mispredicted every other element); a step ends a group of equal values when neither
+// head still equals it, and only then is F1 - F2 compared, with the group's value taken at its
+// first step, as an element-at-a-time walk would.
+void WalkSorted(const double* a, std::size_t n1, const double* b, std::size_t n2, std::size_t i0,
+                std::size_t j0, double dn1, double dn2, EcdfExtremes* e) {
+  std::size_t i = 0, j = 0;
+  double group_v = 0.0;
+  bool group_start = true;
+  while (i < n1 || j < n2) {
+    const double ai = a[i], bj = b[j];
+    const double v = ai <= bj ? ai : bj;
+    i += ai == v ? 1 : 0;
+    j += bj == v ? 1 : 0;
+    group_v = group_start ? v : group_v;
+    group_start = a[i] != v && b[j] != v;
+    if (!group_start) continue;
+    // Same operations as scipy: searchsorted(...)/n1 - searchsorted(...)/n2.
+    const double diff = static_cast<double>(i0 + i) / dn1 - static_cast<double>(j0 + j) / dn2;
+    if (diff > e->max_diff) e->max_diff = diff, e->max_loc = group_v;
+    if (diff < e->min_diff) e->min_diff = diff, e->min_loc = group_v;
+  }
+}
+
+// Copies [first, last) into out followed by a +infinity sentinel, sorted in SortAscending's order.
+void SortedWithSentinel(const double* first, const double* last, std::vector<double>* out) {
+  out->assign(first, last);
+  std::sort(out->begin(), out->end(), [](double p, double q) { return OrderKey(p) < OrderKey(q); });
+  out->push_back(std::numeric_limits<double>::infinity());
+}
+
+// Sorts one bucket of each sample in place and walks them. The element after each bucket (the
+// next bucket's first, or the spare slot at the end) stands in as the +infinity sentinel for the
+// walk and is restored after it.
+void WalkBucket(double* a, std::size_t n1, double* b, std::size_t n2, std::size_t i0,
+                std::size_t j0, double dn1, double dn2, EcdfExtremes* e) {
+  const auto less = [](double p, double q) { return OrderKey(p) < OrderKey(q); };
+  std::sort(a, a + n1, less);
+  std::sort(b, b + n2, less);
+  const double after_a = a[n1], after_b = b[n2];
+  a[n1] = b[n2] = std::numeric_limits<double>::infinity();
+  WalkSorted(a, n1, b, n2, i0, j0, dn1, dn2, e);
+  a[n1] = after_a;
+  b[n2] = after_b;
+}
+
+// This thread's buffers, grown to the largest samples seen and then reused: fresh
+// 100,000-element arrays cost more in page faults than the work on them. Only serial code uses
+// them.
+struct Buffers {
+  std::vector<double> a, b;          // samples in bucket order (or sorted)
+  std::vector<uint32_t> end1, end2;  // bucket b's elements end at end1[b] (sample 1), end2[b]
+  std::vector<uint32_t> index;       // bucket of each value
+};
+Buffers& ThreadBuffers() {
+  thread_local Buffers buffers;
+  return buffers;
+}
+
+// Scatters x into out by bucket (a counting sort on the bucket index); end[k] becomes the end of
+// bucket k's elements. The indices are computed once, in the counting pass.
+template <class BucketOf>
+void ScatterByBucket(std::span<const double> x, std::size_t buckets, BucketOf bucket_of, Buffers* s,
+                     std::vector<double>* out, std::vector<uint32_t>* end) {
+  const std::size_t n = x.size();
+  if (out->size() < n + 1) out->resize(n + 1);  // + the spare slot of WalkBucket
+  if (s->index.size() < n) s->index.resize(n);
+  end->assign(buckets, 0);
+  uint32_t* e = end->data();
+  uint32_t* index = s->index.data();
+  for (std::size_t i = 0; i < n; ++i) index[i] = bucket_of(x[i]);
+  for (std::size_t i = 0; i < n; ++i) ++e[index[i]];
+  uint32_t offset = 0;
+  for (std::size_t k = 0; k < buckets; ++k) {
+    const uint32_t count = e[k];
+    e[k] = offset;
+    offset += count;
+  }
+  double* o = out->data();
+  for (std::size_t i = 0; i < n; ++i) o[e[index[i]]++] = x[i];
+}
+
+// The smallest and the largest value (finite), in a loop the compiler vectorises.
+std::pair<double, double> MinMax(std::span<const double> x) {
+  double lo = x[0], hi = x[0];
+  for (const double v : x) {
+    lo = v < lo ? v : lo;
+    hi = v > hi ? v : hi;
+  }
+  return {lo, hi};
+}
+
+}  // namespace
+
+EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const double> y) {
+  Buffers& s = ThreadBuffers();
+  SortedWithSentinel(x.data(), x.data() + x.size(), &s.a);
+  SortedWithSentinel(y.data(), y.data() + y.size(), &s.b);
+  EcdfExtremes e;
+  WalkSorted(s.a.data(), x.size(), s.b.data(), y.size(), 0, 0, static_cast<double>(x.size()),
+             static_cast<double>(y.size()), &e);
+  return e;
+}
+
+EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const double> y) {
+  const auto [x_lo, x_hi] = MinMax(x);
+  const auto [y_lo, y_hi] = MinMax(y);
+  const double lo = std::min(x_lo, y_lo), hi = std::max(x_hi, y_hi);
+  const std::size_t buckets = std::max<std::size_t>(1, (x.size() + y.size()) / 2);
+  const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
+  constexpr double kSlack = 1e-9;
+  const double scale = static_cast<double>(buckets) / (hi - lo);
+  if (!(hi > lo) || !std::isfinite(scale) || !std::isfinite(hi - lo)) {
+    return EcdfExtremesBySorting(x, y);
+  }
+  // Non-decreasing in v (each rounding is monotone), so bucket k holds values <= those of k + 1
+  // and equal values share a bucket.
+  const auto bucket_of = [lo, scale, last = static_cast<int64_t>(buckets) - 1](double v) {
+    return static_cast<uint32_t>(std::min(static_cast<int64_t>((v - lo) * scale), last));
+  };
+  Buffers& s = ThreadBuffers();
+  ScatterByBucket(x, buckets, bucket_of, &s, &s.a, &s.end1);
+  ScatterByBucket(y, buckets, bucket_of, &s, &s.b, &s.end2);
+  const double inv1 = 1.0 / dn1, inv2 = 1.0 / dn2;
+  EcdfExtremes e;
+  std::size_t i0 = 0, j0 = 0;
+  for (std::size_t k = 0; k < buckets; ++k) {
+    const std::size_t i1 = s.end1[k], j1 = s.end2[k];
+    // Every comparison inside the bucket has i in [i0, i1] and j in [j0, j1]; as each rounding is
+    // monotone, these bound its F1 - F2 computed as the walk computes it. A bucket that cannot
+    // beat the extremes so far (strictly, as the walk requires) is skipped unsorted. The bounds
+    // are computed with reciprocals (a few ulp from the walk's quotients, all <= 1) and widened by
+    // kSlack, so a bucket is only ever walked needlessly, never skipped wrongly.
+    const double upper = static_cast<double>(i1) * inv1 - static_cast<double>(j0) * inv2;
+    const double lower = static_cast<double>(i0) * inv1 - static_cast<double>(j1) * inv2;
+    if ((i1 > i0 || j1 > j0) && (upper + kSlack > e.max_diff || lower - kSlack < e.min_diff)) {
+      WalkBucket(&s.a[i0], i1 - i0, &s.b[j0], j1 - j0, i0, j0, dn1, dn2, &e);
+    }
+    i0 = i1;
+    j0 = j1;
+  }
+  return e;
+}
+
+}  // namespace detail
+
+namespace {
+
+// Samples this large go through the buckets (two passes and a few small sorts); smaller ones
+// are sorted whole.
+constexpr std::size_t kKsBucketMinSize = 4096;
+
+}  // namespace
+
 KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
                      const KsOptions& options) {
   if (x.empty() || y.empty()) {
@@ -103,28 +273,14 @@ KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
   }
   detail::RequireFinite(x, "sample 1");
   detail::RequireFinite(y, "sample 2");
-  std::vector<double> a(x.begin(), x.end());
-  std::vector<double> b(y.begin(), y.end());
-  SortAscending(a);
-  SortAscending(b);
-  const std::size_t n1 = a.size();
-  const std::size_t n2 = b.size();
+  const std::size_t n1 = x.size();
+  const std::size_t n2 = y.size();
+  const detail::EcdfExtremes e = n1 + n2 >= kKsBucketMinSize ? detail::EcdfExtremesByBuckets(x, y)
+                                                             : detail::EcdfExtremesBySorting(x, y);
   const double dn1 = static_cast<double>(n1);
   const double dn2 = static_cast<double>(n2);
-
-  // Walk the merged order; compare the ECDFs only after every copy of a tied value.
-  double max_diff = -1.0, min_diff = 1.0;  // of F1 - F2
-  double max_loc = 0.0, min_loc = 0.0;
-  std::size_t i = 0, j = 0;
-  while (i < n1 || j < n2) {
-    const double v = (j >= n2 || (i < n1 && a[i] <= b[j])) ? a[i] : b[j];
-    while (i < n1 && a[i] == v) ++i;
-    while (j < n2 && b[j] == v) ++j;
-    // Same operations as scipy: searchsorted(...)/n1 - searchsorted(...)/n2.
-    const double diff = static_cast<double>(i) / dn1 - static_cast<double>(j) / dn2;
-    if (diff > max_diff) max_diff = diff, max_loc = v;
-    if (diff < min_diff) min_diff = diff, min_loc = v;
-  }
+  const double max_diff = e.max_diff, min_diff = e.min_diff;
+  const double max_loc = e.max_loc, min_loc = e.min_loc;
   const double min_s = std::clamp(-min_diff, 0.0, 1.0);
 
   KsResult result;

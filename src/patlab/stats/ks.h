@@ -79,4 +79,22 @@ double KsExactEqualOneSided(std::int64_t n, std::int64_t h);
 // counts (Viehmann 2021, arXiv:2102.08037), so small p-values keep full relative accuracy.
 double KsExactLattice(std::int64_t n1, std::int64_t n2, std::int64_t h, bool two_sided);
 
+namespace detail {
+// The extremes of F1 - F2 over the merged order of the two samples, compared only after all
+// tied values, each with the sample value of the first group where it is reached (the walk of
+// KsTwoSample). Two implementations with identical results, exposed for the tests:
+struct EcdfExtremes {
+  double max_diff = -1.0, min_diff = 1.0;
+  double max_loc = 0.0, min_loc = 0.0;
+};
+// Sorts both samples whole and walks their merged order: O(n log n).
+EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const double> y);
+// Counting-sorts both samples into (n1 + n2) / 2 buckets of equal width between the smallest and
+// the largest value, keeps the ECDFs' counts at every bucket end, and sorts and walks only the
+// buckets inside which F1 - F2 could still exceed its extremes so far (for continuous samples,
+// a few percent of them): O(n) for continuous data, never worse than sorting. KsTwoSample uses
+// it for n1 + n2 >= 4096.
+EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const double> y);
+}  // namespace detail
+
 }  // namespace patlab::stats

@@ -36,6 +36,18 @@ double Mean(std::span<const double> x);
 // Sample standard deviation with divisor n - 1 (two-pass); needs n >= 2.
 double SampleStd(std::span<const double> x);
 
+// Mean and sample standard deviation (divisor n - 1) of one sample.
+struct MeanAndStd {
+  double mean = 0.0;
+  double std = 0.0;
+};
+// Mean and SampleStd of each of up to 8 samples of equal length (>= 2, finite, otherwise
+// InputError), with exactly their arithmetic: each sample's sums run in index order, so the
+// results are bit-identical to Mean and SampleStd. The samples are read in one loop, so their
+// addition chains overlap in the CPU instead of waiting for one another (the sums are latency
+// bound: one add per value); out has one slot per sample.
+void MeanAndStdOfEach(std::span<const std::span<const double>> samples, std::span<MeanAndStd> out);
+
 // level: confidence level in (0, 1); 0.95 gives the paper's 95% intervals. Needs n >= 2.
 StdWithCi StdWithConfidence(std::span<const double> x, double level = 0.95);
 // The same interval for a std estimated elsewhere with `dof` degrees of freedom (> 0), e.g. a

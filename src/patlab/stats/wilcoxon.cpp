@@ -43,7 +43,7 @@ struct RankSums {
   double tie_sum = 0.0;
   bool has_ties = false;
 };
-RankSums SignedRankSums(const std::vector<double>& d, std::size_t n_zero, ZeroMethod zero_method) {
+RankSums SignedRankSums(std::span<const double> d, std::size_t n_zero, ZeroMethod zero_method) {
   RankSums sums;
   double r_zero = 0.0;
   const bool drop_zero_ranks = zero_method != ZeroMethod::kZsplit;
@@ -144,6 +144,18 @@ void ApproximatePValue(std::size_t n, std::size_t n_zero, double tie_sum,
   result->p_value = std::clamp(result->p_value, 0.0, 1.0);
 }
 
+// The differences sorted by magnitude in this thread's buffer, grown to the largest sample seen
+// and then reused (a fresh 100,000-element array costs more in page faults than the sort). Only
+// serial code uses it.
+std::span<double> SortedCopy(std::span<const double> d_in) {
+  thread_local std::vector<double> buffer;
+  if (buffer.size() < d_in.size()) buffer.resize(d_in.size());
+  const std::span<double> d(buffer.data(), d_in.size());
+  std::copy(d_in.begin(), d_in.end(), d.begin());
+  SortByMagnitude(d);
+  return d;
+}
+
 }  // namespace
 
 WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const double> y,
@@ -154,9 +166,10 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const dou
   }
   detail::RequireFinite(x, "sample 1");
   detail::RequireFinite(y, "sample 2");
-  std::vector<double> d(x.size());
+  thread_local std::vector<double> d;  // reused, as in SortedCopy
+  if (d.size() < x.size()) d.resize(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) d[i] = x[i] - y[i];
-  return WilcoxonSignedRank(d, options);
+  return WilcoxonSignedRank(std::span<const double>(d.data(), x.size()), options);
 }
 
 WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOptions& options) {
@@ -167,8 +180,7 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOp
   result.n_zero = static_cast<std::size_t>(std::count(d_in.begin(), d_in.end(), 0.0));
   const std::size_t n_zero = result.n_zero;
 
-  std::vector<double> d(d_in.begin(), d_in.end());
-  SortByMagnitude(d);
+  const std::span<double> d = SortedCopy(d_in);
   const RankSums sums = SignedRankSums(d, n_zero, options.zero_method);
   result.has_ties = sums.has_ties;
   result.r_plus = sums.r_plus;

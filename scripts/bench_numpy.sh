@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# patlab and the vectorised numpy reference (scripts/numpy_baseline.py --sweep) on the same sweep,
+# timed in the same run, side by side:
+#   bash scripts/bench_numpy.sh [TRIALS] [EXPERIMENT]   (defaults: 20000 trials a point, fig5)
+# patlab runs the whole experiment (fast + ML, and every statistic and test of each point) on one
+# thread and on two; numpy runs the estimators only (fast + 3 Newton steps, no statistics) in one
+# process with its BLAS/OpenMP pools held to one thread. The ratios are trials per second of
+# patlab over numpy's. The machines are shared: run it when `uptime` shows a low load, and read
+# the load line it prints first.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+TRIALS=${1:-20000}
+EXPERIMENT=${2:-experiments/fig5.toml}
+P=${PATLAB:-build/patlab}
+OUT=$(mktemp -d)
+trap 'rm -rf "$OUT"' EXIT
+echo "load: $(uptime)"
+
+# Seconds of wall time of the whole patlab run (process start to exit) with T threads.
+patlab_seconds() {
+  local start end
+  start=$(date +%s.%N)
+  "$P" simulate "$EXPERIMENT" --trials "$TRIALS" --threads "$1" --out "$OUT" -q
+  end=$(date +%s.%N)
+  awk -v a="$start" -v b="$end" 'BEGIN { print b - a }'
+}
+
+p1=$(patlab_seconds 1)
+p2=$(patlab_seconds 2)
+numpy_line=$(OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1 \
+  /usr/bin/python3 scripts/numpy_baseline.py --sweep "$EXPERIMENT" "$TRIALS")
+echo "$numpy_line"
+total=$(echo "$numpy_line" | sed -E 's/.* = ([0-9]+) trials .*/\1/')
+numpy_s=$(echo "$numpy_line" | sed -E 's/.* in ([0-9.]+) s .*/\1/')
+rate() { awk -v n="$total" -v s="$1" 'BEGIN { print n / s / 1e6 }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { print a / b }'; }
+printf '%-44s %10s %14s %8s\n' "run ($total trials)" "wall s" "M trials/s" "vs numpy"
+printf '%-44s %10.3f %14.3f %7.1fx\n' "numpy, estimators only, 1 process" "$numpy_s" \
+  "$(rate "$numpy_s")" 1
+printf '%-44s %10.3f %14.3f %7.1fx\n' "patlab, everything, 1 thread" "$p1" "$(rate "$p1")" \
+  "$(ratio "$numpy_s" "$p1")"
+printf '%-44s %10.3f %14.3f %7.1fx\n' "patlab, everything, 2 threads" "$p2" "$(rate "$p2")" \
+  "$(ratio "$numpy_s" "$p2")"
