@@ -64,6 +64,15 @@ TEST(Camera, BarrelDistortionPullsCornersIn) {
   EXPECT_NEAR((b - Vec2(320, 240)).norm(), 500 * r * (1 - 0.2 * r * r), 1e-9);
 }
 
+TEST(Camera, NothingBeyondTheFoldOfTheDistortionIsProjected) {
+  // k1 = -0.3: r (1 + k1 r^2) stops growing at r^2 = 1 / 0.9, i.e. 4000 mm / 1.054 = 4216 mm
+  // from the nadir on the floor. Points beyond it would land back inside the image.
+  const CameraModel cam = CameraModel::Pinhole(Overhead(-0.3));
+  EXPECT_TRUE(cam.WorldToPixel(Vec2(100 + 4100, 200), 0).has_value());
+  EXPECT_FALSE(cam.WorldToPixel(Vec2(100 + 4300, 200), 0).has_value());
+  EXPECT_FALSE(cam.WorldToPixel(Vec2(100, 200 - 9000), 0).has_value());
+}
+
 TEST(Camera, OpenCvExtrinsicsAgreeWithOverheadForm) {
   // Camera looking down: rotation of pi about x maps world (x, y, z) to camera (x, -y, -z).
   const Calibration cal = ParseCalibration(

@@ -105,6 +105,9 @@ std::optional<Vec2> CameraModel::WorldToPixel(const Vec2& world_mm, double heigh
   if (pc.z() <= 0.0) return std::nullopt;
   const double x = pc.x() / pc.z(), y = pc.y() / pc.z();
   const double r2 = x * x + y * y;
+  // Beyond the fold of the distortion polynomial (where r (1 + k1 r^2 + k2 r^4) stops growing)
+  // the lens model maps far-off points back into the image; no real lens sees them there.
+  if (1.0 + 3.0 * c.k1 * r2 + 5.0 * c.k2 * r2 * r2 <= 0.0) return std::nullopt;
   const double f = 1.0 + c.k1 * r2 + c.k2 * r2 * r2;
   return Vec2(c.fx_px * x * f + c.cx_px, c.fy_px * y * f + c.cy_px);
 }

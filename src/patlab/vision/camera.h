@@ -49,7 +49,8 @@ class CameraModel {
   // The world point (mm) on the plane z = height_mm seen at `pixel`; nullopt when the ray misses
   // the plane (behind the camera, parallel) or lies outside the distortion model's valid range.
   std::optional<Vec2> PixelToWorld(const Vec2& pixel, double height_mm) const;
-  // The pixel where world point (x, y, height_mm) appears; nullopt behind the camera.
+  // The pixel where world point (x, y, height_mm) appears; nullopt behind the camera or beyond
+  // the fold of the distortion model (where PixelToWorld could not map it back).
   std::optional<Vec2> WorldToPixel(const Vec2& world_mm, double height_mm) const;
   // mm^2 of plane per px^2 of image around `pixel`: |det| of the Jacobian of PixelToWorld
   // (central differences, 0.5 px step). 0 when it cannot be evaluated.

@@ -1,0 +1,153 @@
+// `patlab calibrate`: fits the pinhole camera of vision/camera.h (fx, fy, cx, cy, radial k1, k2,
+// and the pose R, t with X_camera = R X_world + t) to what a user can measure in one image:
+//  - points: a pixel and the world point it shows (x, y on the floor, at a plane height);
+//  - lines: pixels anywhere on a known straight field line (one free position per pixel);
+//  - circles: pixels anywhere on a known circle or arc (one free angle per pixel);
+//  - patterns: the patch centres of a pattern of known layout lying at a known height (a robot
+//    top, a pattern sheet), whose pose on its plane is unknown (three free numbers per pattern).
+// Every residual is a reprojection error in pixels, minimised by Ceres Solver (Levenberg-
+// Marquardt, dense Schur; optionally a Huber loss). The start comes from the known points
+// (a plane homography, Zhang's focal-length constraints, docs/calibrate.md), so at least four of
+// them on one plane, not all on a line, are needed. The report gives the RMS and worst residual in
+// px and, back-projected with the fitted camera, in mm on each plane height, and each fitted
+// parameter's standard error from the fit's covariance.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "patlab/calib/field.h"
+#include "patlab/core/error.h"
+#include "patlab/core/geometry.h"
+#include "patlab/core/pattern.h"
+#include "patlab/vision/camera.h"
+
+namespace patlab::calib {
+
+struct PointObservation {
+  std::string name;  // the field point's name, or "" for a point given by coordinates
+  Vec2 pixel = Vec2::Zero();
+  Vec2 world_mm = Vec2::Zero();
+  double height_mm = 0.0;
+  FileLoc loc;
+};
+
+struct LineObservation {
+  std::string name;
+  Vec2 from_mm = Vec2::Zero(), to_mm = Vec2::Zero();
+  double height_mm = 0.0;
+  std::vector<Vec2> pixels;
+  FileLoc loc;
+};
+
+struct CircleObservation {
+  std::string name;
+  Vec2 centre_mm = Vec2::Zero();
+  double radius_mm = 0.0;
+  double height_mm = 0.0;
+  std::vector<Vec2> pixels;
+  FileLoc loc;
+};
+
+struct PatternObservation {
+  std::string name;  // the pattern's name
+  Pattern pattern;
+  double height_mm = 0.0;
+  std::vector<std::optional<Vec2>> pixels;  // one per patch, in pattern order; nullopt = unseen
+  FileLoc loc;
+};
+
+// The parameters a fit may hold fixed at their starting values.
+enum class FitParameter { kFocal, kAspect, kPrincipalPoint, kK1, kK2 };
+inline constexpr EnumNames<FitParameter, 5> kFitParameterNames{{{
+    {FitParameter::kFocal, "focal"},
+    {FitParameter::kAspect, "aspect"},
+    {FitParameter::kPrincipalPoint, "principal_point"},
+    {FitParameter::kK1, "k1"},
+    {FitParameter::kK2, "k2"},
+}}};
+
+struct FitOptions {
+  // Held fixed (at the start value): by default the pixel aspect (fy = fx) and k2, which one
+  // view of a nearly planar scene rarely determines; the principal point is fitted.
+  std::vector<FitParameter> fixed = {FitParameter::kAspect, FitParameter::kK2};
+  // Start values; unset ones come from the data (focal) or the image centre (principal point).
+  std::optional<double> focal_px;
+  std::optional<Vec2> principal_point_px;
+  double k1 = 0.0, k2 = 0.0;
+  double huber_px = 0.0;  // > 0: Huber loss with this scale (px); 0: plain least squares
+  // The camera's measured height above the floor (mm) and its uncertainty: a prior that
+  // separates the focal length from the distance when every observation is on one plane.
+  std::optional<double> camera_height_mm;
+  double camera_height_sd_mm = 10.0;
+  int max_iterations = 200;
+};
+
+struct CalibrationInput {
+  std::string source;
+  int image_width_px = 0, image_height_px = 0;
+  std::vector<PointObservation> points;
+  std::vector<LineObservation> lines;
+  std::vector<CircleObservation> circles;
+  std::vector<PatternObservation> patterns;
+  FitOptions options;
+  // Written to the calibration file's [heights] table: default_mm and class name -> mm.
+  double default_height_mm = 0.0;
+  std::map<std::string, double> class_height_mm;
+  FileLoc loc;  // the file, for whole-file messages
+};
+
+// Reads a calibration-input TOML file (docs/file-formats.md#calibration-input). The files it
+// names (`field = "..."`, `pattern = "..."`) are read relative to the file's own directory;
+// ParseCalibrationInput reads them relative to `base_dir`.
+CalibrationInput LoadCalibrationInput(const std::string& path);
+CalibrationInput ParseCalibrationInput(std::string_view text, const std::string& name,
+                                       const std::string& base_dir);
+
+// One observation's residual after the fit.
+struct ObservationResidual {
+  std::string kind;  // "point", "line", "circle", "pattern"
+  std::string name;
+  int index = 0;  // pixel index within the observation (0 for points)
+  FileLoc loc;
+  double height_mm = 0.0;
+  double px = 0.0;  // reprojection error (px)
+  double mm = 0.0;  // back-projected distance to the target on its plane (mm); NaN if off-image
+};
+
+struct PlaneResiduals {
+  double height_mm = 0.0;
+  int count = 0;
+  double rms_px = 0.0, worst_px = 0.0;
+  double rms_mm = 0.0, worst_mm = 0.0;
+};
+
+struct CalibrationFit {
+  vision::PinholeCamera camera;
+  Eigen::Vector3d rotation_rodrigues = Eigen::Vector3d::Zero();  // camera.rotation, as fitted
+  std::array<double, 6> standard_error{};  // fx, fy, cx, cy, k1, k2 (0 when held fixed)
+  Eigen::Vector3d camera_centre_mm = Eigen::Vector3d::Zero();
+  double rms_px = 0.0, worst_px = 0.0;
+  std::vector<PlaneResiduals> planes;  // by increasing height
+  std::vector<ObservationResidual> residuals;
+  int iterations = 0;
+  double seconds = 0.0;
+  std::string termination;         // Ceres' termination type and message
+  int observations = 0;            // pixels used
+  int parameters = 0;              // free parameters, nuisance ones included
+  std::vector<std::string> notes;  // how the start was found, warnings
+};
+
+// Validates the input (enough points, not all on a line, ...) and fits. Bad input -> InputError.
+CalibrationFit FitCamera(const CalibrationInput& input);
+
+// The calibration TOML file `patlab detect` reads, with the fit's summary as comments.
+std::string CalibrationFileText(const CalibrationInput& input, const CalibrationFit& fit);
+// The human-readable report: parameters with standard errors, residuals per plane, worst pixels.
+std::string FitReportText(const CalibrationInput& input, const CalibrationFit& fit);
+
+}  // namespace patlab::calib

@@ -1,0 +1,666 @@
+// The camera fit of calibrate.h: validation, a closed-form start, and the Ceres solve.
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <glog/logging.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numbers>
+
+#include "patlab/calib/calibrate.h"
+#include "patlab/calib/calibrate_internal.h"
+#include "patlab/core/format.h"
+#include "patlab/core/timeprofile.h"
+#include "patlab/estimate/estimators.h"
+
+namespace patlab::calib {
+
+namespace internal {
+
+vision::PinholeCamera CameraOf(const FitState& s) {
+  vision::PinholeCamera c;
+  c.fx_px = s.intrinsics[0];
+  c.fy_px = s.intrinsics[0] * s.intrinsics[1];
+  c.cx_px = s.intrinsics[2];
+  c.cy_px = s.intrinsics[3];
+  c.k1 = s.intrinsics[4];
+  c.k2 = s.intrinsics[5];
+  c.rotation = vision::RotationFromRodrigues(Eigen::Vector3d(s.pose[0], s.pose[1], s.pose[2]));
+  c.translation_mm = Eigen::Vector3d(s.pose[3], s.pose[4], s.pose[5]);
+  return c;
+}
+
+Vec2 LineTarget(const LineObservation& l, double t) {
+  return l.from_mm + t * (l.to_mm - l.from_mm);
+}
+
+Vec2 CircleTarget(const CircleObservation& c, double phi) {
+  return c.centre_mm + c.radius_mm * Vec2(std::cos(phi), std::sin(phi));
+}
+
+Vec2 PatternTarget(const PatternObservation& p, const std::array<double, 3>& pose, int patch) {
+  return Pose2{pose[0], pose[1], pose[2]}.Apply(
+      p.pattern.patches[static_cast<size_t>(patch)].position_mm);
+}
+
+}  // namespace internal
+
+namespace {
+
+using internal::FitState;
+
+// The camera of vision/camera.h, written for Ceres' automatic derivatives.
+template <typename T>
+bool Project(const T* intrinsics, const T* pose, const T* world, T* pixel) {
+  T p[3];
+  ceres::AngleAxisRotatePoint(pose, world, p);
+  p[0] += pose[3];
+  p[1] += pose[4];
+  p[2] += pose[5];
+  if (!(p[2] > T(1e-6))) return false;  // behind the camera: the solver rejects the step
+  const T x = p[0] / p[2], y = p[1] / p[2];
+  const T r2 = x * x + y * y;
+  const T d = T(1.0) + intrinsics[4] * r2 + intrinsics[5] * r2 * r2;
+  pixel[0] = intrinsics[0] * x * d + intrinsics[2];
+  pixel[1] = intrinsics[0] * intrinsics[1] * y * d + intrinsics[3];
+  return true;
+}
+
+struct PointCost {
+  Vec2 pixel;
+  Eigen::Vector3d world;
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* pose, T* r) const {
+    const T w[3] = {T(world.x()), T(world.y()), T(world.z())};
+    T p[2];
+    if (!Project(intrinsics, pose, w, p)) return false;
+    r[0] = p[0] - T(pixel.x());
+    r[1] = p[1] - T(pixel.y());
+    return true;
+  }
+};
+
+struct LineCost {
+  Vec2 pixel, from, to;
+  double height;
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* pose, const T* t, T* r) const {
+    const T w[3] = {T(from.x()) + t[0] * T(to.x() - from.x()),
+                    T(from.y()) + t[0] * T(to.y() - from.y()), T(height)};
+    T p[2];
+    if (!Project(intrinsics, pose, w, p)) return false;
+    r[0] = p[0] - T(pixel.x());
+    r[1] = p[1] - T(pixel.y());
+    return true;
+  }
+};
+
+struct CircleCost {
+  Vec2 pixel, centre;
+  double radius, height;
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* pose, const T* phi, T* r) const {
+    const T w[3] = {T(centre.x()) + T(radius) * cos(phi[0]),
+                    T(centre.y()) + T(radius) * sin(phi[0]), T(height)};
+    T p[2];
+    if (!Project(intrinsics, pose, w, p)) return false;
+    r[0] = p[0] - T(pixel.x());
+    r[1] = p[1] - T(pixel.y());
+    return true;
+  }
+};
+
+struct PatternCost {
+  Vec2 pixel, model;
+  double height;
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* pose, const T* planar, T* r) const {
+    const T c = cos(planar[2]), s = sin(planar[2]);
+    const T w[3] = {planar[0] + c * T(model.x()) - s * T(model.y()),
+                    planar[1] + s * T(model.x()) + c * T(model.y()), T(height)};
+    T p[2];
+    if (!Project(intrinsics, pose, w, p)) return false;
+    r[0] = p[0] - T(pixel.x());
+    r[1] = p[1] - T(pixel.y());
+    return true;
+  }
+};
+
+// A measured camera height: (z of the camera centre - h) / sd, the centre being -R^T t.
+struct HeightPrior {
+  double height_mm, sd_mm;
+  template <typename T>
+  bool operator()(const T* pose, T* r) const {
+    const T minus_r[3] = {-pose[0], -pose[1], -pose[2]};  // R^T = R(-r)
+    const T t[3] = {pose[3], pose[4], pose[5]};
+    T rt_t[3];
+    ceres::AngleAxisRotatePoint(minus_r, t, rt_t);
+    r[0] = (-rt_t[2] - T(height_mm)) / T(sd_mm);
+    return true;
+  }
+};
+
+// The focal length's lower bound in image widths (a horizontal field of view of 136 deg): a camera
+// fitted to one plane can otherwise shrink towards f -> 0 with its distance.
+constexpr double kMinFocalWidths = 0.2;
+
+// ---- validation -------------------------------------------------------------------------------
+
+void CheckPixel(const CalibrationInput& in, const Vec2& px, const FileLoc& loc,
+                const std::string& what) {
+  if (px.x() < -0.5 || px.y() < -0.5 || px.x() > in.image_width_px - 0.5 ||
+      px.y() > in.image_height_px - 0.5) {
+    throw InputError(loc, what + " (" + FormatNumber(px.x()) + ", " + FormatNumber(px.y()) +
+                              ") is outside the " + std::to_string(in.image_width_px) + "x" +
+                              std::to_string(in.image_height_px) +
+                              " image; expected pixel coordinates within it");
+  }
+}
+
+void CheckPixels(const CalibrationInput& in) {
+  for (const PointObservation& p : in.points) CheckPixel(in, p.pixel, p.loc, "pixel");
+  for (const LineObservation& l : in.lines)
+    for (const Vec2& px : l.pixels) CheckPixel(in, px, l.loc, "a pixel of line " + l.name);
+  for (const CircleObservation& c : in.circles)
+    for (const Vec2& px : c.pixels) CheckPixel(in, px, c.loc, "a pixel of circle " + c.name);
+  for (const PatternObservation& p : in.patterns)
+    for (const auto& px : p.pixels)
+      if (px) CheckPixel(in, *px, p.loc, "a pixel of pattern " + p.name);
+}
+
+// The plane height with the most known points: the start is fitted to its points.
+double StartPlane(const CalibrationInput& in) {
+  std::map<double, int> count;
+  for (const PointObservation& p : in.points) ++count[p.height_mm];
+  double best = 0.0;
+  int most = -1;
+  for (const auto& [h, n] : count) {
+    if (n > most) best = h, most = n;
+  }
+  return best;
+}
+
+std::vector<const PointObservation*> PointsOnPlane(const CalibrationInput& in, double height) {
+  std::vector<const PointObservation*> out;
+  for (const PointObservation& p : in.points)
+    if (p.height_mm == height) out.push_back(&p);
+  return out;
+}
+
+// Whether some four of the points have no three on a line (a triangle of area below 1e-3 of the
+// points' squared extent counts as a line): what a plane homography needs. Points on one field
+// line (the halfway line's ends, the centre, the centre circle's crossings) do not suffice,
+// however many.
+bool HasFourInGeneralPosition(const std::vector<const PointObservation*>& pts) {
+  const size_t n = std::min<size_t>(pts.size(), 40);
+  double extent2 = 0.0;
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
+      extent2 = std::max(extent2, (pts[i]->world_mm - pts[j]->world_mm).squaredNorm());
+  auto line = [&](size_t a, size_t b, size_t c) {
+    const Vec2 u = pts[b]->world_mm - pts[a]->world_mm, v = pts[c]->world_mm - pts[a]->world_mm;
+    return std::abs(u.x() * v.y() - u.y() * v.x()) < 2e-3 * extent2;
+  };
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = a + 1; b < n; ++b)
+      for (size_t c = b + 1; c < n; ++c) {
+        if (line(a, b, c)) continue;
+        for (size_t d = c + 1; d < n; ++d)
+          if (!line(a, b, d) && !line(a, c, d) && !line(b, c, d)) return true;
+      }
+  return false;
+}
+
+// At least four known points on one plane, no three of them on a line, so that the plane
+// homography of the start is determined.
+void CheckStartPoints(const CalibrationInput& in) {
+  const auto pts = PointsOnPlane(in, StartPlane(in));
+  if (pts.size() < 4) {
+    throw InputError(in.loc, "the input has " + std::to_string(pts.size()) +
+                                 " known points on its best-covered plane; expected at least 4 "
+                                 "[[point]] tables on one plane height (the fit starts from their "
+                                 "homography)");
+  }
+  if (!HasFourInGeneralPosition(pts)) {
+    throw InputError(pts.front()->loc,
+                     "no four of the known points on the plane at " +
+                         FormatNumber(pts.front()->height_mm) +
+                         " mm are free of three on a line; expected at least 4 points no three of "
+                         "which lie on one line (e.g. field corners and the centre)");
+  }
+}
+
+// ---- the start --------------------------------------------------------------------------------
+
+// The homography world (x, y, 1) -> pixel (u, v, 1) of the points, by the normalised DLT
+// (Hartley & Zisserman, algorithm 4.2).
+Eigen::Matrix3d Homography(const std::vector<const PointObservation*>& pts) {
+  auto normaliser = [](const std::vector<Vec2>& v) {
+    Vec2 mean = Vec2::Zero();
+    for (const Vec2& p : v) mean += p;
+    mean /= static_cast<double>(v.size());
+    double spread = 0.0;
+    for (const Vec2& p : v) spread += (p - mean).norm();
+    const double s = std::sqrt(2.0) * static_cast<double>(v.size()) / spread;
+    Eigen::Matrix3d n;
+    n << s, 0, -s * mean.x(), 0, s, -s * mean.y(), 0, 0, 1;
+    return n;
+  };
+  std::vector<Vec2> world, pixel;
+  for (const auto* p : pts) world.push_back(p->world_mm), pixel.push_back(p->pixel);
+  const Eigen::Matrix3d nw = normaliser(world), np = normaliser(pixel);
+  Eigen::MatrixXd a(2 * pts.size(), 9);
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d w = nw * world[i].homogeneous();
+    const Eigen::Vector3d p = np * pixel[i].homogeneous();
+    a.row(2 * i) << 0, 0, 0, -w.transpose(), p.y() * w.transpose();
+    a.row(2 * i + 1) << w.transpose(), 0, 0, 0, -p.x() * w.transpose();
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeFullV);
+  const Eigen::VectorXd h = svd.matrixV().col(8);
+  Eigen::Matrix3d hn;
+  hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
+  return np.inverse() * hn * nw;
+}
+
+// Zhang's constraints r1 . r2 = 0 and |r1| = |r2| on H = lambda K [r1 r2 t] with the principal
+// point removed (K = diag(f, f, 1)) read a_i / f^2 + b_i = 0, i = 1, 2; their least-squares
+// solution for f^2 is -(a1 b1 + a2 b2) / (b1^2 + b2^2). nullopt when that is not a plausible focal
+// length for the image (between 0.2 and 20 image widths): the plane is then seen so nearly
+// head-on that the homography does not determine f (f and the camera's height trade off).
+std::optional<double> FocalFromHomography(const Eigen::Matrix3d& h, double image_width) {
+  const double a1 = h(0, 0) * h(0, 1) + h(1, 0) * h(1, 1), b1 = h(2, 0) * h(2, 1);
+  const double a2 = h(0, 0) * h(0, 0) + h(1, 0) * h(1, 0) - h(0, 1) * h(0, 1) - h(1, 1) * h(1, 1);
+  const double b2 = h(2, 0) * h(2, 0) - h(2, 1) * h(2, 1);
+  const double denominator = b1 * b1 + b2 * b2;
+  if (!(denominator > 0.0)) return std::nullopt;
+  const double f2 = -(a1 * b1 + a2 * b2) / denominator;
+  if (!(f2 > 0.0)) return std::nullopt;
+  const double f = std::sqrt(f2);
+  if (f < 0.2 * image_width || f > 20.0 * image_width) return std::nullopt;
+  return f;
+}
+
+// R, t from H = K [r1 r2 t'] for the plane z = height (t = t' - r3 height), camera in front.
+void PoseFromHomography(const Eigen::Matrix3d& h, double f, const Vec2& c, double height,
+                        const std::vector<const PointObservation*>& pts, FitState& s) {
+  Eigen::Matrix3d k_inv;
+  k_inv << 1 / f, 0, -c.x() / f, 0, 1 / f, -c.y() / f, 0, 0, 1;
+  Eigen::Matrix3d m = k_inv * h;
+  m /= 0.5 * (m.col(0).norm() + m.col(1).norm());
+  double depth = 0.0;  // the sign that puts the points in front of the camera
+  for (const auto* p : pts) depth += (m * p->world_mm.homogeneous()).z();
+  if (depth < 0) m = -m;
+  Eigen::Matrix3d r;
+  r.col(0) = m.col(0);
+  r.col(1) = m.col(1);
+  r.col(2) = m.col(0).cross(m.col(1));
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  r = svd.matrixU() * svd.matrixV().transpose();
+  const Eigen::Vector3d t = m.col(2) - r.col(2) * height;
+  const Eigen::AngleAxisd aa(r);
+  const Eigen::Vector3d rv = aa.angle() * aa.axis();
+  s.pose = {rv.x(), rv.y(), rv.z(), t.x(), t.y(), t.z()};
+}
+
+// Start values of the per-pixel and per-pattern unknowns from the start camera.
+void StartNuisance(const CalibrationInput& in, FitState& s, std::vector<std::string>& notes) {
+  const vision::CameraModel cam = vision::CameraModel::Pinhole(internal::CameraOf(s));
+  auto on_plane = [&](const Vec2& px, double h) { return cam.PixelToWorld(px, h); };
+  for (const LineObservation& l : in.lines) {
+    std::vector<double>& ts = s.line_t.emplace_back();
+    const Vec2 d = l.to_mm - l.from_mm;
+    for (const Vec2& px : l.pixels) {
+      const auto q = on_plane(px, l.height_mm);
+      const double t = q ? (*q - l.from_mm).dot(d) / d.squaredNorm() : 0.5;
+      ts.push_back(std::isfinite(t) ? t : 0.5);
+    }
+  }
+  for (const CircleObservation& c : in.circles) {
+    std::vector<double>& phis = s.circle_phi.emplace_back();
+    for (const Vec2& px : c.pixels) {
+      const auto q = on_plane(px, c.height_mm);
+      const double phi = q ? std::atan2(q->y() - c.centre_mm.y(), q->x() - c.centre_mm.x()) : 0.0;
+      phis.push_back(std::isfinite(phi) ? phi : 0.0);
+    }
+  }
+  for (const PatternObservation& p : in.patterns) {
+    Pattern seen;
+    std::vector<Vec2> world;
+    for (size_t i = 0; i < p.pixels.size(); ++i) {
+      const auto q = p.pixels[i] ? on_plane(*p.pixels[i], p.height_mm) : std::nullopt;
+      if (!q) continue;
+      seen.patches.push_back(p.pattern.patches[i]);
+      world.push_back(*q);
+    }
+    Pose2 pose;
+    if (seen.patches.size() >= 2 && std::isfinite(world[0].x())) {
+      pose = estimate::LeastSquares(estimate::Model::FromPattern(seen), world.data());
+    } else {
+      notes.push_back("pattern " + p.name + ": start pose unknown (patches off the start plane)");
+    }
+    s.pattern_pose.push_back({pose.x_mm, pose.y_mm, pose.theta_rad});
+  }
+}
+
+// RMS reprojection error (px) of the known points on the start plane through the camera of `s`
+// (distortion ignored); infinite when a point is behind it.
+double PointsRms(const FitState& s, const std::vector<const PointObservation*>& pts) {
+  const vision::CameraModel cam = vision::CameraModel::Pinhole(internal::CameraOf(s));
+  double sum = 0.0;
+  for (const auto* p : pts) {
+    const auto px = cam.WorldToPixel(p->world_mm, p->height_mm);
+    if (!px) return std::numeric_limits<double>::infinity();
+    sum += (*px - p->pixel).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(pts.size()));
+}
+
+// Start cameras: the plane homography of the known points on the best-covered plane, decomposed
+// with each candidate focal length: the user's, or Zhang's closed form and a log-spaced sweep of
+// 0.5 to 4 image widths (lens distortion, which the homography ignores, can spoil the closed form,
+// and a plane seen nearly head-on does not give it at all). The fit's first stage starts from
+// each and keeps the best.
+std::vector<FitState> StartCandidates(const CalibrationInput& in) {
+  const FitOptions& o = in.options;
+  const Vec2 c = o.principal_point_px.value_or(
+      Vec2(0.5 * (in.image_width_px - 1), 0.5 * (in.image_height_px - 1)));
+  const double plane = StartPlane(in);
+  const auto pts = PointsOnPlane(in, plane);
+  const Eigen::Matrix3d h = Homography(pts);
+  Eigen::Matrix3d shift;
+  shift << 1, 0, -c.x(), 0, 1, -c.y(), 0, 0, 1;
+  std::vector<double> focal;
+  if (o.focal_px) {
+    focal.push_back(*o.focal_px);
+  } else {
+    if (const auto zhang = FocalFromHomography(shift * h, in.image_width_px))
+      focal.push_back(*zhang);
+    for (int i = 0; i <= 6; ++i) focal.push_back(in.image_width_px * 0.5 * std::pow(8.0, i / 6.0));
+  }
+  std::vector<FitState> out;
+  for (double f : focal) {
+    FitState s;
+    s.intrinsics = {f, 1.0, c.x(), c.y(), o.k1, o.k2};
+    PoseFromHomography(h, f, c, plane, pts, s);
+    if (!std::isfinite(PointsRms(s, pts))) continue;  // a point behind the camera
+    std::vector<std::string> notes;
+    StartNuisance(in, s, notes);
+    out.push_back(s);
+  }
+  return out;
+}
+
+// ---- the solve --------------------------------------------------------------------------------
+
+std::vector<int> FixedIndices(const FitOptions& o) {
+  std::vector<int> fixed;
+  for (FitParameter p : o.fixed) {
+    switch (p) {
+      case FitParameter::kFocal:
+        fixed.push_back(0);
+        break;
+      case FitParameter::kAspect:
+        fixed.push_back(1);
+        break;
+      case FitParameter::kPrincipalPoint:
+        fixed.insert(fixed.end(), {2, 3});
+        break;
+      case FitParameter::kK1:
+        fixed.push_back(4);
+        break;
+      case FitParameter::kK2:
+        fixed.push_back(5);
+        break;
+    }
+  }
+  std::sort(fixed.begin(), fixed.end());
+  fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+  return fixed;
+}
+
+template <typename Cost, int kExtra>
+void Add(ceres::Problem& problem, ceres::LossFunction* loss, Cost cost, FitState& s,
+         double* extra) {
+  if constexpr (kExtra == 0) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Cost, 2, 6, 6>(new Cost(cost)), loss,
+                             s.intrinsics.data(), s.pose.data());
+  } else {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Cost, 2, 6, 6, kExtra>(new Cost(cost)),
+                             loss, s.intrinsics.data(), s.pose.data(), extra);
+  }
+}
+
+// Every pixel's residual block; returns the number of pixels.
+// `loss` (may be null) is shared by every block and owned by the caller.
+int BuildProblem(const CalibrationInput& in, FitState& s, ceres::LossFunction* loss,
+                 const std::vector<int>& fixed, ceres::Problem& problem) {
+  int pixels = 0;
+  for (const PointObservation& p : in.points) {
+    Add<PointCost, 0>(problem, loss,
+                      {p.pixel, Eigen::Vector3d(p.world_mm.x(), p.world_mm.y(), p.height_mm)}, s,
+                      nullptr);
+    ++pixels;
+  }
+  for (size_t i = 0; i < in.lines.size(); ++i) {
+    const LineObservation& l = in.lines[i];
+    for (size_t j = 0; j < l.pixels.size(); ++j, ++pixels)
+      Add<LineCost, 1>(problem, loss, {l.pixels[j], l.from_mm, l.to_mm, l.height_mm}, s,
+                       &s.line_t[i][j]);
+  }
+  for (size_t i = 0; i < in.circles.size(); ++i) {
+    const CircleObservation& c = in.circles[i];
+    for (size_t j = 0; j < c.pixels.size(); ++j, ++pixels)
+      Add<CircleCost, 1>(problem, loss, {c.pixels[j], c.centre_mm, c.radius_mm, c.height_mm}, s,
+                         &s.circle_phi[i][j]);
+  }
+  for (size_t i = 0; i < in.patterns.size(); ++i) {
+    const PatternObservation& p = in.patterns[i];
+    for (size_t j = 0; j < p.pixels.size(); ++j) {
+      if (!p.pixels[j]) continue;
+      Add<PatternCost, 3>(problem, loss,
+                          {*p.pixels[j], p.pattern.patches[j].position_mm, p.height_mm}, s,
+                          s.pattern_pose[i].data());
+      ++pixels;
+    }
+  }
+  if (in.options.camera_height_mm) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<HeightPrior, 1, 6>(new HeightPrior{
+                                 *in.options.camera_height_mm, in.options.camera_height_sd_mm}),
+                             nullptr, s.pose.data());
+  }
+  if (fixed.size() == 6) {
+    problem.SetParameterBlockConstant(s.intrinsics.data());
+  } else if (!fixed.empty()) {
+    problem.SetManifold(s.intrinsics.data(), new ceres::SubsetManifold(6, fixed));
+  }
+  return pixels;
+}
+
+// Standard errors of fx, fy, cx, cy, k1, k2 from the covariance of the intrinsics, scaled by the
+// residual variance (Ceres assumes unit-variance residuals); NaN when the data do not determine
+// the parameters (a rank-deficient Jacobian).
+std::array<double, 6> StandardErrors(ceres::Problem& problem, const FitState& s,
+                                     double residual_variance) {
+  std::array<double, 6> se{};
+  se.fill(std::numeric_limits<double>::quiet_NaN());
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.num_threads = 1;
+  ceres::Covariance covariance(co);
+  const double* block = s.intrinsics.data();
+  const std::vector<std::pair<const double*, const double*>> pairs = {{block, block}};
+  if (!covariance.Compute(pairs, &problem)) return se;
+  double c[36];
+  if (!covariance.GetCovarianceBlock(block, block, c)) return se;
+  const double f = s.intrinsics[0], a = s.intrinsics[1];
+  auto var = [&](int i, int j) { return residual_variance * c[6 * i + j]; };
+  se[0] = std::sqrt(var(0, 0));
+  se[1] = std::sqrt(std::max(0.0, a * a * var(0, 0) + f * f * var(1, 1) + 2 * a * f * var(0, 1)));
+  for (int i = 2; i < 6; ++i) se[static_cast<size_t>(i)] = std::sqrt(var(i, i));
+  return se;
+}
+
+// A camera looking nearly straight down at one plane sees it the same from any height with the
+// focal length scaled alike: such data fix the plane's mapping but not f, and so not the mapping
+// of other heights. Say so when f's standard error exceeds 2%.
+void WarnIfFocalUndetermined(const std::vector<int>& fixed, CalibrationFit& fit) {
+  if (std::find(fixed.begin(), fixed.end(), 0) != fixed.end()) return;
+  const double relative = fit.standard_error[0] / fit.camera.fx_px;
+  if (relative <= 0.02) return;
+  std::string heights;
+  for (const PlaneResiduals& p : fit.planes)
+    heights += (heights.empty() ? "" : ", ") + FormatNumber(p.height_mm);
+  fit.notes.push_back(
+      "warning: the focal length is not determined by these data (standard error " +
+      (std::isnan(relative) ? std::string("undetermined") : FormatFixed(100 * relative, 1) + "%") +
+      "): the mapping of the observed plane heights (" + heights +
+      " mm) holds, other heights are extrapolated; give [fit] camera_height_mm (measured), or "
+      "focal_px with fix = [\"focal\", ...], or observe patterns at the heights you detect");
+}
+
+ceres::Problem::Options ProblemOptions();
+ceres::Solver::Summary Solve(ceres::Problem& problem, int max_iterations);
+
+// The observed pixels and the free parameters (camera and nuisance); refuses data with fewer
+// equations than unknowns.
+void CountUnknowns(const CalibrationInput& in, const std::vector<int>& fixed, CalibrationFit& fit) {
+  int pixels = static_cast<int>(in.points.size()), unknowns = 12 - static_cast<int>(fixed.size());
+  for (const LineObservation& l : in.lines) pixels += static_cast<int>(l.pixels.size());
+  for (const CircleObservation& c : in.circles) pixels += static_cast<int>(c.pixels.size());
+  unknowns += pixels - static_cast<int>(in.points.size());  // one per line or circle pixel
+  for (const PatternObservation& p : in.patterns) {
+    unknowns += 3;
+    for (const auto& px : p.pixels) pixels += px.has_value();
+  }
+  fit.observations = pixels;
+  fit.parameters = unknowns;
+  if (2 * pixels + (in.options.camera_height_mm ? 1 : 0) <= unknowns) {
+    throw InputError(in.loc, std::to_string(pixels) + " observed pixels give " +
+                                 std::to_string(2 * pixels) + " equations for " +
+                                 std::to_string(unknowns) +
+                                 " unknowns; expected more points, line or circle pixels");
+  }
+}
+
+// Stage 1 from every start candidate: the pose, the focal length and k1 (principal point, aspect
+// and k2 held), which brings the full model near a basin; the candidates by increasing cost.
+std::vector<FitState> FirstStage(const CalibrationInput& in, const std::vector<int>& fixed,
+                                 ceres::LossFunction* loss) {
+  std::vector<int> stage1 = {1, 2, 3, 5};
+  for (int i : {0, 4})
+    if (std::find(fixed.begin(), fixed.end(), i) != fixed.end()) stage1.push_back(i);
+  std::sort(stage1.begin(), stage1.end());
+  std::vector<std::pair<double, FitState>> ranked;
+  for (FitState& s : StartCandidates(in)) {
+    ceres::Problem problem(ProblemOptions());
+    BuildProblem(in, s, loss, stage1, problem);
+    if (std::find(stage1.begin(), stage1.end(), 0) == stage1.end())
+      problem.SetParameterLowerBound(s.intrinsics.data(), 0, kMinFocalWidths * in.image_width_px);
+    const ceres::Solver::Summary summary = Solve(problem, 50);
+    if (summary.IsSolutionUsable()) ranked.emplace_back(summary.final_cost, s);
+  }
+  if (ranked.empty()) {
+    throw InputError(in.loc,
+                     "no camera in front of the plane explains the known points; "
+                     "expected pixels and field coordinates of the same points");
+  }
+  std::stable_sort(ranked.begin(), ranked.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<FitState> out;
+  for (auto& [cost, s] : ranked) out.push_back(std::move(s));
+  return out;
+}
+
+// Stage 2, the full model, from `s`; the summary.
+ceres::Solver::Summary FullStage(const CalibrationInput& in, const std::vector<int>& fixed,
+                                 ceres::LossFunction* loss, FitState& s, ceres::Problem& problem) {
+  BuildProblem(in, s, loss, fixed, problem);
+  if (std::find(fixed.begin(), fixed.end(), 0) == fixed.end())
+    problem.SetParameterLowerBound(s.intrinsics.data(), 0, kMinFocalWidths * in.image_width_px);
+  return Solve(problem, in.options.max_iterations);
+}
+
+// Minimises over the problem's free parameters; Ceres' summary.
+ceres::Solver::Summary Solve(ceres::Problem& problem, int max_iterations) {
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_SCHUR;
+  so.max_num_iterations = max_iterations;
+  so.function_tolerance = 1e-12;
+  so.gradient_tolerance = 1e-12;
+  so.parameter_tolerance = 1e-12;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return summary;
+}
+
+ceres::Problem::Options ProblemOptions() {
+  ceres::Problem::Options po;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return po;
+}
+
+}  // namespace
+
+CalibrationFit FitCamera(const CalibrationInput& input) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CheckPixels(input);
+  CheckStartPoints(input);
+  // Ceres reports through glog; what matters reaches the user in the fit's termination message.
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  const std::unique_ptr<ceres::LossFunction> loss(
+      input.options.huber_px > 0.0 ? new ceres::HuberLoss(input.options.huber_px) : nullptr);
+  CalibrationFit fit;
+  const std::vector<int> fixed = FixedIndices(input.options);
+  CountUnknowns(input, fixed, fit);
+  // The full model from the three best first stages (a camera seen nearly head-on has shallow
+  // valleys with more than one basin); the least final cost wins.
+  std::vector<FitState> starts = FirstStage(input, fixed, loss.get());
+  starts.resize(std::min<size_t>(starts.size(), 3));
+  std::unique_ptr<ceres::Problem> problem;
+  ceres::Solver::Summary summary;
+  const FitState* best = nullptr;  // the problem's parameter blocks live in it
+  for (FitState& start : starts) {
+    auto candidate = std::make_unique<ceres::Problem>(ProblemOptions());
+    const ceres::Solver::Summary result = FullStage(input, fixed, loss.get(), start, *candidate);
+    if (!problem || (result.IsSolutionUsable() && result.final_cost < summary.final_cost) ||
+        !summary.IsSolutionUsable()) {
+      problem = std::move(candidate);
+      summary = result;
+      best = &start;
+    }
+  }
+  const FitState& s = *best;
+  fit.notes.push_back("start: " + std::to_string(starts.size()) +
+                      " first stages refined; the best has focal " +
+                      FormatSignificant(s.intrinsics[0], 5) + " px");
+  fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  fit.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
+                    summary.message;
+  if (!summary.IsSolutionUsable()) {
+    throw InputError(input.loc, "the camera fit failed (" + fit.termination +
+                                    "); expected observations a pinhole camera can explain");
+  }
+  fit.camera = internal::CameraOf(s);
+  fit.rotation_rodrigues = Eigen::Vector3d(s.pose[0], s.pose[1], s.pose[2]);
+  const double dof = 2.0 * fit.observations - fit.parameters;
+  fit.standard_error = StandardErrors(*problem, s, 2.0 * summary.final_cost / dof);
+  for (int i : fixed) {
+    if (i == 0) fit.standard_error[0] = fit.standard_error[1] = 0.0;
+    if (i >= 2) fit.standard_error[static_cast<size_t>(i)] = 0.0;
+  }
+  fit.camera_centre_mm = -fit.camera.rotation.transpose() * fit.camera.translation_mm;
+  internal::FillResiduals(input, s, fit);
+  WarnIfFocalUndetermined(fixed, fit);
+  fit.seconds = SecondsSince(t0);
+  return fit;
+}
+
+}  // namespace patlab::calib

@@ -1,0 +1,33 @@
+// Pieces of the camera fit shared by calibrate_fit.cpp and calibrate_report.cpp.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "patlab/calib/calibrate.h"
+
+namespace patlab::calib::internal {
+
+// The fit's parameter blocks. intrinsics = {f, aspect, cx, cy, k1, k2} (fx = f, fy = f aspect);
+// pose = {Rodrigues r (3), t (3) mm} with X_camera = R(r) X_world + t; one position along its
+// line (fraction of from -> to) per line pixel; one angle (rad) per circle pixel; one planar pose
+// {x, y, theta} per pattern.
+struct FitState {
+  std::array<double, 6> intrinsics{};
+  std::array<double, 6> pose{};
+  std::vector<std::vector<double>> line_t;
+  std::vector<std::vector<double>> circle_phi;
+  std::vector<std::array<double, 3>> pattern_pose;
+};
+
+vision::PinholeCamera CameraOf(const FitState& s);
+
+// The world point (x, y, height) that an observation's pixel `index` is fitted to.
+Vec2 LineTarget(const LineObservation& l, double t);
+Vec2 CircleTarget(const CircleObservation& c, double phi);
+Vec2 PatternTarget(const PatternObservation& p, const std::array<double, 3>& pose, int patch);
+
+// Residuals of every pixel, per-plane summaries and totals into `fit`.
+void FillResiduals(const CalibrationInput& input, const FitState& s, CalibrationFit& fit);
+
+}  // namespace patlab::calib::internal

@@ -1,0 +1,435 @@
+// The camera fit against cameras it has never seen: random pinhole cameras (height, tilt, yaw,
+// focal length, principal point, barrel distortion) look at the SSL 2008 field and at robots of
+// the SSL standard pattern on their 150 mm tops; the visible field points, line and circle pixels
+// and patch centres, with 0.3 px of Gaussian noise, are fitted, and the fitted camera must map
+// the whole image onto the floor and onto the robot tops as the true camera does.
+#include "patlab/calib/calibrate.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+
+#include "../expect_error.h"
+#include "../test_util.h"
+#include "patlab/core/rng.h"
+
+namespace patlab::calib {
+namespace {
+
+constexpr double kNoisePx = 0.3;
+constexpr int kWidth = 780, kHeight = 580;
+
+Field Ssl2008() {
+  return LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
+}
+
+// A camera as SSL teams mount them: over one half of the field (its centre 1000-1450 mm from the
+// halfway line), 2800-4500 mm up, the half field's width along the image's long side (yaw within
+// 12 deg of that), tilted up to 15 deg about a random horizontal axis, a focal length that frames
+// the half field (0.19-0.24 px per mm of floor), the principal point off centre by up to 15 px,
+// and barrel distortion up to k1 = -0.35.
+vision::PinholeCamera RandomCamera(RandomStream& rng) {
+  vision::PinholeCamera c;
+  const double height = rng.Uniform(2800.0, 4500.0);
+  c.fx_px = c.fy_px = height * rng.Uniform(0.19, 0.24);
+  c.cx_px = 389.5 + rng.Uniform(-15.0, 15.0);
+  c.cy_px = 289.5 + rng.Uniform(-15.0, 15.0);
+  c.k1 = rng.Uniform(-0.35, 0.0);
+  const double side = rng.Uniform() < 0.5 ? -1.0 : 1.0;
+  const double yaw = side * std::numbers::pi / 2 + rng.Uniform(-0.2, 0.2);
+  const double tilt = rng.Uniform(0.0, 15.0) * std::numbers::pi / 180.0;
+  const double tilt_axis = rng.Uniform(0.0, 2 * std::numbers::pi);
+  Eigen::Matrix3d down;  // looking straight down, image right = world (cos yaw, sin yaw)
+  down.col(0) = Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0);
+  down.col(1) = Eigen::Vector3d(std::sin(yaw), -std::cos(yaw), 0);
+  down.col(2) = Eigen::Vector3d(0, 0, -1);
+  const Eigen::Matrix3d tilt_r =
+      Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(tilt_axis), std::sin(tilt_axis), 0))
+          .toRotationMatrix();
+  const Eigen::Matrix3d camera_to_world = tilt_r * down;
+  const Eigen::Vector3d centre(side * rng.Uniform(1000, 1450), rng.Uniform(-200, 200), height);
+  c.rotation = camera_to_world.transpose();
+  c.translation_mm = -c.rotation * centre;
+  return c;
+}
+
+struct Synthetic {
+  CalibrationInput input;
+  vision::CameraModel truth = vision::CameraModel::Pinhole({});
+};
+
+std::optional<Vec2> Observe(const vision::CameraModel& cam, const Vec2& world, double h,
+                            RandomStream& rng) {
+  const auto px = cam.WorldToPixel(world, h);
+  if (!px || px->x() < 2 || px->y() < 2 || px->x() > kWidth - 3 || px->y() > kHeight - 3)
+    return std::nullopt;
+  return *px + kNoisePx * Vec2(rng.Normal(), rng.Normal());
+}
+
+void ObserveField(const Field& field, const vision::CameraModel& cam, RandomStream& rng,
+                  CalibrationInput& in) {
+  for (const FieldPoint& p : field.points)
+    if (const auto px = Observe(cam, p.at_mm, 0.0, rng))
+      in.points.push_back({p.name, *px, p.at_mm});
+  for (const FieldLine& l : field.lines) {
+    LineObservation o{l.name, l.from_mm, l.to_mm, 0.0, {}, {}};
+    for (int k = 0; k <= 40; ++k)
+      if (const auto px = Observe(cam, l.from_mm + (k / 40.0) * (l.to_mm - l.from_mm), 0, rng))
+        o.pixels.push_back(*px);
+    if (o.pixels.size() >= 2) in.lines.push_back(o);
+  }
+  for (const FieldCircle& c : field.circles) {
+    CircleObservation o{c.name, c.centre_mm, c.radius_mm, 0.0, {}, {}};
+    for (int k = 0; k < 24; ++k) {
+      const double phi = 2 * std::numbers::pi * k / 24;
+      if (const auto px =
+              Observe(cam, c.centre_mm + c.radius_mm * Vec2(std::cos(phi), std::sin(phi)), 0, rng))
+        o.pixels.push_back(*px);
+    }
+    if (o.pixels.size() >= 2) in.circles.push_back(o);
+  }
+}
+
+// Robots of the SSL standard pattern on 150 mm tops, wherever the camera sees the floor.
+void ObserveRobots(const vision::CameraModel& cam, RandomStream& rng, CalibrationInput& in) {
+  const Pattern pattern = testing::ShippedPattern("ssl-standard");
+  for (int attempt = 0; attempt < 60 && in.patterns.size() < 4; ++attempt) {
+    const Vec2 px(rng.Uniform(60, kWidth - 60), rng.Uniform(60, kHeight - 60));
+    const auto at = cam.PixelToWorld(px, 150.0);
+    if (!at) continue;
+    const Pose2 pose{at->x(), at->y(), rng.Uniform(-3.0, 3.0)};
+    PatternObservation o{pattern.name, pattern, 150.0, {}, {}};
+    int seen = 0;
+    for (const Patch& patch : pattern.patches) {
+      o.pixels.push_back(Observe(cam, pose.Apply(patch.position_mm), 150.0, rng));
+      seen += o.pixels.back().has_value();
+    }
+    if (seen >= 3) in.patterns.push_back(o);
+  }
+}
+
+Synthetic MakeSynthetic(uint64_t seed, bool robots) {
+  RandomStream rng(seed, 0, 0);
+  Synthetic s;
+  s.truth = vision::CameraModel::Pinhole(RandomCamera(rng));
+  s.input.image_width_px = kWidth;
+  s.input.image_height_px = kHeight;
+  s.input.loc = FileLoc{"synthetic", 0};
+  ObserveField(Ssl2008(), s.truth, rng, s.input);
+  // A user clicks points they can place: the centre, the corners and defense-area corners in
+  // view, so that the start has four known points no three on a line (FitCamera refuses less).
+  if (robots) ObserveRobots(s.truth, rng, s.input);
+  return s;
+}
+
+// The distances (mm) between where the fitted and the true camera put the pixels of a 20 px grid
+// on the plane at `height`, over the part of the image that shows the field (within 100 mm of its
+// lines): RMS and worst. Outside it the fit extrapolates the lens beyond anything it observed.
+std::pair<double, double> MappingError(const vision::CameraModel& fitted,
+                                       const vision::CameraModel& truth, double height) {
+  double worst = 0.0, sum2 = 0.0;
+  int n = 0;
+  for (int v = 10; v < kHeight; v += 20) {
+    for (int u = 10; u < kWidth; u += 20) {
+      const auto b = truth.PixelToWorld(Vec2(u, v), height);
+      if (!b || std::abs(b->x()) > 2550 || std::abs(b->y()) > 1800) continue;
+      const auto a = fitted.PixelToWorld(Vec2(u, v), height);
+      if (!a) return {std::numeric_limits<double>::infinity(), 0.0};
+      worst = std::max(worst, (*a - *b).norm());
+      sum2 += (*a - *b).squaredNorm();
+      ++n;
+    }
+  }
+  EXPECT_GT(n, 100);
+  return {std::sqrt(sum2 / n), worst};
+}
+
+// The error of one observation on the floor: the pixel noise over the truth camera's scale
+// (px per mm at the image centre). Fitted to hundreds of pixels, the camera must map the field to
+// within 1.5 times that on average, and within 6 times that anywhere on the field (its corners
+// are extrapolated beyond the last line pixel).
+double NoiseMm(const vision::CameraModel& truth, double height) {
+  return kNoisePx * std::sqrt(truth.AreaScale(Vec2(kWidth / 2.0, kHeight / 2.0), height));
+}
+
+void ExpectMaps(const vision::CameraModel& fitted, const vision::CameraModel& truth,
+                double height) {
+  const auto [rms, worst] = MappingError(fitted, truth, height);
+  EXPECT_LT(rms, 1.5 * NoiseMm(truth, height)) << "plane " << height;
+  EXPECT_LT(worst, 6.0 * NoiseMm(truth, height)) << "plane " << height;
+}
+
+// The residuals are the noise: the sum of squares over sigma^2 is chi-square with 2N - p degrees
+// of freedom for N pixels and p fitted numbers (each line or circle pixel's free position absorbs
+// the noise along the line); within 4 of its standard deviations sqrt(2 (2N - p)).
+void ExpectNoiseResiduals(const CalibrationFit& fit) {
+  const double dof = 2.0 * fit.observations - fit.parameters;
+  const double chi2 = fit.observations * fit.rms_px * fit.rms_px / (kNoisePx * kNoisePx);
+  EXPECT_NEAR(chi2, dof, 4 * std::sqrt(2 * dof));
+}
+
+// The pixels where the input saw something on the plane at `height`, mapped by both cameras:
+// RMS distance (mm). Only the observed heights' mapping is what the data determine.
+double ObservedError(const CalibrationInput& in, const vision::CameraModel& fitted,
+                     const vision::CameraModel& truth, double height) {
+  double sum2 = 0.0;
+  int n = 0;
+  auto add = [&](const Vec2& px, double h) {
+    if (h != height) return;
+    const auto a = fitted.PixelToWorld(px, h), b = truth.PixelToWorld(px, h);
+    sum2 += a && b ? (*a - *b).squaredNorm() : std::numeric_limits<double>::infinity();
+    ++n;
+  };
+  for (const auto& p : in.points) add(p.pixel, p.height_mm);
+  for (const auto& l : in.lines)
+    for (const Vec2& px : l.pixels) add(px, l.height_mm);
+  for (const auto& c : in.circles)
+    for (const Vec2& px : c.pixels) add(px, c.height_mm);
+  for (const auto& p : in.patterns)
+    for (const auto& px : p.pixels)
+      if (px) add(*px, p.height_mm);
+  EXPECT_GT(n, 0);
+  return std::sqrt(sum2 / n);
+}
+
+// Seeds whose camera sees four known field points no three on a line (FitCamera refuses less:
+// DataThatCannotDetermineACameraAreRefused); the others see only the halfway line's points.
+bool Usable(const Synthetic& s) {
+  try {
+    FitCamera(s.input);
+    return true;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no four of the known points"), std::string::npos)
+        << e.what();
+    return false;
+  }
+}
+
+// What the data determine, checked against the truth: the floor over the whole field, and every
+// fitted intrinsic parameter within 4 of its reported standard error (so the reported uncertainty
+// is honest too). A robot of unknown pose tells the fit the scale of its plane, not where the
+// plane lies: the robot tops separate the focal length from the camera's height, and the
+// principal point from a tilt, only weakly, and how well the 150 mm plane is mapped is what
+// those standard errors say, not a fixed number (AMeasuredCameraHeight... pins it down).
+TEST(Calibrate, RecoversRandomCamerasFromFieldAndRobots) {
+  int fitted_cameras = 0;
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const Synthetic s = MakeSynthetic(seed, /*robots=*/true);
+    if (!Usable(s)) continue;
+    ++fitted_cameras;
+    const CalibrationFit fit = FitCamera(s.input);
+    const vision::CameraModel fitted = vision::CameraModel::Pinhole(fit.camera);
+    const vision::PinholeCamera& t = s.truth.pinhole();
+    ExpectNoiseResiduals(fit);
+    ExpectMaps(fitted, s.truth, 0.0);
+    const auto& se = fit.standard_error;
+    EXPECT_NEAR(fit.camera.fx_px, t.fx_px, 4 * se[0]);
+    EXPECT_NEAR(fit.camera.cx_px, t.cx_px, 4 * se[2]);
+    EXPECT_NEAR(fit.camera.cy_px, t.cy_px, 4 * se[3]);
+    EXPECT_NEAR(fit.camera.k1, t.k1, 4 * se[4]);
+    ASSERT_EQ(fit.planes.size(), 2u);
+    EXPECT_EQ(fit.planes[1].height_mm, 150.0);
+  }
+  EXPECT_GE(fitted_cameras, 7);
+}
+
+TEST(Calibrate, TheFloorAloneMapsTheFloorAndSaysWhatItCannotKnow) {
+  // A camera looking nearly straight down sees the floor the same from any height with the focal
+  // length scaled alike: the floor is mapped; the focal length is either right within its
+  // standard error or reported as not determined.
+  for (uint64_t seed = 11; seed <= 18; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const Synthetic s = MakeSynthetic(seed, /*robots=*/false);
+    if (!Usable(s)) continue;
+    const CalibrationFit fit = FitCamera(s.input);
+    ExpectNoiseResiduals(fit);
+    EXPECT_LT(ObservedError(s.input, vision::CameraModel::Pinhole(fit.camera), s.truth, 0.0),
+              1.5 * NoiseMm(s.truth, 0.0));
+    const bool warned =
+        FitReportText(s.input, fit).find("warning: the focal length is not determined") !=
+        std::string::npos;
+    if (!warned) {
+      EXPECT_NEAR(fit.camera.fx_px, s.truth.pinhole().fx_px, 4 * fit.standard_error[0]);
+    }
+  }
+}
+
+TEST(Calibrate, AMeasuredCameraHeightDeterminesTheFocalLength) {
+  for (uint64_t seed = 11; seed <= 18; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Synthetic s = MakeSynthetic(seed, /*robots=*/false);
+    if (!Usable(s)) continue;
+    const vision::PinholeCamera& t = s.truth.pinhole();
+    const double true_height = (-t.rotation.transpose() * t.translation_mm).z();
+    s.input.options.camera_height_mm = true_height + 5.0;  // measured with a tape
+    s.input.options.camera_height_sd_mm = 10.0;
+    const CalibrationFit fit = FitCamera(s.input);
+    ExpectNoiseResiduals(fit);
+    // On average over the field (some of these cameras see few lines, and extrapolate the
+    // lens to a far corner by 10 mm or more).
+    EXPECT_LT(MappingError(vision::CameraModel::Pinhole(fit.camera), s.truth, 0.0).first,
+              1.5 * NoiseMm(s.truth, 0.0));
+    EXPECT_NEAR(fit.camera_centre_mm.z(), true_height, 30.0);
+    EXPECT_NEAR(fit.camera.fx_px, t.fx_px, 4 * fit.standard_error[0]);
+    EXPECT_LT(fit.standard_error[0], 0.02 * fit.camera.fx_px);
+  }
+}
+
+TEST(Calibrate, TheWrittenFileIsTheFittedCamera) {
+  const Synthetic s = MakeSynthetic(3, true);
+  CalibrationInput in = s.input;
+  in.default_height_mm = 150;
+  in.class_height_mm["orange"] = 21.5;
+  const CalibrationFit fit = FitCamera(in);
+  const vision::Calibration cal = vision::ParseCalibration(CalibrationFileText(in, fit), "fit");
+  EXPECT_EQ(cal.image_width_px, kWidth);
+  EXPECT_EQ(cal.default_height_mm, 150.0);
+  EXPECT_EQ(cal.HeightOf("orange"), 21.5);
+  EXPECT_LT(MappingError(cal.camera, vision::CameraModel::Pinhole(fit.camera), 150.0).second, 1e-6);
+}
+
+TEST(Calibrate, ReportsEveryPixelAndTheWorst) {
+  const Synthetic s = MakeSynthetic(1, true);
+  const CalibrationFit fit = FitCamera(s.input);
+  size_t pixels = s.input.points.size();
+  for (const auto& l : s.input.lines) pixels += l.pixels.size();
+  for (const auto& c : s.input.circles) pixels += c.pixels.size();
+  for (const auto& p : s.input.patterns)
+    for (const auto& px : p.pixels) pixels += px.has_value();
+  EXPECT_EQ(fit.residuals.size(), pixels);
+  EXPECT_EQ(fit.observations, static_cast<int>(pixels));
+  double worst = 0.0;
+  for (const auto& r : fit.residuals) worst = std::max(worst, r.px);
+  EXPECT_EQ(fit.worst_px, worst);
+  const std::string report = FitReportText(s.input, fit);
+  EXPECT_NE(report.find("worst pixels:"), std::string::npos);
+  EXPECT_NE(report.find("(held fixed)"), std::string::npos);  // k2 and the aspect
+}
+
+TEST(Calibrate, AnOutlierIsTamedByTheHuberLoss) {
+  Synthetic s = MakeSynthetic(6, true);
+  Vec2& px = s.input.lines.front().pixels.front();  // mis-clicked 40 px towards the centre
+  px += 40.0 * (Vec2(390, 290) - px).normalized();
+  const double plain =
+      MappingError(vision::CameraModel::Pinhole(FitCamera(s.input).camera), s.truth, 0.0).first;
+  s.input.options.huber_px = 1.0;
+  const double robust =
+      MappingError(vision::CameraModel::Pinhole(FitCamera(s.input).camera), s.truth, 0.0).first;
+  EXPECT_LT(robust, 0.5 * plain);
+  EXPECT_LT(robust, 1.5);
+}
+
+CalibrationInput Parse(const std::string& text) {
+  return ParseCalibrationInput(text, "in.toml", std::string(PATLAB_SOURCE_DIR) + "/experiments");
+}
+
+TEST(CalibrationInput, ReadsFeaturesByNameAndCoordinates) {
+  const CalibrationInput in = Parse(R"(
+image_size_px = [780, 580]
+field = "fields/ssl-2009.toml"
+[fit]
+fix = ["k2", "principal_point"]
+focal_px = 850
+[heights]
+default_mm = 140
+orange = 21.5
+[[point]]
+feature = "centre"
+pixel = [390, 290]
+[[point]]
+world_mm = [100, 200]
+height_mm = 150
+pixel = [10, 20]
+[[line]]
+feature = "halfway"
+pixels = [[1, 2], [3, 4]]
+[[circle]]
+centre_mm = [0, 0]
+radius_mm = 500
+pixels = [[5, 6]]
+[[pattern]]
+pattern = "../patterns/ssl-standard.toml"
+height_mm = 150
+pixels = [[1, 1], "missing", [2, 2], [3, 3], [4, 4]]
+)");
+  ASSERT_EQ(in.points.size(), 2u);
+  EXPECT_EQ(in.points[0].name, "centre");
+  EXPECT_EQ(in.points[1].world_mm, Vec2(100, 200));
+  EXPECT_EQ(in.points[1].height_mm, 150.0);
+  EXPECT_EQ(in.points[1].loc.line, 13);
+  ASSERT_EQ(in.lines.size(), 1u);
+  EXPECT_EQ(in.lines[0].to_mm, Vec2(0, 1700));
+  EXPECT_EQ(in.circles[0].radius_mm, 500.0);
+  ASSERT_EQ(in.patterns[0].pixels.size(), 5u);
+  EXPECT_FALSE(in.patterns[0].pixels[1].has_value());
+  EXPECT_EQ(in.options.fixed.size(), 2u);
+  EXPECT_EQ(in.options.focal_px.value_or(0), 850.0);
+  EXPECT_EQ(in.class_height_mm.at("orange"), 21.5);
+}
+
+TEST(CalibrationInput, BadInputSaysWhereAndWhatWasExpected) {
+  const std::string head = "image_size_px = [780, 580]\nfield = \"fields/ssl-2009.toml\"\n";
+  EXPECT_INPUT_ERROR(Parse(head + "[[point]]\nfeature = \"middle\"\npixel = [1, 2]\n"),
+                     "in.toml:4: point feature 'middle' is not in field 'ssl-2008'; expected one "
+                     "of: centre, corner_pos_left, corner_pos_right, corner_neg_left, "
+                     "corner_neg_right, halfway_left, halfway_right, centre_circle_left, "
+                     "centre_circle_right, defense_front_left_pos, defense_front_right_pos, "
+                     "defense_goal_left_pos, defense_goal_right_pos, defense_front_left_neg, "
+                     "defense_front_right_neg, defense_goal_left_neg, defense_goal_right_neg");
+  EXPECT_INPUT_ERROR(
+      Parse(head + "[[point]]\nfeature = \"centre\"\nworld_mm = [0, 0]\npixel = [1, 2]\n"),
+      "in.toml:4: both feature and world_mm in [[point]] 1; expected exactly one: a field "
+      "feature name or coordinates");
+  EXPECT_INPUT_ERROR(Parse(head + "[[line]]\nfeature = \"halfway\"\npixels = [[1, 2], [3]]\n"),
+                     "in.toml:5: element 2 of pixels in [[line]] 1 is malformed; expected an "
+                     "array of [u, v] pixel pairs");
+  EXPECT_INPUT_ERROR(Parse("image_size_px = [780, 580]\n[[line]]\nfeature = \"halfway\"\n"
+                           "pixels = [[1, 2]]\n"),
+                     "in.toml:3: feature in [[line]] 1 names a field feature but the file sets no "
+                     "field; expected field = \"<field file>\" at the top");
+  EXPECT_INPUT_ERROR(Parse("image_size_px = [780.5, 580]\n"),
+                     "in.toml:1: image_size_px is not two integers from 1 to 65535; expected "
+                     "[width, height] in pixels");
+  EXPECT_INPUT_ERROR(Parse(head + "[fit]\nfix = [\"skew\"]\n"),
+                     "in.toml:4: fix in [fit] holds an unknown parameter; expected any of: "
+                     "\"focal\", \"aspect\", \"principal_point\", \"k1\" or \"k2\"");
+}
+
+std::string Points(const std::vector<std::pair<Vec2, Vec2>>& pts) {
+  std::string out = "image_size_px = [780, 580]\n";
+  for (const auto& [px, w] : pts)
+    out += "[[point]]\nworld_mm = [" + std::to_string(w.x()) + ", " + std::to_string(w.y()) +
+           "]\npixel = [" + std::to_string(px.x()) + ", " + std::to_string(px.y()) + "]\n";
+  return out;
+}
+
+TEST(Calibrate, DataThatCannotDetermineACameraAreRefused) {
+  EXPECT_INPUT_ERROR(FitCamera(Parse(Points({{{1, 1}, {0, 0}}, {{2, 2}, {10, 0}}}))),
+                     "in.toml: the input has 2 known points on its best-covered plane; expected "
+                     "at least 4 [[point]] tables on one plane height (the fit starts from their "
+                     "homography)");
+  EXPECT_INPUT_ERROR(
+      FitCamera(Parse(
+          Points({{{1, 1}, {0, 0}}, {{2, 2}, {10, 0}}, {{3, 3}, {20, 0}}, {{4, 4}, {30, 0}}}))),
+      "in.toml:2: no four of the known points on the plane at 0 mm are free of three on a line; "
+      "expected at least 4 points no three of which lie on one line (e.g. field corners and the "
+      "centre)");
+  EXPECT_INPUT_ERROR(
+      FitCamera(Parse(
+          Points({{{1, 1}, {0, 0}}, {{800, 2}, {10, 0}}, {{3, 3}, {20, 5}}, {{4, 4}, {30, 0}}}))),
+      "in.toml:5: pixel (800, 2) is outside the 780x580 image; expected pixel coordinates "
+      "within it");
+  EXPECT_INPUT_ERROR(
+      FitCamera(Parse(Points({{{100, 100}, {0, 0}},
+                              {{500, 100}, {1000, 0}},
+                              {{500, 400}, {1000, 800}},
+                              {{100, 400}, {0, 800}}}))),
+      "in.toml: 4 observed pixels give 8 equations for 10 unknowns; expected more points, line "
+      "or circle pixels");
+}
+
+}  // namespace
+}  // namespace patlab::calib

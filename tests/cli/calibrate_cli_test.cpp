@@ -1,0 +1,73 @@
+// patlab calibrate end to end: the shared real SSL frame's measured lines and points (the input
+// file is in the repository; the frame itself is not needed), the binary run as a user would.
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <string>
+
+#include "../test_util.h"
+#include "patlab/vision/camera.h"
+
+namespace patlab::cli {
+namespace {
+
+using testing::RunCommand;
+
+const std::string kBinary = PATLAB_BINARY;
+const std::string kInput =
+    std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/ssl-2008.calibration-input.toml";
+
+double Number(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex(pattern))) {
+    ADD_FAILURE() << "no match for " << pattern << " in\n" << text;
+    return -1;
+  }
+  return std::stod(m[1]);
+}
+
+TEST(CalibrateCli, FitsTheRealSslFrameFromItsFieldLines) {
+  testing::TempDir dir;
+  const std::string cal = dir.Path("cal.toml"), res = dir.Path("res.csv");
+  const auto r =
+      RunCommand(kBinary + " calibrate " + kInput + " --out " + cal + " --residuals " + res);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // 95 pixels of the white lines' centres and 7 crossings read off by eye: about a pixel RMS
+  // (the lines are 2-3 px wide, the crossings good to 2 px), about 1 cm on the floor. The
+  // calibration fitted outside patlab to this frame had 34 mm RMS.
+  EXPECT_LT(Number(r.out, R"(residuals: RMS ([0-9.]+) px)"), 1.6);
+  EXPECT_LT(Number(r.out, R"(\n  0 +95 +[0-9.]+ +[0-9.]+ +([0-9.]+))"), 12.0);
+  EXPECT_NE(r.out.find("warning: the focal length is not determined"), std::string::npos);
+  // The file is a calibration patlab detect reads, with the input's plane heights.
+  const vision::Calibration c = vision::LoadCalibration(cal);
+  EXPECT_EQ(c.image_width_px, 780);
+  EXPECT_EQ(c.default_height_mm, 140.0);
+  EXPECT_EQ(c.HeightOf("orange"), 21.5);
+  // The centre mark maps to the field's centre, and the residual file has a row per pixel.
+  const auto centre = c.camera.PixelToWorld(Vec2(387.4, 524.5), 0.0);
+  ASSERT_TRUE(centre.has_value());
+  EXPECT_LT(centre->norm(), 40.0);
+  const std::string csv = testing::ReadFile(res);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 96);
+}
+
+TEST(CalibrateCli, BadInputIsExit2WithNothingWritten) {
+  testing::TempDir dir;
+  const std::string in = dir.Write("in.toml",
+                                   "image_size_px = [780, 580]\n[[point]]\n"
+                                   "world_mm = [0, 0]\npixel = [1, 2]\n");
+  const auto r = RunCommand(kBinary + " calibrate " + in + " --out " + dir.Path("cal.toml"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "patlab calibrate: " + in +
+                       ": the input has 1 known points on its best-covered plane; expected at "
+                       "least 4 [[point]] tables on one plane height (the fit starts from their "
+                       "homography)\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("cal.toml")));
+  const auto missing = RunCommand(kBinary + " calibrate " + in);
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_EQ(missing.err,
+            "patlab calibrate: missing --out FILE; expected the calibration file to write\n");
+}
+
+}  // namespace
+}  // namespace patlab::cli
