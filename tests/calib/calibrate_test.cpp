@@ -72,7 +72,7 @@ void ObserveField(const Field& field, const vision::CameraModel& cam, RandomStre
                   CalibrationInput& in) {
   for (const FieldPoint& p : field.points)
     if (const auto px = Observe(cam, p.at_mm, 0.0, rng))
-      in.points.push_back({p.name, *px, p.at_mm});
+      in.points.push_back({p.name, *px, p.at_mm, 0.0, {}});
   for (const FieldLine& l : field.lines) {
     LineObservation o{l.name, l.from_mm, l.to_mm, 0.0, {}, {}};
     for (int k = 0; k <= 40; ++k)

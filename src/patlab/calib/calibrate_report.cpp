@@ -95,8 +95,11 @@ void FillResiduals(const CalibrationInput& in, const FitState& s, CalibrationFit
 namespace {
 
 std::string Vector3(const Eigen::Vector3d& v) {
-  return "[" + FormatRoundTrip(v.x()) + ", " + FormatRoundTrip(v.y()) + ", " +
-         FormatRoundTrip(v.z()) + "]";
+  // Appended piece by piece: GCC 12's -Wrestrict misfires on a chain of "[" + std::string.
+  std::string out = "[";
+  out.append(FormatRoundTrip(v.x())).append(", ").append(FormatRoundTrip(v.y()));
+  out.append(", ").append(FormatRoundTrip(v.z())).append("]");
+  return out;
 }
 
 // The angle (deg) between the optical axis and straight down.
