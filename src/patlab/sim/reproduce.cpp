@@ -282,7 +282,10 @@ std::string PaperMarkdown(const Reproduction& reproduction) {
     if (n.rule == Rule::kExplained) rule += " (expect " + FormatSignificant(n.expected, 6) + ")";
     md += "| " + n.where + " | " + n.quantity + " | " + FormatSignificant(n.paper, 4) + " | " +
           FormatSignificant(n.patlab, 4) + " | " + rule + " | " + n.reason + " | " +
-          (n.rule == Rule::kReported ? "reported" : n.ok ? "ok" : "FAILS") + " |\n";
+          (n.rule == Rule::kReported ? "reported"
+           : n.ok                    ? "ok"
+                                     : "FAILS") +
+          " |\n";
   }
   return md;
 }
