@@ -8,6 +8,8 @@
 
 #include "../expect_error.h"
 #include "../test_util.h"
+#include "patlab/core/format.h"
+#include "patlab/core/rng.h"
 #include "patlab/sim/report.h"
 
 namespace patlab::sim {
@@ -138,6 +140,24 @@ TEST(Shard, MissingRepeatedAndForeignSharesAreNamed) {
   const std::string s2of3 = WriteKnownShard(e, 2, 3, other_dir);
   EXPECT_INPUT_ERROR(MergeShards({s1, s2of3}, dir.Path("out"), "", ""),
                      s2of3 + ": shard 2/3; expected a share of N = 4 like " + s1);
+}
+
+// A shard edited consistently (checksum recomputed as shard.cpp does) to claim another patlab
+// version is refused by version.
+TEST(Shard, ShardsOfAnotherPatlabVersionAreRefused) {
+  const Experiment e = Small();
+  testing::TempDir dir;
+  const std::string s1 = WriteKnownShard(e, 1, 1, dir);
+  nlohmann::json j = nlohmann::json::parse(testing::ReadFile(s1));
+  j["version"] = "0.0.9";
+  j.erase("checksum");
+  j["checksum"] = StringPrintf(
+      "%016llx",
+      static_cast<unsigned long long>(StreamKey(0).Add(std::string_view(j.dump())).value()));
+  dir.Write(ShardFileName("small", {1, 1}), j.dump(1) + "\n");
+  EXPECT_INPUT_ERROR(MergeShards({s1}, dir.Path("out"), "", ""),
+                     s1 + ": written by patlab \"0.0.9\"; expected " + PATLAB_VERSION +
+                         " (this patlab): rerun the shard with this version");
 }
 
 TEST(Shard, TruncatedOrEditedShardsAreRefused) {

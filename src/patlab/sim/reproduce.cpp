@@ -278,14 +278,18 @@ std::string PaperMarkdown(const Reproduction& reproduction) {
   const char* rule_names[] = {"within", "below", "above", "explained", "reported"};
   for (const PaperNumber& n : reproduction.numbers) {
     std::string rule = rule_names[static_cast<int>(n.rule)];
-    if (n.rule == Rule::kWithin) rule += " " + FormatSignificant(n.tolerance, 3);
-    if (n.rule == Rule::kExplained) rule += " (expect " + FormatSignificant(n.expected, 6) + ")";
-    md += "| " + n.where + " | " + n.quantity + " | " + FormatSignificant(n.paper, 4) + " | " +
-          FormatSignificant(n.patlab, 4) + " | " + rule + " | " + n.reason + " | " +
-          (n.rule == Rule::kReported ? "reported"
-           : n.ok                    ? "ok"
-                                     : "FAILS") +
-          " |\n";
+    // Appends, not operator+ chains: GCC 12 reports a false -Wrestrict on " " + std::string.
+    if (n.rule == Rule::kWithin) rule.append(" ").append(FormatSignificant(n.tolerance, 3));
+    if (n.rule == Rule::kExplained) {
+      rule.append(" (expect ").append(FormatSignificant(n.expected, 6)).append(")");
+    }
+    const char* verdict = n.rule == Rule::kReported ? "reported" : (n.ok ? "ok" : "FAILS");
+    for (const std::string& cell :
+         {n.where, n.quantity, FormatSignificant(n.paper, 4), FormatSignificant(n.patlab, 4), rule,
+          n.reason, std::string(verdict)}) {
+      md.append("| ").append(cell).append(" ");
+    }
+    md.append("|\n");
   }
   return md;
 }
