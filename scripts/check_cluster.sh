@@ -59,7 +59,7 @@ AuthType=auth/munge
 CredType=cred/munge
 AuthInfo=socket=$s/munge/munge.sock
 SlurmUser=$(id -un)
-SlurmdUser=root
+SlurmdUser=$(id -un)
 StateSaveLocation=$s/state
 SlurmdSpoolDir=$s/spool
 SlurmctldPidFile=$s/slurmctld.pid
