@@ -67,6 +67,15 @@ TEST(MergeCli, BadShardFlagsAndIncompleteMergesExitTwoAndWriteNothing) {
         << r.err;
   }
   EXPECT_FALSE(Exists(dir.Path("bad")));
+  const auto both = RunCommand(kPatlab + " simulate " + e + " -q --shard 1/2 --replay 0,1");
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.err.find("--shard and --replay together; expected one of them"), std::string::npos)
+      << both.err;
+  const auto none = RunCommand(kPatlab + " merge --out " + dir.Path("bad"));
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("missing SHARD; expected 'patlab merge SHARD... --out DIR' (see --help)"),
+            std::string::npos)
+      << none.err;
   ASSERT_EQ(
       RunCommand(kPatlab + " simulate " + e + " -q --shard 2/3 --out " + dir.Path("s")).exit_code,
       0);

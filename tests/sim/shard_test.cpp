@@ -182,6 +182,11 @@ TEST(Shard, TruncatedOrEditedShardsAreRefused) {
   dir.Write(ShardFileName("small", {2, 2}), "{\"format\": \"something else\"}");
   EXPECT_INPUT_ERROR(MergeShards({s1, s2}, dir.Path("out"), "", ""),
                      s2 + ": not a patlab shard file (no \"format\": \"patlab shard\")" + expected);
+  testing::TempDir empty;
+  EXPECT_INPUT_ERROR(MergeShards({empty.Path("")}, dir.Path("out"), "", ""),
+                     empty.Path("") + ": no *.shard-K-of-N.json files; expected shard files");
+  EXPECT_INPUT_ERROR(MergeShards({}, dir.Path("out"), "", ""),
+                     "no shard files given; expected SHARD... (files or dirs)");
   EXPECT_INPUT_ERROR(MergeShards({dir.Path("nothing")}, dir.Path("out"), "", ""),
                      dir.Path("nothing") +
                          ": cannot read; expected a shard file written by 'patlab simulate "
