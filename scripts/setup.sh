@@ -9,6 +9,7 @@ packages=(
   libtomlplusplus-dev librandom123-dev nlohmann-json3-dev libpng-dev libjpeg-dev
   libceres-dev libgtest-dev libgmock-dev libbenchmark-dev clang-format clang-tidy
   python3 python3-numpy python3-scipy python3-matplotlib
+  parallel slurm-wlm munge
 )
 if [[ "${1:-}" == "--bench" ]]; then packages+=(libopencv-dev); fi
 

@@ -9,3 +9,5 @@ bash scripts/build.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)"
 bash scripts/check_install.sh
 bash scripts/check_style.sh
+bash scripts/check_cluster.sh
+bash scripts/check_reproduce.sh

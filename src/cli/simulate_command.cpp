@@ -15,6 +15,7 @@
 #include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
 #include "patlab/sim/runner.h"
+#include "patlab/sim/shard.h"
 
 namespace patlab::cli {
 
@@ -29,10 +30,13 @@ constexpr const char* kExamples = R"(examples:
   patlab simulate experiments/fig5.toml --replay 3,41    # re-run trial 41 of data point 3
   patlab simulate experiments/id_confusion.toml          # whole frames through the detector
   patlab simulate experiments/id_confusion.toml --replay 7,12  # frame 12 of point 7: blobs, detections
+  patlab simulate experiments/fig5.toml --shard 2/8 --out shards  # share 2 of 8; then patlab merge
 
 Writes <out>/<name>.csv (one row per pattern x estimator x sigma; with correspondence = "detect"
 one row per pattern x false-blob rate x sigma) and <out>/<name>.json (the manifest: inputs,
 seed, version, timings), both atomically. In detect mode --trials sets the frames per point.
+With --shard K/N only share K of N of the points is run, and <out>/<name>.shard-K-of-N.json is
+written instead; `patlab merge` joins the N shard files into the CSV and manifest (docs/merge.md).
 Exit status: 0 ok, 1 cannot write results, 2 bad input.
 )";
 
@@ -45,6 +49,7 @@ struct SimulateOptions {
   int threads = 0;
   std::string sigmas;
   std::string replay;
+  std::string shard;
   double sigma_y_ratio = -1, common_sigma_ratio = -1, outlier_probability = -1,
          outlier_sigma_ratio = -1;
   bool quiet = false;
@@ -75,10 +80,10 @@ OutputFiles Outputs(const sim::Experiment& experiment, const SimulateOptions& o,
   return files;
 }
 
-// Writes both files atomically; on failure says why on stderr and returns false (exit 1).
-bool WriteOutputs(const OutputFiles& files, const std::string& csv, const std::string& manifest) {
+// Writes the files atomically; on failure says why on stderr and returns false (exit 1).
+bool WriteAll(const std::vector<std::pair<std::string, std::string>>& files) {
   try {
-    io::WriteFilesAtomic({{files.csv_path, csv}, {files.json_path, manifest}});
+    io::WriteFilesAtomic(files);
   } catch (const InputError& e) {
     std::cerr << "patlab simulate: " << e.what() << "\n";
     return false;
@@ -86,10 +91,26 @@ bool WriteOutputs(const OutputFiles& files, const std::string& csv, const std::s
   return true;
 }
 
+bool WriteOutputs(const OutputFiles& files, const std::string& csv, const std::string& manifest) {
+  return WriteAll({{files.csv_path, csv}, {files.json_path, manifest}});
+}
+
+std::string BaseName(const sim::Experiment& experiment, const SimulateOptions& o) {
+  return o.name.empty() ? experiment.name : o.name;
+}
+
+// --shard K/N: the shard file <out>/<base>.shard-K-of-N.json.
+std::string ShardPath(const sim::Experiment& experiment, const SimulateOptions& o,
+                      const sim::ShardSpec& shard) {
+  return (std::filesystem::path(o.out_dir) / sim::ShardFileName(BaseName(experiment, o), shard))
+      .string();
+}
+
 // Threads, and a progress bar on stderr when it is a terminal and -q was not given.
 sim::RunOptions RunOptionsFor(const SimulateOptions& o) {
   sim::RunOptions run_options;
   run_options.threads = o.threads;
+  if (!o.shard.empty()) run_options.shard = sim::ParseShardSpec(o.shard, "--shard");
   if (!o.quiet && ::isatty(STDERR_FILENO)) run_options.progress = ProgressBar;
   return run_options;
 }
@@ -106,6 +127,13 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
   const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
 
   const OutputFiles files = Outputs(experiment, o, args);
+  if (!o.shard.empty()) {
+    const std::string path = ShardPath(experiment, o, run_options.shard);
+    return WriteAll({{path, sim::DetectShardText(experiment, result, run_options.shard,
+                                                 BaseName(experiment, o), files.command_line)}})
+               ? kExitOk
+               : kExitFailure;
+  }
   if (!WriteOutputs(files, sim::DetectResultsCsv(experiment, result),
                     sim::DetectManifestJson(experiment, result, files.command_line,
                                             {files.csv_path, files.json_path}))) {
@@ -117,6 +145,65 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
                  "statistics %.3f s) on %d threads\nwrote %s and %s\n",
                  static_cast<long long>(result.total_frames), result.wall_seconds,
                  result.simulate_seconds, result.total_frames / result.simulate_seconds,
+                 result.statistics_seconds, result.threads, files.csv_path.c_str(),
+                 files.json_path.c_str());
+  }
+  return kExitOk;
+}
+
+// The experiment file with the command line's overrides applied and checked.
+sim::Experiment LoadWithOverrides(const SimulateOptions& o, const po::variables_map& vm) {
+  sim::Experiment experiment = sim::LoadExperimentFile(o.experiment);
+  sim::Overrides overrides;
+  if (vm.count("trials")) overrides.trials = o.trials;
+  if (!o.seed.empty()) overrides.seed = ParseSeed(o.seed, "--seed");
+  if (!o.sigmas.empty()) {
+    overrides.sigmas_mm =
+        ParseNumberList(o.sigmas, "--sigmas", "comma-separated numbers, e.g. 0,0.5,1");
+  }
+  sim::ApplyOverrides(overrides, &experiment);
+  sim::NoiseModel& noise = experiment.noise;
+  if (vm.count("sigma-y-ratio")) noise.sigma_y_ratio = o.sigma_y_ratio;
+  if (vm.count("common-sigma-ratio")) noise.common_sigma_ratio = o.common_sigma_ratio;
+  if (vm.count("outlier-probability")) noise.outlier_probability = o.outlier_probability;
+  if (vm.count("outlier-sigma-ratio")) noise.outlier_sigma_ratio = o.outlier_sigma_ratio;
+  if (const auto problems = sim::Check(noise); !problems.empty()) {
+    throw InputError("noise options: " + problems.front().message);
+  }
+  return experiment;
+}
+
+// correspondence = "known": the estimator engine (or one replayed trial, or one share).
+int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
+                 const std::vector<std::string>& args) {
+  if (!o.replay.empty()) {
+    std::cout << sim::ReplayText(
+        sim::ReplayTrial(experiment, sim::ParseReplayIndex(o.replay, "TRIAL")));
+    return kExitOk;
+  }
+
+  const sim::RunOptions run_options = RunOptionsFor(o);
+  const sim::RunResult result = sim::RunExperiment(experiment, run_options);
+
+  const OutputFiles files = Outputs(experiment, o, args);
+  if (!o.shard.empty()) {
+    const std::string path = ShardPath(experiment, o, run_options.shard);
+    return WriteAll({{path, sim::KnownShardText(experiment, result, run_options.shard,
+                                                BaseName(experiment, o), files.command_line)}})
+               ? kExitOk
+               : kExitFailure;
+  }
+  if (!WriteOutputs(files, sim::ResultsCsv(experiment, result),
+                    sim::ManifestJson(experiment, result, files.command_line,
+                                      {files.csv_path, files.json_path}))) {
+    return kExitFailure;
+  }
+  if (!o.quiet) {
+    std::fprintf(stderr,
+                 "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "
+                 "statistics %.3f s) on %d threads\nwrote %s and %s\n",
+                 static_cast<long long>(result.total_trials), result.wall_seconds,
+                 result.simulate_seconds, result.total_trials / result.simulate_seconds / 1e6,
                  result.statistics_seconds, result.threads, files.csv_path.c_str(),
                  files.json_path.c_str());
   }
@@ -140,6 +227,7 @@ int RunSimulate(const std::vector<std::string>& args) {
       ("outlier-probability", po::value(&o.outlier_probability), "noise: outlier probability per patch")
       ("outlier-sigma-ratio", po::value(&o.outlier_sigma_ratio), "noise: outlier std / sigma")
       ("replay", po::value(&o.replay), "POINT,TRIAL: re-run one trial and print every estimate (detect mode: POINT,FRAME)")
+      ("shard", po::value(&o.shard), "K/N: run only share K of N of the points, write <out>/<name>.shard-K-of-N.json (patlab merge joins them)")
       ("quiet,q", po::bool_switch(&o.quiet), "no progress bar or summary on stderr");
   // clang-format on
   po::variables_map vm;
@@ -151,53 +239,16 @@ int RunSimulate(const std::vector<std::string>& args) {
         "missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see --help)");
   }
   CheckThreads(o.threads);
-
-  sim::Experiment experiment = sim::LoadExperimentFile(o.experiment);
-  sim::Overrides overrides;
-  if (vm.count("trials")) overrides.trials = o.trials;
-  if (!o.seed.empty()) overrides.seed = ParseSeed(o.seed, "--seed");
-  if (!o.sigmas.empty()) {
-    overrides.sigmas_mm =
-        ParseNumberList(o.sigmas, "--sigmas", "comma-separated numbers, e.g. 0,0.5,1");
-  }
-  sim::ApplyOverrides(overrides, &experiment);
-  sim::NoiseModel& noise = experiment.noise;
-  if (vm.count("sigma-y-ratio")) noise.sigma_y_ratio = o.sigma_y_ratio;
-  if (vm.count("common-sigma-ratio")) noise.common_sigma_ratio = o.common_sigma_ratio;
-  if (vm.count("outlier-probability")) noise.outlier_probability = o.outlier_probability;
-  if (vm.count("outlier-sigma-ratio")) noise.outlier_sigma_ratio = o.outlier_sigma_ratio;
-  if (const auto problems = sim::Check(noise); !problems.empty()) {
-    throw InputError("noise options: " + problems.front().message);
+  if (!o.shard.empty()) {
+    sim::ParseShardSpec(o.shard, "--shard");
+    if (!o.replay.empty()) throw InputError("--shard and --replay together; expected one of them");
   }
 
+  const sim::Experiment experiment = LoadWithOverrides(o, vm);
   if (experiment.correspondence == sim::Correspondence::kDetect) {
     return RunDetectMode(experiment, o, args);
   }
-  if (!o.replay.empty()) {
-    std::cout << sim::ReplayText(
-        sim::ReplayTrial(experiment, sim::ParseReplayIndex(o.replay, "TRIAL")));
-    return kExitOk;
-  }
-
-  const sim::RunOptions run_options = RunOptionsFor(o);
-  const sim::RunResult result = sim::RunExperiment(experiment, run_options);
-
-  const OutputFiles files = Outputs(experiment, o, args);
-  if (!WriteOutputs(files, sim::ResultsCsv(experiment, result),
-                    sim::ManifestJson(experiment, result, files.command_line,
-                                      {files.csv_path, files.json_path}))) {
-    return kExitFailure;
-  }
-  if (!o.quiet) {
-    std::fprintf(stderr,
-                 "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "
-                 "statistics %.3f s) on %d threads\nwrote %s and %s\n",
-                 static_cast<long long>(result.total_trials), result.wall_seconds,
-                 result.simulate_seconds, result.total_trials / result.simulate_seconds / 1e6,
-                 result.statistics_seconds, result.threads, files.csv_path.c_str(),
-                 files.json_path.c_str());
-  }
-  return kExitOk;
+  return RunKnownMode(experiment, o, args);
 }
 
 }  // namespace

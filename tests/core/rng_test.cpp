@@ -79,3 +79,29 @@ TEST(RandomStream, BelowStaysInRange) {
 
 }  // namespace
 }  // namespace patlab
+
+namespace patlab {
+namespace {
+
+TEST(StreamKey, DependsOnEveryValueAndTheirOrderOnly) {
+  const uint64_t a = StreamKey(7).Add(1.0).Add(uint64_t{2}).Add(std::string_view("fast")).value();
+  EXPECT_EQ(a, StreamKey(7).Add(1.0).Add(uint64_t{2}).Add(std::string_view("fast")).value());
+  EXPECT_NE(a, StreamKey(8).Add(1.0).Add(uint64_t{2}).Add(std::string_view("fast")).value());
+  EXPECT_NE(a, StreamKey(7).Add(uint64_t{2}).Add(1.0).Add(std::string_view("fast")).value());
+  EXPECT_NE(a, StreamKey(7).Add(1.0).Add(uint64_t{2}).Add(std::string_view("fasu")).value());
+  EXPECT_NE(a, StreamKey(7)
+                   .Add(std::nextafter(1.0, 2.0))
+                   .Add(uint64_t{2})
+                   .Add(std::string_view("fast"))
+                   .value());
+  // -0 and +0 are one value; "ab" then "" is not "a" then "b".
+  EXPECT_EQ(StreamKey(1).Add(-0.0).value(), StreamKey(1).Add(0.0).value());
+  EXPECT_NE(StreamKey(1).Add(std::string_view("ab")).Add(std::string_view("")).value(),
+            StreamKey(1).Add(std::string_view("a")).Add(std::string_view("b")).value());
+  // A 9-byte string uses both of its words.
+  EXPECT_NE(StreamKey(1).Add(std::string_view("123456789")).value(),
+            StreamKey(1).Add(std::string_view("12345678A")).value());
+}
+
+}  // namespace
+}  // namespace patlab

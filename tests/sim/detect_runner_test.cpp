@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "../test_util.h"
 #include "patlab/sim/replay.h"
@@ -100,6 +101,40 @@ TEST_F(DetectRunnerTest, IdenticalForAnyThreadCount) {
   EXPECT_EQ(std::count(one.begin(), one.end(), '\n'), 1 + 2 * 2 * 3);
   EXPECT_NE(one.find("\nbutterfly,6,3,5,300,3000,isotropic,6,"), std::string::npos) << one;
   EXPECT_NE(one.find("\ntriangle,0,0,6,300,3000,isotropic,1,"), std::string::npos) << one;
+}
+
+// A row without its `point` cell (the fourth: the grid index, which --replay uses).
+std::string WithoutPointCell(const std::string& row) {
+  size_t start = 0;
+  for (int k = 0; k < 3; ++k) start = row.find(',', start) + 1;
+  return row.substr(0, start) + row.substr(row.find(',', start) + 1);
+}
+
+// docs/architecture.md rule 1: frames are keyed by what the point is, so a run over one sigma
+// and one false-blob rate of one pattern gives the row of the full sweep (all but the grid
+// index), byte for byte.
+TEST_F(DetectRunnerTest, AOneSigmaRunEqualsTheCorrespondingRowOfTheFullSweep) {
+  const Experiment full = Load("false_blob_rate_per_m2 = [0, 3]\n");
+  const std::string full_csv = DetectResultsCsv(full, RunDetectExperiment(full, {}));
+  Experiment one = full;
+  one.patterns = {full.patterns[1]};
+  one.detect.detector_pattern = {full.detect.detector_pattern[1]};
+  one.sigmas_mm = {1.0};
+  one.detect.false_blob_rates_per_m2 = {3.0};
+  const std::string one_csv = DetectResultsCsv(one, RunDetectExperiment(one, {}));
+  std::istringstream in(one_csv);
+  std::string header, row, extra;
+  std::getline(in, header);
+  std::getline(in, row);
+  EXPECT_FALSE(std::getline(in, extra));
+  ASSERT_EQ(row.rfind("triangle,1,3,0,", 0), 0u) << row;
+  std::istringstream all(full_csv);
+  std::string line;
+  int matches = 0;
+  while (std::getline(all, line)) {
+    if (WithoutPointCell(line) == WithoutPointCell(row)) ++matches;
+  }
+  EXPECT_EQ(matches, 1) << full_csv << "\n" << row;
 }
 
 TEST_F(DetectRunnerTest, ExactScenesAreAllDetectedWithTheirIds) {

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 
 #include "../test_util.h"
 #include "patlab/sim/batch.h"
@@ -48,6 +50,57 @@ TEST(Runner, SameSeedGivesByteIdenticalResultsOnOneTwoAndEightThreads) {
   Experiment other = e;
   other.seed = 12346;
   EXPECT_NE(ResultsCsv(other, RunExperiment(other, {})), reference);
+}
+
+// The CSV rows of `csv` (header dropped) whose sigma_mm cell (third) is `sigma`.
+std::vector<std::string> RowsAtSigma(const std::string& csv, const std::string& sigma) {
+  std::vector<std::string> rows;
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    const size_t a = line.find(',');
+    const size_t b = line.find(',', a + 1);
+    const size_t c = line.find(',', b + 1);
+    if (line.substr(b + 1, c - b - 1) == sigma) rows.push_back(line);
+  }
+  return rows;
+}
+
+// docs/architecture.md rule 1: a point's trials are keyed by what it is, so a one-sigma run, a
+// run over another sigma grid, and a run over a subset of the patterns in another order give
+// the same rows as the full sweep, byte for byte.
+TEST(Runner, AOneSigmaRunEqualsTheCorrespondingRowsOfTheFullSweep) {
+  const Experiment full = SmallExperiment({"triangle", "butterfly"}, {0.5, 1.0, 2.0}, 3000);
+  const std::string full_csv = ResultsCsv(full, RunExperiment(full, {}));
+  Experiment one = SmallExperiment({"butterfly", "triangle"}, {1.0}, 3000);
+  const std::string one_csv = ResultsCsv(one, RunExperiment(one, {}));
+  const std::vector<std::string> expected = RowsAtSigma(full_csv, "1");
+  std::vector<std::string> got = RowsAtSigma(one_csv, "1");
+  ASSERT_EQ(got.size(), 8u);  // 2 patterns x 4 estimators
+  // The one-sigma run lists butterfly first: compare as sets of rows.
+  std::vector<std::string> want = expected;
+  std::sort(want.begin(), want.end());
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(got, want);
+  Experiment other_grid = SmallExperiment({"butterfly"}, {1.0, 3.0}, 3000);
+  const std::string other_csv = ResultsCsv(other_grid, RunExperiment(other_grid, {}));
+  const std::vector<std::string> butterfly = RowsAtSigma(other_csv, "1");
+  ASSERT_EQ(butterfly.size(), 4u);
+  for (const std::string& row : butterfly) {
+    EXPECT_NE(std::find(expected.begin(), expected.end(), row), expected.end()) << row;
+  }
+  // A renamed copy of a pattern is the same point; moving one patch makes it another.
+  Experiment renamed = one;
+  renamed.patterns = {one.patterns[0]};
+  renamed.patterns[0].name = "a renamed butterfly";
+  renamed.patterns[0].description = "a copy";
+  Experiment moved = renamed;
+  moved.patterns[0].patches[1].position_mm.x() += 1e-9;
+  EXPECT_EQ(MakePointSetup(renamed, estimate::Model::FromPattern(renamed.patterns[0]), 0, 0).seed,
+            MakePointSetup(one, estimate::Model::FromPattern(one.patterns[0]), 0, 0).seed);
+  EXPECT_NE(MakePointSetup(moved, estimate::Model::FromPattern(moved.patterns[0]), 0, 0).seed,
+            MakePointSetup(one, estimate::Model::FromPattern(one.patterns[0]), 0, 0).seed);
 }
 
 // Simulated std against the first-order prediction: at small sigma the estimators are linear in

@@ -107,6 +107,24 @@ TEST(Track, ResultsAreIdenticalForAnyThreadCount) {
   EXPECT_NE(one.data[0][0].true_x_mm, other.data[0][0].true_x_mm);
 }
 
+// docs/architecture.md rule 1: a run's frames are keyed by (seed, run, frame, pixel), so the
+// runs of a shorter experiment are the first runs of a longer one, sample for sample.
+TEST(Track, TheRunsOfAShorterExperimentAreTheFirstRunsOfALongerOne) {
+  TrackOptions two = NoisyWithButterfly();
+  TrackOptions three = two;
+  three.runs = 3;
+  const TrackResult a = RunTrack(two, {.threads = 2});
+  const TrackResult b = RunTrack(three, {.threads = 2});
+  ASSERT_EQ(a.subjects, b.subjects);
+  for (size_t k = 0; k < a.subjects.size(); ++k) {
+    for (int run = 0; run < two.runs; ++run) {
+      EXPECT_EQ(a.data[k][run].true_x_mm, b.data[k][run].true_x_mm);
+      EXPECT_EQ(a.data[k][run].est_y_mm, b.data[k][run].est_y_mm);
+      EXPECT_EQ(a.data[k][run].true_theta_rad, b.data[k][run].true_theta_rad);
+    }
+  }
+}
+
 TEST(Track, NoiseRaisesTheErrorAndJitterIsCommonToTheSubjects) {
   TrackOptions o = Small();
   const std::vector<TableRow> clean = MakeTable(RunTrack(o));

@@ -1,7 +1,8 @@
 // Counter-based random numbers (docs/architecture.md rule 1): every random number of a trial is a
-// pure function of (experiment seed, stream id, trial index, draw index), computed with Random123's
-// Philox4x32-10. Nothing is shared between trials, so results are identical for any thread count
-// and any trial can be replayed alone.
+// pure function of (key, stream id, trial index, draw index), computed with Random123's
+// Philox4x32-10, where the 64-bit key is the StreamKey of the experiment seed and what the data
+// point is (never its position in a grid). Nothing is shared between trials, so results are
+// identical for any thread count and any trial can be replayed alone.
 //
 // Uniforms use 52 bits (two 32-bit words) or 32 bits (one word), strictly inside (0, 1). Normals
 // use our own Box-Muller transform (never std::normal_distribution, whose output differs between
@@ -11,9 +12,11 @@
 #include <Random123/philox.h>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <string_view>
 
 namespace patlab {
 
@@ -78,13 +81,57 @@ inline void BoxMuller(double u1, double u2, double* z0, double* z1) {
   *z1 = r * std::sin(phi);
 }
 
-// A sequential stream of draws identified by (seed, stream, index): e.g. stream = data point,
-// index = trial. Draw k of a stream comes from Philox block k/2, so any draw is reproducible
-// without running the others. Cheap to construct; use one per trial or per frame.
+// The 64-bit Philox key of a stream from what the stream *is* (docs/architecture.md rule 1): the
+// experiment seed, then every value that identifies the data point (a pattern's geometry, the
+// noise model, sigma, ...), folded in order. Two streams share a key only when every value
+// agrees, so a point draws the same numbers in any grid, list order or subset it appears in.
+// Each step is h <- Fmix64(h ^ Fmix64(w + golden)) with MurmurHash3's 64-bit finaliser (Appleby
+// 2011; a bijection with full avalanche), so the key depends on every bit and on the order.
+// Doubles enter by their bit pattern, -0 as +0; strings by length, then 8 bytes at a time.
+class StreamKey {
+ public:
+  explicit StreamKey(uint64_t seed) : h_(Fmix64(seed ^ 0x7061746c61622d6bULL)) {}  // "patlab-k"
+
+  StreamKey& Add(uint64_t word) {
+    h_ = Fmix64(h_ ^ Fmix64(word + 0x9E3779B97F4A7C15ULL));
+    return *this;
+  }
+  StreamKey& Add(double value) { return Add(std::bit_cast<uint64_t>(value == 0.0 ? 0.0 : value)); }
+  StreamKey& Add(std::string_view text) {
+    Add(static_cast<uint64_t>(text.size()));
+    for (size_t k = 0; k < text.size(); k += 8) {
+      uint64_t word = 0;
+      for (size_t b = k; b < text.size() && b < k + 8; ++b) {
+        word |= static_cast<uint64_t>(static_cast<unsigned char>(text[b])) << (8 * (b - k));
+      }
+      Add(word);
+    }
+    return *this;
+  }
+  uint64_t value() const { return h_; }
+
+  static uint64_t Fmix64(uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    k *= 0xc4ceb9fe1a85ec53ULL;
+    k ^= k >> 33;
+    return k;
+  }
+
+ private:
+  uint64_t h_;
+};
+
+// A sequential stream of draws identified by (key, stream, index): e.g. key = a data point's
+// StreamKey, stream = a constant naming what is drawn, index = trial or frame. Draw k of a stream
+// comes from Philox block k/2, so any draw is reproducible without running the others. Cheap to
+// construct; use one per trial or per frame.
 class RandomStream {
  public:
-  RandomStream(uint64_t seed, uint32_t stream, uint64_t index)
-      : seed_(seed), stream_(stream), index_(index) {}
+  // `key`: the Philox key, an experiment seed or a StreamKey value.
+  RandomStream(uint64_t key, uint32_t stream, uint64_t index)
+      : seed_(key), stream_(stream), index_(index) {}
 
   // A uniform double in (0, 1).
   double Uniform() {

@@ -1,15 +1,17 @@
 // The Monte-Carlo inner loop: a batch of trials of one data point in structure-of-arrays form.
 //
-// Trial t of point p draws every random number from Philox4x32-10 with counter
-// (t mod 2^32, t div 2^32, p, block) under the experiment seed (docs/architecture.md rule 1), each
-// 32-bit word giving one uniform (w + 1/2) 2^-32 in (0, 1); H = ceil(n / 2) for n patches:
+// Trial t of a point draws every random number from Philox4x32-10 with counter
+// (t mod 2^32, t div 2^32, point, block) under the key `seed` (docs/architecture.md rule 1); the
+// runner sets seed = KnownPointKey (experiment seed, pattern content, noise, sigma: point_key.h)
+// and point = kKnownStream, so a point draws the same numbers in any grid. Each 32-bit word
+// gives one uniform (w + 1/2) 2^-32 in (0, 1); H = ceil(n / 2) for n patches:
 //   block 0              words 0, 1, 2: pose x, y (uniform over the field), theta in (-pi, pi)
 //   block 1 + j          Box-Muller normals of patch 2j (words 0, 1) and patch 2j + 1 (2, 3)
 //   block 1 + H          common-mode normals (words 0, 1; only when common_sigma_ratio > 0)
 //   block 2 + H + j      outlier selection uniforms of patches 4j .. 4j + 3 (only when p > 0)
 // A 32-bit radius uniform caps |z| at sqrt(2 ln 2^33) = 6.76 (a Gaussian exceeds it with
 // probability 1.4e-11): a documented truncation that halves the Philox work per trial.
-// so a trial's numbers do not depend on which thread runs it or which batch it falls in, and
+// So a trial's numbers do not depend on which thread runs it or which batch it falls in, and
 // any trial can be replayed alone (rule 3).
 //
 // Batches start at multiples of kBatchSize from trial 0, so the vectorised loops see the same
@@ -33,8 +35,8 @@ struct PointSetup {
   double sigma_mm = 0.0;
   double field_length_mm = 0.0;
   double field_width_mm = 0.0;
-  uint64_t seed = 0;
-  uint32_t point = 0;                          // the point's stream id
+  uint64_t seed = 0;                           // the Philox key (the runner: KnownPointKey)
+  uint32_t point = 0;                          // the stream word (the runner: kKnownStream)
   bool run[4] = {false, false, false, false};  // indexed by estimate::Estimator
   estimate::Options ml_options;
 };

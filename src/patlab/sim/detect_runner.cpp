@@ -12,6 +12,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/timeprofile.h"
 #include "patlab/estimate/bounds.h"
+#include "patlab/sim/point_key.h"
 #include "patlab/stats/summary.h"
 
 namespace patlab::sim {
@@ -64,12 +65,14 @@ DetectPoint MakeDetectPoint(const Experiment& experiment, uint32_t point) {
   p.scene = d.scene;
   p.scene.pattern = 0;
   p.scene.false_blob_rate_per_m2 = d.false_blob_rates_per_m2[p.rate_index];
+  p.key = DetectPointKey(experiment.seed, experiment.patterns[p.pattern_index], experiment.noise,
+                         p.sigma_mm, p.scene.false_blob_rate_per_m2);
   return p;
 }
 
 Scene GenerateDetectFrame(const Experiment& experiment, const DetectPoint& point,
                           const detect::Detector& detector, uint64_t frame) {
-  RandomStream rng(experiment.seed, point.point, frame);
+  RandomStream rng(point.key, kDetectStream, frame);
   const NoiseModel& noise = experiment.noise;
   const double sigma = point.sigma_mm;
   const Vec2 common = noise.CommonOffset(sigma, rng);
@@ -177,10 +180,14 @@ DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptio
 
   DetectRunResult result;
   result.threads = limit.threads();
-  const int total_points = NumDetectPoints(experiment);
+  std::vector<uint32_t> grid_points;  // the share's points, in grid order
+  for (int p = 0; p < NumDetectPoints(experiment); ++p) {
+    if (options.shard.Holds(p)) grid_points.push_back(static_cast<uint32_t>(p));
+  }
+  const int total_points = static_cast<int>(grid_points.size());
   std::vector<FrameSlot> slots(experiment.detect.frames);
   for (int index = 0; index < total_points; ++index) {
-    const DetectPoint point = MakeDetectPoint(experiment, static_cast<uint32_t>(index));
+    const DetectPoint point = MakeDetectPoint(experiment, grid_points[index]);
     const auto sim_start = Clock::now();
     const double tolerance_mm2 = RunFrames(experiment, point, &slots);
     result.simulate_seconds += SecondsSince(sim_start);

@@ -6,7 +6,9 @@
 // wrong-ID and ambiguous rates and false positives per frame, each with a 95% interval, and the
 // pose error statistics of the correct detections.
 //
-// Frame f of point p draws every random number from RandomStream(seed, p, f): first the common
+// Frame f of a point draws every random number from RandomStream(key, kDetectStream, f), key =
+// DetectPointKey (experiment seed, pattern content, noise, sigma, false-blob rate: point_key.h),
+// so a point draws the same frames in any grid (docs/architecture.md rule 1): first the common
 // offset (NoiseModel::CommonOffset, once per frame), then the scene, each patch's error from
 // NoiseModel::PatchError through PatchNoise::perturb. Frames run in parallel into slots
 // indexed by frame number and are reduced in frame order, so results are identical for any
@@ -30,7 +32,8 @@ struct DetectPointResult {
   std::string pattern;
   double sigma_mm = 0.0;
   double false_blob_rate_per_m2 = 0.0;
-  uint32_t point = 0;  // stream id: (pattern_index * num_rates + rate_index) * num_sigmas + sigma
+  uint32_t point = 0;  // grid index (pattern_index * num_rates + rate_index) * num_sigmas + sigma
+                       // of this run, for --replay; frames are keyed by DetectPointKey
   int64_t frames = 0;
   double detector_sigma_mm = 0.0;  // the detector's patch_sigma_mm at this point
   double tolerance_mm2 = 0.0;      // its geometric tolerance on E (all patches)
@@ -71,7 +74,8 @@ DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptio
 // patch_sigma_mm possibly matched to sigma) and the scene options.
 struct DetectPoint {
   int pattern_index = 0, rate_index = 0, sigma_index = 0;
-  uint32_t point = 0;
+  uint32_t point = 0;  // grid index (for --replay)
+  uint64_t key = 0;    // DetectPointKey: what the frames are drawn from
   double sigma_mm = 0.0;
   detect::DetectorConfig config;
   SceneOptions scene;

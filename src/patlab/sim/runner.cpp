@@ -17,6 +17,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/timeprofile.h"
 #include "patlab/sim/batch.h"
+#include "patlab/sim/point_key.h"
 #include "patlab/stats/summary.h"
 
 namespace patlab::sim {
@@ -131,8 +132,10 @@ PointSetup MakePointSetup(const Experiment& experiment, const estimate::Model& m
   setup.sigma_mm = experiment.sigmas_mm[sigma_index];
   setup.field_length_mm = experiment.field_length_mm;
   setup.field_width_mm = experiment.field_width_mm;
-  setup.seed = experiment.seed;
-  setup.point = static_cast<uint32_t>(pattern_index * experiment.sigmas_mm.size() + sigma_index);
+  // The point's identity, not its grid position, keys its trials (docs/architecture.md rule 1).
+  setup.seed = KnownPointKey(experiment.seed, experiment.patterns[pattern_index], experiment.noise,
+                             setup.sigma_mm);
+  setup.point = kKnownStream;
   for (Estimator e : experiment.estimators) setup.run[static_cast<int>(e)] = true;
   setup.ml_options = experiment.ml_options;
   return setup;
@@ -255,13 +258,12 @@ void PointStatistics(const Experiment& experiment, const PointBuffers& pb,
   });
 }
 
-PointResult PointHeader(const Experiment& experiment, const PointSetup& setup, int pattern_index,
-                        int sigma_index) {
+PointResult PointHeader(const Experiment& experiment, int pattern_index, int sigma_index) {
   PointResult point;
   point.pattern_index = pattern_index;
   point.pattern = experiment.patterns[pattern_index].name;
   point.sigma_mm = experiment.sigmas_mm[sigma_index];
-  point.point = setup.point;
+  point.point = static_cast<uint32_t>(pattern_index * experiment.sigmas_mm.size() + sigma_index);
   point.trials = experiment.trials;
   point.estimators.resize(experiment.estimators.size());
   return point;
@@ -289,7 +291,11 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   RunResult result;
   result.threads = limit.threads();
   const int num_sigmas = static_cast<int>(experiment.sigmas_mm.size());
-  const int total_points = static_cast<int>(experiment.patterns.size()) * num_sigmas;
+  std::vector<int> grid_points;  // the share's points, in grid order
+  for (int p = 0; p < static_cast<int>(experiment.patterns.size()) * num_sigmas; ++p) {
+    if (options.shard.Holds(p)) grid_points.push_back(p);
+  }
+  const int total_points = static_cast<int>(grid_points.size());
   result.points.resize(total_points);
   PointBuffers buffers[2] = {{experiment.estimators, experiment.trials},
                              {experiment.estimators, experiment.trials}};
@@ -297,7 +303,7 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   std::atomic<int64_t> statistics_ns{0};
 
   for (int index = 0; index < total_points; ++index) {
-    const int pi = index / num_sigmas, si = index % num_sigmas;
+    const int pi = grid_points[index] / num_sigmas, si = grid_points[index] % num_sigmas;
     PointBuffers& pb = buffers[index % 2];
     statistics[index % 2].wait();  // point index - 2 is done with these arrays
     const estimate::Model model = estimate::Model::FromPattern(experiment.patterns[pi]);
@@ -306,7 +312,7 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
     RunTrials(setup, experiment.trials, pb.output);
     result.simulate_seconds += SecondsSince(sim_start);
 
-    PointResult& point = result.points[index] = PointHeader(experiment, setup, pi, si);
+    PointResult& point = result.points[index] = PointHeader(experiment, pi, si);
     statistics[index % 2].run([&experiment, &pb, &point, &statistics_ns,
                                bounds = BoundsOf(model, experiment.estimators)] {
       const auto stats_start = Clock::now();
@@ -332,6 +338,12 @@ std::vector<OptionsProblem> Check(const RunOptions& options) {
   OptionsChecker check;
   check.Require("threads", options.threads, options.threads >= 0,
                 "an integer >= 0 (0 = all cores)");
+  check.Require("shard.count", options.shard.count,
+                options.shard.count >= 1 && options.shard.count <= kMaxShards,
+                "an integer in [1, " + std::to_string(kMaxShards) + "]");
+  check.Require("shard.index", options.shard.index,
+                options.shard.index >= 1 && options.shard.index <= options.shard.count,
+                "an integer in [1, shard.count]");
   return check.Take();
 }
 

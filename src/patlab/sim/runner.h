@@ -20,12 +20,25 @@
 
 namespace patlab::sim {
 
+// Share `index` of `count` of a sweep's points (both 1-based, 1 <= index <= count <=
+// kMaxShards; shard.h); 1/1, the default, is the whole sweep.
+struct ShardSpec {
+  int index = 1;
+  int count = 1;
+  bool IsWhole() const { return count == 1; }
+  // True when grid point `point` belongs to this share: point mod count = index - 1.
+  bool Holds(int64_t point) const { return point % count == index - 1; }
+};
+inline constexpr int kMaxShards = 100000;
+
 struct RunOptions {
   int threads = 0;  // worker threads; 0 = all cores. Results do not depend on it.
+  ShardSpec shard;  // only the points of this share are run (RunResult::points holds them)
   // Called on the calling thread after each data point's trials: (points done, points in all).
   std::function<void(int, int)> progress;
 };
-// threads an integer >= 0; both runners validate their options.
+// threads an integer >= 0, shard 1 <= index <= count <= kMaxShards; both runners validate their
+// options.
 std::vector<OptionsProblem> Check(const RunOptions& options);
 void Validate(const RunOptions& options);
 
@@ -85,13 +98,14 @@ struct PointResult {
   int pattern_index = 0;
   std::string pattern;
   double sigma_mm = 0.0;
-  uint32_t point = 0;  // stream id of the point: pattern_index * num_sigmas + sigma_index
+  uint32_t point = 0;  // index in this run's grid, pattern_index * num_sigmas + sigma_index (for
+                       // --replay); the trials are keyed by KnownPointKey, not by this index
   int64_t trials = 0;
   std::vector<EstimatorResult> estimators;  // in experiment order
 };
 
 struct RunResult {
-  std::vector<PointResult> points;  // pattern-major, then sigma
+  std::vector<PointResult> points;  // pattern-major, then sigma (only the share's, if sharded)
   int threads = 0;
   int64_t total_trials = 0;
   double simulate_seconds = 0.0;    // wall time of trial generation and estimation
@@ -102,7 +116,8 @@ struct RunResult {
 
 RunResult RunExperiment(const Experiment& experiment, const RunOptions& options);
 
-// The data point setup the runner uses for (pattern, sigma): for replaying a trial.
+// The data point setup the runner uses for (pattern, sigma): for replaying a trial. Its `seed` is
+// the point's key (KnownPointKey) and its `point` the stream word kKnownStream.
 PointSetup MakePointSetup(const Experiment& experiment, const estimate::Model& model,
                           int pattern_index, int sigma_index);
 

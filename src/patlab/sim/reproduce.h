@@ -1,0 +1,62 @@
+// The paper checked number by number (docs/reproduce.md): `patlab reproduce` regenerates the
+// result tables the paper's numbers are compared with (Fig. 5 with the KS and Wilcoxon columns:
+// experiments/fig5.toml; Table I and its Wilcoxon tests, and the section-IV Butterfly:
+// experiments/table1.toml; Table II: the ID counts of the shipped patterns), and lists every
+// number the paper prints with patlab's value, the tolerance or the documented reason for a
+// difference, and a verdict. `--check` fails when a number leaves its tolerance or a regenerated
+// file differs from the committed one.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace patlab::sim {
+
+// How a paper number is judged.
+enum class Rule {
+  kWithin,     // |patlab - paper| <= tolerance
+  kBelow,      // patlab < paper (the paper prints "p < 0.0001")
+  kAbove,      // patlab > paper (the paper prints "no significant difference": p > 0.05)
+  kExplained,  // the paper's number is wrong or not comparable, for the stated reason; patlab's
+               // value must equal `expected` within `tolerance` (what the reason predicts)
+  kReported,   // no check possible (the reason says why); patlab's value is shown
+};
+
+struct PaperNumber {
+  std::string where;     // "Table I, 40 mm"
+  std::string quantity;  // "sigma_x (mm)"
+  double paper = 0.0;
+  double patlab = 0.0;
+  Rule rule = Rule::kWithin;
+  double tolerance = 0.0;
+  double expected = 0.0;  // kExplained only
+  std::string reason;     // why this tolerance, or why the numbers differ
+  bool ok = true;         // the verdict: the rule holds
+};
+
+// Every number, judged.
+struct Reproduction {
+  std::vector<PaperNumber> numbers;
+  // The regenerated result files: path relative to the results directory -> content.
+  std::vector<std::pair<std::string, std::string>> files;
+};
+
+struct ReproduceOptions {
+  std::string root = ".";  // the checkout: experiments/ and patterns/ are read from here
+  int threads = 0;         // 0 = all cores; results do not depend on it
+};
+
+// Runs experiments/fig5.toml and experiments/table1.toml through the library (the same calls as
+// `patlab simulate` and `patlab track`), counts the IDs of Table II, and judges every number.
+Reproduction Reproduce(const ReproduceOptions& options);
+
+// results/paper.md: a table of every number (paper, patlab, tolerance or reason, verdict).
+std::string PaperMarkdown(const Reproduction& reproduction);
+
+// The regenerated file differs from the committed one beyond the tolerance of
+// docs/paper-reproduction.md ("Results on other machines"): every cell equal as text, or both
+// numbers with |a - b| <= 2e-9 max(|a|, |b|) + 1e-12. Returns "" when they agree, else the first
+// differing line ("line 12: ... ; committed: ...").
+std::string CompareResultText(const std::string& regenerated, const std::string& committed);
+
+}  // namespace patlab::sim

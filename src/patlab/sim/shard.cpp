@@ -1,0 +1,393 @@
+#include "patlab/sim/shard.h"
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "patlab/core/error.h"
+#include "patlab/core/format.h"
+#include "patlab/core/rng.h"
+#include "patlab/sim/point_key.h"
+#include "patlab/sim/report.h"
+
+namespace patlab::sim {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kFormat = "patlab shard";
+constexpr int kFormatVersion = 1;
+// The manifest keys that describe a run rather than the experiment: a merged manifest takes
+// them from the merge, and the fingerprint leaves them out.
+constexpr const char* kRunKeys[] = {"command_line",      "threads",           "timings_s",
+                                    "trials_per_second", "frames_per_second", "outputs"};
+// The manifest keys that sum over points: each shard holds its part, the merge sums them.
+constexpr const char* kTotalKeys[] = {"total_trials", "total_frames", "ml_nonconverged_trials"};
+
+std::string Hex(uint64_t v) { return StringPrintf("%016llx", static_cast<unsigned long long>(v)); }
+
+// The rows of `csv` after its header line, one string per row (without the newline).
+std::vector<std::string> SplitRows(const std::string& csv, std::string* header) {
+  std::vector<std::string> rows;
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, *header);
+  while (std::getline(in, line)) rows.push_back(line);
+  return rows;
+}
+
+// The checksum of a shard: a StreamKey over the dump of everything but the checksum itself.
+std::string Checksum(json shard) {
+  shard.erase("checksum");
+  return Hex(StreamKey(0).Add(std::string_view(shard.dump())).value());
+}
+
+// The fingerprint: the manifest's run-independent part and the content of every pattern.
+std::string Fingerprint(const json& manifest, const Experiment& experiment) {
+  StreamKey key(0);
+  key.Add(std::string_view(manifest.dump()));
+  for (const Pattern& p : experiment.patterns) AddPattern(p, &key);
+  return Hex(key.value());
+}
+
+// The manifest without its run keys and totals.
+json ExperimentPart(const std::string& manifest_text) {
+  json manifest = json::parse(manifest_text);
+  for (const char* key : kRunKeys) manifest.erase(key);
+  for (const char* key : kTotalKeys) manifest.erase(key);
+  return manifest;
+}
+
+// One point of a shard: its grid index, trials or frames, ML non-converged trials and CSV rows.
+json PointEntry(int64_t index, int64_t count, int64_t nonconverged, std::vector<std::string> rows) {
+  return json{{"index", index},
+              {"count", count},
+              {"ml_nonconverged", nonconverged},
+              {"rows", std::move(rows)}};
+}
+
+std::string ShardText(const Experiment& experiment, const std::string& manifest_text,
+                      const std::string& header, json points, const ShardSpec& shard,
+                      const std::string& base, int64_t points_total, json run) {
+  json s;
+  s["format"] = kFormat;
+  s["format_version"] = kFormatVersion;
+  s["version"] = PATLAB_VERSION;
+  s["name"] = base;
+  s["mode"] = std::string(NameOf(experiment.correspondence, kCorrespondenceNames));
+  s["manifest"] = ExperimentPart(manifest_text);
+  s["fingerprint"] = Fingerprint(s["manifest"], experiment);
+  s["shard"] = shard.index;
+  s["shards"] = shard.count;
+  s["points_total"] = points_total;
+  s["csv_header"] = header;
+  s["points"] = std::move(points);
+  s["run"] = std::move(run);
+  s["checksum"] = Checksum(s);
+  return s.dump(1) + "\n";
+}
+
+template <typename Result>
+json RunPart(const Result& result, const std::string& command_line) {
+  return json{{"command_line", command_line},
+              {"threads", result.threads},
+              {"timings_s",
+               {{"simulate", result.simulate_seconds},
+                {"statistics", result.statistics_seconds},
+                {"wall", result.wall_seconds}}}};
+}
+
+}  // namespace
+
+ShardSpec ParseShardSpec(std::string_view text, std::string_view flag) {
+  const std::string expected =
+      "; expected K/N with integers 1 <= K <= N <= " + std::to_string(kMaxShards) + ", e.g. 2/8";
+  const size_t slash = text.find('/');
+  ShardSpec spec;
+  const auto parse = [](std::string_view part, int* value) {
+    const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), *value);
+    return !part.empty() && ec == std::errc() && end == part.data() + part.size();
+  };
+  if (slash == std::string_view::npos || !parse(text.substr(0, slash), &spec.index) ||
+      !parse(text.substr(slash + 1), &spec.count) || spec.count < 1 || spec.count > kMaxShards ||
+      spec.index < 1 || spec.index > spec.count) {
+    throw InputError(std::string(flag) + " is '" + std::string(text) + "'" + expected);
+  }
+  return spec;
+}
+
+std::string ShardFileName(const std::string& base, const ShardSpec& shard) {
+  return base + ".shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count) +
+         ".json";
+}
+
+std::string KnownShardText(const Experiment& experiment, const RunResult& result,
+                           const ShardSpec& shard, const std::string& base,
+                           const std::string& command_line) {
+  json points = json::array();
+  std::string header;
+  for (const PointResult& p : result.points) {
+    RunResult one;
+    one.points = {p};
+    int64_t nonconverged = 0;
+    for (const EstimatorResult& r : p.estimators) nonconverged += r.nonconverged;
+    points.push_back(PointEntry(p.point, p.trials, nonconverged,
+                                SplitRows(ResultsCsv(experiment, one), &header)));
+  }
+  if (header.empty()) SplitRows(ResultsCsv(experiment, RunResult{}), &header);
+  const int64_t total =
+      static_cast<int64_t>(experiment.patterns.size() * experiment.sigmas_mm.size());
+  return ShardText(experiment, ManifestJson(experiment, result, "", {}), header, std::move(points),
+                   shard, base, total, RunPart(result, command_line));
+}
+
+std::string DetectShardText(const Experiment& experiment, const DetectRunResult& result,
+                            const ShardSpec& shard, const std::string& base,
+                            const std::string& command_line) {
+  json points = json::array();
+  std::string header;
+  for (const DetectPointResult& p : result.points) {
+    DetectRunResult one;
+    one.points = {p};
+    points.push_back(
+        PointEntry(p.point, p.frames, 0, SplitRows(DetectResultsCsv(experiment, one), &header)));
+  }
+  if (header.empty()) SplitRows(DetectResultsCsv(experiment, DetectRunResult{}), &header);
+  return ShardText(experiment, DetectManifestJson(experiment, result, "", {}), header,
+                   std::move(points), shard, base, NumDetectPoints(experiment),
+                   RunPart(result, command_line));
+}
+
+namespace {
+
+struct ShardFile {
+  std::string path;
+  json content;
+};
+
+[[noreturn]] void Fail(const std::string& path, const std::string& message) {
+  throw InputError(path + ": " + message);
+}
+
+std::string Describe(const json& s) {
+  return "experiment '" + s["name"].get<std::string>() + "', seed " +
+         s["manifest"].value("seed", json()).dump() + ", patlab " +
+         s["version"].get<std::string>() + ", fingerprint " + s["fingerprint"].get<std::string>();
+}
+
+// Every field the merge reads, with its type (a shard whose checksum was recomputed after an
+// edit still has to be well formed).
+bool HasShardFields(const json& s) {
+  for (const char* key : {"version", "name", "mode", "fingerprint", "csv_header"}) {
+    if (!s.contains(key) || !s[key].is_string()) return false;
+  }
+  for (const char* key : {"shard", "shards", "points_total"}) {
+    if (!s.contains(key) || !s[key].is_number_integer()) return false;
+  }
+  if (!s.contains("manifest") || !s["manifest"].is_object() || !s.contains("run") ||
+      !s["run"].is_object() || !s.contains("points") || !s["points"].is_array()) {
+    return false;
+  }
+  const json& run = s["run"];
+  if (!run.contains("threads") || !run["threads"].is_number_integer() ||
+      !run.contains("timings_s") || !run["timings_s"].is_object()) {
+    return false;
+  }
+  for (const char* key : {"simulate", "statistics", "wall"}) {
+    if (!run["timings_s"].contains(key) || !run["timings_s"][key].is_number()) return false;
+  }
+  for (const json& p : s["points"]) {
+    if (!p.is_object() || !p.contains("rows") || !p["rows"].is_array()) return false;
+    for (const char* key : {"index", "count", "ml_nonconverged"}) {
+      if (!p.contains(key) || !p[key].is_number_integer()) return false;
+    }
+    for (const json& row : p["rows"]) {
+      if (!row.is_string()) return false;
+    }
+  }
+  return s["shards"].get<int64_t>() >= 1 && s["shards"].get<int64_t>() <= kMaxShards;
+}
+
+// Reads one shard file and checks it on its own: JSON, the format, the checksum, the fields.
+ShardFile ReadShard(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) Fail(path, "cannot read; expected a shard file written by 'patlab simulate --shard'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  ShardFile file{path, json::parse(text.str(), nullptr, false)};
+  const json& s = file.content;
+  const std::string expected = "; expected a shard file as 'patlab simulate --shard K/N' wrote it";
+  if (s.is_discarded()) Fail(path, "not JSON (truncated or edited?)" + expected);
+  if (!s.is_object() || s.value("format", "") != kFormat) {
+    Fail(path, "not a patlab shard file (no \"format\": \"patlab shard\")" + expected);
+  }
+  if (s.value("format_version", 0) != kFormatVersion) {
+    Fail(path, "shard format version " + s.value("format_version", json()).dump() + "; expected " +
+                   std::to_string(kFormatVersion));
+  }
+  if (!s.contains("checksum") || s["checksum"] != Checksum(s)) {
+    Fail(path, "checksum " + s.value("checksum", json()).dump() + " does not match the content (" +
+                   Checksum(s) + "): the file was edited or truncated" + expected);
+  }
+  if (!HasShardFields(s)) Fail(path, "a field is missing or has the wrong type" + expected);
+  if (s.value("version", "") != PATLAB_VERSION) {
+    Fail(path, "written by patlab " + s.value("version", json()).dump() + "; expected " +
+                   PATLAB_VERSION + " (this patlab): rerun the shard with this version");
+  }
+  return file;
+}
+
+// Every shard against the first: the same experiment (fingerprint), mode and share count.
+void CheckSameExperiment(const ShardFile& first, const ShardFile& f) {
+  const json &a = first.content, &b = f.content;
+  if (a["fingerprint"] != b["fingerprint"] || a["mode"] != b["mode"] ||
+      a["points_total"] != b["points_total"] || a["csv_header"] != b["csv_header"]) {
+    Fail(f.path, "shard of " + Describe(b) + "; expected a shard of " + Describe(a) + " like " +
+                     first.path);
+  }
+  if (a["shards"] != b["shards"]) {
+    Fail(f.path, "shard " + b["shard"].dump() + "/" + b["shards"].dump() +
+                     "; expected a share of N = " + a["shards"].dump() + " like " + first.path);
+  }
+}
+
+// The share's points must be exactly those ShardSpec::Holds assigns to it.
+void CheckPoints(const ShardFile& f) {
+  const json& s = f.content;
+  const ShardSpec spec{s["shard"].get<int>(), s["shards"].get<int>()};
+  int64_t next = spec.index - 1;
+  for (const json& p : s["points"]) {
+    if (p["index"].get<int64_t>() != next) {
+      Fail(f.path, "holds point " + p["index"].dump() + "; expected point " + std::to_string(next) +
+                       " of share " + std::to_string(spec.index) + "/" +
+                       std::to_string(spec.count));
+    }
+    next += spec.count;
+  }
+  if (next < s["points_total"].get<int64_t>()) {
+    Fail(f.path, "ends before point " + std::to_string(next) + " of " + s["points_total"].dump() +
+                     "; expected every point of its share");
+  }
+}
+
+std::vector<std::string> ExpandInputs(const std::vector<std::string>& inputs) {
+  std::vector<std::string> paths;
+  for (const std::string& input : inputs) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(input, ec)) {
+      paths.push_back(input);
+      continue;
+    }
+    std::vector<std::string> found;
+    for (const auto& entry : std::filesystem::directory_iterator(input, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.find(".shard-") != std::string::npos && name.ends_with(".json")) {
+        found.push_back(entry.path().string());
+      }
+    }
+    if (found.empty()) Fail(input, "no *.shard-K-of-N.json files; expected shard files");
+    std::sort(found.begin(), found.end());
+    paths.insert(paths.end(), found.begin(), found.end());
+  }
+  return paths;
+}
+
+// Orders the shards by K, refusing repeats and naming every missing share.
+std::vector<const ShardFile*> ByShare(const std::vector<ShardFile>& files) {
+  const int count = files.front().content["shards"].get<int>();
+  std::vector<const ShardFile*> by_share(count, nullptr);
+  for (const ShardFile& f : files) {
+    const int k = f.content["shard"].get<int>();
+    if (k < 1 || k > count) Fail(f.path, "shard " + std::to_string(k) + "; expected 1..N");
+    if (by_share[k - 1] != nullptr) {
+      Fail(f.path, "share " + std::to_string(k) + "/" + std::to_string(count) + " again (also " +
+                       by_share[k - 1]->path + "); expected each share once");
+    }
+    by_share[k - 1] = &f;
+  }
+  std::string missing;
+  for (int k = 1; k <= count; ++k) {
+    if (by_share[k - 1] == nullptr) {
+      missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(count);
+    }
+  }
+  if (!missing.empty()) {
+    throw InputError("missing shards " + missing + " of " + Describe(files.front().content) +
+                     "; expected one file for each share 1.." + std::to_string(count) +
+                     "; nothing written");
+  }
+  return by_share;
+}
+
+// The merged manifest: the experiment part, the totals summed over points, and the merge's run
+// keys (threads: the most any shard used; timings: summed over shards).
+std::string MergedManifest(const std::vector<const ShardFile*>& shards,
+                           const std::string& command_line, const std::vector<std::string>& out) {
+  json m = shards.front()->content["manifest"];
+  const bool known = shards.front()->content["mode"] == "known";
+  int64_t total = 0, nonconverged = 0;
+  int threads = 0;
+  double simulate = 0, statistics = 0, wall = 0;
+  for (const ShardFile* f : shards) {
+    for (const json& p : f->content["points"]) {
+      total += p["count"].get<int64_t>();
+      nonconverged += p["ml_nonconverged"].get<int64_t>();
+    }
+    const json& run = f->content["run"];
+    threads = std::max(threads, run["threads"].get<int>());
+    simulate += run["timings_s"]["simulate"].get<double>();
+    statistics += run["timings_s"]["statistics"].get<double>();
+    wall += run["timings_s"]["wall"].get<double>();
+  }
+  if (known) {
+    m["ml_nonconverged_trials"] = nonconverged;
+    m["total_trials"] = total;
+  } else {
+    m["total_frames"] = total;
+  }
+  m["command_line"] = command_line;
+  m["threads"] = threads;
+  m["timings_s"] = {{"simulate", simulate}, {"statistics", statistics}, {"wall", wall}};
+  m[known ? "trials_per_second" : "frames_per_second"] =
+      simulate > 0 ? static_cast<double>(total) / simulate : 0.0;
+  m["outputs"] = out;
+  return m.dump(2) + "\n";
+}
+
+}  // namespace
+
+MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::string& out_dir,
+                          const std::string& name, const std::string& command_line) {
+  const std::vector<std::string> paths = ExpandInputs(inputs);
+  if (paths.empty()) throw InputError("no shard files given; expected SHARD... (files or dirs)");
+  std::vector<ShardFile> files;
+  for (const std::string& path : paths) files.push_back(ReadShard(path));
+  for (const ShardFile& f : files) {
+    CheckSameExperiment(files.front(), f);
+    CheckPoints(f);
+  }
+  const std::vector<const ShardFile*> shards = ByShare(files);
+
+  std::map<int64_t, const json*> rows_by_point;
+  for (const ShardFile* f : shards) {
+    for (const json& p : f->content["points"]) rows_by_point[p["index"].get<int64_t>()] = &p;
+  }
+  MergedOutputs out;
+  const json& first = shards.front()->content;
+  const std::string base = name.empty() ? first["name"].get<std::string>() : name;
+  out.csv_path = (std::filesystem::path(out_dir) / (base + ".csv")).string();
+  out.json_path = (std::filesystem::path(out_dir) / (base + ".json")).string();
+  out.csv = first["csv_header"].get<std::string>() + "\n";
+  for (const auto& [index, point] : rows_by_point) {
+    for (const json& row : (*point)["rows"]) out.csv += row.get<std::string>() + "\n";
+  }
+  out.json = MergedManifest(shards, command_line, {out.csv_path, out.json_path});
+  return out;
+}
+
+}  // namespace patlab::sim

@@ -1,0 +1,47 @@
+// End-to-end: `patlab reproduce --check` passes on the committed results and names a committed
+// file whose numbers moved (docs/reproduce.md).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "../test_util.h"
+
+namespace patlab {
+namespace {
+
+using testing::RunCommand;
+
+const std::string kPatlab = PATLAB_BINARY;
+const std::string kRoot = PATLAB_SOURCE_DIR;
+
+TEST(ReproduceCli, CheckPassesOnTheCommittedResultsAndNamesAnEditedFile) {
+  const auto ok =
+      RunCommand(kPatlab + " reproduce --check --root " + kRoot + " --out " + kRoot + "/results");
+  EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
+  EXPECT_EQ(ok.out, "");
+  // A copy of the results with one Table I number changed, and paper.md missing.
+  testing::TempDir dir;
+  for (const char* name : {"fig5.csv", "table1.csv", "table1_tests.csv"}) {
+    std::string text = testing::ReadFile(kRoot + "/results/" + name);
+    if (std::string(name) == "table1.csv") {
+      const size_t at = text.find("\n40mm,12450,");
+      ASSERT_NE(at, std::string::npos);
+      text[at + 12] = text[at + 12] == '9' ? '8' : static_cast<char>(text[at + 12] + 1);
+    }
+    dir.Write(name, text);
+  }
+  const auto bad =
+      RunCommand(kPatlab + " reproduce --check -q --root " + kRoot + " --out " + dir.Path());
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.out.find("DIFFERS " + dir.Path("table1.csv") + ": line 2: 40mm,12450,"),
+            std::string::npos)
+      << bad.out;
+  EXPECT_NE(
+      bad.out.find("DIFFERS " + dir.Path("paper.md") + ": missing; expected the committed file"),
+      std::string::npos)
+      << bad.out;
+  EXPECT_EQ(bad.out.find("fig5.csv"), std::string::npos) << bad.out;
+}
+
+}  // namespace
+}  // namespace patlab

@@ -1,0 +1,197 @@
+// Shards and their merge (src/patlab/sim/shard.h): the merged CSV and manifest are the unsharded
+// run's, byte for byte (run keys aside), for known and detect mode; bad shards are refused.
+#include "patlab/sim/shard.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "../expect_error.h"
+#include "../test_util.h"
+#include "patlab/core/format.h"
+#include "patlab/core/rng.h"
+#include "patlab/sim/report.h"
+
+namespace patlab::sim {
+namespace {
+
+using estimate::Estimator;
+
+Experiment Small(uint64_t seed = 9) {
+  Experiment e;
+  e.name = "small";
+  for (const char* p : {"triangle", "butterfly"}) {
+    e.patterns.push_back(testing::ShippedPattern(p));
+    e.pattern_files.push_back(p);
+  }
+  e.estimators = {Estimator::kFast, Estimator::kMl};
+  e.sigmas_mm = {0.0, 0.5, 1.0, 2.0};
+  e.trials = 2000;
+  e.seed = seed;
+  return e;
+}
+
+// The manifest without the keys that describe the run rather than the experiment.
+nlohmann::json WithoutRunKeys(const std::string& text) {
+  nlohmann::json j = nlohmann::json::parse(text);
+  for (const char* key : {"command_line", "threads", "timings_s", "trials_per_second",
+                          "frames_per_second", "outputs"}) {
+    j.erase(key);
+  }
+  return j;
+}
+
+// Runs share k of n of `e` and writes its shard file into `dir`; returns the path.
+std::string WriteKnownShard(const Experiment& e, int k, int n, const testing::TempDir& dir) {
+  RunOptions options;
+  options.shard = ShardSpec{k, n};
+  const RunResult r = RunExperiment(e, options);
+  return dir.Write(ShardFileName(e.name, options.shard),
+                   KnownShardText(e, r, options.shard, e.name, "test"));
+}
+
+TEST(Shard, ParseAcceptsKOfNAndRejectsEverythingElse) {
+  const ShardSpec s = ParseShardSpec("2/8", "--shard");
+  EXPECT_EQ(s.index, 2);
+  EXPECT_EQ(s.count, 8);
+  EXPECT_TRUE(s.Holds(1));
+  EXPECT_TRUE(s.Holds(9));
+  EXPECT_FALSE(s.Holds(2));
+  for (const char* bad :
+       {"0/3", "4/3", "x/y", "3", "1/0", "-1/3", "1/3/", "1/ 3", "", "1/100001"}) {
+    EXPECT_INPUT_ERROR(ParseShardSpec(bad, "--shard"),
+                       std::string("--shard is '") + bad +
+                           "'; expected K/N with integers 1 <= K <= N <= 100000, e.g. 2/8");
+  }
+  EXPECT_EQ(ShardFileName("fig5", s), "fig5.shard-2-of-8.json");
+}
+
+TEST(Shard, MergedKnownSharesEqualTheUnshardedRunByteForByte) {
+  const Experiment e = Small();
+  const RunResult whole = RunExperiment(e, {});
+  const std::string csv = ResultsCsv(e, whole);
+  const std::string manifest = ManifestJson(e, whole, "x", {});
+  // 3 shares of 8 points (uneven), and 11 shares: three of them hold no point.
+  for (int n : {3, 11}) {
+    testing::TempDir dir;
+    for (int k = n; k >= 1; --k) WriteKnownShard(e, k, n, dir);
+    const MergedOutputs merged = MergeShards({dir.Path()}, dir.Path("out"), "", "merge");
+    EXPECT_EQ(merged.csv, csv) << n;
+    EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(manifest)) << n;
+    EXPECT_EQ(merged.csv_path, dir.Path("out/small.csv"));
+    EXPECT_EQ(nlohmann::json::parse(merged.json)["command_line"], "merge");
+  }
+}
+
+TEST(Shard, MergedDetectSharesEqualTheUnshardedRun) {
+  testing::TempDir dir;
+  for (const char* name : {"butterfly", "triangle"}) {
+    dir.Write(std::string("patterns/") + name + ".toml",
+              testing::ReadFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml"));
+  }
+  dir.Write("experiments/det.toml",
+            "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"cyan\", \"orange\"]\n"
+            "[detector]\npatch_sigma_mm = 1.0\n"
+            "[[pattern]]\npattern = \"butterfly\"\nid_colours = [\"pink\", \"green\"]\n"
+            "key_colours = [\"blue\", \"yellow\"]\n"
+            "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"green\", \"cyan\"]\n"
+            "key_colours = [\"blue\", \"yellow\"]\n");
+  const Experiment e = LoadExperimentFile(dir.Write(
+      "experiments/e.toml",
+      "name = \"det\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\", \"triangle\"]\n"
+      "seed = 5\n[sigma]\nvalues = [0.5, 2]\n[detect]\nsettings = \"det.toml\"\nframes = 100\n"
+      "false_blob_rate_per_m2 = [0, 3]\n"));
+  const DetectRunResult whole = RunDetectExperiment(e, {});
+  for (int k = 1; k <= 3; ++k) {
+    RunOptions options;
+    options.shard = ShardSpec{k, 3};
+    dir.Write("shards/" + ShardFileName("det", options.shard),
+              DetectShardText(e, RunDetectExperiment(e, options), options.shard, "det", "t"));
+  }
+  const MergedOutputs merged = MergeShards({dir.Path("shards")}, dir.Path("out"), "", "m");
+  EXPECT_EQ(merged.csv, DetectResultsCsv(e, whole));
+  EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(DetectManifestJson(e, whole, "", {})));
+}
+
+TEST(Shard, MissingRepeatedAndForeignSharesAreNamed) {
+  const Experiment e = Small();
+  testing::TempDir dir;
+  const std::string s1 = WriteKnownShard(e, 1, 4, dir);
+  const std::string s3 = WriteKnownShard(e, 3, 4, dir);
+  const std::string fp =
+      nlohmann::json::parse(testing::ReadFile(s1))["fingerprint"].get<std::string>();
+  EXPECT_INPUT_ERROR(MergeShards({s1, s3}, dir.Path("out"), "", ""),
+                     "missing shards 2/4, 4/4 of experiment 'small', seed 9, patlab " +
+                         std::string(PATLAB_VERSION) + ", fingerprint " + fp +
+                         "; expected one file for each share 1..4; nothing written");
+  EXPECT_INPUT_ERROR(MergeShards({s1, s3, s1}, dir.Path("out"), "", ""),
+                     s1 + ": share 1/4 again (also " + s1 + "); expected each share once");
+  // Another seed is another experiment.
+  testing::TempDir other_dir;
+  const std::string other = WriteKnownShard(Small(10), 2, 4, other_dir);
+  const std::string other_fp =
+      nlohmann::json::parse(testing::ReadFile(other))["fingerprint"].get<std::string>();
+  EXPECT_INPUT_ERROR(MergeShards({s1, other}, dir.Path("out"), "", ""),
+                     other + ": shard of experiment 'small', seed 10, patlab " +
+                         std::string(PATLAB_VERSION) + ", fingerprint " + other_fp +
+                         "; expected a shard of experiment 'small', seed 9, patlab " +
+                         PATLAB_VERSION + ", fingerprint " + fp + " like " + s1);
+  // Another share count.
+  const std::string s2of3 = WriteKnownShard(e, 2, 3, other_dir);
+  EXPECT_INPUT_ERROR(MergeShards({s1, s2of3}, dir.Path("out"), "", ""),
+                     s2of3 + ": shard 2/3; expected a share of N = 4 like " + s1);
+}
+
+// A shard edited consistently (checksum recomputed as shard.cpp does) to claim another patlab
+// version is refused by version.
+TEST(Shard, ShardsOfAnotherPatlabVersionAreRefused) {
+  const Experiment e = Small();
+  testing::TempDir dir;
+  const std::string s1 = WriteKnownShard(e, 1, 1, dir);
+  nlohmann::json j = nlohmann::json::parse(testing::ReadFile(s1));
+  j["version"] = "0.0.9";
+  j.erase("checksum");
+  j["checksum"] = StringPrintf(
+      "%016llx",
+      static_cast<unsigned long long>(StreamKey(0).Add(std::string_view(j.dump())).value()));
+  dir.Write(ShardFileName("small", {1, 1}), j.dump(1) + "\n");
+  EXPECT_INPUT_ERROR(MergeShards({s1}, dir.Path("out"), "", ""),
+                     s1 + ": written by patlab \"0.0.9\"; expected " + PATLAB_VERSION +
+                         " (this patlab): rerun the shard with this version");
+}
+
+TEST(Shard, TruncatedOrEditedShardsAreRefused) {
+  const Experiment e = Small();
+  testing::TempDir dir;
+  const std::string s1 = WriteKnownShard(e, 1, 2, dir);
+  const std::string s2 = WriteKnownShard(e, 2, 2, dir);
+  const std::string text = testing::ReadFile(s2);
+  const std::string expected = "; expected a shard file as 'patlab simulate --shard K/N' wrote it";
+  dir.Write(ShardFileName("small", {2, 2}), text.substr(0, text.size() / 2));
+  EXPECT_INPUT_ERROR(MergeShards({s1, s2}, dir.Path("out"), "", ""),
+                     s2 + ": not JSON (truncated or edited?)" + expected);
+  // One digit of one result changed: the checksum no longer matches.
+  std::string edited = text;
+  const size_t row = edited.find("\"butterfly,fast,");
+  ASSERT_NE(row, std::string::npos);
+  const size_t digit = edited.find_first_of("123456789", row + 30);
+  edited[digit] = edited[digit] == '9' ? '8' : static_cast<char>(edited[digit] + 1);
+  dir.Write(ShardFileName("small", {2, 2}), edited);
+  EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s1, s2}, dir.Path("out"), "", ""),
+                                 s2 + ": checksum \"");
+  dir.Write(ShardFileName("small", {2, 2}), "{\"format\": \"something else\"}");
+  EXPECT_INPUT_ERROR(MergeShards({s1, s2}, dir.Path("out"), "", ""),
+                     s2 + ": not a patlab shard file (no \"format\": \"patlab shard\")" + expected);
+  testing::TempDir empty;
+  EXPECT_INPUT_ERROR(MergeShards({empty.Path("")}, dir.Path("out"), "", ""),
+                     empty.Path("") + ": no *.shard-K-of-N.json files; expected shard files");
+  EXPECT_INPUT_ERROR(MergeShards({}, dir.Path("out"), "", ""),
+                     "no shard files given; expected SHARD... (files or dirs)");
+  EXPECT_INPUT_ERROR(MergeShards({dir.Path("nothing")}, dir.Path("out"), "", ""),
+                     dir.Path("nothing") +
+                         ": cannot read; expected a shard file written by 'patlab simulate "
+                         "--shard'");
+}
+
+}  // namespace
+}  // namespace patlab::sim
