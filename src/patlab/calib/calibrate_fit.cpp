@@ -524,6 +524,19 @@ void WarnIfFocalUndetermined(const std::vector<int>& fixed, CalibrationFit& fit)
       "focal_px with fix = [\"focal\", ...], or observe patterns at the heights you detect");
 }
 
+// An observed pixel the fitted camera cannot map back (NaN mm residual) lies beyond the fold of
+// its distortion polynomial: the fit bent the lens to explain it, and is not to be trusted there.
+void WarnIfBeyondTheFold(CalibrationFit& fit) {
+  const auto n = std::count_if(fit.residuals.begin(), fit.residuals.end(),
+                               [](const ObservationResidual& r) { return std::isnan(r.mm); });
+  if (n == 0) return;
+  fit.notes.push_back("warning: " + std::to_string(n) +
+                      " observed pixels lie beyond the fold of the fitted lens distortion (they "
+                      "cannot be mapped back): the calibration is not usable there; hold k1 "
+                      "(fix = [\"k1\", ...] with [fit] k1) or add observations near the image "
+                      "edge");
+}
+
 ceres::Problem::Options ProblemOptions();
 ceres::Solver::Summary Solve(ceres::Problem& problem, int max_iterations);
 
@@ -659,6 +672,7 @@ CalibrationFit FitCamera(const CalibrationInput& input) {
   fit.camera_centre_mm = -fit.camera.rotation.transpose() * fit.camera.translation_mm;
   internal::FillResiduals(input, s, fit);
   WarnIfFocalUndetermined(fixed, fit);
+  WarnIfBeyondTheFold(fit);
   fit.seconds = SecondsSince(t0);
   return fit;
 }
