@@ -33,7 +33,8 @@ constexpr const char* kExamples = R"(examples:
 Writes <out>/<name>.csv (one row per pattern x estimator x sigma; with correspondence = "detect"
 one row per pattern x false-blob rate x sigma) and <out>/<name>.json (the manifest: inputs,
 seed, version, timings), both atomically. In detect mode --trials sets the frames per point.
-Exit status: 0 ok, 1 cannot write results, 2 bad input.
+Exit status: 0 ok, 1 cannot write results (checked before the first trial) or out of memory,
+2 bad input.
 )";
 
 struct SimulateOptions {
@@ -45,6 +46,7 @@ struct SimulateOptions {
   int threads = 0;
   std::string sigmas;
   std::string replay;
+  bool name_given = false;
   double sigma_y_ratio = -1, common_sigma_ratio = -1, outlier_probability = -1,
          outlier_sigma_ratio = -1;
   bool quiet = false;
@@ -75,15 +77,40 @@ OutputFiles Outputs(const sim::Experiment& experiment, const SimulateOptions& o,
   return files;
 }
 
-// Writes both files atomically; on failure says why on stderr and returns false (exit 1).
-bool WriteOutputs(const OutputFiles& files, const std::string& csv, const std::string& manifest) {
-  try {
-    io::WriteFilesAtomic({{files.csv_path, csv}, {files.json_path, manifest}});
-  } catch (const InputError& e) {
-    std::cerr << "patlab simulate: " << e.what() << "\n";
-    return false;
+// Writes both files as one result set, the manifest last (io/atomic_file.h). A failure is an
+// EnvironmentError: main() prints it and exits 1.
+void WriteOutputs(const OutputFiles& files, const std::string& csv, const std::string& manifest) {
+  io::WriteFilesAtomic({{files.csv_path, csv}, {files.json_path, manifest}});
+}
+
+// The bytes of samples a known-mode run keeps per trial: two point buffers of (x, y, theta) per
+// estimator plus the ML counters, and the statistics' temporaries (radial errors and the paired
+// comparison vectors). Until the sample storage streams (issue 11, "bounded memory"), a --trials
+// that cannot fit in the machine's memory is refused before the first trial instead of ending in
+// std::bad_alloc after minutes of work.
+int64_t SampleBytesPerTrial(const sim::Experiment& experiment) {
+  const auto estimators = static_cast<int64_t>(experiment.estimators.size());
+  return 2 * (estimators * 3 * 8 + 2) + 5 * 8;
+}
+
+void CheckMemory(const sim::Experiment& experiment) {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page_bytes = ::sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page_bytes <= 0) return;
+  const int64_t memory = static_cast<int64_t>(pages) * page_bytes;
+  const int64_t per_trial = SampleBytesPerTrial(experiment);
+  if (experiment.trials <= memory / per_trial) return;
+  throw InputError("--trials (or trials in the file) is " + std::to_string(experiment.trials) +
+                   "; expected at most " + std::to_string(memory / per_trial) +
+                   " on this machine (each trial keeps " + std::to_string(per_trial) +
+                   " bytes of samples; " + std::to_string(memory >> 20) + " MiB of memory)");
+}
+
+// --name (or the experiment's name) is a file base name inside --out, never a path out of it.
+void CheckName(const SimulateOptions& o) {
+  if (o.name_given && !io::IsFileBaseName(o.name)) {
+    throw InputError("--name is '" + EscapeForMessage(o.name) + "'; expected " +
+                     io::kFileBaseNameExpected);
   }
-  return true;
 }
 
 // Threads, and a progress bar on stderr when it is a terminal and -q was not given.
@@ -102,15 +129,13 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
         sim::ReplayDetectFrame(experiment, sim::ParseReplayIndex(o.replay, "FRAME")));
     return kExitOk;
   }
+  const OutputFiles files = Outputs(experiment, o, args);
+  io::CheckWritable({files.csv_path, files.json_path});
   const sim::RunOptions run_options = RunOptionsFor(o);
   const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
-
-  const OutputFiles files = Outputs(experiment, o, args);
-  if (!WriteOutputs(files, sim::DetectResultsCsv(experiment, result),
-                    sim::DetectManifestJson(experiment, result, files.command_line,
-                                            {files.csv_path, files.json_path}))) {
-    return kExitFailure;
-  }
+  WriteOutputs(files, sim::DetectResultsCsv(experiment, result),
+               sim::DetectManifestJson(experiment, result, files.command_line,
+                                       {files.csv_path, files.json_path}));
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld frames in %.3f s wall (frames %.3f s = %.0f frames/s, "
@@ -151,6 +176,8 @@ int RunSimulate(const std::vector<std::string>& args) {
         "missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see --help)");
   }
   CheckThreads(o.threads);
+  o.name_given = vm.count("name") > 0;
+  CheckName(o);
 
   sim::Experiment experiment = sim::LoadExperimentFile(o.experiment);
   sim::Overrides overrides;
@@ -179,15 +206,14 @@ int RunSimulate(const std::vector<std::string>& args) {
     return kExitOk;
   }
 
+  const OutputFiles files = Outputs(experiment, o, args);
+  io::CheckWritable({files.csv_path, files.json_path});
+  CheckMemory(experiment);
   const sim::RunOptions run_options = RunOptionsFor(o);
   const sim::RunResult result = sim::RunExperiment(experiment, run_options);
-
-  const OutputFiles files = Outputs(experiment, o, args);
-  if (!WriteOutputs(files, sim::ResultsCsv(experiment, result),
-                    sim::ManifestJson(experiment, result, files.command_line,
-                                      {files.csv_path, files.json_path}))) {
-    return kExitFailure;
-  }
+  WriteOutputs(
+      files, sim::ResultsCsv(experiment, result),
+      sim::ManifestJson(experiment, result, files.command_line, {files.csv_path, files.json_path}));
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "

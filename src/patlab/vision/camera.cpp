@@ -220,6 +220,7 @@ PinholeCamera ReadPinhole(const toml::table& root, const io::TomlReader& top,
   PinholeCamera c;
   ReadIntrinsics(r, c);
   ReadExtrinsics(r, c);
+  io::ThrowFirstProblemAt(root, name, Check(c));
   return c;
 }
 
@@ -296,6 +297,21 @@ void ReadHeights(const toml::table& heights, const std::string& name, Calibratio
 }
 
 }  // namespace
+
+std::vector<OptionsProblem> Check(const PinholeCamera& c) {
+  OptionsChecker check("pinhole");
+  check.InRange("k1", c.k1, -kMaxDistortion, kMaxDistortion)
+      .InRange("k2", c.k2, -kMaxDistortion, kMaxDistortion);
+  // The camera centre in world coordinates: -R^T t.
+  const double height_mm = -(c.rotation.transpose() * c.translation_mm).z();
+  if (!(height_mm > 0.0 && height_mm <= kMaxCameraHeightMm)) {
+    check.Fail("camera_position_mm",
+               "the camera centre is at height " + FormatNumber(height_mm) +
+                   " mm; expected a camera above the floor, at a height in (0, " +
+                   FormatNumber(kMaxCameraHeightMm) + "] mm");
+  }
+  return check.Take();
+}
 
 Calibration ParseCalibration(std::string_view text, const std::string& name) {
   const toml::table root = io::ParseTomlText(text, name);
