@@ -152,10 +152,13 @@ double Positive(const io::TomlReader& r, std::string_view key) {
 
 void ReadImageSize(const io::TomlReader& top, Calibration& cal) {
   const auto size = NumberArray(top, "image_size_px", 2, "[width, height] in pixels");
-  if (size[0] < 1 || size[1] < 1 || size[0] != std::floor(size[0]) ||
-      size[1] != std::floor(size[1])) {
+  // At most 100000 px a side, so the sizes fit an int (a huge value was found by
+  // calibration_fuzz).
+  if (size[0] < 1 || size[1] < 1 || size[0] > 1e5 || size[1] > 1e5 ||
+      size[0] != std::floor(size[0]) || size[1] != std::floor(size[1])) {
     top.Fail("image_size_px",
-             "image_size_px is not two positive integers; expected [width, height] in pixels");
+             "image_size_px is not two integers in [1, 100000]; expected [width, height] in "
+             "pixels");
   }
   cal.image_width_px = static_cast<int>(size[0]);
   cal.image_height_px = static_cast<int>(size[1]);

@@ -30,7 +30,9 @@ constexpr long long kMaxPixels = 1LL << 28;
 }
 
 void CheckSize(const std::string& name, long long width, long long height) {
-  if (width <= 0 || height <= 0 || width * height > kMaxPixels) {
+  // Each side first: the product of two 32-bit header fields can overflow (found by image_fuzz).
+  if (width <= 0 || height <= 0 || width > kMaxPixels || height > kMaxPixels ||
+      width * height > kMaxPixels) {
     throw InputError(name + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
                      "; expected 1 to " + std::to_string(kMaxPixels) + " pixels");
   }
