@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds patlab and runs every check CI runs: the whole test suite
 # (ctest), the style guard rails (clang-format, clang-tidy limits), and the installed package
-# with the consumer example built against it.
+# with the consumer example built against it; then the test suite under ASan + UBSan and
+# 20 s of libFuzzer per parser (docs/hardening.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -11,3 +12,5 @@ bash scripts/check_install.sh
 bash scripts/check_style.sh
 bash scripts/check_cluster.sh
 bash scripts/check_reproduce.sh
+bash scripts/check_sanitizers.sh
+bash scripts/check_fuzz.sh

@@ -4,6 +4,7 @@
 #include <boost/program_options.hpp>
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 #include "cli/arguments.h"
 #include "cli/command.h"
@@ -108,6 +109,22 @@ void CheckRequired(DetectOptions* o) {
   vision::Validate(o->frame.segmenter);
 }
 
+// With --debug every frame's images are named after its file name without the extension, so two
+// frames with the same stem would overwrite each other's images.
+void CheckDistinctStems(const std::vector<std::string>& paths) {
+  std::map<std::string, std::string> seen;
+  for (const std::string& path : paths) {
+    const auto [it, inserted] = seen.emplace(fs::path(path).stem().string(), path);
+    if (!inserted) {
+      throw InputError("--debug: frames " + EscapeForMessage(it->second) + " and " +
+                       EscapeForMessage(path) + " have the same name '" +
+                       EscapeForMessage(it->first) +
+                       "'; expected frames with distinct file names (their debug images are "
+                       "named after them)");
+    }
+  }
+}
+
 // Sums of the frames' counters and stage times, for --timing.
 struct Totals {
   int frames = 0;
@@ -186,6 +203,7 @@ int RunDetect(const std::vector<std::string>& args) {
     return kExitOk;
   }
   CheckRequired(&o);
+  if (!o.out.empty()) io::CheckWritable({o.out});
   std::optional<detect::DetectorConfig> settings;
   if (!o.settings.empty()) settings = detect::LoadDetectorSettings(o.settings);
   vision::FrameDetector frames(vision::LoadThresholds(o.thresholds),
@@ -193,6 +211,7 @@ int RunDetect(const std::vector<std::string>& args) {
                                o.frame);
   vision::FrameResultsWriter writer(frames, o.blobs);
   const std::vector<std::string> paths = vision::ExpandFrameList(o.frames);
+  if (!o.frame.debug_dir.empty()) CheckDistinctStems(paths);
   Totals totals;
   int failed = 0;
   for (const std::string& path : paths) {

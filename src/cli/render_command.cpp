@@ -50,6 +50,8 @@ int RunRender(const std::vector<std::string>& args) {
   }
   if (o.out.empty()) throw InputError("missing --out FILE; expected the PNG file to write");
 
+  io::CheckWritable(o.truth.empty() ? std::vector<std::string>{o.out}
+                                    : std::vector<std::string>{o.out, o.truth});
   const vision::SceneFile file = vision::LoadSceneFile(o.scene);
   const vision::Image frame = vision::RenderScene(file.scene, file.calibration.camera);
   const std::vector<uint8_t> png = vision::EncodePng(frame);

@@ -37,7 +37,8 @@ one row per pattern x false-blob rate x sigma) and <out>/<name>.json (the manife
 seed, version, timings), both atomically. In detect mode --trials sets the frames per point.
 With --shard K/N only share K of N of the points is run, and <out>/<name>.shard-K-of-N.json is
 written instead; `patlab merge` joins the N shard files into the CSV and manifest (docs/merge.md).
-Exit status: 0 ok, 1 cannot write results, 2 bad input.
+Exit status: 0 ok, 1 cannot write results (checked before the first trial) or out of memory,
+2 bad input.
 )";
 
 struct SimulateOptions {
@@ -50,6 +51,7 @@ struct SimulateOptions {
   std::string sigmas;
   std::string replay;
   std::string shard;
+  bool name_given = false;
   double sigma_y_ratio = -1, common_sigma_ratio = -1, outlier_probability = -1,
          outlier_sigma_ratio = -1;
   bool quiet = false;
@@ -80,19 +82,44 @@ OutputFiles Outputs(const sim::Experiment& experiment, const SimulateOptions& o,
   return files;
 }
 
-// Writes the files atomically; on failure says why on stderr and returns false (exit 1).
-bool WriteAll(const std::vector<std::pair<std::string, std::string>>& files) {
-  try {
-    io::WriteFilesAtomic(files);
-  } catch (const InputError& e) {
-    std::cerr << "patlab simulate: " << e.what() << "\n";
-    return false;
-  }
-  return true;
+// Writes the files as one result set, the manifest last (io/atomic_file.h). A failure is an
+// EnvironmentError: main() prints it and exits 1.
+void WriteAll(const std::vector<std::pair<std::string, std::string>>& files) {
+  io::WriteFilesAtomic(files);
 }
 
-bool WriteOutputs(const OutputFiles& files, const std::string& csv, const std::string& manifest) {
-  return WriteAll({{files.csv_path, csv}, {files.json_path, manifest}});
+// The bytes of samples a known-mode run keeps per trial: two point buffers of (x, y, theta) per
+// estimator plus the ML counters, and the statistics' temporaries (radial errors and the paired
+// comparison vectors). Until the sample storage streams (issue 11, "bounded memory"), a --trials
+// that cannot fit in the machine's memory is refused before the first trial instead of ending in
+// std::bad_alloc after minutes of work.
+int64_t SampleBytesPerTrial(const sim::Experiment& experiment) {
+  const auto estimators = static_cast<int64_t>(experiment.estimators.size());
+  return 2 * (estimators * 3 * 8 + 2) + 5 * 8;
+}
+
+void CheckMemory(const sim::Experiment& experiment) {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page_bytes = ::sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page_bytes <= 0) return;
+  const int64_t memory = static_cast<int64_t>(pages) * page_bytes;
+  const int64_t per_trial = SampleBytesPerTrial(experiment);
+  if (experiment.trials <= memory / per_trial) return;
+  throw InputError("--trials (or trials in the file) is " + std::to_string(experiment.trials) +
+                   "; expected at most " + std::to_string(memory / per_trial) +
+                   " on this machine (each trial keeps " + std::to_string(per_trial) +
+                   " bytes of samples; " + std::to_string(memory >> 20) + " MiB of memory)");
+}
+
+// --name (or the experiment's name) is a file base name inside --out, never a path out of it.
+void CheckName(const SimulateOptions& o) {
+  if (o.name_given && !io::IsFileBaseName(o.name)) {
+    throw InputError("--name is '" + EscapeForMessage(o.name) + "'; expected " +
+                     io::kFileBaseNameExpected);
+  }
+}
+
+void WriteOutputs(const OutputFiles& files, const std::string& csv, const std::string& manifest) {
+  WriteAll({{files.csv_path, csv}, {files.json_path, manifest}});
 }
 
 std::string BaseName(const sim::Experiment& experiment, const SimulateOptions& o) {
@@ -123,22 +150,21 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
         sim::ReplayDetectFrame(experiment, sim::ParseReplayIndex(o.replay, "FRAME")));
     return kExitOk;
   }
-  const sim::RunOptions run_options = RunOptionsFor(o);
-  const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
-
   const OutputFiles files = Outputs(experiment, o, args);
+  const sim::RunOptions run_options = RunOptionsFor(o);
+  io::CheckWritable(o.shard.empty() ? std::vector<std::string>{files.csv_path, files.json_path}
+                                    : std::vector<std::string>{
+                                          ShardPath(experiment, o, run_options.shard)});
+  const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
   if (!o.shard.empty()) {
     const std::string path = ShardPath(experiment, o, run_options.shard);
-    return WriteAll({{path, sim::DetectShardText(experiment, result, run_options.shard,
-                                                 BaseName(experiment, o), files.command_line)}})
-               ? kExitOk
-               : kExitFailure;
+    WriteAll({{path, sim::DetectShardText(experiment, result, run_options.shard,
+                                          BaseName(experiment, o), files.command_line)}});
+    return kExitOk;
   }
-  if (!WriteOutputs(files, sim::DetectResultsCsv(experiment, result),
-                    sim::DetectManifestJson(experiment, result, files.command_line,
-                                            {files.csv_path, files.json_path}))) {
-    return kExitFailure;
-  }
+  WriteOutputs(files, sim::DetectResultsCsv(experiment, result),
+               sim::DetectManifestJson(experiment, result, files.command_line,
+                                       {files.csv_path, files.json_path}));
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld frames in %.3f s wall (frames %.3f s = %.0f frames/s, "
@@ -182,22 +208,22 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
     return kExitOk;
   }
 
-  const sim::RunOptions run_options = RunOptionsFor(o);
-  const sim::RunResult result = sim::RunExperiment(experiment, run_options);
-
   const OutputFiles files = Outputs(experiment, o, args);
+  const sim::RunOptions run_options = RunOptionsFor(o);
+  io::CheckWritable(o.shard.empty() ? std::vector<std::string>{files.csv_path, files.json_path}
+                                    : std::vector<std::string>{
+                                          ShardPath(experiment, o, run_options.shard)});
+  CheckMemory(experiment);
+  const sim::RunResult result = sim::RunExperiment(experiment, run_options);
   if (!o.shard.empty()) {
     const std::string path = ShardPath(experiment, o, run_options.shard);
-    return WriteAll({{path, sim::KnownShardText(experiment, result, run_options.shard,
-                                                BaseName(experiment, o), files.command_line)}})
-               ? kExitOk
-               : kExitFailure;
+    WriteAll({{path, sim::KnownShardText(experiment, result, run_options.shard,
+                                         BaseName(experiment, o), files.command_line)}});
+    return kExitOk;
   }
-  if (!WriteOutputs(files, sim::ResultsCsv(experiment, result),
-                    sim::ManifestJson(experiment, result, files.command_line,
-                                      {files.csv_path, files.json_path}))) {
-    return kExitFailure;
-  }
+  WriteOutputs(files, sim::ResultsCsv(experiment, result),
+               sim::ManifestJson(experiment, result, files.command_line,
+                                 {files.csv_path, files.json_path}));
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "
@@ -239,6 +265,8 @@ int RunSimulate(const std::vector<std::string>& args) {
         "missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see --help)");
   }
   CheckThreads(o.threads);
+  o.name_given = vm.count("name") > 0;
+  CheckName(o);
   if (!o.shard.empty()) {
     sim::ParseShardSpec(o.shard, "--shard");
     if (!o.replay.empty()) throw InputError("--shard and --replay together; expected one of them");

@@ -67,6 +67,19 @@ std::vector<double> Load(const std::string& path, const StatsCliOptions& options
   return io::ReadNumericColumn(path, column);
 }
 
+// The statistics library names no file: its messages about the samples get the files they came
+// from ("a.txt and b.txt: the KS test needs ...").
+template <typename F>
+auto OnFiles(const StatsCliOptions& o, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    std::string names;
+    for (const std::string& file : o.files) names += (names.empty() ? "" : " and ") + file;
+    throw InputError(names + ": " + e.what());
+  }
+}
+
 void RequireFiles(const StatsCliOptions& o, std::size_t n) {
   if (o.files.size() != n) {
     throw InputError("'" + o.test + "' takes " + std::to_string(n) + (n == 1 ? " file" : " files") +
@@ -82,7 +95,7 @@ int RunKs(const StatsCliOptions& o) {
   options.method = ParseName(o.method, stats::kKsMethodNames, "--method");
   const std::vector<double> a = Load(o.files[0], o);
   const std::vector<double> b = Load(o.files[1], o);
-  const stats::KsResult r = stats::KsTwoSample(a, b, options);
+  const stats::KsResult r = OnFiles(o, [&] { return stats::KsTwoSample(a, b, options); });
   if (o.json) {
     nlohmann::json j = {{"test", "ks"},
                         {"alternative", stats::AlternativeName(options.alternative)},
@@ -122,7 +135,8 @@ int RunWilcoxon(const StatsCliOptions& o) {
                      " has " + std::to_string(b.size()) +
                      "; expected paired samples of equal length");
   }
-  const stats::WilcoxonResult r = stats::WilcoxonSignedRank(a, b, options);
+  const stats::WilcoxonResult r =
+      OnFiles(o, [&] { return stats::WilcoxonSignedRank(a, b, options); });
   if (o.json) {
     nlohmann::json j = {{"test", "wilcoxon"},
                         {"alternative", stats::AlternativeName(options.alternative)},
@@ -160,9 +174,13 @@ int RunWilcoxon(const StatsCliOptions& o) {
 
 int RunSummary(const StatsCliOptions& o) {
   RequireFiles(o, 1);
+  if (!(o.level > 0.0 && o.level < 1.0)) {
+    throw InputError("--level is " + FormatNumber(o.level) +
+                     "; expected a confidence level in (0, 1), e.g. 0.95");
+  }
   const std::vector<double> a = Load(o.files[0], o);
-  const stats::StdWithCi s = stats::StdWithConfidence(a, o.level);
-  const stats::MeanWithCi m = stats::MeanWithConfidence(a, o.level);
+  const stats::StdWithCi s = OnFiles(o, [&] { return stats::StdWithConfidence(a, o.level); });
+  const stats::MeanWithCi m = OnFiles(o, [&] { return stats::MeanWithConfidence(a, o.level); });
   if (o.json) {
     nlohmann::json j = {{"test", "summary"},     {"n", s.n},
                         {"level", s.level},      {"mean", m.mean},

@@ -105,17 +105,21 @@ sim::TrackOptions LoadWithOverrides(const TrackCliOptions& o, const po::variable
 
 // Writes the four output files atomically; their paths, or nullopt (after a message on stderr)
 // when they cannot be written.
+// The four output files, the manifest last.
+std::array<std::string, 4> OutputPaths(const TrackCliOptions& o, const sim::TrackOptions& options) {
+  namespace fs = std::filesystem;
+  return {(fs::path(o.out_dir) / (options.name + ".csv")).string(),
+          (fs::path(o.out_dir) / (options.name + "_tests.csv")).string(),
+          (fs::path(o.out_dir) / "track_errors.csv").string(),
+          (fs::path(o.out_dir) / (options.name + ".json")).string()};
+}
+
 std::optional<std::array<std::string, 4>> WriteOutputs(const TrackCliOptions& o,
                                                        const sim::TrackOptions& options,
                                                        const sim::TrackResult& result,
                                                        const std::vector<sim::TableRow>& table,
                                                        const std::string& command_line) {
-  namespace fs = std::filesystem;
-  const std::array<std::string, 4> paths = {
-      (fs::path(o.out_dir) / (options.name + ".csv")).string(),
-      (fs::path(o.out_dir) / (options.name + "_tests.csv")).string(),
-      (fs::path(o.out_dir) / "track_errors.csv").string(),
-      (fs::path(o.out_dir) / (options.name + ".json")).string()};
+  const std::array<std::string, 4> paths = OutputPaths(o, options);
   try {
     io::WriteFilesAtomic({{paths[0], sim::TableCsv(table)},
                           {paths[1], sim::SizeTestsCsv(sim::MakeSizeTests(result))},
@@ -179,15 +183,17 @@ int RunTrackCommand(const std::vector<std::string>& args) {
   const sim::TrackOptions options = LoadWithOverrides(o, vm);
   if (!o.replay.empty()) return Replay(options, o.replay);
 
+  const std::array<std::string, 4> paths = OutputPaths(o, options);
+  io::CheckWritable({paths.begin(), paths.end()});
   sim::TrackRunOptions run_options;
   run_options.threads = o.threads;
   const sim::TrackResult result = sim::RunTrack(options, run_options);
   const std::vector<sim::TableRow> table = sim::MakeTable(result);
   std::string command_line = "patlab track";
   for (const std::string& a : args) command_line += " " + a;
-  const auto paths = WriteOutputs(o, options, result, table, command_line);
-  if (!paths) return kExitFailure;
-  if (!o.quiet) PrintSummary(options, result, table, *paths);
+  const auto written = WriteOutputs(o, options, result, table, command_line);
+  if (!written) return kExitFailure;
+  if (!o.quiet) PrintSummary(options, result, table, *written);
   return kExitOk;
 }
 

@@ -1,8 +1,10 @@
 // End-to-end tests of `patlab simulate`: the real binary, real files.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "../test_util.h"
 
@@ -92,7 +94,8 @@ TEST(SimulateCli, BadInputExitsTwoWithAMessageAndWritesNothing) {
        "patlab simulate: missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see "
        "--help)\n"},
       {kPatlab + " simulate " + experiment + " --no-such-flag" + out,
-       "patlab simulate: unrecognised option '--no-such-flag' (see patlab simulate --help)\n"},
+       "patlab simulate: unrecognised option '--no-such-flag'; expected the options and values "
+       "that 'patlab simulate --help' lists\n"},
   };
   for (const auto& [command, message] : cases) {
     const auto r = RunCommand(command);
@@ -133,6 +136,56 @@ TEST(Cli, UnknownCommandAndNoArgumentsExitTwo) {
   const auto help = RunCommand(kPatlab + " --help");
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.out.find("simulate"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace patlab
+
+namespace patlab {
+namespace {
+
+using testing::RunCommand;
+
+// docs/hardening.md "Sizes checked before allocation": a trial count whose samples cannot fit in
+// memory is refused before the first trial (exit 2), not by std::bad_alloc after the run.
+TEST(SimulateCliHardening, TrialsBeyondMemoryAreRefusedUpFront) {
+  testing::TempDir dir;
+  const std::string experiment =
+      dir.Write("e.toml", "name = \"e\"\npatterns_dir = \"" PATLAB_SOURCE_DIR
+                          "/patterns\"\npatterns = [\"butterfly\"]\n[sigma]\nvalues = [1]\n");
+  const int64_t memory = static_cast<int64_t>(::sysconf(_SC_PHYS_PAGES)) * ::sysconf(_SC_PAGESIZE);
+  const int64_t per_trial = 2 * (2 * 3 * 8 + 2) + 5 * 8;  // fast and ml
+  if (memory / per_trial >= 1'000'000'000) GTEST_SKIP() << "this machine holds 1e9 trials";
+  const auto r = RunCommand(std::string(PATLAB_BINARY) + " simulate " + experiment +
+                            " -q --trials 1000000000 --out " + dir.Path("out"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err,
+            "patlab simulate: --trials (or trials in the file) is 1000000000; expected at "
+            "most " +
+                std::to_string(memory / per_trial) +
+                " on this machine (each trial keeps 140 bytes of samples; " +
+                std::to_string(memory >> 20) + " MiB of memory)\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("out")));
+}
+
+// SIGTERM during a run ends it with no result and no temporary file (SIGINT acts the same, but a
+// background job of a non-interactive shell ignores it).
+TEST(SimulateCliHardening, InterruptedRunLeavesNothing) {
+  testing::TempDir dir;
+  const std::string experiment =
+      dir.Write("e.toml", "name = \"e\"\npatterns_dir = \"" PATLAB_SOURCE_DIR
+                          "/patterns\"\npatterns = [\"butterfly\"]\ntrials = 1000000\n[sigma]\n"
+                          "from = 0\nto = 4\nsteps = 400\n");
+  dir.Write("out/old.txt", "untouched");
+  const auto r = RunCommand("(" + std::string(PATLAB_BINARY) + " simulate " + experiment +
+                            " -q --threads 1 --out " + dir.Path("out") +
+                            " & pid=$!; sleep 1; kill -TERM $pid; wait $pid; echo status $?)");
+  EXPECT_EQ(r.out, "status 143\n") << r.err;
+  std::set<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir.Path("out"))) {
+    names.insert(e.path().filename().string());
+  }
+  EXPECT_EQ(names, std::set<std::string>{"old.txt"});
 }
 
 }  // namespace

@@ -155,7 +155,8 @@ TEST_F(StatsCli, ErrorsAreClearAndExitWith2) {
        "patlab stats: --zero-method is \"drop\"; expected \"wilcox\", \"pratt\" or "
        "\"zsplit\"\n"},
       {"wilcoxon a.txt a.txt",
-       "patlab stats: every difference is zero, so zero method 'wilcox' leaves nothing to rank; "
+       "patlab stats: a.txt and a.txt: every difference is zero, so zero method 'wilcox' leaves "
+       "nothing to rank; "
        "expected at least one non-zero difference (or use zsplit)\n"},
       {"anova a.txt",
        "patlab stats: unknown stats test 'anova'; expected ks, wilcoxon or "

@@ -130,7 +130,8 @@ TEST(TrackCli, BadInputExitsTwoWithAMessageAndWritesNothing) {
        "patlab track: missing EXPERIMENT.toml; expected 'patlab track EXPERIMENT.toml' (see "
        "--help)\n"},
       {kPatlab + " track " + experiment + " --no-such-flag" + out,
-       "patlab track: unrecognised option '--no-such-flag' (see patlab track --help)\n"},
+       "patlab track: unrecognised option '--no-such-flag'; expected the options and values that "
+       "'patlab track --help' lists\n"},
   };
   for (const auto& [command, message] : cases) {
     const auto r = RunCommand(command);

@@ -135,8 +135,9 @@ TEST_F(DetectExperimentTest, BadFilesGiveTheirMessages) {
       {kHead + kSigma + kDetect + "robots_per_team = 17\n",
        "e.toml:8: robots_per_team in [detect] is 17; expected at most 16 (the IDs of butterfly)"},
       {kHead + kSigma + "[field]\nlength_mm = 500\nwidth_mm = 500\n" + kDetect,
-       "e.toml:9: robots_per_team in [detect] is 5 (butterfly): cannot place 4 objects 180 mm "
-       "apart; expected a larger field or fewer robots"},
+       "e.toml:9: robots_per_team in [detect] is 5 (butterfly): 10 robots 180 mm apart and the "
+       "ball exclude 895% of the area their centres are drawn from; expected at most 80% (a "
+       "larger field, fewer robots or a smaller min_separation_mm)"},
       {kHead + kSigma + "[field]\nwidth_mm = 0\n" + kDetect,
        "e.toml:7: width_mm in [field] is 0; expected a finite number > 0 (mm) with "
        "correspondence = \"detect\""},

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "../test_util.h"
 
 namespace patlab::sim {
@@ -31,6 +33,24 @@ TEST(EvaluatePattern, FillsEveryPart) {
   EXPECT_EQ(text.rfind("pattern butterfly (butterfly.toml): ", 0), 0u) << text;
   EXPECT_NE(text.find("4. Misidentification in whole frames"), std::string::npos) << text;
   EXPECT_NE(EvaluationJson(Small(), {r}).find("\"tool\": \"patlab evaluate\""), std::string::npos);
+}
+
+// Part 4 derives max_neighbours from the pattern: the detector default (8) would refuse every
+// pattern of more than 9 patches ("max_neighbours is 8; expected at least 10").
+TEST(EvaluatePattern, AcceptsPatternsOfMoreThanNinePatches) {
+  std::string text = "name = \"eleven\"\n[[patch]]\nrole = \"key\"\nx = 0\ny = 0\nradius = 10\n";
+  for (int k = 0; k < 10; ++k) {
+    const double angle = 0.6283185307179586 * k, r = 60.0 + 5.0 * k;
+    text += "[[patch]]\nrole = \"id\"\nx = " + std::to_string(r * std::cos(angle)) +
+            "\ny = " + std::to_string(r * std::sin(angle)) + "\nradius = 10\n";
+  }
+  const Pattern pattern = io::ParsePattern(text, "eleven.toml");
+  ASSERT_EQ(pattern.size(), 11);
+  EvaluateOptions o = Small();
+  o.sigmas_mm = {1.0};
+  const EvaluationReport r = EvaluatePattern(pattern, "eleven.toml", o);
+  EXPECT_TRUE(r.misidentification.run);
+  EXPECT_EQ(r.misidentification.result.points.size(), 1u);
 }
 
 TEST(EvaluatePattern, ReportDoesNotDependOnThreads) {

@@ -1,7 +1,8 @@
 // Errors, in the three tiers of docs/architecture.md rule 9:
 //  1. bad input      -> InputError carrying "file:line: what is wrong; expected what", caught in
-//  cli/
-//                       and printed on stderr with exit status 2;
+//                       cli/ and printed on stderr with exit status 2; a failure of the
+//                       environment rather than of the input (cannot write the results, out of
+//                       memory) is an EnvironmentError, exit status 1;
 //  2. broken invariant -> PATLAB_CHECK / PATLAB_CHECK_OP, which print the operands and abort;
 //  3. numerical outcome -> a status in the result (e.g. estimate::Summary), never an exception.
 #pragma once
@@ -9,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace patlab {
 
@@ -27,6 +29,24 @@ class InputError : public std::runtime_error {
   InputError(const FileLoc& loc, const std::string& message)
       : std::runtime_error(loc.file.empty() ? message : loc.ToString() + ": " + message) {}
 };
+
+// A failure of the environment, not of the input: results cannot be written (permissions, disk
+// full, a read-only file system). It is an InputError so that every caller that reports bad input
+// reports it too, but the CLI exits with status 1 for it (docs/hardening.md).
+class EnvironmentError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+// User-supplied text quoted in a message (a cell, a flag value, a file name): bytes below 0x20,
+// 0x7f and bytes that are not part of valid UTF-8 are written as \xNN, so a NUL cannot cut the
+// message and a terminal sees no control codes; text longer than `max_bytes` is cut there and
+// "... (N bytes)" says how long it was.
+std::string EscapeForMessage(std::string_view text, size_t max_bytes = 120);
+
+// True when `text` is well-formed UTF-8 (no overlong forms, surrogates or code points above
+// U+10FFFF). Text that goes into a JSON result must be.
+bool IsValidUtf8(std::string_view text);
 
 namespace detail {
 [[noreturn]] void CheckFailed(const char* file, int line, const std::string& message);

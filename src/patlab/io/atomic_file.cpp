@@ -1,8 +1,12 @@
 #include "patlab/io/atomic_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -13,49 +17,240 @@ namespace patlab::io {
 
 namespace {
 
-std::string TempPath(const std::string& path) {
-  return path + ".tmp." + std::to_string(::getpid());
+namespace fs = std::filesystem;
+
+// What the signal handler may touch: only lock-free atomics and a null-terminated array of C
+// strings that stays alive while it is published (async-signal-safe: unlink, signal, raise).
+std::atomic<const char* const*> g_temp_paths{nullptr};
+std::atomic<int> g_committing{0};
+std::atomic<int> g_pending_signal{0};
+static_assert(std::atomic<const char* const*>::is_always_lock_free);
+static_assert(std::atomic<int>::is_always_lock_free);
+
+void RemoveTemps(const char* const* paths) {
+  if (paths == nullptr) return;
+  for (const char* const* p = paths; *p != nullptr; ++p) ::unlink(*p);
+}
+
+extern "C" void OnTerminatingSignal(int signal_number) {
+  if (g_committing.load() != 0) {
+    g_pending_signal.store(signal_number);
+    return;
+  }
+  RemoveTemps(g_temp_paths.load());
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
+[[noreturn]] void Fail(const std::string& path, const std::string& reason) {
+  throw EnvironmentError(EscapeForMessage(path, 1024) + ": cannot write: " + reason +
+                         "; expected a writable location");
+}
+
+std::string Sibling(const std::string& path, const char* kind) {
+  const fs::path p(path);
+  std::string name = ".";
+  name += p.filename().string();
+  name += kind;
+  name += std::to_string(::getpid());
+  return (p.parent_path() / name).string();
+}
+
+bool IsDirectory(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+bool Exists(const std::string& path) {
+  struct stat st {};
+  return ::lstat(path.c_str(), &st) == 0;
 }
 
 void WriteTemp(const std::string& path, const std::string& temp, std::string_view content) {
-  namespace fs = std::filesystem;
-  const fs::path parent = fs::path(path).parent_path();
-  std::error_code ec;
-  if (!parent.empty()) fs::create_directories(parent, ec);
-  if (ec) throw InputError(path + ": cannot write: " + ec.message());
-  FILE* f = std::fopen(temp.c_str(), "wb");
-  if (f == nullptr) throw InputError(path + ": cannot write: " + std::strerror(errno));
-  const bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size() &&
-                  std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) Fail(path, std::strerror(errno));
+  size_t done = 0;
+  while (done < content.size()) {
+    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<size_t>(n);
+  }
+  const bool ok = done == content.size() && ::fsync(fd) == 0;
   const int saved_errno = errno;
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(temp.c_str());
-    throw InputError(path + ": cannot write: " + std::strerror(ok ? errno : saved_errno));
+  if (::close(fd) != 0 || !ok) {
+    ::unlink(temp.c_str());
+    Fail(path, std::strerror(ok ? errno : saved_errno));
   }
 }
 
-void Rename(const std::string& temp, const std::string& path) {
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    const int saved_errno = errno;
-    std::remove(temp.c_str());
-    throw InputError(path + ": cannot write: " + std::strerror(saved_errno));
+// One target's commit state, for the rollback.
+struct Slot {
+  std::string target, temp, backup;
+  bool backed_up = false, placed = false;
+};
+
+// Undoes the renames done so far, newest first: the new file goes, the old one comes back.
+void RollBack(std::vector<Slot>* slots) {
+  for (auto it = slots->rbegin(); it != slots->rend(); ++it) {
+    if (it->placed) ::unlink(it->target.c_str());
+    if (it->backed_up) ::rename(it->backup.c_str(), it->target.c_str());
+    ::unlink(it->temp.c_str());
   }
 }
+
+// Moves an existing target aside, then the temporary into place. Returns errno, or 0.
+int Place(Slot* s) {
+  if (Exists(s->target)) {
+    if (::rename(s->target.c_str(), s->backup.c_str()) != 0) return errno;
+    s->backed_up = true;
+  }
+  if (::rename(s->temp.c_str(), s->target.c_str()) != 0) return errno;
+  s->placed = true;
+  return 0;
+}
+
+// The renames, the manifest (last slot) moved aside first and placed last.
+void Commit(std::vector<Slot>* slots) {
+  Slot& manifest = slots->back();
+  int error = 0;
+  std::string failed = manifest.target;
+  if (Exists(manifest.target)) {
+    if (::rename(manifest.target.c_str(), manifest.backup.c_str()) != 0) error = errno;
+    manifest.backed_up = error == 0;
+  }
+  for (size_t k = 0; k + 1 < slots->size() && error == 0; ++k) {
+    error = Place(&(*slots)[k]);
+    failed = (*slots)[k].target;
+  }
+  if (error == 0) {
+    if (::rename(manifest.temp.c_str(), manifest.target.c_str()) != 0) error = errno;
+    manifest.placed = error == 0;
+    failed = manifest.target;
+  }
+  if (error != 0) {
+    RollBack(slots);
+    Fail(failed, std::strerror(error));
+  }
+  for (const Slot& s : *slots) {
+    if (s.backed_up) ::unlink(s.backup.c_str());
+  }
+}
+
+void CreateParents(const std::string& path) {
+  const fs::path parent = fs::path(path).parent_path();
+  if (parent.empty()) return;
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  if (ec) Fail(path, ec.message());
+}
+
+// Publishes the temporary paths to the signal handler for the lifetime of this object.
+class PublishedTemps {
+ public:
+  explicit PublishedTemps(const std::vector<Slot>& slots) {
+    for (const Slot& s : slots) pointers_.push_back(s.temp.c_str());
+    pointers_.push_back(nullptr);
+    g_temp_paths.store(pointers_.data());
+  }
+  ~PublishedTemps() { g_temp_paths.store(nullptr); }
+  PublishedTemps(const PublishedTemps&) = delete;
+  PublishedTemps& operator=(const PublishedTemps&) = delete;
+
+ private:
+  std::vector<const char*> pointers_;
+};
+
+// Holds SIGINT/SIGTERM/SIGHUP back for the commit renames; re-raises one that came meanwhile.
+class CommitGuard {
+ public:
+  CommitGuard() { g_committing.store(1); }
+  ~CommitGuard() {
+    g_committing.store(0);
+    if (const int s = g_pending_signal.exchange(0); s != 0) std::raise(s);
+  }
+  CommitGuard(const CommitGuard&) = delete;
+  CommitGuard& operator=(const CommitGuard&) = delete;
+};
 
 }  // namespace
 
+bool IsFileBaseName(std::string_view name) {
+  return !name.empty() && name.size() <= kMaxBaseNameBytes &&
+         name.find_first_of(std::string_view("/\0", 2)) == std::string_view::npos;
+}
+
+namespace {
+// Two outputs of one result set with the same path would overwrite each other (a track
+// experiment named "track_errors"): bad input, found before any work.
+void CheckDistinct(const std::vector<std::string>& paths) {
+  for (size_t k = 0; k < paths.size(); ++k) {
+    for (size_t j = 0; j < k; ++j) {
+      if (paths[j] == paths[k]) {
+        throw InputError(EscapeForMessage(paths[k], 1024) +
+                         ": named twice in one result set; expected distinct output files");
+      }
+    }
+  }
+}
+}  // namespace
+
+void CheckWritable(const std::vector<std::string>& paths) {
+  CheckDistinct(paths);
+  for (const std::string& path : paths) {
+    if (IsDirectory(path)) Fail(path, "it is a directory");
+    fs::path folder = fs::path(path).parent_path();
+    if (folder.empty()) folder = ".";
+    std::error_code ec;
+    while (!fs::exists(folder, ec) && folder.has_parent_path() && folder != folder.parent_path()) {
+      if (ec) break;
+      folder = folder.parent_path();
+    }
+    if (ec) Fail(path, ec.message());
+    if (!IsDirectory(folder.string())) Fail(path, folder.string() + " is not a directory");
+    if (::access(folder.c_str(), W_OK | X_OK) != 0) Fail(path, std::strerror(errno));
+  }
+}
+
 void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files) {
-  std::vector<std::string> temps;
+  if (files.empty()) return;
+  std::vector<std::string> paths;
+  for (const auto& file : files) paths.push_back(file.first);
+  CheckDistinct(paths);
+  std::vector<Slot> slots;
+  for (const auto& [path, content] : files) {
+    if (IsDirectory(path)) Fail(path, "it is a directory");
+    slots.push_back({path, Sibling(path, ".patlab-tmp."), Sibling(path, ".patlab-old.")});
+  }
+  const PublishedTemps published(slots);
   try {
-    for (const auto& [path, content] : files) {
-      temps.push_back(TempPath(path));
-      WriteTemp(path, temps.back(), content);
+    for (size_t k = 0; k < files.size(); ++k) {
+      CreateParents(files[k].first);
+      WriteTemp(files[k].first, slots[k].temp, files[k].second);
     }
   } catch (...) {
-    for (const std::string& t : temps) std::remove(t.c_str());
+    for (const Slot& s : slots) ::unlink(s.temp.c_str());
     throw;
   }
-  for (size_t k = 0; k < files.size(); ++k) Rename(temps[k], files[k].first);
+  const CommitGuard guard;
+  Commit(&slots);
+}
+
+void InstallSignalCleanup() {
+  static const bool installed = [] {
+    struct sigaction action {};
+    action.sa_handler = OnTerminatingSignal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    for (const int s : {SIGINT, SIGTERM, SIGHUP}) {
+      // A signal the parent chose to ignore (nohup, a background job) stays ignored.
+      struct sigaction old {};
+      if (::sigaction(s, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+      ::sigaction(s, &action, nullptr);
+    }
+    return true;
+  }();
+  (void)installed;
 }
 
 }  // namespace patlab::io

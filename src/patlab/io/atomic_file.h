@@ -1,16 +1,48 @@
-// Results are written atomically: to a temporary file in the target directory, then renamed, so
-// a reader never sees a half-written results file and a failed run leaves the old one in place.
+// Results are written all or nothing (docs/hardening.md, "Results all or nothing"). The files of
+// one result set are first written in full to hidden temporary files beside their targets
+// (".<name>.patlab-tmp.<pid>"), flushed and synced; then they are committed by renames, the
+// LAST file of the list (the manifest) last, after any old manifest has been moved aside. So at
+// every instant the target directory holds either the old result set with its old manifest, or
+// no manifest (a commit in progress or interrupted by SIGKILL or a power cut), or the new set
+// with its new manifest: readers trust a result set only when its manifest is there. A rename
+// that fails rolls every target back to its old content. SIGINT, SIGTERM and SIGHUP are held
+// back during the renames and delivered after them, and remove the temporary files when they
+// arrive while the files are being written (InstallSignalCleanup); any other failure removes them
+// before the exception leaves WriteFilesAtomic.
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 namespace patlab::io {
 
-// Writes several files, creating missing parent directories; throws
-// InputError("<path>: cannot write: <reason>") on failure. Each file is fully written to its
-// temporary before any is renamed, so a failure while writing leaves every target untouched.
+// Writes several files as one result set (see above), creating missing parent directories; the
+// last file is the manifest and is committed last. Throws EnvironmentError
+// ("<path>: cannot write: <reason>; expected a writable location") on failure, with every target
+// as it was before the call and no temporary file left.
 void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files);
+
+// Checks, before a long run, that WriteFilesAtomic could write `paths`: no target is a
+// directory, and the nearest existing ancestor of each target's folder is a writable,
+// searchable directory. Creates nothing. Throws EnvironmentError with the same message shape.
+void CheckWritable(const std::vector<std::string>& paths);
+
+// True when `name` can be the base of an output file inside a chosen directory: non-empty, at
+// most kMaxBaseNameBytes bytes (the temporary's ".<name>.<ext>.patlab-tmp.<pid>" must fit in 255),
+// without '/' or NUL, so `--name ../../x` cannot leave the output directory.
+inline constexpr size_t kMaxBaseNameBytes = 200;
+bool IsFileBaseName(std::string_view name);
+// The expectation messages quote for a bad base name.
+inline constexpr const char* kFileBaseNameExpected =
+    "a non-empty file base name without '/' of at most 200 bytes";
+
+// Installs the SIGINT / SIGTERM / SIGHUP handler that removes WriteFilesAtomic's temporary files
+// when a signal arrives while they are written, and defers a signal that arrives during the
+// commit renames until they are done; the signal then takes its default action (the process
+// ends). Called once by the CLI's main; idempotent. A library user who installs its own handlers
+// may skip it: failures other than signals clean up without it.
+void InstallSignalCleanup();
 
 }  // namespace patlab::io

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "patlab/core/error.h"
+#include "patlab/io/toml_util.h"
 
 namespace patlab::io {
 namespace {
@@ -43,18 +44,18 @@ double ParseCell(std::string_view cell, const FileLoc& loc, const std::string& w
   const char* end = text.data() + text.size();
   const auto [ptr, ec] = std::from_chars(text.data(), end, value);
   if (text.empty() || ptr != end || (ec != std::errc() && ec != std::errc::result_out_of_range)) {
-    throw InputError(loc, "cannot read '" + std::string(cell) + "'" + where +
+    throw InputError(loc, "cannot read '" + EscapeForMessage(cell) + "'" + where +
                               " as a number; expected a decimal number such as 0.52 or -1.5e-3");
   }
   // from_chars leaves value untouched when out of range: strtod tells overflow (inf) from
   // underflow (0 or a subnormal, accepted).
   if (ec == std::errc::result_out_of_range) value = std::strtod(std::string(text).c_str(), nullptr);
   if (ec == std::errc::result_out_of_range && std::isinf(value)) {
-    throw InputError(
-        loc, "'" + std::string(cell) + "'" + where + " is out of range; expected a finite number");
+    throw InputError(loc, "'" + EscapeForMessage(cell) + "'" + where +
+                              " is out of range; expected a finite number");
   }
   if (!std::isfinite(value)) {
-    throw InputError(loc, "'" + std::string(cell) + "'" + where +
+    throw InputError(loc, "'" + EscapeForMessage(cell) + "'" + where +
                               " is not a finite number; expected a finite number (no NaN or "
                               "infinity)");
   }
@@ -94,7 +95,7 @@ std::vector<double> ParseNumericColumn(std::istream& in, const std::string& sour
     const FileLoc loc{source_name, line_number};
     if (!csv) {
       if (trimmed.find(',') != std::string_view::npos) {
-        throw InputError(loc, "found a comma in '" + std::string(trimmed) +
+        throw InputError(loc, "found a comma in '" + EscapeForMessage(trimmed) +
                                   "'; expected one number a line (use --column NAME for CSV)");
       }
       values.push_back(ParseCell(trimmed, loc, ""));
@@ -112,8 +113,9 @@ std::vector<double> ParseNumericColumn(std::istream& in, const std::string& sour
         names += (i ? ", " : "") + std::string(Unquote(cells[i]));
       }
       if (!have_header) {
-        throw InputError(
-            loc, "no column '" + options.column + "' in the header; expected one of: " + names);
+        throw InputError(loc,
+                         "no column '" + EscapeForMessage(options.column) +
+                             "' in the header; expected one of: " + EscapeForMessage(names, 300));
       }
       continue;
     }
@@ -137,6 +139,7 @@ std::vector<double> ParseNumericColumn(std::istream& in, const std::string& sour
 std::vector<double> ReadNumericColumn(const std::string& path,
                                       const NumericColumnOptions& options) {
   Validate(options);
+  CheckInputFile(path, "file of numbers", UINTMAX_MAX);
   std::ifstream in(path);
   if (!in) {
     throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable file of numbers");

@@ -14,6 +14,8 @@ namespace {
 
 using patlab::FormatNumber;
 
+constexpr double kMaxPatternExtentMm = 1e4;
+
 std::string PointText(const Vec2& p) {
   return "(" + FormatNumber(p.x()) + ", " + FormatNumber(p.y()) + ")";
 }
@@ -23,11 +25,26 @@ Patch ParsePatch(const toml::table& t, const std::string& file, size_t i, int ke
   TomlReader pr(t, file, "[[patch]] " + std::to_string(i));
   pr.CheckKeys({"x", "y", "radius", "role", "colour"});
   Patch patch;
-  patch.position_mm = Vec2(pr.Number("x"), pr.Number("y"));
+  // A pattern sits on a robot: coordinates beyond 10 m are a typo, and 1e300 would overflow the
+  // squared distances of every estimator and bound.
+  const auto coordinate = [&pr](std::string_view key) {
+    const double v = pr.Number(key);
+    if (!(std::abs(v) <= kMaxPatternExtentMm)) {
+      pr.Fail(key, pr.Describe(key) + " is " + FormatNumber(v) + "; expected a coordinate in [" +
+                       FormatNumber(-kMaxPatternExtentMm) + ", " +
+                       FormatNumber(kMaxPatternExtentMm) + "] (mm)");
+    }
+    return v;
+  };
+  patch.position_mm = Vec2(coordinate("x"), coordinate("y"));
   patch.radius_mm = pr.Number("radius");
   if (!(patch.radius_mm > 0.0)) {
     pr.Fail("radius", pr.Describe("radius") + " is " + FormatNumber(patch.radius_mm) +
                           "; expected a positive number (mm)");
+  }
+  if (!(patch.radius_mm <= kMaxPatternExtentMm)) {
+    pr.Fail("radius", pr.Describe("radius") + " is " + FormatNumber(patch.radius_mm) +
+                          "; expected at most " + FormatNumber(kMaxPatternExtentMm) + " (mm)");
   }
   const std::string role = pr.String("role");
   const std::optional<PatchRole> parsed = FindName(role, kPatchRoleNames);

@@ -1,6 +1,7 @@
 #include "patlab/io/toml_util.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -30,6 +31,7 @@ toml::table ParseTomlText(std::string_view text, const std::string& source_name)
 }
 
 std::string ReadTextFile(const std::string& path, std::string_view what) {
+  CheckInputFile(path, what, kMaxTextFileBytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw InputError(FileLoc{path, 0},
@@ -38,6 +40,27 @@ std::string ReadTextFile(const std::string& path, std::string_view what) {
   std::ostringstream buffer;
   buffer << in.rdbuf();
   return buffer.str();
+}
+
+void CheckInputFile(const std::string& path, std::string_view what, uintmax_t max_bytes) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) {
+    throw InputError(FileLoc{EscapeForMessage(path, 1024), 0},
+                     ec.message() + "; expected a readable " + std::string(what));
+  }
+  if (fs::is_directory(status)) {
+    throw InputError(FileLoc{path, 0}, "is a directory; expected a " + std::string(what));
+  }
+  if (fs::is_regular_file(status)) {
+    const uintmax_t size = fs::file_size(path, ec);
+    if (!ec && size > max_bytes) {
+      throw InputError(FileLoc{path, 0}, std::to_string(size) + " bytes; expected a " +
+                                             std::string(what) + " of at most " +
+                                             std::to_string(max_bytes) + " bytes");
+    }
+  }
 }
 
 FileLoc LocOf(const std::string& file, const toml::node& node) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <toml++/toml.h>
+#include <cstdint>
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -22,6 +23,13 @@ toml::table ParseTomlText(std::string_view text, const std::string& source_name)
 // The whole content of a text file. A missing or unreadable file is an InputError "cannot open
 // file; expected a readable <what>", e.g. what = "calibration TOML file".
 std::string ReadTextFile(const std::string& path, std::string_view what);
+// Input text files (TOML, colors.txt) larger than this are refused before they are read.
+inline constexpr uintmax_t kMaxTextFileBytes = 64u << 20;
+// Before a file is opened: a directory is "<path>: is a directory; expected a <what>", a file
+// over `max_bytes` is "<path>: <size> bytes; expected a <what> of at most <max_bytes> bytes", a
+// path that cannot be examined (too long, a symbolic link loop) names the reason. A missing
+// file passes: opening it reports that.
+void CheckInputFile(const std::string& path, std::string_view what, uintmax_t max_bytes);
 
 // Reads typed values from one TOML table of one file.
 class TomlReader {

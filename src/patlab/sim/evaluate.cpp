@@ -48,6 +48,15 @@ std::vector<std::string> FramePalette(const Pattern& pattern,
 
 // Part 4's experiment: whole frames of the pattern at every sigma, the detector told the true
 // noise level (matched sigma).
+//
+// The detector's default max_neighbours (8) would reject every pattern of more than 9 patches
+// (kMaxPatches is 12): part 4 derives it from the pattern, at least its non-key patches.
+detect::DetectorOptions MisidentificationDetectorOptions(const Pattern& pattern) {
+  detect::DetectorOptions options;
+  options.max_neighbours = std::max(options.max_neighbours, pattern.size() - 1);
+  return options;
+}
+
 Experiment MisidentificationExperiment(const Pattern& pattern, const std::string& file,
                                        const EvaluateOptions& o,
                                        const std::vector<std::string>& key_colours,
@@ -60,7 +69,7 @@ Experiment MisidentificationExperiment(const Pattern& pattern, const std::string
   e.sigmas_mm = o.sigmas_mm;
   e.seed = o.seed;
   e.detect.detector = detect::MakeDetectorConfig(FramePalette(pattern, key_colours, dp.codebook),
-                                                 detect::DetectorOptions{}, {dp});
+                                                 MisidentificationDetectorOptions(pattern), {dp});
   e.detect.detector_pattern = {0};
   e.detect.frames = o.frames;
   e.detect.matched_sigma = true;

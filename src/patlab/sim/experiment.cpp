@@ -14,6 +14,12 @@ void CheckFrames(int64_t frames, std::string_view field, OptionsChecker* check) 
   check->IntegerInRange(field, frames, 1, kMaxFrames);
 }
 
+void CheckFieldSides(double length_mm, double width_mm, std::string_view length_field,
+                     std::string_view width_field, OptionsChecker* check) {
+  check->InRange(length_field, length_mm, 0.0, kMaxFieldSideMm, "mm")
+      .InRange(width_field, width_mm, 0.0, kMaxFieldSideMm, "mm");
+}
+
 void CheckSigmas(std::span<const double> sigmas_mm, std::string_view field, OptionsChecker* check) {
   const std::string expected = "strictly increasing finite numbers >= 0 (mm)";
   if (sigmas_mm.empty()) {
@@ -43,8 +49,7 @@ std::vector<OptionsProblem> Check(const Experiment& e) {
   const bool detect_mode = e.correspondence == Correspondence::kDetect;
   if (!detect_mode) CheckTrials(e.trials, "trials", &check);
   CheckSigmas(e.sigmas_mm, "sigmas_mm", &check);
-  check.NonNegative("field_length_mm", e.field_length_mm, "mm")
-      .NonNegative("field_width_mm", e.field_width_mm, "mm");
+  CheckFieldSides(e.field_length_mm, e.field_width_mm, "field_length_mm", "field_width_mm", &check);
   std::vector<OptionsProblem> problems = check.Take();
   const auto append = [&problems](std::vector<OptionsProblem> more) {
     for (OptionsProblem& problem : more) problems.push_back(std::move(problem));

@@ -65,6 +65,11 @@ inline constexpr int64_t kMaxFrames = 100'000'000;
 void CheckTrials(int64_t trials, std::string_view field, OptionsChecker* check);
 void CheckFrames(int64_t frames, std::string_view field, OptionsChecker* check);
 void CheckSigmas(std::span<const double> sigmas_mm, std::string_view field, OptionsChecker* check);
+// The field the poses are drawn on: each side in [0, 100000] mm (a 100 m field is far beyond
+// any robot league; 1e308 would make every pose error vanish in rounding).
+inline constexpr double kMaxFieldSideMm = 1e5;
+void CheckFieldSides(double length_mm, double width_mm, std::string_view length_field,
+                     std::string_view width_field, OptionsChecker* check);
 
 // The detect-mode settings, fields named as the [detect] keys: frames, match_radius_mm and every
 // scene option (Check(SceneOptions)), the scene's false-blob rate included.

@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <numbers>
 
 #include "patlab/core/format.h"
 #include "patlab/detect/settings.h"
+#include "patlab/io/atomic_file.h"
 #include "patlab/io/pattern_file.h"
 #include "patlab/io/toml_util.h"
 #include "patlab/sim/experiment.h"
@@ -225,8 +227,7 @@ void ReadField(const TomlReader& f, bool detect_mode, Experiment* e) {
   e->field_length_mm = f.OptionalNumber("length_mm").value_or(e->field_length_mm);
   e->field_width_mm = f.OptionalNumber("width_mm").value_or(e->field_width_mm);
   OptionsChecker check;
-  check.NonNegative("length_mm", e->field_length_mm, "mm")
-      .NonNegative("width_mm", e->field_width_mm, "mm");
+  CheckFieldSides(e->field_length_mm, e->field_width_mm, "length_mm", "width_mm", &check);
   if (detect_mode && check.problems().empty()) {
     SceneOptions scene;
     scene.field_length_mm = e->field_length_mm;
@@ -264,6 +265,15 @@ NoiseModel ReadNoise(const TomlReader& r, const fs::path& base) {
   if (r.Has("noise")) return ReadNoiseTable(TomlReader(SubTable(r, "noise"), r.file(), "[noise]"));
   if (const auto noise_file = r.OptionalString("noise_file")) {
     const std::string noise_path = (base / *noise_file).lexically_normal().string();
+    std::error_code ec;
+    if (fs::is_directory(noise_path, ec)) {
+      r.Fail("noise_file", "noise_file \"" + EscapeForMessage(*noise_file) + "\" is a directory (" +
+                               EscapeForMessage(noise_path) + "); expected a noise TOML file");
+    }
+    if (!fs::exists(noise_path, ec)) {
+      r.Fail("noise_file", "noise_file \"" + EscapeForMessage(*noise_file) + "\" not found (" +
+                               EscapeForMessage(noise_path) + "); expected a noise TOML file");
+    }
     const toml::table noise_root = io::ParseTomlFile(noise_path);
     return ReadNoiseTable(TomlReader(noise_root, noise_path));
   }
@@ -407,6 +417,28 @@ int FindDetectorPattern(const detect::DetectorConfig& config, const std::string&
   return index;
 }
 
+// Robots and the ball are placed by rejection sampling (scene.cpp PlaceFree, 10000 attempts).
+// While the exclusion disks of the objects already placed cover at most kMaxExcludedFraction of
+// the region the next centre is drawn from, each attempt succeeds with probability >= 0.2, so a
+// placement fails with probability <= 0.8^10000 < 1e-969: checked here at load time, the
+// experiment's validity does not depend on the random draw (docs/hardening.md).
+constexpr double kMaxExcludedFraction = 0.8;
+
+// The larger of the robots' and the ball's excluded fractions for the last one placed.
+double ExcludedFraction(const SceneOptions& o, int robots) {
+  const double l = o.field_length_mm, w = o.field_width_mm, r = o.robot_radius_mm;
+  const double robot_region = (l - 2 * r) * (w - 2 * r);
+  const double robot_excluded =
+      (robots - 1) * std::numbers::pi * o.min_separation_mm * o.min_separation_mm;
+  double fraction = robot_excluded > 0 ? robot_excluded / robot_region : 0.0;
+  if (o.ball) {
+    const double rb = o.ball_radius_mm;
+    const double ball_region = (l - 2 * rb) * (w - 2 * rb);
+    fraction = std::max(fraction, robots * std::numbers::pi * (r + rb) * (r + rb) / ball_region);
+  }
+  return fraction;
+}
+
 // One trial scene of the pattern: enough IDs for robots_per_team, room for robots and ball.
 void CheckSceneFits(const TomlReader& d, const DetectSettings& s, int index, uint64_t seed) {
   const detect::DetectorPattern& dp = s.detector.patterns[index];
@@ -417,6 +449,17 @@ void CheckSceneFits(const TomlReader& d, const DetectSettings& s, int index, uin
   if (s.scene.robots_per_team > ids) {
     d.Fail("robots_per_team",
            robots + "; expected at most " + std::to_string(ids) + " (the IDs of " + name + ")");
+  }
+  const int total = static_cast<int>(dp.key_colours.size()) * s.scene.robots_per_team;
+  if (const double fraction = ExcludedFraction(s.scene, total);
+      !(fraction <= kMaxExcludedFraction)) {
+    d.Fail("robots_per_team",
+           robots + " (" + name + "): " + std::to_string(total) + " robots " +
+               FormatNumber(s.scene.min_separation_mm) + " mm apart" +
+               (s.scene.ball ? " and the ball" : "") + " exclude " +
+               FormatFixed(100 * fraction, 0) +
+               "% of the area their centres are drawn from; expected at most 80% (a larger "
+               "field, fewer robots or a smaller min_separation_mm)");
   }
   detect::DetectorConfig config = s.detector;
   config.patterns = {dp};
@@ -478,6 +521,10 @@ Experiment LoadExperimentFile(const std::string& path) {
   CheckTopLevelKeys(r, detect_mode);
   e.source_file = path;
   e.name = r.String("name");
+  if (!io::IsFileBaseName(e.name)) {
+    r.Fail("name",
+           "name is \"" + EscapeForMessage(e.name) + "\"; expected " + io::kFileBaseNameExpected);
+  }
   e.description = r.OptionalString("description").value_or("");
   e.correspondence = ReadCorrespondence(r);
   const fs::path base = fs::path(path).parent_path();

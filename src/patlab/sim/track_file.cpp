@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "patlab/core/error.h"
+#include "patlab/io/atomic_file.h"
 #include "patlab/io/pattern_file.h"
 #include "patlab/io/toml_util.h"
 
@@ -38,8 +39,9 @@ const toml::table* SubTable(const io::TomlReader& r, std::string_view key) {
 
 void ParseTop(const io::TomlReader& r, TrackOptions* o) {
   o->name = r.OptionalString("name").value_or(o->name);
-  if (o->name.empty() || o->name.find('/') != std::string::npos) {
-    r.Fail("name", "name is \"" + o->name + "\"; expected a non-empty file base name without '/'");
+  if (!io::IsFileBaseName(o->name)) {
+    r.Fail("name",
+           "name is \"" + EscapeForMessage(o->name) + "\"; expected " + io::kFileBaseNameExpected);
   }
   o->description = r.OptionalString("description").value_or("");
   if (const auto seed = r.OptionalInteger("seed")) {

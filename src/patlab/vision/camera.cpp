@@ -155,10 +155,13 @@ double Positive(const io::TomlReader& r, std::string_view key) {
 
 void ReadImageSize(const io::TomlReader& top, Calibration& cal) {
   const auto size = NumberArray(top, "image_size_px", 2, "[width, height] in pixels");
-  if (size[0] < 1 || size[1] < 1 || size[0] != std::floor(size[0]) ||
-      size[1] != std::floor(size[1])) {
+  // At most 100000 px a side, so the sizes fit an int (a huge value was found by
+  // calibration_fuzz).
+  if (size[0] < 1 || size[1] < 1 || size[0] > 1e5 || size[1] > 1e5 ||
+      size[0] != std::floor(size[0]) || size[1] != std::floor(size[1])) {
     top.Fail("image_size_px",
-             "image_size_px is not two positive integers; expected [width, height] in pixels");
+             "image_size_px is not two integers in [1, 100000]; expected [width, height] in "
+             "pixels");
   }
   cal.image_width_px = static_cast<int>(size[0]);
   cal.image_height_px = static_cast<int>(size[1]);
@@ -223,6 +226,7 @@ PinholeCamera ReadPinhole(const toml::table& root, const io::TomlReader& top,
   PinholeCamera c;
   ReadIntrinsics(r, c);
   ReadExtrinsics(r, c);
+  io::ThrowFirstProblemAt(root, name, Check(c));
   return c;
 }
 
@@ -299,6 +303,21 @@ void ReadHeights(const toml::table& heights, const std::string& name, Calibratio
 }
 
 }  // namespace
+
+std::vector<OptionsProblem> Check(const PinholeCamera& c) {
+  OptionsChecker check("pinhole");
+  check.InRange("k1", c.k1, -kMaxDistortion, kMaxDistortion)
+      .InRange("k2", c.k2, -kMaxDistortion, kMaxDistortion);
+  // The camera centre in world coordinates: -R^T t.
+  const double height_mm = -(c.rotation.transpose() * c.translation_mm).z();
+  if (!(height_mm > 0.0 && height_mm <= kMaxCameraHeightMm)) {
+    check.Fail("camera_position_mm",
+               "the camera centre is at height " + FormatNumber(height_mm) +
+                   " mm; expected a camera above the floor, at a height in (0, " +
+                   FormatNumber(kMaxCameraHeightMm) + "] mm");
+  }
+  return check.Take();
+}
 
 Calibration ParseCalibration(std::string_view text, const std::string& name) {
   const toml::table root = io::ParseTomlText(text, name);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "patlab/core/geometry.h"
+#include "patlab/core/options.h"
 
 namespace patlab::vision {
 
@@ -30,6 +31,14 @@ struct PinholeCamera {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // world -> camera
   Eigen::Vector3d translation_mm = Eigen::Vector3d::Zero();
 };
+
+// The ranges a camera over a robot field can have, in one place (docs/architecture.md rule 4):
+// radial distortion |k1|, |k2| <= 10 (real lenses: |k1| < 1), and the camera centre above the
+// floor, at a height in (0, 100000] mm. Field names as the calibration file spells them
+// ("pinhole.k1"; the height under "pinhole.camera_position_mm" or "pinhole.translation_mm").
+inline constexpr double kMaxDistortion = 10.0;
+inline constexpr double kMaxCameraHeightMm = 1e5;
+std::vector<OptionsProblem> Check(const PinholeCamera& camera);
 
 struct PlaneHomography {
   double height_mm = 0.0;

@@ -100,13 +100,13 @@ ColorClass ParseColorsLine(const FileLoc& loc, const std::string& line, size_t n
   double merge;
   if (!(c.Char('(') && c.Integer(&r) && c.Char(',') && c.Integer(&g) && c.Char(',') &&
         c.Integer(&b) && c.Char(')') && c.Real(&merge) && c.Integer(&expected))) {
-    throw InputError(loc,
-                     "bad [Colors] line '" + line + "'; expected (R,G,B) merge expected_num Name");
+    throw InputError(loc, "bad [Colors] line '" + EscapeForMessage(line) +
+                              "'; expected (R,G,B) merge expected_num Name");
   }
   const std::string class_name = c.Rest();
   if (class_name.empty()) {
-    throw InputError(
-        loc, "bad [Colors] line '" + line + "': no name; expected (R,G,B) merge expected_num Name");
+    throw InputError(loc, "bad [Colors] line '" + EscapeForMessage(line) +
+                              "': no name; expected (R,G,B) merge expected_num Name");
   }
   for (long v : {r, g, b}) {
     if (v < 0 || v > 255) {
@@ -137,8 +137,8 @@ void ParseThresholdsLine(const FileLoc& loc, const std::string& line, size_t ind
   if (!(c.Char('(') && c.Integer(&v[0]) && c.Char(':') && c.Integer(&v[1]) && c.Char(',') &&
         c.Integer(&v[2]) && c.Char(':') && c.Integer(&v[3]) && c.Char(',') && c.Integer(&v[4]) &&
         c.Char(':') && c.Integer(&v[5]) && c.Char(')') && c.AtEnd())) {
-    throw InputError(loc,
-                     "bad [Thresholds] line '" + line + "'; expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)");
+    throw InputError(loc, "bad [Thresholds] line '" + EscapeForMessage(line) +
+                              "'; expected (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi)");
   }
   if (index >= classes->size()) {
     throw InputError(loc, "threshold " + std::to_string(index + 1) + " but only " +

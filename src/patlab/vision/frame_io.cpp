@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "patlab/core/error.h"
+#include "patlab/io/atomic_file.h"
 
 namespace patlab::vision {
 
@@ -29,7 +30,9 @@ constexpr long long kMaxPixels = 1LL << 28;
 }
 
 void CheckSize(const std::string& name, long long width, long long height) {
-  if (width <= 0 || height <= 0 || width * height > kMaxPixels) {
+  // Each side first: the product of two 32-bit header fields can overflow (found by image_fuzz).
+  if (width <= 0 || height <= 0 || width > kMaxPixels || height > kMaxPixels ||
+      width * height > kMaxPixels) {
     throw InputError(name + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
                      "; expected 1 to " + std::to_string(kMaxPixels) + " pixels");
   }
@@ -39,10 +42,36 @@ uint32_t ReadBigEndian32(const uint8_t* p) {
   return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | p[3];
 }
 
+// Deflate cannot expand data by more than about 1032:1 (RFC 1951: a 258-byte match costs at
+// least 2 bits); 1100 leaves a margin.
+constexpr long long kMaxDeflateRatio = 1100;
+
+// The pixel data a PNG header promises cannot come out of `idat_bytes` of compressed data: a
+// 100-byte file claiming 16384x16384 is rejected before any pixel memory is allocated.
+void CheckPngDataSize(const std::vector<uint8_t>& bytes, const std::string& name,
+                      long long idat_bytes) {
+  if (bytes.size() < 33) return;  // no IHDR: libpng reports it
+  const long long width = ReadBigEndian32(&bytes[16]), height = ReadBigEndian32(&bytes[20]);
+  CheckSize(name, width, height);
+  const int depth = bytes[24], colour_type = bytes[25];
+  const int channels = colour_type == 2 ? 3 : colour_type == 4 ? 2 : colour_type == 6 ? 4 : 1;
+  const long long row_bytes = (width * channels * depth + 7) / 8 + 1;
+  const long long raw = row_bytes * height;
+  if (raw > idat_bytes * kMaxDeflateRatio) {
+    FailAt(name, bytes.size(),
+           "truncated or corrupt PNG: " + std::to_string(width) + "x" + std::to_string(height) +
+               " needs " + std::to_string(raw) + " bytes of pixel data but its " +
+               std::to_string(idat_bytes) + " bytes of compressed data can hold at most " +
+               std::to_string(idat_bytes * kMaxDeflateRatio) + "; expected a complete PNG file");
+  }
+}
+
 // Walks the PNG chunk list so that a truncated file is reported with the byte offset where it
-// breaks off (libpng itself only says "Read Error").
+// breaks off (libpng itself only says "Read Error"); then checks the image size against the
+// compressed data (CheckPngDataSize).
 void CheckPngChunks(const std::vector<uint8_t>& bytes, const std::string& name) {
   size_t offset = 8;
+  long long idat_bytes = 0;
   while (true) {
     if (offset + 8 > bytes.size()) {
       FailAt(name, bytes.size(),
@@ -62,10 +91,19 @@ void CheckPngChunks(const std::vector<uint8_t>& bytes, const std::string& name) 
                  std::to_string(length + 12) + " bytes but the file ends after " +
                  std::to_string(bytes.size() - offset) + "; expected a complete PNG file");
     }
-    if (type == "IEND") return;
+    if (type == "IDAT") idat_bytes += length;
+    if (type == "IEND") {
+      CheckPngDataSize(bytes, name, idat_bytes);
+      return;
+    }
     offset += 12 + length;
   }
 }
+
+// Every 8x8 block costs at least a DC and an end-of-block Huffman code (>= 2 bits), so even a
+// flat grey JPEG needs a byte per 256 pixels; 2048 leaves a factor 8. A small file claiming a huge
+// size is rejected before the pixel buffer is allocated.
+constexpr long long kMaxJpegPixelsPerByte = 2048;
 
 struct JpegErrorManager {
   jpeg_error_mgr pub;
@@ -110,9 +148,18 @@ bool DecodeJpegRaw(const uint8_t* data, size_t size, Image* out, char* message, 
   jpeg_mem_src(&cinfo, data, static_cast<unsigned long>(size));
   jpeg_read_header(&cinfo, TRUE);
   cinfo.out_color_space = JCS_RGB;
-  if (static_cast<long long>(cinfo.image_width) * cinfo.image_height > kMaxPixels) {
+  const long long pixels = static_cast<long long>(cinfo.image_width) * cinfo.image_height;
+  if (pixels > kMaxPixels) {
     std::snprintf(message, JMSG_LENGTH_MAX, "image size %ux%u is too large", cinfo.image_width,
                   cinfo.image_height);
+    *offset = 0;
+    jpeg_destroy_decompress(&cinfo);
+    return false;
+  }
+  if (pixels > static_cast<long long>(size) * kMaxJpegPixelsPerByte) {
+    std::snprintf(message, JMSG_LENGTH_MAX,
+                  "image size %ux%u cannot be coded in %zu bytes, at most %lld pixels a byte",
+                  cinfo.image_width, cinfo.image_height, size, kMaxJpegPixelsPerByte);
     *offset = 0;
     jpeg_destroy_decompress(&cinfo);
     return false;
@@ -181,6 +228,32 @@ class PpmHeader {
   size_t last_start_ = 0;
 };
 
+// The largest frame file: kMaxPixels of RGB plus room for headers and metadata.
+constexpr size_t kMaxFrameFileBytes = static_cast<size_t>(kMaxPixels) * 3 + (1 << 20);
+constexpr size_t kPpmHeaderBytes = 1 << 16;
+
+// At most `n` first bytes of a file (fewer if it is shorter; none if it cannot be read: the
+// full read reports that).
+std::vector<uint8_t> ReadFileHead(const std::string& path, size_t n) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return {};
+  std::ifstream in(path, std::ios::binary);
+  std::vector<uint8_t> head(n);
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(n));
+  head.resize(in ? n : static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return head;
+}
+
+// The width, height and maxval of a P6 header (the magic number already checked); the size
+// checked against kMaxPixels.
+void CheckPpmHeader(const std::vector<uint8_t>& head, const std::string& name) {
+  PpmHeader header(head, name);
+  header.Skip(2);
+  const long long width = header.Number("width");
+  const long long height = header.Number("height");
+  CheckSize(name, width, height);
+}
+
 bool HasExtension(const fs::path& path, std::initializer_list<const char*> extensions) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -193,13 +266,26 @@ bool HasExtension(const fs::path& path, std::initializer_list<const char*> exten
 
 }  // namespace
 
-std::vector<uint8_t> ReadFileBytes(const std::string& path) {
-  if (fs::is_directory(path)) throw InputError(path + ": is a directory; expected a file");
+namespace {
+std::vector<uint8_t> ReadFileBytesAtMost(const std::string& path, size_t max_bytes) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory; expected a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file; expected a readable file");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                             std::istreambuf_iterator<char>());
+  const uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > max_bytes) {
+    throw InputError(path + ": " + std::to_string(size) + " bytes; expected at most " +
+                     std::to_string(max_bytes) + " bytes for a frame");
+  }
+  std::vector<uint8_t> bytes(ec ? 0 : static_cast<size_t>(size));
+  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  bytes.resize(static_cast<size_t>(in.gcount()));
   return bytes;
+}
+}  // namespace
+
+std::vector<uint8_t> ReadFileBytes(const std::string& path) {
+  return ReadFileBytesAtMost(path, kMaxFrameFileBytes);
 }
 
 Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name) {
@@ -216,7 +302,10 @@ Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name) {
     png_image_free(&png);
     throw InputError(name + ": corrupt PNG (libpng: " + message + "); expected a valid PNG image");
   }
-  CheckSize(name, png.width, png.height);
+  if (static_cast<long long>(png.width) * png.height > kMaxPixels) {
+    png_image_free(&png);  // the size check must not leak libpng's read struct
+    CheckSize(name, png.width, png.height);
+  }
   png.format = PNG_FORMAT_RGB;
   Image image;
   image.width_px = static_cast<int>(png.width);
@@ -277,6 +366,12 @@ Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name) {
 }
 
 Image ReadFrame(const std::string& path) {
+  // A PPM header states the size: check it on the first bytes before reading a file of
+  // gigabytes (a 20000x20000 PPM is rejected after 64 kB, not 1.2 GB).
+  if (const std::vector<uint8_t> head = ReadFileHead(path, kPpmHeaderBytes);
+      head.size() >= 2 && head[0] == 'P' && head[1] == '6') {
+    CheckPpmHeader(head, path);
+  }
   const std::vector<uint8_t> bytes = ReadFileBytes(path);
   if (bytes.size() >= 8 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N' &&
       bytes[3] == 'G') {
@@ -310,8 +405,23 @@ Image ReadRawUyvy(const std::string& path, int width_px, int height_px) {
                      "; expected a positive even width and a positive height");
   }
   CheckSize(path, width_px, height_px);
-  std::vector<uint8_t> bytes = ReadFileBytes(path);
   const size_t expected = static_cast<size_t>(width_px) * height_px * 2;
+  // Read at most one byte more than a frame needs: a wrong size is found without reading a file
+  // of gigabytes.
+  std::vector<uint8_t> bytes;
+  {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory; expected a file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open file; expected a readable file");
+    const uintmax_t size = fs::file_size(path, ec);
+    if (!ec && size != expected) {
+      throw InputError(path + ": " + std::to_string(size) + " bytes; expected " +
+                       std::to_string(expected) + " bytes for a " + std::to_string(width_px) + "x" +
+                       std::to_string(height_px) + " UYVY frame (width x height x 2)");
+    }
+    bytes = ReadFileHead(path, expected + 1);
+  }
   if (bytes.size() != expected) {
     throw InputError(path + ": " + std::to_string(bytes.size()) + " bytes; expected " +
                      std::to_string(expected) + " bytes for a " + std::to_string(width_px) + "x" +
@@ -343,21 +453,10 @@ std::vector<uint8_t> EncodePng(const Image& image) {
 }
 
 namespace {
+// One file through io::WriteFilesAtomic: a hidden temporary beside it, removed on any failure or
+// on SIGINT/SIGTERM (docs/hardening.md).
 void WriteAtomically(const std::string& path, const std::vector<uint8_t>& bytes) {
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path + ": cannot write file; expected a writable location");
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw InputError(path + ": cannot write file; expected a writable location");
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(path + ": cannot write file; expected a writable location");
-  }
+  io::WriteFilesAtomic({{path, std::string(bytes.begin(), bytes.end())}});
 }
 }  // namespace
 
@@ -373,6 +472,48 @@ void WritePpm(const Image& image, const std::string& path) {
   bytes.insert(bytes.end(), rgb.data.begin(), rgb.data.end());
   WriteAtomically(path, bytes);
 }
+
+namespace {
+
+// The frames a .txt/.list file names, one a line ('#' starts a comment), relative to its folder;
+// a frame that does not exist is reported at its line.
+void AppendListedFrames(const fs::path& path, const std::string& argument,
+                        std::vector<std::string>* frames) {
+  std::ifstream in(path);
+  if (!in) throw InputError(argument + ": cannot open file; expected a readable list of frames");
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    const size_t begin = line.find_first_not_of(" \t\r");
+    if (begin == std::string::npos) continue;
+    const size_t end = line.find_last_not_of(" \t\r");
+    fs::path frame(line.substr(begin, end - begin + 1));
+    if (frame.is_relative()) frame = path.parent_path() / frame;
+    std::error_code ec;
+    if (!fs::exists(frame, ec)) {
+      throw InputError(FileLoc{argument, line_number},
+                       "frame '" + EscapeForMessage(frame.string(), 1024) +
+                           "' not found; expected a frame file, one a line");
+    }
+    frames->push_back(frame.string());
+  }
+}
+
+// Frame names go into UTF-8 CSV and JSON results: a name that is not UTF-8 is refused before the
+// first frame, not by the JSON writer after the last.
+void CheckUtf8Names(const std::vector<std::string>& frames) {
+  for (const std::string& frame : frames) {
+    if (!IsValidUtf8(frame)) {
+      throw InputError(EscapeForMessage(frame, 1024) +
+                       ": the file name is not valid UTF-8; expected UTF-8 file names (they go "
+                       "into the results)");
+    }
+  }
+}
+
+}  // namespace
 
 std::vector<std::string> ExpandFrameList(const std::vector<std::string>& arguments) {
   std::vector<std::string> frames;
@@ -398,23 +539,12 @@ std::vector<std::string> ExpandFrameList(const std::vector<std::string>& argumen
       std::sort(found.begin(), found.end());
       frames.insert(frames.end(), found.begin(), found.end());
     } else if (HasExtension(path, {".txt", ".list"})) {
-      std::ifstream in(path);
-      if (!in)
-        throw InputError(argument + ": cannot open file; expected a readable list of frames");
-      std::string line;
-      while (std::getline(in, line)) {
-        if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-        const size_t begin = line.find_first_not_of(" \t\r");
-        if (begin == std::string::npos) continue;
-        const size_t end = line.find_last_not_of(" \t\r");
-        fs::path frame(line.substr(begin, end - begin + 1));
-        if (frame.is_relative()) frame = path.parent_path() / frame;
-        frames.push_back(frame.string());
-      }
+      AppendListedFrames(path, argument, &frames);
     } else {
       frames.push_back(argument);
     }
   }
+  CheckUtf8Names(frames);
   return frames;
 }
 

@@ -43,7 +43,8 @@ void WritePpm(const Image& image, const std::string& path);
 // anything else is a frame path. Throws InputError for a missing path or an empty directory.
 std::vector<std::string> ExpandFrameList(const std::vector<std::string>& arguments);
 
-// Reads a whole file; InputError when it cannot be opened.
+// Reads a whole file; InputError when it cannot be opened, is a directory, or is larger than a
+// frame can be (2^28 pixels of RGB plus 1 MiB), checked before anything is allocated.
 std::vector<uint8_t> ReadFileBytes(const std::string& path);
 
 }  // namespace patlab::vision

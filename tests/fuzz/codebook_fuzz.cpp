@@ -1,0 +1,15 @@
+// Codebooks (detect/codebook.h) for the shipped SSL standard pattern.
+#include "fuzz_util.h"
+#include "patlab/detect/codebook.h"
+#include "patlab/io/pattern_file.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const patlab::Pattern pattern =
+      patlab::io::LoadPatternFile(PATLAB_SOURCE_DIR "/patterns/ssl-standard.toml");
+  static const patlab::detect::Symmetry symmetry = patlab::detect::FindSymmetry(pattern, 10.0);
+  patlab::fuzz::ExpectInputErrorOnly([&] {
+    (void)patlab::detect::ParseCodebook(patlab::fuzz::Text(data, size), "fuzz.codebook.toml",
+                                        pattern, symmetry);
+  });
+  return 0;
+}

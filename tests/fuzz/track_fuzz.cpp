@@ -1,0 +1,11 @@
+// Track experiment files (sim/track_file.h).
+#include "fuzz_util.h"
+#include "patlab/sim/track_file.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  patlab::fuzz::ExpectInputErrorOnly([&] {
+    (void)patlab::sim::ParseTrackExperiment(patlab::fuzz::Text(data, size),
+                                            PATLAB_SOURCE_DIR "/experiments/fuzz.toml");
+  });
+  return 0;
+}
