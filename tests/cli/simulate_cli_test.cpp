@@ -177,9 +177,12 @@ TEST(SimulateCliHardening, InterruptedRunLeavesNothing) {
                           "/patterns\"\npatterns = [\"butterfly\"]\ntrials = 1000000\n[sigma]\n"
                           "from = 0\nto = 4\nsteps = 400\n");
   dir.Write("out/old.txt", "untouched");
-  const auto r = RunCommand("(" + std::string(PATLAB_BINARY) + " simulate " + experiment +
-                            " -q --threads 1 --out " + dir.Path("out") +
-                            " & pid=$!; sleep 1; kill -TERM $pid; wait $pid; echo status $?)");
+  // Appended piece by piece: GCC 12's -Wrestrict misfires on "(" + std::string under -Werror.
+  std::string command = "(";
+  command.append(PATLAB_BINARY).append(" simulate ").append(experiment);
+  command.append(" -q --threads 1 --out ").append(dir.Path("out"));
+  command.append(" & pid=$!; sleep 1; kill -TERM $pid; wait $pid; echo status $?)");
+  const auto r = RunCommand(command);
   EXPECT_EQ(r.out, "status 143\n") << r.err;
   std::set<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(dir.Path("out"))) {
