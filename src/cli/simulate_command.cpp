@@ -133,6 +133,13 @@ std::string ShardPath(const sim::Experiment& experiment, const SimulateOptions& 
       .string();
 }
 
+// The files the run will write: the CSV and the manifest, or the shard file with --shard.
+std::vector<std::string> TargetPaths(const sim::Experiment& experiment, const SimulateOptions& o,
+                                     const OutputFiles& files, const sim::RunOptions& run_options) {
+  if (o.shard.empty()) return {files.csv_path, files.json_path};
+  return {ShardPath(experiment, o, run_options.shard)};
+}
+
 // Threads, and a progress bar on stderr when it is a terminal and -q was not given.
 sim::RunOptions RunOptionsFor(const SimulateOptions& o) {
   sim::RunOptions run_options;
@@ -152,9 +159,7 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
   }
   const OutputFiles files = Outputs(experiment, o, args);
   const sim::RunOptions run_options = RunOptionsFor(o);
-  io::CheckWritable(o.shard.empty() ? std::vector<std::string>{files.csv_path, files.json_path}
-                                    : std::vector<std::string>{
-                                          ShardPath(experiment, o, run_options.shard)});
+  io::CheckWritable(TargetPaths(experiment, o, files, run_options));
   const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
   if (!o.shard.empty()) {
     const std::string path = ShardPath(experiment, o, run_options.shard);
@@ -210,9 +215,7 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
 
   const OutputFiles files = Outputs(experiment, o, args);
   const sim::RunOptions run_options = RunOptionsFor(o);
-  io::CheckWritable(o.shard.empty() ? std::vector<std::string>{files.csv_path, files.json_path}
-                                    : std::vector<std::string>{
-                                          ShardPath(experiment, o, run_options.shard)});
+  io::CheckWritable(TargetPaths(experiment, o, files, run_options));
   CheckMemory(experiment);
   const sim::RunResult result = sim::RunExperiment(experiment, run_options);
   if (!o.shard.empty()) {
@@ -221,9 +224,9 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
                                          BaseName(experiment, o), files.command_line)}});
     return kExitOk;
   }
-  WriteOutputs(files, sim::ResultsCsv(experiment, result),
-               sim::ManifestJson(experiment, result, files.command_line,
-                                 {files.csv_path, files.json_path}));
+  WriteOutputs(
+      files, sim::ResultsCsv(experiment, result),
+      sim::ManifestJson(experiment, result, files.command_line, {files.csv_path, files.json_path}));
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "
