@@ -115,3 +115,12 @@ TEST(PatternFile, MissingFileIsAnInputError) {
 
 }  // namespace
 }  // namespace patlab::io
+
+// A name longer than the file system takes (fuzzing found std::filesystem_error escaping here) is
+// a pattern that is not found.
+TEST(PatternFile, NameTheFileSystemRefusesIsNotFound) {
+  const std::string name(300, 'a');
+  EXPECT_INPUT_ERROR(
+      patlab::io::ResolvePatternPath(name, "patterns"),
+      "pattern '" + name + "' not found; expected a pattern file path or a name in patterns/");
+}

@@ -212,9 +212,12 @@ Pattern ParsePattern(std::string_view text, const std::string& source_name) {
 
 std::string ResolvePatternPath(const std::string& reference, const std::string& patterns_dir) {
   namespace fs = std::filesystem;
-  if (fs::exists(reference)) return reference;
+  // The error_code overloads: a name the file system refuses (too long, a symlink loop) is a
+  // name that is not found, never an exception of another type (found by fuzzing).
+  std::error_code ec;
+  if (fs::exists(reference, ec)) return reference;
   const fs::path candidate = fs::path(patterns_dir) / (reference + ".toml");
-  if (fs::exists(candidate)) return candidate.string();
+  if (fs::exists(candidate, ec)) return candidate.string();
   throw InputError("pattern '" + reference +
                    "' not found; expected a pattern file path or a name in " + patterns_dir + "/");
 }

@@ -28,15 +28,6 @@ struct FrameSlot {
   int false_blobs = 0, missing_patches = 0, colour_errors = 0;
 };
 
-AxisSummary Summarise(const std::vector<double>& v) {
-  if (v.size() < 2) {
-    const double nan = std::nan("");
-    return AxisSummary{v.empty() ? nan : v[0], nan, nan, nan};
-  }
-  const stats::StdWithCi s = stats::StdWithConfidence(v, 0.95);
-  return AxisSummary{stats::Mean(v), s.std, s.lower, s.upper};
-}
-
 }  // namespace
 
 int NumDetectPoints(const Experiment& experiment) {
@@ -90,18 +81,18 @@ namespace {
 // Stage 1: the point's frames in parallel, each into its slot. A Detector is not thread-safe:
 // one per thread, all built from the same configuration (their output does not depend on
 // which). Returns the geometric tolerance the detectors applied.
-double RunFrames(const Experiment& experiment, const DetectPoint& point,
+double RunFrames(const Experiment& experiment, const DetectPoint& point, const WorkBlock& block,
                  std::vector<FrameSlot>* slots) {
   const double match_radius_mm = experiment.detect.match_radius_mm;
   tbb::enumerable_thread_specific<detect::Detector> detectors(
       [&point] { return detect::Detector(point.config); });
-  tbb::parallel_for(tbb::blocked_range<int64_t>(0, static_cast<int64_t>(slots->size()), 16),
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, block.count, 16),
                     [&](const tbb::blocked_range<int64_t>& range) {
                       detect::Detector& detector = detectors.local();
                       std::vector<detect::Detection> detections;
                       for (int64_t f = range.begin(); f != range.end(); ++f) {
-                        const Scene scene = GenerateDetectFrame(experiment, point, detector,
-                                                                static_cast<uint64_t>(f));
+                        const Scene scene = GenerateDetectFrame(
+                            experiment, point, detector, static_cast<uint64_t>(block.first + f));
                         FrameSlot& slot = (*slots)[f];
                         detector.Detect(scene.blobs, &detections, &slot.stats);
                         slot.score = ScoreFrame(scene, detections, match_radius_mm);
@@ -113,10 +104,18 @@ double RunFrames(const Experiment& experiment, const DetectPoint& point,
   return detectors.local().ResidualTolerance(0);
 }
 
-// Stage 2a: the counters and pose errors of every frame, summed serially in frame order.
-void SumFrames(const std::vector<FrameSlot>& slots, DetectPointResult* r) {
+// The pose errors of the correct detections, as moments folded block by block.
+struct ErrorMoments {
+  stats::Moments x, y, theta;
+};
+
+// Stage 2a: the counters and pose errors of a block's frames, summed serially in frame order;
+// the block's error moments fold into `m` (runner.h, kStatisticsBlockFrames).
+void SumFrames(const std::vector<FrameSlot>& slots, int64_t count, DetectPointResult* r,
+               ErrorMoments* m) {
   std::vector<double> ex, ey, et;
-  for (const FrameSlot& slot : slots) {
+  for (int64_t f = 0; f < count; ++f) {
+    const FrameSlot& slot = slots[f];
     const FrameScore& s = slot.score;
     r->robots += s.robots;
     r->correct += s.correct;
@@ -135,9 +134,13 @@ void SumFrames(const std::vector<FrameSlot>& slots, DetectPointResult* r) {
       et.push_back(e.dtheta_rad);
     }
   }
-  r->x = Summarise(ex);
-  r->y = Summarise(ey);
-  r->theta = Summarise(et);
+  if (ex.empty()) return;
+  const std::span<const double> columns[3] = {ex, ey, et};
+  stats::Moments block[3];
+  stats::MomentsOfEach(columns, block);
+  m->x = stats::CombineMoments(m->x, block[0]);
+  m->y = stats::CombineMoments(m->y, block[1]);
+  m->theta = stats::CombineMoments(m->theta, block[2]);
 }
 
 // Stage 2b: the rates with their 95% intervals, and the bound at the point's sigma.
@@ -180,27 +183,38 @@ DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptio
 
   DetectRunResult result;
   result.threads = limit.threads();
-  std::vector<uint32_t> grid_points;  // the share's points, in grid order
-  for (int p = 0; p < NumDetectPoints(experiment); ++p) {
-    if (options.shard.Holds(p)) grid_points.push_back(static_cast<uint32_t>(p));
-  }
-  const int total_points = static_cast<int>(grid_points.size());
-  std::vector<FrameSlot> slots(experiment.detect.frames);
-  for (int index = 0; index < total_points; ++index) {
-    const DetectPoint point = MakeDetectPoint(experiment, grid_points[index]);
+  const int64_t frames = experiment.detect.frames;
+  const int64_t blocks_per_point = BlocksPerPoint(frames, kStatisticsBlockFrames);
+  RequireWholePoints(options.shard, blocks_per_point, "frames", kStatisticsBlockFrames);
+  const std::vector<WorkBlock> work =
+      ShareBlocks(NumDetectPoints(experiment), frames, kStatisticsBlockFrames, options.shard);
+  std::vector<FrameSlot> slots(std::min(frames, kStatisticsBlockFrames));
+  ErrorMoments moments;
+  for (size_t index = 0; index < work.size(); ++index) {
+    const WorkBlock& w = work[index];
+    const DetectPoint point = MakeDetectPoint(experiment, static_cast<uint32_t>(w.point));
+    if (w.block == 0) {
+      result.points.push_back(PointHeader(experiment, point));
+      moments = ErrorMoments{};
+    }
+    DetectPointResult& r = result.points.back();
     const auto sim_start = Clock::now();
-    const double tolerance_mm2 = RunFrames(experiment, point, &slots);
+    r.tolerance_mm2 = RunFrames(experiment, point, w, &slots);
     result.simulate_seconds += SecondsSince(sim_start);
 
     const auto stats_start = Clock::now();
-    DetectPointResult r = PointHeader(experiment, point);
-    r.tolerance_mm2 = tolerance_mm2;
-    SumFrames(slots, &r);
-    FillRates(experiment, point, &r);
+    SumFrames(slots, w.count, &r, &moments);
+    if (w.block == blocks_per_point - 1) {
+      r.x = SummariseMoments(moments.x);
+      r.y = SummariseMoments(moments.y);
+      r.theta = SummariseMoments(moments.theta);
+      FillRates(experiment, point, &r);
+    }
     result.statistics_seconds += SecondsSince(stats_start);
-    result.total_frames += r.frames;
-    result.points.push_back(std::move(r));
-    if (options.progress) options.progress(index + 1, total_points);
+    result.total_frames += w.count;
+    if (options.progress) {
+      options.progress(static_cast<int>(index + 1), static_cast<int>(work.size()));
+    }
   }
   result.wall_seconds = SecondsSince(wall_start);
   return result;

@@ -26,7 +26,8 @@ std::string CodebookFileFor(const std::string& pattern_file) {
   fs::path p(pattern_file);
   if (p.extension() != ".toml") return "";
   p.replace_extension(".codebook.toml");
-  return fs::is_regular_file(p) ? p.string() : "";
+  std::error_code ec;  // a name the file system refuses has no codebook
+  return fs::is_regular_file(p, ec) ? p.string() : "";
 }
 
 // The palette of the frames: team colours, the codebook's colours, fixed-patch colours, the ball.

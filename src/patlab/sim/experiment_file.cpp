@@ -306,7 +306,8 @@ void ReadDetectorSettings(const TomlReader& d, const fs::path& base, DetectSetti
   if (!d.Has("settings")) d.Fail("settings", "missing " + d.Describe("settings") + "; " + expected);
   const std::string settings = d.String("settings");
   s->settings_file = (base / settings).lexically_normal().string();
-  if (!fs::is_regular_file(s->settings_file)) {
+  std::error_code ec;  // a name the file system refuses is not a file
+  if (!fs::is_regular_file(s->settings_file, ec)) {
     d.Fail("settings", d.Describe("settings") + " is \"" + settings + "\", but " +
                            s->settings_file + " is not a file; " + expected);
   }

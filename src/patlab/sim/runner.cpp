@@ -37,39 +37,54 @@ struct Samples {
   }
 };
 
-AxisSummary Summarise(const stats::MeanAndStd& m, double n) {
-  const stats::StdWithCi s = stats::StdConfidenceInterval(m.std, n - 1.0, 0.95);
-  return AxisSummary{m.mean, s.std, s.lower, s.upper};
-}
+// What one block of a point's trials leaves for one estimator. Blocks fold in trial order
+// (Fold), and the folded blocks make the EstimatorResult (FinishEstimator).
+struct EstimatorBlock {
+  stats::Moments x, y, theta, radial;
+  double sum_sq = 0.0;  // sum of ex^2 + ey^2 (the radial RMS)
+  int64_t iterations = 0, nonconverged = 0, first_nonconverged_trial = -1;  // ml
+  Comparison vs_fast;                                                       // the first block's
+};
 
-// The radial errors go to a buffer of the thread, reused from point to point (a fresh array of
-// 10^5 values costs more in page faults than its statistics); FillEstimatorResult is serial code,
-// so no other task can take the buffer while it is in use. The four means and stds come from one
-// interleaved pass each (stats::MeanAndStdOfEach, bit-identical to Mean and SampleStd).
-void FillEstimatorResult(const Samples& s, EstimatorResult* r) {
+// The radial errors go to a buffer of the thread, reused from block to block (a fresh array of
+// 10^5 values costs more in page faults than its statistics); BlockMoments is serial code, so no
+// other task can take the buffer while it is in use. The four columns' moments come from one
+// interleaved pass each (stats::MomentsOfEach, the arithmetic of Mean and SampleStd).
+void BlockMoments(const Samples& s, size_t size, EstimatorBlock* b) {
   thread_local std::vector<double> radial_buffer;
-  const size_t size = s.x.size();
   if (radial_buffer.size() < size) radial_buffer.resize(size);
   const std::span<double> radial(radial_buffer.data(), size);
-  const double n = static_cast<double>(size);
   double sum_sq = 0.0;
   for (size_t k = 0; k < size; ++k) {
     const double sq = s.x[k] * s.x[k] + s.y[k] * s.y[k];
     sum_sq += sq;
     radial[k] = std::sqrt(sq);
   }
-  const std::span<const double> columns[4] = {s.x, s.y, s.theta, radial};
-  stats::MeanAndStd m[4];
-  stats::MeanAndStdOfEach(columns, m);
-  r->x = Summarise(m[0], n);
-  r->y = Summarise(m[1], n);
-  r->theta = Summarise(m[2], n);
-  r->position_std_mm = std::sqrt((r->x.std * r->x.std + r->y.std * r->y.std) / 2.0);
-  const stats::StdWithCi pooled = stats::StdConfidenceInterval(r->position_std_mm, 2.0 * (n - 1.0));
-  r->position_std_lower_mm = pooled.lower;
-  r->position_std_upper_mm = pooled.upper;
-  r->radial_rms_mm = std::sqrt(sum_sq / n);
-  r->radial = Summarise(m[3], n);
+  const std::span<const double> columns[4] = {
+      std::span<const double>(s.x.data(), size), std::span<const double>(s.y.data(), size),
+      std::span<const double>(s.theta.data(), size), radial};
+  stats::Moments m[4];
+  stats::MomentsOfEach(columns, m);
+  b->x = m[0];
+  b->y = m[1];
+  b->theta = m[2];
+  b->radial = m[3];
+  b->sum_sq = sum_sq;
+}
+
+EstimatorBlock Fold(const EstimatorBlock& a, const EstimatorBlock& b) {
+  EstimatorBlock f;
+  f.x = stats::CombineMoments(a.x, b.x);
+  f.y = stats::CombineMoments(a.y, b.y);
+  f.theta = stats::CombineMoments(a.theta, b.theta);
+  f.radial = stats::CombineMoments(a.radial, b.radial);
+  f.sum_sq = a.sum_sq + b.sum_sq;
+  f.iterations = a.iterations + b.iterations;
+  f.nonconverged = a.nonconverged + b.nonconverged;
+  f.first_nonconverged_trial =
+      a.first_nonconverged_trial >= 0 ? a.first_nonconverged_trial : b.first_nonconverged_trial;
+  f.vs_fast = a.x.n == 0 ? b.vs_fast : a.vs_fast;
+  return f;
 }
 
 // Wilcoxon signed-rank of paired samples. A difference below 1e-10 (mm or rad) + 1e-12 relative
@@ -102,10 +117,10 @@ stats::WilcoxonResult PairedTest(size_t size, Value value) {
   return stats::WilcoxonSignedRank(d);
 }
 
-Comparison Compare(const Samples& fast, const Samples& other) {
+Comparison Compare(const Samples& fast, const Samples& other, size_t n) {
   Comparison c;
   c.computed = true;
-  const size_t n = fast.x.size();
+  c.trials = static_cast<int64_t>(n);
   // |error| (errors are far from overflow, so no need for hypot's scaling).
   const auto position = [&](size_t k) {
     return std::pair{std::sqrt(fast.x[k] * fast.x[k] + fast.y[k] * fast.y[k]),
@@ -114,11 +129,15 @@ Comparison Compare(const Samples& fast, const Samples& other) {
   const auto theta = [&](size_t k) {
     return std::pair{std::abs(fast.theta[k]), std::abs(other.theta[k])};
   };
-  tbb::parallel_invoke([&] { c.ks_x = stats::KsTwoSample(fast.x, other.x); },
-                       [&] { c.ks_y = stats::KsTwoSample(fast.y, other.y); },
-                       [&] { c.ks_theta = stats::KsTwoSample(fast.theta, other.theta); },
-                       [&] { c.wilcoxon_position = PairedTest(n, position); },
-                       [&] { c.wilcoxon_theta = PairedTest(n, theta); });
+  const auto head = [n](const std::vector<double>& v) {
+    return std::span<const double>(v.data(), n);
+  };
+  tbb::parallel_invoke(
+      [&] { c.ks_x = stats::KsTwoSample(head(fast.x), head(other.x)); },
+      [&] { c.ks_y = stats::KsTwoSample(head(fast.y), head(other.y)); },
+      [&] { c.ks_theta = stats::KsTwoSample(head(fast.theta), head(other.theta)); },
+      [&] { c.wilcoxon_position = PairedTest(n, position); },
+      [&] { c.wilcoxon_theta = PairedTest(n, theta); });
   return c;
 }
 
@@ -181,9 +200,10 @@ PatternBounds BoundsOf(const estimate::Model& model, const std::vector<Estimator
   return bounds;
 }
 
-// Stage 1: the point's trials in fixed batches (any thread may run any batch), each batch
-// writing at its first trial's offset of every output array.
-void RunTrials(const PointSetup& setup, int64_t trials, const BatchOutput& output) {
+// Stage 1: trials first_trial .. first_trial + trials - 1 of a point (a block) in fixed batches
+// (any thread may run any batch), each batch writing at its offset in the block's arrays.
+void RunTrials(const PointSetup& setup, int64_t first_trial, int64_t trials,
+               const BatchOutput& output) {
   const int64_t num_batches = (trials + kBatchSize - 1) / kBatchSize;
   tbb::parallel_for(
       tbb::blocked_range<int64_t>(0, num_batches, 1),
@@ -200,7 +220,7 @@ void RunTrials(const PointSetup& setup, int64_t trials, const BatchOutput& outpu
           }
           at.ml_iterations += first;
           at.ml_termination += first;
-          RunBatch(setup, static_cast<uint64_t>(first), count, at);
+          RunBatch(setup, static_cast<uint64_t>(first_trial + first), count, at);
         }
       },
       tbb::simple_partitioner());
@@ -226,36 +246,62 @@ void FillBounds(const NoiseModel& noise, const PatternBounds& bounds, double sig
   r->predicted_theta_rad = sigma_mm * pr.theta * noise_scale;
 }
 
-// ml: non-converged trials (the first for replay) and the mean Newton steps.
-void FillMlCounters(const PointBuffers& pb, int64_t trials, EstimatorResult* r) {
+// ml: non-converged trials (the first for replay, as a trial index of the point) and the Newton
+// steps of a block.
+void MlCounters(const PointBuffers& pb, int64_t first_trial, int64_t trials, EstimatorBlock* b) {
   int64_t iterations = 0;
   for (int64_t t = 0; t < trials; ++t) {
     iterations += pb.ml_iterations[t];
     if (pb.ml_termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
-      if (r->first_nonconverged_trial < 0) r->first_nonconverged_trial = t;
-      ++r->nonconverged;
+      if (b->first_nonconverged_trial < 0) b->first_nonconverged_trial = first_trial + t;
+      ++b->nonconverged;
     }
   }
-  r->mean_iterations = static_cast<double>(iterations) / static_cast<double>(trials);
+  b->iterations = iterations;
 }
 
-// Stage 2: every estimator's statistics of one point, from its samples in `pb`.
-void PointStatistics(const Experiment& experiment, const PointBuffers& pb,
-                     const PatternBounds& bounds, PointResult* point) {
+// Stage 2: every estimator's block statistics, from the block's samples in `pb`; the first block
+// also compares each estimator with fast.
+void BlockStatistics(const Experiment& experiment, const PointBuffers& pb, double sigma_mm,
+                     int64_t first_trial, int64_t trials, std::span<EstimatorBlock> out) {
   const bool has_fast = std::find(experiment.estimators.begin(), experiment.estimators.end(),
                                   Estimator::kFast) != experiment.estimators.end();
+  const size_t n = static_cast<size_t>(trials);
   tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
     const Estimator e = experiment.estimators[k];
-    EstimatorResult& r = point->estimators[k];
-    r.estimator = e;
-    FillEstimatorResult(pb.samples[static_cast<int>(e)], &r);
-    FillBounds(experiment.noise, bounds, point->sigma_mm, &r);
-    if (e == Estimator::kMl) FillMlCounters(pb, point->trials, &r);
-    if (e != Estimator::kFast && has_fast && point->sigma_mm > 0.0) {
-      r.vs_fast =
-          Compare(pb.samples[static_cast<int>(Estimator::kFast)], pb.samples[static_cast<int>(e)]);
+    EstimatorBlock& b = out[k];
+    BlockMoments(pb.samples[static_cast<int>(e)], n, &b);
+    if (e == Estimator::kMl) MlCounters(pb, first_trial, trials, &b);
+    if (first_trial == 0 && e != Estimator::kFast && has_fast && sigma_mm > 0.0) {
+      b.vs_fast = Compare(pb.samples[static_cast<int>(Estimator::kFast)],
+                          pb.samples[static_cast<int>(e)], n);
     }
   });
+}
+
+// The estimator's result from its blocks, folded in trial order.
+EstimatorResult FinishEstimator(const Experiment& experiment, const PatternBounds& bounds,
+                                double sigma_mm, Estimator e, const EstimatorBlock& f) {
+  EstimatorResult r;
+  r.estimator = e;
+  const double n = static_cast<double>(f.x.n);
+  r.x = SummariseMoments(f.x);
+  r.y = SummariseMoments(f.y);
+  r.theta = SummariseMoments(f.theta);
+  r.position_std_mm = std::sqrt((r.x.std * r.x.std + r.y.std * r.y.std) / 2.0);
+  const stats::StdWithCi pooled = stats::StdConfidenceInterval(r.position_std_mm, 2.0 * (n - 1.0));
+  r.position_std_lower_mm = pooled.lower;
+  r.position_std_upper_mm = pooled.upper;
+  r.radial_rms_mm = std::sqrt(f.sum_sq / n);
+  r.radial = SummariseMoments(f.radial);
+  FillBounds(experiment.noise, bounds, sigma_mm, &r);
+  if (e == Estimator::kMl) {
+    r.nonconverged = f.nonconverged;
+    r.first_nonconverged_trial = f.first_nonconverged_trial;
+    r.mean_iterations = static_cast<double>(f.iterations) / n;
+  }
+  r.vs_fast = f.vs_fast;
+  return r;
 }
 
 PointResult PointHeader(const Experiment& experiment, int pattern_index, int sigma_index) {
@@ -291,42 +337,100 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   RunResult result;
   result.threads = limit.threads();
   const int num_sigmas = static_cast<int>(experiment.sigmas_mm.size());
-  std::vector<int> grid_points;  // the share's points, in grid order
-  for (int p = 0; p < static_cast<int>(experiment.patterns.size()) * num_sigmas; ++p) {
-    if (options.shard.Holds(p)) grid_points.push_back(p);
-  }
-  const int total_points = static_cast<int>(grid_points.size());
-  result.points.resize(total_points);
-  PointBuffers buffers[2] = {{experiment.estimators, experiment.trials},
-                             {experiment.estimators, experiment.trials}};
+  const int64_t num_points = static_cast<int64_t>(experiment.patterns.size()) * num_sigmas;
+  const std::vector<WorkBlock> work =
+      ShareBlocks(num_points, experiment.trials, kStatisticsBlockTrials, options.shard);
+  const int64_t blocks_per_point = BlocksPerPoint(experiment.trials, kStatisticsBlockTrials);
+  RequireWholePoints(options.shard, blocks_per_point, "trials", kStatisticsBlockTrials);
+  const size_t num_estimators = experiment.estimators.size();
+  std::vector<EstimatorBlock> blocks(work.size() * num_estimators);
+  const int64_t buffer_trials = std::min(experiment.trials, kStatisticsBlockTrials);
+  PointBuffers buffers[2] = {{experiment.estimators, buffer_trials},
+                             {experiment.estimators, buffer_trials}};
   tbb::task_group statistics[2];
   std::atomic<int64_t> statistics_ns{0};
 
-  for (int index = 0; index < total_points; ++index) {
-    const int pi = grid_points[index] / num_sigmas, si = grid_points[index] % num_sigmas;
+  for (size_t index = 0; index < work.size(); ++index) {
+    const WorkBlock& w = work[index];
+    const int pi = static_cast<int>(w.point / num_sigmas),
+              si = static_cast<int>(w.point % num_sigmas);
     PointBuffers& pb = buffers[index % 2];
-    statistics[index % 2].wait();  // point index - 2 is done with these arrays
+    statistics[index % 2].wait();  // block index - 2 is done with these arrays
     const estimate::Model model = estimate::Model::FromPattern(experiment.patterns[pi]);
     const PointSetup setup = MakePointSetup(experiment, model, pi, si);
     const auto sim_start = Clock::now();
-    RunTrials(setup, experiment.trials, pb.output);
+    RunTrials(setup, w.first, w.count, pb.output);
     result.simulate_seconds += SecondsSince(sim_start);
 
-    PointResult& point = result.points[index] = PointHeader(experiment, pi, si);
-    statistics[index % 2].run([&experiment, &pb, &point, &statistics_ns,
-                               bounds = BoundsOf(model, experiment.estimators)] {
+    const std::span<EstimatorBlock> out(blocks.data() + index * num_estimators, num_estimators);
+    statistics[index % 2].run([&experiment, &pb, &statistics_ns, out, w, sigma = setup.sigma_mm] {
       const auto stats_start = Clock::now();
-      PointStatistics(experiment, pb, bounds, &point);
+      BlockStatistics(experiment, pb, sigma, w.first, w.count, out);
       statistics_ns += Nanoseconds(stats_start);
     });
-    result.total_trials += experiment.trials;
-    if (options.progress) options.progress(index + 1, total_points);
+    result.total_trials += w.count;
+    if (options.progress) {
+      options.progress(static_cast<int>(index + 1), static_cast<int>(work.size()));
+    }
   }
   statistics[0].wait();
   statistics[1].wait();
+  // Every point's blocks, folded in trial order (docs/architecture.md rule 2).
+  for (size_t begin = 0; begin < work.size(); begin += static_cast<size_t>(blocks_per_point)) {
+    const WorkBlock& w = work[begin];
+    PATLAB_CHECK(w.block == 0 && begin + blocks_per_point <= work.size() &&
+                 work[begin + blocks_per_point - 1].point == w.point);
+    const int pi = static_cast<int>(w.point / num_sigmas),
+              si = static_cast<int>(w.point % num_sigmas);
+    PointResult& point = result.points.emplace_back(PointHeader(experiment, pi, si));
+    const PatternBounds bounds =
+        BoundsOf(estimate::Model::FromPattern(experiment.patterns[pi]), experiment.estimators);
+    for (size_t k = 0; k < num_estimators; ++k) {
+      EstimatorBlock folded = blocks[begin * num_estimators + k];
+      for (int64_t b = 1; b < blocks_per_point; ++b) {
+        folded = Fold(folded, blocks[(begin + b) * num_estimators + k]);
+      }
+      point.estimators[k] =
+          FinishEstimator(experiment, bounds, point.sigma_mm, experiment.estimators[k], folded);
+    }
+  }
   result.statistics_seconds = static_cast<double>(statistics_ns.load()) * 1e-9;
   result.wall_seconds = SecondsSince(wall_start);
   return result;
+}
+
+void RequireWholePoints(const ShardSpec& shard, int64_t blocks_per_point, const char* unit,
+                        int64_t block_size) {
+  if (shard.IsWhole() || blocks_per_point == 1) return;
+  throw InputError("--shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) +
+                   " with more than " + std::to_string(block_size) + " " + unit +
+                   " per point: shares are whole points; expected at most " +
+                   std::to_string(block_size) + " " + unit +
+                   " per point in a sharded run (docs/merge.md)");
+}
+
+int64_t BlocksPerPoint(int64_t per_point, int64_t block_size) {
+  PATLAB_CHECK(per_point >= 1 && block_size >= 1);
+  return (per_point + block_size - 1) / block_size;
+}
+
+std::vector<WorkBlock> ShareBlocks(int64_t points, int64_t per_point, int64_t block_size,
+                                   const ShardSpec& shard) {
+  const int64_t per = BlocksPerPoint(per_point, block_size);
+  std::vector<WorkBlock> work;
+  for (int64_t item = shard.index - 1; item < points * per; item += shard.count) {
+    const int64_t block = item % per, first = block * block_size;
+    work.push_back(WorkBlock{item / per, block, first, std::min(block_size, per_point - first)});
+  }
+  return work;
+}
+
+AxisSummary SummariseMoments(const stats::Moments& m) {
+  const double nan = std::nan("");
+  if (m.n < 2) return AxisSummary{m.n == 1 ? m.mean : nan, nan, nan, nan};
+  const stats::StdWithCi s =
+      stats::StdConfidenceInterval(m.Std(), static_cast<double>(m.n - 1), 0.95);
+  return AxisSummary{m.mean, s.std, s.lower, s.upper};
 }
 
 double Efficiency(double bound, double achieved) {

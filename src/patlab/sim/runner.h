@@ -16,6 +16,7 @@
 #include "patlab/sim/batch.h"
 #include "patlab/sim/experiment.h"
 #include "patlab/stats/ks.h"
+#include "patlab/stats/summary.h"
 #include "patlab/stats/wilcoxon.h"
 
 namespace patlab::sim {
@@ -31,10 +32,41 @@ struct ShardSpec {
 };
 inline constexpr int kMaxShards = 100000;
 
+// Bounded memory (docs/hardening.md): a data point is run in blocks of at most this many trials
+// (or frames, in detect mode), and only one block's samples are held per estimator, so memory
+// stops growing with the trials asked for beyond one block. Each block's moments come from its
+// samples (stats::MomentsOfEach) and the blocks are combined in trial order
+// (stats::CombineMoments); a point of one block gets exactly the bits of the whole-sample
+// computation. The KS and Wilcoxon comparisons need the samples themselves: they are computed on
+// the first block, trials 0 .. min(trials, kStatisticsBlockTrials) - 1 (Comparison::trials).
+inline constexpr int64_t kStatisticsBlockTrials = int64_t{1} << 20;
+inline constexpr int64_t kStatisticsBlockFrames = int64_t{1} << 14;
+
+// One block of a data point: trials (frames) first .. first + count - 1 of point `point`, the
+// unit of work of both runners and of a share (shard.h).
+struct WorkBlock {
+  int64_t point = 0;  // grid index
+  int64_t block = 0;  // 0-based within the point
+  int64_t first = 0;
+  int64_t count = 0;
+};
+// ceil(per_point / block_size): the blocks of a point of `per_point` trials (frames).
+int64_t BlocksPerPoint(int64_t per_point, int64_t block_size);
+// The blocks share K/N runs of a sweep of `points` points: block b of point p is item
+// i = p * BlocksPerPoint + b, and item i belongs to share (i mod N) + 1 (so a point of one block
+// is a whole point, as before), in item order.
+std::vector<WorkBlock> ShareBlocks(int64_t points, int64_t per_point, int64_t block_size,
+                                   const ShardSpec& shard);
+
+// Throws InputError when a sharded run (not 1/1) would split a point of more than one block.
+void RequireWholePoints(const ShardSpec& shard, int64_t blocks_per_point, const char* unit,
+                        int64_t block_size);
+
 struct RunOptions {
   int threads = 0;  // worker threads; 0 = all cores. Results do not depend on it.
   ShardSpec shard;  // only the points of this share are run (RunResult::points holds them)
-  // Called on the calling thread after each data point's trials: (points done, points in all).
+  // Called on the calling thread after each block of trials or frames: (blocks done, blocks in
+  // all); a point of at most one block (the usual case) is one block.
   std::function<void(int, int)> progress;
 };
 // threads an integer >= 0, shard 1 <= index <= count <= kMaxShards; both runners validate their
@@ -68,6 +100,7 @@ struct AxisSummary {
 // correction). Not computed at sigma = 0, where all errors are rounding noise.
 struct Comparison {
   bool computed = false;
+  int64_t trials = 0;  // the trials compared: the first min(trials, kStatisticsBlockTrials)
   stats::KsResult ks_x, ks_y, ks_theta;
   stats::WilcoxonResult wilcoxon_position, wilcoxon_theta;
 };
@@ -89,6 +122,10 @@ struct EstimatorResult {
   double mean_iterations = 0.0;           // ml: mean Newton steps
   Comparison vs_fast;
 };
+
+// Mean, std (divisor n - 1) and its 95% chi-square interval of a sample summarised by its
+// moments; the std and interval are NaN below 2 values, the mean below 1.
+AxisSummary SummariseMoments(const stats::Moments& m);
 
 // Efficiency = bound^2 / achieved^2 (1 = efficient); NaN without a bound (NaN) or without a
 // positive achieved std.

@@ -90,9 +90,9 @@ double SampleStd(std::span<const double> x) {
 
 namespace {
 
-// M samples at once; see MeanAndStdOfEach.
+// M samples at once; see MomentsOfEach.
 template <int M>
-void MeanAndStdInterleaved(const double* const* x, std::size_t n, MeanAndStd* out) {
+void MomentsInterleaved(const double* const* x, std::size_t n, Moments* out) {
   double sum[M] = {};
   for (std::size_t i = 0; i < n; ++i) {
     for (int c = 0; c < M; ++c) sum[c] += x[c][i];
@@ -104,13 +104,18 @@ void MeanAndStdInterleaved(const double* const* x, std::size_t n, MeanAndStd* ou
     for (int c = 0; c < M; ++c) sum_sq[c] += (x[c][i] - mean[c]) * (x[c][i] - mean[c]);
   }
   for (int c = 0; c < M; ++c) {
-    out[c] = MeanAndStd{mean[c], std::sqrt(sum_sq[c] / static_cast<double>(n - 1))};
+    out[c] = Moments{static_cast<std::int64_t>(n), mean[c], sum_sq[c]};
   }
 }
 
 }  // namespace
 
-void MeanAndStdOfEach(std::span<const std::span<const double>> samples, std::span<MeanAndStd> out) {
+double Moments::Std() const {
+  if (n < 2) return std::nan("");
+  return std::sqrt(m2 / static_cast<double>(n - 1));
+}
+
+void MomentsOfEach(std::span<const std::span<const double>> samples, std::span<Moments> out) {
   constexpr std::size_t kMaxSamples = 8;
   PATLAB_CHECK(samples.size() <= kMaxSamples && out.size() == samples.size());
   if (samples.empty()) return;
@@ -118,26 +123,43 @@ void MeanAndStdOfEach(std::span<const std::span<const double>> samples, std::spa
   const double* x[kMaxSamples] = {};
   for (std::size_t c = 0; c < samples.size(); ++c) {
     PATLAB_CHECK(samples[c].size() == n);
-    RequireCount(samples[c], 2, "the standard deviation");
+    RequireCount(samples[c], 1, "the moments");
     detail::RequireFinite(samples[c], "sample");
     x[c] = samples[c].data();
   }
   for (std::size_t c = 0; c < samples.size(); c += 4) {
     switch (std::min<std::size_t>(4, samples.size() - c)) {
       case 1:
-        MeanAndStdInterleaved<1>(x + c, n, &out[c]);
+        MomentsInterleaved<1>(x + c, n, &out[c]);
         break;
       case 2:
-        MeanAndStdInterleaved<2>(x + c, n, &out[c]);
+        MomentsInterleaved<2>(x + c, n, &out[c]);
         break;
       case 3:
-        MeanAndStdInterleaved<3>(x + c, n, &out[c]);
+        MomentsInterleaved<3>(x + c, n, &out[c]);
         break;
       default:
-        MeanAndStdInterleaved<4>(x + c, n, &out[c]);
+        MomentsInterleaved<4>(x + c, n, &out[c]);
         break;
     }
   }
+}
+
+Moments CombineMoments(const Moments& a, const Moments& b) {
+  if (b.n == 0) return a;
+  if (a.n == 0) return b;
+  const double na = static_cast<double>(a.n), nb = static_cast<double>(b.n);
+  const double n = na + nb;
+  const double delta = b.mean - a.mean;
+  return Moments{a.n + b.n, a.mean + delta * (nb / n), a.m2 + b.m2 + delta * delta * (na * nb / n)};
+}
+
+void MeanAndStdOfEach(std::span<const std::span<const double>> samples, std::span<MeanAndStd> out) {
+  PATLAB_CHECK(out.size() == samples.size());
+  for (const std::span<const double> s : samples) RequireCount(s, 2, "the standard deviation");
+  Moments m[8];
+  MomentsOfEach(samples, std::span<Moments>(m, samples.size()));
+  for (std::size_t c = 0; c < samples.size(); ++c) out[c] = MeanAndStd{m[c].mean, m[c].Std()};
 }
 
 StdWithCi StdWithConfidence(std::span<const double> x, double level) {

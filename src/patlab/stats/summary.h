@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 
 namespace patlab::stats {
@@ -47,6 +48,26 @@ struct MeanAndStd {
 // addition chains overlap in the CPU instead of waiting for one another (the sums are latency
 // bound: one add per value); out has one slot per sample.
 void MeanAndStdOfEach(std::span<const std::span<const double>> samples, std::span<MeanAndStd> out);
+
+// The moments of a sample that merge: count, mean and the sum of squared deviations from the
+// mean (M2), so that a sample too large to hold is summarised block by block and the blocks
+// combined in a fixed order (the runner, and `patlab merge` of trial-range shards, fold the
+// same blocks in the same order and so get the same bits).
+struct Moments {
+  std::int64_t n = 0;
+  double mean = 0.0;
+  double m2 = 0.0;
+  // Sample standard deviation sqrt(M2 / (n - 1)); NaN for n < 2.
+  double Std() const;
+};
+// The Moments of each of up to 8 samples of equal length (>= 1, finite, otherwise InputError),
+// two-pass with the arithmetic of Mean and SampleStd (sums in index order), so for one block
+// Moments::Std() is bit-identical to SampleStd.
+void MomentsOfEach(std::span<const std::span<const double>> samples, std::span<Moments> out);
+// The moments of the union of two disjoint samples (Chan, Golub & LeVeque 1979, eq. 2.1):
+// delta = mean_b - mean_a, mean = mean_a + delta n_b / n, M2 = M2_a + M2_b + delta^2 n_a n_b / n.
+// Combining with an empty side returns the other side unchanged.
+Moments CombineMoments(const Moments& a, const Moments& b);
 
 // level: confidence level in (0, 1); 0.95 gives the paper's 95% intervals. Needs n >= 2.
 StdWithCi StdWithConfidence(std::span<const double> x, double level = 0.95);

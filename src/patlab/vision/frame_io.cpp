@@ -519,15 +519,22 @@ std::vector<std::string> ExpandFrameList(const std::vector<std::string>& argumen
   std::vector<std::string> frames;
   for (const std::string& argument : arguments) {
     const fs::path path(argument);
-    if (!fs::exists(path))
+    std::error_code ec;  // a name the file system refuses (too long, a loop) does not exist
+    if (!fs::exists(path, ec))
       throw InputError(
           argument +
           ": no such file or directory; expected a frame, a directory of frames or a list file");
-    if (fs::is_directory(path)) {
+    if (fs::is_directory(path, ec)) {
       std::vector<std::string> found;
-      for (const auto& entry : fs::directory_iterator(path)) {
-        if (entry.is_regular_file() && HasExtension(entry.path(), {".png", ".jpg", ".jpeg", ".ppm",
-                                                                   ".yuv", ".uyvy", ".raw"})) {
+      fs::directory_iterator entries(path, ec);
+      if (ec) {
+        throw InputError(argument + ": cannot list the directory (" + ec.message() +
+                         "); expected a readable directory of frames");
+      }
+      for (const auto& entry : entries) {
+        if (entry.is_regular_file(ec) &&
+            HasExtension(entry.path(),
+                         {".png", ".jpg", ".jpeg", ".ppm", ".yuv", ".uyvy", ".raw"})) {
           found.push_back(entry.path().string());
         }
       }
