@@ -227,6 +227,46 @@ TEST_F(DetectRunnerTest, AFrameReplaysAlone) {
   EXPECT_NE(a.robots[0].pose.x_mm, c.robots[0].pose.x_mm);
 }
 
+TEST_F(DetectRunnerTest, APointOfMoreThanOneBlockOfFramesFoldsItsBlocks) {
+  // kStatisticsBlockFrames + 300 frames: two blocks. The reference replays every frame and takes
+  // the two-pass statistics of all pose errors at once.
+  const Experiment e = LoadExperimentFile(dir_.Write(
+      "experiments/long.toml",
+      "name = \"long\"\ncorrespondence = \"detect\"\npatterns = [\"triangle\"]\nseed = 5\n"
+      "[sigma]\nvalues = [2]\n[detect]\nsettings = \"det.toml\"\nframes = " +
+          std::to_string(kStatisticsBlockFrames + 300) + "\nrobots_per_team = 1\n"));
+  RunOptions options;
+  options.threads = 2;
+  const DetectRunResult result = RunDetectExperiment(e, options);
+  ASSERT_EQ(result.points.size(), 1U);
+  const DetectPointResult& r = result.points[0];
+  const DetectPoint point = MakeDetectPoint(e, r.point);
+  detect::Detector detector(point.config);
+  std::vector<detect::Detection> detections;
+  std::vector<double> ex, ey, et;
+  int64_t correct = 0, robots = 0;
+  for (int64_t f = 0; f < e.detect.frames; ++f) {
+    const sim::Scene scene = GenerateDetectFrame(e, point, detector, static_cast<uint64_t>(f));
+    detector.Detect(scene.blobs, &detections);
+    const FrameScore score = sim::ScoreFrame(scene, detections, e.detect.match_radius_mm);
+    correct += score.correct;
+    robots += score.robots;
+    for (const PoseError& pe : score.pose_errors) {
+      ex.push_back(pe.dx_mm);
+      ey.push_back(pe.dy_mm);
+      et.push_back(pe.dtheta_rad);
+    }
+  }
+  EXPECT_EQ(r.frames, e.detect.frames);
+  EXPECT_EQ(result.total_frames, e.detect.frames);
+  EXPECT_EQ(r.robots, robots);
+  EXPECT_EQ(r.correct, correct);
+  ASSERT_GT(ex.size(), 2U);
+  EXPECT_NEAR(r.x.std, stats::SampleStd(ex), 1e-12 * r.x.std);
+  EXPECT_NEAR(r.y.mean, stats::Mean(ey), 1e-12 * r.y.std);
+  EXPECT_NEAR(r.theta.std, stats::SampleStd(et), 1e-12 * r.theta.std);
+}
+
 TEST_F(DetectRunnerTest, ReplayedFramesAddUpToTheRunnersCounts) {
   // Every frame the runner scored is the frame GenerateDetectFrame replays (docs/architecture.md
   // rule 3).

@@ -7,10 +7,12 @@
 #include <numbers>
 #include <sstream>
 
+#include "../expect_error.h"
 #include "../test_util.h"
 #include "patlab/sim/batch.h"
 #include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
+#include "patlab/stats/summary.h"
 
 namespace patlab::sim {
 namespace {
@@ -268,6 +270,87 @@ TEST(Runner, FastVsMlTestsSeparateIdenticalEstimatorsFromRealDifferences) {
   EXPECT_LT(butterfly.wilcoxon_theta.p_value, 1e-4);
   EXPECT_GT(butterfly.ks_theta.p_value, 0.05);
   EXPECT_FALSE(r.points[0].estimators[0].vs_fast.computed);  // fast is the reference
+}
+
+TEST(Runner, APointOfMoreThanOneBlockFoldsItsBlocksInTrialOrder) {
+  // Two blocks (kStatisticsBlockTrials + 3000 trials). The reference is independent of the
+  // runner's blocks: every trial's errors from the batch kernel into whole arrays, and the
+  // two-pass statistics of the whole sample.
+  Experiment e = SmallExperiment({"butterfly"}, {2.0}, kStatisticsBlockTrials + 3000);
+  e.estimators = {Estimator::kFast, Estimator::kMl};
+  e.ml_options.max_iterations = 2;  // some trials do not converge, in both blocks
+  RunOptions options;
+  options.threads = 2;
+  const RunResult result = RunExperiment(e, options);
+  ASSERT_EQ(result.points.size(), 1U);
+  EXPECT_EQ(result.total_trials, e.trials);
+
+  const size_t n = static_cast<size_t>(e.trials);
+  const estimate::Model model = estimate::Model::FromPattern(e.patterns[0]);
+  const PointSetup setup = MakePointSetup(e, model, 0, 0);
+  std::vector<double> errors[2][3];
+  for (auto& estimator : errors) {
+    for (auto& v : estimator) v.resize(n);
+  }
+  std::vector<uint8_t> iterations(n), termination(n);
+  for (size_t first = 0; first < n; first += kBatchSize) {
+    BatchOutput out;
+    for (int k = 0; k < 2; ++k) {
+      out.errors[static_cast<int>(e.estimators[k])] = {
+          errors[k][0].data() + first, errors[k][1].data() + first, errors[k][2].data() + first};
+    }
+    out.ml_iterations = iterations.data() + first;
+    out.ml_termination = termination.data() + first;
+    RunBatch(setup, first, static_cast<int>(std::min<size_t>(kBatchSize, n - first)), out);
+  }
+  for (int k = 0; k < 2; ++k) {
+    const EstimatorResult& r = result.points[0].estimators[k];
+    const double* axes[3] = {&r.x.std, &r.y.std, &r.theta.std};
+    const double* means[3] = {&r.x.mean, &r.y.mean, &r.theta.mean};
+    for (int a = 0; a < 3; ++a) {
+      const double std = stats::SampleStd(errors[k][a]);
+      EXPECT_NEAR(*axes[a], std, 1e-12 * std) << k << " " << a;
+      EXPECT_NEAR(*means[a], stats::Mean(errors[k][a]), 1e-12 * std) << k << " " << a;
+    }
+    double sum_sq = 0.0;
+    for (size_t t = 0; t < n; ++t) {
+      sum_sq += errors[k][0][t] * errors[k][0][t] + errors[k][1][t] * errors[k][1][t];
+    }
+    EXPECT_NEAR(r.radial_rms_mm, std::sqrt(sum_sq / static_cast<double>(n)), 1e-12);
+  }
+  // ml counters over both blocks, the first non-converged trial as a trial of the point.
+  const EstimatorResult& ml = result.points[0].estimators[1];
+  int64_t nonconverged = 0, first_nonconverged = -1, steps = 0, in_second_block = 0;
+  for (size_t t = 0; t < n; ++t) {
+    steps += iterations[t];
+    if (termination[t] == static_cast<uint8_t>(estimate::Termination::kConverged)) continue;
+    if (first_nonconverged < 0) first_nonconverged = static_cast<int64_t>(t);
+    ++nonconverged;
+    in_second_block += static_cast<int64_t>(t) >= kStatisticsBlockTrials ? 1 : 0;
+  }
+  EXPECT_GT(in_second_block, 0);
+  EXPECT_EQ(ml.nonconverged, nonconverged);
+  EXPECT_EQ(ml.first_nonconverged_trial, first_nonconverged);
+  EXPECT_EQ(ml.mean_iterations, static_cast<double>(steps) / static_cast<double>(n));
+  // The KS and Wilcoxon comparison: the first block's trials, exactly.
+  ASSERT_TRUE(ml.vs_fast.computed);
+  EXPECT_EQ(ml.vs_fast.trials, kStatisticsBlockTrials);
+  const auto head = [](const std::vector<double>& v) {
+    return std::span<const double>(v).first(static_cast<size_t>(kStatisticsBlockTrials));
+  };
+  EXPECT_EQ(ml.vs_fast.ks_x.d, stats::KsTwoSample(head(errors[0][0]), head(errors[1][0])).d);
+  EXPECT_EQ(ml.vs_fast.ks_theta.p_value,
+            stats::KsTwoSample(head(errors[0][2]), head(errors[1][2])).p_value);
+}
+
+TEST(Runner, ShardsOfPointsOfMoreThanOneBlockAreRefused) {
+  const Experiment e = SmallExperiment({"triangle"}, {1.0}, kStatisticsBlockTrials + 1);
+  RunOptions options;
+  options.shard = ShardSpec{1, 2};
+  EXPECT_INPUT_ERROR(RunExperiment(e, options),
+                     "--shard 1/2 with more than 1048576 trials per point: shares are whole "
+                     "points; expected at most 1048576 trials per point in a sharded run "
+                     "(docs/merge.md)");
 }
 
 TEST(Replay, NoiseFreeTrialIsRecoveredByEveryEstimator) {

@@ -123,3 +123,53 @@ TEST(Summary, RepeatedIntervalsAreTheSame) {
 
 }  // namespace
 }  // namespace patlab::stats
+
+namespace patlab::stats {
+namespace {
+
+TEST(Moments, OneBlockHasTheBitsOfMeanAndSampleStd) {
+  const std::vector<double> x = {2.0, 4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0};
+  Moments m;
+  MomentsOfEach(std::vector<std::span<const double>>{x}, std::span<Moments>(&m, 1));
+  EXPECT_EQ(m.n, 8);
+  EXPECT_EQ(m.mean, 5.0);  // hand computed: sum 40 / 8
+  EXPECT_EQ(m.m2, 32.0);   // 9 + 1 + 1 + 1 + 0 + 0 + 4 + 16
+  EXPECT_EQ(m.Std(), SampleStd(x));
+  EXPECT_TRUE(std::isnan(Moments{1, 3.0, 0.0}.Std()));
+}
+
+TEST(Moments, CombiningBlocksGivesTheMomentsOfTheWhole) {
+  // Chan et al.'s update against the two-pass moments of the concatenation, for splits of every
+  // size, including values far from zero (where the naive sum of squares loses every digit).
+  std::vector<double> x(997);
+  uint64_t state = 7;
+  for (double& v : x) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    v = 1e6 + static_cast<double>(state >> 11) * 0x1p-53;
+  }
+  Moments whole;
+  MomentsOfEach(std::vector<std::span<const double>>{x}, std::span<Moments>(&whole, 1));
+  for (size_t split : {size_t{1}, size_t{2}, size_t{100}, size_t{500}, size_t{996}}) {
+    Moments a, b;
+    MomentsOfEach(std::vector<std::span<const double>>{std::span<const double>(x).first(split)},
+                  std::span<Moments>(&a, 1));
+    MomentsOfEach(std::vector<std::span<const double>>{std::span<const double>(x).subspan(split)},
+                  std::span<Moments>(&b, 1));
+    const Moments c = CombineMoments(a, b);
+    EXPECT_EQ(c.n, whole.n);
+    EXPECT_NEAR(c.mean, whole.mean, 1e-15 * whole.mean) << split;
+    EXPECT_NEAR(c.m2, whole.m2, 1e-9 * whole.m2) << split;
+  }
+  // Hand computed: {1, 2} and {3, 5}: n 4, mean 2.75, M2 = 0.5 + 2 + (4 - 1.5)^2 * 2 * 2 / 4.
+  const Moments c = CombineMoments(Moments{2, 1.5, 0.5}, Moments{2, 4.0, 2.0});
+  EXPECT_EQ(c.n, 4);
+  EXPECT_EQ(c.mean, 2.75);
+  EXPECT_EQ(c.m2, 8.75);
+  // An empty side leaves the other unchanged, bit for bit.
+  const Moments one{3, 0.1, 0.7};
+  EXPECT_EQ(CombineMoments(one, Moments{}).m2, 0.7);
+  EXPECT_EQ(CombineMoments(Moments{}, one).mean, 0.1);
+}
+
+}  // namespace
+}  // namespace patlab::stats
