@@ -88,28 +88,6 @@ void WriteAll(const std::vector<std::pair<std::string, std::string>>& files) {
   io::WriteFilesAtomic(files);
 }
 
-// The bytes of samples a known-mode run keeps per trial: two point buffers of (x, y, theta) per
-// estimator plus the ML counters, and the statistics' temporaries (radial errors and the paired
-// comparison vectors). Until the sample storage streams (issue 11, "bounded memory"), a --trials
-// that cannot fit in the machine's memory is refused before the first trial instead of ending in
-// std::bad_alloc after minutes of work.
-int64_t SampleBytesPerTrial(const sim::Experiment& experiment) {
-  const auto estimators = static_cast<int64_t>(experiment.estimators.size());
-  return 2 * (estimators * 3 * 8 + 2) + 5 * 8;
-}
-
-void CheckMemory(const sim::Experiment& experiment) {
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page_bytes = ::sysconf(_SC_PAGESIZE);
-  if (pages <= 0 || page_bytes <= 0) return;
-  const int64_t memory = static_cast<int64_t>(pages) * page_bytes;
-  const int64_t per_trial = SampleBytesPerTrial(experiment);
-  if (experiment.trials <= memory / per_trial) return;
-  throw InputError("--trials (or trials in the file) is " + std::to_string(experiment.trials) +
-                   "; expected at most " + std::to_string(memory / per_trial) +
-                   " on this machine (each trial keeps " + std::to_string(per_trial) +
-                   " bytes of samples; " + std::to_string(memory >> 20) + " MiB of memory)");
-}
-
 // --name (or the experiment's name) is a file base name inside --out, never a path out of it.
 void CheckName(const SimulateOptions& o) {
   if (o.name_given && !io::IsFileBaseName(o.name)) {
@@ -216,7 +194,6 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
   const OutputFiles files = Outputs(experiment, o, args);
   const sim::RunOptions run_options = RunOptionsFor(o);
   io::CheckWritable(TargetPaths(experiment, o, files, run_options));
-  CheckMemory(experiment);
   const sim::RunResult result = sim::RunExperiment(experiment, run_options);
   if (!o.shard.empty()) {
     const std::string path = ShardPath(experiment, o, run_options.shard);

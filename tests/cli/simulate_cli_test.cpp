@@ -146,28 +146,6 @@ namespace {
 
 using testing::RunCommand;
 
-// docs/hardening.md "Sizes checked before allocation": a trial count whose samples cannot fit in
-// memory is refused before the first trial (exit 2), not by std::bad_alloc after the run.
-TEST(SimulateCliHardening, TrialsBeyondMemoryAreRefusedUpFront) {
-  testing::TempDir dir;
-  const std::string experiment =
-      dir.Write("e.toml", "name = \"e\"\npatterns_dir = \"" PATLAB_SOURCE_DIR
-                          "/patterns\"\npatterns = [\"butterfly\"]\n[sigma]\nvalues = [1]\n");
-  const int64_t memory = static_cast<int64_t>(::sysconf(_SC_PHYS_PAGES)) * ::sysconf(_SC_PAGESIZE);
-  const int64_t per_trial = 2 * (2 * 3 * 8 + 2) + 5 * 8;  // fast and ml
-  if (memory / per_trial >= 1'000'000'000) GTEST_SKIP() << "this machine holds 1e9 trials";
-  const auto r = RunCommand(std::string(PATLAB_BINARY) + " simulate " + experiment +
-                            " -q --trials 1000000000 --out " + dir.Path("out"));
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err,
-            "patlab simulate: --trials (or trials in the file) is 1000000000; expected at "
-            "most " +
-                std::to_string(memory / per_trial) +
-                " on this machine (each trial keeps 140 bytes of samples; " +
-                std::to_string(memory >> 20) + " MiB of memory)\n");
-  EXPECT_FALSE(std::filesystem::exists(dir.Path("out")));
-}
-
 // SIGTERM during a run ends it with no result and no temporary file (SIGINT acts the same, but a
 // background job of a non-interactive shell ignores it).
 TEST(SimulateCliHardening, InterruptedRunLeavesNothing) {

@@ -1,5 +1,6 @@
 #include "patlab/sim/report.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -190,6 +191,11 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
     estimators.push_back(std::string(estimate::EstimatorName(e)));
   j["estimators"] = estimators;
   j["trials_per_point"] = experiment.trials;
+  // Bounded memory (runner.h): the block a point runs in, and the trials the KS and Wilcoxon
+  // columns compare (the first block).
+  j["statistics_block"] = {
+      {"trials", kStatisticsBlockTrials},
+      {"tests_on_first_trials", std::min(experiment.trials, kStatisticsBlockTrials)}};
   const estimate::Options& o = experiment.ml_options;
   j["ml_options"] = {{"max_iterations", o.max_iterations},
                      {"step_tolerance_mm", o.step_tolerance_mm},
@@ -300,6 +306,7 @@ std::string DetectManifestJson(const Experiment& experiment, const DetectRunResu
   const SceneOptions& s = d.scene;
   j["correspondence"] = "detect";
   j["frames_per_point"] = d.frames;
+  j["statistics_block"] = {{"frames", kStatisticsBlockFrames}};  // bounded memory (runner.h)
   j["false_blob_rates_per_m2"] = d.false_blob_rates_per_m2;
   j["detect"] = {{"settings", d.settings_file},
                  {"detector_sigma", std::string(NameOf(d.matched_sigma, kDetectorSigmaNames))},
