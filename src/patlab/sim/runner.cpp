@@ -37,15 +37,6 @@ struct Samples {
   }
 };
 
-// What one block of a point's trials leaves for one estimator. Blocks fold in trial order
-// (Fold), and the folded blocks make the EstimatorResult (FinishEstimator).
-struct EstimatorBlock {
-  stats::Moments x, y, theta, radial;
-  double sum_sq = 0.0;  // sum of ex^2 + ey^2 (the radial RMS)
-  int64_t iterations = 0, nonconverged = 0, first_nonconverged_trial = -1;  // ml
-  Comparison vs_fast;                                                       // the first block's
-};
-
 // The radial errors go to a buffer of the thread, reused from block to block (a fresh array of
 // 10^5 values costs more in page faults than its statistics); BlockMoments is serial code, so no
 // other task can take the buffer while it is in use. The four columns' moments come from one
@@ -279,11 +270,10 @@ void BlockStatistics(const Experiment& experiment, const PointBuffers& pb, doubl
   });
 }
 
-// The estimator's result from its blocks, folded in trial order.
-EstimatorResult FinishEstimator(const Experiment& experiment, const PatternBounds& bounds,
-                                double sigma_mm, Estimator e, const EstimatorBlock& f) {
-  EstimatorResult r;
-  r.estimator = e;
+// The estimator's result from its blocks, folded in trial order; `header` holds its bounds.
+EstimatorResult FinishEstimator(const EstimatorResult& header, const EstimatorBlock& f) {
+  EstimatorResult r = header;
+  const Estimator e = r.estimator;
   const double n = static_cast<double>(f.x.n);
   r.x = SummariseMoments(f.x);
   r.y = SummariseMoments(f.y);
@@ -294,7 +284,6 @@ EstimatorResult FinishEstimator(const Experiment& experiment, const PatternBound
   r.position_std_upper_mm = pooled.upper;
   r.radial_rms_mm = std::sqrt(f.sum_sq / n);
   r.radial = SummariseMoments(f.radial);
-  FillBounds(experiment.noise, bounds, sigma_mm, &r);
   if (e == Estimator::kMl) {
     r.nonconverged = f.nonconverged;
     r.first_nonconverged_trial = f.first_nonconverged_trial;
@@ -312,6 +301,12 @@ PointResult PointHeader(const Experiment& experiment, int pattern_index, int sig
   point.point = static_cast<uint32_t>(pattern_index * experiment.sigmas_mm.size() + sigma_index);
   point.trials = experiment.trials;
   point.estimators.resize(experiment.estimators.size());
+  const PatternBounds bounds = BoundsOf(
+      estimate::Model::FromPattern(experiment.patterns[pattern_index]), experiment.estimators);
+  for (size_t k = 0; k < experiment.estimators.size(); ++k) {
+    point.estimators[k].estimator = experiment.estimators[k];
+    FillBounds(experiment.noise, bounds, point.sigma_mm, &point.estimators[k]);
+  }
   return point;
 }
 
@@ -341,9 +336,12 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   const std::vector<WorkBlock> work =
       ShareBlocks(num_points, experiment.trials, kStatisticsBlockTrials, options.shard);
   const int64_t blocks_per_point = BlocksPerPoint(experiment.trials, kStatisticsBlockTrials);
-  RequireWholePoints(options.shard, blocks_per_point, "trials", kStatisticsBlockTrials);
   const size_t num_estimators = experiment.estimators.size();
-  std::vector<EstimatorBlock> blocks(work.size() * num_estimators);
+  std::vector<PointBlock> blocks(work.size());
+  for (size_t i = 0; i < work.size(); ++i) {
+    blocks[i].work = work[i];
+    blocks[i].estimators.resize(num_estimators);
+  }
   const int64_t buffer_trials = std::min(experiment.trials, kStatisticsBlockTrials);
   PointBuffers buffers[2] = {{experiment.estimators, buffer_trials},
                              {experiment.estimators, buffer_trials}};
@@ -362,7 +360,7 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
     RunTrials(setup, w.first, w.count, pb.output);
     result.simulate_seconds += SecondsSince(sim_start);
 
-    const std::span<EstimatorBlock> out(blocks.data() + index * num_estimators, num_estimators);
+    const std::span<EstimatorBlock> out(blocks[index].estimators);
     statistics[index % 2].run([&experiment, &pb, &statistics_ns, out, w, sigma = setup.sigma_mm] {
       const auto stats_start = Clock::now();
       BlockStatistics(experiment, pb, sigma, w.first, w.count, out);
@@ -375,28 +373,37 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   }
   statistics[0].wait();
   statistics[1].wait();
-  // Every point's blocks, folded in trial order (docs/architecture.md rule 2).
-  for (size_t begin = 0; begin < work.size(); begin += static_cast<size_t>(blocks_per_point)) {
+  // Every point's blocks, folded in trial order (docs/architecture.md rule 2); a share that holds
+  // only some blocks of a point returns them for `patlab merge`.
+  for (size_t begin = 0; begin < work.size();) {
     const WorkBlock& w = work[begin];
-    PATLAB_CHECK(w.block == 0 && begin + blocks_per_point <= work.size() &&
-                 work[begin + blocks_per_point - 1].point == w.point);
     const int pi = static_cast<int>(w.point / num_sigmas),
               si = static_cast<int>(w.point % num_sigmas);
-    PointResult& point = result.points.emplace_back(PointHeader(experiment, pi, si));
-    const PatternBounds bounds =
-        BoundsOf(estimate::Model::FromPattern(experiment.patterns[pi]), experiment.estimators);
-    for (size_t k = 0; k < num_estimators; ++k) {
-      EstimatorBlock folded = blocks[begin * num_estimators + k];
-      for (int64_t b = 1; b < blocks_per_point; ++b) {
-        folded = Fold(folded, blocks[(begin + b) * num_estimators + k]);
-      }
-      point.estimators[k] =
-          FinishEstimator(experiment, bounds, point.sigma_mm, experiment.estimators[k], folded);
+    size_t end = begin;
+    while (end < work.size() && work[end].point == w.point) ++end;
+    const std::span<const PointBlock> point_blocks(blocks.data() + begin, end - begin);
+    if (static_cast<int64_t>(end - begin) == blocks_per_point) {
+      result.points.push_back(FinishPoint(PointHeader(experiment, pi, si), point_blocks));
+    } else {
+      result.block_headers.push_back(PointHeader(experiment, pi, si));
+      result.blocks.insert(result.blocks.end(), point_blocks.begin(), point_blocks.end());
     }
+    begin = end;
   }
   result.statistics_seconds = static_cast<double>(statistics_ns.load()) * 1e-9;
   result.wall_seconds = SecondsSince(wall_start);
   return result;
+}
+
+PointResult FinishPoint(const PointResult& header, std::span<const PointBlock> blocks) {
+  PATLAB_CHECK(!blocks.empty());
+  PointResult point = header;
+  for (size_t k = 0; k < point.estimators.size(); ++k) {
+    EstimatorBlock folded = blocks[0].estimators.at(k);
+    for (size_t b = 1; b < blocks.size(); ++b) folded = Fold(folded, blocks[b].estimators.at(k));
+    point.estimators[k] = FinishEstimator(header.estimators[k], folded);
+  }
+  return point;
 }
 
 void RequireWholePoints(const ShardSpec& shard, int64_t blocks_per_point, const char* unit,

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -141,8 +142,33 @@ struct PointResult {
   std::vector<EstimatorResult> estimators;  // in experiment order
 };
 
+// What one block of a point's trials leaves for one estimator: the moments of its errors and its
+// ML counters, and (the first block only) the comparison with fast. A point's blocks fold in
+// trial order into its EstimatorResult (FinishPoint).
+struct EstimatorBlock {
+  stats::Moments x, y, theta, radial;
+  double sum_sq = 0.0;  // sum of ex^2 + ey^2 (the radial RMS)
+  int64_t iterations = 0, nonconverged = 0;
+  int64_t first_nonconverged_trial = -1;  // a trial index of the point
+  Comparison vs_fast;                     // the first block's (computed = false elsewhere)
+};
+struct PointBlock {
+  WorkBlock work;
+  std::vector<EstimatorBlock> estimators;  // in experiment order
+};
+
+// The point's result from all its blocks (block 0, 1, ... in order). `header` holds the point's
+// identity (pattern, sigma, trials, point) and, per estimator, the estimator and its bounds
+// (crlb_*, predicted_*), which are copied; everything else comes from the blocks. The runner
+// and `patlab merge` both finish points here, so a merged point has the runner's bits.
+PointResult FinishPoint(const PointResult& header, std::span<const PointBlock> blocks);
+
 struct RunResult {
   std::vector<PointResult> points;  // pattern-major, then sigma (only the share's, if sharded)
+  // A sharded run of points of more than one block: the share's blocks, in item order, and the
+  // header (FinishPoint) of each point they belong to, in the same order as their first block.
+  std::vector<PointBlock> blocks;
+  std::vector<PointResult> block_headers;
   int threads = 0;
   int64_t total_trials = 0;
   double simulate_seconds = 0.0;    // wall time of trial generation and estimation
