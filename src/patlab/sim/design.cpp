@@ -238,7 +238,34 @@ void RotationFix(const Pattern& pattern, const detect::Symmetry& symmetry, doubl
   m.rotation_onset_mm = std::isinf(e0) ? kInf : RotationOnsetSigma(e0, dof, chi2);
 }
 
+// A layout the search may try with two patch centres on one point: the estimators' model (and
+// so the bound) is undefined there; such a layout gets the worst finite criteria instead.
+bool HasCoincidentPatches(const Pattern& pattern) {
+  for (int i = 0; i < pattern.size(); ++i) {
+    for (int j = 0; j < i; ++j) {
+      if ((pattern.patches[i].position_mm - pattern.patches[j].position_mm).norm() < 1e-6) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+LayoutEvaluation CoincidentLayout(const Pattern& pattern, const DesignOptions& o) {
+  LayoutEvaluation e;
+  DesignMetrics& m = e.metrics;
+  m.angle_crlb_mrad_per_mm = m.position_crlb_per_mm = kLargeMm;
+  m.rotation_onset_mm = m.rotation_sigma0_mm = 0.0;
+  e.accepted_depth_mm = o.tolerance_mm;
+  e.shift_onset_mm.assign(pattern.size() - 2, 0.0);
+  CheckGeometry(pattern, o, &m);
+  m.violated = Violation(m, o);
+  m.feasible = false;
+  return e;
+}
+
 LayoutEvaluation EvaluateLayout(const Pattern& pattern, const DesignOptions& o, double chi2) {
+  if (HasCoincidentPatches(pattern)) return CoincidentLayout(pattern, o);
   LayoutEvaluation e;
   DesignMetrics& m = e.metrics;
   const estimate::StdPerSigma crlb =
@@ -462,29 +489,54 @@ bool FitsGeometry(const DesignMetrics& m, const DesignOptions& o) {
          m.min_gap_mm >= o.min_gap_mm - kGeometryToleranceMm;
 }
 
-[[noreturn]] void ThrowNothingFeasible(const DesignResult& r) {
-  const DesignOptions& o = r.options;
+// The ends of the problem without the limits on onset and CRLBs (IDs and geometry kept) from
+// the same starts, judged by the full options: when the limits pull every start of the real
+// search out of the robot top, these say what a layout that fits misses.
+std::vector<DesignStart> GeometryOnlyEnds(const DesignOptions& o, double chi2) {
+  DesignOptions g = o;
+  g.min_rotation_onset_mm = 0.0;
+  g.max_angle_crlb_mrad_per_mm = g.max_position_crlb_per_mm = kInf;
+  std::vector<DesignStart> ends;
+  for (int k = 0; k < g.starts; ++k) {
+    std::vector<Vec2> layout;
+    DesignStart s = LocalSearch(g, chi2, k, RandomStart(g, k), &layout);
+    s.final = EvaluateLayout(DesignPattern(o, layout), o, chi2).metrics;
+    ends.push_back(std::move(s));
+  }
+  return ends;
+}
+
+// The start that ends inside the robot top with every gap kept and the best objective, or null.
+const DesignStart* BestFitting(const std::vector<DesignStart>& starts, const DesignOptions& o) {
   const DesignStart* best = nullptr;
-  for (const DesignStart& s : r.starts) {
+  for (const DesignStart& s : starts) {
     if (!FitsGeometry(s.final, o)) continue;
     if (best == nullptr ||
         ObjectiveValue(s.final, o.objective) < ObjectiveValue(best->final, o.objective)) {
       best = &s;
     }
   }
+  return best;
+}
+
+[[noreturn]] void ThrowNothingFeasible(const DesignResult& r, double chi2) {
+  const DesignOptions& o = r.options;
+  const std::vector<DesignStart> geometry_only = GeometryOnlyEnds(o, chi2);
+  const DesignStart* best = BestFitting(r.starts, o);
+  if (best == nullptr) best = BestFitting(geometry_only, o);
   const std::string searched = " (" + std::to_string(o.starts) + " starts)";
-  if (best == nullptr) {
-    throw InputError(
-        "no layout of " + std::to_string(o.id_patches) +
-        " ID patches fits with outer_diameter_mm " + FormatNumber(o.outer_diameter_mm) +
-        ", rim_gap_mm " + FormatNumber(o.rim_gap_mm) + ", key_radius_mm " +
-        FormatNumber(o.key_radius_mm) + " and min_gap_mm " + FormatNumber(o.min_gap_mm) + searched +
-        "; expected fewer or smaller ID patches, a smaller min_gap_mm or a larger "
-        "outer_diameter_mm");
+  if (best != nullptr) {
+    throw InputError("no layout meets every limit" + searched + "; the best inside the robot " +
+                     "top by " + std::string(NameOf(o.objective, kDesignObjectiveNames)) + " has " +
+                     best->final.violated);
   }
-  throw InputError("no layout meets every limit" + searched + "; the best by " +
-                   std::string(NameOf(o.objective, kDesignObjectiveNames)) + " has " +
-                   best->final.violated);
+  throw InputError("no layout of " + std::to_string(o.id_patches) +
+                   " ID patches fits with outer_diameter_mm " + FormatNumber(o.outer_diameter_mm) +
+                   ", rim_gap_mm " + FormatNumber(o.rim_gap_mm) + ", key_radius_mm " +
+                   FormatNumber(o.key_radius_mm) + " and min_gap_mm " + FormatNumber(o.min_gap_mm) +
+                   searched +
+                   "; expected fewer or smaller ID patches, a smaller min_gap_mm or a larger "
+                   "outer_diameter_mm");
 }
 
 }  // namespace
@@ -515,7 +567,7 @@ DesignResult RunDesign(const DesignOptions& options) {
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.evaluations_per_second = r.seconds > 0 ? static_cast<double>(r.evaluations) / r.seconds : 0;
-  if (best < 0) ThrowNothingFeasible(r);
+  if (best < 0) ThrowNothingFeasible(r, chi2);
   r.best_start = best;
   r.pattern = DesignPattern(options, best_layout);
   r.metrics = r.starts[best].final;
@@ -525,7 +577,9 @@ DesignResult RunDesign(const DesignOptions& options) {
 namespace {
 
 std::string Criterion(double v, int decimals) {
-  return std::isinf(v) ? std::string("inf") : FormatFixed(v, decimals);
+  if (std::isinf(v)) return "inf";
+  // A value that rounds to zero (a patch 1e-5 mm inside the rim) prints as 0, not -0.
+  return FormatFixed(std::abs(v) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : v, decimals);
 }
 
 std::string OptionsLines(const DesignOptions& o, const std::string& prefix) {
