@@ -67,7 +67,14 @@ sim::DesignOptions ParseDesignOptions(const DesignFlags& f, sim::DesignOptions o
                                   "radii in mm, one for every ID patch or one per ID patch");
   o.objective = ParseName(f.objective, sim::kDesignObjectiveNames, "--objective");
   o.seed = ParseSeed(f.seed, "--seed");
-  if (!f.start.empty()) o.start_mm = StartLayout(f.start, f.patterns_dir);
+  if (!f.start.empty()) {
+    o.start_mm = StartLayout(f.start, f.patterns_dir);
+    if (o.start_mm.size() != static_cast<size_t>(o.id_patches)) {
+      throw InputError("--start " + f.start + " has " + std::to_string(o.start_mm.size()) +
+                       " ID patches; expected a pattern with id_patches (" +
+                       std::to_string(o.id_patches) + ") ID patches");
+    }
+  }
   sim::Validate(o);
   return o;
 }
