@@ -25,3 +25,5 @@ $P reproduce --out results -q
 $P compare simple linear triangle butterfly ssl-standard --out results/compare -q
 /usr/bin/python3 scripts/plot_compare.py results/compare/compare.csv results/compare/compare.png
 bash scripts/team_designs.sh "$P"
+# patlab design on the SSL robot top, compared with the SSL standard (issue 9, part 4).
+bash scripts/design_results.sh "$P"

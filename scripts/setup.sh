@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   libeigen3-dev libboost-program-options-dev libboost-math-dev libtbb-dev
   libtomlplusplus-dev librandom123-dev nlohmann-json3-dev libpng-dev libjpeg-dev
-  libceres-dev libgtest-dev libgmock-dev libbenchmark-dev clang-format clang-tidy clang
+  libceres-dev libnlopt-dev libgtest-dev libgmock-dev libbenchmark-dev clang-format clang-tidy clang
   python3 python3-numpy python3-scipy python3-matplotlib
   parallel slurm-wlm munge
 )

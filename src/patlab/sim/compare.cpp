@@ -28,6 +28,8 @@ constexpr double kTestAlpha = 0.01;
 
 std::string SigmaText(double sigma_mm) { return FormatNumber(sigma_mm) + "mm"; }
 
+}  // namespace
+
 // The detector's stage-4 tolerance E_max / patch_sigma^2 for this pattern with every patch:
 // chi2_{2m-3}^-1(geometry_confidence), read from a detector so the two cannot drift apart.
 double DetectorChiSquared(const Pattern& pattern, double tolerance_mm) {
@@ -67,10 +69,12 @@ double WrongRotationError(const Pattern& pattern, const detect::Symmetry& symmet
 }
 
 // The root s > 0 of E0 + (dof - chi2) s^2 - 2 z sqrt(E0) s = 0 (see DesignGeometry).
-double OnsetSigma(double e0, int dof, double chi2) {
+double RotationOnsetSigma(double e0, int dof, double chi2) {
   const double qa = chi2 - dof, qb = 2.0 * kOnsetZ * std::sqrt(e0);
   return (-qb + std::sqrt(qb * qb + 4.0 * qa * e0)) / (2.0 * qa);
 }
+
+namespace {
 
 void CheckDesigns(const std::vector<std::pair<Pattern, std::string>>& designs) {
   if (designs.empty()) throw InputError("no designs; expected at least one pattern file");
@@ -178,7 +182,7 @@ DesignGeometry ComputeDesignGeometry(const Pattern& pattern, const detect::Symme
   }
   g.rotation_sigma0_mm = std::sqrt(g.wrong_rotation_e0_mm2 / g.chi2_quantile);
   g.rotation_onset_mm =
-      OnsetSigma(g.wrong_rotation_e0_mm2, 2 * pattern.size() - 3, g.chi2_quantile);
+      RotationOnsetSigma(g.wrong_rotation_e0_mm2, 2 * pattern.size() - 3, g.chi2_quantile);
   return g;
 }
 

@@ -65,6 +65,14 @@ struct DesignGeometry {
 };
 DesignGeometry ComputeDesignGeometry(const Pattern& pattern, const detect::Symmetry& symmetry);
 
+// The pieces of the rotation fix above, for callers that evaluate many layouts of one size (the
+// layout search of sim/design.h): the noise-free E (mm^2) of circular position j matched to
+// j + shift; the detector's chi2_{2m-3}^-1(0.9999) for the pattern (builds a detector: call it
+// once per pattern size); the onset sigma (mm) from E0, dof = 2m - 3 and that quantile.
+double WrongRotationError(const Pattern& pattern, const detect::Symmetry& symmetry, int shift);
+double DetectorChiSquared(const Pattern& pattern, double tolerance_mm);
+double RotationOnsetSigma(double e0_mm2, int dof, double chi2);
+
 struct CompareRow {
   std::string design;  // pattern name
   std::string file;

@@ -1,0 +1,153 @@
+// patlab design: search patch layouts for a better pattern (sim/design.h searches and renders).
+#include <boost/program_options.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "cli/arguments.h"
+#include "cli/command.h"
+#include "cli/text_output.h"
+#include "patlab/core/error.h"
+#include "patlab/detect/codebook.h"
+#include "patlab/io/atomic_file.h"
+#include "patlab/io/pattern_file.h"
+#include "patlab/sim/design.h"
+
+namespace patlab::cli {
+
+namespace {
+
+namespace po = boost::program_options;
+
+constexpr const char* kExamples = R"(examples:
+  patlab design --out results/design                  # SSL robot top: 4 dots, 2 colours
+  patlab design --min-rotation-onset-mm 3.5 --start ssl-standard --name ssl-designed --out d
+  patlab design --objective rotation_onset --max-angle-crlb-mrad-per-mm 7.76 --out d
+  patlab design --id-patches 3 --id-radii-mm 20 --palette 3 --outer-diameter-mm 150 --out d
+
+The key patch sits at the origin; the search moves the ID patches to minimise --objective
+(angle_crlb, position_crlb or rotation_onset) subject to: every patch inside
+--outer-diameter-mm less --rim-gap-mm, every two patches --min-gap-mm apart, at least --min-ids
+IDs with --palette colours (0: every colouring), a rotation onset of at least
+--min-rotation-onset-mm, and the CRLB limits. Messages name the options as the library spells
+them (outer_diameter_mm for --outer-diameter-mm). docs/design.md defines every criterion.
+Writes DIR/<name>.toml (a pattern file for patlab compare and every other command) and
+DIR/<name>.design.txt (the report); the same options give byte-identical files.
+Exit status: 0 ok, 1 cannot write --out, 2 bad input or impossible constraints (nothing written).
+)";
+
+struct DesignFlags {
+  std::string id_radii = "20";
+  std::string objective = "angle_crlb";
+  std::string seed = "1";
+  std::string start;
+  std::string out_dir;
+  std::string patterns_dir = "patterns";
+  bool quiet = false;
+};
+
+// The ID patch positions of a pattern file, as the first start.
+std::vector<Vec2> StartLayout(const std::string& reference, const std::string& patterns_dir) {
+  const std::string file = io::ResolvePatternPath(reference, patterns_dir);
+  const Pattern pattern = io::LoadPatternFile(file);
+  std::vector<Vec2> layout;
+  const Vec2 key = pattern.patches[pattern.key_index].position_mm;
+  for (int slot : detect::IdSlots(pattern)) {
+    layout.push_back(pattern.patches[slot].position_mm - key);
+  }
+  return layout;
+}
+
+sim::DesignOptions ParseDesignOptions(const DesignFlags& f, sim::DesignOptions o) {
+  if (f.out_dir.empty()) throw InputError("missing --out DIR; expected the directory to write");
+  o.id_radii_mm = ParseNumberList(f.id_radii, "--id-radii-mm",
+                                  "radii in mm, one for every ID patch or one per ID patch");
+  o.objective = ParseName(f.objective, sim::kDesignObjectiveNames, "--objective");
+  o.seed = ParseSeed(f.seed, "--seed");
+  if (!f.start.empty()) {
+    o.start_mm = StartLayout(f.start, f.patterns_dir);
+    if (o.start_mm.size() != static_cast<size_t>(o.id_patches)) {
+      throw InputError("--start " + f.start + " has " + std::to_string(o.start_mm.size()) +
+                       " ID patches; expected a pattern with id_patches (" +
+                       std::to_string(o.id_patches) + ") ID patches");
+    }
+  }
+  sim::Validate(o);
+  return o;
+}
+
+void AddDesignFlags(po::options_description* d, DesignFlags* f, sim::DesignOptions* o) {
+  // clang-format off
+  d->add_options()
+      ("name", po::value(&o->name)->default_value(o->name), "the designed pattern's name")
+      ("outer-diameter-mm", po::value(&o->outer_diameter_mm)->default_value(o->outer_diameter_mm),
+       "robot top diameter (mm)")
+      ("rim-gap-mm", po::value(&o->rim_gap_mm)->default_value(o->rim_gap_mm),
+       "smallest gap between a patch and the rim (mm)")
+      ("key-radius-mm", po::value(&o->key_radius_mm)->default_value(o->key_radius_mm),
+       "key patch radius (mm)")
+      ("id-patches", po::value(&o->id_patches)->default_value(o->id_patches), "ID patches")
+      ("id-radii-mm", po::value(&f->id_radii)->default_value(f->id_radii),
+       "ID patch radius (mm), or one per ID patch, comma-separated")
+      ("min-gap-mm", po::value(&o->min_gap_mm)->default_value(o->min_gap_mm),
+       "smallest edge-to-edge gap between two patches (mm)")
+      ("palette", po::value(&o->palette)->default_value(o->palette), "ID colours, 2..8")
+      ("tolerance-mm", po::value(&o->tolerance_mm)->default_value(o->tolerance_mm),
+       "symmetry tolerance of the ID count (mm; patlab ids)")
+      ("objective", po::value(&f->objective)->default_value(f->objective),
+       "what to minimise: angle_crlb, position_crlb or rotation_onset (maximised)")
+      ("min-ids", po::value(&o->min_ids)->default_value(o->min_ids),
+       "IDs required with --palette colours (0: every colouring)")
+      ("min-rotation-onset-mm", po::value(&o->min_rotation_onset_mm)->default_value(o->min_rotation_onset_mm),
+       "rotation onset required (mm of patch sigma)")
+      ("max-angle-crlb-mrad-per-mm", po::value(&o->max_angle_crlb_mrad_per_mm),
+       "angle CRLB allowed (mrad per mm of sigma; default none)")
+      ("max-position-crlb-per-mm", po::value(&o->max_position_crlb_per_mm),
+       "position CRLB allowed (mm per mm of sigma, per axis; default none)")
+      ("starts", po::value(&o->starts)->default_value(o->starts), "seeded local searches")
+      ("max-evaluations", po::value(&o->max_evaluations)->default_value(o->max_evaluations),
+       "layouts evaluated per local search at most")
+      ("seed", po::value(&f->seed)->default_value(f->seed), "seed of the random starts (integer >= 0)")
+      ("start", po::value(&f->start), "a pattern file or name whose ID patches are the first start")
+      ("out", po::value(&f->out_dir), "directory to write <name>.toml and <name>.design.txt to")
+      ("quiet,q", po::bool_switch(&f->quiet), "no report on stdout")
+      ("patterns-dir", po::value(&f->patterns_dir)->default_value(f->patterns_dir),
+       "where pattern names are looked up")
+      ("help,h", "show this help");
+  // clang-format on
+}
+
+int RunDesign(const std::vector<std::string>& args) {
+  DesignFlags f;
+  sim::DesignOptions o;
+  po::options_description visible("usage: patlab design [options] --out DIR\n\noptions");
+  AddDesignFlags(&visible, &f, &o);
+  po::variables_map vm;
+  std::vector<std::string> none;
+  if (!ParseArguments(args, visible, "positional", po::value(&none), 0, kExamples, &vm)) {
+    return kExitOk;
+  }
+  o = ParseDesignOptions(f, o);
+  const std::filesystem::path dir(f.out_dir);
+  io::CheckWritable({(dir / (o.name + ".toml")).string()});
+  const sim::DesignResult result = sim::RunDesign(o);
+  const std::string report = TrimLineEnds(sim::DesignReportText(result));
+  // A failure to write is an EnvironmentError: main() reports it, exit 1, nothing written.
+  io::WriteFilesAtomic({{(dir / (o.name + ".toml")).string(), sim::DesignPatternFileText(result)},
+                        {(dir / (o.name + ".design.txt")).string(), report}});
+  if (!f.quiet) std::cout << report;
+  std::printf("patlab design: %lld layouts evaluated in %.2f s, %.0f evaluations/s\n",
+              static_cast<long long>(result.evaluations), result.seconds,
+              result.evaluations_per_second);
+  return kExitOk;
+}
+
+}  // namespace
+
+PATLAB_REGISTER_COMMAND("design", "search patch layouts for a better pattern (NLopt COBYLA)",
+                        RunDesign);
+
+}  // namespace patlab::cli
