@@ -2,6 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+
+#include "patlab/detect/settings.h"
+#include "patlab/vision/frame_detector.h"
+#include "patlab/vision/frame_io.h"
+#include "patlab/vision/scene_render.h"
 #include "test_util.h"
 
 namespace patlab::vision {
@@ -212,6 +219,64 @@ TEST(ThresholdsFit, OptionsAreChecked) {
   o = {};
   o.margin_levels = 200;
   EXPECT_INPUT_ERROR(Validate(o), "margin_levels is 200; expected an integer in [0, 128]");
+}
+
+}  // namespace
+}  // namespace patlab::vision
+
+namespace patlab::vision {
+namespace {
+
+const std::string kData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/";
+
+ThresholdsFit FitFile(const std::string& labels_path) {
+  const Labels labels = LoadLabels(labels_path);
+  const Image image = ReadFrame(labels.image_path);
+  return FitThresholds(image, LabelPixels(labels, image.width_px, image.height_px, nullptr), labels,
+                       ThresholdsFitOptions{});
+}
+
+// Thresholds fitted to samples of four robots of the golden frame find every robot of a frame
+// they never saw: eight robots at other poses with other IDs and other sensor noise.
+TEST(ThresholdsFit, GoldenFrameLabelsDetectEveryRobotOfAnotherFrame) {
+  const ThresholdsFit fit = FitFile(kData + "vision/golden-frame.labels.toml");
+  EXPECT_TRUE(fit.overlaps.empty());
+  const SceneFile holdout = LoadSceneFile(kData + "vision/thresholds-holdout.scene.toml");
+  const Image frame = RenderScene(holdout.scene, holdout.calibration.camera);
+  FrameDetector frames(fit.thresholds, LoadCalibration(kData + "golden/ssl-frame.calibration.toml"),
+                       detect::LoadDetectorSettings(kData + "golden/ssl-frame.detector.toml"), {});
+  EXPECT_TRUE(frames.warnings().empty());
+  const FrameResult& result = frames.Detect(frame, "holdout");
+  ASSERT_EQ(result.detections.size(), holdout.scene.robots.size());
+  const auto& palette = frames.detector().config().palette;
+  for (const RobotPlacement& robot : holdout.scene.robots) {
+    const auto it = std::find_if(
+        result.detections.begin(), result.detections.end(), [&](const detect::Detection& d) {
+          return d.id == robot.id && palette[static_cast<size_t>(d.team_colour)] == robot.team;
+        });
+    ASSERT_NE(it, result.detections.end()) << robot.team << " " << robot.id;
+    EXPECT_EQ(it->status, detect::DetectionStatus::kOk);
+    // Within 3 mm: ~10 sigma of the golden test's per-robot position error (golden_frame_test).
+    EXPECT_NEAR(it->pose.x_mm, robot.pose.x_mm, 3.0);
+    EXPECT_NEAR(it->pose.y_mm, robot.pose.y_mm, 3.0);
+  }
+}
+
+// The real SSL frame: labels on two of its five robots. Both are found again, and so is the
+// held-out blue robot at (478, 562) px; the two held-out yellow robots near the top edge are not
+// (their yellow is darker than the labelled robot's box: docs/thresholds.md).
+TEST(ThresholdsFit, RealSslFrameLabelsFindTheLabelledAndAHeldOutRobot) {
+  if (!std::filesystem::exists(testing::SharedFrames() + "/ssl-field-2008.jpg")) {
+    GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
+  }
+  const ThresholdsFit fit = FitFile(kData + "vision/ssl-2008.labels.toml");
+  FrameDetector frames(fit.thresholds, LoadCalibration(kData + "vision/ssl-2008.calibration.toml"),
+                       detect::LoadDetectorSettings(kData + "vision/ssl-2008.detector.toml"), {});
+  const FrameResult& result = frames.DetectFile(testing::SharedFrames() + "/ssl-field-2008.jpg");
+  std::vector<int> ids;
+  for (const detect::Detection& d : result.detections) ids.push_back(d.id);
+  std::sort(ids.begin(), ids.end());
+  EXPECT_EQ(ids, (std::vector<int>{5, 6, 15}));
 }
 
 }  // namespace

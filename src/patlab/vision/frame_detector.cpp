@@ -209,8 +209,8 @@ void DrawMisses(const FrameResult& r, Image* debug) {
     const Region& region = r.blob_regions[static_cast<size_t>(
         r.detector_blob_source[static_cast<size_t>(e.key_blob)])];
     const double radius = std::sqrt(region.area_px / std::numbers::pi) + 4.0;
-    DrawDetection(debug, region.centroid_px, radius, region.centroid_px,
-                  OutcomeLetter(e.outcome), {255, 40, 40});
+    DrawDetection(debug, region.centroid_px, radius, region.centroid_px, OutcomeLetter(e.outcome),
+                  {255, 40, 40});
   }
 }
 
