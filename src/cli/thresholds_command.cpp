@@ -41,6 +41,16 @@ struct ThresholdsCommandOptions {
   vision::ThresholdsFitOptions fit;
 };
 
+// A frame the labels file names, its errors put at the line that names it.
+vision::Image ReadAt(const vision::Labels& labels, const std::string& path, int line,
+                     const char* key) {
+  try {
+    return vision::ReadFrame(path);
+  } catch (const InputError& e) {
+    throw InputError(FileLoc{labels.source, line}, std::string(key) + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 int RunThresholds(const std::vector<std::string>& args) {
@@ -77,9 +87,11 @@ int RunThresholds(const std::vector<std::string>& args) {
   if (!o.settings.empty()) {
     vision::CheckClassesKnown(labels, detect::LoadDetectorSettings(o.settings).palette);
   }
-  const vision::Image image = vision::ReadFrame(labels.image_path);
+  const vision::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
   std::optional<vision::Image> mask;
-  if (!labels.mask_path.empty()) mask = vision::ReadFrame(labels.mask_path);
+  if (!labels.mask_path.empty()) {
+    mask = ReadAt(labels, labels.mask_path, labels.mask_line, "mask");
+  }
   const std::vector<int> pixel_labels =
       vision::LabelPixels(labels, image.width_px, image.height_px, mask ? &*mask : nullptr);
   const vision::ThresholdsFit fit = vision::FitThresholds(image, pixel_labels, labels, o.fit);
