@@ -1,10 +1,9 @@
 // patlab detect end to end: frames written by the test (rendered discs), the binary run as a
 // user would, its stdout, stderr and exit status checked.
 #include <gtest/gtest.h>
-
-#include <algorithm>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

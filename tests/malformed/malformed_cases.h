@@ -1234,7 +1234,8 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    }},
                   {"ThresholdsLabelOutsideImage",
                    {{"l.toml",
-                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = \"blue\"\n"
+                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = "
+                     "\"blue\"\n"
                      "points = [[10, 10], [640, 5]]\n"s}},
                    "thresholds {dir}l.toml --out {dir}out/t.toml",
                    2,
@@ -1242,7 +1243,8 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    nullptr},
                   {"ThresholdsEmptyClass",
                    {{"l.toml",
-                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = \"blue\"\n"
+                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = "
+                     "\"blue\"\n"
                      "points = []\n"s}},
                    "thresholds {dir}l.toml --out {dir}out/t.toml",
                    2,
@@ -1250,14 +1252,17 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    nullptr},
                   {"ThresholdsUnknownClass",
                    {{"l.toml",
-                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = \"magenta\"\n"
+                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = "
+                     "\"magenta\"\n"
                      "points = [[1, 1]]\n"s}},
-                   "thresholds {dir}l.toml --out {dir}out/t.toml -s {src}/tests/data/golden/ssl-frame.detector.toml",
+                   "thresholds {dir}l.toml --out {dir}out/t.toml -s "
+                   "{src}/tests/data/golden/ssl-frame.detector.toml",
                    2,
                    "patlab thresholds: {dir}l.toml:2: unknown class \"magenta\"; expected one of the detector palette: blue, yellow, pink, green, orange"s,
                    nullptr},
                   {"ThresholdsMissingImage",
-                   {{"l.toml", "image = \"nope.png\"\n[[class]]\nname = \"blue\"\npoints = [[1, 1]]\n"s}},
+                   {{"l.toml",
+                     "image = \"nope.png\"\n[[class]]\nname = \"blue\"\npoints = [[1, 1]]\n"s}},
                    "thresholds {dir}l.toml --out {dir}out/t.toml",
                    2,
                    "patlab thresholds: {dir}l.toml:1: image: {dir}nope.png: cannot open file; expected a readable file"s,
