@@ -83,6 +83,8 @@ po::options_description Flags(DetectOptions* o) {
       "blobs", po::bool_switch(&o->blobs), "write the calibrated blobs instead of detections")(
       "debug", po::value(&o->frame.debug_dir),
       "write each frame's numbered per-stage debug PNGs into this directory")(
+      "explain", po::bool_switch(&o->frame.explain),
+      "on stderr, every key candidate and why it is a detection or not (docs/detect.md)")(
       "timing", po::bool_switch(&o->frame.collect_timing),
       "per-stage timing and counters on stderr")("keep-going", po::bool_switch(&o->keep_going),
                                                  "report a bad frame and go on with the rest")(
@@ -209,6 +211,9 @@ int RunDetect(const std::vector<std::string>& args) {
   vision::FrameDetector frames(vision::LoadThresholds(o.thresholds),
                                vision::LoadCalibration(o.calibration), std::move(settings),
                                o.frame);
+  for (const std::string& warning : frames.warnings()) {
+    std::cerr << "patlab detect: warning: " << warning << "\n";
+  }
   vision::FrameResultsWriter writer(frames, o.blobs);
   const std::vector<std::string> paths = vision::ExpandFrameList(o.frames);
   if (!o.frame.debug_dir.empty()) CheckDistinctStems(paths);
@@ -219,6 +224,7 @@ int RunDetect(const std::vector<std::string>& args) {
       const vision::FrameResult& result = frames.DetectFile(path);
       writer.Add(result);
       totals.Add(result);
+      std::cerr << vision::ExplanationText(result, frames);
     } catch (const InputError& e) {
       if (!o.keep_going) throw;
       ++failed;

@@ -1280,6 +1280,47 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                      fs::copy_file(PATLAB_SOURCE_DIR "/tests/data/golden/ssl-frame.png",
                                    dir + "frames/f\xff.png");
                    }},
+                  {"ThresholdsLabelOutsideImage",
+                   {{"l.toml",
+                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = "
+                     "\"blue\"\n"
+                     "points = [[10, 10], [640, 5]]\n"s}},
+                   "thresholds {dir}l.toml --out {dir}out/t.toml",
+                   2,
+                   "patlab thresholds: {dir}l.toml:4: point [640, 5] of class \"blue\" lies outside the 640x480 image; expected 0 <= x < 640 and 0 <= y < 480"s,
+                   nullptr},
+                  {"ThresholdsEmptyClass",
+                   {{"l.toml",
+                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = "
+                     "\"blue\"\n"
+                     "points = []\n"s}},
+                   "thresholds {dir}l.toml --out {dir}out/t.toml",
+                   2,
+                   "patlab thresholds: {dir}l.toml:2: class \"blue\" has no samples; expected points, rects or a mask colour"s,
+                   nullptr},
+                  {"ThresholdsUnknownClass",
+                   {{"l.toml",
+                     "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = "
+                     "\"magenta\"\n"
+                     "points = [[1, 1]]\n"s}},
+                   "thresholds {dir}l.toml --out {dir}out/t.toml -s "
+                   "{src}/tests/data/golden/ssl-frame.detector.toml",
+                   2,
+                   "patlab thresholds: {dir}l.toml:2: unknown class \"magenta\"; expected one of the detector palette: blue, yellow, pink, green, orange"s,
+                   nullptr},
+                  {"ThresholdsMissingImage",
+                   {{"l.toml",
+                     "image = \"nope.png\"\n[[class]]\nname = \"blue\"\npoints = [[1, 1]]\n"s}},
+                   "thresholds {dir}l.toml --out {dir}out/t.toml",
+                   2,
+                   "patlab thresholds: {dir}l.toml:1: image: {dir}nope.png: cannot open file; expected a readable file"s,
+                   nullptr},
+                  {"ThresholdsBadMargin",
+                   {{"l.toml", "image = \"x.png\"\n"s}},
+                   "thresholds {dir}l.toml --out {dir}out/t.toml --margin 300",
+                   2,
+                   "patlab thresholds: margin_levels is 300; expected an integer in [0, 128]"s,
+                   nullptr},
               };
   return cases;
 }

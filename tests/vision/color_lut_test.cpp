@@ -48,6 +48,38 @@ TEST(ColorLut, LoadThresholdsRecognisesBothFormats) {
   EXPECT_EQ(t.classes[0].range[1].hi, 255);  // missing channel: everything
 }
 
+// The layout CMVision users write by hand (e.g. the example file of Player's cmvision driver):
+// section names in any case, padded numbers, a blank line between sections, a multi-word name.
+// Written here for the test, not copied.
+constexpr const char* kLowercaseSections =
+    "; colour file for the lab camera\n"
+    "[colors]\n"
+    "(255,  0,128) 0.000000 10 Pink Dot\n"
+    "(  0,255,  0) 0.500000  3 green\n"
+    "\n"
+    "[THRESHOLDS]\n"
+    "( 25:164, 80:120,150:240)\n"
+    "(  5:220, 50:120, 40:115)\n";
+
+TEST(ColorLut, CmvisionSectionNamesAreCaseInsensitive) {
+  const std::string dir = testing::ScratchDir();
+  testing::WriteText(dir + "/colors.txt", kLowercaseSections);
+  const Thresholds t = LoadThresholds(dir + "/colors.txt");
+  ASSERT_EQ(t.classes.size(), 2u);
+  EXPECT_EQ(t.classes[0].name, "Pink Dot");
+  EXPECT_EQ(t.classes[0].expected_num, 10);
+  EXPECT_EQ(t.classes[1].display_rgb, (std::array<uint8_t, 3>{0, 255, 0}));
+  EXPECT_EQ(t.classes[0].range[1].lo, 80);
+  EXPECT_EQ(t.classes[1].range[0].lo, 5);
+  EXPECT_EQ(t.classes[1].range[2].hi, 115);
+  // A lowercase header with a bad line is reported by the CMVision parser, not by TOML's.
+  testing::WriteText(dir + "/bad.txt", "[thresholds]\n(1:2, 3:4)\n");
+  EXPECT_INPUT_ERROR(LoadThresholds(dir + "/bad.txt"),
+                     dir +
+                         "/bad.txt:2: bad [Thresholds] line '(1:2, 3:4)'; expected (Ylo:Yhi, "
+                         "Ulo:Uhi, Vlo:Vhi)");
+}
+
 TEST(ColorLut, CmvisionErrorsNameFileAndLine) {
   EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(255,128) 0.5 2 Ball\n", "c.txt"),
                      "c.txt:2: bad [Colors] line '(255,128) 0.5 2 Ball'; expected (R,G,B) merge "
@@ -72,7 +104,8 @@ TEST(ColorLut, CmvisionErrorsNameFileAndLine) {
       "c.txt:5: 2 colours but 1 thresholds; expected one [Thresholds] line per "
       "[Colors] line");
   EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colours]\n", "c.txt"),
-                     "c.txt:1: unknown section [Colours]; expected [Colors] or [Thresholds]");
+                     "c.txt:1: unknown section [Colours]; expected [Colors] or [Thresholds] (any "
+                     "case)");
   EXPECT_INPUT_ERROR(ParseCmvisionColors("(1,2,3) 0.5 2 A\n", "c.txt"),
                      "c.txt:1: line outside a section; expected [Colors] or [Thresholds] first");
   EXPECT_INPUT_ERROR(ParseCmvisionColors("\n", "c.txt"),

@@ -156,3 +156,28 @@ TEST(FrameDetector, OptionsAreChecked) {
 
 }  // namespace
 }  // namespace patlab::vision
+
+namespace patlab::vision {
+namespace {
+
+// The case: a thresholds class "magenta" where the detector palette says "pink" drops
+// every pink-dotted robot; the front end says so, naming both sides.
+TEST(FrameDetector, WarnsWhenClassNamesAndPaletteDisagree) {
+  const std::string golden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
+  Thresholds t = LoadThresholds(golden + "ssl-frame.thresholds.toml");
+  t.source = "t.toml";
+  t.classes[static_cast<size_t>(t.Find("pink"))].name = "magenta";
+  const detect::DetectorConfig config =
+      detect::LoadDetectorSettings(golden + "ssl-frame.detector.toml");
+  EXPECT_EQ(PaletteWarnings(t, config),
+            (std::vector<std::string>{
+                "t.toml: class \"magenta\" is no colour of the detector's palette; its blobs are "
+                "not shown to the detector",
+                "detector colour \"pink\" is used by a pattern but no class of t.toml has that "
+                "name; no blob can have it, so patterns needing it are not detected"}));
+  t.classes[static_cast<size_t>(t.Find("magenta"))].name = "pink";
+  EXPECT_TRUE(PaletteWarnings(t, config).empty());
+}
+
+}  // namespace
+}  // namespace patlab::vision

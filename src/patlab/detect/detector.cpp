@@ -174,7 +174,16 @@ void Detector::Impl::FindKeyCandidates(std::span<const Blob> blobs) {
     if (label < 0 || label >= kMaxLabels || !Usable(blobs[i])) continue;
     for (int p : patterns_by_key_label[label]) {
       const PatternRuntime& rt = runtimes[p];
-      if (blobs[i].area_mm2 < rt.key_area_min || blobs[i].area_mm2 > rt.key_area_max) continue;
+      if (blobs[i].area_mm2 < rt.key_area_min || blobs[i].area_mm2 > rt.key_area_max) {
+        if (explain != nullptr) {
+          explain->push_back({.pattern = p,
+                              .key_blob = i,
+                              .outcome = KeyOutcome::kKeyArea,
+                              .needed = rt.mk,
+                              .tolerance_mm2 = rt.e_max_full});
+        }
+        continue;
+      }
       ++stats.key_candidates;
       EvaluateKey<kTiming>(p, i, blobs);
     }
@@ -195,14 +204,20 @@ void Detector::Impl::ResolveConflicts(std::span<const Blob> blobs,
   for (int ci : candidate_order) {
     const Candidate& c = candidates[ci];
     const int m = runtimes[c.pattern].m;
-    bool free = true;
-    for (int i = 0; i < m && free; ++i) free = c.blob[i] < 0 || !used[c.blob[i]];
-    if (!free) {
+    int taken_by = 0;  // 1 + the candidate holding one of c's blobs, or 0
+    for (int i = 0; i < m && taken_by == 0; ++i) taken_by = c.blob[i] < 0 ? 0 : used[c.blob[i]];
+    if (taken_by != 0) {
       ++stats.conflicts;
+      if (explain != nullptr && c.explain >= 0) {
+        KeyExplanation& e = (*explain)[static_cast<size_t>(c.explain)];
+        e.outcome = KeyOutcome::kConflict;
+        e.lost_to_key = candidates[taken_by - 1].key_blob;
+        e.lost_to_pattern = candidates[taken_by - 1].pattern;
+      }
       continue;
     }
     for (int i = 0; i < m; ++i) {
-      if (c.blob[i] >= 0) used[c.blob[i]] = 1;
+      if (c.blob[i] >= 0) used[c.blob[i]] = ci + 1;
     }
     StageClock<kTiming> pose_clock;
     detections->emplace_back();
@@ -279,9 +294,25 @@ void Detector::Impl::DetectFrame(std::span<const Blob> blobs, std::vector<Detect
   }
 }
 
+// Explain: each kept candidate's record gets the index of its detection in the output order.
+void Detector::Impl::LinkExplanations(const std::vector<Detection>& detections) {
+  for (size_t i = 0; i < detections.size(); ++i) {
+    const Detection& d = detections[i];
+    const int key = d.blob[static_cast<size_t>(runtimes[d.pattern].key_index)];
+    for (KeyExplanation& e : *explain) {
+      if (e.pattern == d.pattern && e.key_blob == key && e.outcome == KeyOutcome::kDetected) {
+        e.detection = static_cast<int>(i);
+      }
+    }
+  }
+}
+
 void Detector::Detect(std::span<const Blob> blobs, std::vector<Detection>* detections,
-                      DetectStats* stats, TimeProfile* profile) {
+                      DetectStats* stats, TimeProfile* profile,
+                      std::vector<KeyExplanation>* explain) {
   Impl& s = *impl_;
+  s.explain = explain;
+  if (explain != nullptr) explain->clear();
   if (profile != nullptr && profile->enabled()) {
     s.DetectFrame<true>(blobs, detections);
     for (int stage = 0; stage < internal::kNumStages; ++stage) {
@@ -290,6 +321,8 @@ void Detector::Detect(std::span<const Blob> blobs, std::vector<Detection>* detec
   } else {
     s.DetectFrame<false>(blobs, detections);
   }
+  if (explain != nullptr) s.LinkExplanations(*detections);
+  s.explain = nullptr;
   if (stats != nullptr) *stats = s.stats;
 }
 

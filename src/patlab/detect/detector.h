@@ -148,6 +148,44 @@ struct DetectStats {
   DetectStats& operator+=(const DetectStats& other);
 };
 
+// Why a key candidate became a detection or not: Detect's optional `explain` output, one record
+// per blob of a pattern's key colour (patlab detect --explain).
+enum class KeyOutcome {
+  kDetected,       // a detection (its status: ok, missing_patch or ambiguous)
+  kKeyArea,        // stage 1: the blob's area is outside the key patch's range; not a candidate
+  kFewNeighbours,  // stage 2: fewer neighbours within reach than the pattern's non-key patches
+                   // (one fewer with MissingPatchPolicy::kFit)
+  kGeometry,       // stage 4: no rotation of any choice of neighbours has E within tolerance
+  kColours,        // stage 5: rotations passed geometry, but their colours are no codebook ID (or
+                   // a fixed patch has the wrong colour)
+  kConflict,       // stage 7: a candidate, but a better-ranked one took one of its blobs
+};
+inline constexpr EnumNames<KeyOutcome, 6> kKeyOutcomeNames{
+    {{{KeyOutcome::kDetected, "detected"},
+      {KeyOutcome::kKeyArea, "key_area"},
+      {KeyOutcome::kFewNeighbours, "few_neighbours"},
+      {KeyOutcome::kGeometry, "geometry"},
+      {KeyOutcome::kColours, "colours"},
+      {KeyOutcome::kConflict, "conflict"}}}};
+
+struct KeyExplanation {
+  int pattern = 0;   // index into DetectorConfig::patterns
+  int key_blob = 0;  // index into the blobs
+  KeyOutcome outcome = KeyOutcome::kDetected;
+  // Stage 2: neighbours within reach (after the max_neighbours cut) and how many a full fit needs.
+  int neighbours = 0;
+  int needed = 0;
+  // Stage 4: rotations tried and passing geometry (full and missing-patch fits), the smallest E
+  // of the full fits (inf when none was tried) and its tolerance.
+  long rotations = 0;
+  long geometry_passed = 0;
+  double best_e_mm2 = 0.0;
+  double tolerance_mm2 = 0.0;
+  int detection = -1;        // kDetected: index into the detections
+  int lost_to_key = -1;      // kConflict: the key blob of the candidate that won ...
+  int lost_to_pattern = -1;  // ... and its pattern
+};
+
 // P(chi-square with `dof` degrees of freedom >= e), dof >= 1: the detections' confidence.
 double ChiSquaredSurvival(int dof, double e);
 
@@ -167,9 +205,12 @@ class Detector {
   // ~20-30 ns each, charged to the stage they end (about 5 per key candidate, 2 per choice of
   // neighbours with a rotation passing geometry, 2 per detection); without an enabled profile no
   // clock is read. Blob colours outside the palette and positions beyond 1e9 mm or not finite
-  // are ignored. Not thread-safe: use one Detector per thread.
+  // are ignored. `explain` (optional) is cleared and filled with one KeyExplanation per blob of
+  // a key colour and pattern, in blob order; without it nothing is recorded (no allocation, one
+  // branch per key candidate). Not thread-safe: use one Detector per thread.
   void Detect(std::span<const Blob> blobs, std::vector<Detection>* detections,
-              DetectStats* stats = nullptr, TimeProfile* profile = nullptr);
+              DetectStats* stats = nullptr, TimeProfile* profile = nullptr,
+              std::vector<KeyExplanation>* explain = nullptr);
 
   const DetectorConfig& config() const;
   // The palette label of a colour name, or -1.

@@ -82,6 +82,7 @@ struct Candidate {
   DetectionStatus status = DetectionStatus::kOk;
   int missing_patch = -1;
   int num_blobs = 0;  // blobs explained (patches found)
+  int explain = -1;   // index of its KeyExplanation when Detect explains
   std::array<int, kMaxPatches> blob{};
 };
 
@@ -161,8 +162,11 @@ struct Detector::Impl {
   double bucket_min_x = 0.0, bucket_width_mm = 1.0;
   std::vector<Candidate> candidates;
   std::vector<int> candidate_order;
-  std::vector<char> used;
+  std::vector<int> used;  // per blob: 1 + the candidate that took it, or 0
   DetectStats stats;
+  // Detect's explain output, or nullptr; the smallest full-fit E of the key being evaluated.
+  std::vector<KeyExplanation>* explain = nullptr;
+  double key_best_e = 0.0;
   // Timed Detect only: nanoseconds per stage of this frame. Stages 2-6 are summed over the key
   // candidates; kFitRotations holds stages 4 and 5 of the full fits until Detect takes stage 5
   // (timed inside it) out.
@@ -188,7 +192,10 @@ struct Detector::Impl {
   void ResolveConflicts(std::span<const Blob> blobs,
                         std::vector<Detection>* detections);  // stage 7
   void EstimatePose(const Candidate& c, std::span<const Blob> blobs,
-                    Detection* d) const;  // stage 8
+                    Detection* d) const;                            // stage 8
+  void LinkExplanations(const std::vector<Detection>& detections);  // explain: detection index
+  // explain: the record of key `key` of pattern p after stages 2-6.
+  void ExplainKey(int p, int key, const Neighbours& nb, const DetectStats& before, bool found);
 
   // detector_stages.cpp: stages 2-6 for the key blob `key` of pattern p.
   template <bool kTiming>

@@ -3,6 +3,7 @@
 // on fixed-size arrays on the stack and allocates nothing.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include "patlab/detect/detector_internal.h"
@@ -40,8 +41,9 @@ struct RotationColours {
 
 // The result of every rotation of one choice of neighbours.
 struct SubsetVerdict {
-  int ok = 0;     // rotations passing geometry and fixed colours
-  int valid = 0;  // ... whose colours are an ID
+  double min_e = 1e300;  // smallest E of every rotation tried (for KeyExplanation)
+  int ok = 0;            // rotations passing geometry and fixed colours
+  int valid = 0;         // ... whose colours are an ID
   double best_ok_e = 1e300;
   int best_ok_shift = 0, best_ok_skip = -1;
   double valid_e = 1e300;
@@ -173,6 +175,7 @@ inline SubsetVerdict FitRotations(const PatternRuntime& rt, const Choice& ch, co
     for (int shift = 0; shift < ch.r; ++shift) {
       ++stats->correspondences;
       const double e = RotationError(rt, ch, skip + 1, skip, shift, missing);
+      v.min_e = std::min(v.min_e, e);
       if (e > e_max) continue;
       ++stats->geometry_passed;
       ScopedTime<kTiming> identify_time(identify_ns);
@@ -329,6 +332,7 @@ bool Detector::Impl::FitAndIdentify(int p, int key, const Vec2& key_mm, const Ne
   do {
     CentreChoice(key_mm, nb, &ch);
     const SubsetVerdict v = FitRotations<kTiming>(rt, ch, nb, missing, e_max, identify_ns, &stats);
+    if (!missing) key_best_e = std::min(key_best_e, v.min_e);
     if (v.ok == 0) continue;  // nothing passed geometry and fixed colours: nothing to decide
     ScopedTime<kTiming> identify_time(identify_ns);
     Candidate c;
@@ -350,11 +354,17 @@ template <bool kTiming>
 void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   StageClock<kTiming> clock;
   const PatternRuntime& rt = runtimes[p];
+  DetectStats before;
+  if (explain != nullptr) before = stats;
+  key_best_e = std::numeric_limits<double>::infinity();
   Neighbours nb;
   FindNeighbours(rt, key, blobs, &nb);
   stage_ns[internal::kNeighbours] += clock.Lap();
   const bool try_missing = rt.can_fit_missing && nb.n >= rt.mk - 1;
-  if (nb.n < rt.mk && !try_missing) return;
+  if (nb.n < rt.mk && !try_missing) {
+    if (explain != nullptr) ExplainKey(p, key, nb, before, false);
+    return;
+  }
 
   const Vec2 key_mm = blobs[key].position_mm;
   RadialSort(key_mm, blobs, &nb);
@@ -371,6 +381,34 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
     stage_ns[internal::kMissingPatch] += clock.Lap();
   }
   if (found) candidates.push_back(best);
+  if (explain != nullptr) ExplainKey(p, key, nb, before, found);
+}
+
+// The outcome of stages 2-6 for one key; kDetected may still become kConflict in stage 7.
+void Detector::Impl::ExplainKey(int p, int key, const Neighbours& nb, const DetectStats& before,
+                                bool found) {
+  const PatternRuntime& rt = runtimes[p];
+  KeyExplanation e;
+  e.pattern = p;
+  e.key_blob = key;
+  e.neighbours = nb.n;
+  e.needed = rt.mk;
+  e.rotations = stats.correspondences - before.correspondences;
+  e.geometry_passed = stats.geometry_passed - before.geometry_passed;
+  e.best_e_mm2 = key_best_e;
+  e.tolerance_mm2 = rt.e_max_full;
+  const bool enough = nb.n >= rt.mk || (rt.can_fit_missing && nb.n >= rt.mk - 1);
+  if (found) {
+    e.outcome = KeyOutcome::kDetected;
+    candidates.back().explain = static_cast<int>(explain->size());
+  } else if (!enough) {
+    e.outcome = KeyOutcome::kFewNeighbours;
+  } else if (e.geometry_passed == 0) {
+    e.outcome = KeyOutcome::kGeometry;
+  } else {
+    e.outcome = KeyOutcome::kColours;
+  }
+  explain->push_back(e);
 }
 
 template void Detector::Impl::EvaluateKey<false>(int, int, std::span<const Blob>);

@@ -87,10 +87,29 @@ void CheckRange(const FileLoc& loc, const char* channel, long lo, long hi) {
 
 enum class Section { kNone, kColors, kThresholds };
 
+// CMVision compares section names without regard to case ([colors], [COLORS], [Colors]).
+bool EqualsIgnoreCase(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (std::tolower(static_cast<unsigned char>(a[i])) !=
+        std::tolower(static_cast<unsigned char>(b[i])))
+      return false;
+  }
+  return true;
+}
+
+// The section a trimmed line opens, or kNone when it is no CMVision section header.
+Section SectionOf(std::string_view line) {
+  if (EqualsIgnoreCase(line, "[Colors]")) return Section::kColors;
+  if (EqualsIgnoreCase(line, "[Thresholds]")) return Section::kThresholds;
+  return Section::kNone;
+}
+
 Section ParseSectionHeader(const FileLoc& loc, const std::string& line) {
-  if (line == "[Colors]") return Section::kColors;
-  if (line == "[Thresholds]") return Section::kThresholds;
-  throw InputError(loc, "unknown section " + line + "; expected [Colors] or [Thresholds]");
+  const Section section = SectionOf(line);
+  if (section != Section::kNone) return section;
+  throw InputError(loc, "unknown section " + EscapeForMessage(line) +
+                            "; expected [Colors] or [Thresholds] (any case)");
 }
 
 // `num_classes` is how many [Colors] lines came before this one.
@@ -339,7 +358,7 @@ Thresholds LoadThresholds(const std::string& path) {
   while (std::getline(lines, line)) {
     const std::string t = Trim(line);
     if (t.empty() || t[0] == '#' || t[0] == ';') continue;
-    if (t == "[Colors]" || t == "[Thresholds]") return ParseCmvisionColors(text, path);
+    if (SectionOf(t) != Section::kNone) return ParseCmvisionColors(text, path);
     break;
   }
   return ParseThresholdsToml(text, path);

@@ -49,7 +49,8 @@ struct Thresholds {
   int Find(std::string_view name) const;
 };
 
-// Loads a thresholds file: CMVision's colors.txt when its first section is [Colors], otherwise
+// Loads a thresholds file: CMVision's colors.txt when its first non-comment line is [Colors] or
+// [Thresholds] (in any case, as CMVision compares section names), otherwise
 // our TOML form (see ParseThresholdsToml). Bad syntax or impossible values are InputErrors
 // naming the file and line.
 Thresholds LoadThresholds(const std::string& path);
@@ -59,7 +60,8 @@ Thresholds LoadThresholds(const std::string& path);
 //   (255,128,  0) 0.5000 2 Ball        <- (R,G,B) display colour, merge, expected_num, name
 //   [Thresholds]
 //   ( 10:200, 38:120,138:200)          <- (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi), one line per colour
-// Blank lines and lines starting with '#' or ';' are ignored.
+// Section names are matched without regard to case ([colors], [THRESHOLDS]). Blank lines and
+// lines starting with '#' or ';' are ignored.
 Thresholds ParseCmvisionColors(std::string_view text, const std::string& name);
 
 // Our TOML form:

@@ -1,10 +1,12 @@
 #include "patlab/vision/frame_detector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
 
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/vision/debug_image.h"
 #include "patlab/vision/frame_io.h"
 
@@ -37,7 +39,43 @@ std::string FileNamePart(std::string_view stage) {
   return out;
 }
 
+// The colours the patterns use: key (team) colours, codebook ID colours and fixed colours.
+std::vector<std::string> UsedColours(const detect::DetectorConfig& config) {
+  std::vector<std::string> used;
+  auto add = [&used](const std::string& c) {
+    if (!c.empty() && std::find(used.begin(), used.end(), c) == used.end()) used.push_back(c);
+  };
+  for (const detect::DetectorPattern& p : config.patterns) {
+    for (const std::string& c : p.key_colours) add(c);
+    for (const std::string& c : p.codebook.colours) add(c);
+    for (const Patch& patch : p.pattern.patches) {
+      if (patch.role == PatchRole::kFixed) add(patch.colour);
+    }
+  }
+  return used;
+}
+
 }  // namespace
+
+std::vector<std::string> PaletteWarnings(const Thresholds& thresholds,
+                                         const detect::DetectorConfig& config) {
+  std::vector<std::string> warnings;
+  const auto& palette = config.palette;
+  for (const ColorClass& c : thresholds.classes) {
+    if (std::find(palette.begin(), palette.end(), c.name) != palette.end()) continue;
+    warnings.push_back(thresholds.source + ": class \"" + EscapeForMessage(c.name) +
+                       "\" is no colour of the detector's palette; its blobs are not shown to the "
+                       "detector");
+  }
+  for (const std::string& colour : UsedColours(config)) {
+    if (thresholds.Find(colour) >= 0) continue;
+    warnings.push_back("detector colour \"" + EscapeForMessage(colour) +
+                       "\" is used by a pattern but no class of " + thresholds.source +
+                       " has that name; no blob can have it, so patterns needing it are not "
+                       "detected");
+  }
+  return warnings;
+}
 
 std::vector<std::string> DebugImageNames(const std::string& stem, bool with_detections) {
   std::vector<std::string> names;
@@ -60,6 +98,7 @@ FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
   for (const ColorClass& c : pipeline_.thresholds().classes) {
     palette_label_.push_back(detector_->ColourLabel(c.name));
   }
+  warnings_ = PaletteWarnings(pipeline_.thresholds(), detector_->config());
 }
 
 FrameDetector::~FrameDetector() = default;
@@ -102,6 +141,7 @@ void FrameDetector::RunStages(const Image& image) {
   r.detector_blobs.clear();
   r.detector_blob_source.clear();
   r.detections.clear();
+  r.explanations.clear();
   r.detect_stats = detect::DetectStats{};
   if (!detector_) return;
   r.profile.Start();
@@ -112,7 +152,8 @@ void FrameDetector::RunStages(const Image& image) {
     r.detector_blobs.push_back(detect::Blob{b.position_mm, label, b.area_mm2});
     r.detector_blob_source.push_back(static_cast<int>(i));
   }
-  detector_->Detect(r.detector_blobs, &r.detections, &r.detect_stats, &r.detect_profile);
+  detector_->Detect(r.detector_blobs, &r.detections, &r.detect_stats, &r.detect_profile,
+                    options_.explain ? &r.explanations : nullptr);
   r.profile.Stamp(kFrameStageNames[5]);
 }
 
@@ -138,6 +179,38 @@ void DrawDetections(const FrameResult& r, const VisionPipeline& pipeline,
     if (!centre || !tip || !rim) continue;
     const std::string label = d.id >= 0 ? std::to_string(d.id) : "?";
     DrawDetection(debug, *centre, (*rim - *centre).norm(), *tip, label, {255, 255, 255});
+  }
+}
+
+// The letter marking a key candidate's outcome on the debug image (frame_detector.h).
+const char* OutcomeLetter(detect::KeyOutcome outcome) {
+  switch (outcome) {
+    case detect::KeyOutcome::kKeyArea:
+      return "A";
+    case detect::KeyOutcome::kFewNeighbours:
+      return "N";
+    case detect::KeyOutcome::kGeometry:
+      return "G";
+    case detect::KeyOutcome::kColours:
+      return "C";
+    case detect::KeyOutcome::kConflict:
+      return "X";
+    case detect::KeyOutcome::kDetected:
+      break;
+  }
+  return "";
+}
+
+// Explain: every key candidate that is no detection, a red ring round its key region and the
+// letter of its outcome.
+void DrawMisses(const FrameResult& r, Image* debug) {
+  for (const detect::KeyExplanation& e : r.explanations) {
+    if (e.outcome == detect::KeyOutcome::kDetected) continue;
+    const Region& region = r.blob_regions[static_cast<size_t>(
+        r.detector_blob_source[static_cast<size_t>(e.key_blob)])];
+    const double radius = std::sqrt(region.area_px / std::numbers::pi) + 4.0;
+    DrawDetection(debug, region.centroid_px, radius, region.centroid_px, OutcomeLetter(e.outcome),
+                  {255, 40, 40});
   }
 }
 
@@ -176,7 +249,80 @@ void FrameDetector::WriteDebugImages(const Image& image) const {
   WritePng(DrawBlobs(image, result_, thresholds, has_detector()), (dir / names[2]).string());
   if (!has_detector()) return;
   DrawDetections(result_, pipeline_, *detector_, &regions);
+  DrawMisses(result_, &regions);
   WritePng(regions, (dir / names[3]).string());
+}
+
+}  // namespace patlab::vision
+
+namespace patlab::vision {
+
+namespace {
+
+std::string OutcomeText(const detect::KeyExplanation& e, const FrameResult& r,
+                        const detect::DetectorConfig& config) {
+  const std::string tolerance = FormatSignificant(e.tolerance_mm2, 4) + " mm^2";
+  switch (e.outcome) {
+    case detect::KeyOutcome::kDetected: {
+      if (e.detection < 0) return "detected";
+      const detect::Detection& d = r.detections[static_cast<size_t>(e.detection)];
+      return "detected, id " + std::to_string(d.id) + " (" +
+             std::string(detect::DetectionStatusName(d.status)) + "), E " +
+             FormatSignificant(d.residual_mm2, 4) + " mm^2 <= tolerance " + tolerance;
+    }
+    case detect::KeyOutcome::kKeyArea:
+      return "key_area: " +
+             FormatSignificant(r.detector_blobs[static_cast<size_t>(e.key_blob)].area_mm2, 4) +
+             " mm^2 is outside the key patch's area range (area_ratio_min, area_ratio_max)";
+    case detect::KeyOutcome::kFewNeighbours:
+      return "few_neighbours: " + std::to_string(e.neighbours) + " within reach, " +
+             std::to_string(e.needed) +
+             " needed (check reach_margin_mm, the neighbours' areas and colours)";
+    case detect::KeyOutcome::kGeometry:
+      return "geometry: best rotation E " + FormatSignificant(e.best_e_mm2, 4) +
+             " mm^2 > tolerance " + tolerance + " (" + std::to_string(e.rotations) +
+             " rotations tried; check patch_sigma_mm and the calibration)";
+    case detect::KeyOutcome::kColours:
+      return "colours: " + std::to_string(e.geometry_passed) +
+             " rotation(s) passed geometry (best E " + FormatSignificant(e.best_e_mm2, 4) +
+             " mm^2) but their colours are no ID of the codebook";
+    case detect::KeyOutcome::kConflict:
+      return "conflict: lost a blob to key " + std::to_string(e.lost_to_key) + " (" +
+             config.patterns[static_cast<size_t>(e.lost_to_pattern)].pattern.name + ")";
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string ExplanationText(const FrameResult& r, const FrameDetector& frames) {
+  if (!frames.has_detector()) return "";
+  const detect::DetectorConfig& config = frames.detector().config();
+  std::string out;
+  for (const detect::KeyExplanation& e : r.explanations) {
+    const detect::Blob& b = r.detector_blobs[static_cast<size_t>(e.key_blob)];
+    const Region& region = r.blob_regions[static_cast<size_t>(
+        r.detector_blob_source[static_cast<size_t>(e.key_blob)])];
+    out.append(r.frame)
+        .append(": key ")
+        .append(std::to_string(e.key_blob))
+        .append(" ")
+        .append(config.palette[static_cast<size_t>(b.colour)])
+        .append(" at (")
+        .append(FormatFixed(region.centroid_px.x(), 1))
+        .append(", ")
+        .append(FormatFixed(region.centroid_px.y(), 1))
+        .append(") px, (")
+        .append(FormatFixed(b.position_mm.x(), 1))
+        .append(", ")
+        .append(FormatFixed(b.position_mm.y(), 1))
+        .append(") mm, ")
+        .append(config.patterns[static_cast<size_t>(e.pattern)].pattern.name)
+        .append(": ")
+        .append(OutcomeText(e, r, config))
+        .append("\n");
+  }
+  return out;
 }
 
 }  // namespace patlab::vision

@@ -41,6 +41,9 @@ struct FrameDetectorOptions {
   // Time the stages into FrameResult::profile and FrameResult::detect_profile. Off: no clock is
   // read.
   bool collect_timing = false;
+  // Record why each key candidate became a detection or not (FrameResult::explanations; the
+  // debug image 6_detect marks them). Off: the detector records nothing.
+  bool explain = false;
 };
 
 // Every broken constraint (core/options.h): the segmenter's, and a raw size that is either
@@ -55,7 +58,10 @@ void Validate(const FrameDetectorOptions& options);
 //                                box and centroid;
 //   <stem>.5_blobs_to_mm.png   - the blobs mapped to the plane (the detector's input when patterns
 //                                are detected), as discs of their area at their centroids;
-//   <stem>.6_detect.png        - the regions image with each detection's circle, heading and ID.
+//   <stem>.6_detect.png        - the regions image with each detection's circle, heading and ID;
+//                                with FrameDetectorOptions::explain, every key candidate that is
+//                                no detection marked by a red ring and a letter: A key area,
+//                                N too few neighbours, G geometry, C colours, X conflict lost.
 // The last only when patterns are detected.
 std::vector<std::string> DebugImageNames(const std::string& stem, bool with_detections);
 
@@ -71,6 +77,9 @@ struct FrameResult {
   std::vector<detect::Blob> detector_blobs;
   std::vector<int> detector_blob_source;
   std::vector<detect::Detection> detections;
+  // With FrameDetectorOptions::explain: why each key candidate became a detection or not; key
+  // blob indices refer to detector_blobs.
+  std::vector<detect::KeyExplanation> explanations;
   VisionStats vision_stats;
   detect::DetectStats detect_stats;
   // With FrameDetectorOptions::collect_timing: this frame's stage times under kFrameStageNames,
@@ -95,6 +104,12 @@ class FrameDetector {
   // Stages 2-6 on a frame in memory; `name` stands for it in messages, results and debug images.
   const FrameResult& Detect(const Image& image, const std::string& name);
 
+  // Mismatches between the thresholds' class names and the detector's palette, found at
+  // construction, for the caller to show: a class no palette colour names (its blobs never reach
+  // the detector) and a colour a pattern uses that no class names (no blob can have it -- e.g.
+  // a class "magenta" for the palette's "pink" drops every pink-dotted robot).
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
   bool has_detector() const { return detector_.has_value(); }
   const detect::Detector& detector() const { return *detector_; }  // has_detector() only
   const VisionPipeline& pipeline() const { return pipeline_; }
@@ -109,7 +124,16 @@ class FrameDetector {
   VisionPipeline pipeline_;
   std::optional<detect::Detector> detector_;
   std::vector<int> palette_label_;  // class index -> detector palette label, or -1
+  std::vector<std::string> warnings_;
   FrameResult result_;
 };
+
+// The warnings of FrameDetector::warnings() for these thresholds and detector configuration.
+std::vector<std::string> PaletteWarnings(const Thresholds& thresholds,
+                                         const detect::DetectorConfig& config);
+
+// The explanations of `result` as text for people, one line per key candidate:
+//   <frame>: key <blob> <colour> at (<u>, <v>) px, (<x>, <y>) mm, <pattern>: <outcome and why>
+std::string ExplanationText(const FrameResult& result, const FrameDetector& frames);
 
 }  // namespace patlab::vision

@@ -1,0 +1,13 @@
+// Labels files of `patlab thresholds` (vision/thresholds_fit.h): the parser, then the pixels the
+// labels name on a small image (points, rectangles and their bounds checks; no mask).
+#include "fuzz_util.h"
+#include "patlab/vision/thresholds_fit.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text = patlab::fuzz::Text(data, size);
+  patlab::fuzz::ExpectInputErrorOnly([&] {
+    const patlab::vision::Labels labels = patlab::vision::ParseLabels(text, "fuzz.toml", "");
+    (void)patlab::vision::LabelPixels(labels, 64, 48, nullptr);
+  });
+  return 0;
+}
