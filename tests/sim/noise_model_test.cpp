@@ -29,34 +29,24 @@ struct SampleStd {
   double se = 0.0;
 };
 
+double Mean(const std::vector<double>& a) {
+  double s = 0.0;
+  for (double v : a) s += v;
+  return a.empty() ? 0.0 : s / static_cast<double>(a.size());
+}
+
+// Pools a and b (x and y, each about its own mean) as the results' std_pos does; b may be empty.
 SampleStd Measure(const std::vector<double>& a, const std::vector<double>& b) {
-  // Pools a and b (x and y) as the results' std_pos does when b is given.
-  double sum = 0.0;
-  const size_t n = a.size();
-  for (size_t k = 0; k < n; ++k) sum += a[k] + (b.empty() ? 0.0 : b[k]);
-  const double count = b.empty() ? n : 2.0 * n;
-  const double mean_a = [&] {
-    double s = 0.0;
-    for (double v : a) s += v;
-    return s / n;
-  }();
-  const double mean_b = [&] {
-    double s = 0.0;
-    for (double v : b) s += v;
-    return b.empty() ? 0.0 : s / n;
-  }();
-  (void)sum;
   double m2 = 0.0, m4 = 0.0;
-  for (size_t k = 0; k < n; ++k) {
-    const double d = a[k] - mean_a;
-    m2 += d * d;
-    m4 += d * d * d * d;
-    if (!b.empty()) {
-      const double e = b[k] - mean_b;
-      m2 += e * e;
-      m4 += e * e * e * e;
+  for (const std::vector<double>* column : {&a, &b}) {
+    const double mean = Mean(*column);
+    for (double v : *column) {
+      const double d = (v - mean) * (v - mean);
+      m2 += d;
+      m4 += d * d;
     }
   }
+  const double count = static_cast<double>(a.size() + b.size());
   m2 /= count;
   m4 /= count;
   SampleStd r;
