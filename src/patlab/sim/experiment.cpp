@@ -57,10 +57,7 @@ std::vector<OptionsProblem> Check(const Experiment& e) {
   append(Check(e.noise));
   if (detect_mode && e.noise.HasCameraModels()) {
     OptionsChecker camera;
-    camera.Fail("rotation_jitter_rad",
-                "the camera-level noise models (rotation_jitter_rad, scale_jitter_ppm, "
-                "correlation_length_mm, key_shift_x_mm, id_shift_x_mm) are given with "
-                "correspondence = \"detect\"; expected them only with correspondence = \"known\"");
+    camera.Fail("noise", std::string(kCameraModelsInDetectMode));
     append(camera.Take());
   }
   if (detect_mode) {

@@ -36,6 +36,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "patlab/core/geometry.h"
@@ -81,6 +82,13 @@ struct NoiseModel {
   // common_sigma_ratio > 0 and sigma_mm > 0, else zero and no draws.
   Vec2 CommonOffset(double sigma_mm, RandomStream& rng) const;
 };
+
+// The message for a camera-level model in a whole-frame (detect-mode) experiment, which draws
+// its patch errors one robot at a time and has no camera to jitter.
+inline constexpr std::string_view kCameraModelsInDetectMode =
+    "the camera-level noise models (rotation_jitter_rad, scale_jitter_ppm, correlation_length_mm, "
+    "key_shift_x_mm, id_shift_x_mm) are given with correspondence = \"detect\"; expected them "
+    "only with correspondence = \"known\"";
 
 // The one place the noise model is checked (core/options.h), fields named as the keys of an
 // experiment's [noise] table: sigma_y_ratio a finite number > 0, common_sigma_ratio a finite
