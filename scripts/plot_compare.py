@@ -48,20 +48,26 @@ def bars(ax, rows, names, labels, ylabel, title):
 def rotation_errors(ax, rows):
     sigmas = sorted({float(m.group(1)) for m in
                      (re.fullmatch(r"wrong_id_([0-9.e+-]+)mm", c) for c in rows[0]) if m})
-    for r in rows:
+    # Each design shifted a little in sigma and given its own marker, so that designs with the
+    # same counts (often zero, drawn at the floor) do not hide one another.
+    step = 0.05 * (sigmas[-1] - sigmas[0]) / max(len(rows), 1) if len(sigmas) > 1 else 0.02
+    markers = "osD^vP*X"
+    for k, r in enumerate(rows):
         ys = [num(r["rotation_errors_%gmm" % s]) for s in sigmas]
         his = [num(r["rotation_errors_%gmm_hi" % s]) for s in sigmas]
         floor = [max(y, 1e-6) for y in ys]
         err = [[0] * len(ys), [max(h, 1e-6) - f for h, f in zip(his, floor)]]
-        line = ax.errorbar(sigmas, floor, yerr=err, marker="o", capsize=2,
-                           label=r["design"]).lines[0]
+        xs = [s + (k - (len(rows) - 1) / 2) * step for s in sigmas]
+        line = ax.errorbar(xs, floor, yerr=err, marker=markers[k % len(markers)], ms=5,
+                           capsize=2, lw=1, mfc="none", label=r["design"]).lines[0]
         onset = num(r["rotation_onset_mm"])
         if math.isfinite(onset):
             ax.axvline(onset, color=line.get_color(), linestyle=":", linewidth=0.8)
     ax.set_yscale("log")
     ax.set_xlabel("patch sigma (mm)")
-    ax.set_ylabel("rotation errors per robot (floor 1e-6)")
-    ax.set_title("wrong ID + ambiguous; dotted: predicted onset", fontsize=9)
+    ax.set_ylabel("rotation errors per robot (0 drawn at the floor 1e-6)")
+    ax.set_title("wrong ID + ambiguous, 95% Wilson upper bars; dotted: predicted onset;\n"
+                 "designs shifted slightly in sigma so none hides another", fontsize=8)
     ax.legend(fontsize=6)
 
 

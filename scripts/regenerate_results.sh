@@ -8,6 +8,10 @@ P=build/patlab
 # Fig. 5 (paper section IV) and its table in docs/paper-reproduction.md.
 $P simulate experiments/fig5.toml --out results -q
 /usr/bin/python3 scripts/plot_fig5.py results/fig5.csv results/fig5.png
+# Issue 14: the Butterfly on the section-II track, independent vs rotation jitter vs correlated.
+for n in iid jitter correlated; do
+  $P simulate experiments/issue14/butterfly_$n.toml --out results/issue14 -q
+done
 # Detect mode: where geometry stops fixing the rotation (issue 4).
 $P simulate experiments/id_confusion.toml --out results -q
 /usr/bin/python3 scripts/plot_id_confusion.py

@@ -30,6 +30,11 @@ TEST(Allocation, BatchOfTrialsDoesNotAllocate) {
   setup.field_width_mm = 2300;
   setup.noise.common_sigma_ratio = 0.5;
   setup.noise.outlier_probability = 0.05;
+  // The camera-level models too: the correlation factor is computed per batch on the stack.
+  setup.noise.correlation_length_mm = 50.0;
+  setup.noise.rotation_jitter_rad = 0.002;
+  setup.noise.scale_jitter_ppm = 300.0;
+  setup.noise.key_shift_x_mm = 0.3;
   for (Estimator e : estimate::kAllEstimators) setup.run[static_cast<int>(e)] = true;
   std::vector<double> buffers[4][3];
   std::vector<uint8_t> iterations(kBatchSize), termination(kBatchSize);

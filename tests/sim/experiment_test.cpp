@@ -83,7 +83,16 @@ TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
        "e.toml:8: sigma_y_ratio in [noise] is 0; expected a finite number > 0"},
       {kHead + kSigma + "[noise]\nsigma = 3\n",
        "e.toml:8: unknown key 'sigma' in [noise]; expected one of: sigma_y_ratio, "
-       "common_sigma_ratio, outlier_probability, outlier_sigma_ratio"},
+       "common_sigma_ratio, outlier_probability, outlier_sigma_ratio, rotation_jitter_rad, "
+       "scale_jitter_ppm, correlation_length_mm, key_shift_x_mm, id_shift_x_mm"},
+      {kHead + kSigma + "[noise]\nrotation_jitter_rad = 0.2\n",
+       "e.toml:8: rotation_jitter_rad in [noise] is 0.2; expected a number in [0, 0.1] (rad)"},
+      {kHead + kSigma + "[noise]\ncorrelation_length_mm = -1\n",
+       "e.toml:8: correlation_length_mm in [noise] is -1; expected a finite number >= 0 (mm)"},
+      {kHead + kSigma + "[noise]\nscale_jitter_ppm = 2e5\n",
+       "e.toml:8: scale_jitter_ppm in [noise] is 200000; expected a number in [0, 100000] (ppm)"},
+      {kHead + kSigma + "[noise]\nid_shift_x_mm = nan\n",
+       "e.toml:8: id_shift_x_mm in [noise] is nan; expected a finite number"},
       {kHead + kSigma + "[ml]\nmax_iterations = 0\n",
        "e.toml:8: max_iterations in [ml] is 0; expected an integer in [1, 1000]"},
       {kHead + "correspondence = \"guess\"\n" + kSigma,

@@ -9,6 +9,7 @@
 #include "patlab/sim/batch.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -30,6 +31,8 @@ struct Scratch {
   alignas(64) uint32_t saved[2][kB];
   alignas(64) double u1[kB], u2[kB], radius[kB], zx[kB], zy[kB];
   alignas(64) double common_x[kB], common_y[kB];
+  alignas(64) double ex[kMaxPatches][kB];  // independent patch errors before correlation
+  alignas(64) double ey[kMaxPatches][kB];
   alignas(64) double mean_x[kB], mean_y[kB];
   alignas(64) double fast_t[kB], fast_c[kB], fast_s[kB];
   alignas(64) double sum_a[kB], sum_b[kB];
@@ -127,11 +130,82 @@ void ScalePatchNormals(const PointSetup& s, uint64_t t0, int m, int i, uint32_t 
   }
 }
 
+// The lower Cholesky factor of C_ij = exp(-|p_i - p_j| / L) over the model positions (noise.h),
+// row-major in a fixed array: computed per batch, a few hundred flops, no allocation (rule 7).
+// exp(-d / L) is a positive definite kernel in the plane, so the factor exists for distinct
+// patches; a non-positive pivot (coincident patches) is clamped to 0.
+void CorrelationFactor(const estimate::Model& model, double length_mm,
+                       std::array<double, kMaxPatches * kMaxPatches>& chol) {
+  const int n = model.num_patches;
+  chol.fill(0.0);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      double v = std::exp(-(model.model_mm[i] - model.model_mm[j]).norm() / length_mm);
+      for (int k = 0; k < j; ++k) v -= chol[i * kMaxPatches + k] * chol[j * kMaxPatches + k];
+      if (i == j) {
+        chol[i * kMaxPatches + i] = v > 0.0 ? std::sqrt(v) : 0.0;
+      } else {
+        const double pivot = chol[j * kMaxPatches + j];
+        chol[i * kMaxPatches + j] = pivot > 0.0 ? v / pivot : 0.0;
+      }
+    }
+  }
+}
+
+// Correlated noise: V_i += sum_j L_ij e'_j (e' saved in w.ex, w.ey by Generate).
+void MixCorrelated(const PointSetup& s, int m, Scratch& w) {
+  const estimate::Model& model = *s.model;
+  std::array<double, kMaxPatches * kMaxPatches> chol;
+  CorrelationFactor(model, s.noise.correlation_length_mm, chol);
+  for (int i = 0; i < model.num_patches; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      const double l = chol[i * kMaxPatches + j];
+      for (int k = 0; k < m; ++k) {
+        w.ox[i][k] += l * w.ex[j][k];
+        w.oy[i][k] += l * w.ey[j][k];
+      }
+    }
+  }
+}
+
+// Colour-edge bias: a fixed shift along x by the patch's colour class (key or ID).
+void ShiftColours(const PointSetup& s, int m, Scratch& w) {
+  const estimate::Model& model = *s.model;
+  for (int i = 0; i < model.num_patches; ++i) {
+    const double dx = i == model.key_index ? s.noise.key_shift_x_mm : s.noise.id_shift_x_mm;
+    for (int k = 0; k < m; ++k) w.ox[i][k] += dx;
+  }
+}
+
+// Camera jitter: every patch of trial k rotated by phi_k and scaled by 1 + eps_k about the world
+// origin; phi, eps from block `block` (words 0, 1, Box-Muller).
+void CameraJitter(const PointSetup& s, uint64_t t0, int m, uint32_t block, Scratch& w) {
+  Blocks(s, t0, m, block, w);
+  Normals(w.words[0], w.words[1], m, w);
+  const double sigma_phi = s.noise.rotation_jitter_rad;
+  const double sigma_eps = 1e-6 * s.noise.scale_jitter_ppm;
+  // zx -> (1 + eps) cos(phi), zy -> (1 + eps) sin(phi); u1, u2 as scratch.
+  for (int k = 0; k < m; ++k) {
+    w.u1[k] = sigma_phi * w.zx[k];
+    w.u2[k] = 1.0 + sigma_eps * w.zy[k];
+  }
+  for (int k = 0; k < m; ++k) w.zx[k] = w.u2[k] * std::cos(w.u1[k]);
+  for (int k = 0; k < m; ++k) w.zy[k] = w.u2[k] * std::sin(w.u1[k]);
+  for (int i = 0; i < s.model->num_patches; ++i) {
+    for (int k = 0; k < m; ++k) {
+      const double x = w.ox[i][k], y = w.oy[i][k];
+      w.ox[i][k] = w.zx[k] * x - w.zy[k] * y;
+      w.oy[i][k] = w.zy[k] * x + w.zx[k] * y;
+    }
+  }
+}
+
 // Stage 1: true poses and noisy patch positions, with the block layout of batch.h.
 void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
   const estimate::Model& model = *s.model;
   const int n = model.num_patches;
   const uint32_t first_common_block = 1 + static_cast<uint32_t>((n + 1) / 2);
+  const bool correlated = s.noise.correlation_length_mm > 0.0;
   TruePoses(s, t0, m, w);
   CommonOffsets(s, t0, m, first_common_block, w);
   for (int i = 0; i < n; ++i) {
@@ -146,10 +220,23 @@ void Generate(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
       for (int k = 0; k < m; ++k) w.zx[k] = w.zy[k] = 0.0;
     }
     ScalePatchNormals(s, t0, m, i, first_common_block, w);
+    if (correlated) {
+      // Mixed in below, once every patch's independent error is known.
+      std::copy_n(w.zx, m, w.ex[i]);
+      std::copy_n(w.zy, m, w.ey[i]);
+      for (int k = 0; k < m; ++k) w.zx[k] = w.zy[k] = 0.0;
+    }
     for (int k = 0; k < m; ++k) {
       ox[k] = w.true_x[k] + w.true_c[k] * px - w.true_s[k] * py + w.zx[k] + w.common_x[k];
       oy[k] = w.true_y[k] + w.true_s[k] * px + w.true_c[k] * py + w.zy[k] + w.common_y[k];
     }
+  }
+  if (!s.noise.HasCameraModels()) return;
+  if (correlated) MixCorrelated(s, m, w);
+  if (s.noise.key_shift_x_mm != 0.0 || s.noise.id_shift_x_mm != 0.0) ShiftColours(s, m, w);
+  if (s.noise.rotation_jitter_rad > 0.0 || s.noise.scale_jitter_ppm > 0.0) {
+    const uint32_t outlier_blocks = static_cast<uint32_t>((n + 3) / 4);
+    CameraJitter(s, t0, m, first_common_block + 1 + outlier_blocks, w);
   }
 }
 

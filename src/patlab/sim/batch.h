@@ -9,6 +9,10 @@
 //   block 1 + j          Box-Muller normals of patch 2j (words 0, 1) and patch 2j + 1 (2, 3)
 //   block 1 + H          common-mode normals (words 0, 1; only when common_sigma_ratio > 0)
 //   block 2 + H + j      outlier selection uniforms of patches 4j .. 4j + 3 (only when p > 0)
+//   block 2 + H + Q      camera jitter normals z_r, z_s (words 0, 1; Q = ceil(n / 4); only when
+//                        rotation_jitter_rad or scale_jitter_ppm > 0)
+// Correlated noise mixes the patches' own normals (no draws of its own); the colour-edge bias
+// draws nothing.
 // A 32-bit radius uniform caps |z| at sqrt(2 ln 2^33) = 6.76 (a Gaussian exceeds it with
 // probability 1.4e-11): a documented truncation that halves the Philox work per trial.
 // So a trial's numbers do not depend on which thread runs it or which batch it falls in, and

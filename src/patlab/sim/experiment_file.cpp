@@ -244,13 +244,19 @@ void ReadField(const TomlReader& f, bool detect_mode, Experiment* e) {
 }
 
 NoiseModel ReadNoiseTable(const TomlReader& r) {
-  r.CheckKeys(
-      {"sigma_y_ratio", "common_sigma_ratio", "outlier_probability", "outlier_sigma_ratio"});
+  r.CheckKeys({"sigma_y_ratio", "common_sigma_ratio", "outlier_probability", "outlier_sigma_ratio",
+               "rotation_jitter_rad", "scale_jitter_ppm", "correlation_length_mm", "key_shift_x_mm",
+               "id_shift_x_mm"});
   NoiseModel noise;
   for (auto [key, field] : {std::pair{"sigma_y_ratio", &noise.sigma_y_ratio},
                             std::pair{"common_sigma_ratio", &noise.common_sigma_ratio},
                             std::pair{"outlier_probability", &noise.outlier_probability},
-                            std::pair{"outlier_sigma_ratio", &noise.outlier_sigma_ratio}}) {
+                            std::pair{"outlier_sigma_ratio", &noise.outlier_sigma_ratio},
+                            std::pair{"rotation_jitter_rad", &noise.rotation_jitter_rad},
+                            std::pair{"scale_jitter_ppm", &noise.scale_jitter_ppm},
+                            std::pair{"correlation_length_mm", &noise.correlation_length_mm},
+                            std::pair{"key_shift_x_mm", &noise.key_shift_x_mm},
+                            std::pair{"id_shift_x_mm", &noise.id_shift_x_mm}}) {
     *field = r.OptionalNumber(key).value_or(*field);
   }
   FailAtFirst(r, Check(noise));
@@ -542,6 +548,9 @@ Experiment LoadExperimentFile(const std::string& path) {
   e.sigmas_mm = ReadSigmaGrid(TomlReader(SubTable(r, "sigma"), path, "[sigma]"));
   if (r.Has("field")) ReadField(TomlReader(SubTable(r, "field"), path, "[field]"), detect_mode, &e);
   e.noise = ReadNoise(r, base);
+  if (detect_mode && e.noise.HasCameraModels()) {
+    r.Fail(r.Has("noise") ? "noise" : "noise_file", std::string(kCameraModelsInDetectMode));
+  }
   if (detect_mode) ReadDetectMode(r, patterns, base, &e);
   if (r.Has("ml")) e.ml_options = ReadMlTable(TomlReader(SubTable(r, "ml"), path, "[ml]"));
   return e;

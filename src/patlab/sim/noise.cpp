@@ -14,6 +14,10 @@ std::string NoiseModel::Describe() const {
   std::string name = sigma_y_ratio == 1.0 ? "isotropic" : "anisotropic";
   if (common_sigma_ratio > 0.0) name += "+common";
   if (outlier_probability > 0.0) name += "+outliers";
+  if (correlation_length_mm > 0.0) name += "+correlated";
+  if (key_shift_x_mm != 0.0 || id_shift_x_mm != 0.0) name += "+colour-bias";
+  if (rotation_jitter_rad > 0.0) name += "+rotation-jitter";
+  if (scale_jitter_ppm > 0.0) name += "+scale-jitter";
   return name;
 }
 
@@ -23,7 +27,12 @@ std::vector<OptionsProblem> Check(const NoiseModel& noise) {
   check.Positive("sigma_y_ratio", noise.sigma_y_ratio)
       .NonNegative("common_sigma_ratio", noise.common_sigma_ratio)
       .Require("outlier_probability", p, p >= 0.0 && p < 1.0, "a probability in [0, 1)")
-      .Positive("outlier_sigma_ratio", noise.outlier_sigma_ratio);
+      .Positive("outlier_sigma_ratio", noise.outlier_sigma_ratio)
+      .InRange("rotation_jitter_rad", noise.rotation_jitter_rad, 0.0, 0.1, "rad")
+      .InRange("scale_jitter_ppm", noise.scale_jitter_ppm, 0.0, 1e5, "ppm")
+      .NonNegative("correlation_length_mm", noise.correlation_length_mm, "mm")
+      .InRange("key_shift_x_mm", noise.key_shift_x_mm, -100.0, 100.0, "mm")
+      .InRange("id_shift_x_mm", noise.id_shift_x_mm, -100.0, 100.0, "mm");
   return check.Take();
 }
 

@@ -12,12 +12,31 @@
 // (section IV) is the isotropic Gaussian: sigma_y_ratio = 1, p = 0, common = 0; sigma is then
 // "the patch positional standard deviation" along each axis.
 //
+// Four camera-level models (issue 14), in absolute units (they do not scale with sigma), applied
+// in this order on top of the above (known-correspondence mode only):
+//
+//   correlated noise   e = L e'  per axis, L L^T = C, C_ij = exp(-|p_i - p_j| / correlation_length)
+//                      (p_i the model positions; e' the independent errors above): each patch
+//                      keeps its variance, neighbours move together (correlation_length_mm > 0)
+//   colour-edge bias   V_i += (key_shift_x_mm or id_shift_x_mm, 0): a fixed shift along the
+//                      image rows (world x) by the patch's colour class, the key colour (team
+//                      blue/yellow) or the ID colours (pink/green): 4:2:2 chroma is sampled at
+//                      half the horizontal resolution, so colour edges move along x
+//   camera jitter      V_i = (1 + eps) R(phi) V_i about the camera axis (world origin, the field
+//                      centre), phi = rotation_jitter_rad z_r, eps = 1e-6 scale_jitter_ppm z_s:
+//                      a camera that twists about its optical axis and bobs in height (a height
+//                      change dh at height h scales the image by about -dh / h)
+//
+// z_r, z_s standard normals once per trial. Each has a first-order prediction
+// (noise_prediction.h).
+//
 // The known-correspondence kernel (batch.cpp) evaluates these formulas vectorised over a batch
 // of trials; PatchError and CommonOffset below are the scalar form, one draw at a time from a
 // RandomStream, used by the whole-frame (detect) runner through PatchNoise::perturb.
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "patlab/core/geometry.h"
@@ -31,9 +50,24 @@ struct NoiseModel {
   double common_sigma_ratio = 0.0;    // std of the per-trial offset shared by all patches / sigma
   double outlier_probability = 0.0;   // probability that a patch is an outlier, in [0, 1)
   double outlier_sigma_ratio = 10.0;  // an outlier's isotropic std / sigma; > 0
+  // Camera-level models (above); all 0 = off, and then a point's random streams and results are
+  // those of the four models before them (point_key.h adds these fields only when non-zero).
+  double rotation_jitter_rad = 0.0;    // std of the per-trial camera roll phi; in [0, 0.1]
+  double scale_jitter_ppm = 0.0;       // std of the per-trial scale eps, parts per million;
+                                       // in [0, 1e5] (330 ppm ~ 1 mm of height at 3 m)
+  double correlation_length_mm = 0.0;  // L of exp(-d / L) between patch errors; >= 0, 0 = none
+  double key_shift_x_mm = 0.0;         // colour-edge bias of the key patch along x; |.| <= 100
+  double id_shift_x_mm = 0.0;          // colour-edge bias of every other patch along x
+
+  // True when any camera-level model is on (whole-frame detect mode does not support them).
+  bool HasCameraModels() const {
+    return rotation_jitter_rad != 0.0 || scale_jitter_ppm != 0.0 || correlation_length_mm != 0.0 ||
+           key_shift_x_mm != 0.0 || id_shift_x_mm != 0.0;
+  }
 
   bool IsIsotropicGaussian() const {
-    return sigma_y_ratio == 1.0 && common_sigma_ratio == 0.0 && outlier_probability == 0.0;
+    return sigma_y_ratio == 1.0 && common_sigma_ratio == 0.0 && outlier_probability == 0.0 &&
+           !HasCameraModels();
   }
   // The per-axis std, averaged over the two axes, of an independent patch error per unit sigma:
   // sqrt(((1 - p)(1 + r^2) / 2 + p k^2)). Linear estimators' first-order std scale with it.
@@ -49,10 +83,19 @@ struct NoiseModel {
   Vec2 CommonOffset(double sigma_mm, RandomStream& rng) const;
 };
 
+// The message for a camera-level model in a whole-frame (detect-mode) experiment, which draws
+// its patch errors one robot at a time and has no camera to jitter.
+inline constexpr std::string_view kCameraModelsInDetectMode =
+    "the camera-level noise models (rotation_jitter_rad, scale_jitter_ppm, correlation_length_mm, "
+    "key_shift_x_mm, id_shift_x_mm) are given with correspondence = \"detect\"; expected them "
+    "only with correspondence = \"known\"";
+
 // The one place the noise model is checked (core/options.h), fields named as the keys of an
 // experiment's [noise] table: sigma_y_ratio a finite number > 0, common_sigma_ratio a finite
 // number >= 0, outlier_probability in [0, 1) (1 would make every patch an outlier),
-// outlier_sigma_ratio a finite number > 0.
+// outlier_sigma_ratio a finite number > 0, rotation_jitter_rad in [0, 0.1] (small angles),
+// scale_jitter_ppm in [0, 1e5], correlation_length_mm a finite number >= 0, key_shift_x_mm and
+// id_shift_x_mm in [-100, 100].
 std::vector<OptionsProblem> Check(const NoiseModel& noise);
 void Validate(const NoiseModel& noise);
 

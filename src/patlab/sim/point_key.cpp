@@ -33,6 +33,16 @@ void AddNoise(const NoiseModel& noise, StreamKey* key) {
       .Add(noise.common_sigma_ratio)
       .Add(noise.outlier_probability)
       .Add(noise.outlier_sigma_ratio);
+  // The camera-level models join the key only when on, so that every point of the four older
+  // models keeps the stream (and the committed results) it had before them.
+  if (noise.HasCameraModels()) {
+    key->Add(std::string_view("camera"))
+        .Add(noise.rotation_jitter_rad)
+        .Add(noise.scale_jitter_ppm)
+        .Add(noise.correlation_length_mm)
+        .Add(noise.key_shift_x_mm)
+        .Add(noise.id_shift_x_mm);
+  }
 }
 
 uint64_t KnownPointKey(uint64_t seed, const Pattern& pattern, const NoiseModel& noise,

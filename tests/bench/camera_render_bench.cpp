@@ -1,0 +1,63 @@
+// The colour camera (vision/camera_render.h) on one core: a 780x580 frame of the golden scene's
+// ten robots and ball (tests/data/golden/ssl-frame.toml, its camera seeing a wider image), as
+// frames per second (items_per_second). BM_Scene: geometry, distortion and blur (RenderScene);
+// BM_Sensor: exposure, RGGB noise, demosaicing and UYVY on an already rendered frame;
+// BM_CameraFrame: both.
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include "patlab/vision/camera_render.h"
+
+namespace {
+
+using namespace patlab;
+using namespace patlab::vision;
+
+const SceneFile& Scene() {
+  static const SceneFile file = [] {
+    SceneFile f =
+        LoadSceneFile(std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.toml");
+    f.scene.options.width_px = 780;
+    f.scene.options.height_px = 580;
+    return f;
+  }();
+  return file;
+}
+
+void BM_Scene(benchmark::State& state) {
+  FieldScene scene = Scene().scene;
+  scene.options.noise_sigma_levels = 0.0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(RenderScene(scene, Scene().calibration.camera).data.data());
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Sensor(benchmark::State& state) {
+  FieldScene scene = Scene().scene;
+  scene.options.noise_sigma_levels = 0.0;
+  const Image radiance = RenderScene(scene, Scene().calibration.camera);
+  uint64_t frame = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(SimulateSensor(radiance, CameraSensorOptions{}, frame++).data.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_CameraFrame(benchmark::State& state) {
+  uint64_t frame = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        RenderCameraFrame(Scene().scene, Scene().calibration.camera, CameraSensorOptions{}, frame++)
+            .data.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+BENCHMARK(BM_Scene)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Sensor)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CameraFrame)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
