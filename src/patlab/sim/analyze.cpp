@@ -225,14 +225,16 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
     if (new_subject) by_subject.emplace_back();
     by_subject[s->second].emplace_back(r->second, k);
   }
-  std::vector<std::string> names;
-  std::vector<std::vector<ErrorSegment>> est, true_errors;
   for (auto& runs_and_tracks : by_subject) {
     std::sort(runs_and_tracks.begin(), runs_and_tracks.end());
     report.subjects.push_back(AnalyseSubject(tracks, runs_and_tracks, report, truth));
-    names.push_back(report.subjects.back().subject);
-    est.push_back(report.subjects.back().est_errors);
-    if (truth) true_errors.push_back(report.subjects.back().true_errors);
+  }
+  std::vector<std::string> names;
+  std::vector<const std::vector<ErrorSegment>*> est, true_errors;
+  for (const SubjectAnalysis& a : report.subjects) {
+    names.push_back(a.subject);
+    est.push_back(&a.est_errors);
+    true_errors.push_back(&a.true_errors);
   }
   report.tests = PairedAbsErrorTests("est", names, est);
   if (truth) {
@@ -269,7 +271,13 @@ std::string AnalyzeTableCsv(const AnalyzeReport& report) {
 
 std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
   const bool truth = !report.subjects.empty() && report.subjects.front().has_truth;
-  std::string csv = "subject,run,frame,est_x_mm,est_y_mm,est_theta_rad";
+  size_t samples = 0;
+  for (const SubjectAnalysis& a : report.subjects) {
+    for (const ErrorSegment& e : a.est_errors) samples += e.frame.size();
+  }
+  std::string csv;
+  csv.reserve(samples * (truth ? 96 : 56));
+  csv += "subject,run,frame,est_x_mm,est_y_mm,est_theta_rad";
   csv += truth ? ",true_x_mm,true_y_mm,true_theta_rad\n" : "\n";
   for (const SubjectAnalysis& a : report.subjects) {
     for (size_t g = 0; g < a.est_errors.size(); ++g) {
@@ -299,7 +307,8 @@ std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
 
 std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::string& command_line,
                                 const std::vector<std::string>& inputs,
-                                const std::vector<std::string>& outputs, double seconds) {
+                                const std::vector<std::string>& outputs,
+                                const std::vector<std::pair<std::string, double>>& timings_s) {
   const AnalyzeOptions& o = report.options;
   nlohmann::json j;
   j["tool"] = "patlab analyze";
@@ -328,7 +337,8 @@ std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::string& 
     subjects.push_back(s);
   }
   j["subjects"] = subjects;
-  j["timings_s"] = {{"wall", seconds}};
+  j["timings_s"] = nlohmann::json::object();
+  for (const auto& [stage, seconds] : timings_s) j["timings_s"][stage] = seconds;
   j["outputs"] = outputs;
   return j.dump(2) + "\n";
 }

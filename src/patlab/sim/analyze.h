@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "patlab/core/options.h"
@@ -110,6 +111,7 @@ std::string AnalyzeErrorsCsv(const AnalyzeReport& report);
 // The manifest (JSON): command line, inputs, options, the table, timings and outputs.
 std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::string& command_line,
                                 const std::vector<std::string>& inputs,
-                                const std::vector<std::string>& outputs, double seconds);
+                                const std::vector<std::string>& outputs,
+                                const std::vector<std::pair<std::string, double>>& timings_s);
 
 }  // namespace patlab::sim

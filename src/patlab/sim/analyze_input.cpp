@@ -4,7 +4,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <sstream>
+#include <algorithm>
 
 #include "patlab/core/error.h"
 #include "patlab/sim/analyze.h"
@@ -234,9 +234,14 @@ std::vector<MeasuredTrack> ReadTrackCsv(const std::string& path, const TrackColu
   if (!in) {
     throw InputError(Cat(EscapeForMessage(path), ": cannot open; expected a readable track CSV file"));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseTrackCsv(text.str(), path, columns);
+  in.seekg(0, std::ios::end);
+  std::string text(static_cast<size_t>(std::max<std::streamoff>(in.tellg(), 0)), '\0');
+  in.seekg(0, std::ios::beg);
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!in) {
+    throw InputError(Cat(EscapeForMessage(path), ": cannot read; expected a readable track CSV file"));
+  }
+  return ParseTrackCsv(text, path, columns);
 }
 
 }  // namespace patlab::sim

@@ -84,9 +84,9 @@ ErrorSummary SummariseErrors(const std::vector<ErrorSegment>& segments, int lag)
   return s;
 }
 
-std::vector<PairedTest> PairedAbsErrorTests(const std::string& error,
-                                            const std::vector<std::string>& names,
-                                            const std::vector<std::vector<ErrorSegment>>& subjects) {
+std::vector<PairedTest> PairedAbsErrorTests(
+    const std::string& error, const std::vector<std::string>& names,
+    const std::vector<const std::vector<ErrorSegment>*>& subjects) {
   std::vector<PairedTest> tests;
   stats::WilcoxonOptions options;
   options.method = stats::WilcoxonMethod::kApprox;
@@ -94,7 +94,7 @@ std::vector<PairedTest> PairedAbsErrorTests(const std::string& error,
     for (size_t a = 0; a < subjects.size(); ++a) {
       for (size_t b = a + 1; b < subjects.size(); ++b) {
         std::vector<double> va, vb;
-        PairedAbsErrors(subjects[a], subjects[b], axis, &va, &vb);
+        PairedAbsErrors(*subjects[a], *subjects[b], axis, &va, &vb);
         if (va.empty()) continue;
         tests.push_back({error, axis, names[a], names[b], UpperMedian(va), UpperMedian(vb),
                          stats::WilcoxonSignedRank(va, vb, options)});

@@ -48,9 +48,9 @@ struct PairedTest {
 };
 // Every pair a < b of `subjects` (names[k] the name of subjects[k], each sorted by run then
 // frame), per axis x, y, xy; pairs without common samples are left out.
-std::vector<PairedTest> PairedAbsErrorTests(const std::string& error,
-                                            const std::vector<std::string>& names,
-                                            const std::vector<std::vector<ErrorSegment>>& subjects);
+std::vector<PairedTest> PairedAbsErrorTests(
+    const std::string& error, const std::vector<std::string>& names,
+    const std::vector<const std::vector<ErrorSegment>*>& subjects);
 
 // The tests as CSV: error,axis,a,b,n,median_abs_a_mm,median_abs_b_mm,r_plus,r_minus,z,p_value,
 // smaller (smaller: the subject with the smaller errors by the sign of R+ - R-).

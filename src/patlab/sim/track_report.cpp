@@ -120,7 +120,9 @@ std::vector<SizeTest> MakeSizeTests(const TrackResult& result) {
   for (const bool est : {true, false}) {
     std::vector<std::vector<ErrorSegment>> errors;
     for (size_t k = 0; k < discs.size(); ++k) errors.push_back(Segments(result.data[k], est));
-    const std::vector<SizeTest> some = PairedAbsErrorTests(est ? "est" : "true", discs, errors);
+    std::vector<const std::vector<ErrorSegment>*> pointers;
+    for (const auto& e : errors) pointers.push_back(&e);
+    const std::vector<SizeTest> some = PairedAbsErrorTests(est ? "est" : "true", discs, pointers);
     tests.insert(tests.end(), some.begin(), some.end());
   }
   return tests;
