@@ -94,10 +94,18 @@ ErrorSegment SegmentTruth(const MeasuredTrack& t, const MeasuredTrack& truth, co
   return s;
 }
 
+// The truth of track t: the truth track of its subject and run, or else the only one of its subject
+// (a truth file without a run column names its run after itself).
 const MeasuredTrack& FindTruth(const std::vector<MeasuredTrack>& truth, const MeasuredTrack& t) {
+  const MeasuredTrack* only = nullptr;
+  int of_subject = 0;
   for (const MeasuredTrack& u : truth) {
-    if (u.subject == t.subject && u.run == t.run) return u;
+    if (u.subject != t.subject) continue;
+    if (u.run == t.run) return u;
+    only = &u;
+    ++of_subject;
   }
+  if (of_subject == 1) return *only;
   throw InputError(FileLoc{t.file, t.first_line},
                    Cat("subject ", Quoted(t.subject), " run ", Quoted(t.run),
                        " is not in the truth file; expected the truth of every subject and run"));

@@ -99,7 +99,8 @@ struct AnalyzeReport {
 };
 
 // Analyses `tracks` (several subjects and runs). `truth` (optional, same subjects and runs, every
-// analysed frame present) adds the true errors. Throws InputError "file:line: ..." for a subject
+// analysed frame present) adds the true errors; a track's truth is the truth track of the same
+// subject and run, or else the only truth track of its subject. Throws InputError "file:line: ..." for a subject
 // without any segment long enough, or a truth row missing.
 AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
                             const std::vector<MeasuredTrack>* truth = nullptr);
