@@ -252,6 +252,16 @@ TEST(Analyze, BadTrackFilesAreInputErrorsWithFileAndLine) {
                      "--y-column and --x-column are both \"x_mm\"; expected different columns");
 }
 
+TEST(Analyze, ASubjectAndRunInTwoFilesIsAnInputError) {
+  MeasuredTrack a = Line("a", Range(0, 100), 0.5, 1);
+  MeasuredTrack b = Line("a", Range(100, 200), 0.5, 2);
+  b.file = "u.csv";
+  b.first_line = 4;
+  EXPECT_INPUT_ERROR(AnalyzeTracks({a, b}, AnalyzeOptions{}),
+                     "u.csv:4: subject \"a\" run \"r\" is also in t.csv; expected each subject "
+                     "and run in one file");
+}
+
 TEST(Analyze, OptionsAreChecked) {
   AnalyzeOptions o;
   o.smoothing.sigma_samples = 0.0;

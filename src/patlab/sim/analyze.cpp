@@ -235,6 +235,14 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
   }
   for (auto& runs_and_tracks : by_subject) {
     std::sort(runs_and_tracks.begin(), runs_and_tracks.end());
+    for (size_t i = 1; i < runs_and_tracks.size(); ++i) {
+      if (runs_and_tracks[i].first != runs_and_tracks[i - 1].first) continue;
+      const MeasuredTrack& t = tracks[runs_and_tracks[i].second];
+      throw InputError(FileLoc{t.file, t.first_line},
+                       Cat("subject ", Quoted(t.subject), " run ", Quoted(t.run), " is also in ",
+                           tracks[runs_and_tracks[i - 1].second].file,
+                           "; expected each subject and run in one file"));
+    }
     report.subjects.push_back(AnalyseSubject(tracks, runs_and_tracks, report, truth));
   }
   std::vector<std::string> names;
