@@ -80,12 +80,14 @@ void PrintSummary(const sim::AnalyzeReport& report,
   for (const sim::SubjectAnalysis& a : report.subjects) samples += a.samples;
   std::string stages;
   for (const auto& [stage, s] : timings) stages += StringPrintf(", %s %.3f", stage.c_str(), s);
-  std::fprintf(stderr, "patlab analyze: %zu samples, %zu subject(s), %zu run(s) in %.3f s wall (%s s)\n",
+  std::fprintf(stderr,
+               "patlab analyze: %zu samples, %zu subject(s), %zu run(s) in %.3f s wall (%s s)\n",
                samples, report.subjects.size(), report.runs.size(), seconds, stages.c_str() + 2);
-  std::fprintf(stderr, "residual std factor for white errors %.4f (%s), lag-%d white-noise reference %.3f\n",
-               report.residual_factor,
-               report.options.correct_bias ? "divided out: --correct-bias" : "not corrected",
-               report.options.lag, report.white_noise_lag);
+  std::fprintf(
+      stderr, "residual std factor for white errors %.4f (%s), lag-%d white-noise reference %.3f\n",
+      report.residual_factor,
+      report.options.correct_bias ? "divided out: --correct-bias" : "not corrected",
+      report.options.lag, report.white_noise_lag);
   std::fprintf(stderr, "%-12s %8s %-24s %-24s %-24s %-24s\n", "subject", "n", "sx [95% CI] mm",
                "sy", "true sx", "true sy");
   auto cell = [](const stats::StdWithCi& s) {
@@ -94,7 +96,8 @@ void PrintSummary(const sim::AnalyzeReport& report,
   for (const sim::SubjectAnalysis& a : report.subjects) {
     std::fprintf(stderr, "%-12s %8zu %-24s %-24s %-24s %-24s\n", a.subject.c_str(), a.est.x.n,
                  cell(a.est.x).c_str(), cell(a.est.y).c_str(),
-                 a.has_truth ? cell(a.truth.x).c_str() : "", a.has_truth ? cell(a.truth.y).c_str() : "");
+                 a.has_truth ? cell(a.truth.x).c_str() : "",
+                 a.has_truth ? cell(a.truth.y).c_str() : "");
     if (a.skipped_segments > 0) {
       std::fprintf(stderr, "  %s: skipped %d segment(s), %zu samples, shorter than %d frames\n",
                    a.subject.c_str(), a.skipped_segments, a.skipped_samples, report.min_segment);
@@ -162,7 +165,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
     std::cerr << "patlab analyze: " << e.what() << "\n";
     return kExitFailure;
   }
-  if (!o.quiet) PrintSummary(report, timings, Seconds(start, std::chrono::steady_clock::now()), paths);
+  if (!o.quiet)
+    PrintSummary(report, timings, Seconds(start, std::chrono::steady_clock::now()), paths);
   return kExitOk;
 }
 

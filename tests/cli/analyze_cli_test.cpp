@@ -69,16 +69,16 @@ TEST(AnalyzeCli, WritesTableTestsErrorsAndManifest) {
 
 TEST(AnalyzeCli, BadInputExitsTwoWithFileLineAndWritesNothing) {
   testing::TempDir dir;
-  const std::string track =
-      dir.Write("t.csv", "frame,subject,x_mm,y_mm\n1,a,0,0\n2,a,nan,0\n");
+  const std::string track = dir.Write("t.csv", "frame,subject,x_mm,y_mm\n1,a,0,0\n2,a,nan,0\n");
   const auto r = RunCommand(kPatlab + " analyze " + track + " --out " + dir.Path("out"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "patlab analyze: " + track + ":3: x_mm is \"nan\"; expected a finite number\n");
   EXPECT_FALSE(std::filesystem::exists(dir.Path("out")));
   const auto none = RunCommand(kPatlab + " analyze --out " + dir.Path("out"));
   EXPECT_EQ(none.exit_code, 2);
-  EXPECT_EQ(none.err,
-            "patlab analyze: no track files; expected 'patlab analyze TRACK.csv...' (see --help)\n");
+  EXPECT_EQ(
+      none.err,
+      "patlab analyze: no track files; expected 'patlab analyze TRACK.csv...' (see --help)\n");
 }
 
 // The golden frame twice: two frames of ten robots, each within the golden test's tolerance of
@@ -118,10 +118,11 @@ vision::CameraModel Jittered(const vision::CameraModel& camera, double dx, doubl
 }
 
 // Frames -> detect -> track -> analyze: 3 robots driving and turning over 40 frames, sensor noise
-// with a new seed per frame, camera jitter N(0, 1 mm), one sample per pixel; smoothing sigma = 3 samples (the minimum
-// segment is 25 frames; 16 kept per robot). The analysed (bias-corrected) std of every robot and
-// axis has a 95% interval that overlaps the interval of the true std (detected minus true pose),
-// and the two agree within a factor 2 (with 16 samples the intervals are about -25%/+55% wide).
+// with a new seed per frame, camera jitter N(0, 1 mm), one sample per pixel; smoothing sigma = 3
+// samples (the minimum segment is 25 frames; 16 kept per robot). The analysed (bias-corrected) std
+// of every robot and axis has a 95% interval that overlaps the interval of the true std (detected
+// minus true pose), and the two agree within a factor 2 (with 16 samples the intervals are about
+// -25%/+55% wide).
 TEST(AnalyzeCli, FramesToTracksToAnalysisAgreesWithTheTruth) {
   vision::SceneFile file = vision::LoadSceneFile(kGolden + "ssl-frame.toml");
   vision::FrameDetector frames(vision::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),

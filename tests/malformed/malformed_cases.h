@@ -1233,7 +1233,8 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    "patlab analyze: {dir}t.csv:4: frame 6 of subject \"a\" run \"{dir}t.csv\" is not after 7 (line 2); expected increasing frame numbers within a subject and run"s,
                    nullptr},
                   {"AnalyzeTrackTooShortForSigma10",
-                   {{"t.csv", [] {
+                   {{"t.csv",
+                     [] {
                        std::string csv = "frame,x_mm,y_mm\n";
                        for (int f = 0; f < 80; ++f) csv += std::to_string(f) + ",1,2\n";
                        return csv;

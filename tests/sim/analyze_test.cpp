@@ -173,9 +173,10 @@ TEST(Analyze, TruthGivesTheTrueErrorsOfTheSameSamples) {
   u.frame.erase(u.frame.begin() + 50);
   u.x.erase(u.x.begin() + 50);
   u.y.erase(u.y.begin() + 50);
-  EXPECT_INPUT_ERROR(AnalyzeTracks({noisy}, AnalyzeOptions{}, &truths),
-                     "t.csv:2: no truth for subject \"a\" run \"r\" frame 50; expected the truth of "
-                     "every analysed frame");
+  EXPECT_INPUT_ERROR(
+      AnalyzeTracks({noisy}, AnalyzeOptions{}, &truths),
+      "t.csv:2: no truth for subject \"a\" run \"r\" frame 50; expected the truth of "
+      "every analysed frame");
 }
 
 // Subject b has twice a's noise on frames 0-299 of run r; c shares only frames 200-499: the tests

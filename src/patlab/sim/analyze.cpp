@@ -79,10 +79,10 @@ ErrorSegment SegmentTruth(const MeasuredTrack& t, const MeasuredTrack& truth, co
   for (size_t i = f.begin; i < f.end; ++i) {
     const auto it = std::lower_bound(truth.frame.begin(), truth.frame.end(), t.frame[i]);
     if (it == truth.frame.end() || *it != t.frame[i]) {
-      throw InputError(FileLoc{truth.file, truth.first_line},
-                       Cat("no truth for subject ", Quoted(t.subject), " run ", Quoted(t.run),
-                           " frame ", std::to_string(t.frame[i]),
-                           "; expected the truth of every analysed frame"));
+      throw InputError(
+          FileLoc{truth.file, truth.first_line},
+          Cat("no truth for subject ", Quoted(t.subject), " run ", Quoted(t.run), " frame ",
+              std::to_string(t.frame[i]), "; expected the truth of every analysed frame"));
     }
     const auto j = static_cast<size_t>(it - truth.frame.begin());
     s.frame.push_back(t.frame[i]);
@@ -155,13 +155,12 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
         std::max(longest, AnalyseTrack(tracks[k], run, report.options, report.radius, truth, &a));
   }
   if (a.segments == 0) {
-    throw InputError(FileLoc{first.file, first.first_line},
-                     Cat("subject ", Quoted(a.subject), " has no run of ",
-                         std::to_string(report.min_segment), " consecutive frames (longest: ",
-                         std::to_string(longest), "); expected at least 2 x ",
-                         std::to_string(report.radius), " + 1 for smoothing with sigma = ",
-                         FormatSignificant(report.options.smoothing.sigma_samples, 6),
-                         " samples"));
+    throw InputError(
+        FileLoc{first.file, first.first_line},
+        Cat("subject ", Quoted(a.subject), " has no run of ", std::to_string(report.min_segment),
+            " consecutive frames (longest: ", std::to_string(longest), "); expected at least 2 x ",
+            std::to_string(report.radius), " + 1 for smoothing with sigma = ",
+            FormatSignificant(report.options.smoothing.sigma_samples, 6), " samples"));
   }
   a.est = SummariseErrors(a.est_errors, report.options.lag);
   if (report.options.correct_bias) {
@@ -193,8 +192,8 @@ nlohmann::json StdJson(const stats::StdWithCi& s) {
 }
 
 nlohmann::json SummaryJson(const ErrorSummary& s) {
-  nlohmann::json j = {{"x", StdJson(s.x)},    {"y", StdJson(s.y)},    {"mean_x", s.mean_x},
-                      {"mean_y", s.mean_y}, {"lag_x", s.lag_x}, {"lag_y", s.lag_y}};
+  nlohmann::json j = {{"x", StdJson(s.x)},  {"y", StdJson(s.y)}, {"mean_x", s.mean_x},
+                      {"mean_y", s.mean_y}, {"lag_x", s.lag_x},  {"lag_y", s.lag_y}};
   if (s.has_theta) j["theta"] = StdJson(s.theta);
   return j;
 }
@@ -227,7 +226,8 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
   std::map<std::string, size_t> subject_index;
   std::vector<std::vector<std::pair<int, size_t>>> by_subject;
   for (size_t k = 0; k < tracks.size(); ++k) {
-    const auto [r, new_run] = run_index.emplace(tracks[k].run, static_cast<int>(report.runs.size()));
+    const auto [r, new_run] =
+        run_index.emplace(tracks[k].run, static_cast<int>(report.runs.size()));
     if (new_run) report.runs.push_back(tracks[k].run);
     const auto [s, new_subject] = subject_index.emplace(tracks[k].subject, by_subject.size());
     if (new_subject) by_subject.emplace_back();
@@ -262,10 +262,12 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
 
 std::string AnalyzeTableCsv(const AnalyzeReport& report) {
   const std::string lag = std::to_string(report.options.lag);
-  std::string csv = "subject,n,samples,segments,skipped_segments,skipped_samples,sx_mm,sx_lo,sx_hi,"
-                    "sy_mm,sy_lo,sy_hi,stheta_rad,stheta_lo,stheta_hi,lag" + lag + "_x,lag" + lag +
-                    "_y,true_sx_mm,true_sx_lo,true_sx_hi,true_sy_mm,true_sy_lo,true_sy_hi,"
-                    "true_stheta_rad,true_stheta_lo,true_stheta_hi,true_mean_x_mm,true_mean_y_mm\n";
+  std::string csv =
+      "subject,n,samples,segments,skipped_segments,skipped_samples,sx_mm,sx_lo,sx_hi,"
+      "sy_mm,sy_lo,sy_hi,stheta_rad,stheta_lo,stheta_hi,lag" +
+      lag + "_x,lag" + lag +
+      "_y,true_sx_mm,true_sx_lo,true_sx_hi,true_sy_mm,true_sy_lo,true_sy_hi,"
+      "true_stheta_rad,true_stheta_lo,true_stheta_hi,true_mean_x_mm,true_mean_y_mm\n";
   auto ci = [](const stats::StdWithCi& s, bool present, int decimals) {
     if (!present) return std::string(",,");
     return Fixed(s.std, decimals) + "," + Fixed(s.lower, decimals) + "," + Fixed(s.upper, decimals);
@@ -302,7 +304,8 @@ std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
       for (size_t i = 0; i < e.frame.size(); ++i) {
         csv += prefix;
         csv += std::to_string(e.frame[i]);
-        for (const auto& [v, d] : {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
+        for (const auto& [v, d] :
+             {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
           csv += ',';
           if (!v->empty()) AppendFixed((*v)[i], d, &csv);
         }

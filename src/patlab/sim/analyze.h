@@ -77,13 +77,13 @@ void Validate(const AnalyzeOptions& options);
 
 struct SubjectAnalysis {
   std::string subject;
-  ErrorSummary est;    // smoothing residuals (bias-corrected with correct_bias)
+  ErrorSummary est;  // smoothing residuals (bias-corrected with correct_bias)
   bool has_truth = false;
   ErrorSummary truth;  // sample - truth over the same samples (with a truth file)
   size_t samples = 0;  // read
   int segments = 0;    // gap-free segments analysed
   int skipped_segments = 0;
-  size_t skipped_samples = 0;  // in the skipped segments
+  size_t skipped_samples = 0;                         // in the skipped segments
   std::vector<ErrorSegment> est_errors, true_errors;  // sorted by run, then frame
 };
 
@@ -100,8 +100,8 @@ struct AnalyzeReport {
 
 // Analyses `tracks` (several subjects and runs). `truth` (optional, same subjects and runs, every
 // analysed frame present) adds the true errors; a track's truth is the truth track of the same
-// subject and run, or else the only truth track of its subject. Throws InputError "file:line: ..." for a subject
-// without any segment long enough, or a truth row missing.
+// subject and run, or else the only truth track of its subject. Throws InputError "file:line: ..."
+// for a subject without any segment long enough, or a truth row missing.
 AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
                             const std::vector<MeasuredTrack>* truth = nullptr);
 

@@ -1,10 +1,10 @@
 // Reading track CSV files for `patlab analyze` (analyze.h).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <algorithm>
 
 #include "patlab/core/error.h"
 #include "patlab/sim/analyze.h"
@@ -15,7 +15,8 @@ namespace {
 
 std::string_view Trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
   return s;
 }
@@ -112,18 +113,18 @@ class TrackBuilder {
   void AddRow(const std::vector<std::string_view>& cells, int line) {
     const FileLoc loc{source_, line};
     if (static_cast<int>(cells.size()) < idx_.needed) {
-      throw InputError(loc, Cat("row has ", std::to_string(cells.size()),
-                                " cells; expected at least ", std::to_string(idx_.needed),
-                                " as the header names them"));
+      throw InputError(loc,
+                       Cat("row has ", std::to_string(cells.size()), " cells; expected at least ",
+                           std::to_string(idx_.needed), " as the header names them"));
     }
     MeasuredTrack& t = TrackOf(cells, line);
     const int64_t frame = ParseFrame(cells[idx_.frame], columns_.frame, loc);
     if (!t.frame.empty() && frame <= t.frame.back()) {
-      throw InputError(loc, Cat(columns_.frame, " ", std::to_string(frame), " of subject ",
-                                Quoted(t.subject), " run ", Quoted(t.run), " is not after ",
-                                std::to_string(t.frame.back()), " (line ",
-                                std::to_string(last_line_[current_]),
-                                "); expected increasing frame numbers within a subject and run"));
+      throw InputError(
+          loc, Cat(columns_.frame, " ", std::to_string(frame), " of subject ", Quoted(t.subject),
+                   " run ", Quoted(t.run), " is not after ", std::to_string(t.frame.back()),
+                   " (line ", std::to_string(last_line_[current_]),
+                   "); expected increasing frame numbers within a subject and run"));
     }
     t.frame.push_back(frame);
     t.x.push_back(ParseNumber(cells[idx_.x], columns_.x, loc));
@@ -171,8 +172,8 @@ class TrackBuilder {
 std::vector<OptionsProblem> Check(const TrackColumns& c) {
   OptionsChecker check;
   const std::vector<std::pair<const char*, const std::string*>> names = {
-      {"frame", &c.frame}, {"subject", &c.subject}, {"run", &c.run},
-      {"x", &c.x},         {"y", &c.y},             {"theta", &c.theta}};
+      {"frame", &c.frame}, {"subject", &c.subject}, {"run", &c.run}, {"x", &c.x},
+      {"y", &c.y},         {"theta", &c.theta}};
   for (size_t i = 0; i < names.size(); ++i) {
     const std::string& n = *names[i].second;
     const std::string field = Cat(std::string_view(names[i].first), "-column");
@@ -232,14 +233,16 @@ std::vector<MeasuredTrack> ParseTrackCsv(std::string_view text, const std::strin
 std::vector<MeasuredTrack> ReadTrackCsv(const std::string& path, const TrackColumns& columns) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    throw InputError(Cat(EscapeForMessage(path), ": cannot open; expected a readable track CSV file"));
+    throw InputError(
+        Cat(EscapeForMessage(path), ": cannot open; expected a readable track CSV file"));
   }
   in.seekg(0, std::ios::end);
   std::string text(static_cast<size_t>(std::max<std::streamoff>(in.tellg(), 0)), '\0');
   in.seekg(0, std::ios::beg);
   in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (!in) {
-    throw InputError(Cat(EscapeForMessage(path), ": cannot read; expected a readable track CSV file"));
+    throw InputError(
+        Cat(EscapeForMessage(path), ": cannot read; expected a readable track CSV file"));
   }
   return ParseTrackCsv(text, path, columns);
 }

@@ -21,7 +21,9 @@ std::vector<double> Pool(const std::vector<ErrorSegment>& segments,
 
 // |error| of sample i of a segment on one axis ("x", "y" or "xy").
 double AbsError(const ErrorSegment& s, size_t i, const std::string& axis) {
-  return axis == "x" ? std::abs(s.x[i]) : axis == "y" ? std::abs(s.y[i]) : std::hypot(s.x[i], s.y[i]);
+  return axis == "x"   ? std::abs(s.x[i])
+         : axis == "y" ? std::abs(s.y[i])
+                       : std::hypot(s.x[i], s.y[i]);
 }
 
 // The |errors| of a and b at their common (run, frame) keys, in key order.
