@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <random>
 
@@ -215,6 +217,29 @@ TEST(Analyze, ReadsSubjectsRunsQuotesAndComments) {
   EXPECT_EQ(bare[0].subject, "track");
   EXPECT_EQ(bare[0].run, "b.csv");
   EXPECT_TRUE(bare[0].theta.empty());
+}
+
+// ReadTrackCsv reads in 1 MB blocks: a 3 MB file (lines across block ends, no final newline)
+// reads as ParseTrackCsv parses the same text.
+TEST(Analyze, ReadingInBlocksGivesWhatParsingTheWholeTextGives) {
+  std::string text = "frame,subject,x_mm,y_mm,theta_rad\n# comment\n";
+  for (int f = 0; f < 60000; ++f) {
+    text += std::to_string(f) + ",s" + std::to_string(f % 3) + "," + std::to_string(f * 0.25) +
+            ",-12.0625," + std::to_string(f % 7) + "\n";
+  }
+  text.pop_back();
+  const std::string path = ::testing::TempDir() + "analyze_blocks.csv";
+  { std::ofstream(path, std::ios::binary) << text; }
+  const std::vector<MeasuredTrack> read = ReadTrackCsv(path, TrackColumns{});
+  const std::vector<MeasuredTrack> parsed = ParseTrackCsv(text, path, TrackColumns{});
+  ASSERT_EQ(read.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(read[k].frame, parsed[k].frame);
+    EXPECT_EQ(read[k].x, parsed[k].x);
+    EXPECT_EQ(read[k].theta, parsed[k].theta);
+  }
+  EXPECT_EQ(read[2].frame.back(), 59999);
+  std::filesystem::remove(path);
 }
 
 TEST(Analyze, BadTrackFilesAreInputErrorsWithFileAndLine) {
