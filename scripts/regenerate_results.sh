@@ -20,6 +20,10 @@ $P track experiments/table1.toml --out results -q
 $P track experiments/table1.toml --pixel-sigma 0 --jitter-px 0 --decimate 4 \
   --out results/track_quantisation -q
 /usr/bin/python3 scripts/plot_track.py
+# Measured tracks (issue 10): 300 rendered frames -> detect --track -> analyze, against the truth;
+# Figs. 2, 3, 6 of the analysed track.
+/usr/bin/python3 scripts/analyze_chain.py "$P" results/analyze 300
+/usr/bin/python3 scripts/plot_analyze.py results/analyze chain
 # Real frames (needs ../shared/frames; skipped cleanly without it).
 bash scripts/vision_real_frames.sh "$P"
 # Every number the paper prints, judged: results/paper.md (rewrites the CSVs above, byte-identical).

@@ -48,6 +48,7 @@ struct DetectOptions {
   std::string raw_size;
   std::string format = "csv";
   std::string out;
+  std::string track;
   bool blobs = false;
   bool keep_going = false;
   vision::FrameDetectorOptions frame;
@@ -80,6 +81,8 @@ po::options_description Flags(DetectOptions* o) {
       "raw-size", po::value(&o->raw_size), "WIDTHxHEIGHT of raw UYVY frames (.yuv .uyvy .raw)")(
       "format", po::value(&o->format), "csv (default) or json")(
       "out,o", po::value(&o->out), "output file, written atomically (default: stdout)")(
+      "track", po::value(&o->track),
+      "also write the frames' robots as a track CSV for patlab analyze (needs --settings)")(
       "blobs", po::bool_switch(&o->blobs), "write the calibrated blobs instead of detections")(
       "debug", po::value(&o->frame.debug_dir),
       "write each frame's numbered per-stage debug PNGs into this directory")(
@@ -205,7 +208,11 @@ int RunDetect(const std::vector<std::string>& args) {
     return kExitOk;
   }
   CheckRequired(&o);
+  if (!o.track.empty() && o.settings.empty()) {
+    throw InputError("--track needs --settings; expected detector settings naming the patterns");
+  }
   if (!o.out.empty()) io::CheckWritable({o.out});
+  if (!o.track.empty()) io::CheckWritable({o.track});
   std::optional<detect::DetectorConfig> settings;
   if (!o.settings.empty()) settings = detect::LoadDetectorSettings(o.settings);
   vision::FrameDetector frames(vision::LoadThresholds(o.thresholds),
@@ -215,14 +222,18 @@ int RunDetect(const std::vector<std::string>& args) {
     std::cerr << "patlab detect: warning: " << warning << "\n";
   }
   vision::FrameResultsWriter writer(frames, o.blobs);
+  std::optional<vision::TrackWriter> track;
+  if (!o.track.empty()) track.emplace(frames);
   const std::vector<std::string> paths = vision::ExpandFrameList(o.frames);
   if (!o.frame.debug_dir.empty()) CheckDistinctStems(paths);
   Totals totals;
   int failed = 0;
-  for (const std::string& path : paths) {
+  for (size_t index = 0; index < paths.size(); ++index) {
+    const std::string& path = paths[index];
     try {
       const vision::FrameResult& result = frames.DetectFile(path);
       writer.Add(result);
+      if (track) track->Add(static_cast<int64_t>(index), result);
       totals.Add(result);
       std::cerr << vision::ExplanationText(result, frames);
     } catch (const InputError& e) {
@@ -232,16 +243,18 @@ int RunDetect(const std::vector<std::string>& args) {
     }
   }
   const std::string output = o.format == "csv" ? writer.Csv() : writer.Json();
-  if (!o.out.empty()) {
+  if (!o.out.empty() || track) {
     try {
-      io::WriteFilesAtomic({{o.out, output}});
+      std::vector<std::pair<std::string, std::string>> files;
+      if (track) files.emplace_back(o.track, track->Csv());
+      if (!o.out.empty()) files.emplace_back(o.out, output);
+      io::WriteFilesAtomic(files);
     } catch (const std::exception& e) {
       std::cerr << "patlab detect: " << e.what() << "\n";
       return kExitFailure;
     }
-  } else {
-    std::cout << output;
   }
+  if (o.out.empty()) std::cout << output;
   if (o.frame.collect_timing && totals.frames > 0) PrintTiming(totals);
   if (failed > 0) {
     std::cerr << "patlab detect: " << failed << " of " << paths.size() << " frame(s) failed\n";

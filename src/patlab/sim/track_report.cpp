@@ -13,87 +13,47 @@ namespace patlab::sim {
 
 namespace {
 
-// Appends the samples of every run of one subject into one pooled sample.
-std::vector<double> Pool(const std::vector<SubjectRun>& runs,
-                         const std::vector<double> SubjectRun::*field) {
-  std::vector<double> pooled;
-  for (const SubjectRun& r : runs)
-    pooled.insert(pooled.end(), (r.*field).begin(), (r.*field).end());
-  return pooled;
-}
-
-// Mean over runs of the lag-1 autocorrelation of the estimated errors (adjacent kept samples of
-// one run; Fig. 6).
-void SetLag1(const std::vector<SubjectRun>& runs, TableRow* row) {
-  double lag_x = 0.0, lag_y = 0.0;
-  int counted = 0;
-  for (const SubjectRun& r : runs) {
-    if (r.est_x_mm.size() < 3) continue;
-    lag_x += stats::Autocorrelation(r.est_x_mm, 1);
-    lag_y += stats::Autocorrelation(r.est_y_mm, 1);
-    ++counted;
+// One subject's errors (estimated or true) as ErrorSegments, one per run, for error_stats.h.
+std::vector<ErrorSegment> Segments(const std::vector<SubjectRun>& runs, bool est) {
+  std::vector<ErrorSegment> segments(runs.size());
+  for (size_t run = 0; run < runs.size(); ++run) {
+    const SubjectRun& r = runs[run];
+    ErrorSegment& s = segments[run];
+    s.run = static_cast<int>(run);
+    s.frame.assign(r.sample.begin(), r.sample.end());
+    s.x = est ? r.est_x_mm : r.true_x_mm;
+    s.y = est ? r.est_y_mm : r.true_y_mm;
+    s.theta = est ? r.est_theta_rad : r.true_theta_rad;
   }
-  row->est_lag1_x = counted > 0 ? lag_x / counted : 0.0;
-  row->est_lag1_y = counted > 0 ? lag_y / counted : 0.0;
+  return segments;
 }
 
 TableRow MakeRow(const std::string& subject, const std::vector<SubjectRun>& runs) {
   TableRow row;
   row.subject = subject;
-  for (const SubjectRun& r : runs) row.missed_frames += r.missed_frames;
-  const std::vector<double> ex = Pool(runs, &SubjectRun::est_x_mm);
-  if (ex.size() < 2) {
+  size_t samples = 0;
+  for (const SubjectRun& r : runs) {
+    row.missed_frames += r.missed_frames;
+    samples += r.sample.size();
+  }
+  if (samples < 2) {
     throw InputError("subject " + row.subject + " was found in fewer than 2 frames; expected a " +
                      "patch the segmentation can see (check the levels and the noise)");
   }
-  const std::vector<double> tx = Pool(runs, &SubjectRun::true_x_mm);
-  const std::vector<double> ty = Pool(runs, &SubjectRun::true_y_mm);
-  row.est_x = stats::StdWithConfidence(ex);
-  row.est_y = stats::StdWithConfidence(Pool(runs, &SubjectRun::est_y_mm));
-  row.true_x = stats::StdWithConfidence(tx);
-  row.true_y = stats::StdWithConfidence(ty);
-  row.true_mean_x_mm = stats::Mean(tx);
-  row.true_mean_y_mm = stats::Mean(ty);
-  SetLag1(runs, &row);
-  const std::vector<double> et = Pool(runs, &SubjectRun::est_theta_rad);
-  if (!et.empty()) {
-    row.has_theta = true;
-    row.est_theta = stats::StdWithConfidence(et);
-    row.true_theta = stats::StdWithConfidence(Pool(runs, &SubjectRun::true_theta_rad));
-  }
+  const ErrorSummary est = SummariseErrors(Segments(runs, true));
+  const ErrorSummary truth = SummariseErrors(Segments(runs, false));
+  row.est_x = est.x;
+  row.est_y = est.y;
+  row.true_x = truth.x;
+  row.true_y = truth.y;
+  row.true_mean_x_mm = truth.mean_x;
+  row.true_mean_y_mm = truth.mean_y;
+  row.est_lag1_x = est.lag_x;
+  row.est_lag1_y = est.lag_y;
+  row.has_theta = est.has_theta;
+  row.est_theta = est.theta;
+  row.true_theta = truth.theta;
   return row;
-}
-
-// |error| of sample i of a run on one axis ("x", "y" or "xy" for the length of (x, y)).
-double AbsError(const SubjectRun& r, size_t i, bool est, const std::string& axis) {
-  const double x = est ? r.est_x_mm[i] : r.true_x_mm[i];
-  const double y = est ? r.est_y_mm[i] : r.true_y_mm[i];
-  return axis == "x" ? std::abs(x) : axis == "y" ? std::abs(y) : std::hypot(x, y);
-}
-
-// The paired |errors| of subjects a and b: samples of the same run and frame, both kept.
-void PairedAbsErrors(const std::vector<SubjectRun>& a, const std::vector<SubjectRun>& b, bool est,
-                     const std::string& axis, std::vector<double>* va, std::vector<double>* vb) {
-  for (size_t run = 0; run < a.size(); ++run) {
-    const SubjectRun& ra = a[run];
-    const SubjectRun& rb = b[run];
-    size_t i = 0, j = 0;
-    while (i < ra.sample.size() && j < rb.sample.size()) {
-      if (ra.sample[i] < rb.sample[j]) {
-        ++i;
-      } else if (rb.sample[j] < ra.sample[i]) {
-        ++j;
-      } else {
-        va->push_back(AbsError(ra, i++, est, axis));
-        vb->push_back(AbsError(rb, j++, est, axis));
-      }
-    }
-  }
-}
-
-double UpperMedian(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 nlohmann::json StdJson(const stats::StdWithCi& s) {
@@ -153,22 +113,17 @@ std::vector<TableRow> MakeTable(const TrackResult& result) {
 
 std::vector<SizeTest> MakeSizeTests(const TrackResult& result) {
   std::vector<SizeTest> tests;
-  const size_t num_discs = std::count_if(result.subjects.begin(), result.subjects.end(),
-                                         [](const std::string& s) { return s.ends_with("mm"); });
-  stats::WilcoxonOptions options;
-  options.method = stats::WilcoxonMethod::kApprox;
-  for (const std::string error : {"est", "true"}) {
-    for (const std::string axis : {"x", "y", "xy"}) {
-      for (size_t a = 0; a < num_discs; ++a) {
-        for (size_t b = a + 1; b < num_discs; ++b) {
-          std::vector<double> va, vb;
-          PairedAbsErrors(result.data[a], result.data[b], error == "est", axis, &va, &vb);
-          if (va.empty()) continue;
-          tests.push_back({error, axis, result.subjects[a], result.subjects[b], UpperMedian(va),
-                           UpperMedian(vb), stats::WilcoxonSignedRank(va, vb, options)});
-        }
-      }
-    }
+  std::vector<std::string> discs;
+  for (const std::string& s : result.subjects) {
+    if (s.ends_with("mm")) discs.push_back(s);
+  }
+  for (const bool est : {true, false}) {
+    std::vector<std::vector<ErrorSegment>> errors;
+    for (size_t k = 0; k < discs.size(); ++k) errors.push_back(Segments(result.data[k], est));
+    std::vector<const std::vector<ErrorSegment>*> pointers;
+    for (const auto& e : errors) pointers.push_back(&e);
+    const std::vector<SizeTest> some = PairedAbsErrorTests(est ? "est" : "true", discs, pointers);
+    tests.insert(tests.end(), some.begin(), some.end());
   }
   return tests;
 }
@@ -197,20 +152,7 @@ std::string TableCsv(const std::vector<TableRow>& rows) {
   return csv;
 }
 
-std::string SizeTestsCsv(const std::vector<SizeTest>& tests) {
-  std::string csv =
-      "error,axis,a,b,n,median_abs_a_mm,median_abs_b_mm,r_plus,r_minus,z,p_value,smaller\n";
-  for (const SizeTest& t : tests) {
-    const auto& w = t.result;
-    // R+ > R-: |a| - |b| tends to be positive, so b has the smaller errors.
-    const std::string smaller = w.r_plus > w.r_minus ? t.b : w.r_plus < w.r_minus ? t.a : "";
-    csv += t.error + "," + t.axis + "," + t.a + "," + t.b + "," + std::to_string(w.n) + "," +
-           FormatFixed(t.median_abs_a_mm, 4) + "," + FormatFixed(t.median_abs_b_mm, 4) + "," +
-           FormatSignificant(w.r_plus, 12) + "," + FormatSignificant(w.r_minus, 12) + "," +
-           FormatFixed(w.z, 3) + "," + FormatSignificant(w.p_value, 3) + "," + smaller + "\n";
-  }
-  return csv;
-}
+std::string SizeTestsCsv(const std::vector<SizeTest>& tests) { return PairedTestsCsv(tests); }
 
 std::string ErrorsCsv(const TrackOptions& options, const TrackResult& result, int decimate) {
   PATLAB_CHECK(decimate >= 1);

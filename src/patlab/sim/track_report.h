@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "patlab/sim/error_stats.h"
 #include "patlab/sim/track_options.h"
 #include "patlab/sim/track_runner.h"
 #include "patlab/stats/summary.h"
@@ -26,14 +27,9 @@ struct TableRow {
 std::vector<TableRow> MakeTable(const TrackResult& result);
 
 // Wilcoxon signed-rank tests between the disc diameters on paired |error| (same run, same frame),
-// per axis (x, y, and the combined |(x, y)|), for the estimated and the true errors.
-struct SizeTest {
-  std::string error;  // "est" or "true"
-  std::string axis;   // "x", "y", "xy"
-  std::string a, b;   // subjects
-  double median_abs_a_mm = 0.0, median_abs_b_mm = 0.0;
-  stats::WilcoxonResult result;
-};
+// per axis (x, y, and the combined |(x, y)|), for the estimated and the true errors
+// (error_stats.h, shared with `patlab analyze`).
+using SizeTest = PairedTest;
 std::vector<SizeTest> MakeSizeTests(const TrackResult& result);
 
 // Output files (CSV text).

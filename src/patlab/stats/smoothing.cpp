@@ -33,6 +33,25 @@ double ResidualStdFactor(const SmoothingOptions& options) {
   return std::sqrt(1.0 - 2.0 * w[0] + sum_sq);
 }
 
+double ResidualAutocorrelation(const SmoothingOptions& options, std::size_t lag) {
+  const std::vector<double> half = GaussianKernel(options);
+  if (half.size() == 1) return 0.0;
+  const auto radius = static_cast<std::ptrdiff_t>(half.size()) - 1;
+  auto w = [&](std::ptrdiff_t j) {
+    const std::ptrdiff_t a = j < 0 ? -j : j;
+    return a > radius ? 0.0 : half[static_cast<std::size_t>(a)];
+  };
+  const auto k = static_cast<std::ptrdiff_t>(lag);
+  double cross = 0.0, sum_sq = 0.0;
+  for (std::ptrdiff_t j = -radius; j <= radius; ++j) {
+    cross += w(j) * w(j + k);
+    sum_sq += w(j) * w(j);
+  }
+  const double c0 = 1.0 - 2.0 * w(0) + sum_sq;
+  const double ck = lag == 0 ? c0 : -2.0 * w(k) + cross;
+  return ck / c0;
+}
+
 std::vector<double> GaussianSmooth(std::span<const double> x, const SmoothingOptions& options) {
   const std::vector<double> w = GaussianKernel(options);
   if (x.empty()) throw InputError("cannot smooth an empty series; expected at least one sample");

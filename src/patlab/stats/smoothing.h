@@ -46,6 +46,13 @@ std::vector<double> SmoothingResiduals(std::span<const double> x,
 // 0 when the radius is 0 (the residual is then exactly 0).
 double ResidualStdFactor(const SmoothingOptions& options);
 
+// White-noise autocorrelation of those residuals at lag k >= 1: with c = delta - w (w the full
+// symmetric kernel, zero beyond its radius), Cov(r_t, r_t+k) = s^2 sum_j c_j c_j+k, so
+//   rho_k = (-2 w_k + sum_j w_j w_j+k) / (1 - 2 w_0 + sum_j w_j^2)
+// (-0.054 at k = 1 for sigma = 10): what the lag-k autocorrelation of residuals of uncorrelated
+// errors is, away from the ends. 0 when the radius is 0.
+double ResidualAutocorrelation(const SmoothingOptions& options, std::size_t lag);
+
 // Sample autocorrelation at lag k (Box & Jenkins; what statsmodels.tsa.acf returns):
 //   r_k = sum_{t<n-k} (x_t - m)(x_{t+k} - m) / sum_t (x_t - m)^2,  m = mean(x).
 // Needs lag < n (InputError otherwise); a constant series gives NaN.

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "patlab/core/error.h"
 #include "patlab/core/format.h"
 
 namespace patlab::vision {
@@ -78,5 +79,43 @@ void FrameResultsWriter::AddDetections(const FrameResult& frame) {
 std::string FrameResultsWriter::Csv() const { return csv_; }
 
 std::string FrameResultsWriter::Json() const { return json_->frames.dump(2) + "\n"; }
+
+TrackWriter::TrackWriter(const FrameDetector& frames) : frames_(frames) {
+  PATLAB_CHECK(frames.has_detector());
+}
+
+void TrackWriter::Add(int64_t frame_index, const FrameResult& frame) {
+  const detect::DetectorConfig& config = frames_.detector().config();
+  std::map<std::string, std::pair<int, Pose2>> seen;  // subject -> (count, pose)
+  for (const detect::Detection& d : frame.detections) {
+    if (d.status != detect::DetectionStatus::kOk || d.id < 0 || d.team_colour < 0) continue;
+    std::string subject = config.palette[static_cast<size_t>(d.team_colour)];
+    subject.append("-").append(std::to_string(d.id));
+    auto& [count, pose] = seen[subject];
+    ++count;
+    pose = d.pose;
+  }
+  for (const auto& [subject, entry] : seen) {
+    if (entry.first > 1) {
+      ++duplicates_;
+      continue;
+    }
+    std::vector<Sample>& track = tracks_[subject];
+    PATLAB_CHECK(track.empty() || track.back().frame < frame_index);
+    track.push_back({frame_index, entry.second});
+  }
+}
+
+std::string TrackWriter::Csv() const {
+  std::string csv = "frame,subject,x_mm,y_mm,theta_rad\n";
+  for (const auto& [subject, track] : tracks_) {
+    for (const Sample& s : track) {
+      csv.append(std::to_string(s.frame)).append(",").append(subject).append(",");
+      csv.append(FormatFixed(s.pose.x_mm, 3)).append(",").append(FormatFixed(s.pose.y_mm, 3));
+      csv.append(",").append(FormatFixed(s.pose.theta_rad, 5)).append("\n");
+    }
+  }
+  return csv;
+}
 
 }  // namespace patlab::vision
