@@ -13,4 +13,4 @@ bash scripts/check_style.sh
 bash scripts/check_cluster.sh
 bash scripts/check_reproduce.sh
 bash scripts/check_sanitizers.sh
-# bash scripts/check_fuzz.sh  -- off until the track-parser crash it found is fixed (docs/hardening.md)
+bash scripts/check_fuzz.sh

@@ -117,10 +117,11 @@ TEST(PatternFile, MissingFileIsAnInputError) {
 }  // namespace patlab::io
 
 // A name longer than the file system takes (fuzzing found std::filesystem_error escaping here) is
-// a pattern that is not found.
-TEST(PatternFile, NameTheFileSystemRefusesIsNotFound) {
+// an InputError that says so.
+TEST(PatternFile, NameTheFileSystemRefusesIsAnInputError) {
   const std::string name(300, 'a');
-  EXPECT_INPUT_ERROR(
-      patlab::io::ResolvePatternPath(name, "patterns"),
-      "pattern '" + name + "' not found; expected a pattern file path or a name in patterns/");
+  EXPECT_INPUT_ERROR(patlab::io::ResolvePatternPath(name, "patterns"),
+                     name +
+                         ": File name too long; expected a path whose every component is at "
+                         "most 255 bytes");
 }

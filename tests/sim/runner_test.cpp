@@ -10,6 +10,7 @@
 #include "../expect_error.h"
 #include "../test_util.h"
 #include "patlab/sim/batch.h"
+#include "patlab/sim/noise_prediction.h"
 #include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
 #include "patlab/stats/summary.h"
@@ -341,6 +342,24 @@ TEST(Runner, APointOfMoreThanOneBlockFoldsItsBlocksInTrialOrder) {
   EXPECT_EQ(ml.vs_fast.ks_x.d, stats::KsTwoSample(head(errors[0][0]), head(errors[1][0])).d);
   EXPECT_EQ(ml.vs_fast.ks_theta.p_value,
             stats::KsTwoSample(head(errors[0][2]), head(errors[1][2])).p_value);
+}
+
+TEST(Runner, CameraNoiseModelsReportTheirOwnFirstOrderPrediction) {
+  // With camera roll the pred_* columns come from noise_prediction.h (the angle gains the roll's
+  // variance), not from the independent-noise formula.
+  Experiment e = SmallExperiment({"butterfly"}, {1.0}, 2000);
+  e.estimators = {Estimator::kFast, Estimator::kMl};
+  e.noise.rotation_jitter_rad = 0.004;
+  const RunResult result = RunExperiment(e, {});
+  const estimate::Model model = estimate::Model::FromPattern(e.patterns[0]);
+  for (const EstimatorResult& r : result.points[0].estimators) {
+    const PredictedError p =
+        PredictError(model, r.estimator, e.noise, 1.0, e.field_length_mm, e.field_width_mm);
+    EXPECT_EQ(r.predicted_theta_rad, p.theta_rad);
+    EXPECT_EQ(r.predicted_position_mm, p.position_mm);
+    const double independent = estimate::PredictedStd(model, r.estimator).theta;
+    EXPECT_NEAR(r.predicted_theta_rad, std::hypot(independent, 0.004), 1e-9);
+  }
 }
 
 TEST(Runner, ShardsOfPointsOfMoreThanOneBlockAreRefused) {

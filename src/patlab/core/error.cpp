@@ -1,5 +1,7 @@
 #include "patlab/core/error.h"
 
+#include <cerrno>
+
 #include <cstdio>
 #include <cstdlib>
 
@@ -75,4 +77,15 @@ void CheckFailed(const char* file, int line, const std::string& message) {
 }
 
 }  // namespace detail
+void ThrowIfPathUnusable(const std::string& path, const std::error_code& ec) {
+  if (ec.value() == ENAMETOOLONG) {
+    throw InputError(EscapeForMessage(path, 1024) + ": " + ec.message() +
+                     "; expected a path whose every component is at most 255 bytes");
+  }
+  if (ec.value() == ELOOP) {
+    throw InputError(EscapeForMessage(path, 1024) + ": " + ec.message() +
+                     "; expected a path without a symbolic link loop");
+  }
+}
+
 }  // namespace patlab

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <system_error>
 
 namespace patlab {
 
@@ -37,6 +38,11 @@ class EnvironmentError : public InputError {
  public:
   using InputError::InputError;
 };
+
+// Throws InputError when `ec` (from a std::filesystem query on `path`) says the path itself is
+// unusable: a component longer than the file system takes (ENAMETOOLONG) or a symbolic link loop
+// (ELOOP), with the wording the tool's top-level handler uses; other codes return.
+void ThrowIfPathUnusable(const std::string& path, const std::error_code& ec);
 
 // User-supplied text quoted in a message (a cell, a flag value, a file name): bytes below 0x20,
 // 0x7f and bytes that are not part of valid UTF-8 are written as \xNN, so a NUL cannot cut the

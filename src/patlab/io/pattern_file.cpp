@@ -212,10 +212,11 @@ Pattern ParsePattern(std::string_view text, const std::string& source_name) {
 
 std::string ResolvePatternPath(const std::string& reference, const std::string& patterns_dir) {
   namespace fs = std::filesystem;
-  // The error_code overloads: a name the file system refuses (too long, a symlink loop) is a
-  // name that is not found, never an exception of another type (found by fuzzing).
+  // The error_code overloads: a name the file system refuses (too long, a symlink loop) is an
+  // InputError saying so, never an exception of another type (found by fuzzing).
   std::error_code ec;
   if (fs::exists(reference, ec)) return reference;
+  ThrowIfPathUnusable(reference, ec);
   const fs::path candidate = fs::path(patterns_dir) / (reference + ".toml");
   if (fs::exists(candidate, ec)) return candidate.string();
   throw InputError("pattern '" + reference +

@@ -17,6 +17,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/timeprofile.h"
 #include "patlab/sim/batch.h"
+#include "patlab/sim/noise_prediction.h"
 #include "patlab/sim/point_key.h"
 #include "patlab/stats/summary.h"
 
@@ -301,11 +302,20 @@ PointResult PointHeader(const Experiment& experiment, int pattern_index, int sig
   point.point = static_cast<uint32_t>(pattern_index * experiment.sigmas_mm.size() + sigma_index);
   point.trials = experiment.trials;
   point.estimators.resize(experiment.estimators.size());
-  const PatternBounds bounds = BoundsOf(
-      estimate::Model::FromPattern(experiment.patterns[pattern_index]), experiment.estimators);
+  const estimate::Model model = estimate::Model::FromPattern(experiment.patterns[pattern_index]);
+  const PatternBounds bounds = BoundsOf(model, experiment.estimators);
   for (size_t k = 0; k < experiment.estimators.size(); ++k) {
-    point.estimators[k].estimator = experiment.estimators[k];
-    FillBounds(experiment.noise, bounds, point.sigma_mm, &point.estimators[k]);
+    EstimatorResult& r = point.estimators[k];
+    r.estimator = experiment.estimators[k];
+    FillBounds(experiment.noise, bounds, point.sigma_mm, &r);
+    if (experiment.noise.HasCameraModels()) {
+      // Camera jitter, correlated noise and colour-edge bias: each mechanism's first-order
+      // variance (noise_prediction.h); FillBounds' formula covers independent noise only.
+      const PredictedError p = PredictError(model, r.estimator, experiment.noise, point.sigma_mm,
+                                            experiment.field_length_mm, experiment.field_width_mm);
+      r.predicted_position_mm = p.position_mm;
+      r.predicted_theta_rad = p.theta_rad;
+    }
   }
   return point;
 }

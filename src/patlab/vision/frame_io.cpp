@@ -519,8 +519,10 @@ std::vector<std::string> ExpandFrameList(const std::vector<std::string>& argumen
   std::vector<std::string> frames;
   for (const std::string& argument : arguments) {
     const fs::path path(argument);
-    std::error_code ec;  // a name the file system refuses (too long, a loop) does not exist
-    if (!fs::exists(path, ec))
+    std::error_code ec;  // a name the file system refuses (too long, a loop) is an InputError
+    const bool exists = fs::exists(path, ec);
+    ThrowIfPathUnusable(argument, ec);
+    if (!exists)
       throw InputError(
           argument +
           ": no such file or directory; expected a frame, a directory of frames or a list file");
