@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "../expect_error.h"
 #include "../test_util.h"
 #include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
@@ -265,6 +266,21 @@ TEST_F(DetectRunnerTest, APointOfMoreThanOneBlockOfFramesFoldsItsBlocks) {
   EXPECT_NEAR(r.x.std, stats::SampleStd(ex), 1e-12 * r.x.std);
   EXPECT_NEAR(r.y.mean, stats::Mean(ey), 1e-12 * r.y.std);
   EXPECT_NEAR(r.theta.std, stats::SampleStd(et), 1e-12 * r.theta.std);
+}
+
+TEST_F(DetectRunnerTest, ShardsOfPointsOfMoreThanOneBlockOfFramesAreRefused) {
+  // Trial-range shares exist for known-correspondence points only (docs/merge.md).
+  const Experiment e = LoadExperimentFile(dir_.Write(
+      "experiments/long.toml",
+      "name = \"long\"\ncorrespondence = \"detect\"\npatterns = [\"triangle\"]\nseed = 5\n"
+      "[sigma]\nvalues = [2]\n[detect]\nsettings = \"det.toml\"\nframes = " +
+          std::to_string(kStatisticsBlockFrames + 1) + "\n"));
+  RunOptions options;
+  options.shard = ShardSpec{1, 2};
+  EXPECT_INPUT_ERROR(RunDetectExperiment(e, options),
+                     "--shard 1/2 with more than 16384 frames per point: shares are whole "
+                     "points; expected at most 16384 frames per point in a sharded run "
+                     "(docs/merge.md)");
 }
 
 TEST_F(DetectRunnerTest, ReplayedFramesAddUpToTheRunnersCounts) {

@@ -362,16 +362,6 @@ TEST(Runner, CameraNoiseModelsReportTheirOwnFirstOrderPrediction) {
   }
 }
 
-TEST(Runner, ShardsOfPointsOfMoreThanOneBlockAreRefused) {
-  const Experiment e = SmallExperiment({"triangle"}, {1.0}, kStatisticsBlockTrials + 1);
-  RunOptions options;
-  options.shard = ShardSpec{1, 2};
-  EXPECT_INPUT_ERROR(RunExperiment(e, options),
-                     "--shard 1/2 with more than 1048576 trials per point: shares are whole "
-                     "points; expected at most 1048576 trials per point in a sharded run "
-                     "(docs/merge.md)");
-}
-
 TEST(Replay, NoiseFreeTrialIsRecoveredByEveryEstimator) {
   // Point 0 is (triangle, sigma 0): every estimator must return the true pose of the trial.
   const Experiment e = SmallExperiment({"triangle", "butterfly"}, {0.0, 2.0}, 100);

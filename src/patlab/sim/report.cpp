@@ -93,9 +93,13 @@ constexpr const char* kColumnsTail[] = {"std_pos_mm",
 }  // namespace
 
 std::string ResultsCsv(const Experiment& experiment, const RunResult& result) {
-  std::string csv = Header(kColumnsHead, kColumnsTail);
-  const std::string noise = experiment.noise.Describe();
-  for (const PointResult& p : result.points) {
+  return Header(kColumnsHead, kColumnsTail) +
+         ResultsCsvRows(experiment.noise.Describe(), result.points);
+}
+
+std::string ResultsCsvRows(const std::string& noise, std::span<const PointResult> points) {
+  std::string csv;
+  for (const PointResult& p : points) {
     for (const EstimatorResult& r : p.estimators) {
       const bool ml = r.estimator == estimate::Estimator::kMl;
       const Comparison& c = r.vs_fast;

@@ -2,6 +2,7 @@
 // JSON manifest (inputs, seed, version, timings). Column meanings: docs/file-formats.md.
 #pragma once
 
+#include <span>
 #include <string>
 
 #include "patlab/sim/detect_runner.h"
@@ -11,6 +12,9 @@ namespace patlab::sim {
 
 // The CSV. Deterministic: the same results give the same bytes.
 std::string ResultsCsv(const Experiment& experiment, const RunResult& result);
+// Its rows (no header) for points of a run whose noise model NoiseModel::Describe() gives
+// `noise`: what `patlab merge` writes for points it finishes from trial-range shards.
+std::string ResultsCsvRows(const std::string& noise, std::span<const PointResult> points);
 
 // The manifest. `command_line` and `outputs` are recorded as given.
 std::string ManifestJson(const Experiment& experiment, const RunResult& result,

@@ -346,7 +346,6 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   const std::vector<WorkBlock> work =
       ShareBlocks(num_points, experiment.trials, kStatisticsBlockTrials, options.shard);
   const int64_t blocks_per_point = BlocksPerPoint(experiment.trials, kStatisticsBlockTrials);
-  RequireWholePoints(options.shard, blocks_per_point, "trials", kStatisticsBlockTrials);
   const size_t num_estimators = experiment.estimators.size();
   std::vector<PointBlock> blocks(work.size());
   for (size_t i = 0; i < work.size(); ++i) {
@@ -384,7 +383,8 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
   }
   statistics[0].wait();
   statistics[1].wait();
-  // Every point's blocks, folded in trial order (docs/architecture.md rule 2).
+  // Every point's blocks, folded in trial order (docs/architecture.md rule 2); a share that holds
+  // only some blocks of a point returns them for `patlab merge` (shard.h).
   for (size_t begin = 0; begin < work.size();) {
     const WorkBlock& w = work[begin];
     const int pi = static_cast<int>(w.point / num_sigmas),
@@ -392,8 +392,12 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
     size_t end = begin;
     while (end < work.size() && work[end].point == w.point) ++end;
     const std::span<const PointBlock> point_blocks(blocks.data() + begin, end - begin);
-    PATLAB_CHECK(static_cast<int64_t>(end - begin) == blocks_per_point);  // whole points
-    result.points.push_back(FinishPoint(PointHeader(experiment, pi, si), point_blocks));
+    if (static_cast<int64_t>(end - begin) == blocks_per_point) {
+      result.points.push_back(FinishPoint(PointHeader(experiment, pi, si), point_blocks));
+    } else {
+      result.block_headers.push_back(PointHeader(experiment, pi, si));
+      result.blocks.insert(result.blocks.end(), point_blocks.begin(), point_blocks.end());
+    }
     begin = end;
   }
   result.statistics_seconds = static_cast<double>(statistics_ns.load()) * 1e-9;

@@ -165,6 +165,10 @@ PointResult FinishPoint(const PointResult& header, std::span<const PointBlock> b
 
 struct RunResult {
   std::vector<PointResult> points;  // pattern-major, then sigma (only the share's, if sharded)
+  // A sharded run whose points have more than one block: the share's blocks, in item order, and
+  // the header (for FinishPoint) of each point they belong to, in the order of the points.
+  std::vector<PointBlock> blocks;
+  std::vector<PointResult> block_headers;
   int threads = 0;
   int64_t total_trials = 0;
   double simulate_seconds = 0.0;    // wall time of trial generation and estimation

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -21,7 +22,7 @@ namespace {
 using nlohmann::json;
 
 constexpr const char* kFormat = "patlab shard";
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;  // 2: trial-range shares (blocks)
 // The manifest keys that describe a run rather than the experiment: a merged manifest takes
 // them from the merge, and the fingerprint leaves them out.
 constexpr const char* kRunKeys[] = {"command_line",      "threads",           "timings_s",
@@ -71,9 +72,111 @@ json PointEntry(int64_t index, int64_t count, int64_t nonconverged, std::vector<
               {"rows", std::move(rows)}};
 }
 
+// A number that may be NaN (a bound of a non-isotropic model): JSON has no NaN, so null.
+json Number(double v) { return std::isnan(v) ? json(nullptr) : json(v); }
+double NumberOf(const json& j) {
+  return j.is_null() ? std::nan("") : j.get<double>();  // json::type_error if not a number
+}
+
+json MomentsJson(const stats::Moments& m) { return json::array({m.n, m.mean, m.m2}); }
+stats::Moments MomentsOf(const json& j) {
+  return stats::Moments{j.at(0).get<int64_t>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+
+// One block of a trial-range share: the point's header (identity and bounds, for FinishPoint)
+// and each estimator's block statistics, every number as JSON keeps it (17 significant digits,
+// so the merge reads back the runner's bits).
+json BlockEntry(const PointResult& header, const PointBlock& block) {
+  json estimators = json::array(), bounds = json::array();
+  for (const EstimatorResult& r : header.estimators) {
+    bounds.push_back({std::string(estimate::EstimatorName(r.estimator)), Number(r.crlb_position_mm),
+                      Number(r.crlb_theta_rad), Number(r.predicted_position_mm),
+                      Number(r.predicted_theta_rad)});
+  }
+  for (const EstimatorBlock& b : block.estimators) {
+    json e = {{"moments",
+               {MomentsJson(b.x), MomentsJson(b.y), MomentsJson(b.theta), MomentsJson(b.radial)}},
+              {"sum_sq", b.sum_sq},
+              {"ml", {b.iterations, b.nonconverged, b.first_nonconverged_trial}},
+              {"vs_fast", nullptr}};
+    const Comparison& c = b.vs_fast;
+    if (c.computed) {
+      e["vs_fast"] = {{"trials", c.trials},
+                      {"ks",
+                       {{c.ks_x.d, c.ks_x.p_value},
+                        {c.ks_y.d, c.ks_y.p_value},
+                        {c.ks_theta.d, c.ks_theta.p_value}}},
+                      {"wilcoxon", {c.wilcoxon_position.p_value, c.wilcoxon_theta.p_value}}};
+    }
+    estimators.push_back(std::move(e));
+  }
+  return json{{"index", block.work.point},
+              {"block", block.work.block},
+              {"first", block.work.first},
+              {"count", block.work.count},
+              {"header",
+               {{"pattern_index", header.pattern_index},
+                {"pattern", header.pattern},
+                {"sigma_mm", header.sigma_mm},
+                {"trials", header.trials},
+                {"bounds", std::move(bounds)}}},
+              {"estimators", std::move(estimators)}};
+}
+
+// The inverse of BlockEntry; throws json exceptions on a malformed entry.
+void ReadBlockEntry(const json& j, PointResult* header, PointBlock* block) {
+  block->work = WorkBlock{j.at("index").get<int64_t>(), j.at("block").get<int64_t>(),
+                          j.at("first").get<int64_t>(), j.at("count").get<int64_t>()};
+  const json& h = j.at("header");
+  header->pattern_index = h.at("pattern_index").get<int>();
+  header->pattern = h.at("pattern").get<std::string>();
+  header->sigma_mm = h.at("sigma_mm").get<double>();
+  header->trials = h.at("trials").get<int64_t>();
+  header->point = static_cast<uint32_t>(block->work.point);
+  header->estimators.clear();
+  for (const json& b : h.at("bounds")) {
+    EstimatorResult& r = header->estimators.emplace_back();
+    if (!estimate::ParseEstimator(b.at(0).get<std::string>(), &r.estimator)) {
+      throw json::other_error::create(501, "unknown estimator", nullptr);
+    }
+    r.crlb_position_mm = NumberOf(b.at(1));
+    r.crlb_theta_rad = NumberOf(b.at(2));
+    r.predicted_position_mm = NumberOf(b.at(3));
+    r.predicted_theta_rad = NumberOf(b.at(4));
+  }
+  block->estimators.clear();
+  for (const json& e : j.at("estimators")) {
+    EstimatorBlock& b = block->estimators.emplace_back();
+    const json& m = e.at("moments");
+    b.x = MomentsOf(m.at(0));
+    b.y = MomentsOf(m.at(1));
+    b.theta = MomentsOf(m.at(2));
+    b.radial = MomentsOf(m.at(3));
+    b.sum_sq = e.at("sum_sq").get<double>();
+    b.iterations = e.at("ml").at(0).get<int64_t>();
+    b.nonconverged = e.at("ml").at(1).get<int64_t>();
+    b.first_nonconverged_trial = e.at("ml").at(2).get<int64_t>();
+    const json& c = e.at("vs_fast");
+    if (c.is_null()) continue;
+    b.vs_fast.computed = true;
+    b.vs_fast.trials = c.at("trials").get<int64_t>();
+    stats::KsResult* ks[3] = {&b.vs_fast.ks_x, &b.vs_fast.ks_y, &b.vs_fast.ks_theta};
+    for (int a = 0; a < 3; ++a) {
+      ks[a]->d = c.at("ks").at(a).at(0).get<double>();
+      ks[a]->p_value = c.at("ks").at(a).at(1).get<double>();
+    }
+    b.vs_fast.wilcoxon_position.p_value = c.at("wilcoxon").at(0).get<double>();
+    b.vs_fast.wilcoxon_theta.p_value = c.at("wilcoxon").at(1).get<double>();
+  }
+  if (block->estimators.size() != header->estimators.size()) {
+    throw json::other_error::create(501, "estimators and bounds differ in number", nullptr);
+  }
+}
+
 std::string ShardText(const Experiment& experiment, const std::string& manifest_text,
                       const std::string& header, json points, const ShardSpec& shard,
-                      const std::string& base, int64_t points_total, json run) {
+                      const std::string& base, int64_t points_total, json run,
+                      json blocks = json::array(), int64_t blocks_per_point = 1) {
   json s;
   s["format"] = kFormat;
   s["format_version"] = kFormatVersion;
@@ -87,6 +190,9 @@ std::string ShardText(const Experiment& experiment, const std::string& manifest_
   s["points_total"] = points_total;
   s["csv_header"] = header;
   s["points"] = std::move(points);
+  s["blocks_per_point"] = blocks_per_point;
+  s["blocks"] = std::move(blocks);
+  s["noise"] = experiment.noise.Describe();
   s["run"] = std::move(run);
   s["checksum"] = Checksum(s);
   return s.dump(1) + "\n";
@@ -142,8 +248,17 @@ std::string KnownShardText(const Experiment& experiment, const RunResult& result
   if (header.empty()) SplitRows(ResultsCsv(experiment, RunResult{}), &header);
   const int64_t total =
       static_cast<int64_t>(experiment.patterns.size() * experiment.sigmas_mm.size());
+  // Trial-range shares: each block with the header of its point (block_headers runs in the order
+  // of the points the blocks belong to).
+  json blocks = json::array();
+  size_t h = 0;
+  for (size_t i = 0; i < result.blocks.size(); ++i) {
+    if (i > 0 && result.blocks[i].work.point != result.blocks[i - 1].work.point) ++h;
+    blocks.push_back(BlockEntry(result.block_headers.at(h), result.blocks[i]));
+  }
   return ShardText(experiment, ManifestJson(experiment, result, "", {}), header, std::move(points),
-                   shard, base, total, RunPart(result, command_line));
+                   shard, base, total, RunPart(result, command_line), std::move(blocks),
+                   BlocksPerPoint(experiment.trials, kStatisticsBlockTrials));
 }
 
 std::string DetectShardText(const Experiment& experiment, const DetectRunResult& result,
@@ -183,14 +298,15 @@ std::string Describe(const json& s) {
 // Every field the merge reads, with its type (a shard whose checksum was recomputed after an
 // edit still has to be well formed).
 bool HasShardFields(const json& s) {
-  for (const char* key : {"version", "name", "mode", "fingerprint", "csv_header"}) {
+  for (const char* key : {"version", "name", "mode", "fingerprint", "csv_header", "noise"}) {
     if (!s.contains(key) || !s[key].is_string()) return false;
   }
-  for (const char* key : {"shard", "shards", "points_total"}) {
+  for (const char* key : {"shard", "shards", "points_total", "blocks_per_point"}) {
     if (!s.contains(key) || !s[key].is_number_integer()) return false;
   }
   if (!s.contains("manifest") || !s["manifest"].is_object() || !s.contains("run") ||
-      !s["run"].is_object() || !s.contains("points") || !s["points"].is_array()) {
+      !s["run"].is_object() || !s.contains("points") || !s["points"].is_array() ||
+      !s.contains("blocks") || !s["blocks"].is_array()) {
     return false;
   }
   const json& run = s["run"];
@@ -210,7 +326,14 @@ bool HasShardFields(const json& s) {
       if (!row.is_string()) return false;
     }
   }
-  return s["shards"].get<int64_t>() >= 1 && s["shards"].get<int64_t>() <= kMaxShards;
+  for (const json& b : s["blocks"]) {
+    if (!b.is_object()) return false;
+    for (const char* key : {"index", "block", "first", "count"}) {
+      if (!b.contains(key) || !b[key].is_number_integer()) return false;
+    }
+  }
+  return s["shards"].get<int64_t>() >= 1 && s["shards"].get<int64_t>() <= kMaxShards &&
+         s["blocks_per_point"].get<int64_t>() >= 1 && s["points_total"].get<int64_t>() >= 0;
 }
 
 // Reads one shard file and checks it on its own: JSON, the format, the checksum, the fields.
@@ -256,9 +379,40 @@ void CheckSameExperiment(const ShardFile& first, const ShardFile& f) {
   }
 }
 
+// A trial-range share's blocks must be exactly the items ShareBlocks assigns to it (item =
+// point x blocks_per_point + block), each the block ShareBlocks makes of its point's trials.
+void CheckBlocks(const ShardFile& f) {
+  const json& s = f.content;
+  const ShardSpec spec{s["shard"].get<int>(), s["shards"].get<int>()};
+  const int64_t per = s["blocks_per_point"].get<int64_t>();
+  if (!s["points"].empty()) Fail(f.path, "holds whole points and blocks; expected only blocks");
+  int64_t next = spec.index - 1;
+  for (const json& b : s["blocks"]) {
+    const int64_t item = b["index"].get<int64_t>() * per + b["block"].get<int64_t>();
+    if (b["block"].get<int64_t>() < 0 || b["block"].get<int64_t>() >= per || item != next) {
+      Fail(f.path, "holds block " + b["block"].dump() + " of point " + b["index"].dump() +
+                       "; expected item " + std::to_string(next) + " (point " +
+                       std::to_string(next / per) + ", block " + std::to_string(next % per) +
+                       ") of share " + std::to_string(spec.index) + "/" +
+                       std::to_string(spec.count));
+    }
+    next += spec.count;
+  }
+  if (next < s["points_total"].get<int64_t>() * per) {
+    Fail(f.path, "ends before item " + std::to_string(next) + " of " +
+                     std::to_string(s["points_total"].get<int64_t>() * per) +
+                     "; expected every block of its share");
+  }
+}
+
 // The share's points must be exactly those ShardSpec::Holds assigns to it.
 void CheckPoints(const ShardFile& f) {
   const json& s = f.content;
+  // With more than one share and points of more than one block, no share holds a whole point.
+  if (s["blocks_per_point"].get<int64_t>() > 1 && s["shards"].get<int64_t>() > 1) {
+    return CheckBlocks(f);
+  }
+  if (!s["blocks"].empty()) Fail(f.path, "holds blocks of one-block points; expected none");
   const ShardSpec spec{s["shard"].get<int>(), s["shards"].get<int>()};
   int64_t next = spec.index - 1;
   for (const json& p : s["points"]) {
@@ -338,6 +492,10 @@ std::string MergedManifest(const std::vector<const ShardFile*>& shards,
       total += p["count"].get<int64_t>();
       nonconverged += p["ml_nonconverged"].get<int64_t>();
     }
+    for (const json& b : f->content["blocks"]) {
+      total += b["count"].get<int64_t>();
+      for (const json& e : b["estimators"]) nonconverged += e["ml"][1].get<int64_t>();
+    }
     const json& run = f->content["run"];
     threads = std::max(threads, run["threads"].get<int>());
     simulate += run["timings_s"]["simulate"].get<double>();
@@ -359,6 +517,43 @@ std::string MergedManifest(const std::vector<const ShardFile*>& shards,
   return m.dump(2) + "\n";
 }
 
+// The points of trial-range shares: each point's blocks from every share, in block order,
+// finished as the runner finishes them (FinishPoint) and written as its CSV rows.
+json FinishBlockPoints(const std::vector<const ShardFile*>& shards) {
+  std::map<int64_t, std::map<int64_t, std::pair<const json*, const ShardFile*>>> by_point;
+  for (const ShardFile* f : shards) {
+    for (const json& b : f->content["blocks"]) {
+      by_point[b["index"].get<int64_t>()][b["block"].get<int64_t>()] = {&b, f};
+    }
+  }
+  json points = json::array();
+  const std::string noise = shards.front()->content["noise"].get<std::string>();
+  for (const auto& [index, blocks] : by_point) {
+    PointResult header;
+    std::vector<PointBlock> point_blocks;
+    for (const auto& [block, entry] : blocks) {
+      PointResult h;
+      try {
+        ReadBlockEntry(*entry.first, &h, &point_blocks.emplace_back());
+      } catch (const json::exception& e) {
+        // Appended piece by piece: GCC 12's -Wrestrict misfires on "literal" + std::string.
+        std::string message = "block ";
+        message.append(std::to_string(block)).append(" of point ").append(std::to_string(index));
+        message.append(" is malformed (").append(e.what());
+        message.append("); expected a shard as 'patlab simulate --shard' wrote it");
+        Fail(entry.second->path, message);
+      }
+      if (block == 0) header = h;
+    }
+    const PointResult point = FinishPoint(header, point_blocks);
+    std::string unused, csv = "\n";  // SplitRows skips a header line
+    csv.append(ResultsCsvRows(noise, {&point, 1}));
+    std::vector<std::string> rows = SplitRows(csv, &unused);
+    points.push_back(PointEntry(index, point.trials, 0, std::move(rows)));
+  }
+  return points;
+}
+
 }  // namespace
 
 MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::string& out_dir,
@@ -377,6 +572,8 @@ MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::str
   for (const ShardFile* f : shards) {
     for (const json& p : f->content["points"]) rows_by_point[p["index"].get<int64_t>()] = &p;
   }
+  const json finished = FinishBlockPoints(shards);
+  for (const json& p : finished) rows_by_point[p["index"].get<int64_t>()] = &p;
   MergedOutputs out;
   const json& first = shards.front()->content;
   const std::string base = name.empty() ? first["name"].get<std::string>() : name;
