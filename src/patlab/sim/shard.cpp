@@ -295,6 +295,15 @@ std::string Describe(const json& s) {
          s["version"].get<std::string>() + ", fingerprint " + s["fingerprint"].get<std::string>();
 }
 
+// A block entry's integer fields (the rest is read when the block is folded: ReadBlockEntry).
+bool HasBlockFields(const json& b) {
+  if (!b.is_object()) return false;
+  for (const char* key : {"index", "block", "first", "count"}) {
+    if (!b.contains(key) || !b[key].is_number_integer()) return false;
+  }
+  return true;
+}
+
 // Every field the merge reads, with its type (a shard whose checksum was recomputed after an
 // edit still has to be well formed).
 bool HasShardFields(const json& s) {
@@ -326,12 +335,7 @@ bool HasShardFields(const json& s) {
       if (!row.is_string()) return false;
     }
   }
-  for (const json& b : s["blocks"]) {
-    if (!b.is_object()) return false;
-    for (const char* key : {"index", "block", "first", "count"}) {
-      if (!b.contains(key) || !b[key].is_number_integer()) return false;
-    }
-  }
+  if (!std::all_of(s["blocks"].begin(), s["blocks"].end(), HasBlockFields)) return false;
   return s["shards"].get<int64_t>() >= 1 && s["shards"].get<int64_t>() <= kMaxShards &&
          s["blocks_per_point"].get<int64_t>() >= 1 && s["points_total"].get<int64_t>() >= 0;
 }
