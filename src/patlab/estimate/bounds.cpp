@@ -42,23 +42,12 @@ Pose2 Run(const Model& model, Estimator estimator, const Vec2* observed) {
 }  // namespace
 
 StdPerSigma PredictedStd(const Model& model, Estimator estimator) {
-  // Jacobian of (x, y, theta) with respect to the 2n patch coordinates at the identity pose,
-  // by central differences of the estimator itself (its error is O(h^2) relative).
-  constexpr double kStepMm = 1e-3;
-  const int n = model.num_patches;
-  std::array<Vec2, kMaxPatches> observed = model.model_mm;
+  // C = J J^T with J the estimator's Jacobian at the identity pose (EstimatorJacobian: central
+  // differences of the estimator itself), summed column by column in patch-coordinate order.
+  const PoseJacobian jacobian = EstimatorJacobian(model, estimator);
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (int j = 0; j < 2 * n; ++j) {
-    double& coordinate = observed[j / 2][j % 2];
-    const double original = coordinate;
-    coordinate = original + kStepMm;
-    const Pose2 plus = Run(model, estimator, observed.data());
-    coordinate = original - kStepMm;
-    const Pose2 minus = Run(model, estimator, observed.data());
-    coordinate = original;
-    const Eigen::Vector3d column((plus.x_mm - minus.x_mm) / (2.0 * kStepMm),
-                                 (plus.y_mm - minus.y_mm) / (2.0 * kStepMm),
-                                 WrapAngle(plus.theta_rad - minus.theta_rad) / (2.0 * kStepMm));
+  for (int j = 0; j < 2 * model.num_patches; ++j) {
+    const Eigen::Vector3d column = jacobian.col(j);
     covariance += column * column.transpose();
   }
   // Isotropic noise is rotation invariant, so at heading phi the world covariance of the origin
