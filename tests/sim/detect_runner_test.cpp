@@ -82,6 +82,14 @@ class DetectRunnerTest : public ::testing::Test {
             sigma + "\n" + noise + "[detect]\nsettings = \"det.toml\"\nframes = 300\n" +
             extra_detect));
   }
+  // One triangle point at sigma 2 mm of `frames` frames (more than one block of frames).
+  Experiment LoadLong(int64_t frames, const std::string& extra_detect = "") {
+    return LoadExperimentFile(dir_.Write(
+        "experiments/long.toml",
+        "name = \"long\"\ncorrespondence = \"detect\"\npatterns = [\"triangle\"]\nseed = 5\n"
+        "[sigma]\nvalues = [2]\n[detect]\nsettings = \"det.toml\"\nframes = " +
+            std::to_string(frames) + "\n" + extra_detect));
+  }
   testing::TempDir dir_;
 };
 
@@ -231,11 +239,7 @@ TEST_F(DetectRunnerTest, AFrameReplaysAlone) {
 TEST_F(DetectRunnerTest, APointOfMoreThanOneBlockOfFramesFoldsItsBlocks) {
   // kStatisticsBlockFrames + 300 frames: two blocks. The reference replays every frame and takes
   // the two-pass statistics of all pose errors at once.
-  const Experiment e = LoadExperimentFile(dir_.Write(
-      "experiments/long.toml",
-      "name = \"long\"\ncorrespondence = \"detect\"\npatterns = [\"triangle\"]\nseed = 5\n"
-      "[sigma]\nvalues = [2]\n[detect]\nsettings = \"det.toml\"\nframes = " +
-          std::to_string(kStatisticsBlockFrames + 300) + "\nrobots_per_team = 1\n"));
+  const Experiment e = LoadLong(kStatisticsBlockFrames + 300, "robots_per_team = 1\n");
   RunOptions options;
   options.threads = 2;
   const DetectRunResult result = RunDetectExperiment(e, options);
@@ -270,11 +274,7 @@ TEST_F(DetectRunnerTest, APointOfMoreThanOneBlockOfFramesFoldsItsBlocks) {
 
 TEST_F(DetectRunnerTest, ShardsOfPointsOfMoreThanOneBlockOfFramesAreRefused) {
   // Trial-range shares exist for known-correspondence points only (docs/merge.md).
-  const Experiment e = LoadExperimentFile(dir_.Write(
-      "experiments/long.toml",
-      "name = \"long\"\ncorrespondence = \"detect\"\npatterns = [\"triangle\"]\nseed = 5\n"
-      "[sigma]\nvalues = [2]\n[detect]\nsettings = \"det.toml\"\nframes = " +
-          std::to_string(kStatisticsBlockFrames + 1) + "\n"));
+  const Experiment e = LoadLong(kStatisticsBlockFrames + 1);
   RunOptions options;
   options.shard = ShardSpec{1, 2};
   EXPECT_INPUT_ERROR(RunDetectExperiment(e, options),
