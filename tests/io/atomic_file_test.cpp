@@ -58,6 +58,30 @@ TEST(AtomicFile, AFailingTargetLeavesTheOldSetAndNoTemporary) {
   EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json", "b.csv"}));
 }
 
+// A rename that fails in the middle of the commit, after other targets were already replaced,
+// rolls every target back: a replaced file gets its old content again, a file that did not exist
+// before is removed, and the old manifest is back in place. The failure is forced by a non-empty
+// folder at the name the second target's old content would be moved aside to.
+TEST(AtomicFile, AFailedRenameMidCommitRollsEveryTargetBack) {
+  TempDir dir;
+  dir.Write("out/b.csv", "old b");
+  dir.Write("out/a.json", "old m");
+  const std::string blocker = ".b.csv.patlab-old." + std::to_string(::getpid());
+  dir.Write("out/" + blocker + "/keep", "x");
+  try {
+    WriteFilesAtomic({{dir.Path("out/new.csv"), "new n"},
+                      {dir.Path("out/b.csv"), "new b"},
+                      {dir.Path("out/a.json"), "new m"}});
+    ADD_FAILURE() << "expected EnvironmentError";
+  } catch (const EnvironmentError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(dir.Path("out/b.csv") + ": cannot write: ", 0), 0u)
+        << e.what();
+  }
+  EXPECT_EQ(ReadFile(dir.Path("out/b.csv")), "old b");
+  EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "old m");
+  EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.json", "b.csv", blocker}));
+}
+
 TEST(AtomicFile, FailuresAreEnvironmentErrors) {
   TempDir dir;
   dir.Write("blocker", "a file");
