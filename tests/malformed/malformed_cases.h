@@ -1050,7 +1050,9 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    {{"a.txt", "1\n"s}},
                    "stats summary {dir}a.txt",
                    2,
-                   "patlab stats: {dir}a.txt: the standard deviation needs at least 2 samples, got 1"s,
+                   "patlab stats: {dir}a.txt: the standard deviation needs at least 2 samples, got "
+                   "1; "
+                   "expected at least 2"s,
                    nullptr},
                   {"TrackNameLeavesOut",
                    {{"t.toml",

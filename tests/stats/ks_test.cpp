@@ -113,8 +113,10 @@ TEST(Ks, RejectsEmptyAndNonFiniteInput) {
   const std::vector<double> empty;
   const std::vector<double> one = {1.0};
   const std::vector<double> bad = {1.0, std::nan("")};
-  EXPECT_INPUT_ERROR(KsTwoSample(one, empty),
-                     "the KS test needs two non-empty samples, got 1 and 0 values");
+  EXPECT_INPUT_ERROR(
+      KsTwoSample(one, empty),
+      "the KS test needs two non-empty samples, got 1 and 0 values; expected at least one "
+      "value in each");
   EXPECT_INPUT_ERROR(KsTwoSample(one, bad), "sample 2 value 2 is NaN; expected finite numbers");
   EXPECT_INPUT_ERROR(ParseKsMethod("approx"),
                      "method is \"approx\"; expected \"auto\", \"exact\" or \"asymp\"");

@@ -114,8 +114,10 @@ TEST(Autocorrelation, HandComputed) {
   EXPECT_DOUBLE_EQ(Autocorrelation(x, 0), 1.0);
   EXPECT_DOUBLE_EQ(Autocorrelation(x, 1), 0.25);
   EXPECT_TRUE(std::isnan(Autocorrelation(std::vector<double>{2.0, 2.0}, 1)));
-  EXPECT_INPUT_ERROR(Autocorrelation(x, 4),
-                     "autocorrelation at lag 4 needs more than 4 samples, got 4");
+  EXPECT_INPUT_ERROR(
+      Autocorrelation(x, 4),
+      "autocorrelation at lag 4 needs more than 4 samples, got 4; expected a lag shorter "
+      "than the series");
 }
 
 }  // namespace

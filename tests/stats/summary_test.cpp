@@ -55,7 +55,7 @@ TEST(Summary, HandComputed) {
 TEST(Summary, RejectsBadInput) {
   const std::vector<double> one = {1.0};
   EXPECT_INPUT_ERROR(StdWithConfidence(one),
-                     "the standard deviation needs at least 2 samples, got 1");
+                     "the standard deviation needs at least 2 samples, got 1; expected at least 2");
   const std::vector<double> x = {1.0, 2.0};
   EXPECT_INPUT_ERROR(StdWithConfidence(x, 1.0), "level is 1; expected a number in (0, 1)");
   const std::vector<double> nan = {1.0, std::nan("")};
@@ -73,7 +73,9 @@ TEST(Summary, IntervalFromAStdAndItsDegreesOfFreedom) {
   const StdWithCi pooled = StdConfidenceInterval(sample.std, 10.0, 0.9);
   EXPECT_GT(pooled.lower, sample.lower);
   EXPECT_LT(pooled.upper, sample.upper);
-  EXPECT_THROW(StdConfidenceInterval(1.0, 0.0), InputError);
+  EXPECT_INPUT_ERROR(StdConfidenceInterval(1.0, 0.0),
+                     "the std interval needs degrees of freedom > 0, got 0; expected a positive "
+                     "number of degrees of freedom");
 }
 
 TEST(Summary, MeanAndStdOfEachIsBitIdenticalToMeanAndSampleStd) {
@@ -100,7 +102,7 @@ TEST(Summary, MeanAndStdOfEachIsBitIdenticalToMeanAndSampleStd) {
   std::vector<MeanAndStd> out(2);
   EXPECT_INPUT_ERROR(MeanAndStdOfEach(std::vector<std::span<const double>>{one},
                                       std::span<MeanAndStd>(out.data(), 1)),
-                     "the standard deviation needs at least 2 samples, got 1");
+                     "the standard deviation needs at least 2 samples, got 1; expected at least 2");
   EXPECT_INPUT_ERROR(MeanAndStdOfEach(std::vector<std::span<const double>>{two, nan}, out),
                      "sample value 2 is NaN; expected finite numbers");
 }

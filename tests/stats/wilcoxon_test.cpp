@@ -109,7 +109,10 @@ TEST(Wilcoxon, RejectsBadInput) {
   const std::vector<double> b = {1.0, 2.0};
   EXPECT_INPUT_ERROR(WilcoxonSignedRank(a, b),
                      "the Wilcoxon test needs paired samples of equal length, got 3 and 2 "
-                     "values");
+                     "values; expected one value of each sample per pair");
+  EXPECT_INPUT_ERROR(WilcoxonSignedRank(std::span<const double>()),
+                     "the Wilcoxon test needs at least one pair, got none; expected at least one "
+                     "pair");
   EXPECT_INPUT_ERROR(WilcoxonSignedRank(a, a),
                      "every difference is zero, so zero method 'wilcox' leaves nothing to "
                      "rank; expected at least one non-zero difference (or use zsplit)");

@@ -269,7 +269,8 @@ KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
                      const KsOptions& options) {
   if (x.empty() || y.empty()) {
     throw InputError("the KS test needs two non-empty samples, got " + std::to_string(x.size()) +
-                     " and " + std::to_string(y.size()) + " values");
+                     " and " + std::to_string(y.size()) +
+                     " values; expected at least one value in each");
   }
   detail::RequireFinite(x, "sample 1");
   detail::RequireFinite(y, "sample 2");

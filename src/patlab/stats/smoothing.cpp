@@ -94,7 +94,8 @@ std::vector<double> SmoothingResiduals(std::span<const double> x, const Smoothin
 double Autocorrelation(std::span<const double> x, std::size_t lag) {
   if (lag >= x.size()) {
     throw InputError("autocorrelation at lag " + std::to_string(lag) + " needs more than " +
-                     std::to_string(lag) + " samples, got " + std::to_string(x.size()));
+                     std::to_string(lag) + " samples, got " + std::to_string(x.size()) +
+                     "; expected a lag shorter than the series");
   }
   detail::RequireFinite(x, "series");
   const double mean = Mean(x);

@@ -37,7 +37,8 @@ namespace {
 void RequireCount(std::span<const double> x, std::size_t min_n, const char* what) {
   if (x.size() < min_n) {
     throw InputError(std::string(what) + " needs at least " + std::to_string(min_n) +
-                     " samples, got " + std::to_string(x.size()));
+                     " samples, got " + std::to_string(x.size()) + "; expected at least " +
+                     std::to_string(min_n));
   }
 }
 
@@ -180,7 +181,8 @@ StdWithCi StdWithConfidence(std::span<const double> x, double level) {
 StdWithCi StdConfidenceInterval(double std, double dof, double level) {
   RequireLevel(level);
   if (!(dof > 0.0)) {
-    throw InputError("the std interval needs degrees of freedom > 0, got " + FormatNumber(dof));
+    throw InputError("the std interval needs degrees of freedom > 0, got " + FormatNumber(dof) +
+                     "; expected a positive number of degrees of freedom");
   }
   StdWithCi out;
   out.level = level;

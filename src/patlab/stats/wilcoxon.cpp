@@ -162,7 +162,8 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const dou
                                   const WilcoxonOptions& options) {
   if (x.size() != y.size()) {
     throw InputError("the Wilcoxon test needs paired samples of equal length, got " +
-                     std::to_string(x.size()) + " and " + std::to_string(y.size()) + " values");
+                     std::to_string(x.size()) + " and " + std::to_string(y.size()) +
+                     " values; expected one value of each sample per pair");
   }
   detail::RequireFinite(x, "sample 1");
   detail::RequireFinite(y, "sample 2");
@@ -173,7 +174,9 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const dou
 }
 
 WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOptions& options) {
-  if (d_in.empty()) throw InputError("the Wilcoxon test needs at least one pair, got none");
+  if (d_in.empty())
+    throw InputError(
+        "the Wilcoxon test needs at least one pair, got none; expected at least one pair");
   detail::RequireFinite(d_in, "difference");
   WilcoxonResult result;
   result.n = d_in.size();
