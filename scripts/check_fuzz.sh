@@ -1,26 +1,27 @@
 #!/usr/bin/env bash
 # libFuzzer on every parser and image reader (docs/hardening.md): builds the harnesses of
-# tests/fuzz/ with clang, ASan and UBSan in build-fuzz/, then runs each for a fixed time
+# tests/fuzz/ with clang, ASan and UBSan in build-san/ (the build scripts/check_sanitizers.sh
+# makes; CI runs that first, so nothing is rebuilt here), then runs each for a fixed time
 # (PATLAB_FUZZ_SECONDS, default 20 s; CI uses the default) starting from its committed seed
 # corpus tests/fuzz/corpus/<name>/. New inputs go to a scratch folder, never into the repository.
 # A crash, a sanitizer report, a leak, an exception other than patlab::InputError, a 10 s input
-# or 2 GB of memory fails the run; the input that did it is left in build-fuzz/findings/.
+# or 2 GB of memory fails the run; the input that did it is left in build-san/findings/.
 # Long runs: PATLAB_FUZZ_SECONDS=3600 bash scripts/check_fuzz.sh [harness...].
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build="${PATLAB_FUZZ_BUILD_DIR:-build-fuzz}"
+build="${PATLAB_SANITIZER_BUILD_DIR:-build-san}"
 seconds="${PATLAB_FUZZ_SECONDS:-20}"
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 start=$SECONDS
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DPATLAB_FUZZ=ON "${launcher[@]}" >/dev/null
-cmake --build "$build" -j"$(nproc)"
-echo "check_fuzz: build $((SECONDS - start)) s"
 harnesses=("$@")
 if [[ ${#harnesses[@]} -eq 0 ]]; then
   for f in tests/fuzz/*_fuzz.cpp; do harnesses+=("$(basename "$f" _fuzz.cpp)"); done
 fi
+cmake --build "$build" -j"$(nproc)" --target "${harnesses[@]/%/_fuzz}"
+echo "check_fuzz: build $((SECONDS - start)) s"
 mkdir -p "$build/findings"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"

@@ -1,0 +1,18 @@
+// Measured-track CSVs of `patlab analyze` (sim/analyze.h): the parser, then the whole section-II
+// analysis on what parsed (smoothing, gaps, Table I, Wilcoxon pairing, autocorrelation) when it
+// is small enough to keep the harness fast.
+#include "fuzz_util.h"
+#include "patlab/sim/analyze.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text = patlab::fuzz::Text(data, size);
+  patlab::fuzz::ExpectInputErrorOnly([&] {
+    const std::vector<patlab::sim::MeasuredTrack> tracks =
+        patlab::sim::ParseTrackCsv(text, "fuzz.csv", patlab::sim::TrackColumns{});
+    size_t samples = 0;
+    for (const auto& t : tracks) samples += t.frame.size();
+    if (samples > 20000) return;
+    (void)patlab::sim::AnalyzeTracks(tracks, patlab::sim::AnalyzeOptions{});
+  });
+  return 0;
+}
