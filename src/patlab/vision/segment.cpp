@@ -49,13 +49,25 @@ void SplitRgb(const uint8_t* __restrict in, int n, uint8_t* __restrict c0, uint8
   }
 }
 
+// RgbToYuv in 16-bit lanes (twice the pixels per vector of 32-bit ones), exactly:
+//   Y = (77r + 150g + 29b + 128) >> 8, at most 65408: no clamp needed.
+//   U = floor((128b + 128 - 43r - 85g) / 256) + 128 = floor(P / 256), P = X - S with
+//       X = 128b + 32896 and S = 43r + 85g; P reaches 65536, so halve it first:
+//       floor(P / 2) = X / 2 - ceil(S / 2) = (64b + 16448) - ((S + 1) >> 1), in 128..32768,
+//       and floor(P / 256) = floor(P / 2) >> 7, in 1..256, clamped to 255.
+//   V the same with X = 128r + 32896, S = 107g + 21b.
 void RgbRowToYuv(const uint8_t* __restrict in, int n, uint8_t* __restrict c0,
                  uint8_t* __restrict c1, uint8_t* __restrict c2) {
   for (int x = 0; x < n; ++x) {
-    const int r = in[3 * x], g = in[3 * x + 1], b = in[3 * x + 2];
-    c0[x] = Clamp255((77 * r + 150 * g + 29 * b + 128) >> 8);
-    c1[x] = Clamp255(((-43 * r - 85 * g + 128 * b + 128) >> 8) + 128);
-    c2[x] = Clamp255(((128 * r - 107 * g - 21 * b + 128) >> 8) + 128);
+    const uint16_t r = in[3 * x], g = in[3 * x + 1], b = in[3 * x + 2];
+    const uint16_t y = static_cast<uint16_t>(77 * r + 150 * g + 29 * b + 128);
+    const uint16_t su = static_cast<uint16_t>((43 * r + 85 * g + 1) >> 1);
+    const uint16_t sv = static_cast<uint16_t>((107 * g + 21 * b + 1) >> 1);
+    const uint16_t u = static_cast<uint16_t>((64 * b + 16448 - su) >> 7);
+    const uint16_t v = static_cast<uint16_t>((64 * r + 16448 - sv) >> 7);
+    c0[x] = static_cast<uint8_t>(y >> 8);
+    c1[x] = static_cast<uint8_t>(u < 255 ? u : 255);
+    c2[x] = static_cast<uint8_t>(v < 255 ? v : 255);
   }
 }
 
