@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs patlab's build, test and plotting dependencies: Debian 12 packages only.
 # Run as root (or with sudo available). Idempotent. `--bench` adds OpenCV, which only the
-# vision benchmark uses for its side-by-side comparison; the tool itself never needs it.
+# vision benchmark uses for its side-by-side comparison, and libspng, which it times beside
+# libpng; the tool itself needs neither.
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
@@ -11,7 +12,7 @@ packages=(
   python3 python3-numpy python3-scipy python3-matplotlib
   parallel slurm-wlm munge
 )
-if [[ "${1:-}" == "--bench" ]]; then packages+=(libopencv-dev); fi
+if [[ "${1:-}" == "--bench" ]]; then packages+=(libopencv-dev libspng-dev); fi
 
 sudo_cmd=()
 if [[ "$(id -u)" -ne 0 ]]; then sudo_cmd=(sudo); fi

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <climits>
 #include <cstring>
 
@@ -25,14 +24,95 @@ Segmenter::Segmenter(const Thresholds& thresholds, const SegmenterOptions& optio
   for (const ColorClass& c : thresholds.classes) {
     min_area_px_.push_back(c.min_area_px > 0 ? c.min_area_px : options.min_area_px);
     max_area_px_.push_back(c.max_area_px > 0 ? c.max_area_px : INT_MAX);
+    ClassBox box{};
+    for (int ch = 0; ch < 3; ++ch) {
+      box.lo[ch] = static_cast<uint8_t>(c.range[ch].lo);
+      box.width[ch] = static_cast<uint8_t>(c.range[ch].hi - c.range[ch].lo);
+    }
+    boxes_.push_back(box);
   }
 }
 
 namespace {
 
-// The class of a mask: 0 when empty, else 1 + index of the lowest set bit (ffs does exactly this).
-inline uint8_t ClassOf(uint32_t mask) {
-  return static_cast<uint8_t>(__builtin_ffs(static_cast<int>(mask)));
+inline uint8_t Clamp255(int v) { return static_cast<uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v)); }
+
+// The loops below are plain element-wise loops over one row, which GCC vectorises (-O3); each
+// repeats image.h's RgbToYuv / YuvToRgb arithmetic exactly, lane by lane.
+
+void SplitRgb(const uint8_t* __restrict in, int n, uint8_t* __restrict c0, uint8_t* __restrict c1,
+              uint8_t* __restrict c2) {
+  for (int x = 0; x < n; ++x) {
+    c0[x] = in[3 * x];
+    c1[x] = in[3 * x + 1];
+    c2[x] = in[3 * x + 2];
+  }
+}
+
+// RgbToYuv in 16-bit lanes (twice the pixels per vector of 32-bit ones), exactly:
+//   Y = (77r + 150g + 29b + 128) >> 8, at most 65408: no clamp needed.
+//   U = floor((128b + 128 - 43r - 85g) / 256) + 128 = floor(P / 256), P = X - S with
+//       X = 128b + 32896 and S = 43r + 85g; P reaches 65536, so halve it first:
+//       floor(P / 2) = X / 2 - ceil(S / 2) = (64b + 16448) - ((S + 1) >> 1), in 128..32768,
+//       and floor(P / 256) = floor(P / 2) >> 7, in 1..256, clamped to 255.
+//   V the same with X = 128r + 32896, S = 107g + 21b.
+void RgbRowToYuv(const uint8_t* __restrict in, int n, uint8_t* __restrict c0,
+                 uint8_t* __restrict c1, uint8_t* __restrict c2) {
+  for (int x = 0; x < n; ++x) {
+    const uint16_t r = in[3 * x], g = in[3 * x + 1], b = in[3 * x + 2];
+    const uint16_t y = static_cast<uint16_t>(77 * r + 150 * g + 29 * b + 128);
+    const uint16_t su = static_cast<uint16_t>((43 * r + 85 * g + 1) >> 1);
+    const uint16_t sv = static_cast<uint16_t>((107 * g + 21 * b + 1) >> 1);
+    const uint16_t u = static_cast<uint16_t>((64 * b + 16448 - su) >> 7);
+    const uint16_t v = static_cast<uint16_t>((64 * r + 16448 - sv) >> 7);
+    c0[x] = static_cast<uint8_t>(y >> 8);
+    c1[x] = static_cast<uint8_t>(u < 255 ? u : 255);
+    c2[x] = static_cast<uint8_t>(v < 255 ? v : 255);
+  }
+}
+
+// UYVY: U and V are shared by each pixel pair; n_pairs = width / 2.
+void SplitUyvy(const uint8_t* __restrict in, int n_pairs, uint8_t* __restrict c0,
+               uint8_t* __restrict c1, uint8_t* __restrict c2) {
+  for (int p = 0; p < n_pairs; ++p) {
+    const uint8_t u = in[4 * p], v = in[4 * p + 2];
+    c0[2 * p] = in[4 * p + 1];
+    c0[2 * p + 1] = in[4 * p + 3];
+    c1[2 * p] = u;
+    c1[2 * p + 1] = u;
+    c2[2 * p] = v;
+    c2[2 * p + 1] = v;
+  }
+}
+
+void UyvyRowToRgb(const uint8_t* __restrict in, int n_pairs, uint8_t* __restrict c0,
+                  uint8_t* __restrict c1, uint8_t* __restrict c2) {
+  for (int p = 0; p < n_pairs; ++p) {
+    const int d = in[4 * p] - 128, e = in[4 * p + 2] - 128;
+    const int dr = (359 * e + 128) >> 8, dg = (88 * d + 183 * e + 128) >> 8;
+    const int db = (454 * d + 128) >> 8;
+    for (int k = 0; k < 2; ++k) {
+      const int y = in[4 * p + 1 + 2 * k];
+      c0[2 * p + k] = Clamp255(y + dr);
+      c1[2 * p + k] = Clamp255(y - dg);
+      c2[2 * p + k] = Clamp255(y + db);
+    }
+  }
+}
+
+// out[x] = label where (c0, c1, c2)[x] lies in the box, else unchanged. Branch-free byte
+// compares: v is in lo..lo + width exactly when uint8(v - lo) <= width.
+void PaintBox(const uint8_t* __restrict c0, const uint8_t* __restrict c1,
+              const uint8_t* __restrict c2, int n, const std::array<uint8_t, 3>& lo,
+              const std::array<uint8_t, 3>& width, uint8_t label, uint8_t* __restrict out) {
+  const uint8_t l0 = lo[0], l1 = lo[1], l2 = lo[2];
+  const uint8_t w0 = width[0], w1 = width[1], w2 = width[2];
+  for (int x = 0; x < n; ++x) {
+    const bool inside = (static_cast<uint8_t>(c0[x] - l0) <= w0) &
+                        (static_cast<uint8_t>(c1[x] - l1) <= w1) &
+                        (static_cast<uint8_t>(c2[x] - l2) <= w2);
+    out[x] = inside ? label : out[x];
+  }
 }
 
 }  // namespace
@@ -41,130 +121,34 @@ void Segmenter::Classify(const Image& image) {
   PATLAB_CHECK(image.width_px > 0 && image.height_px > 0);
   width_ = image.width_px;
   height_ = image.height_px;
-  class_image_.resize(static_cast<size_t>(width_) * height_);
-  const uint32_t* t0 = lut_.table(0).data();
-  const uint32_t* t1 = lut_.table(1).data();
-  const uint32_t* t2 = lut_.table(2).data();
+  const int w = width_;
+  class_image_.resize(static_cast<size_t>(w) * height_);
+  planes_.resize(3 * static_cast<size_t>(w));
+  uint8_t* c0 = planes_.data();
+  uint8_t* c1 = c0 + w;
+  uint8_t* c2 = c1 + w;
   const bool yuv_lut = lut_.space() == ColorSpace::kYuv;
+  const bool rgb = image.format == PixelFormat::kRgb8;
+  if (!rgb && w % 2 != 0) {
+    // UYVY frames have even widths (frame_io checks); a last lone pixel would have no U, V.
+    c0[w - 1] = c1[w - 1] = c2[w - 1] = 0;
+  }
+  const int num_boxes = static_cast<int>(boxes_.size());
   for (int y = 0; y < height_; ++y) {
     const uint8_t* in = image.Row(y);
-    uint8_t* out = class_image_.data() + static_cast<size_t>(y) * width_;
-    if (image.format == PixelFormat::kRgb8 && !yuv_lut) {
-      for (int x = 0; x < width_; ++x) {
-        out[x] = ClassOf(t0[in[3 * x]] & t1[in[3 * x + 1]] & t2[in[3 * x + 2]]);
-      }
-    } else if (image.format == PixelFormat::kRgb8) {
-      if (rgb_cells_.empty()) BuildRgbCells();
-      const uint8_t* __restrict cells = rgb_cells_.data();
-      const uint8_t* __restrict src = in;
-      uint8_t* __restrict dst = out;
-      int x = 0;
-      // Four pixels (12 bytes) per step from three 32-bit loads; the four lookups are
-      // independent, so their latencies overlap (0.69 -> 0.45 ms on a 780x580 frame).
-      static_assert(std::endian::native == std::endian::little, "the shifts assume little-endian");
-      for (; x + 4 <= width_; x += 4, src += 12) {
-        uint32_t w0, w1, w2;
-        std::memcpy(&w0, src, 4);
-        std::memcpy(&w1, src + 4, 4);
-        std::memcpy(&w2, src + 8, 4);
-        // Little-endian bytes: w0 = r0 g0 b0 r1, w1 = g1 b1 r2 g2, w2 = b2 r3 g3 b3.
-        const uint32_t i0 = (w0 & 0xfc) << 10 | (w0 >> 4 & 0xfc0) | (w0 >> 18 & 0x3f);
-        const uint32_t i1 = (w0 >> 14 & 0x3f000) | (w1 & 0xfc) << 4 | (w1 >> 10 & 0x3f);
-        const uint32_t i2 = (w1 >> 6 & 0x3f000) | (w1 >> 20 & 0xfc0) | (w2 >> 2 & 0x3f);
-        const uint32_t i3 = (w2 << 2 & 0x3f000) | (w2 >> 12 & 0xfc0) | (w2 >> 26);
-        dst[x] = cells[i0];
-        dst[x + 1] = cells[i1];
-        dst[x + 2] = cells[i2];
-        dst[x + 3] = cells[i3];
-      }
-      for (; x < width_; ++x, src += 3)
-        dst[x] = cells[(src[0] >> 2) << 12 | (src[1] >> 2) << 6 | src[2] >> 2];
-      // The few pixels in mixed cells (near a class boundary), exactly.
-      for (uint8_t* p = out;
-           (p = static_cast<uint8_t*>(
-                std::memchr(p, kMixedCell, static_cast<size_t>(out + width_ - p)))) != nullptr;
-           ++p) {
-        const uint8_t* rgb = in + 3 * (p - out);
-        int yy, uu, vv;
-        RgbToYuv(rgb[0], rgb[1], rgb[2], &yy, &uu, &vv);
-        *p = ClassOf(t0[yy] & t1[uu] & t2[vv]);
-        if (p + 1 == out + width_) break;
-      }
-    } else if (yuv_lut) {
-      // UYVY: U and V are shared by each pixel pair.
-      for (int x = 0; x + 1 < width_; x += 2, in += 4) {
-        const uint32_t uv = t1[in[0]] & t2[in[2]];
-        out[x] = ClassOf(t0[in[1]] & uv);
-        out[x + 1] = ClassOf(t0[in[3]] & uv);
-      }
+    uint8_t* out = class_image_.data() + static_cast<size_t>(y) * w;
+    if (rgb) {
+      (yuv_lut ? RgbRowToYuv : SplitRgb)(in, w, c0, c1, c2);
     } else {
-      for (int x = 0; x + 1 < width_; x += 2, in += 4) {
-        for (int k = 0; k < 2; ++k) {
-          int r, g, b;
-          YuvToRgb(in[1 + 2 * k], in[0], in[2], &r, &g, &b);
-          out[x + k] = ClassOf(t0[r] & t1[g] & t2[b]);
-        }
-      }
+      (yuv_lut ? SplitUyvy : UyvyRowToRgb)(in, w / 2, c0, c1, c2);
     }
-  }
-}
-
-namespace {
-
-// The box lo..hi of Y, U, V over the RGB cell (r, g, b) of 4x4x4 values: each channel is
-// monotone along every axis, so its extremes are at the cell's 8 corners.
-inline void CellYuvBox(int r, int g, int b, int lo[3], int hi[3]) {
-  for (int corner = 0; corner < 8; ++corner) {
-    int yuv[3];
-    RgbToYuv(4 * r + (corner & 1 ? 3 : 0), 4 * g + (corner & 2 ? 3 : 0),
-             4 * b + (corner & 4 ? 3 : 0), &yuv[0], &yuv[1], &yuv[2]);
-    for (int ch = 0; ch < 3; ++ch) {
-      lo[ch] = std::min(lo[ch], yuv[ch]);
-      hi[ch] = std::max(hi[ch], yuv[ch]);
+    std::memset(out, 0, static_cast<size_t>(w));
+    // Last class first: a pixel in several boxes ends with the first listed (ColorLut's rule).
+    for (int k = num_boxes - 1; k >= 0; --k) {
+      const ClassBox& box = boxes_[static_cast<size_t>(k)];
+      PaintBox(c0, c1, c2, w, box.lo, box.width, static_cast<uint8_t>(k + 1), out);
     }
-  }
-}
-
-// The class + 1 (0: none) shared by every colour of the box lo..hi, or `mixed_cell` when the
-// box may hold more than one (see BuildRgbCells).
-inline uint8_t BoxClass(const ColorLut& lut, const int lo[3], const int hi[3], uint8_t mixed_cell) {
-  uint32_t always = ~uint32_t{0}, maybe = ~uint32_t{0};
-  for (int ch = 0; ch < 3; ++ch) {
-    const auto& t = lut.table(ch);
-    uint32_t a = ~uint32_t{0}, o = 0;
-    for (int v = lo[ch]; v <= hi[ch]; ++v) {
-      a &= t[v];
-      o |= t[v];
-    }
-    always &= a;
-    maybe &= o;
-  }
-  const uint32_t lowest = maybe & (~maybe + 1);
-  const bool pure = maybe == 0 || (always & lowest) != 0;
-  return pure ? ClassOf(lowest) : mixed_cell;
-}
-
-}  // namespace
-
-void Segmenter::BuildRgbCells() {
-  // Each of Y, U, V is floor(affine(r, g, b)) then clamped: monotone along every axis, so over a
-  // cell it ranges between its values at the cell's 8 corners, and the cell's colours lie in the
-  // box lo..hi of those ranges. Over the box, bit k of T_Y & T_U & T_V is always set when every
-  // channel's table has it at every value of its range (A, the AND of the ranges' ANDs), and may
-  // be set only when every channel has it at some value (O, the AND of the ranges' ORs). The
-  // winning class (lowest set bit) is the same for every colour of the box when O is empty or
-  // O's lowest bit is in A: then no lower bit is ever set and that one always is. Exact, and much
-  // finer than asking every channel's table to be constant: a cell of carpet whose V crosses the
-  // black class's V bound is pure, since its Y is far from black's.
-  rgb_cells_.assign(size_t{1} << 18, 0);
-  for (int r = 0; r < 64; ++r) {
-    for (int g = 0; g < 64; ++g) {
-      for (int b = 0; b < 64; ++b) {
-        int lo[3] = {255, 255, 255}, hi[3] = {0, 0, 0};
-        CellYuvBox(r, g, b, lo, hi);
-        rgb_cells_[static_cast<size_t>(r << 12 | g << 6 | b)] = BoxClass(lut_, lo, hi, kMixedCell);
-      }
-    }
+    if (!rgb && w % 2 != 0) out[w - 1] = 0;
   }
 }
 

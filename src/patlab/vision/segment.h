@@ -1,5 +1,7 @@
 // Stages 2-4 of the vision pipeline (CMVision, Bruce et al. IROS 2000):
-//   2. classify  - every pixel through the colour lookup table into a class image;
+//   2. classify  - every pixel into its colour class (the class image): the first class whose
+//                  box holds it, as ColorLut's lookup gives it, computed with byte compares
+//                  over a row at a time (vectorised; no per-pixel branch or table lookup);
 //   3. encode    - run-length encode each row, then union-find joins runs of the same class
 //                  that overlap on adjacent rows (4-connectivity);
 //   4. regions   - one pass over the runs accumulates area, bounding box and the sub-pixel
@@ -9,6 +11,7 @@
 // is allocated per frame, and never per pixel.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -60,9 +63,9 @@ class Segmenter {
  public:
   Segmenter(const Thresholds& thresholds, const SegmenterOptions& options);
 
-  // Stage 2. Fills class_image(): 0 = no class, k + 1 = class k. Frames in either pixel format
-  // work with thresholds in either colour space (the pixel is converted with BT.601 when the
-  // spaces differ).
+  // Stage 2. Fills class_image(): 0 = no class, k + 1 = class k, exactly lut().Classify of the
+  // pixel + 1. Frames in either pixel format work with thresholds in either colour space (the
+  // pixel is converted with image.h's BT.601 RgbToYuv / YuvToRgb when the spaces differ).
   void Classify(const Image& image);
   // Stage 3. Run-length encodes class_image() and joins runs into regions (union-find).
   void EncodeRuns();
@@ -96,13 +99,16 @@ class Segmenter {
   int width_ = 0;
   int height_ = 0;
   std::vector<uint8_t> class_image_;
-  // RGB frames with YUV thresholds: a 64^3 table over RGB cells of 4x4x4 values holding the
-  // class + 1 (0: none) where every colour of the cell has the same class, or kMixedCell
-  // where it may not; mixed pixels are then classified exactly through BT.601. Built on the
-  // first such frame. Exact, and one lookup for almost every pixel.
-  static constexpr uint8_t kMixedCell = 0xff;
-  void BuildRgbCells();
-  std::vector<uint8_t> rgb_cells_;
+  // Stage 2 works one row at a time: the row's pixels are converted (vectorised) into three
+  // planes of the thresholds' channels, then every class's box test runs over the planes as
+  // byte compares, last class first, so the first class listed wins (as ColorLut's lowest bit).
+  // Exact for every colour and free of per-pixel branches and table lookups.
+  struct ClassBox {
+    std::array<uint8_t, 3> lo;     // lower bound per channel
+    std::array<uint8_t, 3> width;  // hi - lo per channel: v is inside when uint8(v - lo) <= width
+  };
+  std::vector<ClassBox> boxes_;
+  std::vector<uint8_t> planes_;  // 3 x width_: the current row's channels
   std::vector<Run> runs_;
   struct Accumulator {
     int64_t area, sum_x, sum_y;
