@@ -149,7 +149,9 @@ inline uint64_t MagnitudeKey(double v) {
 void SortAscending(std::span<double> values) {
   const size_t n = values.size();
   if (n < 2) return;
-  if (n >= kBucketMinSize && SortByBuckets(values, AscendingKey, [](double v) { return v; })) {
+  if (n >= kBucketMinSize &&
+      SortByBuckets(
+          values, [](double v) { return AscendingKey(v); }, [](double v) { return v; })) {
     return;
   }
   Scratch& s = ThreadScratch(n);
@@ -165,8 +167,9 @@ void SortAscending(std::span<double> values) {
 void SortByMagnitude(std::span<double> values) {
   const size_t n = values.size();
   if (n < 2) return;
-  if (n >= kBucketMinSize &&
-      SortByBuckets(values, MagnitudeKey, [](double v) { return std::fabs(v); })) {
+  if (n >= kBucketMinSize && SortByBuckets(
+                                 values, [](double v) { return MagnitudeKey(v); },
+                                 [](double v) { return std::fabs(v); })) {
     return;
   }
   Scratch& s = ThreadScratch(n);
