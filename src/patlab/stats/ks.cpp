@@ -167,6 +167,7 @@ struct Buffers {
   std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
   std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
   std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
+  std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
 };
 Buffers& ThreadBuffers() {
   thread_local Buffers buffers;
@@ -240,22 +241,32 @@ namespace {
 std::vector<Run>& PlanRuns(std::size_t buckets, double dn1, double dn2, Buffers* s) {
   thread_local std::vector<Run> runs;
   runs.clear();
+  // f1[k] = I_k / n1 and f2[k] = J_k / n2, each division done once (a loop that vectorises);
+  // every bound below is a difference of two of them, the walk's own arithmetic.
+  s->f1.resize(buckets);
+  s->f2.resize(buckets);
+  double* f1 = s->f1.data();
+  double* f2 = s->f2.data();
   const uint32_t* e1 = s->end1.data();
   const uint32_t* e2 = s->end2.data();
+  for (std::size_t k = 0; k < buckets; ++k) f1[k] = static_cast<double>(e1[k]) / dn1;
+  for (std::size_t k = 0; k < buckets; ++k) f2[k] = static_cast<double>(e2[k]) / dn2;
   double max_end = -1.0, min_end = 1.0;
   for (std::size_t k = 0; k < buckets; ++k) {
-    const double d = static_cast<double>(e1[k]) / dn1 - static_cast<double>(e2[k]) / dn2;
+    const double d = f1[k] - f2[k];
     max_end = std::max(max_end, d);
     min_end = std::min(min_end, d);
   }
   s->pos1.resize(buckets);
   s->pos2.resize(buckets);
   uint32_t a = 0, b = 0, i0 = 0, j0 = 0;
+  double f1_before = 0.0, f2_before = 0.0;  // 0 / n: the counts before bucket 0
   bool in_run = false;
   for (std::size_t k = 0; k < buckets; ++k) {
     const uint32_t i1 = e1[k], j1 = e2[k];
-    const double upper = static_cast<double>(i1) / dn1 - static_cast<double>(j0) / dn2;
-    const double lower = static_cast<double>(i0) / dn1 - static_cast<double>(j1) / dn2;
+    const double upper = f1[k] - f2_before;
+    const double lower = f1_before - f2[k];
+    f1_before = f1[k], f2_before = f2[k];
     const bool empty = i1 == i0 && j1 == j0;
     const bool walk = !empty && (upper >= max_end || lower <= min_end);
     if (walk && !in_run) {
