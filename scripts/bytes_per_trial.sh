@@ -25,14 +25,30 @@ rss_kb() {
   /usr/bin/time -f %M "$P" simulate "$out/one.toml" --trials "$1" --threads 2 --out "$out" -q 2>&1 |
     tail -1
 }
-prev_n="" prev_kb=""
+block=1048576  # kStatisticsBlockTrials (src/patlab/sim/runner.h)
+prev_n="" prev_kb="" low_n="" low_kb="" high_n="" high_kb="" cap_kb=0
 for n in "${counts[@]}"; do
   kb=$(rss_kb "$n")
   line="trials ${n}: peak RSS ${kb} KB"
   if [[ -n "$prev_n" ]]; then
-    slope=$(( (kb - prev_kb) * 1024 / (n - prev_n) ))
-    line+=", $(( slope / 2 )) bytes per added trial per estimator since ${prev_n}"
+    line+=", $(awk -v a="$prev_kb" -v b="$kb" -v m="$prev_n" -v n="$n" \
+      'BEGIN { printf "%.1f", (b - a) * 1024 / (n - m) / 2 }') bytes per added trial per estimator since ${prev_n}"
   fi
   echo "$line"
+  # The slope below the block: between the two largest counts that fit in one block (past the
+  # first, whose fixed costs dominate); the cap: the largest peak beyond one block.
+  if (( n <= block )); then
+    low_n=$high_n low_kb=$high_kb high_n=$n high_kb=$kb
+  elif (( kb > cap_kb )); then
+    cap_kb=$kb
+  fi
   prev_n=$n prev_kb=$kb
 done
+if [[ -n "$low_n" ]]; then
+  awk -v a="$low_kb" -v b="$high_kb" -v m="$low_n" -v n="$high_n" 'BEGIN {
+    printf "slope below the block (%d..%d trials): %.1f bytes per trial per estimator\n", m, n,
+      (b - a) * 1024 / (n - m) / 2 }'
+fi
+if (( cap_kb > 0 )); then
+  echo "flat cap beyond ${block} trials: peak RSS $(( cap_kb / 1024 )) MB"
+fi

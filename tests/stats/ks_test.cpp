@@ -166,8 +166,10 @@ TEST(Ks, BucketedAndSortedWalksAgreeWithTheStraightforwardOne) {
     return std::sqrt(-2.0 * std::log(uniform())) * std::cos(6.283185307179586 * uniform());
   };
   // kinds: 0 normal, 1 shifted and scaled, 2 quantised (ties within and between samples, signed
-  // zeros), 3 heavy tails (outliers 1000x), 4 constant, 5 two values.
-  for (int kind = 0; kind < 6; ++kind) {
+  // zeros), 3 heavy tails (outliers 1000x), 4 constant, 5 two values, 6 the same values index by
+  // index, 7 pairs that differ by rounding (two estimators that agree to 1e-13, as fast and ML do
+  // on the Simple pattern), 8 the same values but one.
+  for (int kind = 0; kind < 9; ++kind) {
     for (const auto& [n1, n2] :
          {std::pair{1, 1}, {3, 7}, {1000, 1000}, {5000, 3000}, {20000, 20000}}) {
       SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n1 << "," << n2);
@@ -181,6 +183,12 @@ TEST(Ks, BucketedAndSortedWalksAgreeWithTheStraightforwardOne) {
           if (kind == 4) z = 2.5;
           if (kind == 5) z = uniform() < 0.3 ? -0.0 : 0.0;
         }
+      }
+      if (kind >= 6 && n1 == n2) {
+        for (size_t k = 0; k < y.size(); ++k) {
+          y[k] = kind == 7 ? x[k] * (1.0 + 1e-13 * (uniform() - 0.5)) : x[k];
+        }
+        if (kind == 8) y[y.size() / 2] += 0.5;
       }
       const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
       ExpectSameExtremes(detail::EcdfExtremesBySorting(x, y), want);

@@ -38,29 +38,34 @@ struct Samples {
   }
 };
 
-// The radial errors go to a buffer of the thread, reused from block to block (a fresh array of
-// 10^5 values costs more in page faults than its statistics); BlockMoments is serial code, so no
-// other task can take the buffer while it is in use. The four columns' moments come from one
-// interleaved pass each (stats::MomentsOfEach, the arithmetic of Mean and SampleStd).
+// The block's moments: x, y and theta from one interleaved pass each (stats::MomentsOfEach, the
+// arithmetic of Mean and SampleStd), the radial errors sqrt(x^2 + y^2) recomputed in each of
+// their two passes instead of stored (the same operations give the same bits, and no array of
+// the block's size is needed).
 void BlockMoments(const Samples& s, size_t size, EstimatorBlock* b) {
-  thread_local std::vector<double> radial_buffer;
-  if (radial_buffer.size() < size) radial_buffer.resize(size);
-  const std::span<double> radial(radial_buffer.data(), size);
-  double sum_sq = 0.0;
-  for (size_t k = 0; k < size; ++k) {
-    const double sq = s.x[k] * s.x[k] + s.y[k] * s.y[k];
-    sum_sq += sq;
-    radial[k] = std::sqrt(sq);
-  }
-  const std::span<const double> columns[4] = {
-      std::span<const double>(s.x.data(), size), std::span<const double>(s.y.data(), size),
-      std::span<const double>(s.theta.data(), size), radial};
-  stats::Moments m[4];
+  const std::span<const double> columns[3] = {std::span<const double>(s.x.data(), size),
+                                              std::span<const double>(s.y.data(), size),
+                                              std::span<const double>(s.theta.data(), size)};
+  stats::Moments m[3];
   stats::MomentsOfEach(columns, m);
   b->x = m[0];
   b->y = m[1];
   b->theta = m[2];
-  b->radial = m[3];
+  const double* x = s.x.data();
+  const double* y = s.y.data();
+  double sum_sq = 0.0, sum = 0.0;
+  for (size_t k = 0; k < size; ++k) {
+    const double sq = x[k] * x[k] + y[k] * y[k];
+    sum_sq += sq;
+    sum += std::sqrt(sq);
+  }
+  const double mean = sum / static_cast<double>(size);
+  double m2 = 0.0;
+  for (size_t k = 0; k < size; ++k) {
+    const double r = std::sqrt(x[k] * x[k] + y[k] * y[k]);
+    m2 += (r - mean) * (r - mean);
+  }
+  b->radial = stats::Moments{static_cast<int64_t>(size), mean, m2};
   b->sum_sq = sum_sq;
 }
 
@@ -106,7 +111,7 @@ stats::WilcoxonResult PairedTest(size_t size, Value value) {
     identical.p_value = 1.0;
     return identical;
   }
-  return stats::WilcoxonSignedRank(d);
+  return stats::WilcoxonSignedRankInPlace(d);
 }
 
 Comparison Compare(const Samples& fast, const Samples& other, size_t n) {
@@ -157,10 +162,17 @@ namespace {
 // Two sets of sample arrays: the statistics of point k (a task) run while point k + 1 is
 // simulated into the other set, so neither stage waits for the other. Each point's results are
 // computed by serial code into their own slot: the overlap changes timing only.
+// The ML counters of one batch of trials: its Newton steps, its non-converged trials and the
+// first of them (an index in the block, -1 if none). Integers, so summing the batches in order
+// gives what summing the trials would.
+struct MlBatch {
+  int64_t iterations = 0, nonconverged = 0, first_nonconverged = -1;
+};
+
 struct PointBuffers {
-  Samples samples[4];  // indexed by estimate::Estimator
-  std::vector<uint8_t> ml_iterations, ml_termination;
-  BatchOutput output;  // views of the arrays above
+  Samples samples[4];               // indexed by estimate::Estimator
+  std::vector<MlBatch> ml_batches;  // one per batch of the block
+  BatchOutput output;               // views of the sample arrays (the ML arrays are per batch)
 
   PointBuffers(const std::vector<Estimator>& estimators, int64_t trials) {
     for (Estimator e : estimators) {
@@ -168,10 +180,7 @@ struct PointBuffers {
       s.Resize(trials);
       output.errors[static_cast<int>(e)] = ErrorArrays{s.x.data(), s.y.data(), s.theta.data()};
     }
-    ml_iterations.resize(trials);
-    ml_termination.resize(trials);
-    output.ml_iterations = ml_iterations.data();
-    output.ml_termination = ml_termination.data();
+    ml_batches.resize(static_cast<size_t>((trials + kBatchSize - 1) / kBatchSize));
   }
   PointBuffers(const PointBuffers&) = delete;
   PointBuffers& operator=(const PointBuffers&) = delete;
@@ -192,10 +201,25 @@ PatternBounds BoundsOf(const estimate::Model& model, const std::vector<Estimator
   return bounds;
 }
 
+// The ML counters of a batch from its per-trial Newton steps and terminations.
+MlBatch CountMl(const uint8_t* iterations, const uint8_t* termination, int count, int64_t first) {
+  MlBatch m;
+  for (int t = 0; t < count; ++t) {
+    m.iterations += iterations[t];
+    if (termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
+      if (m.first_nonconverged < 0) m.first_nonconverged = first + t;
+      ++m.nonconverged;
+    }
+  }
+  return m;
+}
+
 // Stage 1: trials first_trial .. first_trial + trials - 1 of a point (a block) in fixed batches
-// (any thread may run any batch), each batch writing at its offset in the block's arrays.
+// (any thread may run any batch), each batch writing at its offset in the block's arrays and its
+// ML counters to its slot of ml_batches (the per-trial ML arrays are the thread's, one batch
+// long, so the block holds no per-trial array but the samples).
 void RunTrials(const PointSetup& setup, int64_t first_trial, int64_t trials,
-               const BatchOutput& output) {
+               const BatchOutput& output, std::span<MlBatch> ml_batches) {
   const int64_t num_batches = (trials + kBatchSize - 1) / kBatchSize;
   tbb::parallel_for(
       tbb::blocked_range<int64_t>(0, num_batches, 1),
@@ -210,9 +234,13 @@ void RunTrials(const PointSetup& setup, int64_t first_trial, int64_t trials,
             e.y_mm += first;
             e.theta_rad += first;
           }
-          at.ml_iterations += first;
-          at.ml_termination += first;
+          thread_local std::array<uint8_t, kBatchSize> ml_iterations, ml_termination;
+          at.ml_iterations = ml_iterations.data();
+          at.ml_termination = ml_termination.data();
           RunBatch(setup, static_cast<uint64_t>(first_trial + first), count, at);
+          if (setup.run[static_cast<int>(Estimator::kMl)]) {
+            ml_batches[b] = CountMl(ml_iterations.data(), ml_termination.data(), count, first);
+          }
         }
       },
       tbb::simple_partitioner());
@@ -241,15 +269,15 @@ void FillBounds(const NoiseModel& noise, const PatternBounds& bounds, double sig
 // ml: non-converged trials (the first for replay, as a trial index of the point) and the Newton
 // steps of a block.
 void MlCounters(const PointBuffers& pb, int64_t first_trial, int64_t trials, EstimatorBlock* b) {
-  int64_t iterations = 0;
-  for (int64_t t = 0; t < trials; ++t) {
-    iterations += pb.ml_iterations[t];
-    if (pb.ml_termination[t] != static_cast<uint8_t>(estimate::Termination::kConverged)) {
-      if (b->first_nonconverged_trial < 0) b->first_nonconverged_trial = first_trial + t;
-      ++b->nonconverged;
+  const size_t batches = static_cast<size_t>((trials + kBatchSize - 1) / kBatchSize);
+  for (size_t k = 0; k < batches; ++k) {
+    const MlBatch& m = pb.ml_batches[k];
+    b->iterations += m.iterations;
+    b->nonconverged += m.nonconverged;
+    if (b->first_nonconverged_trial < 0 && m.first_nonconverged >= 0) {
+      b->first_nonconverged_trial = first_trial + m.first_nonconverged;
     }
   }
-  b->iterations = iterations;
 }
 
 // Stage 2: every estimator's block statistics, from the block's samples in `pb`; the first block
@@ -353,8 +381,12 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
     blocks[i].estimators.resize(num_estimators);
   }
   const int64_t buffer_trials = std::min(experiment.trials, kStatisticsBlockTrials);
+  // Small blocks (fig5's 10^5 trials) keep two sets of arrays so that a block's statistics overlap
+  // the next block's trials; beyond kOverlapMaxTrials one set, so that memory per trial is the
+  // samples' (docs/hardening.md, "Bounded memory").
+  const size_t sets = buffer_trials <= kOverlapMaxTrials ? 2 : 1;
   PointBuffers buffers[2] = {{experiment.estimators, buffer_trials},
-                             {experiment.estimators, buffer_trials}};
+                             {experiment.estimators, sets == 2 ? buffer_trials : 0}};
   tbb::task_group statistics[2];
   std::atomic<int64_t> statistics_ns{0};
 
@@ -362,20 +394,21 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
     const WorkBlock& w = work[index];
     const int pi = static_cast<int>(w.point / num_sigmas),
               si = static_cast<int>(w.point % num_sigmas);
-    PointBuffers& pb = buffers[index % 2];
-    statistics[index % 2].wait();  // block index - 2 is done with these arrays
+    PointBuffers& pb = buffers[index % sets];
+    statistics[index % sets].wait();  // block index - sets is done with these arrays
     const estimate::Model model = estimate::Model::FromPattern(experiment.patterns[pi]);
     const PointSetup setup = MakePointSetup(experiment, model, pi, si);
     const auto sim_start = Clock::now();
-    RunTrials(setup, w.first, w.count, pb.output);
+    RunTrials(setup, w.first, w.count, pb.output, pb.ml_batches);
     result.simulate_seconds += SecondsSince(sim_start);
 
     const std::span<EstimatorBlock> out(blocks[index].estimators);
-    statistics[index % 2].run([&experiment, &pb, &statistics_ns, out, w, sigma = setup.sigma_mm] {
-      const auto stats_start = Clock::now();
-      BlockStatistics(experiment, pb, sigma, w.first, w.count, out);
-      statistics_ns += Nanoseconds(stats_start);
-    });
+    statistics[index % sets].run(
+        [&experiment, &pb, &statistics_ns, out, w, sigma = setup.sigma_mm] {
+          const auto stats_start = Clock::now();
+          BlockStatistics(experiment, pb, sigma, w.first, w.count, out);
+          statistics_ns += Nanoseconds(stats_start);
+        });
     result.total_trials += w.count;
     if (options.progress) {
       options.progress(static_cast<int>(index + 1), static_cast<int>(work.size()));

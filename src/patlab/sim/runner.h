@@ -42,6 +42,10 @@ inline constexpr int kMaxShards = 100000;
 // the first block, trials 0 .. min(trials, kStatisticsBlockTrials) - 1 (Comparison::trials).
 inline constexpr int64_t kStatisticsBlockTrials = int64_t{1} << 20;
 inline constexpr int64_t kStatisticsBlockFrames = int64_t{1} << 14;
+// Blocks of at most this many trials keep two sets of sample arrays, so that the statistics of
+// one overlap the trials of the next (at most 2^17 x 24 bytes = 3 MB more per estimator); larger
+// blocks keep one set and wait for the statistics.
+inline constexpr int64_t kOverlapMaxTrials = int64_t{1} << 17;
 
 // One block of a data point: trials (frames) first .. first + count - 1 of point `point`, the
 // unit of work of both runners and of a share (shard.h).

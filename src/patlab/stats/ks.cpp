@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -142,56 +143,38 @@ void SortedWithSentinel(const double* first, const double* last, std::vector<dou
   out->push_back(std::numeric_limits<double>::infinity());
 }
 
-// Sorts one bucket of each sample in place and walks them. The element after each bucket (the
-// next bucket's first, or the spare slot at the end) stands in as the +infinity sentinel for the
-// walk and is restored after it.
-void WalkBucket(double* a, std::size_t n1, double* b, std::size_t n2, std::size_t i0,
-                std::size_t j0, double dn1, double dn2, EcdfExtremes* e) {
-  const auto less = [](double p, double q) { return OrderKey(p) < OrderKey(q); };
-  std::sort(a, a + n1, less);
-  std::sort(b, b + n2, less);
-  const double after_a = a[n1], after_b = b[n2];
-  a[n1] = b[n2] = std::numeric_limits<double>::infinity();
-  WalkSorted(a, n1, b, n2, i0, j0, dn1, dn2, e);
-  a[n1] = after_a;
-  b[n2] = after_b;
+// Sorts v[0, n) in SortAscending's order: insertion sort for the few values of a bucket,
+// std::sort beyond.
+void SortSmall(double* v, std::size_t n) {
+  if (n > 16) {
+    std::sort(v, v + n, [](double p, double q) { return OrderKey(p) < OrderKey(q); });
+    return;
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    const double value = v[i];
+    const uint64_t key = OrderKey(value);
+    std::size_t k = i;
+    for (; k > 0 && OrderKey(v[k - 1]) > key; --k) v[k] = v[k - 1];
+    v[k] = value;
+  }
 }
 
-// This thread's buffers, grown to the largest samples seen and then reused: fresh
-// 100,000-element arrays cost more in page faults than the work on them. Only serial code uses
-// them.
+// This thread's buffers, grown to the largest samples seen and then reused: fresh arrays cost
+// more in page faults than the work on them. Only serial code uses them. The per-bucket arrays
+// are O(buckets) (at most kMaxBuckets); a and b hold only the values of the buckets that must
+// be walked.
 struct Buffers {
-  std::vector<double> a, b;          // samples in bucket order (or sorted)
-  std::vector<uint32_t> end1, end2;  // bucket b's elements end at end1[b] (sample 1), end2[b]
-  std::vector<uint32_t> index;       // bucket of each value
+  std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
+  std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
+  std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
+  std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
 };
 Buffers& ThreadBuffers() {
   thread_local Buffers buffers;
   return buffers;
 }
-
-// Scatters x into out by bucket (a counting sort on the bucket index); end[k] becomes the end of
-// bucket k's elements. The indices are computed once, in the counting pass.
-template <class BucketOf>
-void ScatterByBucket(std::span<const double> x, std::size_t buckets, BucketOf bucket_of, Buffers* s,
-                     std::vector<double>* out, std::vector<uint32_t>* end) {
-  const std::size_t n = x.size();
-  if (out->size() < n + 1) out->resize(n + 1);  // + the spare slot of WalkBucket
-  if (s->index.size() < n) s->index.resize(n);
-  end->assign(buckets, 0);
-  uint32_t* e = end->data();
-  uint32_t* index = s->index.data();
-  for (std::size_t i = 0; i < n; ++i) index[i] = bucket_of(x[i]);
-  for (std::size_t i = 0; i < n; ++i) ++e[index[i]];
-  uint32_t offset = 0;
-  for (std::size_t k = 0; k < buckets; ++k) {
-    const uint32_t count = e[k];
-    e[k] = offset;
-    offset += count;
-  }
-  double* o = out->data();
-  for (std::size_t i = 0; i < n; ++i) o[e[index[i]]++] = x[i];
-}
+constexpr uint32_t kSkipped = ~uint32_t{0};
+constexpr std::size_t kMaxBuckets = std::size_t{1} << 17;
 
 // The smallest and the largest value (finite), in a loop the compiler vectorises.
 std::pair<double, double> MinMax(std::span<const double> x) {
@@ -201,6 +184,36 @@ std::pair<double, double> MinMax(std::span<const double> x) {
     hi = v > hi ? v : hi;
   }
   return {lo, hi};
+}
+
+// Samples that are the same values index by index (e.g. two estimators that agree exactly) have
+// F1 = F2 after every group: the walk sees diff = i / n - i / n = 0 at every group end, and keeps
+// the first, whose value is the smallest in SortAscending's order.
+bool SameSamples(std::span<const double> x, std::span<const double> y) {
+  return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0;
+}
+EcdfExtremes ExtremesOfSameSamples(std::span<const double> x) {
+  uint64_t smallest = OrderKey(x[0]);
+  for (const double v : x) smallest = std::min(smallest, OrderKey(v));
+  const double loc = std::bit_cast<double>(
+      (smallest & (uint64_t{1} << 63)) ? (smallest & ~(uint64_t{1} << 63)) : ~smallest);
+  return EcdfExtremes{0.0, 0.0, loc, loc};
+}
+
+// A run of consecutive buckets to walk: its values start at a0 (b0) in the buffers, and at i0
+// (j0) in the merged order of the whole samples.
+struct Run {
+  uint32_t a0, b0, na, nb, i0, j0;
+};
+
+// Counts per bucket, turned into the ECDF counts at every bucket end.
+template <class BucketOf>
+void CountsAtBucketEnds(std::span<const double> x, std::size_t buckets, BucketOf bucket_of,
+                        std::vector<uint32_t>* end) {
+  end->assign(buckets, 0);
+  uint32_t* e = end->data();
+  for (const double v : x) ++e[bucket_of(v)];
+  for (std::size_t k = 1; k < buckets; ++k) e[k] += e[k - 1];
 }
 
 }  // namespace
@@ -215,13 +228,102 @@ EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const do
   return e;
 }
 
+namespace {
+
+// The buckets the walk must visit, as runs, and the write positions of their values (s->pos1,
+// s->pos2; kSkipped elsewhere). Every bucket end is a group end of the walk, so the largest
+// (smallest) of the bucket-end values D_k, computed as the walk computes them, is a lower
+// (upper) bound on the walk's extreme. Inside bucket k the walk's values lie between
+// L_k = I_{k-1} / n1 - J_k / n2 and U_k = I_k / n1 - J_{k-1} / n2, computed the same way
+// (each rounding is monotone, so the bound holds for the computed values exactly). A bucket with
+// U_k < max D and L_k > min D holds no group end that reaches either extreme, and the walk keeps
+// the first group end that does, so skipping such buckets leaves the result unchanged.
+std::vector<Run>& PlanRuns(std::size_t buckets, double dn1, double dn2, Buffers* s) {
+  thread_local std::vector<Run> runs;
+  runs.clear();
+  // f1[k] = I_k / n1 and f2[k] = J_k / n2, each division done once (a loop that vectorises);
+  // every bound below is a difference of two of them, the walk's own arithmetic.
+  s->f1.resize(buckets);
+  s->f2.resize(buckets);
+  double* f1 = s->f1.data();
+  double* f2 = s->f2.data();
+  const uint32_t* e1 = s->end1.data();
+  const uint32_t* e2 = s->end2.data();
+  for (std::size_t k = 0; k < buckets; ++k) f1[k] = static_cast<double>(e1[k]) / dn1;
+  for (std::size_t k = 0; k < buckets; ++k) f2[k] = static_cast<double>(e2[k]) / dn2;
+  double max_end = -1.0, min_end = 1.0;
+  for (std::size_t k = 0; k < buckets; ++k) {
+    const double d = f1[k] - f2[k];
+    max_end = std::max(max_end, d);
+    min_end = std::min(min_end, d);
+  }
+  s->pos1.resize(buckets);
+  s->pos2.resize(buckets);
+  uint32_t a = 0, b = 0, i0 = 0, j0 = 0;
+  double f1_before = 0.0, f2_before = 0.0;  // 0 / n: the counts before bucket 0
+  bool in_run = false;
+  for (std::size_t k = 0; k < buckets; ++k) {
+    const uint32_t i1 = e1[k], j1 = e2[k];
+    const double upper = f1[k] - f2_before;
+    const double lower = f1_before - f2[k];
+    f1_before = f1[k], f2_before = f2[k];
+    const bool empty = i1 == i0 && j1 == j0;
+    const bool walk = !empty && (upper >= max_end || lower <= min_end);
+    if (walk && !in_run) {
+      runs.push_back(Run{a, b, 0, 0, i0, j0});
+      in_run = true;
+    } else if (!walk && !empty && in_run) {
+      a += 1, b += 1;  // the sentinel slots after the run
+      in_run = false;
+    }
+    s->pos1[k] = walk ? a : kSkipped;
+    s->pos2[k] = walk ? b : kSkipped;
+    if (walk) {
+      a += i1 - i0, b += j1 - j0;
+      runs.back().na += i1 - i0, runs.back().nb += j1 - j0;
+    }
+    i0 = i1, j0 = j1;
+  }
+  if (in_run) a += 1, b += 1;
+  if (s->a.size() < a) s->a.resize(a);
+  if (s->b.size() < b) s->b.resize(b);
+  return runs;
+}
+
+// Copies the values of the buckets to walk to their positions (pos becomes each bucket's end).
+template <class BucketOf>
+void Extract(std::span<const double> x, BucketOf bucket_of, uint32_t* pos, double* out) {
+  for (const double v : x) {
+    const uint32_t k = bucket_of(v);
+    const uint32_t p = pos[k];
+    if (p == kSkipped) continue;
+    out[p] = v;
+    pos[k] = p + 1;
+  }
+}
+
+// Sorts every walked bucket's values in place: bucket k's values end at pos[k] and number
+// end[k] - end[k - 1].
+void SortBuckets(std::size_t buckets, const uint32_t* pos, const uint32_t* end, double* v) {
+  uint32_t before = 0;
+  for (std::size_t k = 0; k < buckets; ++k) {
+    const uint32_t count = end[k] - before;
+    before = end[k];
+    if (pos[k] == kSkipped || count < 2) continue;
+    SortSmall(v + (pos[k] - count), count);
+  }
+}
+
+}  // namespace
+
 EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const double> y) {
+  if (SameSamples(x, y)) return ExtremesOfSameSamples(x);
   const auto [x_lo, x_hi] = MinMax(x);
   const auto [y_lo, y_hi] = MinMax(y);
   const double lo = std::min(x_lo, y_lo), hi = std::max(x_hi, y_hi);
-  const std::size_t buckets = std::max<std::size_t>(1, (x.size() + y.size()) / 2);
+  const std::size_t buckets =
+      std::clamp<std::size_t>((x.size() + y.size()) / 2, std::size_t{1}, kMaxBuckets);
   const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
-  constexpr double kSlack = 1e-9;
   const double scale = static_cast<double>(buckets) / (hi - lo);
   if (!(hi > lo) || !std::isfinite(scale) || !std::isfinite(hi - lo)) {
     return EcdfExtremesBySorting(x, y);
@@ -232,25 +334,19 @@ EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const do
     return static_cast<uint32_t>(std::min(static_cast<int64_t>((v - lo) * scale), last));
   };
   Buffers& s = ThreadBuffers();
-  ScatterByBucket(x, buckets, bucket_of, &s, &s.a, &s.end1);
-  ScatterByBucket(y, buckets, bucket_of, &s, &s.b, &s.end2);
-  const double inv1 = 1.0 / dn1, inv2 = 1.0 / dn2;
+  CountsAtBucketEnds(x, buckets, bucket_of, &s.end1);
+  CountsAtBucketEnds(y, buckets, bucket_of, &s.end2);
+  const std::vector<Run>& runs = PlanRuns(buckets, dn1, dn2, &s);
+  Extract(x, bucket_of, s.pos1.data(), s.a.data());
+  Extract(y, bucket_of, s.pos2.data(), s.b.data());
+  SortBuckets(buckets, s.pos1.data(), s.end1.data(), s.a.data());
+  SortBuckets(buckets, s.pos2.data(), s.end2.data(), s.b.data());
   EcdfExtremes e;
-  std::size_t i0 = 0, j0 = 0;
-  for (std::size_t k = 0; k < buckets; ++k) {
-    const std::size_t i1 = s.end1[k], j1 = s.end2[k];
-    // Every comparison inside the bucket has i in [i0, i1] and j in [j0, j1]; as each rounding is
-    // monotone, these bound its F1 - F2 computed as the walk computes it. A bucket that cannot
-    // beat the extremes so far (strictly, as the walk requires) is skipped unsorted. The bounds
-    // are computed with reciprocals (a few ulp from the walk's quotients, all <= 1) and widened by
-    // kSlack, so a bucket is only ever walked needlessly, never skipped wrongly.
-    const double upper = static_cast<double>(i1) * inv1 - static_cast<double>(j0) * inv2;
-    const double lower = static_cast<double>(i0) * inv1 - static_cast<double>(j1) * inv2;
-    if ((i1 > i0 || j1 > j0) && (upper + kSlack > e.max_diff || lower - kSlack < e.min_diff)) {
-      WalkBucket(&s.a[i0], i1 - i0, &s.b[j0], j1 - j0, i0, j0, dn1, dn2, &e);
-    }
-    i0 = i1;
-    j0 = j1;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (const Run& r : runs) {
+    s.a[r.a0 + r.na] = kInf;
+    s.b[r.b0 + r.nb] = kInf;
+    WalkSorted(&s.a[r.a0], r.na, &s.b[r.b0], r.nb, r.i0, r.j0, dn1, dn2, &e);
   }
   return e;
 }

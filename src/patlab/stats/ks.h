@@ -89,11 +89,12 @@ struct EcdfExtremes {
 };
 // Sorts both samples whole and walks their merged order: O(n log n).
 EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const double> y);
-// Counting-sorts both samples into (n1 + n2) / 2 buckets of equal width between the smallest and
-// the largest value, keeps the ECDFs' counts at every bucket end, and sorts and walks only the
-// buckets inside which F1 - F2 could still exceed its extremes so far (for continuous samples,
-// a few percent of them): O(n) for continuous data, never worse than sorting. KsTwoSample uses
-// it for n1 + n2 >= 4096.
+// Counts both samples into min((n1 + n2) / 2, 2^17) buckets of equal width between the smallest
+// and the largest value, takes the ECDFs' counts at every bucket end, and copies out, sorts and
+// walks only the buckets inside which F1 - F2 could reach its extremes (for continuous samples a
+// few percent of them; all of them when the samples differ by rounding only); samples equal
+// index by index need one pass. O(n) for continuous data, never worse than sorting. KsTwoSample
+// uses it for n1 + n2 >= 4096.
 EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const double> y);
 }  // namespace detail
 

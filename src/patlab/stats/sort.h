@@ -1,6 +1,9 @@
-// Sorting for the rank statistics: LSD radix sort on order-preserving 64-bit keys. A 100,000
-// sample sorts several times faster than with std::sort (the KS and Wilcoxon tests are dominated
-// by their sorts, and the simulator runs five tests per data point).
+// Sorting for the rank statistics. Samples of 1024 values or more that spread smoothly over their
+// range are bucket-sorted: scattered into ~n / 2 equal-width buckets (two passes) and each bucket
+// sorted by key; the rest (too few values, +-infinity, no range, or buckets too uneven) go through
+// an LSD radix sort on order-preserving 64-bit keys (11-bit digits, constant digits skipped).
+// Both give exactly the order described below, the order std::sort gives with the same keys; a
+// 100,000 sample sorts several times faster than with std::sort.
 #pragma once
 
 #include <span>

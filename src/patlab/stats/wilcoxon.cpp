@@ -173,17 +173,22 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const dou
   return WilcoxonSignedRank(std::span<const double>(d.data(), x.size()), options);
 }
 
-WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOptions& options) {
-  if (d_in.empty())
+namespace {
+
+void RequireDifferences(std::span<const double> d) {
+  if (d.empty()) {
     throw InputError(
         "the Wilcoxon test needs at least one pair, got none; expected at least one pair");
-  detail::RequireFinite(d_in, "difference");
-  WilcoxonResult result;
-  result.n = d_in.size();
-  result.n_zero = static_cast<std::size_t>(std::count(d_in.begin(), d_in.end(), 0.0));
-  const std::size_t n_zero = result.n_zero;
+  }
+  detail::RequireFinite(d, "difference");
+}
 
-  const std::span<double> d = SortedCopy(d_in);
+// The test on the differences d, already sorted by magnitude, n_zero of them zero.
+WilcoxonResult FromSorted(std::span<const double> d, std::size_t n_zero,
+                          const WilcoxonOptions& options) {
+  WilcoxonResult result;
+  result.n = d.size();
+  result.n_zero = n_zero;
   const RankSums sums = SignedRankSums(d, n_zero, options.zero_method);
   result.has_ties = sums.has_ties;
   result.r_plus = sums.r_plus;
@@ -205,6 +210,21 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOp
   }
   ApproximatePValue(d.size(), n_zero, sums.tie_sum, options, &result);
   return result;
+}
+
+}  // namespace
+
+WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOptions& options) {
+  RequireDifferences(d_in);
+  const auto n_zero = static_cast<std::size_t>(std::count(d_in.begin(), d_in.end(), 0.0));
+  return FromSorted(SortedCopy(d_in), n_zero, options);
+}
+
+WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, const WilcoxonOptions& options) {
+  RequireDifferences(d);
+  const auto n_zero = static_cast<std::size_t>(std::count(d.begin(), d.end(), 0.0));
+  SortByMagnitude(d);
+  return FromSorted(d, n_zero, options);
 }
 
 }  // namespace patlab::stats

@@ -86,5 +86,8 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const dou
                                   const WilcoxonOptions& options = {});
 // The same on the differences d directly.
 WilcoxonResult WilcoxonSignedRank(std::span<const double> d, const WilcoxonOptions& options = {});
+// The same on differences the caller no longer needs: d is sorted by magnitude in place (no copy
+// of the sample is made), with bit-identical results.
+WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, const WilcoxonOptions& options = {});
 
 }  // namespace patlab::stats
