@@ -309,8 +309,8 @@ std::string Header(const ImportedLayout& layout, const SheetImport& sheet) {
     out += "# Ring sectors bounded at";
     for (double a : sheet.sector_bounds_deg) out.append(" ").append(FormatFixed(a, 1));
     out +=
-        " deg (0 = front, 90 = left); each sector is modelled as the largest disc about its\n"
-        "# centroid inside it (docs/import.md, \"Ring sectors\").\n";
+        " deg (0 = front, 90 = left);\n# each sector modelled as the largest disc about its "
+        "centroid inside it (docs/import.md).\n";
   }
   return out;
 }
