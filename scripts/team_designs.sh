@@ -16,11 +16,10 @@ if [ ! -d "$F" ]; then
 fi
 rm -rf "$R/patterns"
 mkdir -p "$R"
-# kiks.png holds sector patterns, not dots: patlab import rejects it ("no recognisable cells"),
-# and its message is kept in import.txt.
-mapfile -t sheets < <(ls "$F"/*.png | grep -v '/kiks\.png$')
+# Every sheet, kiks.png included: its ring sectors are split by angle and modelled as disc
+# patches at their centroids (docs/import.md, "Ring sectors").
+mapfile -t sheets < <(ls "$F"/*.png)
 "$PATLAB" import "${sheets[@]}" --out "$R/patterns" > "$R/import.txt"
-if ! "$PATLAB" import "$F/kiks.png" --out "$R/patterns" >> "$R/import.txt" 2>&1; then :; fi
 # Every imported layout, and the shipped standard for reference.
 mapfile -t designs < <(ls "$R"/patterns/*.toml | grep -v '\.codebook\.toml$')
 "$PATLAB" compare "${designs[@]}" ssl-standard --sort-by rotation_onset_mm \

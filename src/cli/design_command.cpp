@@ -27,6 +27,8 @@ constexpr const char* kExamples = R"(examples:
   patlab design --min-rotation-onset-mm 3.5 --start ssl-standard --name ssl-designed --out d
   patlab design --objective rotation_onset --max-angle-crlb-mrad-per-mm 7.76 --out d
   patlab design --id-patches 3 --id-radii-mm 20 --palette 3 --outer-diameter-mm 150 --out d
+  patlab design --symmetry mirror --objective rotation_onset --out d   # mirror-symmetric layouts
+  patlab design --constraints ssl.toml --starts 8 --out d   # the file's options, --starts overridden
 
 The key patch sits at the origin; the search moves the ID patches to minimise --objective
 (angle_crlb, position_crlb or rotation_onset) subject to: every patch inside
@@ -40,8 +42,10 @@ Exit status: 0 ok, 1 cannot write --out, 2 bad input or impossible constraints (
 )";
 
 struct DesignFlags {
+  std::string constraints;
   std::string id_radii = "20";
   std::string objective = "angle_crlb";
+  std::string symmetry = "none";
   std::string seed = "1";
   std::string start;
   std::string out_dir;
@@ -61,12 +65,73 @@ std::vector<Vec2> StartLayout(const std::string& reference, const std::string& p
   return layout;
 }
 
-sim::DesignOptions ParseDesignOptions(const DesignFlags& f, sim::DesignOptions o) {
+// The options a flag sets, copied from the flags' values onto the constraints file's (or the
+// defaults) when the flag is given: flags override the file.
+using Copy = void (*)(const sim::DesignOptions& from, sim::DesignOptions* to);
+struct FlagField {
+  const char* flag;
+  Copy copy;
+};
+constexpr FlagField kFlagFields[] = {
+    {"name", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->name = f.name; }},
+    {"outer-diameter-mm",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) {
+       t->outer_diameter_mm = f.outer_diameter_mm;
+     }},
+    {"rim-gap-mm",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->rim_gap_mm = f.rim_gap_mm; }},
+    {"key-radius-mm", [](const sim::DesignOptions& f,
+                         sim::DesignOptions* t) { t->key_radius_mm = f.key_radius_mm; }},
+    {"id-patches",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->id_patches = f.id_patches; }},
+    {"id-radii-mm",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->id_radii_mm = f.id_radii_mm; }},
+    {"min-gap-mm",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->min_gap_mm = f.min_gap_mm; }},
+    {"palette", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->palette = f.palette; }},
+    {"tolerance-mm",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->tolerance_mm = f.tolerance_mm; }},
+    {"objective",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->objective = f.objective; }},
+    {"symmetry",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->symmetry = f.symmetry; }},
+    {"min-ids", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->min_ids = f.min_ids; }},
+    {"min-rotation-onset-mm",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) {
+       t->min_rotation_onset_mm = f.min_rotation_onset_mm;
+     }},
+    {"max-angle-crlb-mrad-per-mm",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) {
+       t->max_angle_crlb_mrad_per_mm = f.max_angle_crlb_mrad_per_mm;
+     }},
+    {"max-position-crlb-per-mm",
+     [](const sim::DesignOptions& f, sim::DesignOptions* t) {
+       t->max_position_crlb_per_mm = f.max_position_crlb_per_mm;
+     }},
+    {"starts", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->starts = f.starts; }},
+    {"max-evaluations", [](const sim::DesignOptions& f,
+                           sim::DesignOptions* t) { t->max_evaluations = f.max_evaluations; }},
+    {"seed", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->seed = f.seed; }},
+};
+
+sim::DesignOptions ParseDesignOptions(const DesignFlags& f, sim::DesignOptions flags,
+                                      const po::variables_map& vm) {
   if (f.out_dir.empty()) throw InputError("missing --out DIR; expected the directory to write");
-  o.id_radii_mm = ParseNumberList(f.id_radii, "--id-radii-mm",
-                                  "radii in mm, one for every ID patch or one per ID patch");
-  o.objective = ParseName(f.objective, sim::kDesignObjectiveNames, "--objective");
-  o.seed = ParseSeed(f.seed, "--seed");
+  const auto given = [&vm](const char* flag) { return vm.count(flag) && !vm[flag].defaulted(); };
+  if (given("id-radii-mm")) {
+    flags.id_radii_mm = ParseNumberList(f.id_radii, "--id-radii-mm",
+                                        "radii in mm, one for every ID patch or one per ID patch");
+  }
+  if (given("objective"))
+    flags.objective = ParseName(f.objective, sim::kDesignObjectiveNames, "--objective");
+  if (given("symmetry"))
+    flags.symmetry = ParseName(f.symmetry, sim::kDesignSymmetryNames, "--symmetry");
+  if (given("seed")) flags.seed = ParseSeed(f.seed, "--seed");
+  sim::DesignOptions o =
+      f.constraints.empty() ? sim::DesignOptions{} : sim::LoadDesignConstraints(f.constraints, {});
+  for (const FlagField& field : kFlagFields) {
+    if (given(field.flag)) field.copy(flags, &o);
+  }
   if (!f.start.empty()) {
     o.start_mm = StartLayout(f.start, f.patterns_dir);
     if (o.start_mm.size() != static_cast<size_t>(o.id_patches)) {
@@ -82,6 +147,8 @@ sim::DesignOptions ParseDesignOptions(const DesignFlags& f, sim::DesignOptions o
 void AddDesignFlags(po::options_description* d, DesignFlags* f, sim::DesignOptions* o) {
   // clang-format off
   d->add_options()
+      ("constraints", po::value(&f->constraints),
+       "a TOML file of the options below (docs/file-formats.md); flags given override it")
       ("name", po::value(&o->name)->default_value(o->name), "the designed pattern's name")
       ("outer-diameter-mm", po::value(&o->outer_diameter_mm)->default_value(o->outer_diameter_mm),
        "robot top diameter (mm)")
@@ -99,6 +166,8 @@ void AddDesignFlags(po::options_description* d, DesignFlags* f, sim::DesignOptio
        "symmetry tolerance of the ID count (mm; patlab ids)")
       ("objective", po::value(&f->objective)->default_value(f->objective),
        "what to minimise: angle_crlb, position_crlb or rotation_onset (maximised)")
+      ("symmetry", po::value(&f->symmetry)->default_value(f->symmetry),
+       "layout family searched: none, mirror (about the front-back axis) or cyclic")
       ("min-ids", po::value(&o->min_ids)->default_value(o->min_ids),
        "IDs required with --palette colours (0: every colouring)")
       ("min-rotation-onset-mm", po::value(&o->min_rotation_onset_mm)->default_value(o->min_rotation_onset_mm),
@@ -130,7 +199,7 @@ int RunDesign(const std::vector<std::string>& args) {
   if (!ParseArguments(args, visible, "positional", po::value(&none), 0, kExamples, &vm)) {
     return kExitOk;
   }
-  o = ParseDesignOptions(f, o);
+  o = ParseDesignOptions(f, o, vm);
   const std::filesystem::path dir(f.out_dir);
   io::CheckWritable({(dir / (o.name + ".toml")).string()});
   const sim::DesignResult result = sim::RunDesign(o);

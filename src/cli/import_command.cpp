@@ -25,7 +25,8 @@ constexpr const char* kExamples = R"(examples:
 
 A SHEET is an SSL-Vision pattern sheet (PNG/JPEG/PPM): 200 px cells at 1 px = 1 mm, one robot
 top per cell (ID = cell index, row-major), blue centre (key) patch, pink/green/cyan/white dots,
-front up. Each distinct set of dot positions on a sheet becomes one pattern file
+front up. Ring sectors instead of dots (the KIKS sheet) are split by angle and each modelled as a
+disc patch at the sector's centroid (docs/import.md). Each distinct set of dot positions on a sheet becomes one pattern file
 <name>.toml (or <name>-<k>.toml) with its codebook <name>.codebook.toml; a dot absent from a cell
 makes that cell a different layout. IDs the symmetry rule (patlab ids) makes confusable with an
 earlier ID of the layout are left out and named in the codebook's header and on stdout.
@@ -40,14 +41,17 @@ struct ImportFlags {
 };
 
 std::string Summary(const vision::SheetImport& sheet) {
+  const bool sectors = !sheet.sector_bounds_deg.empty();
   std::string out = sheet.file + ": " + std::to_string(sheet.cells.size()) + " cells of " +
                     std::to_string(sheet.columns * sheet.rows) + ", " +
-                    std::to_string(sheet.slots.size()) + " dot positions, " +
+                    std::to_string(sheet.slots.size()) +
+                    (sectors ? " ring sectors (as disc patches), " : " dot positions, ") +
                     std::to_string(sheet.layouts.size()) +
                     (sheet.layouts.size() == 1 ? " layout\n" : " layouts\n");
   for (const vision::ImportedLayout& l : sheet.layouts) {
-    out += "  " + l.pattern.name + ": " + std::to_string(l.pattern.size() - 1) + " dots, " +
-           std::to_string(l.codebook.entries.size()) + " IDs";
+    out += "  " + l.pattern.name + ": " + std::to_string(l.pattern.size() - 1) +
+           (sectors ? " sectors, " : " dots, ") + std::to_string(l.codebook.entries.size()) +
+           " IDs";
     if (l.codebook.entries.empty()) out += " (no codebook written)";
     for (const auto& [id, why] : l.dropped) {
       out += "; ID " + std::to_string(id) + " left out: " + why;

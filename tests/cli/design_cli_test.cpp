@@ -55,5 +55,23 @@ TEST(DesignCli, ImpossibleConstraintsExitTwoAndWriteNothing) {
   EXPECT_FALSE(std::filesystem::exists(dir.Path("out")));
 }
 
+// --constraints FILE: the file's options, and flags given on the command line override them.
+TEST(DesignCli, ConstraintsFileWithFlagsOverridingIt) {
+  const testing::TempDir dir;
+  const std::string file =
+      dir.Write("c.toml",
+                "name = \"fromfile\"\nid_patches = 3\nid_radii_mm = 18\nstarts = 2\n"
+                "symmetry = \"mirror\"\n");
+  const CommandResult run =
+      Design("--constraints " + file + " --id-patches 5 --out " + dir.Path("out") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Pattern p = io::LoadPatternFile(dir.Path("out/fromfile.toml"));  // name from the file
+  EXPECT_EQ(p.size(), 6);                                                // --id-patches 5 wins
+  EXPECT_EQ(p.patches[1].radius_mm, 18.0);                               // radius from the file
+  const std::string report = testing::ReadFile(dir.Path("out/fromfile.design.txt"));
+  EXPECT_NE(report.find("from 2 seeded starts"), std::string::npos) << report;
+  EXPECT_NE(report.find(", symmetry mirror"), std::string::npos) << report;
+}
+
 }  // namespace
 }  // namespace patlab

@@ -7,7 +7,9 @@
 
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
+#include "../expect_error.h"
 #include "../test_util.h"
 #include "patlab/detect/codebook.h"
 #include "patlab/sim/compare.h"
@@ -239,6 +241,84 @@ TEST(Design, TwoIdPatchesSpreadToTheLargestAngleGeometryCanTellApart) {
   const Vec2 a = r.pattern.patches[1].position_mm, b = r.pattern.patches[2].position_mm;
   EXPECT_NEAR(std::acos(a.dot(b) / (a.norm() * b.norm())), alpha, 1e-4);
   EXPECT_NEAR(r.metrics.angle_crlb_mrad_per_mm, 1e3 / std::sqrt(spread), 1e-4);
+}
+
+// Symmetric families (--symmetry): the layout is in the family, the ID count is the symmetry
+// rule's on the written (rounded, so near-symmetric) pattern, and the cyclic count matches the
+// count of aperiodic colourings by hand.
+TEST(Design, MirrorFamilyGivesMirrorLayoutsThatMeetTheirConstraints) {
+  for (int n : {3, 4, 5}) {
+    SCOPED_TRACE(n);
+    DesignOptions o = Small(4);
+    o.symmetry = DesignSymmetry::kMirror;
+    o.id_patches = n;
+    o.id_radii_mm = {15};
+    o.min_gap_mm = 10;
+    o.objective = DesignObjective::kRotationOnset;
+    const DesignResult r = RunDesign(o);
+    ExpectMeetsConstraints(o, r);
+    const Pattern& p = r.pattern;
+    for (int i = 1; i < p.size(); ++i) {
+      const Vec2 mirror(p.patches[i].position_mm.x(), -p.patches[i].position_mm.y());
+      double nearest = 1e9;
+      for (int j = 1; j < p.size(); ++j) {
+        nearest = std::min(nearest, (p.patches[j].position_mm - mirror).norm());
+      }
+      EXPECT_LE(nearest, 2 * kFileMm) << "patch " << i << " has no mirror image";
+    }
+    const detect::Symmetry symmetry = detect::FindSymmetry(p, o.tolerance_mm);
+    EXPECT_EQ(r.metrics.ids, detect::CountIds(p, symmetry, o.palette));
+    EXPECT_EQ(r.metrics.ids, static_cast<uint64_t>(std::llround(std::pow(2, n))));
+    EXPECT_NE(DesignReportText(r).find(", symmetry mirror"), std::string::npos);
+  }
+}
+
+TEST(Design, CyclicFamilyCountsOnlyAperiodicColourings) {
+  // n ID patches on a regular polygon: every rotation by 360/n degrees is accepted, and an ID is
+  // an orbit of n colourings with no rotational period: (c^n - periodic) / n. By hand:
+  // n = 4, c = 2: (16 - 4 (0000, 1111, 0101, 1010)) / 4 = 3; n = 3, c = 3: (27 - 3) / 3 = 8.
+  for (auto [n, c, want] : {std::tuple{4, 2, 3}, std::tuple{3, 3, 8}}) {
+    SCOPED_TRACE(n);
+    DesignOptions o = Small(3);
+    o.symmetry = DesignSymmetry::kCyclic;
+    o.id_patches = n;
+    o.palette = c;
+    o.min_ids = want;
+    const DesignResult r = RunDesign(o);
+    ExpectMeetsConstraints(o, r);
+    EXPECT_EQ(r.metrics.ids, static_cast<uint64_t>(want));
+    EXPECT_EQ(r.metrics.rotations, n);
+    EXPECT_TRUE(std::isinf(r.metrics.rotation_onset_mm));  // colours decide every rotation
+    const double rho = r.pattern.patches[1].position_mm.norm();
+    for (int i = 2; i <= n; ++i) EXPECT_NEAR(r.pattern.patches[i].position_mm.norm(), rho, kFileMm);
+    // The regular polygon farthest out (70 mm to the rim) spreads the patches most.
+    EXPECT_NEAR(rho, 70.0, 2 * kFileMm);
+  }
+  DesignOptions all;
+  all.symmetry = DesignSymmetry::kCyclic;  // min_ids 0: all 16, more than the 3 it can hold
+  EXPECT_INPUT_ERROR(RunDesign(all),
+                     "symmetry cyclic leaves 3 IDs with 2 colours; expected min_ids <= 3 (0 asks "
+                     "for all 16)");
+}
+
+TEST(Design, SymmetryVariablesRoundTrip) {
+  DesignOptions o;
+  o.id_patches = 5;
+  o.symmetry = DesignSymmetry::kMirror;
+  ASSERT_EQ(SymmetryVariables(o), 5);
+  const double x[5] = {10, 40, -30, 50, -60};
+  const std::vector<Vec2> p = ExpandSymmetry(o, x);
+  EXPECT_EQ(p[2], Vec2(10, -40));
+  EXPECT_EQ(p[3], Vec2(-30, -50));
+  EXPECT_EQ(p[4], Vec2(-60, 0));
+  EXPECT_EQ(ReduceSymmetry(o, p), std::vector<double>(x, x + 5));
+  o.symmetry = DesignSymmetry::kCyclic;
+  ASSERT_EQ(SymmetryVariables(o), 2);
+  const std::vector<Vec2> q = ExpandSymmetry(o, x);
+  EXPECT_NEAR(q[1].x(),
+              10 * std::cos(0.4 * std::numbers::pi) - 40 * std::sin(0.4 * std::numbers::pi), 1e-12);
+  o.symmetry = DesignSymmetry::kNone;
+  EXPECT_EQ(SymmetryVariables(o), 10);
 }
 
 }  // namespace

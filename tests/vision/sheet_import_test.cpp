@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "../expect_error.h"
 #include "patlab/detect/codebook.h"
@@ -84,6 +86,99 @@ TEST(SheetImport, BadSheetsNameTheFile) {
   EXPECT_INPUT_ERROR(ImportSheet(Image::Rgb(400, 200), "blank.png", {}),
                      "blank.png: no recognisable cells; expected 200 px cells each with a blue "
                      "key patch and coloured dots");
+}
+
+constexpr std::array<uint8_t, 3> kWhite = {255, 255, 255};
+
+// A KIKS-like robot top centred at (cx, cy) px: a blue key of radius 25, a ring to radius 90 with
+// the front quarter black (model angles -45..45 degrees) and three 90-degree sectors coloured
+// left (45..135), back (135..225) and right (225..315).
+void RingTop(Image* image, double cx, double cy, const std::array<std::array<uint8_t, 3>, 3>& rgb) {
+  for (int y = 0; y < image->height_px; ++y) {
+    for (int x = 0; x < image->width_px; ++x) {
+      const double dx = x - cx, dy = y - cy, r = std::hypot(dx, dy);
+      if (r > 90.0 || r <= 25.0) continue;
+      // Model angle: image up is +x, image left +y.
+      double a = std::atan2(-dx, -dy) * 180.0 / std::numbers::pi;
+      if (a < 0) a += 360.0;
+      if (a < 45.0 || a >= 315.0) continue;
+      const auto& c = rgb[static_cast<int>((a - 45.0) / 90.0)];
+      std::copy(c.begin(), c.end(), image->Row(y) + 3 * x);
+    }
+  }
+  Disc(image, cx, cy, 25, kBlue);
+}
+
+// Adjacent sectors of one colour merge into one region; the sectors come back by angle, each a
+// disc at the sector's centroid: for an annular sector of radii r..R and angle alpha the centroid
+// lies at 2/3 (R^3 - r^3) / (R^2 - r^2) sin(alpha/2) / (alpha/2) from the centre = 57.28 mm
+// (r = 25, R = 90, alpha = 90 deg); the largest disc about it inside the sector reaches the
+// nearer of key and rim: min(90 - 57.28, 57.28 - 25) - 0.5 = 31.78 mm.
+TEST(SheetImport, RingSectorsAreSplitByAngle) {
+  Image image = Image::Rgb(400, 200);
+  RingTop(&image, 100, 100, {kGreen, kGreen, kWhite});  // left and back merge
+  RingTop(&image, 300, 100, {kWhite, kGreen, kGreen});  // back and right merge
+  SheetImportOptions o;
+  o.name = "ring";
+  const SheetImport sheet = ImportSheet(image, "ring.png", o);
+  ASSERT_EQ(sheet.cells.size(), 2u);
+  ASSERT_EQ(sheet.sector_bounds_deg.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) EXPECT_NEAR(sheet.sector_bounds_deg[k], 45.0 + 90.0 * k, 1.0);
+  const double alpha = std::numbers::pi / 2;
+  const double d = 2.0 / 3.0 * (std::pow(90, 3) - std::pow(25, 3)) / (90 * 90 - 25 * 25) *
+                   std::sin(alpha / 2) / (alpha / 2);
+  ASSERT_EQ(sheet.slots.size(), 3u);
+  EXPECT_NEAR(sheet.slots[0].y(), d, 0.5);   // left
+  EXPECT_NEAR(sheet.slots[1].y(), -d, 0.5);  // right
+  EXPECT_NEAR(sheet.slots[2].x(), -d, 0.5);  // back
+  EXPECT_NEAR(sheet.slots[0].x(), 0.0, 0.5);
+  ASSERT_EQ(sheet.layouts.size(), 1u);
+  const ImportedLayout& l = sheet.layouts[0];
+  const Pattern p = io::ParsePattern(PatternFileText(l, sheet), "ring.toml");
+  ASSERT_EQ(p.size(), 4);
+  for (int i = 1; i < 4; ++i) {
+    EXPECT_NEAR(p.patches[i].radius_mm, std::min(90.0 - d, d - 25.0) - 0.5, 1.0) << i;
+  }
+  // Geometry rejects every rotation (three quarters of a square): both colourings are IDs.
+  const detect::Symmetry symmetry = detect::FindSymmetry(p, 10.0);
+  EXPECT_EQ(symmetry.order(), 1);
+  const detect::Codebook book =
+      detect::ParseCodebook(CodebookFileText(l, sheet), "ring", p, symmetry);
+  ASSERT_EQ(book.entries.size(), 2u);
+  const auto colours = [&](int e) {
+    std::vector<std::string> c;
+    for (int k : book.entries[e].colour) c.push_back(book.colours[k]);
+    return c;
+  };
+  EXPECT_EQ(colours(0), (std::vector<std::string>{"green", "white", "green"}));  // left right back
+  EXPECT_EQ(colours(1), (std::vector<std::string>{"white", "green", "green"}));
+}
+
+TEST(SheetImport, RingOfOneColourAllRoundHasNoSectors) {
+  Image image = Image::Rgb(200, 200);
+  Disc(&image, 100, 100, 90, kGreen);
+  Disc(&image, 100, 100, 25, kBlue);
+  EXPECT_INPUT_ERROR(ImportSheet(image, "ring.png", {}),
+                     "ring.png: ring sectors without a boundary; expected sectors of different "
+                     "colours (or ring gaps) in at least one cell");
+}
+
+// The KIKS sheet: sectors, not dots; 12 cells, 8 distinct colourings of 3 sectors.
+TEST(SheetImport, KiksSheetIsThreeSectors) {
+  const std::string path = testing::SharedFrames() + "/team-patterns/kiks.png";
+  if (!std::filesystem::exists(path)) {
+    GTEST_SKIP() << "no shared sheet at " << path
+                 << " (real sheets live in ../shared/frames, outside the repository)";
+  }
+  const SheetImport sheet = ImportSheet(ReadFrame(path), path, {});
+  EXPECT_EQ(sheet.cells.size(), 12u);
+  EXPECT_EQ(sheet.slots.size(), 3u);
+  ASSERT_EQ(sheet.layouts.size(), 1u);
+  const ImportedLayout& l = sheet.layouts[0];
+  EXPECT_EQ(l.codebook.entries.size(), 8u);  // 2^3 colourings, every one on the sheet
+  EXPECT_EQ(l.dropped.size(), 4u);           // cells 8-11 repeat earlier cells
+  const Pattern p = io::ParsePattern(PatternFileText(l, sheet), "kiks.toml");
+  EXPECT_EQ(detect::FindSymmetry(p, 10.0).order(), 1);
 }
 
 // The SSL standard sheet must come back as the shipped ssl-standard pattern and codebook.

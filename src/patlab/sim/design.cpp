@@ -87,6 +87,22 @@ void CheckFits(const DesignOptions& o, OptionsChecker* check) {
   }
 }
 
+// A cyclic family accepts every rotation by 360/id_patches: its ID capacity is that of the regular
+// layout (the same for every member), counted once before the search.
+void CheckCyclic(const DesignOptions& o, OptionsChecker* check) {
+  const double rho = 0.5 * (o.key_radius_mm + o.min_gap_mm + InnerRadius(o));
+  const double x[2] = {rho, 0.0};
+  const Pattern regular = DesignPattern(o, ExpandSymmetry(o, x));
+  const uint64_t ids =
+      detect::CountIds(regular, detect::FindSymmetry(regular, o.tolerance_mm), o.palette);
+  if (RequiredIds(o) > ids) {
+    check->Fail("min_ids", "symmetry cyclic leaves " + std::to_string(ids) + " IDs with " +
+                               std::to_string(o.palette) +
+                               " colours; expected min_ids <= " + std::to_string(ids) +
+                               " (0 asks for all " + std::to_string(MaxIds(o)) + ")");
+  }
+}
+
 }  // namespace
 
 std::vector<OptionsProblem> Check(const DesignOptions& o) {
@@ -131,6 +147,7 @@ std::vector<OptionsProblem> Check(const DesignOptions& o) {
                                std::to_string(o.id_patches) + ")");
   }
   if (check.problems().empty()) CheckFits(o, &check);
+  if (check.problems().empty() && o.symmetry == DesignSymmetry::kCyclic) CheckCyclic(o, &check);
   return check.Take();
 }
 
@@ -149,6 +166,60 @@ Pattern DesignPattern(const DesignOptions& o, const std::vector<Vec2>& id_positi
   p.key_index = 0;
   p.orientation_pairs = DefaultOrientationPairs(p.patches, p.key_index);
   return p;
+}
+
+int SymmetryVariables(const DesignOptions& o) {
+  switch (o.symmetry) {
+    case DesignSymmetry::kNone:
+      break;
+    case DesignSymmetry::kMirror:
+      return 2 * (o.id_patches / 2) + o.id_patches % 2;
+    case DesignSymmetry::kCyclic:
+      return 2;
+  }
+  return 2 * o.id_patches;
+}
+
+std::vector<Vec2> ExpandSymmetry(const DesignOptions& o, const double* x) {
+  const int n = o.id_patches;
+  std::vector<Vec2> p(n);
+  switch (o.symmetry) {
+    case DesignSymmetry::kNone:
+      for (int i = 0; i < n; ++i) p[i] = Vec2(x[2 * i], x[2 * i + 1]);
+      break;
+    case DesignSymmetry::kMirror:
+      for (int i = 0; i < n / 2; ++i) {
+        p[i] = Vec2(x[2 * i], x[2 * i + 1]);
+        p[n / 2 + i] = Vec2(x[2 * i], -x[2 * i + 1]);
+      }
+      if (n % 2 == 1) p[n - 1] = Vec2(x[n - 1], 0.0);
+      break;
+    case DesignSymmetry::kCyclic:
+      for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * std::numbers::pi * i / n, c = std::cos(a), sn = std::sin(a);
+        p[i] = Vec2(c * x[0] - sn * x[1], sn * x[0] + c * x[1]);
+      }
+      break;
+  }
+  return p;
+}
+
+std::vector<double> ReduceSymmetry(const DesignOptions& o, const std::vector<Vec2>& layout) {
+  PATLAB_CHECK(static_cast<int>(layout.size()) == o.id_patches);
+  const int free = o.symmetry == DesignSymmetry::kNone     ? o.id_patches
+                   : o.symmetry == DesignSymmetry::kCyclic ? 1
+                                                           : o.id_patches / 2;
+  std::vector<double> x;
+  for (int i = 0; i < free; ++i) {
+    x.push_back(layout[i].x());
+    x.push_back(layout[i].y());
+  }
+  // Mirror, odd count: the last patch moved onto the axis at its distance from the key.
+  if (o.symmetry == DesignSymmetry::kMirror && o.id_patches % 2 == 1) {
+    const Vec2& q = layout.back();
+    x.push_back(q.x() < 0.0 ? -q.norm() : q.norm());
+  }
+  return x;
 }
 
 namespace {
@@ -310,19 +381,14 @@ struct SearchContext {
 // The search variables: x, y of each ID patch, then (objective rotation_onset) the epigraph
 // variable t <= every shift's onset, which the search maximises: max-min made smooth.
 bool HasEpigraph(const DesignOptions& o) { return o.objective == DesignObjective::kRotationOnset; }
-int NumVariables(const DesignOptions& o) { return 2 * o.id_patches + (HasEpigraph(o) ? 1 : 0); }
-
-std::vector<Vec2> Positions(const double* x, int n) {
-  std::vector<Vec2> p(n);
-  for (int i = 0; i < n; ++i) p[i] = Vec2(x[2 * i], x[2 * i + 1]);
-  return p;
-}
+int NumVariables(const DesignOptions& o) { return SymmetryVariables(o) + (HasEpigraph(o) ? 1 : 0); }
 
 const LayoutEvaluation& Evaluate(SearchContext* c, const double* x) {
-  const int n = c->options->id_patches;
+  const int n = SymmetryVariables(*c->options);
   if (c->evaluations == 0 || !std::equal(c->last_x.begin(), c->last_x.end(), x)) {
-    c->last_x.assign(x, x + 2 * n);
-    c->last = EvaluateLayout(DesignPattern(*c->options, Positions(x, n)), *c->options, c->chi2);
+    c->last_x.assign(x, x + n);
+    c->last = EvaluateLayout(DesignPattern(*c->options, ExpandSymmetry(*c->options, x)),
+                             *c->options, c->chi2);
     ++c->evaluations;
   }
   return c->last;
@@ -330,14 +396,14 @@ const LayoutEvaluation& Evaluate(SearchContext* c, const double* x) {
 
 double Objective(unsigned /*n*/, const double* x, double* /*grad*/, void* data) {
   auto* c = static_cast<SearchContext*>(data);
-  const int n = c->options->id_patches;
+  const int n = SymmetryVariables(*c->options);
   switch (c->options->objective) {
     case DesignObjective::kAngleCrlb:
       return Evaluate(c, x).metrics.angle_crlb_mrad_per_mm;
     case DesignObjective::kPositionCrlb:
       return Evaluate(c, x).metrics.position_crlb_per_mm;
     case DesignObjective::kRotationOnset:
-      return -x[2 * n];
+      return -x[n];
   }
   return 0.0;
 }
@@ -358,7 +424,7 @@ void Constraints(unsigned m, double* result, unsigned /*n*/, const double* x, do
   auto* c = static_cast<SearchContext*>(data);
   const DesignOptions& o = *c->options;
   const LayoutEvaluation& e = Evaluate(c, x);
-  const std::vector<Vec2> p = Positions(x, o.id_patches);
+  const std::vector<Vec2> p = ExpandSymmetry(o, x);
   const double inner = InnerRadius(o) - kSafetyMm;
   unsigned k = 0;
   for (int i = 0; i < o.id_patches; ++i) result[k++] = p[i].norm() + IdRadius(o, i) - inner;
@@ -376,7 +442,7 @@ void Constraints(unsigned m, double* result, unsigned /*n*/, const double* x, do
     result[k++] = Clamped(o.min_rotation_onset_mm + kSafetyOnsetMm - onset);
   }
   if (HasEpigraph(o)) {
-    for (double onset : e.shift_onset_mm) result[k++] = Clamped(x[2 * o.id_patches] - onset);
+    for (double onset : e.shift_onset_mm) result[k++] = Clamped(x[SymmetryVariables(o)] - onset);
   }
   result[k++] = Clamped(d.angle_crlb_mrad_per_mm + kSafetyAngle - o.max_angle_crlb_mrad_per_mm);
   result[k++] = Clamped(d.position_crlb_per_mm + kSafetyPosition - o.max_position_crlb_per_mm);
@@ -433,11 +499,8 @@ DesignStart LocalSearch(const DesignOptions& o, double chi2, int index,
   SearchContext context;
   context.options = &o;
   context.chi2 = chi2;
-  std::vector<double> x(n);
-  for (int i = 0; i < o.id_patches; ++i) {
-    x[2 * i] = start[i].x();
-    x[2 * i + 1] = start[i].y();
-  }
+  std::vector<double> x = ReduceSymmetry(o, start);
+  x.resize(n);
   s.initial = Evaluate(&context, x.data()).metrics;
   const double bound = InnerRadius(o);
   std::vector<double> lower(n, -bound), upper(n, bound), step(n, 0.1 * bound);
@@ -467,7 +530,7 @@ DesignStart LocalSearch(const DesignOptions& o, double chi2, int index,
   s.nlopt_result = static_cast<int>(nlopt_optimize(opt, x.data(), &value));
   nlopt_destroy(opt);
   s.evaluations = context.evaluations;
-  *layout = Canonical(Positions(x.data(), o.id_patches));
+  *layout = Canonical(ExpandSymmetry(o, x.data()));
   s.final = EvaluateLayout(DesignPattern(o, *layout), o, chi2).metrics;
   return s;
 }
@@ -601,7 +664,11 @@ std::string OptionsLines(const DesignOptions& o, const std::string& prefix) {
          ", position_crlb_per_mm <= " + FormatNumber(o.max_position_crlb_per_mm) + "\n";
   out += prefix + "search: NLopt COBYLA from " + std::to_string(o.starts) +
          " seeded starts, max_evaluations " + std::to_string(o.max_evaluations) + ", xtol_mm " +
-         FormatNumber(o.xtol_mm) + ", seed " + std::to_string(o.seed) + "\n";
+         FormatNumber(o.xtol_mm) + ", seed " + std::to_string(o.seed) +
+         (o.symmetry == DesignSymmetry::kNone
+              ? std::string()
+              : ", symmetry " + std::string(NameOf(o.symmetry, kDesignSymmetryNames))) +
+         "\n";
   return out;
 }
 

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "patlab/core/enum_names.h"
@@ -41,6 +42,21 @@ inline constexpr EnumNames<DesignObjective, 3> kDesignObjectiveNames{{{
     {DesignObjective::kRotationOnset, "rotation_onset"},
 }}};
 
+// The family of layouts searched. Symmetric layouts are a set of measure zero: a free search
+// reaches one only by chance, so a family parametrises it directly.
+enum class DesignSymmetry {
+  kNone,    // every ID patch free (2 variables each)
+  kMirror,  // mirror-symmetric about the x axis (front-back): pairs (x, y), (x, -y), and with
+            // an odd number of ID patches one on the axis (x, 0)
+  kCyclic,  // id_patches-fold rotational symmetry: one patch free, the others it turned by
+            // multiples of 360 / id_patches degrees (the colours must then decide every rotation)
+};
+inline constexpr EnumNames<DesignSymmetry, 3> kDesignSymmetryNames{{{
+    {DesignSymmetry::kNone, "none"},
+    {DesignSymmetry::kMirror, "mirror"},
+    {DesignSymmetry::kCyclic, "cyclic"},
+}}};
+
 struct DesignOptions {
   std::string name = "designed";  // the pattern's name in the file written
   // The robot top: every patch lies inside the circle of this diameter (mm) about the key patch
@@ -60,6 +76,7 @@ struct DesignOptions {
   double tolerance_mm = 10.0;
 
   DesignObjective objective = DesignObjective::kAngleCrlb;
+  DesignSymmetry symmetry = DesignSymmetry::kNone;
   // Limits on the other criteria. min_ids = 0 asks for every colouring, palette^id_patches (the
   // geometry must then reject every wrong rotation); the others are off at their defaults.
   int64_t min_ids = 0;
@@ -78,9 +95,19 @@ struct DesignOptions {
   std::vector<Vec2> start_mm;
 };
 // Every limit of a single field, and the ones that make the layout impossible before any search:
-// an ID patch wider than the ring between key and rim, or more patch area than the robot top has.
+// an ID patch wider than the ring between key and rim, or more patch area than the robot top has;
+// symmetry cyclic with more IDs asked for (min_ids; 0 = all) than the regular layout can hold.
 std::vector<OptionsProblem> Check(const DesignOptions& options);
 void Validate(const DesignOptions& options);
+
+// The constraints file of `patlab design --constraints FILE` (docs/file-formats.md): a TOML table
+// whose keys are the fields above (id_radii_mm a number or an array; objective and symmetry by
+// name; no start_mm). Absent keys keep `defaults`. The file's options must pass Check on their
+// own. Throws InputError "file:line: ...; expected ..." at the offending key (an unknown key, a
+// wrong type, a value out of range, constraints that cannot fit).
+DesignOptions ParseDesignConstraints(std::string_view text, const std::string& file,
+                                     DesignOptions defaults);
+DesignOptions LoadDesignConstraints(const std::string& path, DesignOptions defaults);
 
 // The criteria and geometric constraints of one layout.
 struct DesignMetrics {
@@ -95,6 +122,12 @@ struct DesignMetrics {
   bool feasible = false;            // every constraint of the options holds (no tolerance)
   std::string violated;             // the first constraint that does not hold, or empty
 };
+
+// The ID patch positions of the family's search variables (SymmetryVariables of them), and the
+// variables of a layout (projected onto the family: the first patches' coordinates).
+int SymmetryVariables(const DesignOptions& options);
+std::vector<Vec2> ExpandSymmetry(const DesignOptions& options, const double* x);
+std::vector<double> ReduceSymmetry(const DesignOptions& options, const std::vector<Vec2>& layout);
 
 // The pattern with the key at the origin and the ID patches at `id_positions_mm` (IdSlots order).
 Pattern DesignPattern(const DesignOptions& options, const std::vector<Vec2>& id_positions_mm);

@@ -10,14 +10,19 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/vision/segment.h"
+#include "patlab/vision/sheet_import_internal.h"
 
 namespace patlab::vision {
 
 namespace {
 
-constexpr int kBlue = 0, kYellow = 5;
-constexpr std::array<const char*, 6> kClassNames = {"blue", "pink",  "green",
-                                                    "cyan", "white", "yellow"};
+using internal::kBlue;
+using internal::kClassNames;
+using internal::kDotAreaMaxMm2;
+using internal::kDotAreaMinMm2;
+using internal::kReachMm;
+using internal::kYellow;
+
 // The sheet colours are pure RGB primaries and mixes drawn with anti-aliased edges; each class
 // takes the colour and its edge pixels that are still clearly that colour. The cell background
 // (0, 96..128, 0) and the black robot top fall in none.
@@ -39,10 +44,6 @@ Thresholds SheetThresholds() {
   return t;
 }
 
-constexpr double kDotAreaMinMm2 = 200.0;   // a dot is Ø16 mm or more ...
-constexpr double kDotAreaMaxMm2 = 3000.0;  // ... and at most Ø62 mm (a robot top is far larger)
-constexpr double kReachMm = 120.0;         // dots lie within this distance of the key
-
 struct CellKey {
   int column = 0, row = 0;
 };
@@ -53,8 +54,9 @@ CellKey CellOf(const Vec2& centroid_px, int cell_px) {
 }
 
 // Stage 2 for one cell: the key is the largest blue region whose centroid lies in the cell.
-bool ReadCell(const Segmenter& seg, const SheetImport& sheet, const SheetImportOptions& o,
-              int index, SheetCell* cell) {
+// Returns the key, nullptr for a cell without one.
+const Region* ReadCell(const Segmenter& seg, const SheetImport& sheet, const SheetImportOptions& o,
+                       int index, SheetCell* cell) {
   const int column = index % sheet.columns, row = index / sheet.columns;
   const Region* key = nullptr;
   for (const Region& r : seg.RegionsOf(kBlue)) {
@@ -63,7 +65,7 @@ bool ReadCell(const Segmenter& seg, const SheetImport& sheet, const SheetImportO
       key = &r;
     }
   }
-  if (key == nullptr) return false;
+  if (key == nullptr) return nullptr;
   const double mm2_per_px = o.mm_per_px * o.mm_per_px;
   cell->index = index;
   cell->key_radius_mm = std::sqrt(key->area_px * mm2_per_px / std::numbers::pi);
@@ -84,7 +86,7 @@ bool ReadCell(const Segmenter& seg, const SheetImport& sheet, const SheetImportO
       cell->height_mm = static_cast<int>(std::lround((r.y_max - r.y_min + 1) * o.mm_per_px));
     }
   }
-  return !cell->dots.empty();
+  return key;
 }
 
 // Stage 3: greedy clustering in cell order, each slot at the running mean of its dots; slots are
@@ -240,9 +242,22 @@ SheetImport ImportSheet(const Image& image, const std::string& file, const Sheet
   so.min_area_px = 20;
   Segmenter seg(SheetThresholds(), so);
   seg.Process(image);
+  std::vector<internal::CellRing> rings;
   for (int index = 0; index < sheet.columns * sheet.rows; ++index) {
     SheetCell cell;
-    if (ReadCell(seg, sheet, o, index, &cell)) sheet.cells.push_back(std::move(cell));
+    const Region* key = ReadCell(seg, sheet, o, index, &cell);
+    if (key == nullptr) continue;
+    if (internal::HasRingSectors(seg, *key, o)) {
+      rings.push_back(internal::ReadRing(seg, *key, o));
+      rings.back().cell = static_cast<int>(sheet.cells.size());
+    } else if (cell.dots.empty()) {
+      continue;
+    }
+    sheet.cells.push_back(std::move(cell));
+  }
+  if (!rings.empty()) {
+    internal::SplitRings(seg, rings, o, &sheet);
+    std::erase_if(sheet.cells, [](const SheetCell& c) { return c.dots.empty(); });
   }
   if (sheet.cells.empty()) {
     throw InputError(file + ": no recognisable cells; expected " + std::to_string(o.cell_px) +
@@ -290,6 +305,13 @@ std::string Header(const ImportedLayout& layout, const SheetImport& sheet) {
   for (int c : layout.cells) height = std::max(height, sheet.cells[c].height_mm);
   if (height > 0)
     out += "# Robot height from the sheet's yellow bar: " + std::to_string(height) + " mm.\n";
+  if (!sheet.sector_bounds_deg.empty()) {
+    out += "# Ring sectors bounded at";
+    for (double a : sheet.sector_bounds_deg) out.append(" ").append(FormatFixed(a, 1));
+    out +=
+        " deg (0 = front, 90 = left);\n# each sector modelled as the largest disc about its "
+        "centroid inside it (docs/import.md).\n";
+  }
   return out;
 }
 
@@ -299,8 +321,10 @@ std::string PatternFileText(const ImportedLayout& layout, const SheetImport& she
   const Pattern& p = layout.pattern;
   std::string out = Header(layout, sheet);
   out += "name = \"" + p.name + "\"\n";
-  out += "description = \"" + std::to_string(p.size() - 1) + " dots around a blue key, from " +
-         std::filesystem::path(sheet.file).filename().string() + "\"\n";
+  out += "description = \"" + std::to_string(p.size() - 1) +
+         (sheet.sector_bounds_deg.empty() ? " dots" : " ring sectors (as discs)") +
+         " around a blue key, from " + std::filesystem::path(sheet.file).filename().string() +
+         "\"\n";
   for (const Patch& patch : p.patches) {
     out += "\n[[patch]]\nrole = \"" + std::string(patch.role == PatchRole::kKey ? "key" : "id") +
            "\"\nx = " + Mm(patch.position_mm.x()) + "\ny = " + Mm(patch.position_mm.y()) +

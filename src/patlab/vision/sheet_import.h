@@ -9,7 +9,13 @@
 //   1. segment   - the sheet through a Segmenter with fixed RGB classes for the sheet colours;
 //   2. cells     - per cell: the key (the largest blue region in it) and the dots (regions of
 //                  a dot colour of dot size within reach of the key), positions in mm relative
-//                  to the key; cells without a key are empty and skipped;
+//                  to the key; cells without a key are empty and skipped. A cell whose
+//                  coloured regions near the key are larger than dots holds ring sectors (the
+//                  KIKS design), where same-coloured neighbours merge into one region: its
+//                  ring is read by angle instead, split at the sheet's sector boundaries (every
+//                  colour change seen in any ring cell), and each coloured sector becomes one
+//                  dot: the sector's centroid with the radius of the largest disc about it
+//                  inside the sector;
 //   3. slots     - the dot positions of every cell clustered (within slot_tolerance_mm) into
 //                  slots, averaged: the union layout;
 //   4. layouts   - cells grouped by which slots hold a dot (an absent dot is part of the code:
@@ -75,6 +81,9 @@ struct SheetImport {
   int columns = 0, rows = 0;
   std::vector<SheetCell> cells;  // the cells with a key, in index order
   std::vector<Vec2> slots;       // union layout: slot positions (mm), front to back
+  // Ring-sector sheets only (see below): the sector boundaries in model degrees (0 = front,
+  // 90 = left), ascending; empty for dot sheets.
+  std::vector<double> sector_bounds_deg;
   std::vector<ImportedLayout> layouts;
 };
 
