@@ -60,6 +60,7 @@ TEST(MergeCli, SharesOfTheExperimentTypedAsAnotherPathMerge) {
   testing::TempDir dir;
   const std::string e = dir.Write("small.toml", SmallExperiment());
   dir.Write("sub/.keep", "");
+  dir.Write("shards/.keep", "");
   ASSERT_EQ(RunCommand(kPatlab + " simulate " + e + " -q --out " + dir.Path("whole")).exit_code, 0);
   const auto r1 = RunCommand("(cd " + dir.Path() + " && " + kPatlab +
                              " simulate ./small.toml -q --shard 1/2 --out shards)");

@@ -28,7 +28,7 @@ TEST(ReproduceCli, CheckPassesOnTheCommittedResultsAndNamesAnEditedFile) {
     if (std::string(name) == "fig5.json") {
       const size_t at = text.find("\"seed\": 2003");
       ASSERT_NE(at, std::string::npos);
-      text.replace(at, 13, "\"seed\": 2004");
+      text.replace(at, 12, "\"seed\": 2004");
     }
     if (std::string(name) == "table1.csv") {
       const size_t at = text.find("\n40mm,12450,");
@@ -54,8 +54,8 @@ TEST(ReproduceCli, CheckPassesOnTheCommittedResultsAndNamesAnEditedFile) {
                          ": missing; expected the committed figure (Figs. 2, 3, 6)"),
             std::string::npos)
       << bad.out;
-  EXPECT_EQ(bad.out.find("fig5.csv"), std::string::npos) << bad.out;
-  EXPECT_EQ(bad.out.find("table1.json"), std::string::npos) << bad.out;
+  EXPECT_EQ(bad.out.find(dir.Path("fig5.csv") + ":"), std::string::npos) << bad.out;
+  EXPECT_EQ(bad.out.find(dir.Path("table1.json") + ":"), std::string::npos) << bad.out;
 }
 
 }  // namespace
