@@ -207,13 +207,13 @@ TEST(Shard, TheFingerprintIsTheExperimentsContentNotItsPathAsTyped) {
   EXPECT_EQ(merged.csv, DetectResultsCsv(plain, whole));
   EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(DetectManifestJson(plain, whole, "", {})));
   // The same paths with other content are another experiment: a settings file whose Triangle
-  // has one ID colour fewer (another codebook) is refused.
+  // lists its ID colours in another order (another codebook) is refused.
   dir.Write("experiments/det.toml",
             "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"cyan\", \"orange\"]\n"
             "[detector]\npatch_sigma_mm = 1.0\n"
             "[[pattern]]\npattern = \"butterfly\"\nid_colours = [\"pink\", \"green\"]\n"
             "key_colours = [\"blue\", \"yellow\"]\n"
-            "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"green\"]\n"
+            "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"cyan\", \"green\"]\n"
             "key_colours = [\"blue\", \"yellow\"]\n");
   const std::string other =
       WriteDetectShard(LoadExperimentFile(dir.Path("experiments/e.toml")), 2, 2, dir);
