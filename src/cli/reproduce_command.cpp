@@ -1,4 +1,8 @@
 // patlab reproduce: every number the paper prints, regenerated and judged (docs/reproduce.md).
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>  // environ (GNU)
+
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -19,14 +23,20 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab reproduce              # regenerate results/{fig5,table1,table1_tests}.csv and results/paper.md
+  patlab reproduce              # regenerate every table, figure and manifest, and results/paper.md
+  patlab reproduce --no-figures # the same without the PNGs (no python3 / matplotlib needed)
   patlab reproduce --check      # regenerate in memory; fail if a number or a committed file moved
 
-Runs experiments/fig5.toml and experiments/table1.toml, counts Table II's IDs, and judges every
-number the paper prints (results/paper.md). With --check nothing is written: a line per failing
-number and per regenerated file that differs from the committed one (cells compared within the
-cross-machine tolerance of docs/paper-reproduction.md), exit status 1 if any.
-Exit status: 0 ok, 1 a check failed or results cannot be written, 2 bad input.
+Runs experiments/fig5.toml and experiments/table1.toml (also without sensor noise, for Fig. 6),
+counts Table II's IDs, and judges every number the paper prints (results/paper.md); writes
+fig5.{csv,json}, table1{.csv,_tests.csv,.json}, track_errors.csv, track_quantisation/ and
+paper.md atomically, then draws Figs. 5, 2, 3, 6 (fig*.png) with /usr/bin/python3
+scripts/plot_fig5.py and scripts/plot_track.py. With --check nothing is written: a line per
+failing number, per regenerated file that differs from the committed one (CSV cells and
+manifest numbers within the cross-machine tolerance of docs/paper-reproduction.md; manifests
+without their run keys and paths) and per missing figure, exit status 1 if any.
+Exit status: 0 ok, 1 a check failed, a figure script failed or results cannot be written,
+2 bad input.
 )";
 
 struct ReproduceFlags {
@@ -34,6 +44,7 @@ struct ReproduceFlags {
   std::string out_dir = "results";
   int threads = 0;
   bool check = false;
+  bool no_figures = false;
   bool quiet = false;
 };
 
@@ -45,7 +56,8 @@ std::string ReadFile(const std::string& path) {
 }
 
 // --check: every failing number and every differing file on stdout; the count of failures.
-int CheckAgainstCommitted(const sim::Reproduction& r, const std::string& out_dir) {
+int CheckAgainstCommitted(const sim::Reproduction& r, const std::vector<sim::FigureStep>& steps,
+                          const std::string& out_dir) {
   int failures = 0;
   for (const sim::PaperNumber& n : r.numbers) {
     if (n.ok) continue;
@@ -60,13 +72,55 @@ int CheckAgainstCommitted(const sim::Reproduction& r, const std::string& out_dir
       std::printf("DIFFERS %s: missing; expected the committed file\n", path.c_str());
       continue;
     }
-    const std::string difference = sim::CompareResultText(text, ReadFile(path));
+    const std::string difference = name.ends_with(".json")
+                                       ? sim::CompareManifestText(text, ReadFile(path))
+                                       : sim::CompareResultText(text, ReadFile(path));
     if (!difference.empty()) {
       ++failures;
       std::printf("DIFFERS %s: %s\n", path.c_str(), difference.c_str());
     }
   }
+  // The figures are pictures of the CSVs checked above, drawn by matplotlib, whose bytes depend
+  // on its version and fonts (docs/reproduce.md): only their presence is checked.
+  for (const sim::FigureStep& step : steps) {
+    for (const std::string& png : step.outputs) {
+      if (std::filesystem::exists(png)) continue;
+      ++failures;
+      std::printf("DIFFERS %s: missing; expected the committed figure (%s)\n", png.c_str(),
+                  step.figure.c_str());
+    }
+  }
   return failures;
+}
+
+// Runs one figure script (no shell: the arguments are passed as they are); its exit status, or
+// -1 when it could not be started.
+int RunFigureStep(const sim::FigureStep& step) {
+  std::vector<char*> argv;
+  for (const std::string& a : step.argv) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), ::environ) != 0) return -1;
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Draws the figures; false (after a message naming the step) when a script fails.
+bool DrawFigures(const std::vector<sim::FigureStep>& steps) {
+  for (const sim::FigureStep& step : steps) {
+    const int status = RunFigureStep(step);
+    if (status == 0) continue;
+    std::string command;
+    for (const std::string& a : step.argv) command.append(command.empty() ? "" : " ").append(a);
+    std::cerr << "patlab reproduce: " << step.figure << ": '" << command << "' "
+              << (status < 0 ? std::string("could not be run")
+                             : "exited with status " + std::to_string(status))
+              << "; expected python3 with matplotlib and numpy (scripts/setup.sh), or "
+                 "--no-figures; the tables and paper.md are written\n";
+    return false;
+  }
+  return true;
 }
 
 int RunReproduce(const std::vector<std::string>& args) {
@@ -78,6 +132,7 @@ int RunReproduce(const std::vector<std::string>& args) {
       ("check", po::bool_switch(&o.check), "write nothing; fail if a number leaves its tolerance or a file differs from the committed one")
       ("root", po::value(&o.root), "the checkout (experiments/, patterns/; default: .)")
       ("out", po::value(&o.out_dir), "results directory (default: results)")
+      ("no-figures", po::bool_switch(&o.no_figures), "do not draw the PNG figures (no python3 needed)")
       ("threads", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
       ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
   // clang-format on
@@ -86,11 +141,17 @@ int RunReproduce(const std::vector<std::string>& args) {
     return kExitOk;
   }
   CheckThreads(o.threads);
-  const sim::Reproduction r = sim::Reproduce({.root = o.root, .threads = o.threads});
+  std::string command_line = "patlab reproduce";
+  for (const std::string& a : args) command_line.append(" ").append(a);
+  const sim::ReproduceOptions options{
+      .root = o.root, .threads = o.threads, .out_dir = o.out_dir, .command_line = command_line};
+  const sim::Reproduction r = sim::Reproduce(options);
+  const std::vector<sim::FigureStep> steps = sim::FigureSteps(options);
   int ok = 0;
   for (const sim::PaperNumber& n : r.numbers) ok += n.ok ? 1 : 0;
   if (o.check) {
-    const int failures = CheckAgainstCommitted(r, o.out_dir);
+    const int failures =
+        CheckAgainstCommitted(r, o.no_figures ? std::vector<sim::FigureStep>{} : steps, o.out_dir);
     if (!o.quiet) {
       std::fprintf(stderr, "patlab reproduce --check: %zu numbers, %d ok; %zu files; %d failures\n",
                    r.numbers.size(), ok, r.files.size(), failures);
@@ -107,11 +168,16 @@ int RunReproduce(const std::vector<std::string>& args) {
     std::cerr << "patlab reproduce: " << e.what() << "\n";
     return kExitFailure;
   }
+  const bool drawn = o.no_figures || DrawFigures(steps);
   if (!o.quiet) {
-    std::fprintf(stderr, "patlab reproduce: %zu numbers, %d ok; wrote %zu files in %s\n",
-                 r.numbers.size(), ok, files.size(), o.out_dir.c_str());
+    size_t figures = 0;
+    for (const sim::FigureStep& step : steps) figures += step.outputs.size();
+    std::fprintf(stderr,
+                 "patlab reproduce: %zu numbers, %d ok; wrote %zu files and %zu figures in %s\n",
+                 r.numbers.size(), ok, files.size(), drawn && !o.no_figures ? figures : size_t{0},
+                 o.out_dir.c_str());
   }
-  return kExitOk;
+  return drawn ? kExitOk : kExitFailure;
 }
 
 }  // namespace

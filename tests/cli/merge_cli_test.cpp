@@ -54,6 +54,27 @@ TEST(MergeCli, ShardsMergeIntoTheUnshardedCsvAndManifest) {
             WithoutRunKeys(testing::ReadFile(dir.Path("whole/small.json"))));
 }
 
+TEST(MergeCli, SharesOfTheExperimentTypedAsAnotherPathMerge) {
+  // The fingerprint is the experiment's content (docs/merge.md): share 1 run as ./small.toml in
+  // its directory, share 2 as ../small.toml from a subdirectory, merge into the unsharded CSV.
+  testing::TempDir dir;
+  const std::string e = dir.Write("small.toml", SmallExperiment());
+  dir.Write("sub/.keep", "");
+  dir.Write("shards/.keep", "");
+  ASSERT_EQ(RunCommand(kPatlab + " simulate " + e + " -q --out " + dir.Path("whole")).exit_code, 0);
+  const auto r1 = RunCommand("(cd " + dir.Path() + " && " + kPatlab +
+                             " simulate ./small.toml -q --shard 1/2 --out shards)");
+  ASSERT_EQ(r1.exit_code, 0) << r1.err;
+  const auto r2 = RunCommand("(cd " + dir.Path("sub") + " && " + kPatlab +
+                             " simulate ../small.toml -q --shard 2/2 --out ../shards)");
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  const auto m =
+      RunCommand(kPatlab + " merge " + dir.Path("shards") + " -q --out " + dir.Path("merged"));
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  EXPECT_EQ(testing::ReadFile(dir.Path("merged/small.csv")),
+            testing::ReadFile(dir.Path("whole/small.csv")));
+}
+
 TEST(MergeCli, BadShardFlagsAndIncompleteMergesExitTwoAndWriteNothing) {
   testing::TempDir dir;
   const std::string e = dir.Write("small.toml", SmallExperiment());

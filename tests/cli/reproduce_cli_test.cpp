@@ -19,10 +19,17 @@ TEST(ReproduceCli, CheckPassesOnTheCommittedResultsAndNamesAnEditedFile) {
       RunCommand(kPatlab + " reproduce --check --root " + kRoot + " --out " + kRoot + "/results");
   EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
   EXPECT_EQ(ok.out, "");
-  // A copy of the results with one Table I number changed, and paper.md missing.
+  // A copy of the results with one Table I number and fig5.json's seed changed, paper.md and the
+  // figures missing; table1.json as committed (its run keys and paths differ from the run's).
   testing::TempDir dir;
-  for (const char* name : {"fig5.csv", "table1.csv", "table1_tests.csv"}) {
+  for (const char* name :
+       {"fig5.csv", "table1.csv", "table1_tests.csv", "fig5.json", "table1.json"}) {
     std::string text = testing::ReadFile(kRoot + "/results/" + name);
+    if (std::string(name) == "fig5.json") {
+      const size_t at = text.find("\"seed\": 2003");
+      ASSERT_NE(at, std::string::npos);
+      text.replace(at, 12, "\"seed\": 2004");
+    }
     if (std::string(name) == "table1.csv") {
       const size_t at = text.find("\n40mm,12450,");
       ASSERT_NE(at, std::string::npos);
@@ -40,7 +47,15 @@ TEST(ReproduceCli, CheckPassesOnTheCommittedResultsAndNamesAnEditedFile) {
       bad.out.find("DIFFERS " + dir.Path("paper.md") + ": missing; expected the committed file"),
       std::string::npos)
       << bad.out;
-  EXPECT_EQ(bad.out.find("fig5.csv"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("DIFFERS " + dir.Path("fig5.json") + ": seed 2003; committed: 2004"),
+            std::string::npos)
+      << bad.out;
+  EXPECT_NE(bad.out.find("DIFFERS " + dir.Path("fig2.png") +
+                         ": missing; expected the committed figure (Figs. 2, 3, 6)"),
+            std::string::npos)
+      << bad.out;
+  EXPECT_EQ(bad.out.find(dir.Path("fig5.csv") + ":"), std::string::npos) << bad.out;
+  EXPECT_EQ(bad.out.find(dir.Path("table1.json") + ":"), std::string::npos) << bad.out;
 }
 
 }  // namespace

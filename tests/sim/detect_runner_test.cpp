@@ -146,6 +146,57 @@ TEST_F(DetectRunnerTest, AOneSigmaRunEqualsTheCorrespondingRowOfTheFullSweep) {
   EXPECT_EQ(matches, 1) << full_csv << "\n" << row;
 }
 
+// A codebook file for the Butterfly holding `entries` (names of the ID colours per slot).
+std::string CodebookText(const detect::Codebook& c, size_t entries) {
+  std::string text = "pattern = \"butterfly\"\ncolours = [\"pink\", \"green\"]\n";
+  for (size_t k = 0; k < entries; ++k) {
+    text.append("[[id]]\nid = ").append(std::to_string(c.entries[k].id)).append("\nslots = [");
+    for (size_t slot = 0; slot < c.entries[k].colour.size(); ++slot) {
+      text.append(slot == 0 ? "\"" : ", \"").append(c.colours[c.entries[k].colour[slot]]);
+      text.append("\"");
+    }
+    text.append("]\n");
+  }
+  return text;
+}
+
+// docs/architecture.md rule 1 for the codebook: a detect point's frames are keyed by the content
+// of the codebook it uses (robots wear its IDs), not by where it came from. The Butterfly's
+// generated codebook and the same IDs read from a codebook file in another directory are one
+// point (same key, same row); a codebook of one ID fewer is another point.
+TEST_F(DetectRunnerTest, TheCodebooksContentIsPartOfThePointsIdentity) {
+  const auto load = [this](const std::string& settings, const std::string& pattern_table) {
+    dir_.Write("experiments/" + settings,
+               "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"cyan\", \"orange\"]\n"
+               "[detector]\npatch_sigma_mm = 1.0\n[[pattern]]\npattern = \"butterfly\"\n"
+               "key_colours = [\"blue\", \"yellow\"]\n" +
+                   pattern_table);
+    return LoadExperimentFile(dir_.Write(
+        "experiments/cb.toml",
+        "name = \"cb\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\"]\nseed = 5\n"
+        "[sigma]\nvalues = [3]\n[detect]\nsettings = \"" +
+            settings + "\"\nframes = 200\nrobots_per_team = 4\n"));
+  };
+  const Experiment generated = load("gen.toml", "id_colours = [\"pink\", \"green\"]\n");
+  const DetectPoint g = MakeDetectPoint(generated, 0);
+  const detect::Codebook& codebook = g.config.patterns[0].codebook;
+  ASSERT_EQ(codebook.entries.size(), 16U);
+  dir_.Write("codebooks/all.toml", CodebookText(codebook, 16));
+  dir_.Write("codebooks/fewer.toml", CodebookText(codebook, 15));
+  const Experiment from_file = load("file.toml", "codebook = \"../codebooks/all.toml\"\n");
+  const Experiment fewer = load("fewer.toml", "codebook = \"../codebooks/fewer.toml\"\n");
+
+  EXPECT_EQ(MakeDetectPoint(from_file, 0).key, g.key);
+  EXPECT_NE(MakeDetectPoint(fewer, 0).key, g.key);
+  const std::string csv = DetectResultsCsv(generated, RunDetectExperiment(generated, {}));
+  EXPECT_EQ(DetectResultsCsv(from_file, RunDetectExperiment(from_file, {})), csv);
+  EXPECT_NE(DetectResultsCsv(fewer, RunDetectExperiment(fewer, {})), csv);
+  // Another palette order relabels the blobs (colour errors draw a palette index): another point.
+  Experiment reordered = generated;
+  std::swap(reordered.detect.detector.palette[4], reordered.detect.detector.palette[5]);
+  EXPECT_NE(MakeDetectPoint(reordered, 0).key, g.key);
+}
+
 TEST_F(DetectRunnerTest, ExactScenesAreAllDetectedWithTheirIds) {
   const Experiment e = Load("", "[0]");
   const DetectRunResult result = RunDetectExperiment(e, RunOptions{});
@@ -272,15 +323,37 @@ TEST_F(DetectRunnerTest, APointOfMoreThanOneBlockOfFramesFoldsItsBlocks) {
   EXPECT_NEAR(r.theta.std, stats::SampleStd(et), 1e-12 * r.theta.std);
 }
 
-TEST_F(DetectRunnerTest, ShardsOfPointsOfMoreThanOneBlockOfFramesAreRefused) {
-  // Trial-range shares exist for known-correspondence points only (docs/merge.md).
-  const Experiment e = LoadLong(kStatisticsBlockFrames + 1);
+TEST_F(DetectRunnerTest, ShardsOfPointsOfMoreThanOneBlockOfFramesHoldTheirBlocks) {
+  // Trial-range shares (docs/merge.md): a point of two blocks of frames, share 2/2 runs block 1
+  // only (frames 16384 .. 16393) and returns it unfinished, with its point's header, for the
+  // merge; share 1/2 returns block 0. Their blocks finish to the unsharded point.
+  const Experiment e = LoadLong(kStatisticsBlockFrames + 10, "robots_per_team = 1\n");
   RunOptions options;
+  options.shard = ShardSpec{2, 2};
+  const DetectRunResult second = RunDetectExperiment(e, options);
+  EXPECT_TRUE(second.points.empty());
+  EXPECT_EQ(second.total_frames, 10);
+  ASSERT_EQ(second.blocks.size(), 1U);
+  ASSERT_EQ(second.block_headers.size(), 1U);
+  const WorkBlock& w = second.blocks[0].work;
+  EXPECT_EQ(w.point, 0);
+  EXPECT_EQ(w.block, 1);
+  EXPECT_EQ(w.first, kStatisticsBlockFrames);
+  EXPECT_EQ(w.count, 10);
+  EXPECT_EQ(second.blocks[0].robots, 20);  // two teams of one robot, ten frames
+  EXPECT_EQ(second.block_headers[0].frames, kStatisticsBlockFrames + 10);
+  EXPECT_EQ(second.block_headers[0].robots, 0);  // a header carries no counts
+
   options.shard = ShardSpec{1, 2};
-  EXPECT_INPUT_ERROR(RunDetectExperiment(e, options),
-                     "--shard 1/2 with more than 16384 frames per point: shares are whole "
-                     "points; expected at most 16384 frames per point in a sharded run "
-                     "(docs/merge.md)");
+  const DetectRunResult first = RunDetectExperiment(e, options);
+  ASSERT_EQ(first.blocks.size(), 1U);
+  const DetectBlock both[] = {first.blocks[0], second.blocks[0]};
+  const DetectPointResult merged = FinishDetectPoint(first.block_headers[0], both);
+  const DetectRunResult whole = RunDetectExperiment(e, {});
+  ASSERT_EQ(whole.points.size(), 1U);
+  DetectRunResult one;
+  one.points = {merged};
+  EXPECT_EQ(DetectResultsCsv(e, one), DetectResultsCsv(e, whole));
 }
 
 TEST_F(DetectRunnerTest, ReplayedFramesAddUpToTheRunnersCounts) {

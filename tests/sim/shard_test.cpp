@@ -112,8 +112,9 @@ TEST(Shard, TrialRangeSharesMergeToTheUnshardedRunByteForByte) {
   EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s1}, dir.Path("out"), "", ""), "missing shards 2/2");
 }
 
-TEST(Shard, MergedDetectSharesEqualTheUnshardedRun) {
-  testing::TempDir dir;
+// A detect-mode experiment in `dir` (Butterfly with 2 ID colours, Triangle with 3): `body` is the
+// experiment file after its name and mode.
+Experiment LoadDetect(const testing::TempDir& dir, const std::string& body) {
   for (const char* name : {"butterfly", "triangle"}) {
     dir.Write(std::string("patterns/") + name + ".toml",
               testing::ReadFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml"));
@@ -125,21 +126,100 @@ TEST(Shard, MergedDetectSharesEqualTheUnshardedRun) {
             "key_colours = [\"blue\", \"yellow\"]\n"
             "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"green\", \"cyan\"]\n"
             "key_colours = [\"blue\", \"yellow\"]\n");
-  const Experiment e = LoadExperimentFile(dir.Write(
-      "experiments/e.toml",
-      "name = \"det\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\", \"triangle\"]\n"
-      "seed = 5\n[sigma]\nvalues = [0.5, 2]\n[detect]\nsettings = \"det.toml\"\nframes = 100\n"
-      "false_blob_rate_per_m2 = [0, 3]\n"));
+  return LoadExperimentFile(
+      dir.Write("experiments/e.toml", "name = \"det\"\ncorrespondence = \"detect\"\n" + body));
+}
+
+// Runs share k of n of the detect experiment `e` and writes its shard file into `dir`.
+std::string WriteDetectShard(const Experiment& e, int k, int n, const testing::TempDir& dir) {
+  RunOptions options;
+  options.shard = ShardSpec{k, n};
+  options.threads = 2;
+  return dir.Write("shards/" + ShardFileName("det", options.shard),
+                   DetectShardText(e, RunDetectExperiment(e, options), options.shard, "det", "t"));
+}
+
+TEST(Shard, MergedDetectSharesEqualTheUnshardedRun) {
+  testing::TempDir dir;
+  const Experiment e = LoadDetect(
+      dir,
+      "patterns = [\"butterfly\", \"triangle\"]\nseed = 5\n[sigma]\nvalues = [0.5, 2]\n"
+      "[detect]\nsettings = \"det.toml\"\nframes = 100\nfalse_blob_rate_per_m2 = [0, 3]\n");
   const DetectRunResult whole = RunDetectExperiment(e, {});
-  for (int k = 1; k <= 3; ++k) {
-    RunOptions options;
-    options.shard = ShardSpec{k, 3};
-    dir.Write("shards/" + ShardFileName("det", options.shard),
-              DetectShardText(e, RunDetectExperiment(e, options), options.shard, "det", "t"));
-  }
+  for (int k = 1; k <= 3; ++k) WriteDetectShard(e, k, 3, dir);
   const MergedOutputs merged = MergeShards({dir.Path("shards")}, dir.Path("out"), "", "m");
   EXPECT_EQ(merged.csv, DetectResultsCsv(e, whole));
   EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(DetectManifestJson(e, whole, "", {})));
+}
+
+TEST(Shard, DetectTrialRangeSharesMergeToTheUnshardedRunByteForByte) {
+  // Detect points of three blocks of frames (2 x 2^14 + 300 frames; small frames: one robot per
+  // team, no ball): with 2 or 4 shares no share holds a whole point. The merge adds every
+  // point's counters and folds its pose-error moments as the runner does (FinishDetectPoint), so
+  // the CSV is the same bytes and the manifest the same but for the run's keys. Two points, with
+  // false blobs, missing patches and colour errors, so that every counter is non-zero somewhere.
+  testing::TempDir dir;
+  const Experiment e =
+      LoadDetect(dir,
+                 "patterns = [\"triangle\"]\nseed = 5\n[sigma]\nvalues = [1, 4]\n"
+                 "[detect]\nsettings = \"det.toml\"\nframes = " +
+                     std::to_string(2 * kStatisticsBlockFrames + 300) +
+                     "\nrobots_per_team = 1\nball = false\nfalse_blob_rate_per_m2 = 1\n"
+                     "missing_patch_probability = 0.02\ncolour_error_probability = 0.02\n");
+  RunOptions options;
+  options.threads = 2;
+  const DetectRunResult whole = RunDetectExperiment(e, options);
+  ASSERT_EQ(whole.points.size(), 2U);
+  EXPECT_GT(whole.points[1].wrong_id + whole.points[1].ambiguous, 0);
+  const std::string csv = DetectResultsCsv(e, whole);
+  const std::string manifest = DetectManifestJson(e, whole, "x", {});
+  for (int n : {2, 4}) {
+    testing::TempDir shards;
+    for (int k = n; k >= 1; --k) WriteDetectShard(e, k, n, shards);
+    const MergedOutputs merged = MergeShards({shards.Path("shards")}, dir.Path("out"), "", "m");
+    EXPECT_EQ(merged.csv, csv) << n;
+    EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(manifest)) << n;
+    EXPECT_EQ(nlohmann::json::parse(merged.json)["total_frames"], whole.total_frames) << n;
+  }
+  // A missing share is named, and nothing is merged.
+  testing::TempDir one;
+  const std::string s2 = WriteDetectShard(e, 2, 4, one);
+  const std::string s3 = WriteDetectShard(e, 3, 4, one);
+  EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s2, s3}, dir.Path("out"), "", ""),
+                                 "missing shards 1/4, 4/4 of experiment 'det'");
+}
+
+TEST(Shard, TheFingerprintIsTheExperimentsContentNotItsPathAsTyped) {
+  // Shares run as `patlab simulate exp.toml`, `./exp.toml` or from another directory merge: the
+  // fingerprint leaves out the file paths and takes the content. The merged manifest records
+  // the paths of the first share.
+  testing::TempDir dir;
+  const std::string body =
+      "patterns = [\"butterfly\", \"triangle\"]\nseed = 5\n[sigma]\nvalues = [0.5, 2]\n"
+      "[detect]\nsettings = \"det.toml\"\nframes = 50\n";
+  const Experiment plain = LoadDetect(dir, body);
+  const Experiment dotted = LoadExperimentFile(dir.Path("experiments/./../experiments/e.toml"));
+  ASSERT_NE(plain.source_file, dotted.source_file);
+  WriteDetectShard(plain, 1, 2, dir);
+  WriteDetectShard(dotted, 2, 2, dir);
+  const MergedOutputs merged = MergeShards({dir.Path("shards")}, dir.Path("out"), "", "m");
+  const DetectRunResult whole = RunDetectExperiment(plain, {});
+  EXPECT_EQ(merged.csv, DetectResultsCsv(plain, whole));
+  EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(DetectManifestJson(plain, whole, "", {})));
+  // The same paths with other content are another experiment: a settings file whose Triangle
+  // lists its ID colours in another order (another codebook) is refused.
+  dir.Write("experiments/det.toml",
+            "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"cyan\", \"orange\"]\n"
+            "[detector]\npatch_sigma_mm = 1.0\n"
+            "[[pattern]]\npattern = \"butterfly\"\nid_colours = [\"pink\", \"green\"]\n"
+            "key_colours = [\"blue\", \"yellow\"]\n"
+            "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"cyan\", \"green\"]\n"
+            "key_colours = [\"blue\", \"yellow\"]\n");
+  const std::string other =
+      WriteDetectShard(LoadExperimentFile(dir.Path("experiments/e.toml")), 2, 2, dir);
+  EXPECT_INPUT_ERROR_STARTS_WITH(
+      MergeShards({dir.Path("shards/det.shard-1-of-2.json"), other}, dir.Path("out"), "", "m"),
+      other + ": shard of experiment 'det', seed 5, patlab " + PATLAB_VERSION + ", fingerprint ");
 }
 
 TEST(Shard, MissingRepeatedAndForeignSharesAreNamed) {

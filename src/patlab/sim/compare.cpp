@@ -316,7 +316,9 @@ CompareResult CompareDesigns(const std::vector<std::pair<Pattern, std::string>>&
     if (options.progress) {
       eo.progress = [&, base](int done, int /*total*/) { options.progress(base + done, units); };
     }
-    CompareRow row;
+    // Built in place: a local CompareRow moved into the vector trips GCC 12's false
+    // -Wmaybe-uninitialized on EvaluateOptions' initializer lists.
+    CompareRow& row = result.rows.emplace_back();
     row.design = pattern.name;
     row.file = file;
     row.patches = pattern.size();
@@ -325,7 +327,6 @@ CompareResult CompareDesigns(const std::vector<std::pair<Pattern, std::string>>&
     row.report.options.progress = nullptr;
     row.geometry = ComputeDesignGeometry(pattern, row.report.ids.symmetry);
     FillCells(&row);
-    result.rows.push_back(std::move(row));
     if (options.progress) options.progress(base + units_per_design, units);
   }
   Rank(options, result.columns, &result.rows);

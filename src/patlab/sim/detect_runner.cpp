@@ -57,7 +57,8 @@ DetectPoint MakeDetectPoint(const Experiment& experiment, uint32_t point) {
   p.scene.pattern = 0;
   p.scene.false_blob_rate_per_m2 = d.false_blob_rates_per_m2[p.rate_index];
   p.key = DetectPointKey(experiment.seed, experiment.patterns[p.pattern_index], experiment.noise,
-                         p.sigma_mm, p.scene.false_blob_rate_per_m2);
+                         p.sigma_mm, p.scene.false_blob_rate_per_m2, p.config.patterns[0],
+                         p.config.palette);
   return p;
 }
 
@@ -104,30 +105,23 @@ double RunFrames(const Experiment& experiment, const DetectPoint& point, const W
   return detectors.local().ResidualTolerance(0);
 }
 
-// The pose errors of the correct detections, as moments folded block by block.
-struct ErrorMoments {
-  stats::Moments x, y, theta;
-};
-
-// Stage 2a: the counters and pose errors of a block's frames, summed serially in frame order;
-// the block's error moments fold into `m` (runner.h, kStatisticsBlockFrames).
-void SumFrames(const std::vector<FrameSlot>& slots, int64_t count, DetectPointResult* r,
-               ErrorMoments* m) {
+// Stage 2a: a block's counters and the moments of its pose errors, summed serially in frame order.
+void SumFrames(const std::vector<FrameSlot>& slots, int64_t count, DetectBlock* b) {
   std::vector<double> ex, ey, et;
   for (int64_t f = 0; f < count; ++f) {
     const FrameSlot& slot = slots[f];
     const FrameScore& s = slot.score;
-    r->robots += s.robots;
-    r->correct += s.correct;
-    r->wrong_id += s.wrong_id;
-    r->unknown_id += s.unknown_id;
-    r->ambiguous += s.ambiguous;
-    r->missed += s.missed;
-    r->false_positives += s.false_positives;
-    r->false_blobs += slot.false_blobs;
-    r->missing_patches += slot.missing_patches;
-    r->colour_errors += slot.colour_errors;
-    r->stats += slot.stats;
+    b->robots += s.robots;
+    b->correct += s.correct;
+    b->wrong_id += s.wrong_id;
+    b->unknown_id += s.unknown_id;
+    b->ambiguous += s.ambiguous;
+    b->missed += s.missed;
+    b->false_positives += s.false_positives;
+    b->false_blobs += slot.false_blobs;
+    b->missing_patches += slot.missing_patches;
+    b->colour_errors += slot.colour_errors;
+    b->stats += slot.stats;
     for (const PoseError& e : s.pose_errors) {
       ex.push_back(e.dx_mm);
       ey.push_back(e.dy_mm);
@@ -136,29 +130,14 @@ void SumFrames(const std::vector<FrameSlot>& slots, int64_t count, DetectPointRe
   }
   if (ex.empty()) return;
   const std::span<const double> columns[3] = {ex, ey, et};
-  stats::Moments block[3];
-  stats::MomentsOfEach(columns, block);
-  m->x = stats::CombineMoments(m->x, block[0]);
-  m->y = stats::CombineMoments(m->y, block[1]);
-  m->theta = stats::CombineMoments(m->theta, block[2]);
+  stats::Moments m[3];
+  stats::MomentsOfEach(columns, m);
+  b->x = m[0];
+  b->y = m[1];
+  b->theta = m[2];
 }
 
-// Stage 2b: the rates with their 95% intervals, and the bound at the point's sigma.
-void FillRates(const Experiment& experiment, const DetectPoint& point, DetectPointResult* r) {
-  r->detection = stats::WilsonInterval(r->correct, r->robots);
-  r->wrong_id_rate = stats::WilsonInterval(r->wrong_id, r->correct + r->wrong_id);
-  r->ambiguous_rate = stats::WilsonInterval(r->ambiguous, r->robots);
-  r->false_positives_per_frame = stats::GarwoodInterval(r->false_positives, r->frames);
-  if (experiment.noise.IsIsotropicGaussian()) {
-    const estimate::StdPerSigma crlb = estimate::CramerRaoBound(
-        estimate::Model::FromPattern(experiment.patterns[point.pattern_index]));
-    r->crlb_position_mm = crlb.position_per_axis * r->sigma_mm;
-    r->crlb_theta_rad = crlb.theta * r->sigma_mm;
-  } else {
-    r->crlb_position_mm = r->crlb_theta_rad = std::nan("");
-  }
-}
-
+// The point's identity, detector sigma and the bound at its sigma (isotropic noise only).
 DetectPointResult PointHeader(const Experiment& experiment, const DetectPoint& point) {
   DetectPointResult r;
   r.pattern_index = point.pattern_index;
@@ -168,10 +147,51 @@ DetectPointResult PointHeader(const Experiment& experiment, const DetectPoint& p
   r.point = point.point;
   r.frames = experiment.detect.frames;
   r.detector_sigma_mm = point.config.options.patch_sigma_mm;
+  if (experiment.noise.IsIsotropicGaussian()) {
+    const estimate::StdPerSigma crlb = estimate::CramerRaoBound(
+        estimate::Model::FromPattern(experiment.patterns[point.pattern_index]));
+    r.crlb_position_mm = crlb.position_per_axis * r.sigma_mm;
+    r.crlb_theta_rad = crlb.theta * r.sigma_mm;
+  } else {
+    r.crlb_position_mm = r.crlb_theta_rad = std::nan("");
+  }
   return r;
 }
 
 }  // namespace
+
+DetectPointResult FinishDetectPoint(const DetectPointResult& header,
+                                    std::span<const DetectBlock> blocks) {
+  PATLAB_CHECK(!blocks.empty());
+  DetectPointResult r = header;
+  stats::Moments x, y, theta;
+  for (const DetectBlock& b : blocks) {
+    r.robots += b.robots;
+    r.correct += b.correct;
+    r.wrong_id += b.wrong_id;
+    r.unknown_id += b.unknown_id;
+    r.ambiguous += b.ambiguous;
+    r.missed += b.missed;
+    r.false_positives += b.false_positives;
+    r.false_blobs += b.false_blobs;
+    r.missing_patches += b.missing_patches;
+    r.colour_errors += b.colour_errors;
+    r.stats += b.stats;
+    x = stats::CombineMoments(x, b.x);
+    y = stats::CombineMoments(y, b.y);
+    theta = stats::CombineMoments(theta, b.theta);
+  }
+  r.tolerance_mm2 = blocks.back().tolerance_mm2;
+  r.x = SummariseMoments(x);
+  r.y = SummariseMoments(y);
+  r.theta = SummariseMoments(theta);
+  // Stage 2b: the rates with their 95% intervals.
+  r.detection = stats::WilsonInterval(r.correct, r.robots);
+  r.wrong_id_rate = stats::WilsonInterval(r.wrong_id, r.correct + r.wrong_id);
+  r.ambiguous_rate = stats::WilsonInterval(r.ambiguous, r.robots);
+  r.false_positives_per_frame = stats::GarwoodInterval(r.false_positives, r.frames);
+  return r;
+}
 
 DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptions& options) {
   PATLAB_CHECK(experiment.correspondence == Correspondence::kDetect);
@@ -185,37 +205,45 @@ DetectRunResult RunDetectExperiment(const Experiment& experiment, const RunOptio
   result.threads = limit.threads();
   const int64_t frames = experiment.detect.frames;
   const int64_t blocks_per_point = BlocksPerPoint(frames, kStatisticsBlockFrames);
-  RequireWholePoints(options.shard, blocks_per_point, "frames", kStatisticsBlockFrames);
   const std::vector<WorkBlock> work =
       ShareBlocks(NumDetectPoints(experiment), frames, kStatisticsBlockFrames, options.shard);
   std::vector<FrameSlot> slots(std::min(frames, kStatisticsBlockFrames));
-  ErrorMoments moments;
+  std::vector<DetectBlock> blocks(work.size());
   for (size_t index = 0; index < work.size(); ++index) {
     const WorkBlock& w = work[index];
     const DetectPoint point = MakeDetectPoint(experiment, static_cast<uint32_t>(w.point));
-    if (w.block == 0) {
-      result.points.push_back(PointHeader(experiment, point));
-      moments = ErrorMoments{};
-    }
-    DetectPointResult& r = result.points.back();
+    DetectBlock& b = blocks[index];
+    b.work = w;
     const auto sim_start = Clock::now();
-    r.tolerance_mm2 = RunFrames(experiment, point, w, &slots);
+    b.tolerance_mm2 = RunFrames(experiment, point, w, &slots);
     result.simulate_seconds += SecondsSince(sim_start);
 
     const auto stats_start = Clock::now();
-    SumFrames(slots, w.count, &r, &moments);
-    if (w.block == blocks_per_point - 1) {
-      r.x = SummariseMoments(moments.x);
-      r.y = SummariseMoments(moments.y);
-      r.theta = SummariseMoments(moments.theta);
-      FillRates(experiment, point, &r);
-    }
+    SumFrames(slots, w.count, &b);
     result.statistics_seconds += SecondsSince(stats_start);
     result.total_frames += w.count;
     if (options.progress) {
       options.progress(static_cast<int>(index + 1), static_cast<int>(work.size()));
     }
   }
+  // Every point's blocks, folded in frame order (docs/architecture.md rule 2); a share that holds
+  // only some blocks of a point returns them for `patlab merge` (shard.h).
+  const auto stats_start = Clock::now();
+  for (size_t begin = 0; begin < work.size();) {
+    size_t end = begin;
+    while (end < work.size() && work[end].point == work[begin].point) ++end;
+    const DetectPointResult header = PointHeader(
+        experiment, MakeDetectPoint(experiment, static_cast<uint32_t>(work[begin].point)));
+    const std::span<const DetectBlock> point_blocks(blocks.data() + begin, end - begin);
+    if (static_cast<int64_t>(end - begin) == blocks_per_point) {
+      result.points.push_back(FinishDetectPoint(header, point_blocks));
+    } else {
+      result.block_headers.push_back(header);
+      result.blocks.insert(result.blocks.end(), point_blocks.begin(), point_blocks.end());
+    }
+    begin = end;
+  }
+  result.statistics_seconds += SecondsSince(stats_start);
   result.wall_seconds = SecondsSince(wall_start);
   return result;
 }

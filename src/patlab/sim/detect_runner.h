@@ -7,7 +7,8 @@
 // pose error statistics of the correct detections.
 //
 // Frame f of a point draws every random number from RandomStream(key, kDetectStream, f), key =
-// DetectPointKey (experiment seed, pattern content, noise, sigma, false-blob rate: point_key.h),
+// DetectPointKey (experiment seed, pattern content, noise, sigma, false-blob rate, codebook
+// content, key colours, palette: point_key.h),
 // so a point draws the same frames in any grid (docs/architecture.md rule 1): first the common
 // offset (NoiseModel::CommonOffset, once per frame), then the scene, each patch's error from
 // NoiseModel::PatchError through PatchNoise::perturb. Frames run in parallel into slots
@@ -17,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -58,8 +60,33 @@ struct DetectPointResult {
   detect::DetectStats stats;
 };
 
+// What one block of a point's frames (runner.h, kStatisticsBlockFrames) leaves: its counters,
+// summed over its frames in frame order, and the moments of its correct detections' pose errors.
+// A point's blocks fold in frame order into its DetectPointResult (FinishDetectPoint): counters
+// add, moments combine (stats::CombineMoments), so a point of any number of blocks has the same
+// bits whether one process ran it or the blocks came from trial-range shares (shard.h).
+struct DetectBlock {
+  WorkBlock work;
+  int64_t robots = 0, correct = 0, wrong_id = 0, unknown_id = 0, ambiguous = 0, missed = 0;
+  int64_t false_positives = 0, false_blobs = 0, missing_patches = 0, colour_errors = 0;
+  detect::DetectStats stats;
+  stats::Moments x, y, theta;  // pose errors of the correct detections (mm, mm, rad)
+  double tolerance_mm2 = 0.0;  // the detectors' geometric tolerance (the same in every block)
+};
+
+// The point's result from all its blocks (block 0, 1, ... in order). `header` holds the point's
+// identity (pattern, sigma, rate, point, frames), the detector sigma and the bounds, which are
+// copied; the counters, rates, intervals and error statistics come from the blocks. The runner
+// and `patlab merge` both finish detect points here.
+DetectPointResult FinishDetectPoint(const DetectPointResult& header,
+                                    std::span<const DetectBlock> blocks);
+
 struct DetectRunResult {
   std::vector<DetectPointResult> points;  // pattern-major, then false-blob rate, then sigma
+  // A sharded run whose points have more than one block of frames: the share's blocks, in item
+  // order, and the header (for FinishDetectPoint) of each point they belong to, in point order.
+  std::vector<DetectBlock> blocks;
+  std::vector<DetectPointResult> block_headers;
   int threads = 0;
   int64_t total_frames = 0;
   double simulate_seconds = 0.0;    // scenes, detection and scoring

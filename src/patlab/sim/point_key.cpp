@@ -55,14 +55,33 @@ uint64_t KnownPointKey(uint64_t seed, const Pattern& pattern, const NoiseModel& 
   return key.value();
 }
 
+void AddDetectorPattern(const detect::DetectorPattern& pattern,
+                        const std::vector<std::string>& palette, StreamKey* key) {
+  const detect::Codebook& c = pattern.codebook;
+  key->Add(static_cast<uint64_t>(c.colours.size()));
+  for (const std::string& colour : c.colours) key->Add(std::string_view(colour));
+  key->Add(static_cast<uint64_t>(c.num_slots)).Add(static_cast<uint64_t>(c.entries.size()));
+  for (const detect::CodebookEntry& e : c.entries) {
+    key->Add(static_cast<uint64_t>(e.id)).Add(static_cast<uint64_t>(e.colour.size()));
+    for (const int colour : e.colour) key->Add(static_cast<uint64_t>(colour));
+  }
+  key->Add(static_cast<uint64_t>(pattern.key_colours.size()));
+  for (const std::string& colour : pattern.key_colours) key->Add(std::string_view(colour));
+  key->Add(static_cast<uint64_t>(palette.size()));
+  for (const std::string& colour : palette) key->Add(std::string_view(colour));
+}
+
 uint64_t DetectPointKey(uint64_t seed, const Pattern& pattern, const NoiseModel& noise,
-                        double sigma_mm, double false_blob_rate_per_m2) {
+                        double sigma_mm, double false_blob_rate_per_m2,
+                        const detect::DetectorPattern& detector,
+                        const std::vector<std::string>& palette) {
   StreamKey key(seed);
   key.Add(static_cast<uint64_t>(kDetectStream));
   AddPattern(pattern, &key);
   AddNoise(noise, &key);
   AddSigma(sigma_mm, &key);
   key.Add(false_blob_rate_per_m2);
+  AddDetectorPattern(detector, palette, &key);
   return key.value();
 }
 

@@ -1,14 +1,16 @@
 // The identity of a data point as a Philox key (core/rng.h StreamKey; docs/architecture.md
 // rule 1): a point's random numbers come from (experiment seed, the pattern's content, the noise
-// model, sigma, [false-blob rate,] trial or frame index), never from its position in the grid, the
-// order of the lists or the thread count. So `--sigmas 1`, `--sigmas 0.5,1` and the full Fig. 5
-// sweep give the same row for the Butterfly at sigma = 1 mm, byte for byte.
+// model, sigma, [false-blob rate, codebook, key colours, palette,] trial or frame index), never
+// from its position in the grid, the order of the lists or the thread count. So `--sigmas 1`,
+// `--sigmas 0.5,1` and the full Fig. 5 sweep give the same row for the Butterfly at sigma = 1 mm,
+// byte for byte.
 #pragma once
 
 #include <cstdint>
 
 #include "patlab/core/pattern.h"
 #include "patlab/core/rng.h"
+#include "patlab/detect/detector.h"
 #include "patlab/sim/noise.h"
 
 namespace patlab::sim {
@@ -28,8 +30,20 @@ void AddNoise(const NoiseModel& noise, StreamKey* key);
 // The key of a known-correspondence point: (seed, "known", pattern, noise, sigma).
 uint64_t KnownPointKey(uint64_t seed, const Pattern& pattern, const NoiseModel& noise,
                        double sigma_mm);
-// The key of a detect-mode point: (seed, "detect", pattern, noise, sigma, false-blob rate).
+// Folds what a detect-mode point's scenes are drawn with, beyond the pattern, into `key`: the
+// codebook's content (its ID colours by name, slots and every entry's ID and colouring), the
+// key (team) colours by name, and the detector palette by name (a blob's colour label and a
+// colour error's draw are palette indices). Not the codebook's file, its pattern name or the
+// symmetry tolerance: the same codebook read from a file or generated is the same point.
+void AddDetectorPattern(const detect::DetectorPattern& pattern,
+                        const std::vector<std::string>& palette, StreamKey* key);
+
+// The key of a detect-mode point: (seed, "detect", pattern, noise, sigma, false-blob rate,
+// codebook, key colours, palette). `detector` is the point's DetectorPattern (its pattern is
+// folded as `pattern`, by content).
 uint64_t DetectPointKey(uint64_t seed, const Pattern& pattern, const NoiseModel& noise,
-                        double sigma_mm, double false_blob_rate_per_m2);
+                        double sigma_mm, double false_blob_rate_per_m2,
+                        const detect::DetectorPattern& detector,
+                        const std::vector<std::string>& palette);
 
 }  // namespace patlab::sim

@@ -253,9 +253,14 @@ constexpr const char* kDetectColumnsTail[] = {
 }  // namespace
 
 std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult& result) {
-  std::string csv = Header(kDetectColumnsHead, kDetectColumnsTail);
-  const std::string noise = experiment.noise.Describe();
-  for (const DetectPointResult& p : result.points) {
+  return Header(kDetectColumnsHead, kDetectColumnsTail) +
+         DetectResultsCsvRows(experiment.noise.Describe(), result.points);
+}
+
+std::string DetectResultsCsvRows(const std::string& noise,
+                                 std::span<const DetectPointResult> points) {
+  std::string csv;
+  for (const DetectPointResult& p : points) {
     const std::string head[] = {
         p.pattern,
         Num(p.sigma_mm),

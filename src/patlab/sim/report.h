@@ -23,6 +23,10 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
 // Detect mode (correspondence = "detect"): one row per pattern x false-blob rate x sigma
 // (columns: docs/file-formats.md), and its manifest, with the same common fields.
 std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult& result);
+// Its rows (no header), as ResultsCsvRows: what `patlab merge` writes for detect-mode points it
+// finishes from trial-range shards.
+std::string DetectResultsCsvRows(const std::string& noise,
+                                 std::span<const DetectPointResult> points);
 std::string DetectManifestJson(const Experiment& experiment, const DetectRunResult& result,
                                const std::string& command_line,
                                const std::vector<std::string>& outputs);

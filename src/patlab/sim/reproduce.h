@@ -42,18 +42,41 @@ struct Reproduction {
 };
 
 struct ReproduceOptions {
-  std::string root = ".";  // the checkout: experiments/ and patterns/ are read from here
-  int threads = 0;         // 0 = all cores; results do not depend on it
+  std::string root = ".";           // the checkout: experiments/ and patterns/ are read from here
+  int threads = 0;                  // 0 = all cores; results do not depend on it
+  std::string out_dir = "results";  // where the files go (the manifests' outputs)
+  std::string command_line = "patlab reproduce";  // recorded in the manifests
 };
 
-// Runs experiments/fig5.toml and experiments/table1.toml through the library (the same calls as
-// `patlab simulate` and `patlab track`), counts the IDs of Table II, and judges every number.
+// Runs experiments/fig5.toml and experiments/table1.toml (twice: as calibrated, and without
+// sensor noise or jitter for Fig. 6's quantisation panels) through the library (the same calls
+// as `patlab simulate` and `patlab track`), counts the IDs of Table II, and judges every number.
+// Reproduction::files: fig5.csv and .json; table1.csv, table1_tests.csv, track_errors.csv and
+// table1.json; the same four under track_quantisation/ (errors decimated by 4, as
+// scripts/regenerate_results.sh always made them); paper.md.
 Reproduction Reproduce(const ReproduceOptions& options);
+
+// A figure of the paper drawn from the regenerated CSVs by a plotting script (matplotlib): the
+// command (argv[0] is /usr/bin/python3) and the PNG files it writes.
+struct FigureStep {
+  std::string figure;  // "Fig. 5"
+  std::vector<std::string> argv;
+  std::vector<std::string> outputs;
+};
+// Figs. 5 (scripts/plot_fig5.py) and 2, 3, 6 (scripts/plot_track.py), reading and writing
+// options.out_dir. `patlab reproduce` runs them after writing the files.
+std::vector<FigureStep> FigureSteps(const ReproduceOptions& options);
+
+// The regenerated manifest (JSON) differs from the committed one: compared without the keys that
+// describe the run (command line, threads, timings, rates, outputs) or where the inputs were
+// read from (file paths), numbers within CompareResultText's tolerance. "" when they agree, else
+// the first difference ("timings_s.wall ...").
+std::string CompareManifestText(const std::string& regenerated, const std::string& committed);
 
 // results/paper.md: a table of every number (paper, patlab, tolerance or reason, verdict).
 std::string PaperMarkdown(const Reproduction& reproduction);
 
-// The regenerated file differs from the committed one beyond the tolerance of
+// The regenerated CSV or text file differs from the committed one beyond the tolerance of
 // docs/paper-reproduction.md ("Results on other machines"): every cell equal as text, or both
 // numbers with |a - b| <= 2e-9 max(|a|, |b|) + 1e-12. Returns "" when they agree, else the first
 // differing line ("line 12: ... ; committed: ...").

@@ -449,16 +449,6 @@ PointResult FinishPoint(const PointResult& header, std::span<const PointBlock> b
   return point;
 }
 
-void RequireWholePoints(const ShardSpec& shard, int64_t blocks_per_point, const char* unit,
-                        int64_t block_size) {
-  if (shard.IsWhole() || blocks_per_point == 1) return;
-  throw InputError("--shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) +
-                   " with more than " + std::to_string(block_size) + " " + unit +
-                   " per point: shares are whole points; expected at most " +
-                   std::to_string(block_size) + " " + unit +
-                   " per point in a sharded run (docs/merge.md)");
-}
-
 int64_t BlocksPerPoint(int64_t per_point, int64_t block_size) {
   PATLAB_CHECK(per_point >= 1 && block_size >= 1);
   return (per_point + block_size - 1) / block_size;

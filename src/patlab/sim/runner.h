@@ -63,10 +63,6 @@ int64_t BlocksPerPoint(int64_t per_point, int64_t block_size);
 std::vector<WorkBlock> ShareBlocks(int64_t points, int64_t per_point, int64_t block_size,
                                    const ShardSpec& shard);
 
-// Throws InputError when a sharded run (not 1/1) would split a point of more than one block.
-void RequireWholePoints(const ShardSpec& shard, int64_t blocks_per_point, const char* unit,
-                        int64_t block_size);
-
 struct RunOptions {
   int threads = 0;  // worker threads; 0 = all cores. Results do not depend on it.
   ShardSpec shard;  // only the points of this share are run (RunResult::points holds them)

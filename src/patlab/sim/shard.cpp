@@ -48,11 +48,27 @@ std::string Checksum(json shard) {
   return Hex(StreamKey(0).Add(std::string_view(shard.dump())).value());
 }
 
-// The fingerprint: the manifest's run-independent part and the content of every pattern.
-std::string Fingerprint(const json& manifest, const Experiment& experiment) {
+// The fingerprint: what the experiment is, by content. The manifest's run-independent part
+// without the paths of the files as typed (the experiment, pattern and detector settings files:
+// `./exp.toml`, `exp.toml` and an absolute path are one experiment), the content of every
+// pattern, and in detect mode every detector pattern's codebook, key colours and the palette
+// (what the settings file held; point_key.h).
+std::string Fingerprint(json manifest, const Experiment& experiment) {
+  if (manifest.contains("experiment")) manifest["experiment"].erase("file");
+  if (manifest.contains("patterns")) {
+    for (json& p : manifest["patterns"]) p.erase("file");
+  }
+  if (manifest.contains("detect")) manifest["detect"].erase("settings");
   StreamKey key(0);
   key.Add(std::string_view(manifest.dump()));
   for (const Pattern& p : experiment.patterns) AddPattern(p, &key);
+  if (experiment.correspondence == Correspondence::kDetect) {
+    const detect::DetectorConfig& config = experiment.detect.detector;
+    for (const int index : experiment.detect.detector_pattern) {
+      AddDetectorPattern(config.patterns.at(index), config.palette, &key);
+      key.Add(config.patterns.at(index).symmetry_tolerance_mm);
+    }
+  }
   return Hex(key.value());
 }
 
@@ -173,6 +189,77 @@ void ReadBlockEntry(const json& j, PointResult* header, PointBlock* block) {
   }
 }
 
+// The detector's counters of a block, in DetectStats order.
+json DetectStatsJson(const detect::DetectStats& d) {
+  return json::array({d.key_candidates, d.neighbours, d.neighbours_cut, d.correspondences,
+                      d.geometry_passed, d.colour_rejected, d.ambiguous, d.missing_fits,
+                      d.conflicts, d.detections});
+}
+detect::DetectStats DetectStatsOf(const json& j) {
+  detect::DetectStats d;
+  long* fields[] = {&d.key_candidates,  &d.neighbours,      &d.neighbours_cut, &d.correspondences,
+                    &d.geometry_passed, &d.colour_rejected, &d.ambiguous,      &d.missing_fits,
+                    &d.conflicts,       &d.detections};
+  if (j.size() != std::size(fields)) {
+    throw json::other_error::create(501, "detector counters: wrong number", nullptr);
+  }
+  for (size_t k = 0; k < std::size(fields); ++k) *fields[k] = j.at(k).get<long>();
+  return d;
+}
+
+// One block of a detect-mode trial-range share: the point's header (identity, detector sigma and
+// bounds, for FinishDetectPoint), the block's counters and the moments of its pose errors.
+json DetectBlockEntry(const DetectPointResult& header, const DetectBlock& b) {
+  return json{{"index", b.work.point},
+              {"block", b.work.block},
+              {"first", b.work.first},
+              {"count", b.work.count},
+              {"header",
+               {{"pattern_index", header.pattern_index},
+                {"pattern", header.pattern},
+                {"sigma_mm", header.sigma_mm},
+                {"false_blob_rate_per_m2", header.false_blob_rate_per_m2},
+                {"frames", header.frames},
+                {"detector_sigma_mm", header.detector_sigma_mm},
+                {"crlb", {Number(header.crlb_position_mm), Number(header.crlb_theta_rad)}}}},
+              {"counters",
+               {b.robots, b.correct, b.wrong_id, b.unknown_id, b.ambiguous, b.missed,
+                b.false_positives, b.false_blobs, b.missing_patches, b.colour_errors}},
+              {"detector", DetectStatsJson(b.stats)},
+              {"moments", {MomentsJson(b.x), MomentsJson(b.y), MomentsJson(b.theta)}},
+              {"tolerance_mm2", Number(b.tolerance_mm2)}};
+}
+
+// The inverse of DetectBlockEntry; throws json exceptions on a malformed entry.
+void ReadDetectBlockEntry(const json& j, DetectPointResult* header, DetectBlock* b) {
+  b->work = WorkBlock{j.at("index").get<int64_t>(), j.at("block").get<int64_t>(),
+                      j.at("first").get<int64_t>(), j.at("count").get<int64_t>()};
+  const json& h = j.at("header");
+  header->pattern_index = h.at("pattern_index").get<int>();
+  header->pattern = h.at("pattern").get<std::string>();
+  header->sigma_mm = h.at("sigma_mm").get<double>();
+  header->false_blob_rate_per_m2 = h.at("false_blob_rate_per_m2").get<double>();
+  header->frames = h.at("frames").get<int64_t>();
+  header->detector_sigma_mm = h.at("detector_sigma_mm").get<double>();
+  header->crlb_position_mm = NumberOf(h.at("crlb").at(0));
+  header->crlb_theta_rad = NumberOf(h.at("crlb").at(1));
+  header->point = static_cast<uint32_t>(b->work.point);
+  const json& c = j.at("counters");
+  int64_t* counters[] = {
+      &b->robots, &b->correct,         &b->wrong_id,    &b->unknown_id,      &b->ambiguous,
+      &b->missed, &b->false_positives, &b->false_blobs, &b->missing_patches, &b->colour_errors};
+  if (c.size() != std::size(counters)) {
+    throw json::other_error::create(501, "counters: wrong number", nullptr);
+  }
+  for (size_t k = 0; k < std::size(counters); ++k) *counters[k] = c.at(k).get<int64_t>();
+  b->stats = DetectStatsOf(j.at("detector"));
+  const json& m = j.at("moments");
+  b->x = MomentsOf(m.at(0));
+  b->y = MomentsOf(m.at(1));
+  b->theta = MomentsOf(m.at(2));
+  b->tolerance_mm2 = NumberOf(j.at("tolerance_mm2"));
+}
+
 std::string ShardText(const Experiment& experiment, const std::string& manifest_text,
                       const std::string& header, json points, const ShardSpec& shard,
                       const std::string& base, int64_t points_total, json run,
@@ -273,9 +360,17 @@ std::string DetectShardText(const Experiment& experiment, const DetectRunResult&
         PointEntry(p.point, p.frames, 0, SplitRows(DetectResultsCsv(experiment, one), &header)));
   }
   if (header.empty()) SplitRows(DetectResultsCsv(experiment, DetectRunResult{}), &header);
+  // Trial-range shares: each block with the header of its point (as KnownShardText).
+  json blocks = json::array();
+  size_t h = 0;
+  for (size_t i = 0; i < result.blocks.size(); ++i) {
+    if (i > 0 && result.blocks[i].work.point != result.blocks[i - 1].work.point) ++h;
+    blocks.push_back(DetectBlockEntry(result.block_headers.at(h), result.blocks[i]));
+  }
   return ShardText(experiment, DetectManifestJson(experiment, result, "", {}), header,
                    std::move(points), shard, base, NumDetectPoints(experiment),
-                   RunPart(result, command_line));
+                   RunPart(result, command_line), std::move(blocks),
+                   BlocksPerPoint(experiment.detect.frames, kStatisticsBlockFrames));
 }
 
 namespace {
@@ -498,6 +593,7 @@ std::string MergedManifest(const std::vector<const ShardFile*>& shards,
     }
     for (const json& b : f->content["blocks"]) {
       total += b["count"].get<int64_t>();
+      if (!known) continue;  // detect-mode blocks have no estimators
       for (const json& e : b["estimators"]) nonconverged += e["ml"][1].get<int64_t>();
     }
     const json& run = f->content["run"];
@@ -521,8 +617,50 @@ std::string MergedManifest(const std::vector<const ShardFile*>& shards,
   return m.dump(2) + "\n";
 }
 
+// A finished point's trials (frames).
+int64_t CountOf(const PointResult& p) { return p.trials; }
+int64_t CountOf(const DetectPointResult& p) { return p.frames; }
+
+// Reads one block entry of a trial-range share with `read`, naming the file and the block when
+// it is malformed.
+template <typename Header, typename Block, typename Read>
+void ReadBlock(const json& entry, const ShardFile& file, Read read, Header* header, Block* block) {
+  try {
+    read(entry, header, block);
+  } catch (const json::exception& e) {
+    // Appended piece by piece: GCC 12's -Wrestrict misfires on "literal" + std::string.
+    std::string message = "block ";
+    message.append(entry.value("block", json()).dump()).append(" of point ");
+    message.append(entry.value("index", json()).dump());
+    message.append(" is malformed (").append(e.what());
+    message.append("); expected a shard as 'patlab simulate --shard' wrote it");
+    Fail(file.path, message);
+  }
+}
+
+// One point of trial-range shares from its blocks (in block order): read with `read`, finished
+// with `finish` as the runner finishes it, written as its CSV rows with `rows`.
+template <typename Header, typename Block, typename Read, typename Finish, typename Rows>
+json FinishOnePoint(int64_t index,
+                    const std::map<int64_t, std::pair<const json*, const ShardFile*>>& entries,
+                    Read read, Finish finish, Rows rows) {
+  Header header;
+  std::vector<Block> blocks;
+  for (const auto& [block, entry] : entries) {
+    Header h;
+    ReadBlock(*entry.first, *entry.second, read, &h, &blocks.emplace_back());
+    if (block == 0) header = h;
+  }
+  const auto point = finish(header, std::span<const Block>(blocks));
+  std::string unused, csv = "\n";  // SplitRows skips a header line
+  csv.append(rows({&point, 1}));
+  std::vector<std::string> lines = SplitRows(csv, &unused);
+  return PointEntry(index, CountOf(point), 0, std::move(lines));
+}
+
 // The points of trial-range shares: each point's blocks from every share, in block order,
-// finished as the runner finishes them (FinishPoint) and written as its CSV rows.
+// finished as the runner finishes them (FinishPoint, FinishDetectPoint) and written as its CSV
+// rows.
 json FinishBlockPoints(const std::vector<const ShardFile*>& shards) {
   std::map<int64_t, std::map<int64_t, std::pair<const json*, const ShardFile*>>> by_point;
   for (const ShardFile* f : shards) {
@@ -532,28 +670,19 @@ json FinishBlockPoints(const std::vector<const ShardFile*>& shards) {
   }
   json points = json::array();
   const std::string noise = shards.front()->content["noise"].get<std::string>();
+  const bool known = shards.front()->content["mode"] == "known";
   for (const auto& [index, blocks] : by_point) {
-    PointResult header;
-    std::vector<PointBlock> point_blocks;
-    for (const auto& [block, entry] : blocks) {
-      PointResult h;
-      try {
-        ReadBlockEntry(*entry.first, &h, &point_blocks.emplace_back());
-      } catch (const json::exception& e) {
-        // Appended piece by piece: GCC 12's -Wrestrict misfires on "literal" + std::string.
-        std::string message = "block ";
-        message.append(std::to_string(block)).append(" of point ").append(std::to_string(index));
-        message.append(" is malformed (").append(e.what());
-        message.append("); expected a shard as 'patlab simulate --shard' wrote it");
-        Fail(entry.second->path, message);
-      }
-      if (block == 0) header = h;
+    if (known) {
+      points.push_back(FinishOnePoint<PointResult, PointBlock>(
+          index, blocks, ReadBlockEntry, FinishPoint,
+          [&noise](std::span<const PointResult> p) { return ResultsCsvRows(noise, p); }));
+    } else {
+      points.push_back(FinishOnePoint<DetectPointResult, DetectBlock>(
+          index, blocks, ReadDetectBlockEntry, FinishDetectPoint,
+          [&noise](std::span<const DetectPointResult> p) {
+            return DetectResultsCsvRows(noise, p);
+          }));
     }
-    const PointResult point = FinishPoint(header, point_blocks);
-    std::string unused, csv = "\n";  // SplitRows skips a header line
-    csv.append(ResultsCsvRows(noise, {&point, 1}));
-    std::vector<std::string> rows = SplitRows(csv, &unused);
-    points.push_back(PointEntry(index, point.trials, 0, std::move(rows)));
   }
   return points;
 }

@@ -8,11 +8,14 @@
 // false-blob rate in detect mode, then sigma) belongs to share (i mod N) + 1, so every share mixes
 // cheap and expensive points. A point's random numbers depend only on what it is (point_key.h),
 // so a point computed in any share is the point of the unsharded run, and its CSV rows are the
-// same bytes. Known-correspondence and detect-mode experiments shard alike.
+// same bytes. Known-correspondence and detect-mode experiments shard alike; a point of more than
+// one block of trials (frames) is shared out block by block, and the merge folds its blocks with
+// the runners' FinishPoint / FinishDetectPoint (docs/merge.md).
 //
 // A shard file is JSON: the format tag and version, the patlab version, the experiment's
-// fingerprint (a StreamKey of its manifest and the content of every pattern: two shards merge
-// only when they come from the same experiment, seed, grid and patlab version), the share K/N,
+// fingerprint (a StreamKey of its content: the manifest without file paths, every pattern, and in
+// detect mode the codebooks and palette; two shards merge only when they come from the same
+// experiment, seed, grid and patlab version, however its path was typed), the share K/N,
 // the points it holds with their CSV rows and totals, the manifest's run-independent part, and a
 // checksum of all of it, so a truncated or edited shard is refused.
 #pragma once
