@@ -50,8 +50,8 @@ void AddOptions(po::options_description* d, Options* o) {
       "team", po::value(&o->team), "team (key) colour, default blue")(
       "id", po::value(&o->id), "the codebook ID worn, default 0")(
       "white", po::bool_switch(&o->track.all_white), "every patch white (class white)")(
-      "runs", po::value(&o->track.runs), "runs, default 5")(
-      "frames", po::value(&o->track.frames), "frames per run, default 2570")(
+      "runs", po::value(&o->track.runs), "runs, default 5")("frames", po::value(&o->track.frames),
+                                                            "frames per run, default 2570")(
       "seed", po::value(&o->seed), "path seed (offsets, headings), default 14")(
       "blur-sigma-px", po::value(&o->blur_sigma_px), "optics blur, default the scene's")(
       "exposure-gain", po::value(&o->sensor.exposure_gain), "(0, 16], default 1")(
@@ -72,8 +72,8 @@ std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
       "missed_patches,frames\n";
   for (const sim::GroupError& g : r.groups) {
     csv.append(label).append(",").append(g.group).append(",").append(std::to_string(g.samples));
-    for (double v : {g.sx, g.sx_lo, g.sx_hi, g.sy, g.sy_lo, g.sy_hi, g.stheta, g.stheta_lo,
-                     g.stheta_hi}) {
+    for (double v :
+         {g.sx, g.sx_lo, g.sx_hi, g.sy, g.sy_lo, g.sy_hi, g.stheta, g.stheta_lo, g.stheta_hi}) {
       csv.append(",").append(FormatSignificant(v, 6));
     }
     csv.append(",").append(std::to_string(r.missed_patches));
@@ -84,7 +84,8 @@ std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
 
 int RunCamtrack(const std::vector<std::string>& args) {
   Options o;
-  po::options_description visible("usage: patlab camtrack SCENE.toml --thresholds T.toml --out CSV");
+  po::options_description visible(
+      "usage: patlab camtrack SCENE.toml --thresholds T.toml --out CSV");
   AddOptions(&visible, &o);
   po::variables_map vm;
   if (!ParseArguments(args, visible, "scene", po::value(&o.scene), 1, kExamples, &vm)) {
@@ -102,9 +103,8 @@ int RunCamtrack(const std::vector<std::string>& args) {
   vision::SceneFile file = vision::LoadSceneFile(o.scene);
   if (vm.count("blur-sigma-px")) file.scene.options.blur_sigma_px = o.blur_sigma_px;
   const vision::Thresholds thresholds = vision::LoadThresholds(o.thresholds);
-  const sim::CameraTrackResult r =
-      sim::RunCameraTrack(file.scene, file.calibration, thresholds, o.team, o.id, o.sensor,
-                          o.jitter, o.track);
+  const sim::CameraTrackResult r = sim::RunCameraTrack(file.scene, file.calibration, thresholds,
+                                                       o.team, o.id, o.sensor, o.jitter, o.track);
   try {
     io::WriteFilesAtomic({{o.out, Csv(o.label, r)}});
   } catch (const InputError& e) {

@@ -71,7 +71,8 @@ void AddCameraOptions(po::options_description* d, RenderCommandOptions* o) {
       "shift-jitter-mm", po::value(&o->jitter.shift_sigma_mm),
       "std of the camera shift along the floor per axis and frame, mm, [0, 1000], default 0")(
       "jitter-seed", po::value(&o->jitter_seed), "jitter seed, default 1")(
-      "window", po::value(&o->window), "X0,Y0,WIDTH,HEIGHT: render only this part (X0, Y0, WIDTH even)");
+      "window", po::value(&o->window),
+      "X0,Y0,WIDTH,HEIGHT: render only this part (X0, Y0, WIDTH even)");
 }
 
 // The camera frame the options ask for, as the file's bytes.
@@ -85,8 +86,8 @@ std::string RenderCamera(const RenderCommandOptions& o, const vision::SceneFile&
   jitter.seed = ParseSeed(o.jitter_seed, "--jitter-seed");
   vision::PixelWindow window{0, 0, file.scene.options.width_px, file.scene.options.height_px};
   if (!o.window.empty()) {
-    const std::vector<int> w = ParseIntegerList(o.window, "--window", 0, 8192,
-                                                "X0,Y0,WIDTH,HEIGHT in pixels");
+    const std::vector<int> w =
+        ParseIntegerList(o.window, "--window", 0, 8192, "X0,Y0,WIDTH,HEIGHT in pixels");
     if (w.size() != 4) {
       throw InputError("--window has " + std::to_string(w.size()) +
                        " values; expected X0,Y0,WIDTH,HEIGHT in pixels");
@@ -96,8 +97,8 @@ std::string RenderCamera(const RenderCommandOptions& o, const vision::SceneFile&
   if (o.frame >= (uint64_t{1} << 32)) {
     throw InputError("--frame is " + std::to_string(o.frame) + "; expected an integer < 2^32");
   }
-  *shown = vision::RenderCameraWindow(file.scene, file.calibration.camera, sensor, o.frame,
-                                      window, jitter);
+  *shown = vision::RenderCameraWindow(file.scene, file.calibration.camera, sensor, o.frame, window,
+                                      jitter);
   if (vision::IsRawFrameFile(o.out)) {
     return {shown->data.begin(), shown->data.end()};
   }

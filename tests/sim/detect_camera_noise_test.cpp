@@ -92,8 +92,8 @@ TEST_F(DetectCameraNoise, CorrelatedNoiseMovesNeighboursTogether) {
   options.threads = 2;
   const DetectPointResult r = RunDetectExperiment(e, options).points.at(0);
   const PredictedError p =
-      PredictError(estimate::Model::FromPattern(e.patterns[0]), estimate::Estimator::kFast,
-                   e.noise, 0.5, e.field_length_mm - 180.0, e.field_width_mm - 180.0);
+      PredictError(estimate::Model::FromPattern(e.patterns[0]), estimate::Estimator::kFast, e.noise,
+                   0.5, e.field_length_mm - 180.0, e.field_width_mm - 180.0);
   EXPECT_NEAR(Pooled(r), p.position_mm, FourSe(r) * p.position_mm);
   EXPECT_NEAR(r.theta.std, p.theta_rad, FourSe(r) * p.theta_rad);
 }

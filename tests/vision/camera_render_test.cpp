@@ -120,7 +120,9 @@ TEST(CameraRender, BilinearDemosaicingByHand) {
 // test above still passes).
 Image ReferenceDemosaic(const Image& rgb) {
   const int w = rgb.width_px, h = rgb.height_px;
-  auto channel = [](int x, int y) { return y % 2 == 0 ? (x % 2 == 0 ? 0 : 1) : (x % 2 == 0 ? 1 : 2); };
+  auto channel = [](int x, int y) {
+    return y % 2 == 0 ? (x % 2 == 0 ? 0 : 1) : (x % 2 == 0 ? 1 : 2);
+  };
   auto reflect = [](int i, int n) { return i < 0 ? -i : (i >= n ? 2 * n - 2 - i : i); };
   Image out = Image::Rgb(w, h);
   for (int y = 0; y < h; ++y) {
@@ -132,9 +134,8 @@ Image ReferenceDemosaic(const Image& rgb) {
           for (int dx = -1; dx <= 1; ++dx) {
             const int sx = reflect(x + dx, w), sy = reflect(y + dy, h);
             if (channel(sx, sy) != c) continue;
-            const int weight =
-                c == 1 ? (dx == 0 && dy == 0 ? 4 : (dx == 0 || dy == 0 ? 1 : 0))
-                       : (dx == 0 && dy == 0 ? 4 : (dx == 0 || dy == 0 ? 2 : 1));
+            const int weight = c == 1 ? (dx == 0 && dy == 0 ? 4 : (dx == 0 || dy == 0 ? 1 : 0))
+                                      : (dx == 0 && dy == 0 ? 4 : (dx == 0 || dy == 0 ? 2 : 1));
             num += weight * rgb.Row(sy)[3 * sx + c];
             den += weight;
           }
@@ -217,7 +218,8 @@ TEST(CameraRender, JitterMovesTheCameraPerFrame) {
   EXPECT_GT(std::abs(moved.z()), 0.0);
   EXPECT_EQ(JitterCamera(c, CameraJitter{}, 3).rotation, c.rotation);
   jitter.roll_sigma_rad = 0.2;
-  EXPECT_INPUT_ERROR(Validate(jitter), "roll_sigma_rad is 0.2; expected a number in [0, 0.1] (rad)");
+  EXPECT_INPUT_ERROR(Validate(jitter),
+                     "roll_sigma_rad is 0.2; expected a number in [0, 0.1] (rad)");
 }
 
 TEST(CameraRender, OptionsAreChecked) {

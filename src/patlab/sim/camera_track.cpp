@@ -88,8 +88,8 @@ vision::PixelWindow WindowAround(const vision::CameraModel& camera, double heigh
   double lo_x = 1e300, lo_y = 1e300, hi_x = -1e300, hi_y = -1e300;
   for (int k = 0; k < 16; ++k) {
     const double a = 2.0 * std::numbers::pi * k / 16;
-    const auto p = camera.WorldToPixel(centre_mm + radius_mm * Vec2(std::cos(a), std::sin(a)),
-                                       height_mm);
+    const auto p =
+        camera.WorldToPixel(centre_mm + radius_mm * Vec2(std::cos(a), std::sin(a)), height_mm);
     if (!p) throw InputError("camera track: the pattern leaves the camera's view");
     lo_x = std::min(lo_x, p->x()), hi_x = std::max(hi_x, p->x());
     lo_y = std::min(lo_y, p->y()), hi_y = std::max(hi_y, p->y());
@@ -114,10 +114,10 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
   Validate(options);
   const auto start = std::chrono::steady_clock::now();
   vision::FieldScene s = scene;
-  s.options.width_px = calibration.image_width_px > 0 ? calibration.image_width_px
-                                                      : scene.options.width_px;
-  s.options.height_px = calibration.image_height_px > 0 ? calibration.image_height_px
-                                                        : scene.options.height_px;
+  s.options.width_px =
+      calibration.image_width_px > 0 ? calibration.image_width_px : scene.options.width_px;
+  s.options.height_px =
+      calibration.image_height_px > 0 ? calibration.image_height_px : scene.options.height_px;
   const Pattern& pattern = s.pattern;
   const int n = pattern.size();
   std::vector<std::string> names = vision::PatchColours(pattern, s.codebook, team, id);
@@ -134,7 +134,8 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
     }
   }
   double extent_mm = 0.0;
-  for (const Patch& p : pattern.patches) extent_mm = std::max(extent_mm, p.position_mm.norm() + p.radius_mm);
+  for (const Patch& p : pattern.patches)
+    extent_mm = std::max(extent_mm, p.position_mm.norm() + p.radius_mm);
   const double height_mm = s.options.robot_height_mm;
   const vision::CameraModel& camera = calibration.camera;
   const estimate::Model model = estimate::Model::FromPattern(pattern);
@@ -168,7 +169,8 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
         for (const vision::Region& r : segmenter.RegionsOf(class_of[static_cast<size_t>(i)])) {
           const Vec2 c = r.centroid_px + Vec2(window.x0, window.y0);
           const auto w = camera.PixelToWorld(c, height_mm);
-          if (w && (*w - true_mm).norm() < patch.radius_mm && (best == nullptr || r.area_px > best->area_px)) {
+          if (w && (*w - true_mm).norm() < patch.radius_mm &&
+              (best == nullptr || r.area_px > best->area_px)) {
             best = &r;
           }
         }
@@ -177,8 +179,8 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
           complete = false;
           continue;
         }
-        const Vec2 m = *camera.PixelToWorld(best->centroid_px + Vec2(window.x0, window.y0),
-                                            height_mm);
+        const Vec2 m =
+            *camera.PixelToWorld(best->centroid_px + Vec2(window.x0, window.y0), height_mm);
         measured[static_cast<size_t>(i)] = m;
         GroupSums& g = patch.role == PatchRole::kKey ? key : ids;
         g.x.Add(m.x() - true_mm.x());
@@ -200,8 +202,7 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
   }
   result.groups = {Summarise("key", key, false), Summarise("id", ids, false),
                    Summarise("all", all, false), Summarise("pose", pose, true)};
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -29,10 +29,10 @@ namespace patlab::sim {
 inline constexpr uint32_t kCameraTrackStream = 0x63747263;  // "ctrc"
 
 struct CameraTrackOptions {
-  int runs = 5;                // runs, in [1, 1000]
-  int frames = 2570;           // frames per run, in [2, 100000] (the paper: ~2570)
-  double speed_mm_s = 23.0;    // platform speed, (0, 1000] mm/s, 30 frames/s
-  double travel_mm = 2000.0;   // centred on the camera axis, for the path's start; (0, 10000]
+  int runs = 5;               // runs, in [1, 1000]
+  int frames = 2570;          // frames per run, in [2, 100000] (the paper: ~2570)
+  double speed_mm_s = 23.0;   // platform speed, (0, 1000] mm/s, 30 frames/s
+  double travel_mm = 2000.0;  // centred on the camera axis, for the path's start; (0, 10000]
   uint64_t seed = 14;
   // Every ID-slot and key colour drawn as "white" (the scene's colour of that name): the
   // section-II white patches on the same geometry, measured with the threshold class "white".
@@ -43,10 +43,10 @@ void Validate(const CameraTrackOptions& options);
 
 // Std of one group's errors (mm or rad) per axis, with 95% chi-square intervals.
 struct GroupError {
-  std::string group;  // "key", "id", "all" (every patch) or "pose"
-  long samples = 0;   // per axis
-  double sx = 0, sx_lo = 0, sx_hi = 0;  // world x (along the travel)
-  double sy = 0, sy_lo = 0, sy_hi = 0;  // world y (across)
+  std::string group;                                // "key", "id", "all" (every patch) or "pose"
+  long samples = 0;                                 // per axis
+  double sx = 0, sx_lo = 0, sx_hi = 0;              // world x (along the travel)
+  double sy = 0, sy_lo = 0, sy_hi = 0;              // world y (across)
   double stheta = 0, stheta_lo = 0, stheta_hi = 0;  // pose only (rad)
 };
 

@@ -66,8 +66,8 @@ FrameCameraNoise::FrameCameraNoise(const NoiseModel& noise, const std::vector<Ve
     auto l = [this, n](int i, int j) -> double& { return factor_[static_cast<size_t>(i) * n + j]; };
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j <= i; ++j) {
-        double v = std::exp(-(positions_mm[i] - positions_mm[j]).norm() /
-                            noise.correlation_length_mm);
+        double v =
+            std::exp(-(positions_mm[i] - positions_mm[j]).norm() / noise.correlation_length_mm);
         for (int k = 0; k < j; ++k) v -= l(i, k) * l(j, k);
         if (i == j) {
           l(i, i) = v > 0.0 ? std::sqrt(v) : 0.0;
@@ -78,10 +78,10 @@ FrameCameraNoise::FrameCameraNoise(const NoiseModel& noise, const std::vector<Ve
     }
   }
   independent_.resize(static_cast<size_t>(n));
-  const double phi = noise.rotation_jitter_rad > 0.0 ? noise.rotation_jitter_rad * rng.Normal()
-                                                     : 0.0;
-  const double eps = noise.scale_jitter_ppm > 0.0 ? 1e-6 * noise.scale_jitter_ppm * rng.Normal()
-                                                  : 0.0;
+  const double phi =
+      noise.rotation_jitter_rad > 0.0 ? noise.rotation_jitter_rad * rng.Normal() : 0.0;
+  const double eps =
+      noise.scale_jitter_ppm > 0.0 ? 1e-6 * noise.scale_jitter_ppm * rng.Normal() : 0.0;
   cos_ = (1.0 + eps) * std::cos(phi);
   sin_ = (1.0 + eps) * std::sin(phi);
 }
@@ -94,8 +94,8 @@ Vec2 FrameCameraNoise::Next(const Vec2& base_mm, const Vec2& independent_mm) {
   if (!factor_.empty()) {
     error = Vec2::Zero();
     for (int j = 0; j <= i; ++j) {
-      error += factor_[static_cast<size_t>(i) * num_patches_ + j] *
-               independent_[static_cast<size_t>(j)];
+      error +=
+          factor_[static_cast<size_t>(i) * num_patches_ + j] * independent_[static_cast<size_t>(j)];
     }
   }
   Vec2 v = base_mm + error;

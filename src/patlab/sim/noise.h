@@ -107,10 +107,10 @@ class FrameCameraNoise {
   const NoiseModel& noise_;
   int num_patches_ = 0;
   int key_index_ = -1;
-  int next_ = 0;                     // patch index of the next call
-  std::vector<double> factor_;       // L, row-major n x n (empty: independent)
-  std::vector<Vec2> independent_;    // this robot's e'_j so far
-  double cos_ = 1.0, sin_ = 0.0;     // (1 + eps) (cos phi, sin phi)
+  int next_ = 0;                   // patch index of the next call
+  std::vector<double> factor_;     // L, row-major n x n (empty: independent)
+  std::vector<Vec2> independent_;  // this robot's e'_j so far
+  double cos_ = 1.0, sin_ = 0.0;   // (1 + eps) (cos phi, sin phi)
 };
 
 // The one place the noise model is checked (core/options.h), fields named as the keys of an

@@ -44,8 +44,8 @@ PinholeCamera JitterCamera(const PinholeCamera& camera, const CameraJitter& jitt
   const double dy = jitter.shift_sigma_mm * rng.Normal();
   const Eigen::Vector3d centre = -camera.rotation.transpose() * camera.translation_mm;
   PinholeCamera out = camera;
-  out.rotation = Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-                 camera.rotation;
+  out.rotation =
+      Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitZ()).toRotationMatrix() * camera.rotation;
   out.translation_mm = -out.rotation * (centre + Eigen::Vector3d(dx, dy, dh));
   return out;
 }
