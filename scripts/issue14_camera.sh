@@ -4,6 +4,7 @@
 # with each camera mechanism on alone and all together, then a sweep of sensor noise and camera
 # roll for the fit to Table I and the section-IV Butterfly. Writes results/issue14/camera/*.csv,
 # results/issue14/camera.csv (all rows) and results/issue14/camera_shares.png.
+# ~19 CPU s per track (16 tracks); 2 at a time.
 # Usage: bash scripts/issue14_camera.sh [build/patlab]   (from the repository root)
 set -euo pipefail
 patlab=${1:-build/patlab}

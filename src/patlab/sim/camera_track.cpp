@@ -103,6 +103,42 @@ vision::PixelWindow WindowAround(const vision::CameraModel& camera, double heigh
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
+// Stage 2 of a frame: each true patch's measurement (the largest region of its class whose
+// centroid maps within a patch radius of the truth), its error added to its group and to `all`.
+// Returns whether every patch was found.
+bool MeasureFrame(const vision::Segmenter& segmenter, const vision::CameraModel& camera,
+                  double height_mm, const vision::PixelWindow& window, const Pattern& pattern,
+                  const std::vector<int>& class_of, const Pose2& truth, std::vector<Vec2>* measured,
+                  GroupSums* key, GroupSums* ids, GroupSums* all, long* missed) {
+  bool complete = true;
+  const Vec2 origin(window.x0, window.y0);
+  for (int i = 0; i < pattern.size(); ++i) {
+    const Patch& patch = pattern.patches[static_cast<size_t>(i)];
+    const Vec2 true_mm = truth.Apply(patch.position_mm);
+    const vision::Region* best = nullptr;
+    for (const vision::Region& r : segmenter.RegionsOf(class_of[static_cast<size_t>(i)])) {
+      const auto w = camera.PixelToWorld(r.centroid_px + origin, height_mm);
+      if (w && (*w - true_mm).norm() < patch.radius_mm &&
+          (best == nullptr || r.area_px > best->area_px)) {
+        best = &r;
+      }
+    }
+    if (best == nullptr) {
+      ++*missed;
+      complete = false;
+      continue;
+    }
+    const Vec2 m = *camera.PixelToWorld(best->centroid_px + origin, height_mm);
+    (*measured)[static_cast<size_t>(i)] = m;
+    GroupSums* g = patch.role == PatchRole::kKey ? key : ids;
+    g->x.Add(m.x() - true_mm.x());
+    g->y.Add(m.y() - true_mm.y());
+    all->x.Add(m.x() - true_mm.x());
+    all->y.Add(m.y() - true_mm.y());
+  }
+  return complete;
+}
+
 }  // namespace
 
 CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
@@ -159,35 +195,9 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
       const vision::Image image =
           vision::RenderCameraWindow(s, camera, sensor, frame, window, jitter);
       segmenter.Process(image);
-      bool complete = true;
-      for (int i = 0; i < n; ++i) {
-        const Patch& patch = pattern.patches[static_cast<size_t>(i)];
-        const Vec2 true_mm = truth.Apply(patch.position_mm);
-        const auto true_px = camera.WorldToPixel(true_mm, height_mm);
-        // The largest region of the patch's class whose centroid is within a patch radius.
-        const vision::Region* best = nullptr;
-        for (const vision::Region& r : segmenter.RegionsOf(class_of[static_cast<size_t>(i)])) {
-          const Vec2 c = r.centroid_px + Vec2(window.x0, window.y0);
-          const auto w = camera.PixelToWorld(c, height_mm);
-          if (w && (*w - true_mm).norm() < patch.radius_mm &&
-              (best == nullptr || r.area_px > best->area_px)) {
-            best = &r;
-          }
-        }
-        if (best == nullptr || !true_px) {
-          ++result.missed_patches;
-          complete = false;
-          continue;
-        }
-        const Vec2 m =
-            *camera.PixelToWorld(best->centroid_px + Vec2(window.x0, window.y0), height_mm);
-        measured[static_cast<size_t>(i)] = m;
-        GroupSums& g = patch.role == PatchRole::kKey ? key : ids;
-        g.x.Add(m.x() - true_mm.x());
-        g.y.Add(m.y() - true_mm.y());
-        all.x.Add(m.x() - true_mm.x());
-        all.y.Add(m.y() - true_mm.y());
-      }
+      const bool complete =
+          MeasureFrame(segmenter, camera, height_mm, window, pattern, class_of, truth, &measured,
+                       &key, &ids, &all, &result.missed_patches);
       if (!complete) continue;
       const Pose2 p = estimate::Fast(model, measured.data());
       pose.x.Add(p.x_mm - truth.x_mm);
