@@ -7,6 +7,7 @@
 #include "cli/command.h"
 #include "patlab/core/error.h"
 #include "patlab/io/atomic_file.h"
+#include "patlab/vision/camera_render.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/scene_render.h"
 
@@ -21,6 +22,14 @@ constexpr const char* kExamples = R"(examples:
       --truth /tmp/ssl-frame.truth.csv
   patlab render my-scene.toml -o /tmp/frame.png && patlab detect /tmp/frame.png \
       --thresholds t.toml --calibration cal.toml --settings detector.toml
+  patlab render tests/data/golden/ssl-frame.toml --camera --frame 7 -o /tmp/cam.uyvy
+  patlab render tests/data/golden/ssl-frame.toml --camera --read-noise-levels 0 \
+      --shot-noise-gain 0 --roll-jitter-rad 0.001 --window 200,140,120,90 -o /tmp/win.png
+
+--camera renders through the colour camera (vision/camera_render.h, docs/render.md): per-frame
+camera jitter, exposure, RGGB sensor noise, bilinear demosaicing and YUV 4:2:2; frame F is the
+same image in any run. Its frame is written as raw UYVY for .yuv/.uyvy/.raw (what patlab
+detect --raw-size reads), else as PNG (the UYVY frame converted to RGB).
 
 A SCENE file names a pinhole calibration (its image_size_px is the frame size), a pattern and
 its codebook, the RGB of every colour, the render options (blur, noise, seed), one [[robot]]
@@ -33,7 +42,69 @@ struct RenderCommandOptions {
   std::string scene;
   std::string out;
   std::string truth;
+  bool camera = false;
+  uint64_t frame = 0;
+  std::string window;  // X0,Y0,WIDTH,HEIGHT
+  std::string sensor_seed = "1", jitter_seed = "1";
+  bool no_bayer = false, chroma_444 = false;
+  vision::CameraSensorOptions sensor;
+  vision::CameraJitter jitter;
 };
+
+void AddCameraOptions(po::options_description* d, RenderCommandOptions* o) {
+  d->add_options()("camera", po::bool_switch(&o->camera),
+                   "render through the colour camera (the options below)")(
+      "frame", po::value(&o->frame), "frame identity F >= 0 (noise and jitter), default 0")(
+      "exposure-gain", po::value(&o->sensor.exposure_gain),
+      "linear gain on the scene colours, (0, 16], default 1")(
+      "read-noise-levels", po::value(&o->sensor.read_noise_levels),
+      "read noise per photosite, 8-bit levels, [0, 64], default 2")(
+      "shot-noise-gain", po::value(&o->sensor.shot_noise_gain),
+      "shot-noise variance per level of signal, [0, 4], default 0.05")(
+      "no-bayer", po::bool_switch(&o->no_bayer), "a three-chip camera (no mosaic)")(
+      "chroma-444", po::bool_switch(&o->chroma_444), "full-resolution colour instead of 4:2:2")(
+      "sensor-seed", po::value(&o->sensor_seed), "sensor noise seed, default 1")(
+      "roll-jitter-rad", po::value(&o->jitter.roll_sigma_rad),
+      "std of the camera roll per frame, rad, [0, 0.1], default 0")(
+      "height-jitter-mm", po::value(&o->jitter.height_sigma_mm),
+      "std of the camera height change per frame, mm, [0, 1000], default 0")(
+      "shift-jitter-mm", po::value(&o->jitter.shift_sigma_mm),
+      "std of the camera shift along the floor per axis and frame, mm, [0, 1000], default 0")(
+      "jitter-seed", po::value(&o->jitter_seed), "jitter seed, default 1")(
+      "window", po::value(&o->window),
+      "X0,Y0,WIDTH,HEIGHT: render only this part (X0, Y0, WIDTH even)");
+}
+
+// The camera frame the options ask for, as the file's bytes.
+std::string RenderCamera(const RenderCommandOptions& o, const vision::SceneFile& file,
+                         vision::Image* shown) {
+  vision::CameraSensorOptions sensor = o.sensor;
+  sensor.bayer = !o.no_bayer;
+  sensor.chroma_422 = !o.chroma_444;
+  sensor.seed = ParseSeed(o.sensor_seed, "--sensor-seed");
+  vision::CameraJitter jitter = o.jitter;
+  jitter.seed = ParseSeed(o.jitter_seed, "--jitter-seed");
+  vision::PixelWindow window{0, 0, file.scene.options.width_px, file.scene.options.height_px};
+  if (!o.window.empty()) {
+    const std::vector<int> w =
+        ParseIntegerList(o.window, "--window", 0, 8192, "X0,Y0,WIDTH,HEIGHT in pixels");
+    if (w.size() != 4) {
+      throw InputError("--window has " + std::to_string(w.size()) +
+                       " values; expected X0,Y0,WIDTH,HEIGHT in pixels");
+    }
+    window = {w[0], w[1], w[2], w[3]};
+  }
+  if (o.frame >= (uint64_t{1} << 32)) {
+    throw InputError("--frame is " + std::to_string(o.frame) + "; expected an integer < 2^32");
+  }
+  *shown = vision::RenderCameraWindow(file.scene, file.calibration.camera, sensor, o.frame, window,
+                                      jitter);
+  if (vision::IsRawFrameFile(o.out)) {
+    return {shown->data.begin(), shown->data.end()};
+  }
+  const std::vector<uint8_t> png = vision::EncodePng(vision::ToRgb(*shown));
+  return {png.begin(), png.end()};
+}
 
 int RunRender(const std::vector<std::string>& args) {
   RenderCommandOptions o;
@@ -41,6 +112,7 @@ int RunRender(const std::vector<std::string>& args) {
   visible.add_options()("help,h", "show this help")("out,o", po::value(&o.out),
                                                     "the rendered frame, PNG (required)")(
       "truth", po::value(&o.truth), "the true poses, CSV (team,id,x_mm,y_mm,theta_rad)");
+  AddCameraOptions(&visible, &o);
   po::variables_map vm;
   if (!ParseArguments(args, visible, "scene", po::value(&o.scene), 1, kExamples, &vm)) {
     return kExitOk;
@@ -53,10 +125,24 @@ int RunRender(const std::vector<std::string>& args) {
   io::CheckWritable(o.truth.empty() ? std::vector<std::string>{o.out}
                                     : std::vector<std::string>{o.out, o.truth});
   const vision::SceneFile file = vision::LoadSceneFile(o.scene);
-  const vision::Image frame = vision::RenderScene(file.scene, file.calibration.camera);
-  const std::vector<uint8_t> png = vision::EncodePng(frame);
-  std::vector<std::pair<std::string, std::string>> files = {
-      {o.out, std::string(png.begin(), png.end())}};
+  vision::Image frame;
+  std::string bytes;
+  if (o.camera) {
+    bytes = RenderCamera(o, file, &frame);
+  } else {
+    if (vm.count("frame") + vm.count("window") + vm.count("exposure-gain") +
+            vm.count("read-noise-levels") + vm.count("shot-noise-gain") + vm.count("sensor-seed") +
+            vm.count("roll-jitter-rad") + vm.count("height-jitter-mm") +
+            vm.count("shift-jitter-mm") + vm.count("jitter-seed") + (o.no_bayer ? 1 : 0) +
+            (o.chroma_444 ? 1 : 0) >
+        0) {
+      throw InputError("camera options are given without --camera; expected --camera with them");
+    }
+    frame = vision::RenderScene(file.scene, file.calibration.camera);
+    const std::vector<uint8_t> png = vision::EncodePng(frame);
+    bytes.assign(png.begin(), png.end());
+  }
+  std::vector<std::pair<std::string, std::string>> files = {{o.out, bytes}};
   if (!o.truth.empty()) files.emplace_back(o.truth, vision::TruthCsv(file.scene));
   try {
     io::WriteFilesAtomic(files);

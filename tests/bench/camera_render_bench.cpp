@@ -2,7 +2,8 @@
 // ten robots and ball (tests/data/golden/ssl-frame.toml, its camera seeing a wider image), as
 // frames per second (items_per_second). BM_Scene: geometry, distortion and blur (RenderScene);
 // BM_Sensor: exposure, RGGB noise, demosaicing and UYVY on an already rendered frame;
-// BM_CameraFrame: both.
+// BM_CameraFrame: both; BM_CameraWindow: a 64x64 window around one robot (what patlab camtrack
+// renders per frame).
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -54,9 +55,21 @@ void BM_CameraFrame(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 
+void BM_CameraWindow(benchmark::State& state) {
+  uint64_t frame = 0;
+  const PixelWindow window{100, 60, 64, 64};  // the golden scene's first robot
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(RenderCameraWindow(Scene().scene, Scene().calibration.camera,
+                                                CameraSensorOptions{}, frame++, window)
+                                 .data.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
 BENCHMARK(BM_Scene)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Sensor)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CameraFrame)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CameraWindow)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -1230,6 +1230,28 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    2,
                    "patlab render: missing --out FILE; expected the PNG file to write"s,
                    nullptr},
+                  {"CliRenderCameraFlagWithoutCamera",
+                   {},
+                   "render {src}/tests/data/golden/ssl-frame.toml --roll-jitter-rad 0.001 --out "
+                   "{dir}f.png",
+                   2,
+                   "patlab render: camera options are given without --camera; expected --camera "
+                   "with them"s,
+                   nullptr},
+                  {"CliRenderCameraOddWindow",
+                   {},
+                   "render {src}/tests/data/golden/ssl-frame.toml --camera --window 1,0,10,10 "
+                   "--out {dir}f.png",
+                   2,
+                   "patlab render: window origin is (1, 0); expected even coordinates (Bayer "
+                   "phase, UYVY pixel pairs)"s,
+                   nullptr},
+                  {"CliCamtrackMissingThresholds",
+                   {},
+                   "camtrack {src}/experiments/issue14/track-scene.toml --out {dir}t.csv",
+                   2,
+                   "patlab camtrack: missing --thresholds; expected a thresholds file"s,
+                   nullptr},
                   {"CliDesignZeroIdPatches",
                    {},
                    "design --id-patches 0 --out {dir}out",

@@ -173,11 +173,6 @@ TEST_F(DetectExperimentTest, BadFilesGiveTheirMessages) {
       {"name = \"x\"\ncorrespondence = \"detect\"\npatterns = [\"triangle\", \"triangle\"]\n" +
            kSigma + kDetect,
        "e.toml:3: pattern 'triangle' is listed twice; expected each pattern once"},
-      // The camera-level noise models are known-correspondence only (sim/noise.h).
-      {kHead + kSigma + kDetect + "[noise]\ncorrelation_length_mm = 10\n",
-       "e.toml:8: the camera-level noise models (rotation_jitter_rad, scale_jitter_ppm, "
-       "correlation_length_mm, key_shift_x_mm, id_shift_x_mm) are given with correspondence = "
-       "\"detect\"; expected them only with correspondence = \"known\""},
       // Known mode does not know [detect].
       {"name = \"x\"\npatterns = [\"simple\"]\n" + kSigma + kDetect,
        "e.toml:5: unknown key 'detect'; expected one of: name, description, patterns, "

@@ -191,15 +191,6 @@ TEST(CameraNoise, ValidationNamesTheFieldAndTheRange) {
   noise.key_shift_x_mm = 101.0;
   EXPECT_INPUT_ERROR(Validate(noise),
                      "key_shift_x_mm is 101; expected a number in [-100, 100] (mm)");
-  Experiment detect;
-  detect.correspondence = Correspondence::kDetect;
-  detect.noise.correlation_length_mm = 10.0;
-  const std::vector<OptionsProblem> problems = Check(detect);
-  bool found = false;
-  for (const OptionsProblem& p : problems) {
-    found = found || p.message.starts_with("the camera-level noise models");
-  }
-  EXPECT_TRUE(found);
 }
 
 }  // namespace

@@ -111,6 +111,117 @@ TEST(CameraRender, BilinearDemosaicingByHand) {
   EXPECT_EQ(SimulateSensor(flat, quiet, 0).Row(0)[1], clipped_y);
 }
 
+// An independent bilinear demosaic, written as the textbook convolution of each colour's
+// masked mosaic (green: the cross kernel [0 1 0; 1 4 1; 0 1 0] / 4, red and blue: [1 2 1; 2 4 2;
+// 1 2 1] / 4, Gonzalez & Woods; rounded half up), on the whole golden frame without noise: the
+// renderer's UYVY must equal ToUyvy of this byte for byte. A demosaic that takes the wrong
+// neighbours, weights or phase anywhere changes bytes at every colour edge (checked: green from 2
+// instead of 4 neighbours, or R and B swapped at the G sites, fails here while the detection
+// test above still passes).
+Image ReferenceDemosaic(const Image& rgb) {
+  const int w = rgb.width_px, h = rgb.height_px;
+  auto channel = [](int x, int y) {
+    return y % 2 == 0 ? (x % 2 == 0 ? 0 : 1) : (x % 2 == 0 ? 1 : 2);
+  };
+  auto reflect = [](int i, int n) { return i < 0 ? -i : (i >= n ? 2 * n - 2 - i : i); };
+  Image out = Image::Rgb(w, h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        // Sum of kernel weight x sample over the 3x3 neighbourhood, for samples of colour c.
+        int num = 0, den = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int sx = reflect(x + dx, w), sy = reflect(y + dy, h);
+            if (channel(sx, sy) != c) continue;
+            const int weight = c == 1 ? (dx == 0 && dy == 0 ? 4 : (dx == 0 || dy == 0 ? 1 : 0))
+                                      : (dx == 0 && dy == 0 ? 4 : (dx == 0 || dy == 0 ? 2 : 1));
+            num += weight * rgb.Row(sy)[3 * sx + c];
+            den += weight;
+          }
+        }
+        out.Row(y)[3 * x + c] = static_cast<uint8_t>((2 * num + den) / (2 * den));
+      }
+    }
+  }
+  return out;
+}
+
+TEST(CameraRender, DemosaicEqualsTheTextbookConvolutionOnTheGoldenScene) {
+  SceneFile file = GoldenFile();
+  file.scene.options.noise_sigma_levels = 0.0;
+  const Image radiance = RenderScene(file.scene, file.calibration.camera);
+  CameraSensorOptions quiet;
+  quiet.read_noise_levels = 0.0;
+  quiet.shot_noise_gain = 0.0;
+  // Mosaic: every pixel keeps only its own channel; the reference fills the others from it.
+  const Image reference = ToUyvy(ReferenceDemosaic(radiance));
+  const Image out = SimulateSensor(radiance, quiet, 0);
+  ASSERT_EQ(out.data.size(), reference.data.size());
+  size_t differing = 0;
+  for (size_t i = 0; i < out.data.size(); ++i) differing += out.data[i] != reference.data[i];
+  EXPECT_EQ(differing, 0u);
+  quiet.chroma_422 = false;  // the RGB itself, before 4:2:2
+  EXPECT_EQ(SimulateSensor(radiance, quiet, 0).data, ReferenceDemosaic(radiance).data);
+}
+
+// A window of a frame is that frame's pixels there (noise keyed by whole-frame coordinates,
+// principal point shifted): away from the window's border every byte agrees, up to one level
+// where a sub-sample on an edge rounds the other way.
+TEST(CameraRender, WindowIsTheWholeFramesPixels) {
+  const SceneFile file = GoldenFile();
+  const CameraSensorOptions sensor;
+  CameraJitter jitter;
+  jitter.roll_sigma_rad = 0.002;
+  jitter.height_sigma_mm = 3.0;
+  const Image whole = RenderCameraFrame(file.scene, file.calibration.camera, sensor, 5, jitter);
+  const PixelWindow window{200, 140, 120, 90};
+  const Image part =
+      RenderCameraWindow(file.scene, file.calibration.camera, sensor, 5, window, jitter);
+  ASSERT_EQ(part.width_px, 120);
+  int compared = 0, differing = 0, worst = 0;
+  for (int y = 8; y < window.height - 8; ++y) {
+    for (int i = 16; i < 2 * window.width - 16; ++i) {
+      const int a = part.Row(y)[i], b = whole.Row(window.y0 + y)[2 * window.x0 + i];
+      ++compared;
+      differing += a != b;
+      worst = std::max(worst, std::abs(a - b));
+    }
+  }
+  EXPECT_LE(worst, 1);
+  EXPECT_LT(differing, compared / 1000 + 1);
+  EXPECT_INPUT_ERROR(
+      RenderCameraWindow(file.scene, file.calibration.camera, sensor, 5, {1, 0, 10, 10}),
+      "window origin is (1, 0); expected even coordinates (Bayer phase, UYVY pixel pairs)");
+}
+
+// Jitter moves the camera, not the world: roll phi about the optical axis keeps the camera
+// centre, a height change moves it along z; the same frame identity gives the same camera.
+TEST(CameraRender, JitterMovesTheCameraPerFrame) {
+  const SceneFile file = GoldenFile();
+  const PinholeCamera& c = file.calibration.camera.pinhole();
+  CameraJitter jitter;
+  jitter.roll_sigma_rad = 0.01;
+  const PinholeCamera a = JitterCamera(c, jitter, 3), b = JitterCamera(c, jitter, 3);
+  EXPECT_EQ(a.rotation, b.rotation);
+  const Eigen::Vector3d centre = -c.rotation.transpose() * c.translation_mm;
+  EXPECT_LT((-a.rotation.transpose() * a.translation_mm - centre).norm(), 1e-9);
+  // The rotation between the two cameras is about the camera's z axis only.
+  const Eigen::Matrix3d delta = a.rotation * c.rotation.transpose();
+  EXPECT_NEAR(delta(2, 2), 1.0, 1e-12);
+  EXPECT_GT(std::abs(delta(0, 1)), 0.0);
+  jitter = CameraJitter{};
+  jitter.height_sigma_mm = 5.0;
+  const PinholeCamera h = JitterCamera(c, jitter, 3);
+  const Eigen::Vector3d moved = -h.rotation.transpose() * h.translation_mm - centre;
+  EXPECT_NEAR(moved.x(), 0.0, 1e-9);
+  EXPECT_GT(std::abs(moved.z()), 0.0);
+  EXPECT_EQ(JitterCamera(c, CameraJitter{}, 3).rotation, c.rotation);
+  jitter.roll_sigma_rad = 0.2;
+  EXPECT_INPUT_ERROR(Validate(jitter),
+                     "roll_sigma_rad is 0.2; expected a number in [0, 0.1] (rad)");
+}
+
 TEST(CameraRender, OptionsAreChecked) {
   CameraSensorOptions o;
   o.exposure_gain = 0.0;

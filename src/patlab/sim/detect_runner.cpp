@@ -70,9 +70,28 @@ Scene GenerateDetectFrame(const Experiment& experiment, const DetectPoint& point
   const Vec2 common = noise.CommonOffset(sigma, rng);
   PatchNoise patch_noise;
   patch_noise.sigma_mm = sigma;
-  patch_noise.perturb = [&noise, sigma, common](const Vec2& truth, double /*radius_mm*/,
-                                                RandomStream& r) -> Vec2 {
-    return truth + common + noise.PatchError(sigma, r);
+  if (!noise.HasCameraModels()) {  // the streams of the models before issue 14, unchanged
+    patch_noise.perturb = [&noise, sigma, common](const Vec2& truth, double /*radius_mm*/,
+                                                  RandomStream& r) -> Vec2 {
+      return truth + common + noise.PatchError(sigma, r);
+    };
+    return GenerateScene(detector, point.scene, patch_noise, rng);
+  }
+  // Camera-level models (noise.h FrameCameraNoise): the scene measures every robot's patches in
+  // pattern order, so the n-th call is patch n mod (pattern size). The frame's roll and scale
+  // come from their own stream, so the scene's draws are those of the same point without them.
+  const Pattern& pattern = point.config.patterns.front().pattern;
+  std::vector<Vec2> positions;
+  int key_index = -1;
+  for (int i = 0; i < pattern.size(); ++i) {
+    positions.push_back(pattern.patches[i].position_mm);
+    if (pattern.patches[i].role == PatchRole::kKey) key_index = i;
+  }
+  RandomStream camera_rng(point.key, kDetectCameraStream, frame);
+  FrameCameraNoise camera(noise, positions, key_index, camera_rng);
+  patch_noise.perturb = [&noise, &camera, sigma, common](const Vec2& truth, double /*radius_mm*/,
+                                                         RandomStream& r) -> Vec2 {
+    return camera.Next(truth + common, noise.PatchError(sigma, r));
   };
   return GenerateScene(detector, point.scene, patch_noise, rng);
 }

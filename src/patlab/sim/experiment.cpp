@@ -55,11 +55,6 @@ std::vector<OptionsProblem> Check(const Experiment& e) {
     for (OptionsProblem& problem : more) problems.push_back(std::move(problem));
   };
   append(Check(e.noise));
-  if (detect_mode && e.noise.HasCameraModels()) {
-    OptionsChecker camera;
-    camera.Fail("noise", std::string(kCameraModelsInDetectMode));
-    append(camera.Take());
-  }
   if (detect_mode) {
     append(Check(e.detect));
   } else {

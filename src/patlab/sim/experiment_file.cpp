@@ -548,9 +548,6 @@ Experiment LoadExperimentFile(const std::string& path) {
   e.sigmas_mm = ReadSigmaGrid(TomlReader(SubTable(r, "sigma"), path, "[sigma]"));
   if (r.Has("field")) ReadField(TomlReader(SubTable(r, "field"), path, "[field]"), detect_mode, &e);
   e.noise = ReadNoise(r, base);
-  if (detect_mode && e.noise.HasCameraModels()) {
-    r.Fail(r.Has("noise") ? "noise" : "noise_file", std::string(kCameraModelsInDetectMode));
-  }
   if (detect_mode) ReadDetectMode(r, patterns, base, &e);
   if (r.Has("ml")) e.ml_options = ReadMlTable(TomlReader(SubTable(r, "ml"), path, "[ml]"));
   return e;

@@ -54,4 +54,53 @@ Vec2 NoiseModel::CommonOffset(double sigma_mm, RandomStream& rng) const {
   return sigma_mm * common_sigma_ratio * Vec2(zx, zy);
 }
 
+FrameCameraNoise::FrameCameraNoise(const NoiseModel& noise, const std::vector<Vec2>& positions_mm,
+                                   int key_index, RandomStream& rng)
+    : noise_(noise), num_patches_(static_cast<int>(positions_mm.size())), key_index_(key_index) {
+  const int n = num_patches_;
+  if (noise.correlation_length_mm > 0.0) {
+    // Cholesky-Banachiewicz on C_ij = exp(-|p_i - p_j| / L), row by row: exp(-d / L) is positive
+    // definite for distinct points in the plane, so every pivot is > 0 (a coincident pair would
+    // give 0, clamped, and the patch then repeats its neighbour's error).
+    factor_.assign(static_cast<size_t>(n) * n, 0.0);
+    auto l = [this, n](int i, int j) -> double& { return factor_[static_cast<size_t>(i) * n + j]; };
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j <= i; ++j) {
+        double v =
+            std::exp(-(positions_mm[i] - positions_mm[j]).norm() / noise.correlation_length_mm);
+        for (int k = 0; k < j; ++k) v -= l(i, k) * l(j, k);
+        if (i == j) {
+          l(i, i) = v > 0.0 ? std::sqrt(v) : 0.0;
+        } else {
+          l(i, j) = l(j, j) > 0.0 ? v / l(j, j) : 0.0;
+        }
+      }
+    }
+  }
+  independent_.resize(static_cast<size_t>(n));
+  const double phi =
+      noise.rotation_jitter_rad > 0.0 ? noise.rotation_jitter_rad * rng.Normal() : 0.0;
+  const double eps =
+      noise.scale_jitter_ppm > 0.0 ? 1e-6 * noise.scale_jitter_ppm * rng.Normal() : 0.0;
+  cos_ = (1.0 + eps) * std::cos(phi);
+  sin_ = (1.0 + eps) * std::sin(phi);
+}
+
+Vec2 FrameCameraNoise::Next(const Vec2& base_mm, const Vec2& independent_mm) {
+  const int i = next_;
+  next_ = (next_ + 1) % num_patches_;
+  independent_[static_cast<size_t>(i)] = independent_mm;
+  Vec2 error = independent_mm;
+  if (!factor_.empty()) {
+    error = Vec2::Zero();
+    for (int j = 0; j <= i; ++j) {
+      error +=
+          factor_[static_cast<size_t>(i) * num_patches_ + j] * independent_[static_cast<size_t>(j)];
+    }
+  }
+  Vec2 v = base_mm + error;
+  v.x() += i == key_index_ ? noise_.key_shift_x_mm : noise_.id_shift_x_mm;
+  return {cos_ * v.x() - sin_ * v.y(), sin_ * v.x() + cos_ * v.y()};
+}
+
 }  // namespace patlab::sim

@@ -13,7 +13,8 @@
 // "the patch positional standard deviation" along each axis.
 //
 // Four camera-level models (issue 14), in absolute units (they do not scale with sigma), applied
-// in this order on top of the above (known-correspondence mode only):
+// in this order on top of the above (in detect mode through FrameCameraNoise below, a frame
+// being one trial):
 //
 //   correlated noise   e = L e'  per axis, L L^T = C, C_ij = exp(-|p_i - p_j| / correlation_length)
 //                      (p_i the model positions; e' the independent errors above): each patch
@@ -59,7 +60,7 @@ struct NoiseModel {
   double key_shift_x_mm = 0.0;         // colour-edge bias of the key patch along x; |.| <= 100
   double id_shift_x_mm = 0.0;          // colour-edge bias of every other patch along x
 
-  // True when any camera-level model is on (whole-frame detect mode does not support them).
+  // True when any camera-level model is on.
   bool HasCameraModels() const {
     return rotation_jitter_rad != 0.0 || scale_jitter_ppm != 0.0 || correlation_length_mm != 0.0 ||
            key_shift_x_mm != 0.0 || id_shift_x_mm != 0.0;
@@ -83,12 +84,34 @@ struct NoiseModel {
   Vec2 CommonOffset(double sigma_mm, RandomStream& rng) const;
 };
 
-// The message for a camera-level model in a whole-frame (detect-mode) experiment, which draws
-// its patch errors one robot at a time and has no camera to jitter.
-inline constexpr std::string_view kCameraModelsInDetectMode =
-    "the camera-level noise models (rotation_jitter_rad, scale_jitter_ppm, correlation_length_mm, "
-    "key_shift_x_mm, id_shift_x_mm) are given with correspondence = \"detect\"; expected them "
-    "only with correspondence = \"known\"";
+// The camera-level models of one whole frame in detect mode (GenerateDetectFrame,
+// detect_runner.h), applied patch by patch as the scene draws them: every robot's patches come
+// in pattern order, each with its independent error e'_i already drawn, and get
+//   e_i = sum_{j <= i} L_ij e'_j  (L the Cholesky factor of exp(-|p_i - p_j| / L), patch order,
+//                                  the same mixing as the known-mode kernel),
+//   + the key or ID shift along world x, then the frame's camera roll and scale about the world
+//   origin (phi, eps drawn once per frame, in that order, from the stream given).
+// The frame is one "trial" of the formulas above. Not thread-safe: one per frame.
+inline constexpr uint32_t kDetectCameraStream = 0x64636d72;  // "dcmr": a frame's roll and scale
+class FrameCameraNoise {
+ public:
+  // `positions_mm`: the pattern's model positions in patch order; `key_index` its key patch
+  // (-1: none). Draws phi and eps from `rng` only when their std is > 0.
+  FrameCameraNoise(const NoiseModel& noise, const std::vector<Vec2>& positions_mm, int key_index,
+                   RandomStream& rng);
+  // The observed position of the next patch (pattern order, robot after robot): `base_mm` is the
+  // true position plus the frame's common offset, `independent_mm` the patch's e'_i.
+  Vec2 Next(const Vec2& base_mm, const Vec2& independent_mm);
+
+ private:
+  const NoiseModel& noise_;
+  int num_patches_ = 0;
+  int key_index_ = -1;
+  int next_ = 0;                   // patch index of the next call
+  std::vector<double> factor_;     // L, row-major n x n (empty: independent)
+  std::vector<Vec2> independent_;  // this robot's e'_j so far
+  double cos_ = 1.0, sin_ = 0.0;   // (1 + eps) (cos phi, sin phi)
+};
 
 // The one place the noise model is checked (core/options.h), fields named as the keys of an
 // experiment's [noise] table: sigma_y_ratio a finite number > 0, common_sigma_ratio a finite
