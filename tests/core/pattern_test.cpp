@@ -38,9 +38,9 @@ TEST(Patch, AreaAndBoundsOfBothShapes) {
 
 // Each gap computed by hand from the figures in the comments.
 TEST(PatchGap, DiscsAreTheirCentreDistanceLessTheRadii) {
-  EXPECT_DOUBLE_EQ(PatchGap(Disc(0, 0, 10), Disc(30, 40, 20)), 20.0);   // 50 - 30
-  EXPECT_DOUBLE_EQ(PatchGap(Disc(0, 0, 10), Disc(25, 0, 20)), -5.0);    // overlap 5
-  EXPECT_DOUBLE_EQ(PatchGap(Disc(0, 0, 10), Disc(30, 0, 20)), 0.0);     // touching
+  EXPECT_DOUBLE_EQ(PatchGap(Disc(0, 0, 10), Disc(30, 40, 20)), 20.0);  // 50 - 30
+  EXPECT_DOUBLE_EQ(PatchGap(Disc(0, 0, 10), Disc(25, 0, 20)), -5.0);   // overlap 5
+  EXPECT_DOUBLE_EQ(PatchGap(Disc(0, 0, 10), Disc(30, 0, 20)), 0.0);    // touching
 }
 
 TEST(PatchGap, RectangleAndDisc) {

@@ -166,7 +166,7 @@ TEST(PatternFile, BadRectanglesAreRejectedWithFileLineAndWhatWasExpected) {
       {"angle out of range", head + kRectKey + RectId("-18", "angle_deg = 400\n"),
        "p.toml:19: angle_deg in [[patch]] 1 is 400; expected an angle in [-360, 360] (degrees)"},
       {"rectangles overlap", head + kRectKey + RectId("-12"),
-       "p.toml:9: [[patch]] 1 (rectangle) overlaps [[patch]] 0 (rectangle) by 2 mm; expected "
+       "p.toml:8: [[patch]] 1 (rectangle) overlaps [[patch]] 0 (rectangle) by 2 mm; expected "
        "patches that do not overlap"},
       {"rectangle overlaps disc", head + kKey + RectId("40"),
        "p.toml:7: [[patch]] 1 (rectangle) overlaps [[patch]] 0 (disc) by 1 mm; expected patches "

@@ -116,7 +116,7 @@ struct ObservationResidual {
   FileLoc loc;
   double height_mm = 0.0;
   Vec2 pixel = Vec2::Zero();  // the observed pixel
-  double px = 0.0;  // reprojection error (px)
+  double px = 0.0;            // reprojection error (px)
   double mm = 0.0;  // back-projected distance to the target on its plane (mm); NaN if off-image
 };
 

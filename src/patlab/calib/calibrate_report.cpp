@@ -185,7 +185,8 @@ std::string CalibrationFileText(const CalibrationInput& input, const Calibration
   for (const auto& [name, h] : input.class_height_mm)
     out += name + " = " + FormatRoundTrip(h) + "\n";
   out +=
-      "\n# The fit's position error on each plane; patlab detect adds the robot-top plane's rms_mm\n"
+      "\n# The fit's position error on each plane; patlab detect adds the robot-top plane's "
+      "rms_mm\n"
       "# to its blob noise (docs/detect.md). measured = false: no observation on that plane, the\n"
       "# pixel residuals converted with the plane's mm per px.\n";
   for (const vision::PlaneResidual& r : fit.file_residuals) {

@@ -26,8 +26,8 @@ Vec2 AxisY(const Patch& p) { return {-std::sin(p.angle_rad), std::cos(p.angle_ra
 // Half the extent of patch p projected on unit axis u.
 double HalfExtent(const Patch& p, const Vec2& u) {
   if (p.shape == PatchShape::kDisc) return p.radius_mm;
-  return 0.5 * (p.size_mm.x() * std::abs(AxisX(p).dot(u)) +
-                p.size_mm.y() * std::abs(AxisY(p).dot(u)));
+  return 0.5 *
+         (p.size_mm.x() * std::abs(AxisX(p).dot(u)) + p.size_mm.y() * std::abs(AxisY(p).dot(u)));
 }
 
 // The point of rectangle r nearest to q.
@@ -87,8 +87,8 @@ double PatchGap(const Patch& a, const Patch& b) {
       const Patch& other = p == &a ? b : a;
       for (const double sx : {-0.5, 0.5}) {
         for (const double sy : {-0.5, 0.5}) {
-          const Vec2 corner = p->position_mm + sx * p->size_mm.x() * AxisX(*p) +
-                              sy * p->size_mm.y() * AxisY(*p);
+          const Vec2 corner =
+              p->position_mm + sx * p->size_mm.x() * AxisX(*p) + sy * p->size_mm.y() * AxisY(*p);
           best = std::min(best, (corner - NearestOnRectangle(other, corner)).norm());
         }
       }

@@ -1,6 +1,6 @@
-// A planar patch pattern: colour patches (discs or rectangles) at known model positions (mm), one of them the
-// key patch that announces the pattern (paper section III). The model frame has x forward, y left;
-// its origin is the point whose pose is reported.
+// A planar patch pattern: colour patches (discs or rectangles) at known model positions (mm), one
+// of them the key patch that announces the pattern (paper section III). The model frame has x
+// forward, y left; its origin is the point whose pose is reported.
 #pragma once
 
 #include <string>

@@ -55,7 +55,8 @@ void ParseShape(const TomlReader& pr, size_t i, Patch* patch) {
     return;
   }
   if (pr.Has("radius")) {
-    pr.Fail("radius", which + " is a rectangle with a radius; expected size = [sx, sy] (mm) and "
+    pr.Fail("radius", which +
+                          " is a rectangle with a radius; expected size = [sx, sy] (mm) and "
                           "no radius");
   }
   const toml::node* size_node = pr.table().get("size");
@@ -74,8 +75,8 @@ void ParseShape(const TomlReader& pr, size_t i, Patch* patch) {
     pr.Fail("angle_deg", pr.Describe("angle_deg") + " is " + FormatNumber(angle_deg) +
                              "; expected an angle in [-360, 360] (degrees)");
   }
-  const Patch r = RectanglePatch(patch->position_mm, sides, angle_deg * std::numbers::pi / 180.0,
-                                 patch->role);
+  const Patch r =
+      RectanglePatch(patch->position_mm, sides, angle_deg * std::numbers::pi / 180.0, patch->role);
   patch->shape = r.shape;
   patch->size_mm = r.size_mm;
   patch->angle_rad = r.angle_rad;
@@ -180,8 +181,8 @@ void CheckPatchLayout(const Pattern& pattern, const std::vector<FileLoc>& locs) 
         const double gap = PatchGap(a, b);
         if (gap < -1e-9) {
           throw InputError(locs[i], "[[patch]] " + std::to_string(i) + " (" +
-                                        std::string(NameOf(b.shape, kPatchShapeNames)) + ") overlaps [[patch]] " +
-                                        std::to_string(j) + " (" +
+                                        std::string(NameOf(b.shape, kPatchShapeNames)) +
+                                        ") overlaps [[patch]] " + std::to_string(j) + " (" +
                                         std::string(NameOf(a.shape, kPatchShapeNames)) + ") by " +
                                         FormatNumber(-gap) +
                                         " mm; expected patches that do not overlap");

@@ -309,7 +309,8 @@ PlaneResidual ReadResidual(const toml::node& node, size_t i, const std::string& 
   const toml::table* t = node.as_table();
   const std::string context = "[[residual]] " + std::to_string(i + 1);
   if (t == nullptr)
-    throw InputError(io::LocOf(name, node), context + " is not a table; expected [[residual]] tables");
+    throw InputError(io::LocOf(name, node),
+                     context + " is not a table; expected [[residual]] tables");
   const io::TomlReader r(*t, name, context);
   r.CheckKeys({"height_mm", "rms_mm", "worst_mm", "measured"});
   PlaneResidual p;
@@ -344,8 +345,9 @@ std::vector<PlaneResidual> ReadResiduals(const toml::table& root, const io::Toml
     top.Fail("residual", "residual is not an array of tables; expected [[residual]] tables");
   }
   for (size_t i = 0; i < list->size(); ++i) out.push_back(ReadResidual((*list)[i], i, name, out));
-  std::sort(out.begin(), out.end(),
-            [](const PlaneResidual& a, const PlaneResidual& b) { return a.height_mm < b.height_mm; });
+  std::sort(out.begin(), out.end(), [](const PlaneResidual& a, const PlaneResidual& b) {
+    return a.height_mm < b.height_mm;
+  });
   return out;
 }
 

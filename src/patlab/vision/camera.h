@@ -80,7 +80,7 @@ class CameraModel {
 // the plane's scale instead.
 struct PlaneResidual {
   double height_mm = 0.0;
-  double rms_mm = 0.0;  // >= 0
+  double rms_mm = 0.0;    // >= 0
   double worst_mm = 0.0;  // >= rms_mm
   bool measured = true;
 };
