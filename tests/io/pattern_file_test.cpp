@@ -121,7 +121,7 @@ std::string RectId(const std::string& y, const std::string& extra = "") {
 TEST(PatternFile, RectanglesLoadWithAreaAndEqualAreaRadius) {
   const Pattern vss = testing::ShippedPattern("vss-two-rectangles");
   ASSERT_EQ(vss.size(), 2);
-  for (const Patch& p : vss.patches) {
+  for (const patlab::Patch& p : vss.patches) {
     EXPECT_EQ(p.shape, PatchShape::kRectangle);
     EXPECT_EQ(p.size_mm, Vec2(70.0, 32.0));
     EXPECT_DOUBLE_EQ(p.Area(), 2240.0);
@@ -146,25 +146,25 @@ TEST(PatternFile, BadRectanglesAreRejectedWithFileLineAndWhatWasExpected) {
        "p.toml:9: shape in [[patch]] 1 is \"square\"; expected \"disc\" or \"rectangle\""},
       {"rectangle without size",
        head + kKey + "[[patch]]\nrole = \"id\"\nshape = \"rectangle\"\nx = 65\ny = 0\n",
-       "p.toml:8: [[patch]] 1 is a rectangle without size; expected size = [sx, sy] (mm, the sides "
+       "p.toml:7: [[patch]] 1 is a rectangle without size; expected size = [sx, sy] (mm, the sides "
        "along the rectangle's x and y)"},
       {"rectangle with radius", head + kRectKey + RectId("-18", "radius = 3\n"),
-       "p.toml:19: [[patch]] 1 is a rectangle with a radius; expected size = [sx, sy] (mm) and no "
+       "p.toml:14: [[patch]] 1 is a rectangle with a radius; expected size = [sx, sy] (mm) and no "
        "radius"},
       {"size not two numbers",
        head + kRectKey +
            "[[patch]]\nrole = \"id\"\nshape = \"rectangle\"\nx = 0\ny = -18\nsize = [70]\n",
-       "p.toml:18: [[patch]] 1 is a rectangle whose size is not two numbers; expected size = [sx, "
+       "p.toml:13: [[patch]] 1 is a rectangle whose size is not two numbers; expected size = [sx, "
        "sy] (mm, the sides along the rectangle's x and y)"},
       {"size not positive",
        head + kRectKey +
            "[[patch]]\nrole = \"id\"\nshape = \"rectangle\"\nx = 0\ny = -18\nsize = [70, 0]\n",
-       "p.toml:18: size[1] in [[patch]] 1 is 0; expected a positive number (mm)"},
+       "p.toml:13: size[1] in [[patch]] 1 is 0; expected a positive number (mm)"},
       {"disc with size", head + kKey + Patch("65", "0", "size = [3, 4]\n"),
        "p.toml:12: [[patch]] 1 is a disc with size; expected radius only, or shape = "
        "\"rectangle\""},
       {"angle out of range", head + kRectKey + RectId("-18", "angle_deg = 400\n"),
-       "p.toml:19: angle_deg in [[patch]] 1 is 400; expected an angle in [-360, 360] (degrees)"},
+       "p.toml:14: angle_deg in [[patch]] 1 is 400; expected an angle in [-360, 360] (degrees)"},
       {"rectangles overlap", head + kRectKey + RectId("-12"),
        "p.toml:8: [[patch]] 1 (rectangle) overlaps [[patch]] 0 (rectangle) by 2 mm; expected "
        "patches that do not overlap"},

@@ -134,19 +134,19 @@ TEST(Camera, RecordedResidualsAreReadAndLookedUpByHeight) {
   EXPECT_EQ(cal.ResidualRmsMm(100.0), 8.5);  // the nearest height
   EXPECT_INPUT_ERROR(
       ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = -1\n", "c.toml"),
-      "c.toml:10: rms_mm is -1 in [[residual]] 1; expected a residual >= 0 (mm)");
+      "c.toml:9: rms_mm is -1 in [[residual]] 1; expected a residual >= 0 (mm)");
   EXPECT_INPUT_ERROR(
       ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = 2\nworst_mm = 1\n", "c.toml"),
-      "c.toml:11: worst_mm is 1 in [[residual]] 1; expected at least rms_mm (2)");
+      "c.toml:10: worst_mm is 1 in [[residual]] 1; expected at least rms_mm (2)");
   EXPECT_INPUT_ERROR(
       ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = 2\n[[residual]]\n"
                               "height_mm = 0.2\nrms_mm = 2\n",
                        "c.toml"),
-      "c.toml:13: height_mm 0.2 in [[residual]] 2 repeats an earlier residual; expected one per "
+      "c.toml:11: height_mm 0.2 in [[residual]] 2 repeats an earlier residual; expected one per "
       "height");
   EXPECT_INPUT_ERROR(
       ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms = 2\n", "c.toml"),
-      "c.toml:10: unknown key 'rms' in [[residual]] 1; expected one of: height_mm, rms_mm, "
+      "c.toml:9: unknown key 'rms' in [[residual]] 1; expected one of: height_mm, rms_mm, "
       "worst_mm, measured");
 }
 
