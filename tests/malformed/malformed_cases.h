@@ -191,7 +191,7 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                      "name = \"p\"\n[[patch]]\nrole = \"key\"\nx = 0.0\ny = 0.0\nradus = 25.0\ncolour = \"blue\"\n[[patch]]\nrole = \"id\"\nx = 50.0\ny = 0.0\nradius = 20.0\n[[patch]]\nrole = \"id\"\nx = 0.0\ny = 45.0\nradius = 20.0\n"s}},
                    "ids {dir}p.toml",
                    2,
-                   "patlab ids: {dir}p.toml:6: unknown key 'radus' in [[patch]] 0; expected one of: x, y, radius, role, colour"s,
+                   "patlab ids: {dir}p.toml:6: unknown key 'radus' in [[patch]] 0; expected one of: x, y, radius, role, colour, shape, size, angle_deg"s,
                    nullptr},
                   {"PatternPatchesOverlap",
                    {{"p.toml",
