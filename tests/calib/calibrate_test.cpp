@@ -305,6 +305,27 @@ TEST(Calibrate, TheWrittenFileIsTheFittedCamera) {
   EXPECT_EQ(cal.default_height_mm, 150.0);
   EXPECT_EQ(cal.HeightOf("orange"), 21.5);
   EXPECT_LT(MappingError(cal.camera, vision::CameraModel::Pinhole(fit.camera), 150.0).second, 1e-6);
+  // The residual rows: every observed plane (0 and 150 mm) with its measured residual, and the
+  // class height 21.5 mm, where nothing was observed, converted from the pixel residuals.
+  ASSERT_EQ(fit.planes.size(), 2u);
+  ASSERT_EQ(cal.residuals.size(), 3u);
+  EXPECT_EQ(cal.residuals[0].height_mm, 0.0);
+  EXPECT_NEAR(cal.residuals[0].rms_mm, fit.planes[0].rms_mm, 5e-4);
+  EXPECT_NEAR(cal.residuals[0].worst_mm, fit.planes[0].worst_mm, 5e-4);
+  EXPECT_TRUE(cal.residuals[0].measured);
+  EXPECT_EQ(cal.residuals[1].height_mm, 21.5);
+  EXPECT_FALSE(cal.residuals[1].measured);
+  EXPECT_EQ(cal.residuals[2].height_mm, 150.0);
+  EXPECT_NEAR(cal.residuals[2].rms_mm, fit.planes[1].rms_mm, 5e-4);
+  EXPECT_EQ(cal.ResidualRmsMm(cal.default_height_mm), cal.residuals[2].rms_mm);
+  // The converted row: each pixel's px residual times the mm per px of the 21.5 mm plane, which
+  // lies between the two observed planes' scales (the camera is a few metres up).
+  double sum2 = 0.0;
+  for (const ObservationResidual& r : fit.residuals) {
+    const double mm = r.px * std::sqrt(cal.camera.AreaScale(r.pixel, 21.5));
+    sum2 += mm * mm;
+  }
+  EXPECT_NEAR(cal.residuals[1].rms_mm, std::sqrt(sum2 / fit.residuals.size()), 5e-4);
 }
 
 TEST(Calibrate, ReportsEveryPixelAndTheWorst) {

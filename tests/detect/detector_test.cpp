@@ -125,6 +125,40 @@ TEST(Detector, ButterflyWrongRotationsFailTheDefaultTolerance) {
   EXPECT_NEAR(detector.ResidualTolerance(0), 4.0 * 29.8775, 0.01);
 }
 
+// Settings that travel: a calibration error moves each blob, and the detector's tolerance takes
+// the calibration's recorded residual into account. The VSS two-rectangle robot (key and ID 36 mm
+// apart, m = 2, one degree of freedom) seen through a calibration that puts each rectangle 6 mm
+// too far out along the key-ID axis: E = (12 mm)^2 / 2 = 72 mm^2 (a two-point rigid fit leaves
+// half the squared change of their distance). The shipped tolerance 2^2 * chi2_1^-1(0.9999) =
+// 4 * 15.137 = 60.5 mm^2 misses it; with the calibration's residual of 6 mm recorded, sigma^2 =
+// 4 + 36 gives 605 mm^2 and the robot is found with its ID.
+TEST(Detector, CalibrationResidualWidensTheGeometricTolerance) {
+  const DetectorPattern dp =
+      MakeDetectorPattern(LoadPattern("vss-two-rectangles"), {"pink", "green"});
+  const Pose2 pose{300.0, -200.0, 0.7};
+  const std::vector<Blob> blobs = {
+      {pose.Apply(dp.pattern.patches[0].position_mm + Vec2(0.0, 6.0)), kBlue, 2240.0},
+      {pose.Apply(dp.pattern.patches[1].position_mm - Vec2(0.0, 6.0)), kGreen, 2240.0}};
+  DetectorOptions options;  // the shipped numbers: patch_sigma_mm = 2
+  Detector ignored(MakeConfig({dp}, options));
+  EXPECT_NEAR(ignored.ResidualTolerance(0), 4.0 * 15.1367, 0.01);
+  std::vector<Detection> detections;
+  ignored.Detect(blobs, &detections);
+  EXPECT_TRUE(detections.empty());
+
+  options.calibration_residual_mm = 6.0;
+  Detector with(MakeConfig({dp}, options));
+  EXPECT_NEAR(with.ResidualTolerance(0), 40.0 * 15.1367, 0.1);
+  with.Detect(blobs, &detections);
+  ASSERT_EQ(detections.size(), 1u);
+  EXPECT_EQ(detections[0].status, DetectionStatus::kOk);
+  EXPECT_EQ(detections[0].id, dp.codebook.entries[1].id);
+  EXPECT_NEAR(detections[0].residual_mm2, 72.0, 1e-6);
+  // The confidence uses the same sigma^2: P(chi2_1 >= 72 / 40).
+  EXPECT_NEAR(detections[0].confidence, std::erfc(std::sqrt(72.0 / 40.0 / 2.0)), 1e-9);
+  ExpectPose(detections[0].pose, pose, 6.0 + 1e-6, 1e-9);  // off by at most one patch's 6 mm
+}
+
 TEST(Detector, MissingPatchRejectedOrFittedAndSaidSo) {
   const DetectorPattern dp = SslDetectorPattern();
   const Pose2 pose{-400.0, 250.0, -2.0};
@@ -361,6 +395,10 @@ TEST(Detector, ConfigurationErrors) {
 TEST(DetectorOptions, CheckReportsEveryBrokenConstraint) {
   DetectorOptions options;
   EXPECT_TRUE(Check(options).empty());
+  options.calibration_residual_mm = -1.0;
+  EXPECT_EQ(Check(options).front().message,
+            "calibration_residual_mm is -1; expected a finite number >= 0 (mm)");
+  options.calibration_residual_mm = 0.0;
   options.patch_sigma_mm = 0.0;
   options.area_ratio_max = 0.1;  // below area_ratio_min 0.4
   options.ml.max_iterations = 1001;

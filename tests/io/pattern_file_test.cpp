@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include "../test_util.h"
 #include "patlab/core/error.h"
 
@@ -85,7 +87,7 @@ TEST(PatternFile, BadFilesAreRejectedWithFileLineAndWhatWasExpected) {
        "p.toml:10: y in [[patch]] 1 is -inf; expected a finite number"},
       {"unknown key (typo)", head + kKey + Patch("65", "0", "radus = 3\n"),
        "p.toml:12: unknown key 'radus' in [[patch]] 1; expected one of: x, y, radius, role, "
-       "colour"},
+       "colour, shape, size, angle_deg"},
       {"unknown top-level key", head + "patches = 3\n" + kKey,
        "p.toml:2: unknown key 'patches'; expected one of: name, description, orientation_pairs, "
        "patch"},
@@ -101,6 +103,74 @@ TEST(PatternFile, BadFilesAreRejectedWithFileLineAndWhatWasExpected) {
       {"fixed without colour",
        head + kKey + "[[patch]]\nrole = \"fixed\"\nx = 65.0\ny = 0.0\nradius = 20.0\n",
        "p.toml:8: [[patch]] 1 has role \"fixed\" but no colour; expected colour = \"<name>\""},
+  };
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.what);
+    EXPECT_INPUT_ERROR(ParsePattern(c.text, "p.toml"), c.message);
+  }
+}
+
+constexpr const char* kRectKey =
+    "[[patch]]\nrole = \"key\"\nshape = \"rectangle\"\nx = 0.0\ny = 18.0\nsize = [70, 32]\n";
+
+std::string RectId(const std::string& y, const std::string& extra = "") {
+  return "[[patch]]\nrole = \"id\"\nshape = \"rectangle\"\nx = 0.0\ny = " + y +
+         "\nsize = [70, 32]\n" + extra;
+}
+
+TEST(PatternFile, RectanglesLoadWithAreaAndEqualAreaRadius) {
+  const Pattern vss = testing::ShippedPattern("vss-two-rectangles");
+  ASSERT_EQ(vss.size(), 2);
+  for (const patlab::Patch& p : vss.patches) {
+    EXPECT_EQ(p.shape, PatchShape::kRectangle);
+    EXPECT_EQ(p.size_mm, Vec2(70.0, 32.0));
+    EXPECT_DOUBLE_EQ(p.Area(), 2240.0);
+  }
+  EXPECT_EQ(vss.patches[0].position_mm, Vec2(0.0, 18.0));
+  EXPECT_EQ(vss.patches[1].position_mm, Vec2(0.0, -18.0));
+  EXPECT_EQ(vss.orientation_pairs.size(), 1u);
+  // A rotated rectangle next to a disc.
+  const Pattern p = ParsePattern(std::string("name = \"t\"\n") + kKey +
+                                     "[[patch]]\nrole = \"id\"\nshape = \"rectangle\"\nx = 60\n"
+                                     "y = 0\nsize = [40, 10]\nangle_deg = 90\n",
+                                 "p.toml");
+  EXPECT_NEAR(p.patches[1].angle_rad, std::numbers::pi / 2, 1e-15);
+  EXPECT_EQ(p.patches[0].shape, PatchShape::kDisc);
+}
+
+TEST(PatternFile, BadRectanglesAreRejectedWithFileLineAndWhatWasExpected) {
+  const std::string head = "name = \"t\"\n";
+  const std::vector<BadCase> cases = {
+      {"unknown shape",
+       head + kKey + "[[patch]]\nrole = \"id\"\nshape = \"square\"\nx = 65\ny = 0\nradius = 5\n",
+       "p.toml:9: shape in [[patch]] 1 is \"square\"; expected \"disc\" or \"rectangle\""},
+      {"rectangle without size",
+       head + kKey + "[[patch]]\nrole = \"id\"\nshape = \"rectangle\"\nx = 65\ny = 0\n",
+       "p.toml:7: [[patch]] 1 is a rectangle without size; expected size = [sx, sy] (mm, the sides "
+       "along the rectangle's x and y)"},
+      {"rectangle with radius", head + kRectKey + RectId("-18", "radius = 3\n"),
+       "p.toml:14: [[patch]] 1 is a rectangle with a radius; expected size = [sx, sy] (mm) and no "
+       "radius"},
+      {"size not two numbers",
+       head + kRectKey +
+           "[[patch]]\nrole = \"id\"\nshape = \"rectangle\"\nx = 0\ny = -18\nsize = [70]\n",
+       "p.toml:13: [[patch]] 1 is a rectangle whose size is not two numbers; expected size = [sx, "
+       "sy] (mm, the sides along the rectangle's x and y)"},
+      {"size not positive",
+       head + kRectKey +
+           "[[patch]]\nrole = \"id\"\nshape = \"rectangle\"\nx = 0\ny = -18\nsize = [70, 0]\n",
+       "p.toml:13: size[1] in [[patch]] 1 is 0; expected a positive number (mm)"},
+      {"disc with size", head + kKey + Patch("65", "0", "size = [3, 4]\n"),
+       "p.toml:12: [[patch]] 1 is a disc with size; expected radius only, or shape = "
+       "\"rectangle\""},
+      {"angle out of range", head + kRectKey + RectId("-18", "angle_deg = 400\n"),
+       "p.toml:14: angle_deg in [[patch]] 1 is 400; expected an angle in [-360, 360] (degrees)"},
+      {"rectangles overlap", head + kRectKey + RectId("-12"),
+       "p.toml:8: [[patch]] 1 (rectangle) overlaps [[patch]] 0 (rectangle) by 2 mm; expected "
+       "patches that do not overlap"},
+      {"rectangle overlaps disc", head + kKey + RectId("40"),
+       "p.toml:7: [[patch]] 1 (rectangle) overlaps [[patch]] 0 (disc) by 1 mm; expected patches "
+       "that do not overlap"},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.what);

@@ -113,6 +113,43 @@ TEST(Camera, ProjectiveHomographyMatchesItsDefinition) {
   EXPECT_NEAR((*cam.WorldToPixel(expect, 50) - Vec2(10, 20)).norm(), 0, 1e-9);
 }
 
+TEST(Camera, RecordedResidualsAreReadAndLookedUpByHeight) {
+  const std::string head =
+      "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+      "matrix = [[1, 0, 0], [0, -1, 800], [0, 0, 1]]\n[heights]\ndefault_mm = 0\n";
+  // An old file: no rows, residual 0.
+  EXPECT_EQ(ParseCalibration(head, "c.toml").ResidualRmsMm(0.0), 0.0);
+  const Calibration cal = ParseCalibration(
+      head +
+          "[[residual]]\nheight_mm = 140\nrms_mm = 8.5\nworst_mm = 30\nmeasured = false\n"
+          "[[residual]]\nheight_mm = 0\nrms_mm = 3.25\n",
+      "c.toml");
+  ASSERT_EQ(cal.residuals.size(), 2u);  // sorted by height
+  EXPECT_EQ(cal.residuals[0].height_mm, 0.0);
+  EXPECT_EQ(cal.residuals[0].worst_mm, 3.25);  // defaults to rms_mm
+  EXPECT_TRUE(cal.residuals[0].measured);
+  EXPECT_FALSE(cal.residuals[1].measured);
+  EXPECT_EQ(cal.ResidualRmsMm(0.0), 3.25);
+  EXPECT_EQ(cal.ResidualRmsMm(140.3), 8.5);
+  EXPECT_EQ(cal.ResidualRmsMm(100.0), 8.5);  // the nearest height
+  EXPECT_INPUT_ERROR(
+      ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = -1\n", "c.toml"),
+      "c.toml:9: rms_mm is -1 in [[residual]] 1; expected a residual >= 0 (mm)");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = 2\nworst_mm = 1\n", "c.toml"),
+      "c.toml:10: worst_mm is 1 in [[residual]] 1; expected at least rms_mm (2)");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = 2\n[[residual]]\n"
+                              "height_mm = 0.2\nrms_mm = 2\n",
+                       "c.toml"),
+      "c.toml:11: height_mm 0.2 in [[residual]] 2 repeats an earlier residual; expected one per "
+      "height");
+  EXPECT_INPUT_ERROR(
+      ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms = 2\n", "c.toml"),
+      "c.toml:9: unknown key 'rms' in [[residual]] 1; expected one of: height_mm, rms_mm, "
+      "worst_mm, measured");
+}
+
 TEST(Camera, CalibrationErrorsNameFileAndLine) {
   EXPECT_INPUT_ERROR(ParseCalibration("model = \"fisheye\"\n", "c.toml"),
                      "c.toml:1: model is \"fisheye\"; expected \"pinhole\" or \"homography\"");

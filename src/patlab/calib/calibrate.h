@@ -115,7 +115,8 @@ struct ObservationResidual {
   int index = 0;  // pixel index within the observation (0 for points)
   FileLoc loc;
   double height_mm = 0.0;
-  double px = 0.0;  // reprojection error (px)
+  Vec2 pixel = Vec2::Zero();  // the observed pixel
+  double px = 0.0;            // reprojection error (px)
   double mm = 0.0;  // back-projected distance to the target on its plane (mm); NaN if off-image
 };
 
@@ -133,6 +134,10 @@ struct CalibrationFit {
   Eigen::Vector3d camera_centre_mm = Eigen::Vector3d::Zero();
   double rms_px = 0.0, worst_px = 0.0;
   std::vector<PlaneResiduals> planes;  // by increasing height
+  // The calibration file's [[residual]] rows, which patlab detect adds to its blob noise: every
+  // plane with observations (its measured rms_mm, worst_mm) and every height of [heights] without
+  // (each pixel's reprojection error times the plane's mm per px at that pixel, measured = false).
+  std::vector<vision::PlaneResidual> file_residuals;  // by increasing height
   std::vector<ObservationResidual> residuals;
   int iterations = 0;
   double seconds = 0.0;

@@ -20,6 +20,7 @@ template <typename Distance>
 void AddResidual(const vision::CameraModel& cam, ObservationResidual r, const Vec2& pixel,
                  const Vec2& target, Distance distance_mm, CalibrationFit& fit) {
   const auto projected = cam.WorldToPixel(target, r.height_mm);
+  r.pixel = pixel;
   r.px = projected ? (*projected - pixel).norm() : std::numeric_limits<double>::infinity();
   const auto back = cam.PixelToWorld(pixel, r.height_mm);
   r.mm = back ? distance_mm(*back) : std::numeric_limits<double>::quiet_NaN();
@@ -46,6 +47,40 @@ void Summarise(CalibrationFit& fit) {
     fit.planes.push_back(p);
   }
   fit.rms_px = std::sqrt(sum_px2 / static_cast<double>(std::max<size_t>(1, fit.residuals.size())));
+}
+
+// The [[residual]] rows of the calibration file (CalibrationFit::file_residuals).
+void FileResiduals(const CalibrationInput& in, const vision::CameraModel& cam,
+                   CalibrationFit& fit) {
+  std::vector<double> heights = {in.default_height_mm};
+  for (const auto& [name, h] : in.class_height_mm) heights.push_back(h);
+  for (const PlaneResiduals& p : fit.planes) heights.push_back(p.height_mm);
+  std::sort(heights.begin(), heights.end());
+  heights.erase(std::unique(heights.begin(), heights.end(),
+                            [](double a, double b) { return std::abs(a - b) <= 0.5; }),
+                heights.end());
+  for (const double h : heights) {
+    vision::PlaneResidual row;
+    row.height_mm = h;
+    const auto plane = std::find_if(fit.planes.begin(), fit.planes.end(), [&](const auto& p) {
+      return std::abs(p.height_mm - h) <= 0.5;
+    });
+    if (plane != fit.planes.end() && std::isfinite(plane->rms_mm)) {
+      row.rms_mm = plane->rms_mm;
+      row.worst_mm = plane->worst_mm;
+    } else {
+      // No observation on this plane: a pixel's error at its place, in mm of this plane.
+      row.measured = false;
+      double sum2 = 0.0;
+      for (const ObservationResidual& r : fit.residuals) {
+        const double mm = r.px * std::sqrt(cam.AreaScale(r.pixel, h));
+        sum2 += mm * mm;
+        row.worst_mm = std::max(row.worst_mm, mm);
+      }
+      row.rms_mm = std::sqrt(sum2 / static_cast<double>(std::max<size_t>(1, fit.residuals.size())));
+    }
+    fit.file_residuals.push_back(row);
+  }
 }
 
 }  // namespace
@@ -88,6 +123,7 @@ void FillResiduals(const CalibrationInput& in, const FitState& s, CalibrationFit
     }
   }
   Summarise(fit);
+  FileResiduals(in, cam, fit);
 }
 
 }  // namespace internal
@@ -148,6 +184,17 @@ std::string CalibrationFileText(const CalibrationInput& input, const Calibration
   out += "default_mm = " + FormatRoundTrip(input.default_height_mm) + "\n";
   for (const auto& [name, h] : input.class_height_mm)
     out += name + " = " + FormatRoundTrip(h) + "\n";
+  out +=
+      "\n# The fit's position error on each plane; patlab detect adds the robot-top plane's "
+      "rms_mm\n"
+      "# to its blob noise (docs/detect.md). measured = false: no observation on that plane, the\n"
+      "# pixel residuals converted with the plane's mm per px.\n";
+  for (const vision::PlaneResidual& r : fit.file_residuals) {
+    out += "[[residual]]\nheight_mm = " + FormatRoundTrip(r.height_mm) +
+           "\nrms_mm = " + FormatFixed(r.rms_mm, 3) + "\nworst_mm = " + FormatFixed(r.worst_mm, 3) +
+           "\n";
+    if (!r.measured) out += "measured = false\n";
+  }
   return out;
 }
 

@@ -44,6 +44,7 @@ std::vector<OptionsProblem> Check(const DetectorOptions& o) {
   OptionsChecker check;
   check.Positive("patch_sigma_mm", o.patch_sigma_mm, "mm")
       .InOpenRange("geometry_confidence", o.geometry_confidence, 0.0, 1.0, "a probability")
+      .NonNegative("calibration_residual_mm", o.calibration_residual_mm, "mm")
       .NonNegative("reach_margin_mm", o.reach_margin_mm, "mm")
       .NonNegative("area_ratio_min", o.area_ratio_min)
       .Require("area_ratio_max", o.area_ratio_max,
@@ -58,6 +59,11 @@ std::vector<OptionsProblem> Check(const DetectorOptions& o) {
 }
 
 void Validate(const DetectorOptions& options) { ThrowFirstProblem(Check(options)); }
+
+double EffectiveSigma2Mm2(const DetectorOptions& o) {
+  return o.patch_sigma_mm * o.patch_sigma_mm +
+         o.calibration_residual_mm * o.calibration_residual_mm;
+}
 
 // Upper regularised incomplete gamma Q(dof / 2, e / 2): the probability that a chi-square variable
 // with integer `dof` exceeds e, in closed form (Abramowitz & Stegun 26.4.4-26.4.5): cheaper than
@@ -263,7 +269,7 @@ void Detector::Impl::EstimatePose(const Candidate& c, std::span<const Blob> blob
       break;
   }
   const int dof = missing ? rt.dof_missing : rt.dof_full;
-  const double sigma2 = config.options.patch_sigma_mm * config.options.patch_sigma_mm;
+  const double sigma2 = EffectiveSigma2Mm2(config.options);
   d->confidence = ChiSquaredSurvival(dof, c.e / sigma2);
 }
 

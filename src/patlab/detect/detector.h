@@ -64,6 +64,13 @@ struct DetectorOptions {
   // accepts worse blobs but lets wrong rotations of a nearly symmetric pattern pass: the
   // Butterfly's wrong rotations have E >= 932 mm^2, so keep the tolerance well below that.
   double patch_sigma_mm = 2.0;
+  // The calibration's measured RMS position error (mm) on the plane the patterns lie on (a
+  // camera frame: the calibration file's [[residual]] row, set by vision::FrameDetector; 0 for
+  // simulated blobs and old calibration files). It adds to the blob noise: the geometric test
+  // and the confidence use the effective sigma^2 = patch_sigma_mm^2 + calibration_residual_mm^2
+  // (EffectiveSigma2Mm2), so that settings tuned on good blobs also work through an imperfect
+  // camera model (docs/detect.md, "Settings that travel"). >= 0.
+  double calibration_residual_mm = 0.0;
   // Probability that a correct correspondence with Gaussian noise of patch_sigma_mm passes the
   // geometric test, in (0, 1). Higher: fewer misses, looser tolerance.
   double geometry_confidence = 0.9999;
@@ -80,6 +87,11 @@ struct DetectorOptions {
   estimate::Estimator estimator = estimate::Estimator::kFast;
   estimate::Options ml;  // for Estimator::kMl
 };
+
+// The variance per axis (mm^2) the geometric test assumes for one blob centre: the segmentation
+// noise patch_sigma_mm^2 plus the calibration's calibration_residual_mm^2 (independent errors add
+// in variance).
+double EffectiveSigma2Mm2(const DetectorOptions& options);
 
 // The one place DetectorOptions are checked (core/options.h): every broken constraint, field names
 // as the settings file spells them (the ML options with prefix "ml_", estimate::Check).
@@ -122,7 +134,7 @@ struct Detection {
   DetectionStatus status = DetectionStatus::kOk;
   Pose2 pose;                 // of the model origin, with DetectorOptions::estimator
   double residual_mm2 = 0.0;  // E: sum-squared error of the rigid least-squares fit
-  double confidence = 0.0;    // P(chi2_{2m-3} >= E / patch_sigma_mm^2): 1 perfect, ~0 poor
+  double confidence = 0.0;    // P(chi2_{2m-3} >= E / EffectiveSigma2Mm2): 1 perfect, ~0 poor
   int missing_patch = -1;     // kMissingPatch: the pattern patch index not found
   std::array<int, kMaxPatches> blob{};  // blob index per pattern patch (-1: missing)
 };

@@ -203,8 +203,9 @@ void Detector::Impl::BuildCircularColours(const Pattern& pattern, const std::str
 // The geometric tolerances (stage 4), and the areas and ring distances of stages 1-2.
 void Detector::Impl::BuildTolerancesAndReach(const Pattern& pattern, PatternRuntime* rt) {
   const DetectorOptions& o = config.options;
-  // Paper section III: an n-patch rigid fit leaves 2n - 3 degrees of freedom of residual.
-  const double sigma2 = o.patch_sigma_mm * o.patch_sigma_mm;
+  // Paper section III: an n-patch rigid fit leaves 2n - 3 degrees of freedom of residual. The
+  // calibration's residual adds to each blob's noise (EffectiveSigma2Mm2).
+  const double sigma2 = EffectiveSigma2Mm2(o);
   rt->dof_full = 2 * rt->m - 3;
   rt->e_max_full = sigma2 * ChiSquaredQuantile(rt->dof_full, o.geometry_confidence);
   rt->dof_missing = 2 * (rt->m - 1) - 3;
@@ -214,7 +215,8 @@ void Detector::Impl::BuildTolerancesAndReach(const Pattern& pattern, PatternRunt
   }
 
   const Vec2 key = pattern.patches[rt->key_index].position_mm;
-  const double key_area = std::numbers::pi * std::pow(pattern.patches[rt->key_index].radius_mm, 2);
+  // Areas of the patch outlines (disc or rectangle); a patch's position is its centroid.
+  const double key_area = pattern.patches[rt->key_index].Area();
   rt->key_area_min = o.area_ratio_min * key_area;
   rt->key_area_max = o.area_ratio_max * key_area;
   rt->nb_area_min = 1e300;
@@ -223,7 +225,7 @@ void Detector::Impl::BuildTolerancesAndReach(const Pattern& pattern, PatternRunt
   rt->ring_max_mm = 0.0;
   for (int j = 0; j < rt->mk; ++j) {
     const Patch& patch = pattern.patches[rt->circ_patch[j]];
-    const double area = std::numbers::pi * patch.radius_mm * patch.radius_mm;
+    const double area = patch.Area();
     rt->nb_area_min = std::min(rt->nb_area_min, o.area_ratio_min * area);
     rt->nb_area_max = std::max(rt->nb_area_max, o.area_ratio_max * area);
     const double r = (patch.position_mm - key).norm();

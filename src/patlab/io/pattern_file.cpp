@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <optional>
 
 #include "patlab/core/format.h"
@@ -20,10 +21,72 @@ std::string PointText(const Vec2& p) {
   return "(" + FormatNumber(p.x()) + ", " + FormatNumber(p.y()) + ")";
 }
 
+// A length (mm) in (0, kMaxPatternExtentMm]: `value` read from `key`, named `what` in messages.
+void CheckLength(const TomlReader& pr, std::string_view key, const std::string& what,
+                 double value) {
+  if (!(value > 0.0)) {
+    pr.Fail(key, what + " is " + FormatNumber(value) + "; expected a positive number (mm)");
+  }
+  if (!(value <= kMaxPatternExtentMm)) {
+    pr.Fail(key, what + " is " + FormatNumber(value) + "; expected at most " +
+                     FormatNumber(kMaxPatternExtentMm) + " (mm)");
+  }
+}
+
+// The patch's outline: shape = "disc" (default) with radius, or "rectangle" with size = [sx, sy]
+// and an optional angle_deg.
+void ParseShape(const TomlReader& pr, size_t i, Patch* patch) {
+  const std::string shape = pr.OptionalString("shape").value_or("disc");
+  const std::optional<PatchShape> parsed = FindName(shape, kPatchShapeNames);
+  if (!parsed) {
+    pr.Fail("shape",
+            pr.Describe("shape") + " is \"" + shape + "\"; expected " + NameList(kPatchShapeNames));
+  }
+  const std::string which = "[[patch]] " + std::to_string(i);
+  if (*parsed == PatchShape::kDisc) {
+    for (std::string_view key : {"size", "angle_deg"}) {
+      if (pr.Has(key)) {
+        pr.Fail(key, which + " is a disc with " + std::string(key) +
+                         "; expected radius only, or shape = \"rectangle\"");
+      }
+    }
+    patch->radius_mm = pr.Number("radius");
+    CheckLength(pr, "radius", pr.Describe("radius"), patch->radius_mm);
+    return;
+  }
+  if (pr.Has("radius")) {
+    pr.Fail("radius", which +
+                          " is a rectangle with a radius; expected size = [sx, sy] (mm) and "
+                          "no radius");
+  }
+  const toml::node* size_node = pr.table().get("size");
+  const toml::array* size = size_node ? size_node->as_array() : nullptr;
+  if (size == nullptr || size->size() != 2 || !size->get(0)->is_number() ||
+      !size->get(1)->is_number()) {
+    pr.Fail("size", which + " is a rectangle " +
+                        (size_node ? "whose size is not two numbers" : "without size") +
+                        "; expected size = [sx, sy] (mm, the sides along the rectangle's x and y)");
+  }
+  const Vec2 sides(size->get(0)->value<double>().value(), size->get(1)->value<double>().value());
+  CheckLength(pr, "size", "size[0] in " + which, sides.x());
+  CheckLength(pr, "size", "size[1] in " + which, sides.y());
+  const double angle_deg = pr.OptionalNumber("angle_deg").value_or(0.0);
+  if (!(std::abs(angle_deg) <= 360.0)) {
+    pr.Fail("angle_deg", pr.Describe("angle_deg") + " is " + FormatNumber(angle_deg) +
+                             "; expected an angle in [-360, 360] (degrees)");
+  }
+  const Patch r =
+      RectanglePatch(patch->position_mm, sides, angle_deg * std::numbers::pi / 180.0, patch->role);
+  patch->shape = r.shape;
+  patch->size_mm = r.size_mm;
+  patch->angle_rad = r.angle_rad;
+  patch->radius_mm = r.radius_mm;
+}
+
 // One [[patch]] table, number i. `key_index` is the first key patch seen so far (-1: none).
 Patch ParsePatch(const toml::table& t, const std::string& file, size_t i, int key_index) {
   TomlReader pr(t, file, "[[patch]] " + std::to_string(i));
-  pr.CheckKeys({"x", "y", "radius", "role", "colour"});
+  pr.CheckKeys({"x", "y", "radius", "role", "colour", "shape", "size", "angle_deg"});
   Patch patch;
   // A pattern sits on a robot: coordinates beyond 10 m are a typo, and 1e300 would overflow the
   // squared distances of every estimator and bound.
@@ -37,15 +100,7 @@ Patch ParsePatch(const toml::table& t, const std::string& file, size_t i, int ke
     return v;
   };
   patch.position_mm = Vec2(coordinate("x"), coordinate("y"));
-  patch.radius_mm = pr.Number("radius");
-  if (!(patch.radius_mm > 0.0)) {
-    pr.Fail("radius", pr.Describe("radius") + " is " + FormatNumber(patch.radius_mm) +
-                          "; expected a positive number (mm)");
-  }
-  if (!(patch.radius_mm <= kMaxPatternExtentMm)) {
-    pr.Fail("radius", pr.Describe("radius") + " is " + FormatNumber(patch.radius_mm) +
-                          "; expected at most " + FormatNumber(kMaxPatternExtentMm) + " (mm)");
-  }
+  ParseShape(pr, i, &patch);
   const std::string role = pr.String("role");
   const std::optional<PatchRole> parsed = FindName(role, kPatchRoleNames);
   if (!parsed) {
@@ -121,6 +176,18 @@ void CheckPatchLayout(const Pattern& pattern, const std::vector<FileLoc>& locs) 
         throw InputError(locs[i], "[[patch]] " + std::to_string(i) + " coincides with [[patch]] " +
                                       std::to_string(j) + " at " + PointText(b.position_mm) +
                                       "; expected distinct patch positions");
+      }
+      if (a.shape != PatchShape::kDisc || b.shape != PatchShape::kDisc) {
+        const double gap = PatchGap(a, b);
+        if (gap < -1e-9) {
+          throw InputError(locs[i], "[[patch]] " + std::to_string(i) + " (" +
+                                        std::string(NameOf(b.shape, kPatchShapeNames)) +
+                                        ") overlaps [[patch]] " + std::to_string(j) + " (" +
+                                        std::string(NameOf(a.shape, kPatchShapeNames)) + ") by " +
+                                        FormatNumber(-gap) +
+                                        " mm; expected patches that do not overlap");
+        }
+        continue;
       }
       if (distance < a.radius_mm + b.radius_mm - 1e-9) {
         throw InputError(locs[i], "[[patch]] " + std::to_string(i) + " overlaps [[patch]] " +

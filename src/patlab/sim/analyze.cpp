@@ -1,9 +1,12 @@
 #include "patlab/sim/analyze.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "patlab/core/error.h"
@@ -63,6 +66,10 @@ ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int 
   }
   ErrorSegment s;
   s.run = run;
+  s.frame.reserve(f->end - f->begin);
+  s.x.reserve(f->end - f->begin);
+  s.y.reserve(f->end - f->begin);
+  if (!rt.empty()) s.theta.reserve(f->end - f->begin);
   for (size_t i = f->begin; i < f->end; ++i) {
     s.frame.push_back(t.frame[i]);
     AppendRotated(*f, t.x[i] - sx[i - lo], t.y[i] - sy[i - lo], &s);
@@ -181,12 +188,6 @@ std::string Fixed(double v, int decimals) {
   return {buf, r.ptr};
 }
 
-void AppendFixed(double v, int decimals, std::string* out) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
-  out->append(buf, r.ptr);
-}
-
 nlohmann::json StdJson(const stats::StdWithCi& s) {
   return {{"std", s.std}, {"lower", s.lower}, {"upper", s.upper}, {"n", s.n}};
 }
@@ -287,6 +288,44 @@ std::string AnalyzeTableCsv(const AnalyzeReport& report) {
   return csv;
 }
 
+namespace {
+
+// One CSV row assembled in a fixed buffer and appended with one call (instead of one
+// std::string append per cell). A row holds a prefix, a frame (at most 20 characters) and up to
+// six fixed-point cells of at most 1 + 309 + 1 + 6 characters each (|v| up to DBL_MAX).
+class Row {
+ public:
+  static constexpr size_t kNumbers = 21 + 6 * 318 + 1;
+
+  void Start(std::string_view prefix) {
+    std::memcpy(buffer_.data(), prefix.data(), prefix.size());
+    used_ = prefix.size();
+  }
+  void Char(char c) { buffer_[used_++] = c; }
+  template <typename... Format>
+  void Number(auto v, Format... format) {
+    char* begin = buffer_.data() + used_;
+    used_ += static_cast<size_t>(
+        std::to_chars(begin, buffer_.data() + buffer_.size(), v, format...).ptr - begin);
+  }
+  // ",x,y,theta" of sample i with 4, 4 and 6 decimals, a cell empty when its column is absent.
+  void Errors(const ErrorSegment& e, size_t i) {
+    for (const auto& [v, d] : {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
+      Char(',');
+      if (!v->empty()) Number((*v)[i], std::chars_format::fixed, d);
+    }
+  }
+  std::string_view Text() const { return {buffer_.data(), used_}; }
+  // The longest prefix Start takes.
+  size_t MaxPrefix() const { return buffer_.size() - kNumbers; }
+
+ private:
+  std::array<char, 4096 + kNumbers> buffer_{};
+  size_t used_ = 0;
+};
+
+}  // namespace
+
 std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
   const bool truth = !report.subjects.empty() && report.subjects.front().has_truth;
   size_t samples = 0;
@@ -297,27 +336,20 @@ std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
   csv.reserve(samples * (truth ? 96 : 56));
   csv += "subject,run,frame,est_x_mm,est_y_mm,est_theta_rad";
   csv += truth ? ",true_x_mm,true_y_mm,true_theta_rad\n" : "\n";
+  auto row = std::make_unique<Row>();
   for (const SubjectAnalysis& a : report.subjects) {
     for (size_t g = 0; g < a.est_errors.size(); ++g) {
       const ErrorSegment& e = a.est_errors[g];
       const std::string prefix = a.subject + "," + report.runs[static_cast<size_t>(e.run)] + ",";
+      const bool fits = prefix.size() <= row->MaxPrefix();
       for (size_t i = 0; i < e.frame.size(); ++i) {
-        csv += prefix;
-        csv += std::to_string(e.frame[i]);
-        for (const auto& [v, d] :
-             {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
-          csv += ',';
-          if (!v->empty()) AppendFixed((*v)[i], d, &csv);
-        }
-        if (truth) {
-          const ErrorSegment& t = a.true_errors[g];
-          for (const auto& [v, d] :
-               {std::pair(&t.x, 4), std::pair(&t.y, 4), std::pair(&t.theta, 6)}) {
-            csv += ',';
-            if (!v->empty()) AppendFixed((*v)[i], d, &csv);
-          }
-        }
-        csv += '\n';
+        row->Start(fits ? std::string_view(prefix) : std::string_view());
+        if (!fits) csv += prefix;  // a name longer than the buffer: appended on its own
+        row->Number(e.frame[i]);
+        row->Errors(e, i);
+        if (truth) row->Errors(a.true_errors[g], i);
+        row->Char('\n');
+        csv += row->Text();
       }
     }
   }

@@ -143,6 +143,7 @@ class TrackBuilder {
         tracks_[current_].run == run) {
       return tracks_[current_];
     }
+    if (current_ < tracks_.size()) longest_ = std::max(longest_, tracks_[current_].frame.size());
     const auto key = std::pair(std::string(subject), std::string(run));
     const auto [it, inserted] = index_.emplace(key, tracks_.size());
     if (inserted) {
@@ -151,6 +152,12 @@ class TrackBuilder {
       t.run = key.second;
       t.file = source_;
       t.first_line = line;
+      // Tracks of one file tend to have one length: room for the longest so far saves the copies
+      // (and fresh pages) of growing one sample at a time. Unused room is never touched.
+      t.frame.reserve(longest_);
+      t.x.reserve(longest_);
+      t.y.reserve(longest_);
+      if (idx_.theta >= 0) t.theta.reserve(longest_);
       tracks_.push_back(std::move(t));
       last_line_.push_back(line);
     }
@@ -165,6 +172,7 @@ class TrackBuilder {
   std::vector<int> last_line_;
   std::map<std::pair<std::string, std::string>, size_t> index_;
   size_t current_ = static_cast<size_t>(-1);
+  size_t longest_ = 0;  // samples of the longest track left so far
 };
 
 }  // namespace

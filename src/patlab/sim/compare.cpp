@@ -158,11 +158,10 @@ DesignGeometry ComputeDesignGeometry(const Pattern& pattern, const detect::Symme
   g.min_gap_mm = kInf;
   for (int i = 0; i < pattern.size(); ++i) {
     const Patch& p = pattern.patches[i];
-    g.outer_diameter_mm = std::max(g.outer_diameter_mm, 2.0 * (p.position_mm.norm() + p.radius_mm));
+    g.outer_diameter_mm =
+        std::max(g.outer_diameter_mm, 2.0 * (p.position_mm.norm() + p.BoundingRadius()));
     for (int j = 0; j < i; ++j) {
-      const Patch& q = pattern.patches[j];
-      g.min_gap_mm = std::min(g.min_gap_mm,
-                              (p.position_mm - q.position_mm).norm() - p.radius_mm - q.radius_mm);
+      g.min_gap_mm = std::min(g.min_gap_mm, PatchGap(p, pattern.patches[j]));
     }
   }
   g.wrong_rotation_e0_mm2 = kInf;

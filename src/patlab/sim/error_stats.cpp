@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "patlab/core/format.h"
 #include "patlab/stats/smoothing.h"
@@ -13,41 +15,56 @@ namespace {
 std::vector<double> Pool(const std::vector<ErrorSegment>& segments,
                          const std::vector<double> ErrorSegment::*field) {
   std::vector<double> pooled;
+  size_t n = 0;
+  for (const ErrorSegment& s : segments) n += (s.*field).size();
+  pooled.reserve(n);
   for (const ErrorSegment& s : segments) {
     pooled.insert(pooled.end(), (s.*field).begin(), (s.*field).end());
   }
   return pooled;
 }
 
-// |error| of sample i of a segment on one axis ("x", "y" or "xy").
-double AbsError(const ErrorSegment& s, size_t i, const std::string& axis) {
-  return axis == "x"   ? std::abs(s.x[i])
-         : axis == "y" ? std::abs(s.y[i])
-                       : std::hypot(s.x[i], s.y[i]);
+// One subject's samples flattened in (run, frame) order, with their |error| on one axis.
+struct AbsErrors {
+  std::vector<std::pair<int, int64_t>> key;  // (run, frame)
+  std::vector<double> abs;
+};
+
+enum class Axis { kX, kY, kXy };
+
+// |error| of every sample on `axis` ("x", "y", "xy" = hypot), in segment order.
+AbsErrors FlattenAbsErrors(const std::vector<ErrorSegment>& segments, Axis axis) {
+  AbsErrors out;
+  size_t n = 0;
+  for (const ErrorSegment& s : segments) n += s.frame.size();
+  out.key.reserve(n);
+  out.abs.reserve(n);
+  for (const ErrorSegment& s : segments) {
+    for (size_t i = 0; i < s.frame.size(); ++i) {
+      out.key.emplace_back(s.run, s.frame[i]);
+      out.abs.push_back(axis == Axis::kX   ? std::abs(s.x[i])
+                        : axis == Axis::kY ? std::abs(s.y[i])
+                                           : std::hypot(s.x[i], s.y[i]));
+    }
+  }
+  return out;
 }
 
-// The |errors| of a and b at their common (run, frame) keys, in key order.
-void PairedAbsErrors(const std::vector<ErrorSegment>& a, const std::vector<ErrorSegment>& b,
-                     const std::string& axis, std::vector<double>* va, std::vector<double>* vb) {
-  size_t sa = 0, ia = 0, sb = 0, ib = 0;
-  while (sa < a.size() && sb < b.size()) {
-    if (ia == a[sa].frame.size()) {
-      ++sa, ia = 0;
-      continue;
-    }
-    if (ib == b[sb].frame.size()) {
-      ++sb, ib = 0;
-      continue;
-    }
-    const auto ka = std::pair(a[sa].run, a[sa].frame[ia]);
-    const auto kb = std::pair(b[sb].run, b[sb].frame[ib]);
-    if (ka < kb) {
+// The |errors| of a and b at their common (run, frame) keys, in key order (segments are in run
+// order, frames increasing within a run, so a merge finds them).
+void PairedAbsErrors(const AbsErrors& a, const AbsErrors& b, std::vector<double>* va,
+                     std::vector<double>* vb) {
+  size_t ia = 0, ib = 0;
+  va->reserve(std::min(a.abs.size(), b.abs.size()));
+  vb->reserve(std::min(a.abs.size(), b.abs.size()));
+  while (ia < a.key.size() && ib < b.key.size()) {
+    if (a.key[ia] < b.key[ib]) {
       ++ia;
-    } else if (kb < ka) {
+    } else if (b.key[ib] < a.key[ia]) {
       ++ib;
     } else {
-      va->push_back(AbsError(a[sa], ia++, axis));
-      vb->push_back(AbsError(b[sb], ib++, axis));
+      va->push_back(a.abs[ia++]);
+      vb->push_back(b.abs[ib++]);
     }
   }
 }
@@ -92,14 +109,26 @@ std::vector<PairedTest> PairedAbsErrorTests(
   std::vector<PairedTest> tests;
   stats::WilcoxonOptions options;
   options.method = stats::WilcoxonMethod::kApprox;
-  for (const std::string axis : {"x", "y", "xy"}) {
+  for (const auto& [axis, name] :
+       {std::pair(Axis::kX, "x"), std::pair(Axis::kY, "y"), std::pair(Axis::kXy, "xy")}) {
+    // Each subject's |errors| once; and its median once when a pair uses all of its samples (the
+    // usual case: subjects seen in the same frames), instead of once per pair.
+    std::vector<AbsErrors> flat;
+    flat.reserve(subjects.size());
+    for (const auto* segments : subjects) flat.push_back(FlattenAbsErrors(*segments, axis));
+    std::vector<std::optional<double>> whole_median(subjects.size());
+    const auto median = [&](size_t k, const std::vector<double>& v) {
+      if (v.size() != flat[k].abs.size()) return UpperMedian(v);
+      if (!whole_median[k]) whole_median[k] = UpperMedian(v);
+      return *whole_median[k];
+    };
     for (size_t a = 0; a < subjects.size(); ++a) {
       for (size_t b = a + 1; b < subjects.size(); ++b) {
         std::vector<double> va, vb;
-        PairedAbsErrors(*subjects[a], *subjects[b], axis, &va, &vb);
+        PairedAbsErrors(flat[a], flat[b], &va, &vb);
         if (va.empty()) continue;
-        tests.push_back({error, axis, names[a], names[b], UpperMedian(va), UpperMedian(vb),
-                         stats::WilcoxonSignedRank(va, vb, options)});
+        const stats::WilcoxonResult result = stats::WilcoxonSignedRank(va, vb, options);
+        tests.push_back({error, name, names[a], names[b], median(a, va), median(b, vb), result});
       }
     }
   }

@@ -141,7 +141,7 @@ void AddRobotBlobs(const detect::Detector& detector, const RobotKit& kit, const 
       label = other >= label ? other + 1 : other;
       ++scene->num_colour_errors;
     }
-    scene->blobs.push_back({measured, label, std::numbers::pi * patch.radius_mm * patch.radius_mm});
+    scene->blobs.push_back({measured, label, patch.Area()});
   }
 }
 

@@ -15,7 +15,7 @@ namespace {
 double PatternExtentMm(const Pattern& pattern) {
   double extent = 0.0;
   for (const Patch& p : pattern.patches) {
-    extent = std::max(extent, p.position_mm.norm() + p.radius_mm);
+    extent = std::max(extent, p.position_mm.norm() + p.BoundingRadius());
   }
   return extent;
 }

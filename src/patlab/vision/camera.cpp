@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -302,7 +303,66 @@ void ReadHeights(const toml::table& heights, const std::string& name, Calibratio
   }
 }
 
+// One [[residual]] table (number i + 1 in messages).
+PlaneResidual ReadResidual(const toml::node& node, size_t i, const std::string& name,
+                           const std::vector<PlaneResidual>& earlier) {
+  const toml::table* t = node.as_table();
+  const std::string context = "[[residual]] " + std::to_string(i + 1);
+  if (t == nullptr)
+    throw InputError(io::LocOf(name, node),
+                     context + " is not a table; expected [[residual]] tables");
+  const io::TomlReader r(*t, name, context);
+  r.CheckKeys({"height_mm", "rms_mm", "worst_mm", "measured"});
+  PlaneResidual p;
+  p.height_mm = r.Number("height_mm");
+  p.rms_mm = r.Number("rms_mm");
+  p.worst_mm = r.OptionalNumber("worst_mm").value_or(p.rms_mm);
+  p.measured = r.OptionalBool("measured").value_or(true);
+  if (p.rms_mm < 0.0) {
+    r.Fail("rms_mm", "rms_mm is " + FormatNumber(p.rms_mm) + " in " + context +
+                         "; expected a residual >= 0 (mm)");
+  }
+  if (p.worst_mm < p.rms_mm) {
+    r.Fail("worst_mm", "worst_mm is " + FormatNumber(p.worst_mm) + " in " + context +
+                           "; expected at least rms_mm (" + FormatNumber(p.rms_mm) + ")");
+  }
+  for (const PlaneResidual& other : earlier) {
+    if (std::abs(other.height_mm - p.height_mm) <= kHeightToleranceMm) {
+      r.Fail("height_mm", "height_mm " + FormatNumber(p.height_mm) + " in " + context +
+                              " repeats an earlier residual; expected one per height");
+    }
+  }
+  return p;
+}
+
+std::vector<PlaneResidual> ReadResiduals(const toml::table& root, const io::TomlReader& top,
+                                         const std::string& name) {
+  std::vector<PlaneResidual> out;
+  const toml::node* node = root.get("residual");
+  if (node == nullptr) return out;
+  const toml::array* list = node->as_array();
+  if (list == nullptr) {
+    top.Fail("residual", "residual is not an array of tables; expected [[residual]] tables");
+  }
+  for (size_t i = 0; i < list->size(); ++i) out.push_back(ReadResidual((*list)[i], i, name, out));
+  std::sort(out.begin(), out.end(), [](const PlaneResidual& a, const PlaneResidual& b) {
+    return a.height_mm < b.height_mm;
+  });
+  return out;
+}
+
 }  // namespace
+
+double Calibration::ResidualRmsMm(double height_mm) const {
+  const PlaneResidual* best = nullptr;
+  for (const PlaneResidual& r : residuals) {
+    if (best == nullptr ||
+        std::abs(r.height_mm - height_mm) < std::abs(best->height_mm - height_mm)) {
+      best = &r;
+    }
+  }
+  return best == nullptr ? 0.0 : best->rms_mm;
+}
 
 std::vector<OptionsProblem> Check(const PinholeCamera& c) {
   OptionsChecker check("pinhole");
@@ -322,7 +382,7 @@ std::vector<OptionsProblem> Check(const PinholeCamera& c) {
 Calibration ParseCalibration(std::string_view text, const std::string& name) {
   const toml::table root = io::ParseTomlText(text, name);
   const io::TomlReader top(root, name);
-  top.CheckKeys({"model", "image_size_px", "pinhole", "homography", "heights"});
+  top.CheckKeys({"model", "image_size_px", "pinhole", "homography", "heights", "residual"});
   Calibration cal;
   cal.source = name;
   if (top.Has("image_size_px")) ReadImageSize(top, cal);
@@ -335,6 +395,7 @@ Calibration ParseCalibration(std::string_view text, const std::string& name) {
     top.Fail("model", "model is \"" + model + "\"; expected \"pinhole\" or \"homography\"");
   }
   if (const toml::table* t = root["heights"].as_table()) ReadHeights(*t, name, cal);
+  cal.residuals = ReadResiduals(root, top, name);
   return cal;
 }
 

@@ -73,6 +73,18 @@ class CameraModel {
   std::vector<Eigen::Matrix3d> inverses_;
 };
 
+// The calibration's own position error on one plane, as `patlab calibrate` measured it (the
+// calibration file's [[residual]] tables): the RMS and worst distance (mm) between where the
+// fitted camera puts an observed pixel on the plane and where it truly is. `measured` is false
+// for a height no observation lay on, where calibrate converted the pixel residuals to mm with
+// the plane's scale instead.
+struct PlaneResidual {
+  double height_mm = 0.0;
+  double rms_mm = 0.0;    // >= 0
+  double worst_mm = 0.0;  // >= rms_mm
+  bool measured = true;
+};
+
 // A calibration file: the camera model plus the plane height of each colour class.
 struct Calibration {
   CameraModel camera = CameraModel::Pinhole(PinholeCamera{});
@@ -81,6 +93,11 @@ struct Calibration {
   int image_width_px = 0;                         // 0 = any size; else frames must match
   int image_height_px = 0;
   std::string source;
+  std::vector<PlaneResidual> residuals;  // by increasing height; empty = none recorded
+
+  // The recorded RMS residual (mm) on the plane at `height_mm`: the row of that height (within
+  // 0.5 mm), else the row of the nearest height; 0 when the file records none (old files).
+  double ResidualRmsMm(double height_mm) const;
 
   double HeightOf(const std::string& class_name) const {
     auto it = class_height_mm.find(class_name);
@@ -111,6 +128,11 @@ struct Calibration {
 //   [heights]
 //   default_mm = 140                  # plane height of every class not listed (default 0)
 //   orange = 21                       # class name = plane height in mm
+//   [[residual]]                      # optional, written by patlab calibrate; one per height
+//   height_mm = 140
+//   rms_mm = 9.3                      # the calibration's RMS position error on that plane
+//   worst_mm = 41.0
+//   measured = false                  # optional (default true): converted from px residuals
 Calibration LoadCalibration(const std::string& path);
 Calibration ParseCalibration(std::string_view text, const std::string& name);
 

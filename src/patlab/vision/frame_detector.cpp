@@ -94,6 +94,10 @@ FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
   result_.profile = TimeProfile(options_.collect_timing);
   result_.detect_profile = TimeProfile(options_.collect_timing);
   if (!detector) return;
+  // The calibration's recorded residual on the robot-top plane (default height) widens the
+  // detector's geometric tolerance (detect::DetectorOptions::calibration_residual_mm).
+  const Calibration& camera = pipeline_.calibration();
+  detector->options.calibration_residual_mm = camera.ResidualRmsMm(camera.default_height_mm);
   detector_.emplace(std::move(*detector));
   for (const ColorClass& c : pipeline_.thresholds().classes) {
     palette_label_.push_back(detector_->ColourLabel(c.name));

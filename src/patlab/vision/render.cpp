@@ -132,9 +132,7 @@ Image RenderWorldDiscs(int width_px, int height_px, const CameraModel& camera, d
         int found = -1;
         if (!w) return found;
         for (size_t i = 0; i < discs.size(); ++i) {
-          if ((*w - discs[i].centre).squaredNorm() <= discs[i].radius * discs[i].radius) {
-            found = static_cast<int>(i);
-          }
+          if (discs[i].Contains(*w)) found = static_cast<int>(i);
         }
         return found;
       });

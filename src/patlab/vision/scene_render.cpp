@@ -72,8 +72,13 @@ std::vector<Disc> SceneDiscs(const FieldScene& scene, const CameraModel& camera)
     }
     for (int i = 0; i < scene.pattern.size(); ++i) {
       const Patch& patch = scene.pattern.patches[static_cast<size_t>(i)];
-      discs.push_back({robot.pose.Apply(patch.position_mm), patch.radius_mm,
-                       ColourOf(scene, names[static_cast<size_t>(i)])});
+      Disc d{robot.pose.Apply(patch.position_mm), patch.BoundingRadius(),
+             ColourOf(scene, names[static_cast<size_t>(i)])};
+      if (patch.shape == PatchShape::kRectangle) {
+        d.half_size = 0.5 * patch.size_mm;
+        d.angle_rad = robot.pose.theta_rad + patch.angle_rad;
+      }
+      discs.push_back(d);
     }
   }
   return discs;
