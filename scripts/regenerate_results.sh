@@ -12,6 +12,7 @@ $P simulate experiments/fig5.toml --out results -q
 for n in iid jitter correlated; do
   $P simulate experiments/issue14/butterfly_$n.toml --out results/issue14 -q
 done
+bash scripts/issue14_camera.sh "$P"   # the colour-camera tracks: ~5 CPU min
 # Detect mode: where geometry stops fixing the rotation (issue 4).
 $P simulate experiments/id_confusion.toml --out results -q
 /usr/bin/python3 scripts/plot_id_confusion.py
