@@ -114,10 +114,12 @@ void ObserveRobots(const vision::CameraModel& cam, RandomStream& rng, Calibratio
   }
 }
 
-Synthetic MakeSynthetic(uint64_t seed, bool robots) {
+// `realisation` >= 0: the same camera as `seed`, seen with other noise (and robot poses).
+Synthetic MakeSynthetic(uint64_t seed, bool robots, int realisation = -1) {
   RandomStream rng(seed, 0, 0);
   Synthetic s;
   s.truth = vision::CameraModel::Pinhole(RandomCamera(rng));
+  if (realisation >= 0) rng = RandomStream(seed, 1, static_cast<uint64_t>(realisation));
   s.input.image_width_px = kWidth;
   s.input.image_height_px = kHeight;
   s.input.loc = FileLoc{"synthetic", 0};
@@ -158,13 +160,6 @@ double NoiseMm(const vision::CameraModel& truth, double height) {
   return kNoisePx * std::sqrt(truth.AreaScale(Vec2(kWidth / 2.0, kHeight / 2.0), height));
 }
 
-void ExpectMaps(const vision::CameraModel& fitted, const vision::CameraModel& truth,
-                double height) {
-  const auto [rms, worst] = MappingError(fitted, truth, height);
-  EXPECT_LT(rms, 2.0 * NoiseMm(truth, height)) << "plane " << height;
-  EXPECT_LT(worst, 10.0 * NoiseMm(truth, height)) << "plane " << height;
-}
-
 // The residuals are the noise: the sum of squares over sigma^2 is chi-square with 2N - p degrees
 // of freedom for N pixels and p fitted numbers (each line or circle pixel's free position absorbs
 // the noise along the line); within 4 of its standard deviations sqrt(2 (2N - p)).
@@ -196,6 +191,43 @@ double ObservedError(const CalibrationInput& in, const vision::CameraModel& fitt
       if (px) add(*px, p.height_mm);
   EXPECT_GT(n, 0);
   return std::sqrt(sum2 / n);
+}
+
+// The largest squared Mahalanobis distance, over MappingError's grid on the plane at `height`,
+// between where the fitted and the true camera put a pixel, in the fit's own covariance there
+// (MappingCovariance). To first order the errors at all pixels are one linear image of the camera
+// parameters' error d, so each is at most d' C^-1 d, chi-square with as many degrees of freedom as
+// free camera parameters (Cauchy-Schwarz).
+double WorstMahalanobis2(const CalibrationFit& fit, const vision::CameraModel& truth,
+                         double height) {
+  const vision::CameraModel fitted = vision::CameraModel::Pinhole(fit.camera);
+  double worst = 0.0;
+  for (int v = 10; v < kHeight; v += 20) {
+    for (int u = 10; u < kWidth; u += 20) {
+      const auto b = truth.PixelToWorld(Vec2(u, v), height);
+      if (!b || std::abs(b->x()) > 3125 || std::abs(b->y()) > 2125) continue;
+      const auto a = fitted.PixelToWorld(Vec2(u, v), height);
+      const auto c = MappingCovariance(fit, Vec2(u, v), height);
+      if (!a || !c) return std::numeric_limits<double>::infinity();
+      const Vec2 e = *a - *b;
+      const double det = (*c)[0] * (*c)[3] - (*c)[1] * (*c)[2];
+      const double m2 =
+          ((*c)[3] * e.x() * e.x() - 2 * (*c)[1] * e.x() * e.y() + (*c)[0] * e.y() * e.y()) / det;
+      worst = std::max(worst, m2);
+    }
+  }
+  return worst;
+}
+
+// scipy.stats.chi2.ppf(0.9999, 10): the bound of WorstMahalanobis2 for 10 free camera numbers.
+constexpr double kChi2TenDof9999 = 35.564;
+
+// The fit's nuisance unknowns: a position per line or circle pixel, a planar pose per pattern.
+int FittedNuisance(const CalibrationInput& in) {
+  int n = 3 * static_cast<int>(in.patterns.size());
+  for (const auto& l : in.lines) n += static_cast<int>(l.pixels.size());
+  for (const auto& c : in.circles) n += static_cast<int>(c.pixels.size());
+  return n;
 }
 
 // A fitted parameter within 4 of its standard error of the truth, or reported as undetermined
@@ -235,7 +267,9 @@ TEST(Calibrate, RecoversRandomCamerasFromFieldAndRobots) {
     const vision::CameraModel fitted = vision::CameraModel::Pinhole(fit.camera);
     const vision::PinholeCamera& t = s.truth.pinhole();
     ExpectNoiseResiduals(fit);
-    ExpectMaps(fitted, s.truth, 0.0);
+    ASSERT_EQ(fit.parameters - FittedNuisance(s.input), 10);  // f, cx, cy, k1 and the pose
+    EXPECT_LT(WorstMahalanobis2(fit, s.truth, 0.0), kChi2TenDof9999);
+    EXPECT_LT(WorstMahalanobis2(fit, s.truth, 150.0), kChi2TenDof9999);
     const auto& se = fit.standard_error;
     ExpectWithinItsError(fit.camera.fx_px, t.fx_px, se[0]);
     ExpectWithinItsError(fit.camera.cx_px, t.cx_px, se[2]);
@@ -245,6 +279,42 @@ TEST(Calibrate, RecoversRandomCamerasFromFieldAndRobots) {
     EXPECT_EQ(fit.planes[1].height_mm, 150.0);
   }
   EXPECT_GE(fitted_cameras, 7);
+}
+
+TEST(Calibrate, TheMappingCovarianceIsTheSpreadOfRefits) {
+  // One camera seen 50 times with fresh noise (and robots elsewhere): at the field pixel where the
+  // first fit is least certain, the squared Mahalanobis distance of each fit's error in its own
+  // MappingCovariance is chi-square with 2 degrees of freedom if the covariance is right, so the
+  // mean of 50 lies within [1.198, 3.063] (scipy: chi2.ppf(0.0005 and 0.9995, 100) / 50). A
+  // covariance twice too large or too small fails.
+  const vision::CameraModel truth = MakeSynthetic(1, true).truth;
+  const CalibrationFit first = FitCamera(MakeSynthetic(1, true, 0).input);
+  Vec2 pixel = Vec2::Zero();
+  double widest = 0.0;
+  for (int v = 10; v < kHeight; v += 20) {
+    for (int u = 10; u < kWidth; u += 20) {
+      const auto b = truth.PixelToWorld(Vec2(u, v), 0.0);
+      if (!b || std::abs(b->x()) > 3125 || std::abs(b->y()) > 2125) continue;
+      const auto c = MappingCovariance(first, Vec2(u, v), 0.0);
+      ASSERT_TRUE(c.has_value());
+      if ((*c)[0] + (*c)[3] > widest) widest = (*c)[0] + (*c)[3], pixel = Vec2(u, v);
+    }
+  }
+  const Vec2 at = *truth.PixelToWorld(pixel, 0.0);
+  constexpr int kFits = 50;
+  double sum = 0.0;
+  for (int k = 0; k < kFits; ++k) {
+    const CalibrationFit fit = FitCamera(MakeSynthetic(1, true, k).input);
+    const auto c = MappingCovariance(fit, pixel, 0.0);
+    const auto mapped = vision::CameraModel::Pinhole(fit.camera).PixelToWorld(pixel, 0.0);
+    ASSERT_TRUE(c && mapped);
+    const Vec2 e = *mapped - at;
+    const double det = (*c)[0] * (*c)[3] - (*c)[1] * (*c)[2];
+    sum += ((*c)[3] * e.x() * e.x() - 2 * (*c)[1] * e.x() * e.y() + (*c)[0] * e.y() * e.y()) / det;
+  }
+  EXPECT_GT(sum / kFits, 1.198) << "at pixel " << pixel.transpose();
+  EXPECT_LT(sum / kFits, 3.063) << "at pixel " << pixel.transpose();
+  EXPECT_GT(std::sqrt(widest), 1.0);  // a corner the fit extrapolates to: mm, not micrometres
 }
 
 TEST(Calibrate, TheFloorAloneMapsTheFloorAndSaysWhatItCannotKnow) {

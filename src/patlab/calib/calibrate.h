@@ -125,12 +125,26 @@ struct PlaneResiduals {
   int count = 0;
   double rms_px = 0.0, worst_px = 0.0;
   double rms_mm = 0.0, worst_mm = 0.0;
+  // The fit's own uncertainty of where it puts the plane's observed pixels (mm, one standard
+  // deviation along each pixel's worst axis, MappingCovariance): RMS and worst over them; NaN
+  // when the data do not determine the camera.
+  double mapping_sd_rms_mm = 0.0, mapping_sd_worst_mm = 0.0;
 };
+
+// The camera's 12 fitted numbers in the fit's order: f, aspect (fy / fx), cx, cy, k1, k2,
+// Rodrigues rotation (3), translation (3 mm).
+inline constexpr int kCameraParameters = 12;
 
 struct CalibrationFit {
   vision::PinholeCamera camera;
   Eigen::Vector3d rotation_rodrigues = Eigen::Vector3d::Zero();  // camera.rotation, as fitted
   std::array<double, 6> standard_error{};  // fx, fy, cx, cy, k1, k2 (0 when held fixed)
+  // The covariance of the kCameraParameters camera numbers (row-major; rows and columns of held
+  // parameters 0), the nuisance unknowns (line, circle and pattern positions) marginalised, scaled
+  // by the residual variance; all NaN when the data do not determine them. A plain array, not an
+  // Eigen fixed-size matrix: calib/ is compiled for another instruction set than its users
+  // (calib/CMakeLists.txt), and a vectorisable Eigen member would change the struct's layout.
+  std::array<double, kCameraParameters * kCameraParameters> covariance{};
   Eigen::Vector3d camera_centre_mm = Eigen::Vector3d::Zero();
   double rms_px = 0.0, worst_px = 0.0;
   std::vector<PlaneResiduals> planes;  // by increasing height
@@ -149,6 +163,15 @@ struct CalibrationFit {
 
 // Validates the input (enough points, not all on a line, ...) and fits. Bad input -> InputError.
 CalibrationFit FitCamera(const CalibrationInput& input);
+
+// The covariance (mm^2, row-major 2x2) of where the fitted camera puts `pixel` on the plane at
+// `height_mm`: the camera's covariance propagated to first order (central differences of the
+// back-projection over each free parameter, steps of 1e-3 of its standard deviation). nullopt
+// when the pixel does not map onto the plane or the covariance is undetermined. For a fit whose
+// noise is Gaussian, the error e at every pixel at once obeys e' C^-1 e <= chi-square with as many
+// degrees of freedom as free camera parameters (Cauchy-Schwarz), to first order.
+std::optional<std::array<double, 4>> MappingCovariance(const CalibrationFit& fit, const Vec2& pixel,
+                                                       double height_mm);
 
 // The calibration TOML file `patlab detect` reads, with the fit's summary as comments.
 std::string CalibrationFileText(const CalibrationInput& input, const CalibrationFit& fit);

@@ -482,27 +482,61 @@ int BuildProblem(const CalibrationInput& in, FitState& s, ceres::LossFunction* l
   return pixels;
 }
 
-// Standard errors of fx, fy, cx, cy, k1, k2 from the covariance of the intrinsics, scaled by the
-// residual variance (Ceres assumes unit-variance residuals); NaN when the data do not determine
-// the parameters (a rank-deficient Jacobian).
-std::array<double, 6> StandardErrors(ceres::Problem& problem, const FitState& s,
-                                     double residual_variance) {
-  std::array<double, 6> se{};
-  se.fill(std::numeric_limits<double>::quiet_NaN());
+// The covariance of the camera's numbers (intrinsics then pose, calibrate.h), scaled by the
+// residual variance (Ceres assumes unit-variance residuals); all NaN when the data do not
+// determine them (a rank-deficient Jacobian). Ceres inverts the whole normal matrix, so the
+// nuisance unknowns are marginalised, not held at their fitted values.
+std::array<double, kCameraParameters * kCameraParameters> CameraCovariance(
+    ceres::Problem& problem, FitState& s, double residual_variance) {
+  std::array<double, kCameraParameters * kCameraParameters> out{};
+  out.fill(std::numeric_limits<double>::quiet_NaN());
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::DENSE_SVD;
+  // Rank deficiency is declared below a ratio of 1e-10 between J's smallest and largest singular
+  // value, not Ceres' default 1e-7: that default is meant for columns of one scale, and these are
+  // px per mm (translation, ~0.2), px per radian (rotation, ~1e3), px per unit of k1 (~1e2-1e3)
+  // and px per px (focal length, ~0.5). With it, well-determined cameras (the random cameras of
+  // tests/calib, seeds 3 and 29) were reported undetermined. JacobiSVD resolves singular values
+  // to about 1e-16 of the largest, so 1e-10 leaves about six digits in the covariance.
+  co.min_reciprocal_condition_number = 1e-20;
   co.num_threads = 1;
   ceres::Covariance covariance(co);
-  const double* block = s.intrinsics.data();
-  const std::vector<std::pair<const double*, const double*>> pairs = {{block, block}};
-  if (!covariance.Compute(pairs, &problem)) return se;
-  double c[36];
-  if (!covariance.GetCovarianceBlock(block, block, c)) return se;
+  const std::array<const double*, 2> blocks = {s.intrinsics.data(), s.pose.data()};
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (size_t a = 0; a < 2; ++a)
+    for (size_t b = a; b < 2; ++b) pairs.emplace_back(blocks[a], blocks[b]);
+  if (!covariance.Compute(pairs, &problem)) return out;
+  constexpr int n = kCameraParameters;
+  for (size_t a = 0; a < 2; ++a) {
+    for (size_t b = a; b < 2; ++b) {
+      double c[36];
+      if (!covariance.GetCovarianceBlock(blocks[a], blocks[b], c)) {
+        out.fill(std::numeric_limits<double>::quiet_NaN());
+        return out;
+      }
+      for (size_t i = 0; i < 6; ++i) {
+        for (size_t j = 0; j < 6; ++j) {
+          const double v = residual_variance * c[6 * i + j];
+          out[(6 * a + i) * n + 6 * b + j] = v;
+          out[(6 * b + j) * n + 6 * a + i] = v;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// Standard errors of fx, fy, cx, cy, k1, k2 from the camera's covariance (fy = f aspect, to first
+// order); NaN where it is undetermined.
+std::array<double, 6> StandardErrors(
+    const std::array<double, kCameraParameters * kCameraParameters>& c, const FitState& s) {
+  auto var = [&](size_t i, size_t j) { return c[i * kCameraParameters + j]; };
   const double f = s.intrinsics[0], a = s.intrinsics[1];
-  auto var = [&](int i, int j) { return residual_variance * c[6 * i + j]; };
+  std::array<double, 6> se{};
   se[0] = std::sqrt(var(0, 0));
   se[1] = std::sqrt(std::max(0.0, a * a * var(0, 0) + f * f * var(1, 1) + 2 * a * f * var(0, 1)));
-  for (int i = 2; i < 6; ++i) se[static_cast<size_t>(i)] = std::sqrt(var(i, i));
+  if (std::isnan(var(0, 0))) se[1] = std::numeric_limits<double>::quiet_NaN();
+  for (size_t i = 2; i < 6; ++i) se[i] = std::sqrt(var(i, i));
   return se;
 }
 
@@ -639,7 +673,7 @@ CalibrationFit FitCamera(const CalibrationInput& input) {
   starts.resize(std::min<size_t>(starts.size(), 3));
   std::unique_ptr<ceres::Problem> problem;
   ceres::Solver::Summary summary;
-  const FitState* best = nullptr;  // the problem's parameter blocks live in it
+  FitState* best = nullptr;  // the problem's parameter blocks live in it
   for (FitState& start : starts) {
     auto candidate = std::make_unique<ceres::Problem>(ProblemOptions());
     const ceres::Solver::Summary result = FullStage(input, fixed, loss.get(), start, *candidate);
@@ -664,13 +698,15 @@ CalibrationFit FitCamera(const CalibrationInput& input) {
   fit.camera = internal::CameraOf(s);
   fit.rotation_rodrigues = Eigen::Vector3d(s.pose[0], s.pose[1], s.pose[2]);
   const double dof = 2.0 * fit.observations - fit.parameters;
-  fit.standard_error = StandardErrors(*problem, s, 2.0 * summary.final_cost / dof);
+  fit.covariance = CameraCovariance(*problem, *best, 2.0 * summary.final_cost / dof);
+  fit.standard_error = StandardErrors(fit.covariance, s);
   for (int i : fixed) {
     if (i == 0) fit.standard_error[0] = fit.standard_error[1] = 0.0;
     if (i >= 2) fit.standard_error[static_cast<size_t>(i)] = 0.0;
   }
   fit.camera_centre_mm = -fit.camera.rotation.transpose() * fit.camera.translation_mm;
   internal::FillResiduals(input, s, fit);
+  internal::FillMappingUncertainty(fit);
   WarnIfFocalUndetermined(fixed, fit);
   WarnIfBeyondTheFold(fit);
   fit.seconds = SecondsSince(t0);

@@ -30,4 +30,8 @@ Vec2 PatternTarget(const PatternObservation& p, const std::array<double, 3>& pos
 // Residuals of every pixel, per-plane summaries and totals into `fit`.
 void FillResiduals(const CalibrationInput& input, const FitState& s, CalibrationFit& fit);
 
+// Each plane's mapping_sd_* from fit.covariance (calibrate_uncertainty.cpp).
+void FillMappingUncertainty(CalibrationFit& fit);
+double WorstAxisSd(const std::array<double, 4>& covariance);
+
 }  // namespace patlab::calib::internal

@@ -213,6 +213,14 @@ std::string FitReportText(const CalibrationInput& input, const CalibrationFit& f
   out += "residuals: RMS " + FormatFixed(fit.rms_px, 3) + " px, worst " +
          FormatFixed(fit.worst_px, 3) +
          " px\n  plane_mm   pixels   rms_px worst_px   rms_mm worst_mm\n" + PlaneLines(fit, "  ");
+  out +=
+      "mapping uncertainty (1 sd along the worst axis, from the fit's covariance) over the "
+      "observed pixels:\n  plane_mm   rms_mm worst_mm\n";
+  for (const PlaneResiduals& p : fit.planes) {
+    out += StringPrintf("  %-9s %8s %8s\n", FormatNumber(p.height_mm).c_str(),
+                        FormatFixed(p.mapping_sd_rms_mm, 2).c_str(),
+                        FormatFixed(p.mapping_sd_worst_mm, 2).c_str());
+  }
   std::vector<const ObservationResidual*> worst;
   for (const ObservationResidual& r : fit.residuals) worst.push_back(&r);
   const size_t shown = std::min<size_t>(5, worst.size());
