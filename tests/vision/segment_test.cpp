@@ -268,9 +268,10 @@ TEST(Segmenter, OptionsAreValidated) {
 namespace patlab::vision {
 namespace {
 
-// RGB frames with YUV thresholds go through a 64^3 cell table with an exact fallback for cells
-// that straddle a class boundary: every pixel must get the class of its exact BT.601 YUV value.
-TEST(Segmenter, RgbCellTableIsExactForYuvThresholds) {
+// RGB frames with YUV thresholds are classified a row at a time (the row converted to Y/U/V planes
+// in 16-bit lanes, then a byte range test per class, the first-listed class winning): every pixel
+// must get the class ColorLut gives its exact BT.601 YUV value.
+TEST(Segmenter, RgbRowClassificationIsExactForYuvThresholds) {
   const Thresholds t = ParseCmvisionColors(
       "[Colors]\n(1,1,1) 0.5 1 a\n(1,1,1) 0.5 1 b\n(1,1,1) 0.5 1 c\n[Thresholds]\n"
       "(60:160, 60:115, 160:200)\n(100:255, 0:95, 135:175)\n(30:160, 150:255, 60:125)\n",
@@ -297,8 +298,8 @@ TEST(Segmenter, RgbCellTableIsExactForYuvThresholds) {
 
 // Every one of the 2^24 RGB colours, with the thresholds of the real frames (7 and 8 classes,
 // overlapping boxes, a black class whose U/V bounds cut through the carpet's cells). The width,
-// 4099, is not a multiple of the classifier's 4-pixel step, so row tails are covered too.
-TEST(Segmenter, RgbCellTableIsExactForEveryColour) {
+// 4099, is not a multiple of any vector width, so row tails are covered too.
+TEST(Segmenter, RgbRowClassificationIsExactForEveryColour) {
   constexpr int kWidth = 4099, kHeight = ((1 << 24) + kWidth - 1) / kWidth;
   for (const char* file : {"ssl-2008.thresholds.toml", "vss.colors.txt"}) {
     const Thresholds t =
