@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <initializer_list>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -207,7 +208,7 @@ struct Row {
   }
 };
 
-Verdict RankCell(ColumnKind kind, const std::string& column, double x, double y, const Row& row) {
+Verdict RankCell(ColumnKind kind, double x, double y, const Row& row) {
   using enum ColumnKind;
   const RankAllowance& a = *row.allowance;
   const double n = a.pairs;
@@ -222,7 +223,6 @@ Verdict RankCell(ColumnKind kind, const std::string& column, double x, double y,
   if (kind == kZ) {
     return Plus(x, y, z_move + 1e-3, why + "; plus one printed unit");
   }
-  (void)column;
   // The p of the regenerated z (printed to 3 decimals: +-0.0005) moved by z_move.
   const double abs_z = std::abs(row.Regenerated("z"));
   const double w = z_move + 5e-4;
@@ -270,7 +270,8 @@ Verdict Cell(ColumnKind kind, const std::string& column, const std::string& a, c
   using enum ColumnKind;
   if (a == b) return {};
   const std::optional<double> x = Number(a), y = Number(b);
-  if (kind == kText || !x || !y) return {false, "exact (text)"};
+  if (kind == kText) return {false, "exact (text)"};
+  if (!x || !y) return {false, "none: both cells must be numbers, or equal"};
   switch (kind) {
     case kContinuous:
       return Plus(*x, *y, Continuous(*x, *y), "relative drift 2e-9 + 1e-12");
@@ -281,7 +282,7 @@ Verdict Cell(ColumnKind kind, const std::string& column, const std::string& a, c
     case kZ:
     case kNormalP:
       if (row.allowance == nullptr) return {false, "no rank allowance for this row"};
-      return RankCell(kind, column, *x, *y, row);
+      return RankCell(kind, *x, *y, row);
     default:
       return KnifeEdgeCell(kind, column, *x, *y, row);
   }
