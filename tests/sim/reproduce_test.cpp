@@ -114,7 +114,7 @@ TEST(ReproduceCompare, Fig5RealEditsFailNamingLineColumnValuesAndTolerance) {
                         "butterfly,ml,1,100000,isotropic,0.4503090479,0.46,0.0077,0,-1,2.57764,"
                         "0.0031,0.7225549558,0.32"),
             "line 7, column wilcoxon_pos_p (Wilcoxon p): 0.3 vs committed 0.32; tolerance allowed "
-            "[0.292389, 0.307742] (z +-0.0164: a difference crossing the zero threshold)");
+            "[0.292389, 0.307742] (z +-0.0165: a difference crossing the zero threshold)");
   EXPECT_EQ(CompareFig5(kZero, kSimple,
                         "butterfly,ml,1,100000,isotropic,0.4503090479,0.46,0.0077,0,-1,2.57764,"
                         "0.00313,0.7225549558,0.3"),

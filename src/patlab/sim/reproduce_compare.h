@@ -47,8 +47,9 @@ struct RankAllowance {
   double tie_term = 0.0;        // sum of m^3 - m over the clusters of such values (ties)
   double pairs = 0.0;           // n of the test
   // The move of R+ (and R-): a flipped opposite-sign pair moves one rank unit between them; a
-  // difference that becomes zero removes its rank and shifts every rank above it by one (n each).
-  double RankSumMove() const { return opposite_pairs + near_zero * 1.5 * pairs; }
+  // difference that becomes zero removes its rank and shifts every rank above it down by one (at
+  // most n in all). (z also sees the mean n(n+1)/4 move by n/2 then: 1.5 n per such difference.)
+  double RankSumMove() const { return opposite_pairs + near_zero * pairs; }
 };
 // The allowance of the test on d = |a| - |b| (equal lengths).
 RankAllowance KnifeEdgeAllowance(std::span<const double> abs_a, std::span<const double> abs_b);
