@@ -244,7 +244,8 @@ Verdict KnifeEdgeCell(ColumnKind kind, const std::string& column, double x, doub
         return {std::min(x, y) >= 0.0 && std::max(x, y) <= 1.0,
                 "both in [0, 1] (the ML starts at its optimum up to rounding: 0 or 1 step)"};
       }
-      return Plus(x, y, k / n + Continuous(x, y), "one step per knife-edge trial / trials");
+      return Plus(x, y, 1.0,
+                  "each trial's last step is decided by a gradient at rounding level: one step");
     case kKsD:
       return Plus(x, y, k / n + Continuous(x, y), "knife-edge samples / trials");
     case kKsP: {

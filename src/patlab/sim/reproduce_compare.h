@@ -17,8 +17,8 @@ enum class ColumnKind {
   kContinuous,  // a mean, std, interval, RMS, efficiency, median: within kRelativeDrift
   kCount,       // a count of discrete outcomes (ml_nonconverged, n): +- kKnifeEdgeEvents
   kFirstTrial,  // the first trial of such an outcome: equal unless the row's count moved
-  kMeanCount,   // a mean of per-trial counts (ml_mean_iterations): +- kKnifeEdgeEvents / trials;
-                // in rows whose ML starts at its optimum up to rounding, anything in [0, 1]
+  kMeanCount,   // the mean ML iteration count: +- 1 (every trial's last step is a rounding
+                // decision); in rows whose ML starts at its optimum up to rounding, both in [0, 1]
   kKsD,         // a two-sample KS D on `trials` each: +- kKnifeEdgeEvents / trials
   kKsP,         // the KS p of the D column before it: the p range of D's allowed move
   kWilcoxonP,   // fig5's Wilcoxon p (no z printed): the p range of the z move implied by
