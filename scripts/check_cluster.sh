@@ -1,15 +1,20 @@
 #!/usr/bin/env bash
-# Runs a sweep on real cluster engines and checks that the merged result is the single-process
-# one, byte for byte (docs/cluster.md; CI runs it after the build):
-#   1. single process: patlab simulate EXP --trials T
+# Runs sweeps on real cluster engines and checks that each merged result is the single-process
+# one, byte for byte (docs/cluster.md; CI runs it after the build). Two cases:
+#   known:  EXP (default experiments/fig5.toml) --trials T, whole-point shares;
+#   detect: experiments/id_confusion.toml --sigmas 2 --trials DETECT_FRAMES (default 2^14 + 300:
+#           every point is two blocks of frames, so the shares are trial ranges within points,
+#           docs/merge.md), 6 points, 12 blocks.
+# For each case:
+#   1. single process: patlab simulate EXP ARGS
 #   2. GNU parallel:   the N shares with `parallel`, then patlab merge
 #   3. Slurm:          a single-node cluster started here (munged, slurmctld, slurmd with a minimal
 #                      slurm.conf in a scratch directory), the job array of
 #                      scripts/slurm/simulate_array.sbatch and the merge step scripts/slurm/merge.sh
 #                      submitted with --dependency=afterany; the daemons are stopped on exit.
 # Needs the Debian packages parallel, slurm-wlm and munge (scripts/setup.sh). Run as root or as a
-# user that may start munged and the Slurm daemons. EXP defaults to experiments/fig5.toml,
-# T to 20000 trials, N to 4 shares.
+# user that may start munged and the Slurm daemons. Usage: check_cluster.sh [EXP]; T defaults to
+# 20000 trials (TRIALS), N to 4 shares (SHARDS), PATLAB to build/patlab.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 P=${PATLAB:-$PWD/build/patlab}
@@ -28,16 +33,34 @@ cleanup() {
 trap cleanup EXIT
 start=$(date +%s)
 
-echo "== single process: $EXP --trials $TRIALS"
-"$P" simulate "$EXP" --trials "$TRIALS" --out "$work/single" -q
-name=$(basename "$(ls "$work"/single/*.csv)" .csv)
+DETECT_EXP=experiments/id_confusion.toml
+DETECT_ARGS=(--sigmas 2 --trials "${DETECT_FRAMES:-16684}")
+KNOWN_ARGS=(--trials "$TRIALS")
 
-echo "== GNU parallel: $N shares"
-parallel --will-cite --halt now,fail=1 -j2 "$P" simulate "$EXP" --trials "$TRIALS" --threads 1 \
-  --shard {}/"$N" --out "$work/parallel" -q ::: $(seq "$N")
-"$P" merge "$work/parallel" --out "$work/parallel-merged" -q
-cmp "$work/single/$name.csv" "$work/parallel-merged/$name.csv"
-echo "GNU parallel: merged CSV identical to the single-process CSV"
+# single_and_parallel CASE EXP ARGS...: the single-process run and the GNU parallel shares,
+# merged and compared; leaves the CSV's name in $work/CASE.name.
+single_and_parallel() {
+  local case=$1 exp=$2
+  shift 2
+  echo "== $case: single process: $exp $*"
+  "$P" simulate "$exp" "$@" --out "$work/$case-single" -q
+  local name
+  name=$(basename "$(ls "$work/$case-single"/*.csv)" .csv)
+  echo "$name" > "$work/$case.name"
+  echo "== $case: GNU parallel: $N shares"
+  parallel --will-cite --halt now,fail=1 -j2 "$P" simulate "$exp" "$@" --threads 1 \
+    --shard {}/"$N" --out "$work/$case-parallel" -q ::: $(seq "$N")
+  "$P" merge "$work/$case-parallel" --out "$work/$case-parallel-merged" -q
+  cmp "$work/$case-single/$name.csv" "$work/$case-parallel-merged/$name.csv"
+  echo "$case, GNU parallel: merged CSV identical to the single-process CSV"
+}
+single_and_parallel known "$EXP" "${KNOWN_ARGS[@]}"
+single_and_parallel detect "$DETECT_EXP" "${DETECT_ARGS[@]}"
+# The detect case must really be trial-range shares: some share holds a block of a point.
+if ! grep -q '"blocks_per_point": 2' "$work"/detect-parallel/*.shard-1-of-"$N".json; then
+  echo "detect case: the shares are not trial ranges (expected blocks_per_point 2)" >&2
+  exit 1
+fi
 
 echo "== Slurm: a single-node cluster in $work/slurm"
 s=$work/slurm
@@ -91,20 +114,35 @@ for _ in $(seq 300); do
   sleep 0.2
 done
 sinfo
-array=$(sbatch --parsable --array=1-"$N" --chdir="$PWD" --output="$s/shard-%a.out" \
-  --export=ALL,PATLAB="$P" scripts/slurm/simulate_array.sbatch "$EXP" "$s/shards" \
-  --trials "$TRIALS")
-merge=$(sbatch --parsable --dependency=afterany:"$array" --chdir="$PWD" --output="$s/merge.out" \
-  --export=ALL,PATLAB="$P" scripts/slurm/merge.sh "$s/shards" "$s/merged" -q)
-echo "submitted array job $array and merge job $merge"
+# submit CASE EXP ARGS...: the array and its merge step; prints "ARRAY MERGE".
+submit() {
+  local case=$1 exp=$2
+  shift 2
+  local array merge
+  array=$(sbatch --parsable --array=1-"$N" --chdir="$PWD" --output="$s/$case-shard-%a.out" \
+    --export=ALL,PATLAB="$P" scripts/slurm/simulate_array.sbatch "$exp" "$s/$case-shards" "$@")
+  merge=$(sbatch --parsable --dependency=afterany:"$array" --chdir="$PWD" \
+    --output="$s/$case-merge.out" --export=ALL,PATLAB="$P" scripts/slurm/merge.sh \
+    "$s/$case-shards" "$s/$case-merged" -q)
+  echo "$array $merge"
+}
+read -r known_array known_merge < <(submit known "$EXP" "${KNOWN_ARGS[@]}")
+read -r detect_array detect_merge < <(submit detect "$DETECT_EXP" "${DETECT_ARGS[@]}")
+jobs="$known_array,$known_merge,$detect_array,$detect_merge"
+echo "submitted array jobs $known_array (known) and $detect_array (detect), merge jobs" \
+  "$known_merge and $detect_merge"
 for _ in $(seq 1800); do
-  [[ -z $(squeue -h -j "$array,$merge" 2>/dev/null) ]] && break
+  [[ -z $(squeue -h -j "$jobs" 2>/dev/null) ]] && break
   sleep 0.2
 done
-if ! cmp "$work/single/$name.csv" "$s/merged/$name.csv"; then
-  echo "Slurm: the merged CSV differs or is missing; logs:" >&2
-  tail -n 20 "$s"/*.out "$s"/*.log >&2 || true
-  exit 1
-fi
-echo "Slurm: merged CSV of array job $array identical to the single-process CSV"
+for case in known detect; do
+  name=$(cat "$work/$case.name")
+  array_var=${case}_array
+  if ! cmp "$work/$case-single/$name.csv" "$s/$case-merged/$name.csv"; then
+    echo "Slurm, $case: the merged CSV differs or is missing; logs:" >&2
+    tail -n 20 "$s"/*.out "$s"/*.log >&2 || true
+    exit 1
+  fi
+  echo "$case, Slurm: merged CSV of array job ${!array_var} identical to the single-process CSV"
+done
 echo "check_cluster: ok in $(($(date +%s) - start)) s"

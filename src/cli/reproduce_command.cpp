@@ -72,9 +72,11 @@ int CheckAgainstCommitted(const sim::Reproduction& r, const std::vector<sim::Fig
       std::printf("DIFFERS %s: missing; expected the committed file\n", path.c_str());
       continue;
     }
-    const std::string difference = name.ends_with(".json")
-                                       ? sim::CompareManifestText(text, ReadFile(path))
-                                       : sim::CompareResultText(text, ReadFile(path));
+    const auto rules = r.rules.find(name);
+    const std::string difference =
+        name.ends_with(".json")  ? sim::CompareManifestText(text, ReadFile(path))
+        : rules != r.rules.end() ? sim::CompareResultCsv(text, ReadFile(path), rules->second)
+                                 : sim::CompareResultText(text, ReadFile(path));
     if (!difference.empty()) {
       ++failures;
       std::printf("DIFFERS %s: %s\n", path.c_str(), difference.c_str());

@@ -15,6 +15,7 @@
 #include "patlab/sim/report.h"
 #include "patlab/sim/runner.h"
 #include "patlab/sim/track.h"
+#include "patlab/sim/track_runner.h"
 
 namespace patlab::sim {
 
@@ -419,6 +420,58 @@ std::string Output(const ReproduceOptions& o, const std::string& name) {
   return (std::filesystem::path(o.out_dir) / name).lexically_normal().string();
 }
 
+// |error| of every kept sample of one subject on axis 0 (x), 1 (y) or 2 (hypot), keyed by (run,
+// frame) as error_stats.cpp pairs them.
+std::map<std::pair<size_t, int>, double> AbsErrors(const std::vector<SubjectRun>& runs, bool est,
+                                                   int axis) {
+  std::map<std::pair<size_t, int>, double> out;
+  for (size_t run = 0; run < runs.size(); ++run) {
+    const SubjectRun& r = runs[run];
+    const std::vector<double>& x = est ? r.est_x_mm : r.true_x_mm;
+    const std::vector<double>& y = est ? r.est_y_mm : r.true_y_mm;
+    for (size_t i = 0; i < r.sample.size(); ++i) {
+      out[{run, r.sample[i]}] = axis == 0   ? std::abs(x[i])
+                                : axis == 1 ? std::abs(y[i])
+                                            : std::hypot(x[i], y[i]);
+    }
+  }
+  return out;
+}
+
+// The rank allowance of every test of MakeSizeTests (the discs, paired by run and frame), keyed
+// "error,axis,a,b" as the rows of table1_tests.csv.
+std::map<std::string, RankAllowance> SizeTestAllowances(const TrackResult& result) {
+  std::map<std::string, RankAllowance> out;
+  const char* axes[] = {"x", "y", "xy"};
+  for (const bool est : {true, false}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<size_t> discs;
+      std::vector<std::map<std::pair<size_t, int>, double>> abs;
+      for (size_t k = 0; k < result.subjects.size(); ++k) {
+        if (!result.subjects[k].ends_with("mm")) continue;
+        discs.push_back(k);
+        abs.push_back(AbsErrors(result.data[k], est, axis));
+      }
+      for (size_t a = 0; a < discs.size(); ++a) {
+        for (size_t b = a + 1; b < discs.size(); ++b) {
+          std::vector<double> va, vb;
+          for (const auto& [key, value] : abs[a]) {
+            const auto it = abs[b].find(key);
+            if (it == abs[b].end()) continue;
+            va.push_back(value);
+            vb.push_back(it->second);
+          }
+          std::string key = est ? "est," : "true,";
+          key.append(axes[axis]).append(",").append(result.subjects[discs[a]]);
+          key.append(",").append(result.subjects[discs[b]]);
+          out[key] = KnifeEdgeAllowance(va, vb);
+        }
+      }
+    }
+  }
+  return out;
+}
+
 // The four files of a track run under `dir` ("" or "track_quantisation/"), as `patlab track`
 // writes them; returns Table I and its tests.
 std::pair<std::string, std::string> AddTrackFiles(const ReproduceOptions& o,
@@ -436,6 +489,8 @@ std::pair<std::string, std::string> AddTrackFiles(const ReproduceOptions& o,
   r->files.emplace_back(names[1], tests_csv);
   r->files.emplace_back(names[2], ErrorsCsv(track, result, decimate));
   r->files.emplace_back(names[3], TrackManifestJson(track, result, table, o.command_line, outputs));
+  for (int k = 0; k < 3; ++k) r->rules[names[k]] = RulesForResultFile(names[k]);
+  r->rules[names[1]].rank_allowances = SizeTestAllowances(result);
   return {table_csv, tests_csv};
 }
 
@@ -452,6 +507,7 @@ Reproduction Reproduce(const ReproduceOptions& options) {
       {"fig5.csv", fig5_csv},
       {"fig5.json", ManifestJson(fig5, fig5_result, options.command_line,
                                  {Output(options, "fig5.csv"), Output(options, "fig5.json")})}};
+  r.rules["fig5.csv"] = RulesForResultFile("fig5.csv");
   const TrackOptions table1 = LoadTrackExperiment(Input(options, "experiments/table1.toml"));
   const auto [table1_csv, tests_csv] = AddTrackFiles(options, table1, 1, "", &r);
   // Fig. 6's left panels: the same runs with quantisation only (no intensity noise or jitter).

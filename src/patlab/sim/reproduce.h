@@ -7,8 +7,11 @@
 // file differs from the committed one.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
+
+#include "patlab/sim/reproduce_compare.h"
 
 namespace patlab::sim {
 
@@ -39,6 +42,9 @@ struct Reproduction {
   std::vector<PaperNumber> numbers;
   // The regenerated result files: path relative to the results directory -> content.
   std::vector<std::pair<std::string, std::string>> files;
+  // How --check compares each regenerated CSV (reproduce_compare.h): every column's kind and,
+  // for the Wilcoxon tests of Table I, each test's rank allowance from the regenerated samples.
+  std::map<std::string, CsvRules> rules;
 };
 
 struct ReproduceOptions {
@@ -76,10 +82,10 @@ std::string CompareManifestText(const std::string& regenerated, const std::strin
 // results/paper.md: a table of every number (paper, patlab, tolerance or reason, verdict).
 std::string PaperMarkdown(const Reproduction& reproduction);
 
-// The regenerated CSV or text file differs from the committed one beyond the tolerance of
-// docs/paper-reproduction.md ("Results on other machines"): every cell equal as text, or both
-// numbers with |a - b| <= 2e-9 max(|a|, |b|) + 1e-12. Returns "" when they agree, else the first
-// differing line ("line 12: ... ; committed: ...").
+// A regenerated text file without column rules (paper.md) differs from the committed one: every
+// cell (split at ',') equal as text, or both numbers with |a - b| <= 2e-9 max(|a|, |b|) + 1e-12.
+// Returns "" when they agree, else the first differing line ("line 12: ... ; committed: ...").
+// The CSVs are compared by CompareResultCsv with Reproduction::rules.
 std::string CompareResultText(const std::string& regenerated, const std::string& committed);
 
 }  // namespace patlab::sim
