@@ -28,10 +28,21 @@ patlab_seconds() {
   awk -v a="$start" -v b="$end" 'BEGIN { print b - a }'
 }
 
+# CPU seconds (user + sys, /usr/bin/time) of a command, its own stdout to $OUT/cpu.out: on a
+# shared machine the load inflates wall times unevenly (numpy's far more than patlab's), so the
+# one-core ratio is also given in CPU time.
+cpu_seconds() {
+  /usr/bin/time -f "%U %S" -o "$OUT/cpu.txt" "$@" > "$OUT/cpu.out"
+  awk '{ print $1 + $2 }' "$OUT/cpu.txt"
+}
 p1=$(patlab_seconds 1)
 p2=$(patlab_seconds 2)
-numpy_line=$(OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1 \
-  /usr/bin/python3 scripts/numpy_baseline.py --sweep "$EXPERIMENT" "$TRIALS")
+trials_args=()
+if [[ "$TRIALS" != 0 ]]; then trials_args=(--trials "$TRIALS"); fi
+p1_cpu=$(cpu_seconds "$P" simulate "$EXPERIMENT" "${trials_args[@]}" --threads 1 --out "$OUT" -q)
+numpy_cpu=$(OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1 \
+  cpu_seconds /usr/bin/python3 scripts/numpy_baseline.py --sweep "$EXPERIMENT" "$TRIALS")
+numpy_line=$(cat "$OUT/cpu.out")
 echo "$numpy_line"
 total=$(echo "$numpy_line" | sed -E 's/.* = ([0-9]+) trials .*/\1/')
 numpy_s=$(echo "$numpy_line" | sed -E 's/.* in ([0-9.]+) s .*/\1/')
@@ -45,3 +56,5 @@ printf '%-44s %10.3f %14.3f %7.1fx\n' "patlab, everything, 1 thread" "$p1" "$(ra
 printf '%-44s %10.3f %14.3f %7.1fx\n' "patlab, everything, 2 threads" "$p2" "$(rate "$p2")" \
   "$(ratio "$numpy_s" "$p2")"
 echo "same workload, one core each: patlab is $(ratio "$numpy_s" "$p1")x numpy's throughput"
+echo "in CPU time (user + sys): numpy ${numpy_cpu} s, patlab 1 thread ${p1_cpu} s:" \
+  "$(ratio "$numpy_cpu" "$p1_cpu")x"

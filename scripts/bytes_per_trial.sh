@@ -15,7 +15,7 @@ trap 'rm -rf "$out"' EXIT
 cat > "$out/one.toml" <<TOML
 name = "one"
 patterns_dir = "$PWD/patterns"
-patterns = ["butterfly"]
+patterns = ["${PATTERN:-butterfly}"]
 estimators = ["fast", "ml"]
 seed = 2003
 [sigma]

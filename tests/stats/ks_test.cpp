@@ -200,5 +200,31 @@ TEST(Ks, BucketedAndSortedWalksAgreeWithTheStraightforwardOne) {
   }
 }
 
+// Samples larger than one window of walked values (2^18 a sample): the walk goes window by window
+// with bounded buffers. Pairs that differ by rounding make every bucket a walked one (the hard
+// case), with windows breaking inside runs; quantised pairs add ties across window ends; one
+// bucket holding more than a window (clustered values) is walked whole.
+TEST(Ks, BucketedWalkInWindowsAgreesOnSamplesLargerThanAWindow) {
+  uint64_t state = 777;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<double>(state >> 11) + 0.5) * 0x1p-53;
+  };
+  for (int kind = 0; kind < 3; ++kind) {
+    for (const size_t n : {300000u, 700000u}) {
+      SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n);
+      std::vector<double> x(n), y(n);
+      for (size_t k = 0; k < n; ++k) {
+        const double u = uniform() + uniform() + uniform() - 1.5;
+        x[k] = kind == 1 ? std::round(u * 4096.0) / 4096.0 : u;
+        if (kind == 2) x[k] = k % 10 == 0 ? u : 1.0;
+        y[k] = kind == 1 ? (uniform() < 0.5 ? x[k] : x[k] + 1.0 / 4096.0)
+                         : x[k] * (1.0 + 1e-13 * (uniform() - 0.5));
+      }
+      ExpectSameExtremes(detail::EcdfExtremesByBuckets(x, y), StraightforwardExtremes(x, y));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace patlab::stats

@@ -113,5 +113,49 @@ TEST(SortByMagnitude, GivesTheKeyOrderBitForBitOnEveryKindOfSample) {
   ExpectKeyOrder([](std::span<double> v) { SortByMagnitude(v); }, MagnitudeKey);
 }
 
+// The overloads with the caller's scratch (the runner's dead sample arrays): the same order, with
+// a scratch longer than the values and full of garbage (NaN patterns), and the values' storage
+// holding the result whether the radix sort ran an odd or an even number of passes.
+std::vector<double> Garbage(size_t n) {
+  std::vector<double> g(n + 3);
+  for (size_t k = 0; k < g.size(); ++k) {
+    g[k] = std::bit_cast<double>(0x7ff4000000000000ull + k);  // signalling NaNs
+  }
+  return g;
+}
+
+TEST(SortAscending, WithTheCallersScratchGivesTheSameOrder) {
+  ExpectKeyOrder(
+      [](std::span<double> v) {
+        std::vector<double> scratch = Garbage(v.size());
+        SortAscending(v, scratch);
+      },
+      AscendingKey);
+}
+
+TEST(SortByMagnitude, WithTheCallersScratchGivesTheSameOrder) {
+  ExpectKeyOrder(
+      [](std::span<double> v) {
+        std::vector<double> scratch = Garbage(v.size());
+        SortByMagnitude(v, scratch);
+      },
+      MagnitudeKey);
+}
+
+// A radix sort whose digits vary in an odd number of passes (here only the lowest 11 bits of the
+// keys differ, and two thirds of the values are one value, too clustered for the buckets) ends
+// in the scratch; the result must still be copied home.
+TEST(SortAscending, OddNumberOfRadixPassesEndsInTheValues) {
+  std::vector<double> v(3000), scratch(3000);
+  for (size_t k = 0; k < v.size(); ++k) {
+    const uint64_t low = k % 3 == 0 ? (k * 7919) % 2048 : 0;
+    v[k] = std::bit_cast<double>(std::bit_cast<uint64_t>(1.5) + low);
+  }
+  std::vector<double> expected = v;
+  std::sort(expected.begin(), expected.end());
+  SortAscending(v, scratch);
+  EXPECT_EQ(v, expected);
+}
+
 }  // namespace
 }  // namespace patlab::stats

@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <iomanip>
+#include <span>
 #include <vector>
 
 #include "../expect_error.h"
@@ -122,6 +126,48 @@ TEST(Wilcoxon, RejectsBadInput) {
                      "sample 2 value 2 is infinite; expected finite numbers");
   EXPECT_INPUT_ERROR(ParseZeroMethod("none"),
                      "zero_method is \"none\"; expected \"wilcox\", \"pratt\" or \"zsplit\"");
+}
+
+// The in-place test with the caller's scratch (the runner's dead sample arrays) gives the bits of
+// the copying one on every kind of difference: ties, zeros, signed zeros, subnormals beside 1e300,
+// all equal, one pair, and samples large enough for the bucket sort and for the radix sort
+// (clustered magnitudes).
+TEST(Wilcoxon, InPlaceWithScratchGivesTheBitsOfTheCopyingTest) {
+  uint64_t state = 99;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<double>(state >> 11) + 0.5) * 0x1p-53;
+  };
+  for (int kind = 0; kind < 6; ++kind) {
+    for (const size_t n : {1u, 2u, 60u, 5000u, 100000u}) {
+      SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n);
+      std::vector<double> d(n);
+      for (size_t k = 0; k < n; ++k) {
+        const double u = uniform() - 0.45;
+        d[k] = u;
+        if (kind == 1) d[k] = std::round(u * 16.0) / 16.0;              // ties and zeros
+        if (kind == 2) d[k] = k % 3 == 0 ? (k % 2 ? -0.0 : 0.0) : u;    // signed zeros
+        if (kind == 3) d[k] = k % 2 ? u * 1e-310 : u * 1e300;           // subnormal, huge
+        if (kind == 4) d[k] = -1.5;                                     // all equal
+        if (kind == 5) d[k] = k % 7 == 0 ? u : (k % 2 ? 0.25 : -0.25);  // clustered: radix
+      }
+      for (const ZeroMethod zero : {ZeroMethod::kWilcox, ZeroMethod::kPratt, ZeroMethod::kZsplit}) {
+        WilcoxonOptions options;
+        options.zero_method = zero;
+        const bool all_zero = std::all_of(d.begin(), d.end(), [](double v) { return v == 0.0; });
+        if (all_zero && zero != ZeroMethod::kZsplit) continue;
+        const WilcoxonResult want = WilcoxonSignedRank(std::span<const double>(d), options);
+        std::vector<double> in_place = d, scratch(n + 5, std::nan(""));
+        const WilcoxonResult got = WilcoxonSignedRankInPlace(in_place, scratch, options);
+        EXPECT_EQ(got.r_plus, want.r_plus);
+        EXPECT_EQ(got.r_minus, want.r_minus);
+        EXPECT_EQ(got.statistic, want.statistic);
+        EXPECT_EQ(std::bit_cast<uint64_t>(got.p_value), std::bit_cast<uint64_t>(want.p_value));
+        EXPECT_EQ(got.n_zero, want.n_zero);
+        EXPECT_EQ(got.has_ties, want.has_ties);
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -89,14 +89,14 @@ EstimatorBlock Fold(const EstimatorBlock& a, const EstimatorBlock& b) {
 // errors carry the ~1e-13 rounding of poses of ~1e3 mm) and counts as a zero, which the 'wilcox'
 // zero method drops; if every difference is a zero, the samples carry no evidence of a difference:
 // p = 1.
-// The values compared are value(k) of each sample (|position error| or |theta error|), computed
-// here into a buffer of the thread that is reused from point to point; PairedTest is serial
-// code, so no other task can take the buffer while it is in use.
+// The values compared are value(k) of each sample (|position error| or |theta error|); the
+// differences are written to d (value(k) is read before d[k] is written, so d may be one of the
+// arrays value reads, element k of it being dead once read) and sorted with `scratch` (an array
+// of at least `size` elements whose contents are dead): no memory that grows with the trials.
 template <class Value>
-stats::WilcoxonResult PairedTest(size_t size, Value value) {
-  thread_local std::vector<double> buffer;
-  if (buffer.size() < size) buffer.resize(size);
-  const std::span<double> d(buffer.data(), size);
+stats::WilcoxonResult PairedTest(size_t size, Value value, double* d_out,
+                                 std::span<double> scratch) {
+  const std::span<double> d(d_out, size);
   size_t nonzero = 0;
   for (size_t k = 0; k < size; ++k) {
     const auto [a, b] = value(k);
@@ -111,30 +111,38 @@ stats::WilcoxonResult PairedTest(size_t size, Value value) {
     identical.p_value = 1.0;
     return identical;
   }
-  return stats::WilcoxonSignedRankInPlace(d);
+  return stats::WilcoxonSignedRankInPlace(d, scratch);
 }
 
-Comparison Compare(const Samples& fast, const Samples& other, size_t n) {
+// The tests of `other` against fast on the first n trials. They consume other's arrays: the
+// KS tests need them as they are, then the Wilcoxon differences overwrite them (position into
+// other.x, whose pair other.y is then dead and serves as the sorts' scratch; theta into
+// other.theta), so that the statistics need no array of the trials' size beyond the samples
+// (docs/hardening.md, "Bounded memory"). fast's arrays are only read (several estimators may be
+// compared with it at once). other's moments must be taken before.
+Comparison Compare(const Samples& fast, Samples* other, size_t n) {
   Comparison c;
   c.computed = true;
   c.trials = static_cast<int64_t>(n);
-  // |error| (errors are far from overflow, so no need for hypot's scaling).
-  const auto position = [&](size_t k) {
-    return std::pair{std::sqrt(fast.x[k] * fast.x[k] + fast.y[k] * fast.y[k]),
-                     std::sqrt(other.x[k] * other.x[k] + other.y[k] * other.y[k])};
-  };
-  const auto theta = [&](size_t k) {
-    return std::pair{std::abs(fast.theta[k]), std::abs(other.theta[k])};
-  };
   const auto head = [n](const std::vector<double>& v) {
     return std::span<const double>(v.data(), n);
   };
   tbb::parallel_invoke(
-      [&] { c.ks_x = stats::KsTwoSample(head(fast.x), head(other.x)); },
-      [&] { c.ks_y = stats::KsTwoSample(head(fast.y), head(other.y)); },
-      [&] { c.ks_theta = stats::KsTwoSample(head(fast.theta), head(other.theta)); },
-      [&] { c.wilcoxon_position = PairedTest(n, position); },
-      [&] { c.wilcoxon_theta = PairedTest(n, theta); });
+      [&] { c.ks_x = stats::KsTwoSample(head(fast.x), head(other->x)); },
+      [&] { c.ks_y = stats::KsTwoSample(head(fast.y), head(other->y)); },
+      [&] { c.ks_theta = stats::KsTwoSample(head(fast.theta), head(other->theta)); });
+  double* ox = other->x.data();
+  double* oy = other->y.data();
+  double* ot = other->theta.data();
+  const std::span<double> scratch(oy, n);
+  // |error| (errors are far from overflow, so no need for hypot's scaling).
+  const auto position = [&](size_t k) {
+    return std::pair{std::sqrt(fast.x[k] * fast.x[k] + fast.y[k] * fast.y[k]),
+                     std::sqrt(ox[k] * ox[k] + oy[k] * oy[k])};
+  };
+  const auto theta = [&](size_t k) { return std::pair{std::abs(fast.theta[k]), std::abs(ot[k])}; };
+  c.wilcoxon_position = PairedTest(n, position, ox, scratch);
+  c.wilcoxon_theta = PairedTest(n, theta, ot, scratch);
   return c;
 }
 
@@ -281,21 +289,25 @@ void MlCounters(const PointBuffers& pb, int64_t first_trial, int64_t trials, Est
 }
 
 // Stage 2: every estimator's block statistics, from the block's samples in `pb`; the first block
-// also compares each estimator with fast.
-void BlockStatistics(const Experiment& experiment, const PointBuffers& pb, double sigma_mm,
+// also compares each estimator with fast. The comparisons consume the compared estimators'
+// arrays (Compare), so every estimator's moments are taken first; the arrays are not needed
+// after this stage (the next block is simulated into them).
+void BlockStatistics(const Experiment& experiment, PointBuffers& pb, double sigma_mm,
                      int64_t first_trial, int64_t trials, std::span<EstimatorBlock> out) {
   const bool has_fast = std::find(experiment.estimators.begin(), experiment.estimators.end(),
                                   Estimator::kFast) != experiment.estimators.end();
   const size_t n = static_cast<size_t>(trials);
   tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
     const Estimator e = experiment.estimators[k];
-    EstimatorBlock& b = out[k];
-    BlockMoments(pb.samples[static_cast<int>(e)], n, &b);
-    if (e == Estimator::kMl) MlCounters(pb, first_trial, trials, &b);
-    if (first_trial == 0 && e != Estimator::kFast && has_fast && sigma_mm > 0.0) {
-      b.vs_fast = Compare(pb.samples[static_cast<int>(Estimator::kFast)],
-                          pb.samples[static_cast<int>(e)], n);
-    }
+    BlockMoments(pb.samples[static_cast<int>(e)], n, &out[k]);
+    if (e == Estimator::kMl) MlCounters(pb, first_trial, trials, &out[k]);
+  });
+  if (first_trial != 0 || !has_fast || !(sigma_mm > 0.0)) return;
+  tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
+    const Estimator e = experiment.estimators[k];
+    if (e == Estimator::kFast) return;
+    out[k].vs_fast = Compare(pb.samples[static_cast<int>(Estimator::kFast)],
+                             &pb.samples[static_cast<int>(e)], n);
   });
 }
 

@@ -161,12 +161,13 @@ void SortSmall(double* v, std::size_t n) {
 
 // This thread's buffers, grown to the largest samples seen and then reused: fresh arrays cost
 // more in page faults than the work on them. Only serial code uses them. The per-bucket arrays
-// are O(buckets) (at most kMaxBuckets); a and b hold only the values of the buckets that must
-// be walked.
+// are O(buckets) (at most kMaxBuckets); a and b hold the values of one window of the buckets that
+// must be walked (at most kWindowValues each, below).
 struct Buffers {
   std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
   std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
   std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
+  std::vector<uint8_t> walk;         // 1 for the buckets the walk must visit
   std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
 };
 Buffers& ThreadBuffers() {
@@ -230,17 +231,14 @@ EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const do
 
 namespace {
 
-// The buckets the walk must visit, as runs, and the write positions of their values (s->pos1,
-// s->pos2; kSkipped elsewhere). Every bucket end is a group end of the walk, so the largest
-// (smallest) of the bucket-end values D_k, computed as the walk computes them, is a lower
-// (upper) bound on the walk's extreme. Inside bucket k the walk's values lie between
+// Which buckets the walk must visit (s->walk). Every bucket end is a group end of the walk, so
+// the largest (smallest) of the bucket-end values D_k, computed as the walk computes them, is a
+// lower (upper) bound on the walk's extreme. Inside bucket k the walk's values lie between
 // L_k = I_{k-1} / n1 - J_k / n2 and U_k = I_k / n1 - J_{k-1} / n2, computed the same way
 // (each rounding is monotone, so the bound holds for the computed values exactly). A bucket with
 // U_k < max D and L_k > min D holds no group end that reaches either extreme, and the walk keeps
 // the first group end that does, so skipping such buckets leaves the result unchanged.
-std::vector<Run>& PlanRuns(std::size_t buckets, double dn1, double dn2, Buffers* s) {
-  thread_local std::vector<Run> runs;
-  runs.clear();
+void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
   // f1[k] = I_k / n1 and f2[k] = J_k / n2, each division done once (a loop that vectorises);
   // every bound below is a difference of two of them, the walk's own arithmetic.
   s->f1.resize(buckets);
@@ -257,37 +255,67 @@ std::vector<Run>& PlanRuns(std::size_t buckets, double dn1, double dn2, Buffers*
     max_end = std::max(max_end, d);
     min_end = std::min(min_end, d);
   }
-  s->pos1.resize(buckets);
-  s->pos2.resize(buckets);
-  uint32_t a = 0, b = 0, i0 = 0, j0 = 0;
+  s->walk.resize(buckets);
+  uint32_t i0 = 0, j0 = 0;
   double f1_before = 0.0, f2_before = 0.0;  // 0 / n: the counts before bucket 0
-  bool in_run = false;
   for (std::size_t k = 0; k < buckets; ++k) {
     const uint32_t i1 = e1[k], j1 = e2[k];
     const double upper = f1[k] - f2_before;
     const double lower = f1_before - f2[k];
     f1_before = f1[k], f2_before = f2[k];
     const bool empty = i1 == i0 && j1 == j0;
-    const bool walk = !empty && (upper >= max_end || lower <= min_end);
+    s->walk[k] = !empty && (upper >= max_end || lower <= min_end) ? 1 : 0;
+    i0 = i1, j0 = j1;
+  }
+}
+
+// The walked buckets' values are copied out, sorted and walked a window of consecutive buckets
+// at a time, each window holding at most this many values of each sample (unless one bucket
+// alone holds more), so that the buffers a and b stay bounded (4 MB) whatever the sample size:
+// one more pass over the samples per window (docs/hardening.md, "Bounded memory"). fig5's samples
+// of 10^5 values always fit in one window; a statistics block of 2^20 near-identical samples
+// takes four.
+constexpr std::size_t kWindowValues = std::size_t{1} << 18;
+
+// The window that starts at bucket `first`: it ends before the bucket whose walked values would
+// take either sample past kWindowValues (but holds at least one bucket). Sets the write positions
+// of its walked buckets (s->pos1, s->pos2; every other bucket stays kSkipped) and returns its
+// runs of consecutive walked buckets and its end.
+std::size_t PlanWindow(std::size_t first, std::size_t buckets, Buffers* s, std::vector<Run>* runs) {
+  runs->clear();
+  const uint32_t* e1 = s->end1.data();
+  const uint32_t* e2 = s->end2.data();
+  uint32_t a = 0, b = 0;
+  uint32_t i0 = first == 0 ? 0 : e1[first - 1], j0 = first == 0 ? 0 : e2[first - 1];
+  bool in_run = false;
+  std::size_t k = first;
+  for (; k < buckets; ++k) {
+    const uint32_t i1 = e1[k], j1 = e2[k];
+    const bool empty = i1 == i0 && j1 == j0;
+    const bool walk = s->walk[k] != 0;
+    // +1: the sentinel slot after the run
+    if (walk && k > first &&
+        (a + (i1 - i0) + 1 > kWindowValues || b + (j1 - j0) + 1 > kWindowValues)) {
+      break;
+    }
     if (walk && !in_run) {
-      runs.push_back(Run{a, b, 0, 0, i0, j0});
+      runs->push_back(Run{a, b, 0, 0, i0, j0});
       in_run = true;
     } else if (!walk && !empty && in_run) {
       a += 1, b += 1;  // the sentinel slots after the run
       in_run = false;
     }
-    s->pos1[k] = walk ? a : kSkipped;
-    s->pos2[k] = walk ? b : kSkipped;
     if (walk) {
+      s->pos1[k] = a, s->pos2[k] = b;
       a += i1 - i0, b += j1 - j0;
-      runs.back().na += i1 - i0, runs.back().nb += j1 - j0;
+      runs->back().na += i1 - i0, runs->back().nb += j1 - j0;
     }
     i0 = i1, j0 = j1;
   }
   if (in_run) a += 1, b += 1;
   if (s->a.size() < a) s->a.resize(a);
   if (s->b.size() < b) s->b.resize(b);
-  return runs;
+  return k;
 }
 
 // Copies the values of the buckets to walk to their positions (pos becomes each bucket's end).
@@ -302,15 +330,17 @@ void Extract(std::span<const double> x, BucketOf bucket_of, uint32_t* pos, doubl
   }
 }
 
-// Sorts every walked bucket's values in place: bucket k's values end at pos[k] and number
-// end[k] - end[k - 1].
-void SortBuckets(std::size_t buckets, const uint32_t* pos, const uint32_t* end, double* v) {
-  uint32_t before = 0;
-  for (std::size_t k = 0; k < buckets; ++k) {
+// Sorts every walked bucket of [first, last) in place, and marks it kSkipped again: bucket k's
+// values end at pos[k] and number end[k] - end[k - 1].
+void SortBuckets(std::size_t first, std::size_t last, uint32_t* pos, const uint32_t* end,
+                 double* v) {
+  uint32_t before = first == 0 ? 0 : end[first - 1];
+  for (std::size_t k = first; k < last; ++k) {
     const uint32_t count = end[k] - before;
     before = end[k];
-    if (pos[k] == kSkipped || count < 2) continue;
-    SortSmall(v + (pos[k] - count), count);
+    if (pos[k] == kSkipped) continue;
+    if (count > 1) SortSmall(v + (pos[k] - count), count);
+    pos[k] = kSkipped;
   }
 }
 
@@ -336,17 +366,26 @@ EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const do
   Buffers& s = ThreadBuffers();
   CountsAtBucketEnds(x, buckets, bucket_of, &s.end1);
   CountsAtBucketEnds(y, buckets, bucket_of, &s.end2);
-  const std::vector<Run>& runs = PlanRuns(buckets, dn1, dn2, &s);
-  Extract(x, bucket_of, s.pos1.data(), s.a.data());
-  Extract(y, bucket_of, s.pos2.data(), s.b.data());
-  SortBuckets(buckets, s.pos1.data(), s.end1.data(), s.a.data());
-  SortBuckets(buckets, s.pos2.data(), s.end2.data(), s.b.data());
+  PlanWalk(buckets, dn1, dn2, &s);
+  s.pos1.assign(buckets, kSkipped);
+  s.pos2.assign(buckets, kSkipped);
+  thread_local std::vector<Run> runs;
   EcdfExtremes e;
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  for (const Run& r : runs) {
-    s.a[r.a0 + r.na] = kInf;
-    s.b[r.b0 + r.nb] = kInf;
-    WalkSorted(&s.a[r.a0], r.na, &s.b[r.b0], r.nb, r.i0, r.j0, dn1, dn2, &e);
+  for (std::size_t first = 0; first < buckets;) {
+    const std::size_t last = PlanWindow(first, buckets, &s, &runs);
+    if (!runs.empty()) {
+      Extract(x, bucket_of, s.pos1.data(), s.a.data());
+      Extract(y, bucket_of, s.pos2.data(), s.b.data());
+      SortBuckets(first, last, s.pos1.data(), s.end1.data(), s.a.data());
+      SortBuckets(first, last, s.pos2.data(), s.end2.data(), s.b.data());
+      for (const Run& r : runs) {
+        s.a[r.a0 + r.na] = kInf;
+        s.b[r.b0 + r.nb] = kInf;
+        WalkSorted(&s.a[r.a0], r.na, &s.b[r.b0], r.nb, r.i0, r.j0, dn1, dn2, &e);
+      }
+    }
+    first = last;
   }
   return e;
 }

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "patlab/core/error.h"
+
 namespace patlab::stats {
 
 namespace {
@@ -17,45 +19,48 @@ constexpr int kPasses = (64 + kDigitBits - 1) / kDigitBits;  // 6
 constexpr uint64_t kSignBit = uint64_t{1} << 63;
 constexpr size_t kBucketMinSize = 1024;  // below, the radix sort's fixed costs are small
 
-// The keys, the scatter buffer and the digit counts of one thread, grown to the largest sample
-// seen and then reused: a fresh 100,000-element array costs more in page faults and zeroing
-// than the sort itself (perf on stats_bench: 55% of the time in the kernel's page faults and
-// memset before this). Only serial code below touches it, so no task can interleave.
-struct Scratch {
-  std::vector<uint64_t> keys, buffer;
-  std::array<std::array<uint32_t, kBins>, kPasses> counts;
-};
+// The digit counts of one radix sort (O(1) memory: 6 x 2048 counters).
+using DigitCounts = std::array<std::array<uint32_t, kBins>, kPasses>;
 
-Scratch& ThreadScratch(size_t n) {
-  thread_local Scratch scratch;
-  if (scratch.keys.size() < n) {
-    scratch.keys.resize(n);
-    scratch.buffer.resize(n);
-  }
-  return scratch;
+// The scatter buffer of one thread for the overloads without a caller's scratch, grown to the
+// largest sample seen and then reused: a fresh 100,000-element array costs more in page faults
+// and zeroing than the sort itself (perf on stats_bench: 55% of the time in the kernel's page
+// faults and memset before this). Only serial code below touches it, so no task can interleave.
+std::span<double> ThreadScratch(size_t n) {
+  thread_local std::vector<double> scratch;
+  if (scratch.size() < n) scratch.resize(n);
+  return {scratch.data(), n};
 }
 
 inline uint32_t Digit(uint64_t key, int pass) {
   return static_cast<uint32_t>(key >> (pass * kDigitBits)) & (kBins - 1);
 }
 
-// LSD radix sort of the keys key_of(values[i]), 11 bits a pass; the counts of every pass come
-// from one read of the values, and passes in which every key has the same digit are skipped.
-// Returns the array that holds the sorted keys (s.keys or s.buffer).
-template <class KeyOf>
-const uint64_t* RadixSort(std::span<const double> values, KeyOf key_of, Scratch& s) {
+// LSD radix sort of the keys key_of(values[i]), 11 bits a pass, done in the values' own storage
+// (the keys replace the values, bit_cast) with `scratch` (at least as long) as the only other
+// array; the counts of every pass come from one read of the values, and passes in which every
+// key has the same digit are skipped. The sorted keys end in the values' storage (copied back if
+// an odd number of passes ran) and are turned back into values by value_of.
+template <class KeyOf, class ValueOf>
+void RadixSort(std::span<double> values, std::span<double> scratch, KeyOf key_of,
+               ValueOf value_of) {
   const size_t n = values.size();
-  uint64_t* src = s.keys.data();
-  uint64_t* dst = s.buffer.data();
-  for (auto& c : s.counts) c.fill(0);
+  // Keys are stored as doubles of the same bits (bit_cast); plain copies keep every bit, NaN
+  // patterns included.
+  double* const home = values.data();
+  double* src = home;
+  double* dst = scratch.data();
+  thread_local DigitCounts counts;
+  for (auto& c : counts) c.fill(0);
   for (size_t i = 0; i < n; ++i) {
-    const uint64_t k = key_of(std::bit_cast<uint64_t>(values[i]));
-    src[i] = k;
-    for (int p = 0; p < kPasses; ++p) ++s.counts[p][Digit(k, p)];
+    const uint64_t k = key_of(std::bit_cast<uint64_t>(src[i]));
+    src[i] = std::bit_cast<double>(k);
+    for (int p = 0; p < kPasses; ++p) ++counts[p][Digit(k, p)];
   }
+  const uint64_t first = std::bit_cast<uint64_t>(src[0]);
   for (int p = 0; p < kPasses; ++p) {
-    auto& c = s.counts[p];
-    if (c[Digit(src[0], p)] == n) continue;
+    auto& c = counts[p];
+    if (c[Digit(first, p)] == n) continue;
     uint32_t offset = 0;
     for (uint32_t& bin : c) {
       const uint32_t count = bin;
@@ -63,12 +68,13 @@ const uint64_t* RadixSort(std::span<const double> values, KeyOf key_of, Scratch&
       offset += count;
     }
     for (size_t i = 0; i < n; ++i) {
-      const uint64_t k = src[i];
-      dst[c[Digit(k, p)]++] = k;
+      const double v = src[i];
+      dst[c[Digit(std::bit_cast<uint64_t>(v), p)]++] = v;
     }
     std::swap(src, dst);
   }
-  return src;
+  if (src != home) std::copy_n(src, n, home);
+  for (size_t i = 0; i < n; ++i) home[i] = value_of(std::bit_cast<uint64_t>(home[i]));
 }
 
 // Bucket sort for smooth samples: values are scattered into about n / 2 buckets of equal width
@@ -81,13 +87,9 @@ const uint64_t* RadixSort(std::span<const double> values, KeyOf key_of, Scratch&
 constexpr std::size_t kMaxBuckets = std::size_t{1} << 17;
 constexpr uint32_t kSmallBucket = 32;
 
-struct BucketScratch {
-  std::vector<double> out;
-  std::vector<uint32_t> start;
-};
-
 template <class KeyOf, class ValueOf>
-bool SortByBuckets(std::span<double> values, KeyOf key_of, ValueOf bucket_value) {
+bool SortByBuckets(std::span<double> values, std::span<double> scratch, KeyOf key_of,
+                   ValueOf bucket_value) {
   const size_t n = values.size();
   double lo = bucket_value(values[0]), hi = lo;
   for (const double v : values) {
@@ -101,9 +103,9 @@ bool SortByBuckets(std::span<double> values, KeyOf key_of, ValueOf bucket_value)
   const auto bucket_of = [lo, scale, last = static_cast<int64_t>(buckets) - 1](double b) {
     return static_cast<uint32_t>(std::min(static_cast<int64_t>((b - lo) * scale), last));
   };
-  thread_local BucketScratch s;
-  s.start.assign(buckets + 1, 0);
-  uint32_t* start = s.start.data();
+  thread_local std::vector<uint32_t> bucket_start;  // O(buckets), at most kMaxBuckets + 1
+  bucket_start.assign(buckets + 1, 0);
+  uint32_t* start = bucket_start.data();
   for (const double v : values) ++start[bucket_of(bucket_value(v)) + 1];
   uint32_t largest = 0;
   for (size_t k = 1; k <= buckets; ++k) {
@@ -111,8 +113,7 @@ bool SortByBuckets(std::span<double> values, KeyOf key_of, ValueOf bucket_value)
     start[k] += start[k - 1];
   }
   if (largest > kSmallBucket && largest > n / 64) return false;  // clustered: radix pays
-  if (s.out.size() < n) s.out.resize(n);
-  double* out = s.out.data();
+  double* out = scratch.data();
   for (const double v : values) out[start[bucket_of(bucket_value(v))]++] = v;
   // start[k] is now the end of bucket k, and bucket k begins at start[k - 1] (0 for k = 0).
   uint32_t begin = 0;
@@ -146,41 +147,47 @@ inline uint64_t MagnitudeKey(double v) {
 
 }  // namespace
 
-void SortAscending(std::span<double> values) {
+void SortAscending(std::span<double> values, std::span<double> scratch) {
   const size_t n = values.size();
   if (n < 2) return;
+  PATLAB_CHECK(scratch.size() >= n);
+  scratch = scratch.first(n);
   if (n >= kBucketMinSize &&
       SortByBuckets(
-          values, [](double v) { return AscendingKey(v); }, [](double v) { return v; })) {
+          values, scratch, [](double v) { return AscendingKey(v); }, [](double v) { return v; })) {
     return;
   }
-  Scratch& s = ThreadScratch(n);
   // IEEE-754 order as unsigned integers: flip all bits of negatives, the sign bit of the rest.
-  const uint64_t* keys = RadixSort(
-      values, [](uint64_t u) { return (u & kSignBit) ? ~u : (u | kSignBit); }, s);
-  for (size_t i = 0; i < n; ++i) {
-    const uint64_t k = keys[i];
-    values[i] = std::bit_cast<double>((k & kSignBit) ? (k & ~kSignBit) : ~k);
-  }
+  RadixSort(
+      values, scratch, [](uint64_t u) { return (u & kSignBit) ? ~u : (u | kSignBit); },
+      [](uint64_t k) { return std::bit_cast<double>((k & kSignBit) ? (k & ~kSignBit) : ~k); });
 }
 
-void SortByMagnitude(std::span<double> values) {
+void SortByMagnitude(std::span<double> values, std::span<double> scratch) {
   const size_t n = values.size();
   if (n < 2) return;
+  PATLAB_CHECK(scratch.size() >= n);
+  scratch = scratch.first(n);
   if (n >= kBucketMinSize && SortByBuckets(
-                                 values, [](double v) { return MagnitudeKey(v); },
+                                 values, scratch, [](double v) { return MagnitudeKey(v); },
                                  [](double v) { return std::fabs(v); })) {
     return;
   }
-  Scratch& s = ThreadScratch(n);
   // Key: the 63 magnitude bits shifted up, and the sign inverted into the lowest bit, so that
   // |v| orders first and a negative value precedes a positive one of equal magnitude.
-  const uint64_t* keys = RadixSort(
-      values, [](uint64_t u) { return ((u & ~kSignBit) << 1) | ((u & kSignBit) ? 0 : 1); }, s);
-  for (size_t i = 0; i < n; ++i) {
-    const uint64_t k = keys[i];
-    values[i] = std::bit_cast<double>((k >> 1) | ((k & 1) ? 0 : kSignBit));
-  }
+  RadixSort(
+      values, scratch, [](uint64_t u) { return ((u & ~kSignBit) << 1) | ((u & kSignBit) ? 0 : 1); },
+      [](uint64_t k) { return std::bit_cast<double>((k >> 1) | ((k & 1) ? 0 : kSignBit)); });
+}
+
+void SortAscending(std::span<double> values) {
+  if (values.size() < 2) return;
+  SortAscending(values, ThreadScratch(values.size()));
+}
+
+void SortByMagnitude(std::span<double> values) {
+  if (values.size() < 2) return;
+  SortByMagnitude(values, ThreadScratch(values.size()));
 }
 
 }  // namespace patlab::stats

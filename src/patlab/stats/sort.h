@@ -18,4 +18,11 @@ void SortAscending(std::span<double> values);
 // keeping each value's sign: the order the Wilcoxon signed-rank test ranks in.
 void SortByMagnitude(std::span<double> values);
 
+// The same with the caller's scratch (at least values.size() long; its contents are
+// overwritten): the sorts then use no memory that grows with the sample, only O(1) counters and
+// at most 2^17 bucket starts. For callers that have a dead array of the sample's size at hand
+// (the runner's sample arrays once their last test is done).
+void SortAscending(std::span<double> values, std::span<double> scratch);
+void SortByMagnitude(std::span<double> values, std::span<double> scratch);
+
 }  // namespace patlab::stats

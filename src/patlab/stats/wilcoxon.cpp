@@ -227,4 +227,12 @@ WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, const WilcoxonOpti
   return FromSorted(d, n_zero, options);
 }
 
+WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, std::span<double> scratch,
+                                         const WilcoxonOptions& options) {
+  RequireDifferences(d);
+  const auto n_zero = static_cast<std::size_t>(std::count(d.begin(), d.end(), 0.0));
+  SortByMagnitude(d, scratch);
+  return FromSorted(d, n_zero, options);
+}
+
 }  // namespace patlab::stats

@@ -89,5 +89,9 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> d, const WilcoxonOptio
 // The same on differences the caller no longer needs: d is sorted by magnitude in place (no copy
 // of the sample is made), with bit-identical results.
 WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, const WilcoxonOptions& options = {});
+// The same with the caller's scratch for the sort (at least d.size() long, overwritten): no
+// memory that grows with n is allocated.
+WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, std::span<double> scratch,
+                                         const WilcoxonOptions& options = {});
 
 }  // namespace patlab::stats
