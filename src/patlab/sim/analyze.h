@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -109,6 +110,10 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
 std::string AnalyzeTableCsv(const AnalyzeReport& report);
 // Per-sample errors: subject,run,frame,est_x,est_y,est_theta[,true_x,true_y,true_theta].
 std::string AnalyzeErrorsCsv(const AnalyzeReport& report);
+// The same text handed to `sink` in pieces of about 256 kB (the CLI streams it into its file:
+// no 35 MB string for a million samples). The concatenation of the pieces is AnalyzeErrorsCsv.
+void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
+                           const std::function<void(std::string_view)>& sink);
 // The manifest (JSON): command line, inputs, options, the table, timings and outputs.
 std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::string& command_line,
                                 const std::vector<std::string>& inputs,
