@@ -142,7 +142,7 @@ int RunAnalyze(const std::vector<std::string>& args) {
   if (!o.truth.empty()) truth = sim::ReadTrackCsv(o.truth, o.columns);
   const auto read = std::chrono::steady_clock::now();
   const sim::AnalyzeReport report =
-      sim::AnalyzeTracks(tracks, o.analysis, o.truth.empty() ? nullptr : &truth);
+      sim::AnalyzeTracks(std::move(tracks), o.analysis, o.truth.empty() ? nullptr : &truth);
   const auto analysed = std::chrono::steady_clock::now();
   std::string command_line = "patlab analyze";
   for (const std::string& a : args) command_line.append(" ").append(a);

@@ -149,10 +149,12 @@ void ScaleStd(stats::StdWithCi* s, double factor) {
 }
 
 // The summaries of one subject whose tracks (indices into `tracks`) are in run order.
+// With `release` (the same vector as `tracks`), each track's samples are freed once analysed, so
+// that the memory of the samples is reused for the errors.
 SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
                                const std::vector<std::pair<int, size_t>>& runs_and_tracks,
-                               const AnalyzeReport& report,
-                               const std::vector<MeasuredTrack>* truth) {
+                               const AnalyzeReport& report, const std::vector<MeasuredTrack>* truth,
+                               std::vector<MeasuredTrack>* release) {
   SubjectAnalysis a;
   const MeasuredTrack& first = tracks[runs_and_tracks.front().second];
   a.subject = first.subject;
@@ -160,6 +162,11 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
   for (const auto& [run, k] : runs_and_tracks) {
     longest =
         std::max(longest, AnalyseTrack(tracks[k], run, report.options, report.radius, truth, &a));
+    if (release) {
+      MeasuredTrack& t = (*release)[k];
+      std::vector<int64_t>().swap(t.frame);
+      for (std::vector<double>* v : {&t.x, &t.y, &t.theta}) std::vector<double>().swap(*v);
+    }
   }
   if (a.segments == 0) {
     throw InputError(
@@ -212,8 +219,11 @@ std::vector<OptionsProblem> Check(const AnalyzeOptions& o) {
 
 void Validate(const AnalyzeOptions& options) { ThrowFirstProblem(Check(options)); }
 
-AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
-                            const std::vector<MeasuredTrack>* truth) {
+namespace {
+
+AnalyzeReport Analyze(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
+                      const std::vector<MeasuredTrack>* truth,
+                      std::vector<MeasuredTrack>* release) {
   Validate(options);
   AnalyzeReport report;
   report.options = options;
@@ -244,7 +254,7 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
                            tracks[runs_and_tracks[i - 1].second].file,
                            "; expected each subject and run in one file"));
     }
-    report.subjects.push_back(AnalyseSubject(tracks, runs_and_tracks, report, truth));
+    report.subjects.push_back(AnalyseSubject(tracks, runs_and_tracks, report, truth, release));
   }
   std::vector<std::string> names;
   std::vector<const std::vector<ErrorSegment>*> est, true_errors;
@@ -259,6 +269,18 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
     report.tests.insert(report.tests.end(), t.begin(), t.end());
   }
   return report;
+}
+
+}  // namespace
+
+AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
+                            const std::vector<MeasuredTrack>* truth) {
+  return Analyze(tracks, options, truth, nullptr);
+}
+
+AnalyzeReport AnalyzeTracks(std::vector<MeasuredTrack>&& tracks, const AnalyzeOptions& options,
+                            const std::vector<MeasuredTrack>* truth) {
+  return Analyze(tracks, options, truth, &tracks);
 }
 
 std::string AnalyzeTableCsv(const AnalyzeReport& report) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <utility>
 
 #include "patlab/core/format.h"
@@ -116,6 +117,7 @@ std::vector<PairedTest> PairedAbsErrorTests(
     const std::string& error, const std::vector<std::string>& names,
     const std::vector<const std::vector<ErrorSegment>*>& subjects) {
   std::vector<PairedTest> tests;
+  std::vector<double> d;
   stats::WilcoxonOptions options;
   options.method = stats::WilcoxonMethod::kApprox;
   for (const auto& [axis, name] :
@@ -139,7 +141,12 @@ std::vector<PairedTest> PairedAbsErrorTests(
         const std::vector<double>& va = same ? flat[a] : pa;
         const std::vector<double>& vb = same ? flat[b] : pb;
         if (va.empty()) continue;
-        const stats::WilcoxonResult result = stats::WilcoxonSignedRank(va, vb, options);
+        // |a| - |b| in a reused buffer, ranked in place (as WilcoxonSignedRank(va, vb) does on
+        // its copy; the |errors| are finite).
+        if (d.size() < va.size()) d.resize(va.size());
+        for (size_t i = 0; i < va.size(); ++i) d[i] = va[i] - vb[i];
+        const stats::WilcoxonResult result =
+            stats::WilcoxonSignedRankInPlace(std::span<double>(d.data(), va.size()), options);
         tests.push_back({error, name, names[a], names[b], median(a, va), median(b, vb), result});
       }
     }
