@@ -9,6 +9,8 @@
 
 #include <filesystem>
 #include <set>
+#include <stdexcept>
+#include <vector>
 
 #include "../test_util.h"
 
@@ -30,6 +32,32 @@ TEST(AtomicFile, WritesEveryFileAndLeavesNoTemporary) {
   WriteFilesAtomic({{dir.Path("out/a.csv"), "new a"}, {dir.Path("out/a.json"), "new m"}});
   EXPECT_EQ(ReadFile(dir.Path("out/a.csv")), "new a");
   EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "new m");
+  EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
+}
+
+// The streamed form: the pieces a producer hands its sink, in order; a producer that throws
+// half-way leaves the old set and no temporary (its file's temporary already had content).
+TEST(AtomicFile, StreamedFilesAreThePiecesOrNothing) {
+  TempDir dir;
+  WriteFilesAtomic(
+      std::vector<StreamedFile>{{dir.Path("out/a.csv"),
+                                 [](const TextSink& sink) {
+                                   for (const char* piece : {"x,", "", "y\n", "1,2\n"}) sink(piece);
+                                 }},
+                                {dir.Path("out/a.json"), [](const TextSink& sink) { sink("m"); }}});
+  EXPECT_EQ(ReadFile(dir.Path("out/a.csv")), "x,y\n1,2\n");
+  EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "m");
+  const std::vector<StreamedFile> failing = {
+      {dir.Path("out/a.csv"), [](const TextSink& sink) { sink("new a"); }},
+      {dir.Path("out/b.csv"),
+       [](const TextSink& sink) {
+         sink("half");
+         throw std::runtime_error("producer failed");
+       }},
+      {dir.Path("out/a.json"), [](const TextSink& sink) { sink("new m"); }}};
+  EXPECT_THROW(WriteFilesAtomic(failing), std::runtime_error);
+  EXPECT_EQ(ReadFile(dir.Path("out/a.csv")), "x,y\n1,2\n");
+  EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "m");
   EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
 }
 

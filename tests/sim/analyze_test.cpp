@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <random>
 
@@ -198,6 +200,70 @@ TEST(Analyze, WilcoxonPairsSubjectsByRunAndFrame) {
   EXPECT_LT(ab.result.r_plus, ab.result.r_minus);  // |a| - |b| mostly negative
   EXPECT_EQ(r.tests[1].a + r.tests[1].b, "ac");
   EXPECT_EQ(r.tests[1].result.n, 20u);  // a keeps frames 40-259, c 240-459
+}
+
+// Both ways of pairing (subjects with the same frames: by index; others: merged by frame) give
+// the test a hand pairing of the per-sample errors gives.
+TEST(Analyze, PairedTestsEqualTheTestOfTheHandPairedErrors) {
+  const AnalyzeReport r =
+      AnalyzeTracks({Line("a", Range(0, 300), 0.5, 11), Line("b", Range(0, 300), 1.0, 12),
+                     Line("c", Range(200, 500), 0.5, 13)},
+                    AnalyzeOptions{});
+  const auto& a = r.subjects[0].est_errors[0];
+  std::map<int64_t, double> by_frame;
+  for (size_t i = 0; i < a.frame.size(); ++i) by_frame[a.frame[i]] = std::abs(a.x[i]);
+  stats::WilcoxonOptions options;
+  options.method = stats::WilcoxonMethod::kApprox;
+  for (const auto& [k, test] : {std::pair(1, r.tests[0]), std::pair(2, r.tests[1])}) {
+    const auto& other = r.subjects[static_cast<size_t>(k)].est_errors[0];
+    std::vector<double> va, vb;
+    for (size_t i = 0; i < other.frame.size(); ++i) {
+      const auto it = by_frame.find(other.frame[i]);
+      if (it == by_frame.end()) continue;
+      va.push_back(it->second);
+      vb.push_back(std::abs(other.x[i]));
+    }
+    const stats::WilcoxonResult hand = stats::WilcoxonSignedRank(va, vb, options);
+    EXPECT_EQ(test.result.n, hand.n);
+    EXPECT_EQ(test.result.r_plus, hand.r_plus);
+    EXPECT_EQ(test.result.z, hand.z);
+    EXPECT_EQ(test.result.p_value, hand.p_value);
+  }
+}
+
+// The errors CSV handed out in pieces: the rows printf formats, whatever the length of a
+// subject's name (one longer than the 256 kB block too); and AnalyzeTracks on moved tracks
+// gives what it gives on kept ones.
+TEST(Analyze, StreamedErrorsCsvIsTheRowsAndMovedTracksGiveTheSameReport) {
+  const std::string long_name(300000, 'n');
+  std::vector<MeasuredTrack> tracks = {Line("a", Range(0, 3000), 0.5, 21),
+                                       Line(long_name, Range(0, 100), 0.5, 22)};
+  const AnalyzeReport kept = AnalyzeTracks(tracks, AnalyzeOptions{});
+  std::string expected = "subject,run,frame,est_x_mm,est_y_mm,est_theta_rad\n";
+  for (const SubjectAnalysis& s : kept.subjects) {
+    const ErrorSegment& e = s.est_errors[0];
+    for (size_t i = 0; i < e.frame.size(); ++i) {
+      char cells[128];
+      std::snprintf(cells, sizeof cells, "%lld,%.4f,%.4f,\n", static_cast<long long>(e.frame[i]),
+                    e.x[i], e.y[i]);
+      expected.append(s.subject).append(",r,").append(cells);
+    }
+  }
+  std::vector<size_t> pieces;
+  std::string text;
+  WriteAnalyzeErrorsCsv(kept, [&](std::string_view piece) {
+    pieces.push_back(piece.size());
+    text.append(piece);
+  });
+  EXPECT_TRUE(text == expected);
+  EXPECT_EQ(AnalyzeErrorsCsv(kept), expected);
+  EXPECT_GT(pieces.size(), 2u);
+  const AnalyzeReport moved = AnalyzeTracks(std::move(tracks), AnalyzeOptions{});
+  EXPECT_TRUE(AnalyzeErrorsCsv(moved) == expected);
+  EXPECT_EQ(PairedTestsCsv(moved.tests), PairedTestsCsv(kept.tests));
+  EXPECT_EQ(AnalyzeTableCsv(moved), AnalyzeTableCsv(kept));
+  EXPECT_TRUE(tracks[0].x.empty());  // NOLINT(bugprone-use-after-move): released as documented
+  EXPECT_EQ(tracks[1].subject, long_name);
 }
 
 TEST(Analyze, ReadsSubjectsRunsQuotesAndComments) {

@@ -66,23 +66,47 @@ bool Exists(const std::string& path) {
   return ::lstat(path.c_str(), &st) == 0;
 }
 
-void WriteTemp(const std::string& path, const std::string& temp, std::string_view content) {
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) Fail(path, std::strerror(errno));
-  size_t done = 0;
-  while (done < content.size()) {
-    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += static_cast<size_t>(n);
+// The file descriptor of a temporary being written, closed and removed unless Finish succeeds.
+class TempFile {
+ public:
+  TempFile(const std::string& path, const std::string& temp) : path_(path), temp_(temp) {
+    fd_ = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd_ < 0) Fail(path, std::strerror(errno));
   }
-  const bool ok = done == content.size() && ::fsync(fd) == 0;
-  const int saved_errno = errno;
-  if (::close(fd) != 0 || !ok) {
-    ::unlink(temp.c_str());
-    Fail(path, std::strerror(ok ? errno : saved_errno));
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  ~TempFile() {
+    if (fd_ < 0) return;
+    ::close(fd_);
+    ::unlink(temp_.c_str());
   }
-}
+
+  void Write(std::string_view content) {
+    size_t done = 0;
+    while (done < content.size()) {
+      const ssize_t n = ::write(fd_, content.data() + done, content.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) Fail(path_, std::strerror(n < 0 ? errno : ENOSPC));
+      done += static_cast<size_t>(n);
+    }
+  }
+
+  void Finish() {
+    const bool ok = ::fsync(fd_) == 0;
+    const int saved_errno = errno;
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0 || !ok) {
+      ::unlink(temp_.c_str());
+      Fail(path_, std::strerror(ok ? errno : saved_errno));
+    }
+  }
+
+ private:
+  const std::string& path_;
+  const std::string& temp_;
+  int fd_ = -1;
+};
 
 // One target's commit state, for the rollback.
 struct Slot {
@@ -212,21 +236,24 @@ void CheckWritable(const std::vector<std::string>& paths) {
   }
 }
 
-void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files) {
+void WriteFilesAtomic(const std::vector<StreamedFile>& files) {
   if (files.empty()) return;
   std::vector<std::string> paths;
-  for (const auto& file : files) paths.push_back(file.first);
+  for (const StreamedFile& file : files) paths.push_back(file.path);
   CheckDistinct(paths);
   std::vector<Slot> slots;
-  for (const auto& [path, content] : files) {
-    if (IsDirectory(path)) Fail(path, "it is a directory");
-    slots.push_back({path, Sibling(path, ".patlab-tmp."), Sibling(path, ".patlab-old.")});
+  for (const StreamedFile& file : files) {
+    if (IsDirectory(file.path)) Fail(file.path, "it is a directory");
+    slots.push_back(
+        {file.path, Sibling(file.path, ".patlab-tmp."), Sibling(file.path, ".patlab-old.")});
   }
   const PublishedTemps published(slots);
   try {
     for (size_t k = 0; k < files.size(); ++k) {
-      CreateParents(files[k].first);
-      WriteTemp(files[k].first, slots[k].temp, files[k].second);
+      CreateParents(files[k].path);
+      TempFile temp(files[k].path, slots[k].temp);
+      files[k].produce([&temp](std::string_view text) { temp.Write(text); });
+      temp.Finish();
     }
   } catch (...) {
     for (const Slot& s : slots) ::unlink(s.temp.c_str());
@@ -234,6 +261,15 @@ void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& fi
   }
   const CommitGuard guard;
   Commit(&slots);
+}
+
+void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<StreamedFile> streamed;
+  streamed.reserve(files.size());
+  for (const auto& [path, content] : files) {
+    streamed.push_back({path, [&content = content](const TextSink& sink) { sink(content); }});
+  }
+  WriteFilesAtomic(streamed);
 }
 
 void InstallSignalCleanup() {

@@ -11,6 +11,7 @@
 // before the exception leaves WriteFilesAtomic.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -23,6 +24,19 @@ namespace patlab::io {
 // ("<path>: cannot write: <reason>; expected a writable location") on failure, with every target
 // as it was before the call and no temporary file left.
 void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files);
+
+// A file of a result set whose content is produced piece by piece instead of held in memory
+// whole (35 MB of per-sample errors for `patlab analyze` on a million samples): `produce` is
+// called once with a sink; each call of the sink appends its text to the file's temporary. The
+// text is the concatenation of the pieces, in order. An exception from `produce` or from the sink
+// (EnvironmentError when the write fails) removes every temporary and leaves the targets as they
+// were, as for the string form above.
+using TextSink = std::function<void(std::string_view)>;
+struct StreamedFile {
+  std::string path;
+  std::function<void(const TextSink&)> produce;
+};
+void WriteFilesAtomic(const std::vector<StreamedFile>& files);
 
 // Checks, before a long run, that WriteFilesAtomic could write `paths`: no target is a
 // directory, and the nearest existing ancestor of each target's folder is a writable,

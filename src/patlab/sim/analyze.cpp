@@ -149,10 +149,12 @@ void ScaleStd(stats::StdWithCi* s, double factor) {
 }
 
 // The summaries of one subject whose tracks (indices into `tracks`) are in run order.
+// With `release` (the same vector as `tracks`), each track's samples are freed once analysed, so
+// that the memory of the samples is reused for the errors.
 SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
                                const std::vector<std::pair<int, size_t>>& runs_and_tracks,
-                               const AnalyzeReport& report,
-                               const std::vector<MeasuredTrack>* truth) {
+                               const AnalyzeReport& report, const std::vector<MeasuredTrack>* truth,
+                               std::vector<MeasuredTrack>* release) {
   SubjectAnalysis a;
   const MeasuredTrack& first = tracks[runs_and_tracks.front().second];
   a.subject = first.subject;
@@ -160,6 +162,11 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
   for (const auto& [run, k] : runs_and_tracks) {
     longest =
         std::max(longest, AnalyseTrack(tracks[k], run, report.options, report.radius, truth, &a));
+    if (release) {
+      MeasuredTrack& t = (*release)[k];
+      std::vector<int64_t>().swap(t.frame);
+      for (std::vector<double>* v : {&t.x, &t.y, &t.theta}) std::vector<double>().swap(*v);
+    }
   }
   if (a.segments == 0) {
     throw InputError(
@@ -212,8 +219,11 @@ std::vector<OptionsProblem> Check(const AnalyzeOptions& o) {
 
 void Validate(const AnalyzeOptions& options) { ThrowFirstProblem(Check(options)); }
 
-AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
-                            const std::vector<MeasuredTrack>* truth) {
+namespace {
+
+AnalyzeReport Analyze(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
+                      const std::vector<MeasuredTrack>* truth,
+                      std::vector<MeasuredTrack>* release) {
   Validate(options);
   AnalyzeReport report;
   report.options = options;
@@ -244,7 +254,7 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
                            tracks[runs_and_tracks[i - 1].second].file,
                            "; expected each subject and run in one file"));
     }
-    report.subjects.push_back(AnalyseSubject(tracks, runs_and_tracks, report, truth));
+    report.subjects.push_back(AnalyseSubject(tracks, runs_and_tracks, report, truth, release));
   }
   std::vector<std::string> names;
   std::vector<const std::vector<ErrorSegment>*> est, true_errors;
@@ -259,6 +269,18 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
     report.tests.insert(report.tests.end(), t.begin(), t.end());
   }
   return report;
+}
+
+}  // namespace
+
+AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
+                            const std::vector<MeasuredTrack>* truth) {
+  return Analyze(tracks, options, truth, nullptr);
+}
+
+AnalyzeReport AnalyzeTracks(std::vector<MeasuredTrack>&& tracks, const AnalyzeOptions& options,
+                            const std::vector<MeasuredTrack>* truth) {
+  return Analyze(tracks, options, truth, &tracks);
 }
 
 std::string AnalyzeTableCsv(const AnalyzeReport& report) {
@@ -290,69 +312,86 @@ std::string AnalyzeTableCsv(const AnalyzeReport& report) {
 
 namespace {
 
-// One CSV row assembled in a fixed buffer and appended with one call (instead of one
-// std::string append per cell). A row holds a prefix, a frame (at most 20 characters) and up to
-// six fixed-point cells of at most 1 + 309 + 1 + 6 characters each (|v| up to DBL_MAX).
-class Row {
+// The errors CSV formatted straight into a buffer of about 256 kB that is handed to the sink
+// whenever the next row might not fit (no per-row string appends, no whole-file string).
+class ErrorsWriter {
  public:
-  static constexpr size_t kNumbers = 21 + 6 * 318 + 1;
+  // A frame (at most 20 characters) and up to six fixed-point cells of at most
+  // 1 + 1 + 309 + 1 + 6 characters each (comma, sign, |v| up to DBL_MAX, point, decimals), '\n'.
+  static constexpr size_t kMaxNumbers = 20 + 6 * 318 + 1;
+  static constexpr size_t kBlock = size_t{1} << 18;
 
-  void Start(std::string_view prefix) {
-    std::memcpy(buffer_.data(), prefix.data(), prefix.size());
-    used_ = prefix.size();
+  explicit ErrorsWriter(const std::function<void(std::string_view)>& sink)
+      : sink_(sink), buffer_(kBlock + kMaxNumbers) {}
+
+  void Text(std::string_view text) {
+    Room(text.size());
+    std::memcpy(buffer_.data() + used_, text.data(), text.size());
+    used_ += text.size();
   }
-  void Char(char c) { buffer_[used_++] = c; }
-  template <typename... Format>
-  void Number(auto v, Format... format) {
-    char* begin = buffer_.data() + used_;
-    used_ += static_cast<size_t>(
-        std::to_chars(begin, buffer_.data() + buffer_.size(), v, format...).ptr - begin);
+  // One row: prefix, frame, the estimated errors and (when given) the true ones.
+  void Row(std::string_view prefix, int64_t frame, const ErrorSegment& est, size_t i,
+           const ErrorSegment* truth) {
+    Room(prefix.size() + kMaxNumbers);
+    char* p = buffer_.data() + used_;
+    std::memcpy(p, prefix.data(), prefix.size());
+    p += prefix.size();
+    char* const end = buffer_.data() + buffer_.size();
+    p = std::to_chars(p, end, frame).ptr;
+    p = Errors(p, end, est, i);
+    if (truth) p = Errors(p, end, *truth, i);
+    *p++ = '\n';
+    used_ = static_cast<size_t>(p - buffer_.data());
   }
-  // ",x,y,theta" of sample i with 4, 4 and 6 decimals, a cell empty when its column is absent.
-  void Errors(const ErrorSegment& e, size_t i) {
-    for (const auto& [v, d] : {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
-      Char(',');
-      if (!v->empty()) Number((*v)[i], std::chars_format::fixed, d);
-    }
+  void Flush() {
+    if (used_ > 0) sink_(std::string_view(buffer_.data(), used_));
+    used_ = 0;
   }
-  std::string_view Text() const { return {buffer_.data(), used_}; }
-  // The longest prefix Start takes.
-  size_t MaxPrefix() const { return buffer_.size() - kNumbers; }
 
  private:
-  std::array<char, 4096 + kNumbers> buffer_{};
+  // Makes room for `size` more characters: flushes when the block is full, grows the buffer
+  // for a row longer than a block (a subject or run name of hundreds of kB).
+  void Room(size_t size) {
+    if (used_ + size <= buffer_.size() && used_ <= kBlock) return;
+    Flush();
+    if (size > buffer_.size()) buffer_.resize(size);
+  }
+  // ",x,y,theta" of sample i with 4, 4 and 6 decimals, a cell empty when its column is absent.
+  static char* Errors(char* p, char* end, const ErrorSegment& e, size_t i) {
+    for (const auto& [v, d] : {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
+      *p++ = ',';
+      if (!v->empty()) p = std::to_chars(p, end, (*v)[i], std::chars_format::fixed, d).ptr;
+    }
+    return p;
+  }
+
+  const std::function<void(std::string_view)>& sink_;
+  std::vector<char> buffer_;
   size_t used_ = 0;
 };
 
 }  // namespace
 
-std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
+void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
+                           const std::function<void(std::string_view)>& sink) {
   const bool truth = !report.subjects.empty() && report.subjects.front().has_truth;
-  size_t samples = 0;
-  for (const SubjectAnalysis& a : report.subjects) {
-    for (const ErrorSegment& e : a.est_errors) samples += e.frame.size();
-  }
-  std::string csv;
-  csv.reserve(samples * (truth ? 96 : 56));
-  csv += "subject,run,frame,est_x_mm,est_y_mm,est_theta_rad";
-  csv += truth ? ",true_x_mm,true_y_mm,true_theta_rad\n" : "\n";
-  auto row = std::make_unique<Row>();
+  ErrorsWriter out(sink);
+  out.Text("subject,run,frame,est_x_mm,est_y_mm,est_theta_rad");
+  out.Text(truth ? ",true_x_mm,true_y_mm,true_theta_rad\n" : "\n");
   for (const SubjectAnalysis& a : report.subjects) {
     for (size_t g = 0; g < a.est_errors.size(); ++g) {
       const ErrorSegment& e = a.est_errors[g];
-      const std::string prefix = a.subject + "," + report.runs[static_cast<size_t>(e.run)] + ",";
-      const bool fits = prefix.size() <= row->MaxPrefix();
-      for (size_t i = 0; i < e.frame.size(); ++i) {
-        row->Start(fits ? std::string_view(prefix) : std::string_view());
-        if (!fits) csv += prefix;  // a name longer than the buffer: appended on its own
-        row->Number(e.frame[i]);
-        row->Errors(e, i);
-        if (truth) row->Errors(a.true_errors[g], i);
-        row->Char('\n');
-        csv += row->Text();
-      }
+      const std::string prefix = Cat(a.subject, ",", report.runs[static_cast<size_t>(e.run)], ",");
+      const ErrorSegment* t = truth ? &a.true_errors[g] : nullptr;
+      for (size_t i = 0; i < e.frame.size(); ++i) out.Row(prefix, e.frame[i], e, i, t);
     }
   }
+  out.Flush();
+}
+
+std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
+  std::string csv;
+  WriteAnalyzeErrorsCsv(report, [&csv](std::string_view piece) { csv.append(piece); });
   return csv;
 }
 

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -104,11 +105,20 @@ struct AnalyzeReport {
 // for a subject without any segment long enough, or a truth row missing.
 AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const AnalyzeOptions& options,
                             const std::vector<MeasuredTrack>* truth = nullptr);
+// The same, freeing each track's samples as soon as it is analysed (the tracks keep their names;
+// their samples are empty afterwards): the errors reuse the samples' memory, which saves a fresh
+// page for every 512 samples of a large input.
+AnalyzeReport AnalyzeTracks(std::vector<MeasuredTrack>&& tracks, const AnalyzeOptions& options,
+                            const std::vector<MeasuredTrack>* truth = nullptr);
 
 // Table I: one row per subject (docs/analyze.md lists the columns).
 std::string AnalyzeTableCsv(const AnalyzeReport& report);
 // Per-sample errors: subject,run,frame,est_x,est_y,est_theta[,true_x,true_y,true_theta].
 std::string AnalyzeErrorsCsv(const AnalyzeReport& report);
+// The same text handed to `sink` in pieces of about 256 kB (the CLI streams it into its file:
+// no 35 MB string for a million samples). The concatenation of the pieces is AnalyzeErrorsCsv.
+void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
+                           const std::function<void(std::string_view)>& sink);
 // The manifest (JSON): command line, inputs, options, the table, timings and outputs.
 std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::string& command_line,
                                 const std::vector<std::string>& inputs,

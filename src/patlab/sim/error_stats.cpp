@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <utility>
 
 #include "patlab/core/format.h"
@@ -24,47 +25,56 @@ std::vector<double> Pool(const std::vector<ErrorSegment>& segments,
   return pooled;
 }
 
-// One subject's samples flattened in (run, frame) order, with their |error| on one axis.
-struct AbsErrors {
-  std::vector<std::pair<int, int64_t>> key;  // (run, frame)
-  std::vector<double> abs;
-};
-
 enum class Axis { kX, kY, kXy };
 
 // |error| of every sample on `axis` ("x", "y", "xy" = hypot), in segment order.
-AbsErrors FlattenAbsErrors(const std::vector<ErrorSegment>& segments, Axis axis) {
-  AbsErrors out;
+std::vector<double> FlattenAbsErrors(const std::vector<ErrorSegment>& segments, Axis axis) {
   size_t n = 0;
   for (const ErrorSegment& s : segments) n += s.frame.size();
-  out.key.reserve(n);
-  out.abs.reserve(n);
+  std::vector<double> out(n);
+  size_t k = 0;
   for (const ErrorSegment& s : segments) {
-    for (size_t i = 0; i < s.frame.size(); ++i) {
-      out.key.emplace_back(s.run, s.frame[i]);
-      out.abs.push_back(axis == Axis::kX   ? std::abs(s.x[i])
-                        : axis == Axis::kY ? std::abs(s.y[i])
-                                           : std::hypot(s.x[i], s.y[i]));
+    for (size_t i = 0; i < s.frame.size(); ++i, ++k) {
+      out[k] = axis == Axis::kX   ? std::abs(s.x[i])
+               : axis == Axis::kY ? std::abs(s.y[i])
+                                  : std::hypot(s.x[i], s.y[i]);
     }
   }
   return out;
 }
 
-// The |errors| of a and b at their common (run, frame) keys, in key order (segments are in run
-// order, frames increasing within a run, so a merge finds them).
-void PairedAbsErrors(const AbsErrors& a, const AbsErrors& b, std::vector<double>* va,
-                     std::vector<double>* vb) {
+// True when a and b hold the same (run, frame) keys in the same segments: then sample i of one
+// pairs with sample i of the other (the usual case: subjects seen in the same frames).
+bool SameKeys(const std::vector<ErrorSegment>& a, const std::vector<ErrorSegment>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t g = 0; g < a.size(); ++g) {
+    if (a[g].run != b[g].run || a[g].frame != b[g].frame) return false;
+  }
+  return true;
+}
+
+// The differences |a| - |b| at the common (run, frame) keys, in key order (segments are in run
+// order, frames increasing within a run, so a merge finds them), and the paired |errors|.
+void PairedAbsErrors(const std::vector<ErrorSegment>& sa, const std::vector<double>& a,
+                     const std::vector<ErrorSegment>& sb, const std::vector<double>& b,
+                     std::vector<double>* va, std::vector<double>* vb) {
+  const auto keys = [](const std::vector<ErrorSegment>& segments) {
+    std::vector<std::pair<int, int64_t>> key;
+    for (const ErrorSegment& s : segments) {
+      for (const int64_t f : s.frame) key.emplace_back(s.run, f);
+    }
+    return key;
+  };
+  const std::vector<std::pair<int, int64_t>> ka = keys(sa), kb = keys(sb);
   size_t ia = 0, ib = 0;
-  va->reserve(std::min(a.abs.size(), b.abs.size()));
-  vb->reserve(std::min(a.abs.size(), b.abs.size()));
-  while (ia < a.key.size() && ib < b.key.size()) {
-    if (a.key[ia] < b.key[ib]) {
+  while (ia < ka.size() && ib < kb.size()) {
+    if (ka[ia] < kb[ib]) {
       ++ia;
-    } else if (b.key[ib] < a.key[ia]) {
+    } else if (kb[ib] < ka[ia]) {
       ++ib;
     } else {
-      va->push_back(a.abs[ia++]);
-      vb->push_back(b.abs[ib++]);
+      va->push_back(a[ia++]);
+      vb->push_back(b[ib++]);
     }
   }
 }
@@ -107,27 +117,36 @@ std::vector<PairedTest> PairedAbsErrorTests(
     const std::string& error, const std::vector<std::string>& names,
     const std::vector<const std::vector<ErrorSegment>*>& subjects) {
   std::vector<PairedTest> tests;
+  std::vector<double> d;
   stats::WilcoxonOptions options;
   options.method = stats::WilcoxonMethod::kApprox;
   for (const auto& [axis, name] :
        {std::pair(Axis::kX, "x"), std::pair(Axis::kY, "y"), std::pair(Axis::kXy, "xy")}) {
     // Each subject's |errors| once; and its median once when a pair uses all of its samples (the
     // usual case: subjects seen in the same frames), instead of once per pair.
-    std::vector<AbsErrors> flat;
+    std::vector<std::vector<double>> flat;
     flat.reserve(subjects.size());
     for (const auto* segments : subjects) flat.push_back(FlattenAbsErrors(*segments, axis));
     std::vector<std::optional<double>> whole_median(subjects.size());
     const auto median = [&](size_t k, const std::vector<double>& v) {
-      if (v.size() != flat[k].abs.size()) return UpperMedian(v);
+      if (&v != &flat[k]) return UpperMedian(v);
       if (!whole_median[k]) whole_median[k] = UpperMedian(v);
       return *whole_median[k];
     };
     for (size_t a = 0; a < subjects.size(); ++a) {
       for (size_t b = a + 1; b < subjects.size(); ++b) {
-        std::vector<double> va, vb;
-        PairedAbsErrors(flat[a], flat[b], &va, &vb);
+        std::vector<double> pa, pb;
+        const bool same = SameKeys(*subjects[a], *subjects[b]);
+        if (!same) PairedAbsErrors(*subjects[a], flat[a], *subjects[b], flat[b], &pa, &pb);
+        const std::vector<double>& va = same ? flat[a] : pa;
+        const std::vector<double>& vb = same ? flat[b] : pb;
         if (va.empty()) continue;
-        const stats::WilcoxonResult result = stats::WilcoxonSignedRank(va, vb, options);
+        // |a| - |b| in a reused buffer, ranked in place (as WilcoxonSignedRank(va, vb) does on
+        // its copy; the |errors| are finite).
+        if (d.size() < va.size()) d.resize(va.size());
+        for (size_t i = 0; i < va.size(); ++i) d[i] = va[i] - vb[i];
+        const stats::WilcoxonResult result =
+            stats::WilcoxonSignedRankInPlace(std::span<double>(d.data(), va.size()), options);
         tests.push_back({error, name, names[a], names[b], median(a, va), median(b, vb), result});
       }
     }

@@ -23,6 +23,10 @@ std::vector<OptionsProblem> Check(const FrameDetectorOptions& o) {
                                         std::to_string(o.raw_height_px) +
                                         "; expected a positive even width and a positive height"});
   }
+  if (!(o.edge_loss_px >= 0.0 && o.edge_loss_px <= 10.0)) {
+    problems.push_back({"edge_loss_px", "edge_loss_px is " + FormatNumber(o.edge_loss_px) +
+                                            "; expected a number in [0, 10] (px)"});
+  }
   return problems;
 }
 
@@ -77,6 +81,40 @@ std::vector<std::string> PaletteWarnings(const Thresholds& thresholds,
   return warnings;
 }
 
+// The camera's mm per px on the plane at height_mm where the robots are: at the principal point
+// of a pinhole camera, at the pixel of the world origin for plane homographies; 0 when it cannot
+// be evaluated there.
+double MmPerPx(const CameraModel& camera, double height_mm) {
+  std::optional<Vec2> pixel;
+  if (camera.is_pinhole()) {
+    pixel = Vec2(camera.pinhole().cx_px, camera.pinhole().cy_px);
+  } else {
+    pixel = camera.WorldToPixel(Vec2::Zero(), height_mm);
+  }
+  if (!pixel) return 0.0;
+  return std::sqrt(std::max(camera.AreaScale(*pixel, height_mm), 0.0));
+}
+
+// The smallest fraction of a patch's area left when a rim of edge_mm is taken off all around,
+// over every patch of the enabled patterns.
+double EdgeLossFactor(const detect::DetectorConfig& config, double edge_mm) {
+  double factor = 1.0;
+  for (const detect::DetectorPattern& p : config.patterns) {
+    for (const Patch& patch : p.pattern.patches) {
+      double shrunk = 0.0;
+      if (patch.shape == PatchShape::kRectangle) {
+        shrunk = std::max(patch.size_mm.x() - 2.0 * edge_mm, 0.0) *
+                 std::max(patch.size_mm.y() - 2.0 * edge_mm, 0.0);
+      } else {
+        const double r = std::max(patch.radius_mm - edge_mm, 0.0);
+        shrunk = std::numbers::pi * r * r;
+      }
+      factor = std::min(factor, shrunk / patch.Area());
+    }
+  }
+  return factor;
+}
+
 std::vector<std::string> DebugImageNames(const std::string& stem, bool with_detections) {
   std::vector<std::string> names;
   for (int stage : {1, 3, 4, 5}) {  // kFrameStageNames index: stages 2, 4, 5 and 6
@@ -98,6 +136,11 @@ FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
   // detector's geometric tolerance (detect::DetectorOptions::calibration_residual_mm).
   const Calibration& camera = pipeline_.calibration();
   detector->options.calibration_residual_mm = camera.ResidualRmsMm(camera.default_height_mm);
+  // The lower area bound of a patch whose rim the segmentation loses (FrameDetectorOptions::
+  // edge_loss_px): area_ratio_min of the shrunk patch, i.e. area_ratio_min times the smallest
+  // shrunk fraction over the patterns' patches.
+  const double edge_mm = options_.edge_loss_px * MmPerPx(camera.camera, camera.default_height_mm);
+  detector->options.area_ratio_min *= EdgeLossFactor(*detector, edge_mm);
   detector_.emplace(std::move(*detector));
   for (const ColorClass& c : pipeline_.thresholds().classes) {
     palette_label_.push_back(detector_->ColourLabel(c.name));

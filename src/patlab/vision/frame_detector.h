@@ -44,6 +44,14 @@ struct FrameDetectorOptions {
   // Record why each key candidate became a detection or not (FrameResult::explanations; the
   // debug image 6_detect marks them). Off: the detector records nothing.
   bool explain = false;
+  // Pixels a segmented region loses all around its patch, in [0, 10]: the patch's boundary
+  // pixels are mixed with the surroundings by the optics' blur and by chroma sampled at half
+  // resolution (Bayer demosaicing, 4:2:2 and JPEG 4:2:0), and thresholds made from patch
+  // interiors miss them. The detector's lower area bound is area_ratio_min times the area of the
+  // patch shrunk by this rim (at the camera's mm per px on the robot-top plane), not times its
+  // full area: a 40 mm dot seen at 6 mm per px loses half its area to a 1 px rim, a 50 mm dot at
+  // 1 mm per px 8%. 0 = the full area (the detector's own test).
+  double edge_loss_px = 1.0;
 };
 
 // Every broken constraint (core/options.h): the segmenter's, and a raw size that is either

@@ -1,0 +1,88 @@
+// The segmentation's edge loss in the detector's area test (FrameDetectorOptions::edge_loss_px,
+// docs/detect.md "Settings that travel"): the golden scene (tests/data/golden/ssl-frame.toml,
+// ~4.8 mm per px, dots of 40 mm = 8 px across) through the colour camera under varied optics
+// blur and sensor noise, detected with the SHIPPED detector numbers
+// (experiments/detector.toml, area_ratio_min 0.4) and the golden thresholds. Nothing here was
+// fitted to these frames: the thresholds are the golden frame's, the settings the shipped ones.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "patlab/detect/settings.h"
+#include "patlab/vision/camera_render.h"
+#include "patlab/vision/frame_detector.h"
+
+namespace patlab::vision {
+namespace {
+
+const std::string kSource = std::string(PATLAB_SOURCE_DIR) + "/";
+const std::string kGolden = kSource + "tests/data/golden/";
+
+struct Condition {
+  double blur_sigma_px, exposure_gain, read_noise_levels;
+};
+
+// Robots of `scene` found with their team and ID, and detections that match no robot.
+struct Count {
+  int found = 0, false_detections = 0;
+};
+
+Count DetectScene(const SceneFile& file, const Image& frame, double edge_loss_px) {
+  FrameDetectorOptions options;
+  options.edge_loss_px = edge_loss_px;
+  FrameDetector detector(LoadThresholds(kGolden + "ssl-frame.thresholds.toml"), file.calibration,
+                         detect::LoadDetectorSettings(kSource + "experiments/detector.toml"),
+                         options);
+  const FrameResult& result = detector.Detect(frame, "camera");
+  const std::vector<std::string>& palette = detector.detector().config().palette;
+  Count count;
+  for (const detect::Detection& d : result.detections) {
+    bool matched = false;
+    for (const RobotPlacement& robot : file.scene.robots) {
+      matched = matched ||
+                (d.id == robot.id && d.team_colour >= 0 &&
+                 palette[static_cast<size_t>(d.team_colour)] == robot.team &&
+                 std::hypot(d.pose.x_mm - robot.pose.x_mm, d.pose.y_mm - robot.pose.y_mm) < 20.0);
+    }
+    ++(matched ? count.found : count.false_detections);
+  }
+  return count;
+}
+
+TEST(EdgeLoss, ShippedSettingsFindEveryRobotUnderBlurAndNoise) {
+  // Blur and noise around the golden camera's (0.7 px, 2 levels). Not here: an exposure 15% off
+  // or a blur of 0.85 px and more moves the patches' colours out of the golden thresholds' tight
+  // boxes (keys found, neighbours not segmented at all, with or without the edge loss): those
+  // frames need their own thresholds (patlab thresholds), not another area test.
+  const Condition conditions[] = {
+      {0.4, 1.0, 2.0}, {0.55, 1.0, 2.0}, {0.7, 1.0, 2.0}, {0.7, 1.0, 4.0}, {0.55, 1.0, 6.0}};
+  int missed_without = 0;
+  for (const Condition& c : conditions) {
+    SCOPED_TRACE("blur " + std::to_string(c.blur_sigma_px) + " px, exposure " +
+                 std::to_string(c.exposure_gain) + ", read noise " +
+                 std::to_string(c.read_noise_levels));
+    SceneFile file = LoadSceneFile(kGolden + "ssl-frame.toml");
+    file.scene.options.blur_sigma_px = c.blur_sigma_px;
+    CameraSensorOptions sensor;
+    sensor.exposure_gain = c.exposure_gain;
+    sensor.read_noise_levels = c.read_noise_levels;
+    const Image frame = RenderCameraFrame(file.scene, file.calibration.camera, sensor, 11);
+    const Count with = DetectScene(file, frame, 1.0);
+    const Count without = DetectScene(file, frame, 0.0);
+    std::printf(
+        "blur %.2f exposure %.2f noise %.0f: %d/%zu found (%d false) with the edge loss, "
+        "%d (%d false) without\n",
+        c.blur_sigma_px, c.exposure_gain, c.read_noise_levels, with.found, file.scene.robots.size(),
+        with.false_detections, without.found, without.false_detections);
+    EXPECT_EQ(with.found, static_cast<int>(file.scene.robots.size()));
+    EXPECT_EQ(with.false_detections, 0);
+    EXPECT_EQ(without.false_detections, 0);
+    missed_without += static_cast<int>(file.scene.robots.size()) - without.found;
+  }
+  EXPECT_GT(missed_without, 0);
+}
+
+}  // namespace
+}  // namespace patlab::vision
