@@ -503,6 +503,28 @@ NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& o) {
   return r;
 }
 
+FitDesign AddTable1Discrepancy(const FitDesign& design, double* delta_mm) {
+  FitDesign table1;
+  table1.k = design.k;
+  for (size_t i = 0; i < design.data.size(); ++i) {
+    if (!design.data[i].table1) continue;
+    table1.data.push_back(design.data[i]);
+    table1.coefficient.push_back(design.coefficient[i]);
+    table1.base.push_back(design.base[i]);
+  }
+  NoiseFitOptions o;
+  o.free[static_cast<size_t>(Mechanism::kIndependentX)] = true;
+  o.free[static_cast<size_t>(Mechanism::kIndependentY)] = true;
+  o.fit_delta = true;
+  o.profile_points = 3;
+  o.bootstrap = 0;
+  *delta_mm = table1.data.empty() ? 0.0 : FitNoise(table1, o).delta;
+  FitDesign out = design;
+  for (FitDatum& d : out.data)
+    if (d.table1) d.se = std::hypot(d.se, *delta_mm);
+  return out;
+}
+
 std::vector<double> SimulateTrack(const std::vector<FitDatum>& data,
                                   const NoiseFitGeometry& geometry, const Magnitudes& m, int runs,
                                   int frames, uint64_t seed) {

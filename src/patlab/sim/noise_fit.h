@@ -31,7 +31,8 @@
 //
 // Fit: -2 log L = sum_i (d_i - sqrt(v_i))^2 / s_i^2 + log s_i^2, s_i^2 = se_i^2 (+ delta^2 for
 // Table I rows), delta the spread between patch sizes the size-independent mechanisms cannot
-// express (fitted, a nuisance). Minimised with NLopt BOBYQA in bounds from several starts;
+// express: estimated first on Table I alone (AddTable1Discrepancy), then held fixed in the
+// joint fit (fitted jointly, it would let the fit discount Table I as a whole). Minimised with NLopt BOBYQA in bounds from several starts;
 // profile likelihood intervals (-2 delta log L <= 3.84) per magnitude, a parametric bootstrap
 // (correlations of the estimates) and an identifiability verdict per magnitude.
 #pragma once
@@ -117,6 +118,10 @@ struct FitDesign {
   double k = 1.0;            // the smoothing estimate's factor
 };
 FitDesign BuildDesign(const std::vector<FitDatum>& data, const NoiseFitGeometry& geometry);
+// Stage 1: delta from Table I alone (independent_x, independent_y and delta free: every
+// size-independent mechanism acts on a single patch as those two do), and a copy of `design`
+// with every Table I se replaced by sqrt(se^2 + delta^2).
+FitDesign AddTable1Discrepancy(const FitDesign& design, double* delta_mm);
 // sqrt(v_i) of every datum.
 std::vector<double> Predict(const FitDesign& design, const Magnitudes& m);
 
@@ -124,7 +129,7 @@ struct NoiseFitOptions {
   std::array<bool, kNumMechanisms> free{};  // fitted; the others are held at `fixed`
   Magnitudes fixed{};                       // values of the held magnitudes
   Magnitudes upper{2.0, 2.0, 2.0, 10.0, 2000.0, 2.0, 2.0};  // search bounds, > 0
-  bool fit_delta = true;   // the Table I discrepancy; false: delta = 0
+  bool fit_delta = false;  // fit delta (the Table I discrepancy) too; false: delta = 0
   int starts = 6;          // multistart points (deterministic from seed), [1, 100]
   int profile_points = 41; // per profiled magnitude, [3, 1000]
   int bootstrap = 200;     // parametric bootstrap replicates, [0, 100000]
