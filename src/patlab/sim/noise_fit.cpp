@@ -370,54 +370,70 @@ double ProfileAt(const FitDesign& design, const NoiseFitOptions& o, int j, doubl
   return m.value;
 }
 
-// The crossing of level 3.84 between profile points a (below) and b (above), by bisection.
+constexpr double kLevel95 = 3.841459;  // chi2_1 quantile 0.95
+
+// The crossing of the 95% level between a (profile below) and b (above), by bisection.
 double Crossing(const FitDesign& design, const NoiseFitOptions& o, int j, double a, double b,
                 double minimum, std::vector<double> hint) {
-  for (int it = 0; it < 12; ++it) {
+  for (int it = 0; it < 30 && std::abs(b - a) > 1e-6 * o.upper[j]; ++it) {
     const double mid = 0.5 * (a + b);
     const double v = ProfileAt(design, o, j, mid, &hint, 1000 + j) - minimum;
-    (v < 3.841459 ? a : b) = mid;
+    (v < kLevel95 ? a : b) = mid;
   }
   return 0.5 * (a + b);
 }
 
+// From the estimate towards `end` (0 or the search bound): steps doubling from 1% of the bound
+// until the profile passes the level, then bisection. Returns `end` when it never does.
+double Walk(const FitDesign& design, const NoiseFitOptions& o, int j, double start, double end,
+            double minimum, const std::vector<double>& best_hint, bool* crossed) {
+  std::vector<double> hint = best_hint;
+  const double dir = end > start ? 1.0 : -1.0;
+  double a = start, h = 0.01 * o.upper[j];
+  *crossed = false;
+  while (dir * (end - a) > 0.0) {
+    const double b = dir > 0 ? std::min(end, a + h) : std::max(end, a - h);
+    std::vector<double> at_b = hint;
+    if (ProfileAt(design, o, j, b, &at_b, 100 + j) - minimum >= kLevel95) {
+      *crossed = true;
+      return Crossing(design, o, j, a, b, minimum, hint);
+    }
+    a = b;
+    hint = at_b;
+    h *= 2.0;
+  }
+  return end;
+}
+
 void ProfileInterval(const FitDesign& design, const NoiseFitOptions& o, const NoiseFitResult& r,
-                     MechanismEstimate* e) {
+                     const std::vector<double>& best_x, MechanismEstimate* e) {
   const int j = static_cast<int>(e->mechanism);
-  const int points = o.profile_points;
+  // The global minimum's other coordinates as the first hint.
   std::vector<double> hint;
-  std::vector<std::vector<double>> hints;
-  for (int k = 0; k < points; ++k) {
-    const double value = o.upper[j] * k / (points - 1);
-    const double v = ProfileAt(design, o, j, value, &hint, 100 + j) - r.minus2_log_l;
+  int k = 0;
+  for (int m = 0; m < kNumMechanisms; ++m) {
+    if (!o.free[m]) continue;
+    if (m != j) hint.push_back(best_x[static_cast<size_t>(k)]);
+    ++k;
+  }
+  if (o.fit_delta) hint.push_back(best_x.back());
+  bool crossed_low = false, crossed_high = false;
+  e->lower = Walk(design, o, j, e->value, 0.0, r.minus2_log_l, hint, &crossed_low);
+  e->upper = Walk(design, o, j, e->value, o.upper[j], r.minus2_log_l, hint, &crossed_high);
+  e->verdict = !crossed_high   ? Identifiability::kUnidentified
+               : !crossed_low  ? Identifiability::kUpperBound
+                               : Identifiability::kIdentified;
+  if (!crossed_low) e->lower = 0.0;
+  // The curve for the figures: a window twice the interval's width around it.
+  const double width = std::max(e->upper - e->lower, 1e-3 * o.upper[j]);
+  const double lo = std::max(0.0, e->lower - 0.5 * width);
+  const double hi = std::min(o.upper[j], e->upper + 0.5 * width);
+  std::vector<double> h = hint;
+  for (int p = 0; p < o.profile_points; ++p) {
+    const double value = lo + (hi - lo) * p / (o.profile_points - 1);
+    const double v = ProfileAt(design, o, j, value, &h, 100 + j) - r.minus2_log_l;
     e->profile.push_back({value, std::max(0.0, v)});
-    hints.push_back(hint);
   }
-  // The best grid point, then the level crossings on either side.
-  int best = 0;
-  for (int k = 1; k < points; ++k)
-    if (e->profile[k].minus2_log_l < e->profile[best].minus2_log_l) best = k;
-  e->lower = 0.0;
-  for (int k = best; k > 0; --k) {
-    if (e->profile[k - 1].minus2_log_l >= 3.841459) {
-      e->lower = Crossing(design, o, j, e->profile[k].value, e->profile[k - 1].value,
-                          r.minus2_log_l, hints[k]);
-      break;
-    }
-  }
-  e->upper = o.upper[j];
-  bool bounded = false;
-  for (int k = best; k + 1 < points; ++k) {
-    if (e->profile[k + 1].minus2_log_l >= 3.841459) {
-      e->upper = Crossing(design, o, j, e->profile[k].value, e->profile[k + 1].value,
-                          r.minus2_log_l, hints[k]);
-      bounded = true;
-      break;
-    }
-  }
-  e->verdict = !bounded                ? Identifiability::kUnidentified
-               : e->lower <= 0.0       ? Identifiability::kUpperBound
-                                       : Identifiability::kIdentified;
 }
 
 void Bootstrap(const FitDesign& design, const NoiseFitOptions& o, NoiseFitResult* r,
@@ -496,7 +512,7 @@ NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& o) {
     e.mechanism = static_cast<Mechanism>(j);
     e.free = o.free[j];
     e.value = e.lower = e.upper = r.best[j];
-    if (e.free) ProfileInterval(design, o, r, &e);
+    if (e.free) ProfileInterval(design, o, r, m.x, &e);
     r.estimates.push_back(std::move(e));
   }
   Bootstrap(design, o, &r, m.x);
