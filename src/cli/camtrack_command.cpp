@@ -82,7 +82,8 @@ std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
     }
     csv.append(",").append(std::to_string(r.missed_patches));
     csv.append(",").append(std::to_string(r.frames));
-    for (double v : {g.tau_x, g.tau_y, g.tau_theta}) csv.append(",").append(FormatSignificant(v, 4));
+    for (double v : {g.tau_x, g.tau_y, g.tau_theta})
+      csv.append(",").append(FormatSignificant(v, 4));
     csv.append(",").append(std::to_string(r.detected_frames));
     csv.append(",").append(std::to_string(r.wrong_id_frames)).append("\n");
   }

@@ -38,7 +38,7 @@ struct Options {
 void AddOptions(po::options_description* d, Options* o) {
   sim::NoiseFitStudyOptions& s = o->study;
   d->add_options()("help,h", "show this help")("out,o", po::value(&o->out),
-                                                "output directory (required)")(
+                                               "output directory (required)")(
       "free", po::value(&o->free), "mechanisms fitted (comma list of names, or all), default all")(
       "id-radius-mm", po::value(&s.geometry.id_radius_mm),
       "the Butterfly's key-to-dot distance (assumed), default 65")(
@@ -78,7 +78,8 @@ int RunFitnoise(const std::vector<std::string>& args) {
   po::options_description visible("usage: patlab fitnoise --out DIR");
   AddOptions(&visible, &o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "unused", po::value<std::string>(), 0, kExamples, &vm)) return kExitOk;
+  if (!ParseArguments(args, visible, "unused", po::value<std::string>(), 0, kExamples, &vm))
+    return kExitOk;
   if (o.out.empty()) throw InputError("missing --out DIR; expected the output directory");
   o.study.fit.free = ParseFree(o.free);
   o.study.fit.seed = ParseSeed(o.seed, "--seed");

@@ -89,7 +89,8 @@ TEST(NoiseFit, ReportsAnUnidentifiablePair) {
   EXPECT_TRUE(common.most_correlated == 0 || common.most_correlated == 1);
   // With the Butterfly rows the same pair is identified: five patches average independent noise
   // down and common jitter not.
-  const NoiseFitResult full = FitNoise(design, Free({M::kIndependentX, M::kIndependentY, M::kCommon}));
+  const NoiseFitResult full =
+      FitNoise(design, Free({M::kIndependentX, M::kIndependentY, M::kCommon}));
   EXPECT_EQ(full.estimates[static_cast<size_t>(M::kCommon)].verdict, Identifiability::kIdentified);
 }
 
@@ -106,8 +107,9 @@ TEST(NoiseFit, DesignMatchesTheEstimatorsFirstOrderPrediction) {
   const double pos = design.coefficient[x][0] + design.coefficient[x][1];
   EXPECT_NEAR(pos, p.position_per_axis * p.position_per_axis, 1e-9);
   EXPECT_NEAR(design.coefficient[y][0] + design.coefficient[y][1], pos, 1e-9);
-  EXPECT_NEAR(design.coefficient[theta][0] + design.coefficient[theta][1], p.theta * p.theta, 1e-12);
-  EXPECT_DOUBLE_EQ(design.coefficient[theta][3], 1e-6);        // roll (mrad) on the angle
+  EXPECT_NEAR(design.coefficient[theta][0] + design.coefficient[theta][1], p.theta * p.theta,
+              1e-12);
+  EXPECT_DOUBLE_EQ(design.coefficient[theta][3], 1e-6);  // roll (mrad) on the angle
   EXPECT_DOUBLE_EQ(design.coefficient[y][3], 1e-6 * 2000.0 * 2000.0 / 12.0);  // phi T_x on y
   EXPECT_EQ(design.k, 1.0);
 }

@@ -1,15 +1,15 @@
 #include "patlab/sim/camera_track.h"
 
 #include <chrono>
-#include <optional>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <span>
 
 #include "patlab/core/error.h"
 #include "patlab/core/rng.h"
-#include "patlab/estimate/estimators.h"
 #include "patlab/detect/detector.h"
+#include "patlab/estimate/estimators.h"
 #include "patlab/stats/effective_n.h"
 #include "patlab/stats/summary.h"
 #include "patlab/vision/segment.h"

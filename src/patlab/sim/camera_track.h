@@ -52,10 +52,10 @@ void Validate(const CameraTrackOptions& options);
 
 // Std of one group's errors (mm or rad) per axis, with 95% chi-square intervals.
 struct GroupError {
-  std::string group;  // "key", "id", "all" (every patch), "pose" or "detect"
-  long samples = 0;                                 // per axis
-  double sx = 0, sx_lo = 0, sx_hi = 0;              // world x (along the travel)
-  double sy = 0, sy_lo = 0, sy_hi = 0;              // world y (across)
+  std::string group;                    // "key", "id", "all" (every patch), "pose" or "detect"
+  long samples = 0;                     // per axis
+  double sx = 0, sx_lo = 0, sx_hi = 0;  // world x (along the travel)
+  double sy = 0, sy_lo = 0, sy_hi = 0;  // world y (across)
   double stheta = 0, stheta_lo = 0, stheta_hi = 0;  // pose only (rad)
   // Variance inflation of each std from the frames' autocorrelation (stats::EffectiveSize):
   // the intervals above hold with (samples - runs) / tau degrees of freedom.

@@ -38,8 +38,8 @@ std::vector<OptionsProblem> Check(const PaperDataOptions& o) {
   check
       .Require("table1_tau", o.table1_tau, o.table1_tau >= 1.0 && o.table1_tau <= 1000.0,
                "a number in [1, 1000]")
-      .Require("butterfly_tau", o.butterfly_tau, o.butterfly_tau >= 1.0 && o.butterfly_tau <= 1000.0,
-               "a number in [1, 1000]")
+      .Require("butterfly_tau", o.butterfly_tau,
+               o.butterfly_tau >= 1.0 && o.butterfly_tau <= 1000.0, "a number in [1, 1000]")
       .Require("butterfly_samples", o.butterfly_samples,
                o.butterfly_samples > 5.0 && o.butterfly_samples <= 1e9, "a number in (5, 1e9]")
       .IntegerInRange("butterfly_runs", o.butterfly_runs, 1, 1000);
@@ -87,7 +87,8 @@ std::vector<FitDatum> PaperData(const PaperDataOptions& o) {
   const auto se = [&](double s) { return s / std::sqrt(2.0 * dof); };
   data.push_back({"butterfly_x", DatumKind::kPatternX, 0.3766, se(0.3766), 0.0985, false});
   data.push_back({"butterfly_y", DatumKind::kPatternY, 0.3432, se(0.3432), 0.0940, false});
-  data.push_back({"butterfly_theta", DatumKind::kPatternTheta, 0.0070, se(0.0070), 0.001797, false});
+  data.push_back(
+      {"butterfly_theta", DatumKind::kPatternTheta, 0.0070, se(0.0070), 0.001797, false});
   return data;
 }
 
@@ -420,9 +421,9 @@ void ProfileInterval(const FitDesign& design, const NoiseFitOptions& o, const No
   bool crossed_low = false, crossed_high = false;
   e->lower = Walk(design, o, j, e->value, 0.0, r.minus2_log_l, hint, &crossed_low);
   e->upper = Walk(design, o, j, e->value, o.upper[j], r.minus2_log_l, hint, &crossed_high);
-  e->verdict = !crossed_high   ? Identifiability::kUnidentified
-               : !crossed_low  ? Identifiability::kUpperBound
-                               : Identifiability::kIdentified;
+  e->verdict = !crossed_high  ? Identifiability::kUnidentified
+               : !crossed_low ? Identifiability::kUpperBound
+                              : Identifiability::kIdentified;
   if (!crossed_low) e->lower = 0.0;
   // The curve for the figures: a window twice the interval's width around it.
   const double width = std::max(e->upper - e->lower, 1e-3 * o.upper[j]);
@@ -492,7 +493,8 @@ NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& o) {
   Validate(o);
   std::vector<double> observed;
   for (const FitDatum& d : design.data) {
-    if (!(d.se > 0.0)) throw InputError("noise fit: datum " + d.name + " has se <= 0; expected > 0");
+    if (!(d.se > 0.0))
+      throw InputError("noise fit: datum " + d.name + " has se <= 0; expected > 0");
     observed.push_back(d.observed);
   }
   Problem p = MakeProblem(design, o, observed);

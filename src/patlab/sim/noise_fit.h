@@ -32,9 +32,10 @@
 // Fit: -2 log L = sum_i (d_i - sqrt(v_i))^2 / s_i^2 + log s_i^2, s_i^2 = se_i^2 (+ delta^2 for
 // Table I rows), delta the spread between patch sizes the size-independent mechanisms cannot
 // express: estimated first on Table I alone (AddTable1Discrepancy), then held fixed in the
-// joint fit (fitted jointly, it would let the fit discount Table I as a whole). Minimised with NLopt BOBYQA in bounds from several starts;
-// profile likelihood intervals (-2 delta log L <= 3.84) per magnitude, a parametric bootstrap
-// (correlations of the estimates) and an identifiability verdict per magnitude.
+// joint fit (fitted jointly, it would let the fit discount Table I as a whole). Minimised with
+// NLopt BOBYQA in bounds from several starts; profile likelihood intervals (-2 delta log L <= 3.84)
+// per magnitude, a parametric bootstrap (correlations of the estimates) and an identifiability
+// verdict per magnitude.
 #pragma once
 
 #include <array>
@@ -49,15 +50,7 @@
 
 namespace patlab::sim {
 
-enum class Mechanism {
-  kIndependentX,
-  kIndependentY,
-  kCommon,
-  kRoll,
-  kScale,
-  kCorrelated,
-  kColour
-};
+enum class Mechanism { kIndependentX, kIndependentY, kCommon, kRoll, kScale, kCorrelated, kColour };
 inline constexpr int kNumMechanisms = 7;
 inline constexpr EnumNames<Mechanism, kNumMechanisms> kMechanismNames{{{
     {Mechanism::kIndependentX, "independent_x_mm"},
@@ -78,7 +71,7 @@ struct NoiseFitGeometry {
   double id_radius_mm = 65.0;
   double travel_mm = 2000.0;  // section II: 2 m across the view, centred on the camera axis
   double lateral_mm = 200.0;  // range of the runs' lateral offsets (uniform), (0, 2000]
-  double correlation_length_mm = 100.0;  // of the correlated mechanism, (0, 1e4]
+  double correlation_length_mm = 100.0;   // of the correlated mechanism, (0, 1e4]
   double smoothing_sigma_samples = 10.0;  // the paper's estimate; 0: true errors (k = 1)
 };
 std::vector<OptionsProblem> Check(const NoiseFitGeometry& geometry);
@@ -129,17 +122,17 @@ struct NoiseFitOptions {
   std::array<bool, kNumMechanisms> free{};  // fitted; the others are held at `fixed`
   Magnitudes fixed{};                       // values of the held magnitudes
   Magnitudes upper{2.0, 2.0, 2.0, 10.0, 2000.0, 2.0, 2.0};  // search bounds, > 0
-  bool fit_delta = false;  // fit delta (the Table I discrepancy) too; false: delta = 0
-  int starts = 6;          // multistart points (deterministic from seed), [1, 100]
-  int profile_points = 41; // per profiled magnitude, [3, 1000]
-  int bootstrap = 200;     // parametric bootstrap replicates, [0, 100000]
+  bool fit_delta = false;   // fit delta (the Table I discrepancy) too; false: delta = 0
+  int starts = 6;           // multistart points (deterministic from seed), [1, 100]
+  int profile_points = 41;  // per profiled magnitude, [3, 1000]
+  int bootstrap = 200;      // parametric bootstrap replicates, [0, 100000]
   uint64_t seed = 14;
 };
 std::vector<OptionsProblem> Check(const NoiseFitOptions& options);
 void Validate(const NoiseFitOptions& options);
 
 struct ProfilePoint {
-  double value = 0.0;     // the profiled magnitude
+  double value = 0.0;         // the profiled magnitude
   double minus2_log_l = 0.0;  // minimum over the others, minus the global minimum
 };
 
@@ -160,7 +153,7 @@ struct MechanismEstimate {
   Mechanism mechanism = Mechanism::kIndependentX;
   bool free = false;
   double value = 0.0;
-  double lower = 0.0, upper = 0.0;        // 95% profile likelihood interval
+  double lower = 0.0, upper = 0.0;            // 95% profile likelihood interval
   double boot_lower = 0.0, boot_upper = 0.0;  // 2.5 / 97.5% bootstrap percentiles
   Identifiability verdict = Identifiability::kFixed;
   std::vector<ProfilePoint> profile;
@@ -175,7 +168,7 @@ struct NoiseFitResult {
   double minus2_log_l = 0.0;
   double chi2 = 0.0;  // sum (d - pred)^2 / s^2 at the best fit
   int free_parameters = 0;
-  std::vector<double> predicted;  // per datum
+  std::vector<double> predicted;             // per datum
   std::vector<MechanismEstimate> estimates;  // one per mechanism, kMechanismNames order
   // Bootstrap correlation matrix of the free magnitudes (kNumMechanisms^2, row-major; NaN for
   // fixed ones or without bootstrap).
@@ -212,7 +205,7 @@ struct NoiseFitStudyOptions {
   PaperDataOptions paper;
   NoiseFitOptions fit;  // free: which mechanisms the main fit fits
   std::vector<double> sensitivity_radii_mm{45, 50, 55, 60, 65, 70, 80};
-  int simulate_runs = 5;     // blob-level check (SimulateTrack), 0: none
+  int simulate_runs = 5;  // blob-level check (SimulateTrack), 0: none
   int simulate_frames = 2570;
 };
 struct NoiseFitStudy {
@@ -220,7 +213,7 @@ struct NoiseFitStudy {
   std::vector<std::pair<std::string, std::string>> files;  // fit.csv, data.csv, profiles.csv,
                                                            // correlation.csv, models.csv,
                                                            // sensitivity.csv
-  std::string summary;  // a few lines for people
+  std::string summary;                                     // a few lines for people
 };
 NoiseFitStudy RunNoiseFitStudy(const NoiseFitStudyOptions& options);
 

@@ -158,9 +158,9 @@ std::string DataCsv(const FitDesign& design, const NoiseFitResult& r,
     const FitDatum& d = design.data[i];
     const double s = std::sqrt(d.se * d.se + (d.table1 ? r.delta * r.delta : 0.0));
     csv.append(d.name);
-    for (double v : {d.observed, d.se, d.quantisation, r.predicted[i],
-                     (d.observed - r.predicted[i]) / s,
-                     simulated.empty() ? std::nan("") : simulated[i]})
+    for (double v :
+         {d.observed, d.se, d.quantisation, r.predicted[i], (d.observed - r.predicted[i]) / s,
+          simulated.empty() ? std::nan("") : simulated[i]})
       csv.append(",").append(Num(v));
     csv.append("\n");
   }
@@ -180,12 +180,10 @@ NoiseFitStudy RunNoiseFitStudy(const NoiseFitStudyOptions& o) {
       o.simulate_runs > 0 ? SimulateTrack(data, o.geometry, study.fit.best, o.simulate_runs,
                                           o.simulate_frames, o.fit.seed)
                           : std::vector<double>{};
-  study.files = {{"fit.csv", FitCsv(study.fit, delta)},
-                 {"data.csv", DataCsv(design, study.fit, simulated)},
-                 {"profiles.csv", ProfilesCsv(study.fit)},
-                 {"correlation.csv", CorrelationCsv(study.fit)},
-                 {"models.csv", ModelsCsv(design, o.fit)},
-                 {"sensitivity.csv", SensitivityCsv(o, data)}};
+  study.files = {
+      {"fit.csv", FitCsv(study.fit, delta)},    {"data.csv", DataCsv(design, study.fit, simulated)},
+      {"profiles.csv", ProfilesCsv(study.fit)}, {"correlation.csv", CorrelationCsv(study.fit)},
+      {"models.csv", ModelsCsv(design, o.fit)}, {"sensitivity.csv", SensitivityCsv(o, data)}};
   study.summary = "-2 log L " + FormatFixed(study.fit.minus2_log_l, 2) + ", chi2 " +
                   FormatFixed(study.fit.chi2, 2) + " (9 data), Table I discrepancy delta " +
                   FormatFixed(delta, 4) + " mm\n";

@@ -38,8 +38,8 @@ EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> seg
   out.lag1 = std::nan("");
   if (dev.empty() || m2 <= 0.0) return out;
   const double band = 2.0 / std::sqrt(out.n);
-  const int cap = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(max_lag),
-                                                         shortest - 1));
+  const int cap =
+      static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(max_lag), shortest - 1));
   double sum = 0.0;
   for (int k = 1; k <= cap; ++k) {
     double c = 0.0;

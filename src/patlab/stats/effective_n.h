@@ -22,12 +22,12 @@
 namespace patlab::stats {
 
 struct EffectiveSize {
-  double tau = 1.0;       // variance inflation 1 + 2 sum r_k^2, >= 1
-  int lags = 0;           // K, the lags summed
-  double n = 0.0;         // samples in all segments
-  double dof = 0.0;       // n - segments: the dof of the pooled std about each segment's mean
-  double dof_eff = 0.0;   // dof / tau
-  double lag1 = 0.0;      // r_1 (NaN when no segment has 2 samples)
+  double tau = 1.0;      // variance inflation 1 + 2 sum r_k^2, >= 1
+  int lags = 0;          // K, the lags summed
+  double n = 0.0;        // samples in all segments
+  double dof = 0.0;      // n - segments: the dof of the pooled std about each segment's mean
+  double dof_eff = 0.0;  // dof / tau
+  double lag1 = 0.0;     // r_1 (NaN when no segment has 2 samples)
 };
 
 // tau of several segments (each about its own mean), the autocorrelations pooled over segments:
