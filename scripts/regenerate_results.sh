@@ -13,6 +13,7 @@ for n in iid jitter correlated; do
   $P simulate experiments/issue14/butterfly_$n.toml --out results/issue14 -q
 done
 bash scripts/issue14_camera.sh "$P"   # the colour-camera tracks: ~5 CPU min
+bash scripts/issue14_fit.sh "$P"      # the mechanism fit + 2 confirming camera tracks: ~50 CPU s
 # Detect mode: where geometry stops fixing the rotation (issue 4).
 $P simulate experiments/id_confusion.toml --out results -q
 /usr/bin/python3 scripts/plot_id_confusion.py

@@ -27,8 +27,10 @@ constexpr const char* kExamples = R"(examples:
 
 The SCENE file (docs/render.md) gives the pattern, codebook, colours, render options and the
 calibration (the camera); its robots are ignored: one robot (--team, --id) rides the path.
-CSV columns: label, group (key, id, all, pose), samples, sx_mm, sx_lo, sx_hi, sy_mm, sy_lo, sy_hi,
-stheta_rad, stheta_lo, stheta_hi, missed_patches, frames. Docs: docs/render.md#camera-track.
+CSV columns: label, group (key, id, all, pose; detect with --detect), samples, sx_mm, sx_lo, sx_hi,
+sy_mm, sy_lo, sy_hi, stheta_rad, stheta_lo, stheta_hi, missed_patches, frames, tau_x, tau_y,
+tau_theta (variance inflation of the correlated frames; the intervals use dof / tau),
+detected_frames, wrong_id_frames. Docs: docs/render.md#camera-track.
 Exit status: 0 ok, 1 cannot write the file, 2 bad input.
 )";
 
@@ -50,6 +52,8 @@ void AddOptions(po::options_description* d, Options* o) {
       "team", po::value(&o->team), "team (key) colour, default blue")(
       "id", po::value(&o->id), "the codebook ID worn, default 0")(
       "white", po::bool_switch(&o->track.all_white), "every patch white (class white)")(
+      "detect", po::bool_switch(&o->track.detect),
+      "also measure the pattern through the detector (group detect)")(
       "runs", po::value(&o->track.runs), "runs, default 5")("frames", po::value(&o->track.frames),
                                                             "frames per run, default 2570")(
       "seed", po::value(&o->seed), "path seed (offsets, headings), default 14")(
@@ -77,7 +81,11 @@ std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
       csv.append(",").append(FormatSignificant(v, 6));
     }
     csv.append(",").append(std::to_string(r.missed_patches));
-    csv.append(",").append(std::to_string(r.frames)).append("\n");
+    csv.append(",").append(std::to_string(r.frames));
+    for (double v : {g.tau_x, g.tau_y, g.tau_theta})
+      csv.append(",").append(FormatSignificant(v, 4));
+    csv.append(",").append(std::to_string(r.detected_frames));
+    csv.append(",").append(std::to_string(r.wrong_id_frames)).append("\n");
   }
   return csv;
 }
@@ -112,7 +120,11 @@ int RunCamtrack(const std::vector<std::string>& args) {
     return kExitFailure;
   }
   std::cerr << "camtrack " << o.label << ": " << r.frames << " complete frames, "
-            << r.missed_patches << " missed patches, " << FormatFixed(r.seconds, 2) << " s\n";
+            << r.missed_patches << " missed patches, ";
+  if (o.track.detect) {
+    std::cerr << r.detected_frames << " detected, " << r.wrong_id_frames << " wrong ID, ";
+  }
+  std::cerr << FormatFixed(r.seconds, 2) << " s\n";
   return kExitOk;
 }
 

@@ -3,10 +3,14 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <span>
 
 #include "patlab/core/error.h"
 #include "patlab/core/rng.h"
+#include "patlab/detect/detector.h"
 #include "patlab/estimate/estimators.h"
+#include "patlab/stats/effective_n.h"
 #include "patlab/stats/summary.h"
 #include "patlab/vision/segment.h"
 
@@ -29,13 +33,23 @@ namespace {
 
 constexpr double kFramesPerSecond = 30.0;
 
-// Per-run sums for a std about each run's own mean, pooled over runs.
+// Per-run sums for a std about each run's own mean, pooled over runs; each slot's (patch's) per-run
+// series kept for the autocorrelation (tau) of the interval.
 struct Pooled {
   double m2 = 0.0;
   long n = 0, runs = 0;
   std::vector<double> run;
-  void Add(double v) { run.push_back(v); }
+  std::vector<std::vector<double>> slot;      // this run's series per slot
+  std::vector<std::vector<double>> segments;  // finished (run, slot) series
+  void Add(double v, int s = 0) {
+    run.push_back(v);
+    if (slot.size() <= static_cast<size_t>(s)) slot.resize(static_cast<size_t>(s) + 1);
+    slot[static_cast<size_t>(s)].push_back(v);
+  }
   void EndRun() {
+    for (std::vector<double>& series : slot)
+      if (series.size() >= 2) segments.push_back(std::move(series));
+    slot.clear();
     if (run.size() < 2) {
       run.clear();
       return;
@@ -48,10 +62,13 @@ struct Pooled {
     ++runs;
     run.clear();
   }
-  stats::StdWithCi Std() const {
+  stats::StdWithCi Std(double* tau) const {
     const double dof = static_cast<double>(n - runs);
+    *tau = 1.0;
     if (dof < 1.0) return stats::StdConfidenceInterval(std::nan(""), 1.0);
-    return stats::StdConfidenceInterval(std::sqrt(m2 / dof), dof);
+    const std::vector<std::span<const double>> spans(segments.begin(), segments.end());
+    *tau = stats::VarianceEffectiveSize(spans).tau;
+    return stats::StdConfidenceInterval(std::sqrt(m2 / dof), dof / *tau);
   }
 };
 
@@ -68,14 +85,14 @@ GroupError Summarise(const std::string& name, const GroupSums& g, bool with_thet
   GroupError e;
   e.group = name;
   e.samples = g.x.n;
-  const stats::StdWithCi sx = g.x.Std(), sy = g.y.Std();
+  const stats::StdWithCi sx = g.x.Std(&e.tau_x), sy = g.y.Std(&e.tau_y);
   e.sx = sx.std, e.sx_lo = sx.lower, e.sx_hi = sx.upper;
   e.sy = sy.std, e.sy_lo = sy.lower, e.sy_hi = sy.upper;
   if (with_theta) {
-    const stats::StdWithCi st = g.theta.Std();
+    const stats::StdWithCi st = g.theta.Std(&e.tau_theta);
     e.stheta = st.std, e.stheta_lo = st.lower, e.stheta_hi = st.upper;
   } else {
-    e.stheta = e.stheta_lo = e.stheta_hi = std::nan("");
+    e.stheta = e.stheta_lo = e.stheta_hi = e.tau_theta = std::nan("");
   }
   return e;
 }
@@ -131,13 +148,65 @@ bool MeasureFrame(const vision::Segmenter& segmenter, const vision::CameraModel&
     const Vec2 m = *camera.PixelToWorld(best->centroid_px + origin, height_mm);
     (*measured)[static_cast<size_t>(i)] = m;
     GroupSums* g = patch.role == PatchRole::kKey ? key : ids;
-    g->x.Add(m.x() - true_mm.x());
-    g->y.Add(m.y() - true_mm.y());
-    all->x.Add(m.x() - true_mm.x());
-    all->y.Add(m.y() - true_mm.y());
+    g->x.Add(m.x() - true_mm.x(), i);
+    g->y.Add(m.y() - true_mm.y(), i);
+    all->x.Add(m.x() - true_mm.x(), i);
+    all->y.Add(m.y() - true_mm.y(), i);
   }
   return complete;
 }
+
+// The detector on a frame's regions: every region of every class as a blob (centroid and area on
+// the pattern plane); the robot's detection (status ok) nearest the truth is scored.
+class DetectStage {
+ public:
+  DetectStage(const vision::FieldScene& scene, const vision::Thresholds& thresholds,
+              const std::string& team)
+      : detector_(Config(scene, thresholds, team)) {}
+
+  void Score(const vision::Segmenter& segmenter, const vision::CameraModel& camera,
+             double height_mm, const vision::PixelWindow& window, int num_classes, int id,
+             const Pose2& truth, GroupSums* sums, CameraTrackResult* result) {
+    blobs_.clear();
+    const Vec2 origin(window.x0, window.y0);
+    for (int c = 0; c < num_classes; ++c) {
+      for (const vision::Region& r : segmenter.RegionsOf(c)) {
+        const Vec2 pixel = r.centroid_px + origin;
+        const auto w = camera.PixelToWorld(pixel, height_mm);
+        if (w) blobs_.push_back({*w, c, r.area_px * camera.AreaScale(pixel, height_mm)});
+      }
+    }
+    detector_.Detect(blobs_, &detections_);
+    const detect::Detection* best = nullptr;
+    double best_d = 1e300;
+    for (const detect::Detection& d : detections_) {
+      const double dist = std::hypot(d.pose.x_mm - truth.x_mm, d.pose.y_mm - truth.y_mm);
+      if (d.status == detect::DetectionStatus::kOk && dist < best_d) best = &d, best_d = dist;
+    }
+    if (best == nullptr || best_d > 50.0) return;
+    if (best->id != id) {
+      ++result->wrong_id_frames;
+      return;
+    }
+    ++result->detected_frames;
+    sums->x.Add(best->pose.x_mm - truth.x_mm);
+    sums->y.Add(best->pose.y_mm - truth.y_mm);
+    sums->theta.Add(WrapAngle(best->pose.theta_rad - truth.theta_rad));
+  }
+
+ private:
+  static detect::DetectorConfig Config(const vision::FieldScene& scene,
+                                       const vision::Thresholds& thresholds,
+                                       const std::string& team) {
+    detect::DetectorConfig config;
+    for (const vision::ColorClass& c : thresholds.classes) config.palette.push_back(c.name);
+    config.patterns.push_back({scene.pattern, scene.codebook, {team}});
+    return config;
+  }
+  detect::Detector detector_;
+  std::vector<detect::Blob> blobs_;
+  std::vector<detect::Detection> detections_;
+};
 
 }  // namespace
 
@@ -177,7 +246,9 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
   const estimate::Model model = estimate::Model::FromPattern(pattern);
   vision::Segmenter segmenter(thresholds, vision::SegmenterOptions{});
 
-  GroupSums key, ids, all, pose;
+  GroupSums key, ids, all, pose, detected;
+  std::optional<DetectStage> detect_stage;
+  if (options.detect) detect_stage.emplace(s, thresholds, team);
   CameraTrackResult result;
   std::vector<Vec2> measured(static_cast<size_t>(n));
   for (int run = 0; run < options.runs; ++run) {
@@ -198,6 +269,11 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
       const bool complete =
           MeasureFrame(segmenter, camera, height_mm, window, pattern, class_of, truth, &measured,
                        &key, &ids, &all, &result.missed_patches);
+      if (detect_stage) {
+        detect_stage->Score(segmenter, camera, height_mm, window,
+                            static_cast<int>(thresholds.classes.size()), id, truth, &detected,
+                            &result);
+      }
       if (!complete) continue;
       const Pose2 p = estimate::Fast(model, measured.data());
       pose.x.Add(p.x_mm - truth.x_mm);
@@ -209,9 +285,11 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
     ids.EndRun();
     all.EndRun();
     pose.EndRun();
+    detected.EndRun();
   }
   result.groups = {Summarise("key", key, false), Summarise("id", ids, false),
                    Summarise("all", all, false), Summarise("pose", pose, true)};
+  if (options.detect) result.groups.push_back(Summarise("detect", detected, true));
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -12,7 +12,14 @@
 // offset_r uniform in +-100 mm and theta_r uniform in [-pi, pi) from RandomStream(seed,
 // kCameraTrackStream, r). Frame identity for the camera's noise and jitter: r * frames + f.
 // Statistics per run about the run's own mean (the paper's smoothing removes a constant offset
-// too), pooled over runs: dof = samples - runs per axis.
+// too), pooled over runs: dof = samples - runs per axis. Consecutive frames are correlated, so
+// the 95% intervals use dof / tau (stats/effective_n.h: tau from the lag-k autocorrelations of
+// each patch's or the pose's per-run series); tau is reported.
+//
+// With `detect`, each frame's regions (every class of the thresholds) also go as blobs through
+// the generic detector (detect/detector.h, default settings, the scene's codebook, key colour
+// `team`) and the detected pose of the robot (status ok, the right ID) is scored as the group
+// "detect", beside "pose" (the same estimator on known correspondence).
 #pragma once
 
 #include <cstdint>
@@ -37,23 +44,30 @@ struct CameraTrackOptions {
   // Every ID-slot and key colour drawn as "white" (the scene's colour of that name): the
   // section-II white patches on the same geometry, measured with the threshold class "white".
   bool all_white = false;
+  // Also measure the pattern through the detector (group "detect").
+  bool detect = false;
 };
 std::vector<OptionsProblem> Check(const CameraTrackOptions& options);
 void Validate(const CameraTrackOptions& options);
 
 // Std of one group's errors (mm or rad) per axis, with 95% chi-square intervals.
 struct GroupError {
-  std::string group;                                // "key", "id", "all" (every patch) or "pose"
-  long samples = 0;                                 // per axis
-  double sx = 0, sx_lo = 0, sx_hi = 0;              // world x (along the travel)
-  double sy = 0, sy_lo = 0, sy_hi = 0;              // world y (across)
+  std::string group;                    // "key", "id", "all" (every patch), "pose" or "detect"
+  long samples = 0;                     // per axis
+  double sx = 0, sx_lo = 0, sx_hi = 0;  // world x (along the travel)
+  double sy = 0, sy_lo = 0, sy_hi = 0;  // world y (across)
   double stheta = 0, stheta_lo = 0, stheta_hi = 0;  // pose only (rad)
+  // Variance inflation of each std from the frames' autocorrelation (stats::EffectiveSize):
+  // the intervals above hold with (samples - runs) / tau degrees of freedom.
+  double tau_x = 1, tau_y = 1, tau_theta = 1;
 };
 
 struct CameraTrackResult {
   std::vector<GroupError> groups;  // key, id, all, pose
   long missed_patches = 0;         // true patches without a region of their class nearby
   long frames = 0;                 // frames with every patch found (the pose's samples)
+  long detected_frames = 0;        // with `detect`: frames where the robot was detected (ok)
+  long wrong_id_frames = 0;        // with `detect`: detections at the robot of another ID
   double seconds = 0.0;
 };
 
