@@ -141,11 +141,17 @@ bool OutputBefore(const Detection& a, const Detection& b) {
 }  // namespace
 
 // Stage 1, first part: blobs bucketed by x (counting sort; buckets one reach wide) for the
-// neighbour search of stage 2. Unusable blobs (non-finite, absurdly far) are left out.
+// neighbour search of stage 2. Unusable blobs (non-finite, absurdly far) are left out. Each
+// blob's bucket is computed once; within a bucket the blobs keep their index order.
 void Detector::Impl::BucketBlobs(std::span<const Blob> blobs) {
+  const int n = static_cast<int>(blobs.size());
+  blob_bucket.resize(blobs.size());
   double min_x = 1e300, max_x = -1e300;
-  for (const Blob& b : blobs) {
-    if (!Usable(b)) continue;
+  for (int i = 0; i < n; ++i) {
+    const Blob& b = blobs[i];
+    const bool usable = Usable(b);
+    blob_bucket[i] = usable ? 0 : -1;
+    if (!usable) continue;
     min_x = std::min(min_x, b.position_mm.x());
     max_x = std::max(max_x, b.position_mm.x());
   }
@@ -153,22 +159,22 @@ void Detector::Impl::BucketBlobs(std::span<const Blob> blobs) {
   bucket_min_x = min_x <= max_x ? min_x : 0.0;
   const double range = min_x <= max_x ? max_x - min_x : 0.0;
   bucket_width_mm = std::max(max_reach_mm, range / (kMaxBuckets - 1));
-  const int num_buckets = static_cast<int>(range / bucket_width_mm) + 1;
+  num_buckets = static_cast<int>(range / bucket_width_mm) + 1;
   bucket_start.assign(num_buckets + 1, 0);
   by_x.resize(blobs.size());
-  auto bucket_of = [&](const Blob& b) {
-    return std::min(num_buckets - 1,
-                    static_cast<int>((b.position_mm.x() - bucket_min_x) / bucket_width_mm));
-  };
-  for (const Blob& b : blobs) {
-    if (Usable(b)) ++bucket_start[bucket_of(b) + 1];
+  for (int i = 0; i < n; ++i) {
+    if (blob_bucket[i] < 0) continue;
+    const int b =
+        std::min(num_buckets - 1,
+                 static_cast<int>((blobs[i].position_mm.x() - bucket_min_x) / bucket_width_mm));
+    blob_bucket[i] = b;
+    ++bucket_start[b + 1];
   }
   for (int b = 0; b < num_buckets; ++b) bucket_start[b + 1] += bucket_start[b];
-  bucket_fill.assign(num_buckets, 0);
-  for (int i = 0; i < static_cast<int>(blobs.size()); ++i) {
-    if (!Usable(blobs[i])) continue;
-    const int b = bucket_of(blobs[i]);
-    by_x[bucket_start[b] + bucket_fill[b]++] = i;
+  bucket_fill.assign(bucket_start.begin(), bucket_start.end() - 1);
+  for (int i = 0; i < n; ++i) {
+    const int b = blob_bucket[i];
+    if (b >= 0) by_x[bucket_fill[b]++] = i;
   }
 }
 
@@ -281,6 +287,7 @@ void Detector::Impl::DetectFrame(std::span<const Blob> blobs, std::vector<Detect
   StageClock<kTiming> clock;
   stage_ns.fill(0);
   stats = DetectStats{};
+  ++frame_number;  // every NeighbourList is stale
   candidates.clear();
   detections->clear();
   BucketBlobs(blobs);

@@ -95,6 +95,21 @@ void Detector::Impl::Build() {
   for (int p = 0; p < static_cast<int>(config.patterns.size()); ++p) {
     runtimes.push_back(BuildRuntime(p));
   }
+  // Stage 2's lists: one per distinct (neighbour colours, neighbour area range).
+  for (int p = 0; p < static_cast<int>(runtimes.size()); ++p) {
+    const PatternRuntime& rt = runtimes[p];
+    int list = static_cast<int>(neighbour_lists.size());
+    for (int q = 0; q < p; ++q) {
+      const PatternRuntime& earlier = runtimes[q];
+      if (earlier.neighbour_mask == rt.neighbour_mask && earlier.nb_area_min == rt.nb_area_min &&
+          earlier.nb_area_max == rt.nb_area_max) {
+        list = neighbour_list_of[q];
+        break;
+      }
+    }
+    if (list == static_cast<int>(neighbour_lists.size())) neighbour_lists.emplace_back();
+    neighbour_list_of.push_back(list);
+  }
 }
 
 Detector::Impl::PatternRuntime Detector::Impl::BuildRuntime(int p) {

@@ -155,11 +155,30 @@ struct Detector::Impl {
   std::array<std::vector<int>, internal::kMaxLabels> patterns_by_key_label;
   double max_reach_mm = 0.0;
 
+  // Patterns whose stage-2 filters (neighbour colours, neighbour area range) are those of an
+  // earlier pattern share that pattern's NeighbourList: neighbour_list_of[p] indexes
+  // neighbour_lists.
+  std::vector<int> neighbour_list_of;
+
   // Per-frame buffers, reused.
-  std::vector<int> by_x;          // blob indices, bucketed by x
+  std::vector<int> blob_bucket;   // per blob: its x bucket, or -1 when not Usable
+  std::vector<int> by_x;          // blob indices, bucketed by x, ascending within a bucket
   std::vector<int> bucket_start;  // bucket b holds by_x[bucket_start[b] .. bucket_start[b + 1])
   std::vector<int> bucket_fill;
+  int num_buckets = 1;
   double bucket_min_x = 0.0, bucket_width_mm = 1.0;
+  // Stage 2's search structure for one set of patterns (neighbour_list_of): the blobs passing
+  // their colour and area filters, in by_x order, with their positions side by side. Built on
+  // the first key candidate of such a pattern in a frame (frame == frame_number), so a frame pays
+  // nothing for patterns without keys.
+  struct NeighbourList {
+    long frame = -1;
+    std::vector<int> start;  // bucket b holds [start[b], start[b + 1])
+    std::vector<Vec2> position_mm;
+    std::vector<int> blob;
+  };
+  std::vector<NeighbourList> neighbour_lists;
+  long frame_number = 0;
   std::vector<Candidate> candidates;
   std::vector<int> candidate_order;
   std::vector<int> used;  // per blob: 1 + the candidate that took it, or 0
@@ -200,7 +219,8 @@ struct Detector::Impl {
   // detector_stages.cpp: stages 2-6 for the key blob `key` of pattern p.
   template <bool kTiming>
   void EvaluateKey(int p, int key, std::span<const Blob> blobs);
-  void FindNeighbours(const PatternRuntime& rt, int key, std::span<const Blob> blobs,
+  const NeighbourList& NeighbourListOf(int p, std::span<const Blob> blobs);  // stage 2
+  void FindNeighbours(int p, int key, std::span<const Blob> blobs,
                       Neighbours* nb);  // stage 2
   template <bool kTiming>
   bool FitAndIdentify(int p, int key, const Vec2& key_mm, const Neighbours& nb, bool missing,

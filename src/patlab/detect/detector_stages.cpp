@@ -58,9 +58,15 @@ inline double FitError(double sq, double sw, double a, double b) {
 }
 
 // The model's circular position matched to the i-th chosen neighbour under rotation `shift`;
-// a missing-patch fit (skip >= 0) leaves circular position `skip` out.
+// a missing-patch fit (skip >= 0) leaves circular position `skip` out: (i + shift) mod mk, or
+// (skip + 1 + (i + shift) mod r) mod mk. With i, shift < r <= mk and skip < mk every sum is below
+// twice its modulus, so one conditional subtraction is the remainder (no integer division).
 inline int CircularPosition(int i, int shift, int r, int mk, int skip, bool missing) {
-  return missing ? (skip + 1 + (i + shift) % r) % mk : (i + shift) % mk;
+  int c = i + shift;
+  if (missing) {
+    c = (c >= r ? c - r : c) + skip + 1;
+  }
+  return c >= mk ? c - mk : c;
 }
 
 // The next choice of r out of n in lexicographic order; false after the last.
@@ -261,10 +267,15 @@ void RadialSort(const Vec2& key_mm, std::span<const Blob> blobs, Neighbours* nb)
   }
 }
 
-// Stage 2's cut: keeps the max_nb neighbours closest to the model's ring (ring_dev: distance
-// outside the ring), ties by blob index.
-void KeepNearestToRing(int max_nb, const std::array<double, kMaxGathered>& ring_dev,
-                       Neighbours* nb) {
+// Stage 2's cut: keeps the max_nb neighbours closest to the model's ring (distance outside the
+// ring, from the squared distances d2 to the key), ties by blob index.
+void KeepNearestToRing(const PatternRuntime& rt, int max_nb,
+                       const std::array<double, kMaxGathered>& d2, Neighbours* nb) {
+  std::array<double, kMaxGathered> ring_dev;
+  for (int i = 0; i < nb->n; ++i) {
+    const double d = std::sqrt(d2[i]);
+    ring_dev[i] = d < rt.ring_min_mm ? rt.ring_min_mm - d : std::max(0.0, d - rt.ring_max_mm);
+  }
   std::array<int, kMaxGathered> order;
   for (int i = 0; i < nb->n; ++i) order[i] = i;
   std::partial_sort(
@@ -279,39 +290,67 @@ void KeepNearestToRing(int max_nb, const std::array<double, kMaxGathered>& ring_
 
 }  // namespace
 
-// Stage 2: neighbours in the ring around the key (x-bucketed search).
-void Detector::Impl::FindNeighbours(const PatternRuntime& rt, int key, std::span<const Blob> blobs,
-                                    Neighbours* nb) {
+// Stage 2's search structure of pattern p in this frame, built on first use: the blobs passing
+// p's neighbour colour and area filters, bucket by bucket in by_x order (so the search visits
+// them in the order a scan of every bucketed blob would).
+const Detector::Impl::NeighbourList& Detector::Impl::NeighbourListOf(int p,
+                                                                     std::span<const Blob> blobs) {
+  NeighbourList& list = neighbour_lists[neighbour_list_of[p]];
+  if (list.frame == frame_number) return list;
+  list.frame = frame_number;
+  const PatternRuntime& rt = runtimes[p];
+  list.start.resize(num_buckets + 1);
+  list.position_mm.resize(blobs.size());
+  list.blob.resize(blobs.size());
+  int count = 0;
+  for (int b = 0; b < num_buckets; ++b) {
+    list.start[b] = count;
+    for (int t = bucket_start[b]; t < bucket_start[b + 1]; ++t) {
+      const int j = by_x[t];
+      const Blob& blob = blobs[j];
+      const bool colour_ok = blob.colour >= 0 && blob.colour < kMaxLabels &&
+                             ((rt.neighbour_mask >> blob.colour) & 1) != 0;
+      const bool area_ok = blob.area_mm2 >= rt.nb_area_min && blob.area_mm2 <= rt.nb_area_max;
+      list.position_mm[count] = blob.position_mm;  // kept only when the filters pass
+      list.blob[count] = j;
+      count += static_cast<int>(colour_ok && area_ok);
+    }
+  }
+  list.start[num_buckets] = count;
+  return list;
+}
+
+// Stage 2: neighbours in the ring around the key (x-bucketed search over the blobs passing the
+// pattern's colour and area filters).
+void Detector::Impl::FindNeighbours(int p, int key, std::span<const Blob> blobs, Neighbours* nb) {
+  const PatternRuntime& rt = runtimes[p];
+  const NeighbourList& list = NeighbourListOf(p, blobs);
   const Vec2 k = blobs[key].position_mm;
-  std::array<double, kMaxGathered> ring_dev;
+  std::array<double, kMaxGathered> d2s;
   nb->n = 0;
-  const int num_buckets = static_cast<int>(bucket_start.size()) - 1;
   auto bucket_of = [&](double x) {
     return std::clamp(static_cast<int>(std::floor((x - bucket_min_x) / bucket_width_mm)), 0,
                       num_buckets - 1);
   };
   const int first = bucket_of(k.x() - rt.reach_max_mm), last = bucket_of(k.x() + rt.reach_max_mm);
-  for (int t = bucket_start[first]; t < bucket_start[last + 1]; ++t) {
-    const int j = by_x[t];
-    if (j == key) continue;
-    const Blob& b = blobs[j];
-    if (b.colour < 0 || b.colour >= kMaxLabels || !((rt.neighbour_mask >> b.colour) & 1)) continue;
-    if (b.area_mm2 < rt.nb_area_min || b.area_mm2 > rt.nb_area_max) continue;
-    const double d2 = (b.position_mm - k).squaredNorm();
+  const int end = list.start[last + 1];
+  for (int t = list.start[first]; t < end; ++t) {
+    const double d2 = (list.position_mm[t] - k).squaredNorm();
     if (d2 < rt.reach_min2 || d2 > rt.reach_max2) continue;
+    const int j = list.blob[t];
+    if (j == key) continue;
     if (nb->n == kMaxGathered) {
       ++stats.neighbours_cut;
       continue;
     }
-    const double d = std::sqrt(d2);
-    ring_dev[nb->n] = d < rt.ring_min_mm ? rt.ring_min_mm - d : std::max(0.0, d - rt.ring_max_mm);
+    d2s[nb->n] = d2;
     nb->blob[nb->n++] = j;
   }
   stats.neighbours += nb->n;
   const int max_nb = config.options.max_neighbours;
   if (nb->n > max_nb) {
     stats.neighbours_cut += nb->n - max_nb;
-    KeepNearestToRing(max_nb, ring_dev, nb);
+    KeepNearestToRing(rt, max_nb, d2s, nb);
   }
 }
 
@@ -358,7 +397,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   if (explain != nullptr) before = stats;
   key_best_e = std::numeric_limits<double>::infinity();
   Neighbours nb;
-  FindNeighbours(rt, key, blobs, &nb);
+  FindNeighbours(p, key, blobs, &nb);
   stage_ns[internal::kNeighbours] += clock.Lap();
   const bool try_missing = rt.can_fit_missing && nb.n >= rt.mk - 1;
   if (nb.n < rt.mk && !try_missing) {
