@@ -140,9 +140,8 @@ bool OutputBefore(const Detection& a, const Detection& b) {
 
 }  // namespace
 
-// Stage 1, first part: blobs bucketed by x (counting sort; buckets one reach wide) for the
-// neighbour search of stage 2. Unusable blobs (non-finite, absurdly far) are left out. Each
-// blob's bucket is computed once; within a bucket the blobs keep their index order.
+// Stage 1, first part: each blob's x bucket (buckets one reach wide) for the neighbour search of
+// stage 2 (NeighbourListOf sorts by it). Unusable blobs (non-finite, absurdly far) get -1.
 void Detector::Impl::BucketBlobs(std::span<const Blob> blobs) {
   const int n = static_cast<int>(blobs.size());
   blob_bucket.resize(blobs.size());
@@ -160,21 +159,11 @@ void Detector::Impl::BucketBlobs(std::span<const Blob> blobs) {
   const double range = min_x <= max_x ? max_x - min_x : 0.0;
   bucket_width_mm = std::max(max_reach_mm, range / (kMaxBuckets - 1));
   num_buckets = static_cast<int>(range / bucket_width_mm) + 1;
-  bucket_start.assign(num_buckets + 1, 0);
-  by_x.resize(blobs.size());
   for (int i = 0; i < n; ++i) {
     if (blob_bucket[i] < 0) continue;
-    const int b =
+    blob_bucket[i] =
         std::min(num_buckets - 1,
                  static_cast<int>((blobs[i].position_mm.x() - bucket_min_x) / bucket_width_mm));
-    blob_bucket[i] = b;
-    ++bucket_start[b + 1];
-  }
-  for (int b = 0; b < num_buckets; ++b) bucket_start[b + 1] += bucket_start[b];
-  bucket_fill.assign(bucket_start.begin(), bucket_start.end() - 1);
-  for (int i = 0; i < n; ++i) {
-    const int b = blob_bucket[i];
-    if (b >= 0) by_x[bucket_fill[b]++] = i;
   }
 }
 
@@ -183,7 +172,7 @@ template <bool kTiming>
 void Detector::Impl::FindKeyCandidates(std::span<const Blob> blobs) {
   for (int i = 0; i < static_cast<int>(blobs.size()); ++i) {
     const int label = blobs[i].colour;
-    if (label < 0 || label >= kMaxLabels || !Usable(blobs[i])) continue;
+    if (label < 0 || label >= kMaxLabels || blob_bucket[i] < 0) continue;  // or not Usable
     for (int p : patterns_by_key_label[label]) {
       const PatternRuntime& rt = runtimes[p];
       if (blobs[i].area_mm2 < rt.key_area_min || blobs[i].area_mm2 > rt.key_area_max) {

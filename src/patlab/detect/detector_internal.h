@@ -161,14 +161,13 @@ struct Detector::Impl {
   std::vector<int> neighbour_list_of;
 
   // Per-frame buffers, reused.
-  std::vector<int> blob_bucket;   // per blob: its x bucket, or -1 when not Usable
-  std::vector<int> by_x;          // blob indices, bucketed by x, ascending within a bucket
-  std::vector<int> bucket_start;  // bucket b holds by_x[bucket_start[b] .. bucket_start[b + 1])
-  std::vector<int> bucket_fill;
+  std::vector<int> blob_bucket;  // per blob: its x bucket (buckets one reach wide), -1: not Usable
+  std::vector<int> list_bucket, bucket_fill;  // NeighbourListOf's counting sort
   int num_buckets = 1;
   double bucket_min_x = 0.0, bucket_width_mm = 1.0;
   // Stage 2's search structure for one set of patterns (neighbour_list_of): the blobs passing
-  // their colour and area filters, in by_x order, with their positions side by side. Built on
+  // their colour and area filters, counting-sorted by x bucket (ascending blob index within a
+  // bucket), with their positions side by side. Built on
   // the first key candidate of such a pattern in a frame (frame == frame_number), so a frame pays
   // nothing for patterns without keys.
   struct NeighbourList {
