@@ -59,6 +59,12 @@ void BuildCentredModels(const Pattern& pattern, internal::PatternRuntime* rt) {
       rt->circ_centred[variant][j] = pattern.patches[rt->circ_patch[j]].position_mm - centroid;
       if (j != skip) rt->sq[variant] += rt->circ_centred[variant][j].squaredNorm();
     }
+    const int r = skip < 0 ? rt->mk : rt->mk - 1;
+    for (int k = 0; k < 2 * r; ++k) {
+      const int c = skip < 0 ? k % rt->mk : (skip + 1 + k % r) % rt->mk;
+      rt->ring[variant][k] = c;
+      rt->ring_centred[variant][k] = rt->circ_centred[variant][c];
+    }
   }
 }
 

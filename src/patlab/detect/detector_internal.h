@@ -55,6 +55,13 @@ struct PatternRuntime {
   std::array<Vec2, kMaxPatches + 1> key_centred{};
   std::array<std::array<Vec2, kMaxPatches>, kMaxPatches + 1> circ_centred{};
   std::array<double, kMaxPatches + 1> sq{};
+  // Per variant v of the arrays above (full fit, r = mk; or without circular position k = v - 1,
+  // r = mk - 1): the circular positions in the order the r chosen neighbours meet them, twice
+  // over, so that rotation `shift` matches the i-th neighbour (i, shift < r) with circular
+  // position ring[v][i + shift] = (i + shift) mod mk, or (k + 1 + (i + shift) mod r) mod mk;
+  // and the centred model points in that order (ring_centred[v][i] = circ_centred[v][ring[v][i]]).
+  std::array<std::array<int, 2 * kMaxPatches>, kMaxPatches + 1> ring{};
+  std::array<std::array<Vec2, 2 * kMaxPatches>, kMaxPatches + 1> ring_centred{};
   double e_max_full = 0.0, e_max_missing = 0.0;
   int dof_full = 0, dof_missing = 0;
   bool can_fit_missing = false;

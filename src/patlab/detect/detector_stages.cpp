@@ -58,18 +58,6 @@ inline double FitError(double sq, double sw, double a, double b) {
   return std::max(0.0, sq + sw - 2.0 * std::sqrt(a * a + b * b));
 }
 
-// The model's circular position matched to the i-th chosen neighbour under rotation `shift`;
-// a missing-patch fit (skip >= 0) leaves circular position `skip` out: (i + shift) mod mk, or
-// (skip + 1 + (i + shift) mod r) mod mk. With i, shift < r <= mk and skip < mk every sum is below
-// twice its modulus, so one conditional subtraction is the remainder (no integer division).
-inline int CircularPosition(int i, int shift, int r, int mk, int skip, bool missing) {
-  int c = i + shift;
-  if (missing) {
-    c = (c >= r ? c - r : c) + skip + 1;
-  }
-  return c >= mk ? c - mk : c;
-}
-
 // The next choice of r out of n in lexicographic order; false after the last.
 inline bool NextCombination(int r, int n, std::array<int, kMaxNeighbours>* pick) {
   int i = r - 1;
@@ -93,16 +81,15 @@ inline void CentreChoice(const Vec2& key_mm, const Neighbours& nb, Choice* ch) {
   }
 }
 
-// Stage 4: E of the rigid fit of the choice to model variant vi under rotation `shift`.
-inline double RotationError(const PatternRuntime& rt, const Choice& ch, int vi, int skip, int shift,
-                            bool missing) {
-  const auto& q = rt.circ_centred[vi];
-  const Vec2& qk = rt.key_centred[vi];
-  double a = qk.dot(ch.wk), b = qk.x() * ch.wk.y() - qk.y() * ch.wk.x();
+// Stage 4: E of the rigid fit of the choice to model variant vi under rotation `shift`; a0 and
+// b0 are the key's terms of A and B (KeyTerms), the same for every rotation.
+inline double RotationError(const PatternRuntime& rt, const Choice& ch, int vi, int shift,
+                            double a0, double b0) {
+  const Vec2* q = &rt.ring_centred[vi][shift];
+  double a = a0, b = b0;
   for (int i = 0; i < ch.r; ++i) {
-    const int c = CircularPosition(i, shift, ch.r, rt.mk, skip, missing);
-    a += q[c].dot(ch.w[i]);
-    b += q[c].x() * ch.w[i].y() - q[c].y() * ch.w[i].x();
+    a += q[i].dot(ch.w[i]);
+    b += q[i].x() * ch.w[i].y() - q[i].y() * ch.w[i].x();
   }
   return FitError(rt.sq[vi], ch.sw, a, b);
 }
@@ -127,11 +114,12 @@ inline RotationColours CompleteMissingSlot(const PatternRuntime& rt, int code, i
 // Stage 5 for one rotation that passed geometry: fixed patches must match; ID slots form the
 // code, looked up in the codebook.
 inline RotationColours IdentifyRotation(const PatternRuntime& rt, const Choice& ch,
-                                        const Neighbours& nb, int skip, int shift, bool missing) {
+                                        const Neighbours& nb, int skip, int shift) {
   int code = 0;
   bool code_ok = true;
+  const int* ring = &rt.ring[skip + 1][shift];
   for (int i = 0; i < ch.r; ++i) {
-    const int c = CircularPosition(i, shift, ch.r, rt.mk, skip, missing);
+    const int c = ring[i];
     const int label = nb.label[ch.pick[i]];
     if (rt.fixed_label[c] != kFixedAny) {
       if (label != rt.fixed_label[c]) return {.fixed_ok = false};
@@ -177,19 +165,23 @@ inline SubsetVerdict FitRotations(const PatternRuntime& rt, const Choice& ch, co
                                   DetectStats* stats) {
   SubsetVerdict v;
   const int variants = missing ? rt.mk : 1;
+  long passed = 0;
   for (int variant = 0; variant < variants; ++variant) {
     const int skip = missing ? variant : -1;
+    const Vec2& qk = rt.key_centred[skip + 1];
+    const double a0 = qk.dot(ch.wk), b0 = qk.x() * ch.wk.y() - qk.y() * ch.wk.x();
     for (int shift = 0; shift < ch.r; ++shift) {
-      ++stats->correspondences;
-      const double e = RotationError(rt, ch, skip + 1, skip, shift, missing);
+      const double e = RotationError(rt, ch, skip + 1, shift, a0, b0);
       v.min_e = std::min(v.min_e, e);
       if (e > e_max) continue;
-      ++stats->geometry_passed;
+      ++passed;
       ScopedTime<kTiming> identify_time(identify_ns);
-      const RotationColours colours = IdentifyRotation(rt, ch, nb, skip, shift, missing);
+      const RotationColours colours = IdentifyRotation(rt, ch, nb, skip, shift);
       if (colours.fixed_ok) Record(e, shift, skip, colours, &v);
     }
   }
+  stats->correspondences += static_cast<long>(variants) * ch.r;
+  stats->geometry_passed += passed;
   return v;
 }
 
@@ -216,10 +208,8 @@ inline bool JudgeChoice(const PatternRuntime& rt, int p, int key, const Neighbou
   c->blob.fill(-1);
   c->blob[rt.key_index] = key;
   c->num_blobs = ch.r + 1;
-  for (int i = 0; i < ch.r; ++i) {
-    c->blob[rt.circ_patch[CircularPosition(i, shift, ch.r, rt.mk, skip, missing)]] =
-        nb.blob[ch.pick[i]];
-  }
+  const int* ring = &rt.ring[skip + 1][shift];
+  for (int i = 0; i < ch.r; ++i) c->blob[rt.circ_patch[ring[i]]] = nb.blob[ch.pick[i]];
   return true;
 }
 
