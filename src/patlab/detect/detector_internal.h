@@ -97,8 +97,8 @@ struct Candidate {
 struct Neighbours {
   int n = 0;
   std::array<int, kMaxGathered> blob;  // blob indices
-  std::array<Vec2, kMaxNeighbours> position_mm;
-  std::array<int, kMaxNeighbours> label;
+  std::array<Vec2, kMaxGathered> position_mm;
+  std::array<int, kMaxGathered> label;
 };
 
 // Stage timing. The code paths are templates on kOn, so an untimed Detect contains no clock read
@@ -182,6 +182,7 @@ struct Detector::Impl {
     std::vector<int> start;  // bucket b holds [start[b], start[b + 1])
     std::vector<Vec2> position_mm;
     std::vector<int> blob;
+    std::vector<int> label;
   };
   std::vector<NeighbourList> neighbour_lists;
   long frame_number = 0;

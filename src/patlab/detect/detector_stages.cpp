@@ -235,47 +235,48 @@ struct RadialOrder {
 // branches of a comparison sort). RadialOrder is a strict total order, so these places are a
 // permutation and the result is the sorted order; should they not be (a pseudo-angle ordering a
 // pair against atan2), an insertion sort with the same comparisons decides, as it always did.
-void RadialSort(const Vec2& key_mm, std::span<const Blob> blobs, Neighbours* nb) {
+void RadialSort(const Vec2& key_mm, Neighbours* nb) {
   const int n = nb->n;
   std::array<double, kMaxNeighbours> pseudo;
   std::array<Vec2, kMaxNeighbours> offset;
-  std::array<int, kMaxNeighbours> blob;
   std::array<int, kMaxNeighbours> place{};
   for (int i = 0; i < n; ++i) {
-    blob[i] = nb->blob[i];
-    offset[i] = blobs[blob[i]].position_mm - key_mm;
+    offset[i] = nb->position_mm[i] - key_mm;
     pseudo[i] = internal::PseudoAngle(offset[i]);
   }
   const RadialOrder before{pseudo, offset};
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
-      const bool i_first = before(i, j, blob[i], blob[j]);
+      const bool i_first = before(i, j, nb->blob[i], nb->blob[j]);
       place[j] += static_cast<int>(i_first);
       place[i] += static_cast<int>(!i_first);
     }
   }
   uint32_t seen = 0;
   for (int i = 0; i < n; ++i) seen |= uint32_t{1} << place[i];
-  if (seen == (uint32_t{1} << n) - 1) {
-    for (int i = 0; i < n; ++i) nb->blob[place[i]] = blob[i];
-  } else {
-    std::array<int, kMaxNeighbours> slot;  // slot[i]: the index into pseudo/offset of position i
-    for (int i = 0; i < n; ++i) slot[i] = i;
+  if (seen != (uint32_t{1} << n) - 1) {  // not a permutation: insertion sort
+    for (int i = 0; i < n; ++i) place[i] = i;
     for (int i = 1; i < n; ++i) {
-      const int s = slot[i];
-      const int b = nb->blob[i];
+      const int s = place[i];
       int j = i - 1;
-      for (; j >= 0 && before(s, slot[j], b, nb->blob[j]); --j) {
-        slot[j + 1] = slot[j];
-        nb->blob[j + 1] = nb->blob[j];
+      for (; j >= 0 && before(s, place[j], nb->blob[s], nb->blob[place[j]]); --j) {
+        place[j + 1] = place[j];
       }
-      slot[j + 1] = s;
-      nb->blob[j + 1] = b;
+      place[j + 1] = s;
     }
+    std::array<int, kMaxNeighbours> at;  // place[position] holds the index; invert it
+    for (int i = 0; i < n; ++i) at[place[i]] = i;
+    place = at;
   }
+  std::array<int, kMaxNeighbours> blob, label;
+  std::copy_n(nb->blob.begin(), n, blob.begin());
+  std::copy_n(nb->label.begin(), n, label.begin());
+  std::array<Vec2, kMaxNeighbours> position;
+  std::copy_n(nb->position_mm.begin(), n, position.begin());
   for (int i = 0; i < n; ++i) {
-    nb->position_mm[i] = blobs[nb->blob[i]].position_mm;
-    nb->label[i] = blobs[nb->blob[i]].colour;
+    nb->blob[place[i]] = blob[i];
+    nb->position_mm[place[i]] = position[i];
+    nb->label[place[i]] = label[i];
   }
 }
 
@@ -294,9 +295,12 @@ void KeepNearestToRing(const PatternRuntime& rt, int max_nb,
       order.begin(), order.begin() + max_nb, order.begin() + nb->n, [&](int a, int b) {
         return std::tie(ring_dev[a], nb->blob[a]) < std::tie(ring_dev[b], nb->blob[b]);
       });
-  std::array<int, kMaxGathered> kept;
-  for (int i = 0; i < max_nb; ++i) kept[i] = nb->blob[order[i]];
-  std::copy(kept.begin(), kept.begin() + max_nb, nb->blob.begin());
+  const Neighbours all = *nb;
+  for (int i = 0; i < max_nb; ++i) {
+    nb->blob[i] = all.blob[order[i]];
+    nb->position_mm[i] = all.position_mm[order[i]];
+    nb->label[i] = all.label[order[i]];
+  }
   nb->n = max_nb;
 }
 
@@ -315,6 +319,7 @@ const Detector::Impl::NeighbourList& Detector::Impl::NeighbourListOf(int p,
   list.start.assign(num_buckets + 1, 0);
   list.position_mm.resize(blobs.size());
   list.blob.resize(blobs.size());
+  list.label.resize(blobs.size());
   list_bucket.resize(blobs.size());
   for (int i = 0; i < n; ++i) {
     const Blob& blob = blobs[i];
@@ -334,6 +339,7 @@ const Detector::Impl::NeighbourList& Detector::Impl::NeighbourListOf(int p,
     const int slot = bucket_fill[bucket]++;
     list.position_mm[slot] = blobs[i].position_mm;
     list.blob[slot] = i;
+    list.label[slot] = blobs[i].colour;
   }
   return list;
 }
@@ -362,6 +368,8 @@ void Detector::Impl::FindNeighbours(int p, int key, std::span<const Blob> blobs,
       continue;
     }
     d2s[nb->n] = d2;
+    nb->position_mm[nb->n] = list.position_mm[t];
+    nb->label[nb->n] = list.label[t];
     nb->blob[nb->n++] = j;
   }
   stats.neighbours += nb->n;
@@ -424,7 +432,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   }
 
   const Vec2 key_mm = blobs[key].position_mm;
-  RadialSort(key_mm, blobs, &nb);
+  RadialSort(key_mm, &nb);
   stage_ns[internal::kRadialSort] += clock.Lap();
 
   Candidate best;
