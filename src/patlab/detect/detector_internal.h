@@ -94,11 +94,12 @@ struct Candidate {
 };
 
 // Stages 2-3 around one key: the neighbours kept, in angular order once stage 3 ran.
+// Stage 2 writes one slot past the last neighbour it keeps.
 struct Neighbours {
   int n = 0;
-  std::array<int, kMaxGathered> blob;  // blob indices
-  std::array<Vec2, kMaxGathered> position_mm;
-  std::array<int, kMaxGathered> label;
+  std::array<int, kMaxGathered + 1> blob;  // blob indices
+  std::array<Vec2, kMaxGathered + 1> position_mm;
+  std::array<int, kMaxGathered + 1> label;
 };
 
 // Stage timing. The code paths are templates on kOn, so an untimed Detect contains no clock read
@@ -179,7 +180,7 @@ struct Detector::Impl {
   // nothing for patterns without keys.
   struct NeighbourList {
     long frame = -1;
-    std::vector<int> start;  // bucket b holds [start[b], start[b + 1])
+    std::vector<int> start;  // bucket b holds [start[b + 1], start[b + 2]); see NeighbourListOf
     std::vector<Vec2> position_mm;
     std::vector<int> blob;
     std::vector<int> label;

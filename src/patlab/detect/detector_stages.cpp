@@ -283,7 +283,7 @@ void RadialSort(const Vec2& key_mm, Neighbours* nb) {
 // Stage 2's cut: keeps the max_nb neighbours closest to the model's ring (distance outside the
 // ring, from the squared distances d2 to the key), ties by blob index.
 void KeepNearestToRing(const PatternRuntime& rt, int max_nb,
-                       const std::array<double, kMaxGathered>& d2, Neighbours* nb) {
+                       const std::array<double, kMaxGathered + 1>& d2, Neighbours* nb) {
   std::array<double, kMaxGathered> ring_dev;
   for (int i = 0; i < nb->n; ++i) {
     const double d = std::sqrt(d2[i]);
@@ -316,27 +316,27 @@ const Detector::Impl::NeighbourList& Detector::Impl::NeighbourListOf(int p,
   list.frame = frame_number;
   const PatternRuntime& rt = runtimes[p];
   const int n = static_cast<int>(blobs.size());
-  list.start.assign(num_buckets + 1, 0);
+  // A counting sort of every blob by group: group 0 holds the blobs left out (filters failed, or
+  // not Usable), group 1 + b bucket b. Every blob is written somewhere, so neither loop branches
+  // on the blob.
+  list.start.assign(num_buckets + 2, 0);
   list.position_mm.resize(blobs.size());
   list.blob.resize(blobs.size());
   list.label.resize(blobs.size());
   list_bucket.resize(blobs.size());
   for (int i = 0; i < n; ++i) {
     const Blob& blob = blobs[i];
-    const bool colour_ok = blob.colour >= 0 && blob.colour < kMaxLabels &&
-                           ((rt.neighbour_mask >> blob.colour) & 1) != 0;
-    const bool area_ok = blob.area_mm2 >= rt.nb_area_min && blob.area_mm2 <= rt.nb_area_max;
-    const int bucket = colour_ok && area_ok ? blob_bucket[i] : -1;  // -1 too when not Usable
-    list_bucket[i] = bucket;
-    ++list.start[bucket + 1];  // start[0] counts the blobs left out, and is reset below
+    const bool colour_ok = (static_cast<unsigned>(blob.colour) < unsigned{kMaxLabels}) &
+                           (((rt.neighbour_mask >> (blob.colour & (kMaxLabels - 1))) & 1) != 0);
+    const bool area_ok = (blob.area_mm2 >= rt.nb_area_min) & (blob.area_mm2 <= rt.nb_area_max);
+    const int group = colour_ok & area_ok ? blob_bucket[i] + 1 : 0;  // 0 too when not Usable
+    list_bucket[i] = group;
+    ++list.start[group + 1];
   }
-  list.start[0] = 0;
-  for (int b = 0; b < num_buckets; ++b) list.start[b + 1] += list.start[b];
+  for (int g = 0; g <= num_buckets; ++g) list.start[g + 1] += list.start[g];
   bucket_fill.assign(list.start.begin(), list.start.end() - 1);
   for (int i = 0; i < n; ++i) {
-    const int bucket = list_bucket[i];
-    if (bucket < 0) continue;
-    const int slot = bucket_fill[bucket]++;
+    const int slot = bucket_fill[list_bucket[i]]++;
     list.position_mm[slot] = blobs[i].position_mm;
     list.blob[slot] = i;
     list.label[slot] = blobs[i].colour;
@@ -350,28 +350,31 @@ void Detector::Impl::FindNeighbours(int p, int key, std::span<const Blob> blobs,
   const PatternRuntime& rt = runtimes[p];
   const NeighbourList& list = NeighbourListOf(p, blobs);
   const Vec2 k = blobs[key].position_mm;
-  std::array<double, kMaxGathered> d2s;
-  nb->n = 0;
+  std::array<double, kMaxGathered + 1> d2s;
   auto bucket_of = [&](double x) {
     return std::clamp(static_cast<int>(std::floor((x - bucket_min_x) / bucket_width_mm)), 0,
                       num_buckets - 1);
   };
   const int first = bucket_of(k.x() - rt.reach_max_mm), last = bucket_of(k.x() + rt.reach_max_mm);
-  const int end = list.start[last + 1];
-  for (int t = list.start[first]; t < end; ++t) {
+  // Branch-free: every blob scanned is written at nb->n, which advances when it is within reach
+  // and room is left (the arrays have one spare slot).
+  const int end = list.start[last + 2];
+  int count = 0;
+  long cut = 0;
+  for (int t = list.start[first + 1]; t < end; ++t) {
     const double d2 = (list.position_mm[t] - k).squaredNorm();
-    if (d2 < rt.reach_min2 || d2 > rt.reach_max2) continue;
     const int j = list.blob[t];
-    if (j == key) continue;
-    if (nb->n == kMaxGathered) {
-      ++stats.neighbours_cut;
-      continue;
-    }
-    d2s[nb->n] = d2;
-    nb->position_mm[nb->n] = list.position_mm[t];
-    nb->label[nb->n] = list.label[t];
-    nb->blob[nb->n++] = j;
+    const bool within = (d2 >= rt.reach_min2) & (d2 <= rt.reach_max2) & (j != key);
+    d2s[count] = d2;
+    nb->position_mm[count] = list.position_mm[t];
+    nb->label[count] = list.label[t];
+    nb->blob[count] = j;
+    const bool room = count < kMaxGathered;
+    cut += static_cast<long>(within & !room);
+    count += static_cast<int>(within & room);
   }
+  nb->n = count;
+  stats.neighbours_cut += cut;
   stats.neighbours += nb->n;
   const int max_nb = config.options.max_neighbours;
   if (nb->n > max_nb) {
