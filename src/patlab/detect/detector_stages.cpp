@@ -2,6 +2,7 @@
 // rotations, identify, and the missing-patch refit. This is the hot path: everything here works
 // on fixed-size arrays on the stack and allocates nothing.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -170,14 +171,21 @@ inline SubsetVerdict FitRotations(const PatternRuntime& rt, const Choice& ch, co
     const int skip = missing ? variant : -1;
     const Vec2& qk = rt.key_centred[skip + 1];
     const double a0 = qk.dot(ch.wk), b0 = qk.x() * ch.wk.y() - qk.y() * ch.wk.x();
+    // Every rotation's E first, then stage 5 on those passing in shift order: the branch is on
+    // whether any passed, not on which.
+    std::array<double, kMaxPatches> e;
+    uint32_t pass = 0;
     for (int shift = 0; shift < ch.r; ++shift) {
-      const double e = RotationError(rt, ch, skip + 1, shift, a0, b0);
-      v.min_e = std::min(v.min_e, e);
-      if (e > e_max) continue;
+      e[shift] = RotationError(rt, ch, skip + 1, shift, a0, b0);
+      v.min_e = std::min(v.min_e, e[shift]);
+      pass |= static_cast<uint32_t>(!(e[shift] > e_max)) << shift;
+    }
+    for (; pass != 0; pass &= pass - 1) {
+      const int shift = std::countr_zero(pass);
       ++passed;
       ScopedTime<kTiming> identify_time(identify_ns);
       const RotationColours colours = IdentifyRotation(rt, ch, nb, skip, shift);
-      if (colours.fixed_ok) Record(e, shift, skip, colours, &v);
+      if (colours.fixed_ok) Record(e[shift], shift, skip, colours, &v);
     }
   }
   stats->correspondences += static_cast<long>(variants) * ch.r;
