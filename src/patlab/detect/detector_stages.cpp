@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <tuple>
 
@@ -276,11 +277,12 @@ void RadialSort(const Vec2& key_mm, Neighbours* nb) {
     for (int i = 0; i < n; ++i) at[place[i]] = i;
     place = at;
   }
+  // Fixed-size copies (a few vector moves; a copy of n elements became a slow `rep movs`).
   std::array<int, kMaxNeighbours> blob, label;
-  std::copy_n(nb->blob.begin(), n, blob.begin());
-  std::copy_n(nb->label.begin(), n, label.begin());
   std::array<Vec2, kMaxNeighbours> position;
-  std::copy_n(nb->position_mm.begin(), n, position.begin());
+  std::memcpy(blob.data(), nb->blob.data(), sizeof(blob));
+  std::memcpy(label.data(), nb->label.data(), sizeof(label));
+  std::memcpy(static_cast<void*>(position.data()), nb->position_mm.data(), sizeof(position));
   for (int i = 0; i < n; ++i) {
     nb->blob[place[i]] = blob[i];
     nb->position_mm[place[i]] = position[i];
