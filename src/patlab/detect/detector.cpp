@@ -159,7 +159,15 @@ void Detector::Impl::BucketBlobs(std::span<const Blob> blobs) {
   const double range = min_x <= max_x ? max_x - min_x : 0.0;
   bucket_width_mm = std::max(max_reach_mm, range / (kMaxBuckets - 1));
   num_buckets = static_cast<int>(range / bucket_width_mm) + 1;
+  // Also the Usable blobs of a key colour, in index order (compacted without a branch on them).
+  key_blobs.resize(blobs.size());
+  num_key_blobs = 0;
   for (int i = 0; i < n; ++i) {
+    const int label = blobs[i].colour;
+    const bool key_colour = (static_cast<unsigned>(label) < unsigned{kMaxLabels}) &
+                            (((key_label_mask >> (label & (kMaxLabels - 1))) & 1) != 0);
+    key_blobs[num_key_blobs] = i;
+    num_key_blobs += static_cast<int>(key_colour & (blob_bucket[i] >= 0));
     if (blob_bucket[i] < 0) continue;
     blob_bucket[i] =
         std::min(num_buckets - 1,
@@ -170,9 +178,9 @@ void Detector::Impl::BucketBlobs(std::span<const Blob> blobs) {
 // Stage 1: every (key blob, pattern) pair whose colour and area fit; stages 2-6 for each.
 template <bool kTiming>
 void Detector::Impl::FindKeyCandidates(std::span<const Blob> blobs) {
-  for (int i = 0; i < static_cast<int>(blobs.size()); ++i) {
+  for (int k = 0; k < num_key_blobs; ++k) {
+    const int i = key_blobs[k];
     const int label = blobs[i].colour;
-    if (label < 0 || label >= kMaxLabels || blob_bucket[i] < 0) continue;  // or not Usable
     for (int p : patterns_by_key_label[label]) {
       const PatternRuntime& rt = runtimes[p];
       if (blobs[i].area_mm2 < rt.key_area_min || blobs[i].area_mm2 > rt.key_area_max) {
@@ -284,7 +292,7 @@ void Detector::Impl::DetectFrame(std::span<const Blob> blobs, std::vector<Detect
   const long keys_ns = clock.Lap();
   ResolveConflicts<kTiming>(blobs, detections);
   const long conflicts_ns = clock.Lap();
-  std::sort(detections->begin(), detections->end(), OutputBefore);
+  SortDetections(detections);
   stats.detections = static_cast<long>(detections->size());
   if constexpr (kTiming) {
     using namespace internal;
@@ -294,6 +302,20 @@ void Detector::Impl::DetectFrame(std::span<const Blob> blobs, std::vector<Detect
     stage_ns[kConflicts] = conflicts_ns - stage_ns[kPose];
     stage_ns[kPose] += clock.Lap();
   }
+}
+
+// Stage 8's output order. std::sort of indices makes the same comparisons and the same moves as
+// std::sort of the detections themselves, so the order (of equal keys too) is the one that
+// sorting the detections gives, without moving them around.
+void Detector::Impl::SortDetections(std::vector<Detection>* detections) {
+  const int n = static_cast<int>(detections->size());
+  detection_order.resize(detections->size());
+  for (int i = 0; i < n; ++i) detection_order[i] = i;
+  const std::vector<Detection>& d = *detections;
+  std::sort(detection_order.begin(), detection_order.end(),
+            [&d](int a, int b) { return OutputBefore(d[a], d[b]); });
+  unsorted_detections.assign(detections->begin(), detections->end());
+  for (int i = 0; i < n; ++i) (*detections)[i] = unsorted_detections[detection_order[i]];
 }
 
 // Explain: each kept candidate's record gets the index of its detection in the output order.

@@ -138,6 +138,7 @@ Detector::Impl::PatternRuntime Detector::Impl::BuildRuntime(int p) {
     const int label = LabelOf(name);
     if (label < 0) throw InputError(where + "key colour \"" + name + "\" is not in the palette");
     patterns_by_key_label[label].push_back(p);
+    key_label_mask |= uint64_t{1} << label;
   }
   const Symmetry symmetry = FindSymmetry(pattern, dp.symmetry_tolerance_mm);
   for (int j = 0; j < rt.mk; ++j) rt.circ_patch[j] = symmetry.circular_order[j];

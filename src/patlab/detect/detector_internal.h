@@ -163,6 +163,7 @@ struct Detector::Impl {
   std::vector<PatternRuntime> runtimes;
   std::array<std::vector<int>, internal::kMaxLabels> patterns_by_key_label;
   double max_reach_mm = 0.0;
+  uint64_t key_label_mask = 0;  // the labels with a pattern in patterns_by_key_label
 
   // Patterns whose stage-2 filters (neighbour colours, neighbour area range) are those of an
   // earlier pattern share that pattern's NeighbourList: neighbour_list_of[p] indexes
@@ -172,6 +173,10 @@ struct Detector::Impl {
   // Per-frame buffers, reused.
   std::vector<int> blob_bucket;  // per blob: its x bucket (buckets one reach wide), -1: not Usable
   std::vector<int> list_bucket, bucket_fill;  // NeighbourListOf's counting sort
+  std::vector<int> key_blobs;  // [0, num_key_blobs): Usable blobs of a key colour, index order
+  int num_key_blobs = 0;
+  std::vector<int> detection_order;  // SortDetections
+  std::vector<Detection> unsorted_detections;
   int num_buckets = 1;
   double bucket_min_x = 0.0, bucket_width_mm = 1.0;
   // Stage 2's search structure for one set of patterns (neighbour_list_of): the blobs passing
@@ -221,6 +226,7 @@ struct Detector::Impl {
                         std::vector<Detection>* detections);  // stage 7
   void EstimatePose(const Candidate& c, std::span<const Blob> blobs,
                     Detection* d) const;                            // stage 8
+  void SortDetections(std::vector<Detection>* detections);          // stage 8's output order
   void LinkExplanations(const std::vector<Detection>& detections);  // explain: detection index
   // explain: the record of key `key` of pattern p after stages 2-6.
   void ExplainKey(int p, int key, const Neighbours& nb, const DetectStats& before, bool found);
