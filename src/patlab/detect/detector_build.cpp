@@ -39,9 +39,11 @@ Pattern WithoutPatch(const Pattern& pattern, int missing) {
   return reduced;
 }
 
+}  // namespace
+
 // Model positions centred on the centroid of the patches fitted: variant 0 is the full fit,
 // variant 1 + k the fit without circular position k.
-void BuildCentredModels(const Pattern& pattern, internal::PatternRuntime* rt) {
+void internal::BuildCentredModels(const Pattern& pattern, PatternRuntime* rt) {
   const Vec2 key = pattern.patches[rt->key_index].position_mm;
   for (int variant = 0; variant <= rt->mk; ++variant) {
     const int skip = variant - 1;  // circular position left out, or -1
@@ -67,8 +69,6 @@ void BuildCentredModels(const Pattern& pattern, internal::PatternRuntime* rt) {
     }
   }
 }
-
-}  // namespace
 
 int Detector::Impl::LabelOf(const std::string& name) const {
   const auto& palette = config.palette;
@@ -144,7 +144,7 @@ Detector::Impl::PatternRuntime Detector::Impl::BuildRuntime(int p) {
   for (int j = 0; j < rt.mk; ++j) rt.circ_patch[j] = symmetry.circular_order[j];
   BuildCodebook(dp, where, &rt);
   BuildCircularColours(pattern, where, &rt);
-  BuildCentredModels(pattern, &rt);
+  internal::BuildCentredModels(pattern, &rt);
   BuildTolerancesAndReach(pattern, &rt);
   rt.model = estimate::Model::FromPattern(pattern);
   if (rt.can_fit_missing) {

@@ -103,6 +103,14 @@ struct Neighbours {
   std::array<int, kMaxGathered + 1> label;
 };
 
+// detector_build.cpp: rt's key_centred, circ_centred, sq, ring and ring_centred, from the
+// pattern and rt's key_index, mk and circ_patch.
+void BuildCentredModels(const Pattern& pattern, PatternRuntime* rt);
+
+// Stage 3 (detector_stages.cpp): nb's first n neighbours (blob, position, label) reordered by
+// the angle of position - key_mm, atan2's order over (-pi, pi], ties by blob index.
+void RadialSort(const Vec2& key_mm, Neighbours* nb);
+
 // Stage timing. The code paths are templates on kOn, so an untimed Detect contains no clock read
 // and no timing branch in its inner loops.
 using Clock = std::chrono::steady_clock;

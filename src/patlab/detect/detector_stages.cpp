@@ -239,12 +239,38 @@ struct RadialOrder {
   }
 };
 
+// Stage 2's cut: keeps the max_nb neighbours closest to the model's ring (distance outside the
+// ring, from the squared distances d2 to the key), ties by blob index.
+void KeepNearestToRing(const PatternRuntime& rt, int max_nb,
+                       const std::array<double, kMaxGathered + 1>& d2, Neighbours* nb) {
+  std::array<double, kMaxGathered> ring_dev;
+  for (int i = 0; i < nb->n; ++i) {
+    const double d = std::sqrt(d2[i]);
+    ring_dev[i] = d < rt.ring_min_mm ? rt.ring_min_mm - d : std::max(0.0, d - rt.ring_max_mm);
+  }
+  std::array<int, kMaxGathered> order;
+  for (int i = 0; i < nb->n; ++i) order[i] = i;
+  std::partial_sort(
+      order.begin(), order.begin() + max_nb, order.begin() + nb->n, [&](int a, int b) {
+        return std::tie(ring_dev[a], nb->blob[a]) < std::tie(ring_dev[b], nb->blob[b]);
+      });
+  const Neighbours all = *nb;
+  for (int i = 0; i < max_nb; ++i) {
+    nb->blob[i] = all.blob[order[i]];
+    nb->position_mm[i] = all.position_mm[order[i]];
+    nb->label[i] = all.label[order[i]];
+  }
+  nb->n = max_nb;
+}
+
+}  // namespace
+
 // Stage 3: the neighbours by angle about the key, ties by blob index. Each neighbour's place is
 // the number of neighbours before it (n <= 16: at most 120 comparisons, without the mispredicted
 // branches of a comparison sort). RadialOrder is a strict total order, so these places are a
 // permutation and the result is the sorted order; should they not be (a pseudo-angle ordering a
 // pair against atan2), an insertion sort with the same comparisons decides, as it always did.
-void RadialSort(const Vec2& key_mm, Neighbours* nb) {
+void internal::RadialSort(const Vec2& key_mm, Neighbours* nb) {
   const int n = nb->n;
   std::array<double, kMaxNeighbours> pseudo;
   std::array<Vec2, kMaxNeighbours> offset;
@@ -289,32 +315,6 @@ void RadialSort(const Vec2& key_mm, Neighbours* nb) {
     nb->label[place[i]] = label[i];
   }
 }
-
-// Stage 2's cut: keeps the max_nb neighbours closest to the model's ring (distance outside the
-// ring, from the squared distances d2 to the key), ties by blob index.
-void KeepNearestToRing(const PatternRuntime& rt, int max_nb,
-                       const std::array<double, kMaxGathered + 1>& d2, Neighbours* nb) {
-  std::array<double, kMaxGathered> ring_dev;
-  for (int i = 0; i < nb->n; ++i) {
-    const double d = std::sqrt(d2[i]);
-    ring_dev[i] = d < rt.ring_min_mm ? rt.ring_min_mm - d : std::max(0.0, d - rt.ring_max_mm);
-  }
-  std::array<int, kMaxGathered> order;
-  for (int i = 0; i < nb->n; ++i) order[i] = i;
-  std::partial_sort(
-      order.begin(), order.begin() + max_nb, order.begin() + nb->n, [&](int a, int b) {
-        return std::tie(ring_dev[a], nb->blob[a]) < std::tie(ring_dev[b], nb->blob[b]);
-      });
-  const Neighbours all = *nb;
-  for (int i = 0; i < max_nb; ++i) {
-    nb->blob[i] = all.blob[order[i]];
-    nb->position_mm[i] = all.position_mm[order[i]];
-    nb->label[i] = all.label[order[i]];
-  }
-  nb->n = max_nb;
-}
-
-}  // namespace
 
 // Stage 2's search structure of pattern p in this frame, built on first use: the blobs passing
 // p's neighbour colour and area filters, counting-sorted by x bucket (ascending blob index within
@@ -445,7 +445,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   }
 
   const Vec2 key_mm = blobs[key].position_mm;
-  RadialSort(key_mm, &nb);
+  internal::RadialSort(key_mm, &nb);
   stage_ns[internal::kRadialSort] += clock.Lap();
 
   Candidate best;
