@@ -339,7 +339,7 @@ const Detector::Impl::NeighbourList& Detector::Impl::NeighbourListOf(int p,
     const bool colour_ok = (static_cast<unsigned>(blob.colour) < unsigned{kMaxLabels}) &
                            (((rt.neighbour_mask >> (blob.colour & (kMaxLabels - 1))) & 1) != 0);
     const bool area_ok = (blob.area_mm2 >= rt.nb_area_min) & (blob.area_mm2 <= rt.nb_area_max);
-    const int group = colour_ok & area_ok ? blob_bucket[i] + 1 : 0;  // 0 too when not Usable
+    const int group = (colour_ok & area_ok) ? blob_bucket[i] + 1 : 0;  // 0 too when not Usable
     list_bucket[i] = group;
     ++list.start[group + 1];
   }
