@@ -84,7 +84,7 @@ inline void CentreChoice(const Vec2& key_mm, const Neighbours& nb, Choice* ch) {
 }
 
 // Stage 4: E of the rigid fit of the choice to model variant vi under rotation `shift`; a0 and
-// b0 are the key's terms of A and B (KeyTerms), the same for every rotation.
+// b0 are the key's terms of A and B, the same for every rotation (FitRotations).
 inline double RotationError(const PatternRuntime& rt, const Choice& ch, int vi, int shift,
                             double a0, double b0) {
   const Vec2* q = &rt.ring_centred[vi][shift];
