@@ -140,12 +140,17 @@ bool OutputBefore(const Detection& a, const Detection& b) {
 
 }  // namespace
 
-// Stage 1, first part: blobs bucketed by x (counting sort; buckets one reach wide) for the
-// neighbour search of stage 2. Unusable blobs (non-finite, absurdly far) are left out.
+// Stage 1, first part: each blob's x bucket (buckets one reach wide) for the neighbour search of
+// stage 2 (NeighbourListOf sorts by it). Unusable blobs (non-finite, absurdly far) get -1.
 void Detector::Impl::BucketBlobs(std::span<const Blob> blobs) {
+  const int n = static_cast<int>(blobs.size());
+  blob_bucket.resize(blobs.size());
   double min_x = 1e300, max_x = -1e300;
-  for (const Blob& b : blobs) {
-    if (!Usable(b)) continue;
+  for (int i = 0; i < n; ++i) {
+    const Blob& b = blobs[i];
+    const bool usable = Usable(b);
+    blob_bucket[i] = usable ? 0 : -1;
+    if (!usable) continue;
     min_x = std::min(min_x, b.position_mm.x());
     max_x = std::max(max_x, b.position_mm.x());
   }
@@ -153,31 +158,29 @@ void Detector::Impl::BucketBlobs(std::span<const Blob> blobs) {
   bucket_min_x = min_x <= max_x ? min_x : 0.0;
   const double range = min_x <= max_x ? max_x - min_x : 0.0;
   bucket_width_mm = std::max(max_reach_mm, range / (kMaxBuckets - 1));
-  const int num_buckets = static_cast<int>(range / bucket_width_mm) + 1;
-  bucket_start.assign(num_buckets + 1, 0);
-  by_x.resize(blobs.size());
-  auto bucket_of = [&](const Blob& b) {
-    return std::min(num_buckets - 1,
-                    static_cast<int>((b.position_mm.x() - bucket_min_x) / bucket_width_mm));
-  };
-  for (const Blob& b : blobs) {
-    if (Usable(b)) ++bucket_start[bucket_of(b) + 1];
-  }
-  for (int b = 0; b < num_buckets; ++b) bucket_start[b + 1] += bucket_start[b];
-  bucket_fill.assign(num_buckets, 0);
-  for (int i = 0; i < static_cast<int>(blobs.size()); ++i) {
-    if (!Usable(blobs[i])) continue;
-    const int b = bucket_of(blobs[i]);
-    by_x[bucket_start[b] + bucket_fill[b]++] = i;
+  num_buckets = static_cast<int>(range / bucket_width_mm) + 1;
+  // Also the Usable blobs of a key colour, in index order (compacted without a branch on them).
+  key_blobs.resize(blobs.size());
+  num_key_blobs = 0;
+  for (int i = 0; i < n; ++i) {
+    const int label = blobs[i].colour;
+    const bool key_colour = (static_cast<unsigned>(label) < unsigned{kMaxLabels}) &
+                            (((key_label_mask >> (label & (kMaxLabels - 1))) & 1) != 0);
+    key_blobs[num_key_blobs] = i;
+    num_key_blobs += static_cast<int>(key_colour & (blob_bucket[i] >= 0));
+    if (blob_bucket[i] < 0) continue;
+    blob_bucket[i] =
+        std::min(num_buckets - 1,
+                 static_cast<int>((blobs[i].position_mm.x() - bucket_min_x) / bucket_width_mm));
   }
 }
 
 // Stage 1: every (key blob, pattern) pair whose colour and area fit; stages 2-6 for each.
 template <bool kTiming>
 void Detector::Impl::FindKeyCandidates(std::span<const Blob> blobs) {
-  for (int i = 0; i < static_cast<int>(blobs.size()); ++i) {
+  for (int k = 0; k < num_key_blobs; ++k) {
+    const int i = key_blobs[k];
     const int label = blobs[i].colour;
-    if (label < 0 || label >= kMaxLabels || !Usable(blobs[i])) continue;
     for (int p : patterns_by_key_label[label]) {
       const PatternRuntime& rt = runtimes[p];
       if (blobs[i].area_mm2 < rt.key_area_min || blobs[i].area_mm2 > rt.key_area_max) {
@@ -281,6 +284,7 @@ void Detector::Impl::DetectFrame(std::span<const Blob> blobs, std::vector<Detect
   StageClock<kTiming> clock;
   stage_ns.fill(0);
   stats = DetectStats{};
+  ++frame_number;  // every NeighbourList is stale
   candidates.clear();
   detections->clear();
   BucketBlobs(blobs);
@@ -288,7 +292,7 @@ void Detector::Impl::DetectFrame(std::span<const Blob> blobs, std::vector<Detect
   const long keys_ns = clock.Lap();
   ResolveConflicts<kTiming>(blobs, detections);
   const long conflicts_ns = clock.Lap();
-  std::sort(detections->begin(), detections->end(), OutputBefore);
+  SortDetections(detections);
   stats.detections = static_cast<long>(detections->size());
   if constexpr (kTiming) {
     using namespace internal;
@@ -298,6 +302,20 @@ void Detector::Impl::DetectFrame(std::span<const Blob> blobs, std::vector<Detect
     stage_ns[kConflicts] = conflicts_ns - stage_ns[kPose];
     stage_ns[kPose] += clock.Lap();
   }
+}
+
+// Stage 8's output order. std::sort of indices makes the same comparisons and the same moves as
+// std::sort of the detections themselves, so the order (of equal keys too) is the one that
+// sorting the detections gives, without moving them around.
+void Detector::Impl::SortDetections(std::vector<Detection>* detections) {
+  const int n = static_cast<int>(detections->size());
+  detection_order.resize(detections->size());
+  for (int i = 0; i < n; ++i) detection_order[i] = i;
+  const std::vector<Detection>& d = *detections;
+  std::sort(detection_order.begin(), detection_order.end(),
+            [&d](int a, int b) { return OutputBefore(d[a], d[b]); });
+  unsorted_detections.assign(detections->begin(), detections->end());
+  for (int i = 0; i < n; ++i) (*detections)[i] = unsorted_detections[detection_order[i]];
 }
 
 // Explain: each kept candidate's record gets the index of its detection in the output order.

@@ -39,9 +39,11 @@ Pattern WithoutPatch(const Pattern& pattern, int missing) {
   return reduced;
 }
 
+}  // namespace
+
 // Model positions centred on the centroid of the patches fitted: variant 0 is the full fit,
 // variant 1 + k the fit without circular position k.
-void BuildCentredModels(const Pattern& pattern, internal::PatternRuntime* rt) {
+void internal::BuildCentredModels(const Pattern& pattern, PatternRuntime* rt) {
   const Vec2 key = pattern.patches[rt->key_index].position_mm;
   for (int variant = 0; variant <= rt->mk; ++variant) {
     const int skip = variant - 1;  // circular position left out, or -1
@@ -59,10 +61,14 @@ void BuildCentredModels(const Pattern& pattern, internal::PatternRuntime* rt) {
       rt->circ_centred[variant][j] = pattern.patches[rt->circ_patch[j]].position_mm - centroid;
       if (j != skip) rt->sq[variant] += rt->circ_centred[variant][j].squaredNorm();
     }
+    const int r = skip < 0 ? rt->mk : rt->mk - 1;
+    for (int k = 0; k < 2 * r; ++k) {
+      const int c = skip < 0 ? k % rt->mk : (skip + 1 + k % r) % rt->mk;
+      rt->ring[variant][k] = c;
+      rt->ring_centred[variant][k] = rt->circ_centred[variant][c];
+    }
   }
 }
-
-}  // namespace
 
 int Detector::Impl::LabelOf(const std::string& name) const {
   const auto& palette = config.palette;
@@ -95,6 +101,21 @@ void Detector::Impl::Build() {
   for (int p = 0; p < static_cast<int>(config.patterns.size()); ++p) {
     runtimes.push_back(BuildRuntime(p));
   }
+  // Stage 2's lists: one per distinct (neighbour colours, neighbour area range).
+  for (int p = 0; p < static_cast<int>(runtimes.size()); ++p) {
+    const PatternRuntime& rt = runtimes[p];
+    int list = static_cast<int>(neighbour_lists.size());
+    for (int q = 0; q < p; ++q) {
+      const PatternRuntime& earlier = runtimes[q];
+      if (earlier.neighbour_mask == rt.neighbour_mask && earlier.nb_area_min == rt.nb_area_min &&
+          earlier.nb_area_max == rt.nb_area_max) {
+        list = neighbour_list_of[q];
+        break;
+      }
+    }
+    if (list == static_cast<int>(neighbour_lists.size())) neighbour_lists.emplace_back();
+    neighbour_list_of.push_back(list);
+  }
 }
 
 Detector::Impl::PatternRuntime Detector::Impl::BuildRuntime(int p) {
@@ -117,12 +138,13 @@ Detector::Impl::PatternRuntime Detector::Impl::BuildRuntime(int p) {
     const int label = LabelOf(name);
     if (label < 0) throw InputError(where + "key colour \"" + name + "\" is not in the palette");
     patterns_by_key_label[label].push_back(p);
+    key_label_mask |= uint64_t{1} << label;
   }
   const Symmetry symmetry = FindSymmetry(pattern, dp.symmetry_tolerance_mm);
   for (int j = 0; j < rt.mk; ++j) rt.circ_patch[j] = symmetry.circular_order[j];
   BuildCodebook(dp, where, &rt);
   BuildCircularColours(pattern, where, &rt);
-  BuildCentredModels(pattern, &rt);
+  internal::BuildCentredModels(pattern, &rt);
   BuildTolerancesAndReach(pattern, &rt);
   rt.model = estimate::Model::FromPattern(pattern);
   if (rt.can_fit_missing) {

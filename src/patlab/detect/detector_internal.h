@@ -23,12 +23,13 @@ constexpr int kFixedAny = -2;       // circular position holds an ID slot, not a
 // A pseudo-angle of d in [-2, 2], strictly increasing with atan2(d.y, d.x) over (-pi, pi] and
 // with the same cut (y = -0 with x < 0 is -pi, -2 here): y / (|x| + |y|) on the right half, 2 or
 // -2 minus it on the left. Stage 3 sorts by it with a division instead of atan2 (~20% of a
-// frame's detection time before), and falls back to atan2 for near-ties. NaN for d = 0.
+// frame's detection time before), and falls back to atan2 for near-ties. NaN for d = 0. Both
+// halves are computed and one selected: a branch on the side of x is mispredicted half the time.
 inline double PseudoAngle(const Vec2& d) {
   const double x = d.x(), y = d.y();
   const double r = y / (std::fabs(x) + std::fabs(y));
-  if (x >= 0.0) return r;
-  return std::signbit(y) ? -2.0 - r : 2.0 - r;
+  const double left = std::copysign(2.0, y) - r;  // -2 - r when y is negative (-0 too)
+  return x >= 0.0 ? r : left;
 }
 
 // Indices of kDetectStageNames.
@@ -55,6 +56,13 @@ struct PatternRuntime {
   std::array<Vec2, kMaxPatches + 1> key_centred{};
   std::array<std::array<Vec2, kMaxPatches>, kMaxPatches + 1> circ_centred{};
   std::array<double, kMaxPatches + 1> sq{};
+  // Per variant v of the arrays above (full fit, r = mk; or without circular position k = v - 1,
+  // r = mk - 1): the circular positions in the order the r chosen neighbours meet them, twice
+  // over, so that rotation `shift` matches the i-th neighbour (i, shift < r) with circular
+  // position ring[v][i + shift] = (i + shift) mod mk, or (k + 1 + (i + shift) mod r) mod mk;
+  // and the centred model points in that order (ring_centred[v][i] = circ_centred[v][ring[v][i]]).
+  std::array<std::array<int, 2 * kMaxPatches>, kMaxPatches + 1> ring{};
+  std::array<std::array<Vec2, 2 * kMaxPatches>, kMaxPatches + 1> ring_centred{};
   double e_max_full = 0.0, e_max_missing = 0.0;
   int dof_full = 0, dof_missing = 0;
   bool can_fit_missing = false;
@@ -87,12 +95,21 @@ struct Candidate {
 };
 
 // Stages 2-3 around one key: the neighbours kept, in angular order once stage 3 ran.
+// Stage 2 writes one slot past the last neighbour it keeps.
 struct Neighbours {
   int n = 0;
-  std::array<int, kMaxGathered> blob;  // blob indices
-  std::array<Vec2, kMaxNeighbours> position_mm;
-  std::array<int, kMaxNeighbours> label;
+  std::array<int, kMaxGathered + 1> blob;  // blob indices
+  std::array<Vec2, kMaxGathered + 1> position_mm;
+  std::array<int, kMaxGathered + 1> label;
 };
+
+// detector_build.cpp: rt's key_centred, circ_centred, sq, ring and ring_centred, from the
+// pattern and rt's key_index, mk and circ_patch.
+void BuildCentredModels(const Pattern& pattern, PatternRuntime* rt);
+
+// Stage 3 (detector_stages.cpp): nb's first n neighbours (blob, position, label) reordered by
+// the angle of position - key_mm, atan2's order over (-pi, pi], ties by blob index.
+void RadialSort(const Vec2& key_mm, Neighbours* nb);
 
 // Stage timing. The code paths are templates on kOn, so an untimed Detect contains no clock read
 // and no timing branch in its inner loops.
@@ -154,12 +171,36 @@ struct Detector::Impl {
   std::vector<PatternRuntime> runtimes;
   std::array<std::vector<int>, internal::kMaxLabels> patterns_by_key_label;
   double max_reach_mm = 0.0;
+  uint64_t key_label_mask = 0;  // the labels with a pattern in patterns_by_key_label
+
+  // Patterns whose stage-2 filters (neighbour colours, neighbour area range) are those of an
+  // earlier pattern share that pattern's NeighbourList: neighbour_list_of[p] indexes
+  // neighbour_lists.
+  std::vector<int> neighbour_list_of;
 
   // Per-frame buffers, reused.
-  std::vector<int> by_x;          // blob indices, bucketed by x
-  std::vector<int> bucket_start;  // bucket b holds by_x[bucket_start[b] .. bucket_start[b + 1])
-  std::vector<int> bucket_fill;
+  std::vector<int> blob_bucket;  // per blob: its x bucket (buckets one reach wide), -1: not Usable
+  std::vector<int> list_bucket, bucket_fill;  // NeighbourListOf's counting sort
+  std::vector<int> key_blobs;  // [0, num_key_blobs): Usable blobs of a key colour, index order
+  int num_key_blobs = 0;
+  std::vector<int> detection_order;  // SortDetections
+  std::vector<Detection> unsorted_detections;
+  int num_buckets = 1;
   double bucket_min_x = 0.0, bucket_width_mm = 1.0;
+  // Stage 2's search structure for one set of patterns (neighbour_list_of): the blobs passing
+  // their colour and area filters, counting-sorted by x bucket (ascending blob index within a
+  // bucket), with their positions side by side. Built on
+  // the first key candidate of such a pattern in a frame (frame == frame_number), so a frame pays
+  // nothing for patterns without keys.
+  struct NeighbourList {
+    long frame = -1;
+    std::vector<int> start;  // bucket b holds [start[b + 1], start[b + 2]); see NeighbourListOf
+    std::vector<Vec2> position_mm;
+    std::vector<int> blob;
+    std::vector<int> label;
+  };
+  std::vector<NeighbourList> neighbour_lists;
+  long frame_number = 0;
   std::vector<Candidate> candidates;
   std::vector<int> candidate_order;
   std::vector<int> used;  // per blob: 1 + the candidate that took it, or 0
@@ -193,6 +234,7 @@ struct Detector::Impl {
                         std::vector<Detection>* detections);  // stage 7
   void EstimatePose(const Candidate& c, std::span<const Blob> blobs,
                     Detection* d) const;                            // stage 8
+  void SortDetections(std::vector<Detection>* detections);          // stage 8's output order
   void LinkExplanations(const std::vector<Detection>& detections);  // explain: detection index
   // explain: the record of key `key` of pattern p after stages 2-6.
   void ExplainKey(int p, int key, const Neighbours& nb, const DetectStats& before, bool found);
@@ -200,7 +242,8 @@ struct Detector::Impl {
   // detector_stages.cpp: stages 2-6 for the key blob `key` of pattern p.
   template <bool kTiming>
   void EvaluateKey(int p, int key, std::span<const Blob> blobs);
-  void FindNeighbours(const PatternRuntime& rt, int key, std::span<const Blob> blobs,
+  const NeighbourList& NeighbourListOf(int p, std::span<const Blob> blobs);  // stage 2
+  void FindNeighbours(int p, int key, std::span<const Blob> blobs,
                       Neighbours* nb);  // stage 2
   template <bool kTiming>
   bool FitAndIdentify(int p, int key, const Vec2& key_mm, const Neighbours& nb, bool missing,

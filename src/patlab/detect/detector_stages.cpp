@@ -2,7 +2,10 @@
 // rotations, identify, and the missing-patch refit. This is the hot path: everything here works
 // on fixed-size arrays on the stack and allocates nothing.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <tuple>
 
@@ -57,12 +60,6 @@ inline double FitError(double sq, double sw, double a, double b) {
   return std::max(0.0, sq + sw - 2.0 * std::sqrt(a * a + b * b));
 }
 
-// The model's circular position matched to the i-th chosen neighbour under rotation `shift`;
-// a missing-patch fit (skip >= 0) leaves circular position `skip` out.
-inline int CircularPosition(int i, int shift, int r, int mk, int skip, bool missing) {
-  return missing ? (skip + 1 + (i + shift) % r) % mk : (i + shift) % mk;
-}
-
 // The next choice of r out of n in lexicographic order; false after the last.
 inline bool NextCombination(int r, int n, std::array<int, kMaxNeighbours>* pick) {
   int i = r - 1;
@@ -86,16 +83,15 @@ inline void CentreChoice(const Vec2& key_mm, const Neighbours& nb, Choice* ch) {
   }
 }
 
-// Stage 4: E of the rigid fit of the choice to model variant vi under rotation `shift`.
-inline double RotationError(const PatternRuntime& rt, const Choice& ch, int vi, int skip, int shift,
-                            bool missing) {
-  const auto& q = rt.circ_centred[vi];
-  const Vec2& qk = rt.key_centred[vi];
-  double a = qk.dot(ch.wk), b = qk.x() * ch.wk.y() - qk.y() * ch.wk.x();
+// Stage 4: E of the rigid fit of the choice to model variant vi under rotation `shift`; a0 and
+// b0 are the key's terms of A and B, the same for every rotation (FitRotations).
+inline double RotationError(const PatternRuntime& rt, const Choice& ch, int vi, int shift,
+                            double a0, double b0) {
+  const Vec2* q = &rt.ring_centred[vi][shift];
+  double a = a0, b = b0;
   for (int i = 0; i < ch.r; ++i) {
-    const int c = CircularPosition(i, shift, ch.r, rt.mk, skip, missing);
-    a += q[c].dot(ch.w[i]);
-    b += q[c].x() * ch.w[i].y() - q[c].y() * ch.w[i].x();
+    a += q[i].dot(ch.w[i]);
+    b += q[i].x() * ch.w[i].y() - q[i].y() * ch.w[i].x();
   }
   return FitError(rt.sq[vi], ch.sw, a, b);
 }
@@ -120,11 +116,12 @@ inline RotationColours CompleteMissingSlot(const PatternRuntime& rt, int code, i
 // Stage 5 for one rotation that passed geometry: fixed patches must match; ID slots form the
 // code, looked up in the codebook.
 inline RotationColours IdentifyRotation(const PatternRuntime& rt, const Choice& ch,
-                                        const Neighbours& nb, int skip, int shift, bool missing) {
+                                        const Neighbours& nb, int skip, int shift) {
   int code = 0;
   bool code_ok = true;
+  const int* ring = &rt.ring[skip + 1][shift];
   for (int i = 0; i < ch.r; ++i) {
-    const int c = CircularPosition(i, shift, ch.r, rt.mk, skip, missing);
+    const int c = ring[i];
     const int label = nb.label[ch.pick[i]];
     if (rt.fixed_label[c] != kFixedAny) {
       if (label != rt.fixed_label[c]) return {.fixed_ok = false};
@@ -170,19 +167,30 @@ inline SubsetVerdict FitRotations(const PatternRuntime& rt, const Choice& ch, co
                                   DetectStats* stats) {
   SubsetVerdict v;
   const int variants = missing ? rt.mk : 1;
+  long passed = 0;
   for (int variant = 0; variant < variants; ++variant) {
     const int skip = missing ? variant : -1;
+    const Vec2& qk = rt.key_centred[skip + 1];
+    const double a0 = qk.dot(ch.wk), b0 = qk.x() * ch.wk.y() - qk.y() * ch.wk.x();
+    // Every rotation's E first, then stage 5 on those passing in shift order: the branch is on
+    // whether any passed, not on which.
+    std::array<double, kMaxPatches> e;
+    uint32_t pass = 0;
     for (int shift = 0; shift < ch.r; ++shift) {
-      ++stats->correspondences;
-      const double e = RotationError(rt, ch, skip + 1, skip, shift, missing);
-      v.min_e = std::min(v.min_e, e);
-      if (e > e_max) continue;
-      ++stats->geometry_passed;
+      e[shift] = RotationError(rt, ch, skip + 1, shift, a0, b0);
+      v.min_e = std::min(v.min_e, e[shift]);
+      pass |= static_cast<uint32_t>(!(e[shift] > e_max)) << shift;
+    }
+    for (; pass != 0; pass &= pass - 1) {
+      const int shift = std::countr_zero(pass);
+      ++passed;
       ScopedTime<kTiming> identify_time(identify_ns);
-      const RotationColours colours = IdentifyRotation(rt, ch, nb, skip, shift, missing);
-      if (colours.fixed_ok) Record(e, shift, skip, colours, &v);
+      const RotationColours colours = IdentifyRotation(rt, ch, nb, skip, shift);
+      if (colours.fixed_ok) Record(e[shift], shift, skip, colours, &v);
     }
   }
+  stats->correspondences += static_cast<long>(variants) * ch.r;
+  stats->geometry_passed += passed;
   return v;
 }
 
@@ -209,10 +217,8 @@ inline bool JudgeChoice(const PatternRuntime& rt, int p, int key, const Neighbou
   c->blob.fill(-1);
   c->blob[rt.key_index] = key;
   c->num_blobs = ch.r + 1;
-  for (int i = 0; i < ch.r; ++i) {
-    c->blob[rt.circ_patch[CircularPosition(i, shift, ch.r, rt.mk, skip, missing)]] =
-        nb.blob[ch.pick[i]];
-  }
+  const int* ring = &rt.ring[skip + 1][shift];
+  for (int i = 0; i < ch.r; ++i) c->blob[rt.circ_patch[ring[i]]] = nb.blob[ch.pick[i]];
   return true;
 }
 
@@ -233,85 +239,157 @@ struct RadialOrder {
   }
 };
 
-// Stage 3: the neighbours by angle about the key (insertion sort: n <= 16), ties by blob index.
-void RadialSort(const Vec2& key_mm, std::span<const Blob> blobs, Neighbours* nb) {
-  std::array<double, kMaxNeighbours> pseudo;
-  std::array<Vec2, kMaxNeighbours> offset;
-  std::array<int, kMaxNeighbours> slot;  // slot[i]: the index into pseudo/offset of position i
+// Stage 2's cut: keeps the max_nb neighbours closest to the model's ring (distance outside the
+// ring, from the squared distances d2 to the key), ties by blob index.
+void KeepNearestToRing(const PatternRuntime& rt, int max_nb,
+                       const std::array<double, kMaxGathered + 1>& d2, Neighbours* nb) {
+  std::array<double, kMaxGathered> ring_dev;
   for (int i = 0; i < nb->n; ++i) {
-    offset[i] = blobs[nb->blob[i]].position_mm - key_mm;
-    pseudo[i] = internal::PseudoAngle(offset[i]);
-    slot[i] = i;
+    const double d = std::sqrt(d2[i]);
+    ring_dev[i] = d < rt.ring_min_mm ? rt.ring_min_mm - d : std::max(0.0, d - rt.ring_max_mm);
   }
-  const RadialOrder before{pseudo, offset};
-  for (int i = 1; i < nb->n; ++i) {
-    const int s = slot[i];
-    const int b = nb->blob[i];
-    int j = i - 1;
-    for (; j >= 0 && before(s, slot[j], b, nb->blob[j]); --j) {
-      slot[j + 1] = slot[j];
-      nb->blob[j + 1] = nb->blob[j];
-    }
-    slot[j + 1] = s;
-    nb->blob[j + 1] = b;
-  }
-  for (int i = 0; i < nb->n; ++i) {
-    nb->position_mm[i] = blobs[nb->blob[i]].position_mm;
-    nb->label[i] = blobs[nb->blob[i]].colour;
-  }
-}
-
-// Stage 2's cut: keeps the max_nb neighbours closest to the model's ring (ring_dev: distance
-// outside the ring), ties by blob index.
-void KeepNearestToRing(int max_nb, const std::array<double, kMaxGathered>& ring_dev,
-                       Neighbours* nb) {
   std::array<int, kMaxGathered> order;
   for (int i = 0; i < nb->n; ++i) order[i] = i;
   std::partial_sort(
       order.begin(), order.begin() + max_nb, order.begin() + nb->n, [&](int a, int b) {
         return std::tie(ring_dev[a], nb->blob[a]) < std::tie(ring_dev[b], nb->blob[b]);
       });
-  std::array<int, kMaxGathered> kept;
-  for (int i = 0; i < max_nb; ++i) kept[i] = nb->blob[order[i]];
-  std::copy(kept.begin(), kept.begin() + max_nb, nb->blob.begin());
+  const Neighbours all = *nb;
+  for (int i = 0; i < max_nb; ++i) {
+    nb->blob[i] = all.blob[order[i]];
+    nb->position_mm[i] = all.position_mm[order[i]];
+    nb->label[i] = all.label[order[i]];
+  }
   nb->n = max_nb;
 }
 
 }  // namespace
 
-// Stage 2: neighbours in the ring around the key (x-bucketed search).
-void Detector::Impl::FindNeighbours(const PatternRuntime& rt, int key, std::span<const Blob> blobs,
-                                    Neighbours* nb) {
+// Stage 3: the neighbours by angle about the key, ties by blob index. Each neighbour's place is
+// the number of neighbours before it (n <= 16: at most 120 comparisons, without the mispredicted
+// branches of a comparison sort). RadialOrder is a strict total order, so these places are a
+// permutation and the result is the sorted order; should they not be (a pseudo-angle ordering a
+// pair against atan2), an insertion sort with the same comparisons decides, as it always did.
+void internal::RadialSort(const Vec2& key_mm, Neighbours* nb) {
+  const int n = nb->n;
+  std::array<double, kMaxNeighbours> pseudo;
+  std::array<Vec2, kMaxNeighbours> offset;
+  std::array<int, kMaxNeighbours> place{};
+  for (int i = 0; i < n; ++i) {
+    offset[i] = nb->position_mm[i] - key_mm;
+    pseudo[i] = internal::PseudoAngle(offset[i]);
+  }
+  const RadialOrder before{pseudo, offset};
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      const bool i_first = before(i, j, nb->blob[i], nb->blob[j]);
+      place[j] += static_cast<int>(i_first);
+      place[i] += static_cast<int>(!i_first);
+    }
+  }
+  uint32_t seen = 0;
+  for (int i = 0; i < n; ++i) seen |= uint32_t{1} << place[i];
+  if (seen != (uint32_t{1} << n) - 1) {  // not a permutation: insertion sort
+    for (int i = 0; i < n; ++i) place[i] = i;
+    for (int i = 1; i < n; ++i) {
+      const int s = place[i];
+      int j = i - 1;
+      for (; j >= 0 && before(s, place[j], nb->blob[s], nb->blob[place[j]]); --j) {
+        place[j + 1] = place[j];
+      }
+      place[j + 1] = s;
+    }
+    std::array<int, kMaxNeighbours> at;  // place[position] holds the index; invert it
+    for (int i = 0; i < n; ++i) at[place[i]] = i;
+    place = at;
+  }
+  // Fixed-size copies (a few vector moves; a copy of n elements became a slow `rep movs`).
+  std::array<int, kMaxNeighbours> blob, label;
+  std::array<Vec2, kMaxNeighbours> position;
+  std::memcpy(blob.data(), nb->blob.data(), sizeof(blob));
+  std::memcpy(label.data(), nb->label.data(), sizeof(label));
+  std::memcpy(static_cast<void*>(position.data()), nb->position_mm.data(), sizeof(position));
+  for (int i = 0; i < n; ++i) {
+    nb->blob[place[i]] = blob[i];
+    nb->position_mm[place[i]] = position[i];
+    nb->label[place[i]] = label[i];
+  }
+}
+
+// Stage 2's search structure of pattern p in this frame, built on first use: the blobs passing
+// p's neighbour colour and area filters, counting-sorted by x bucket (ascending blob index within
+// a bucket, the order the search visits them in).
+const Detector::Impl::NeighbourList& Detector::Impl::NeighbourListOf(int p,
+                                                                     std::span<const Blob> blobs) {
+  NeighbourList& list = neighbour_lists[neighbour_list_of[p]];
+  if (list.frame == frame_number) return list;
+  list.frame = frame_number;
+  const PatternRuntime& rt = runtimes[p];
+  const int n = static_cast<int>(blobs.size());
+  // A counting sort of every blob by group: group 0 holds the blobs left out (filters failed, or
+  // not Usable), group 1 + b bucket b. Every blob is written somewhere, so neither loop branches
+  // on the blob.
+  list.start.assign(num_buckets + 2, 0);
+  list.position_mm.resize(blobs.size());
+  list.blob.resize(blobs.size());
+  list.label.resize(blobs.size());
+  list_bucket.resize(blobs.size());
+  for (int i = 0; i < n; ++i) {
+    const Blob& blob = blobs[i];
+    const bool colour_ok = (static_cast<unsigned>(blob.colour) < unsigned{kMaxLabels}) &
+                           (((rt.neighbour_mask >> (blob.colour & (kMaxLabels - 1))) & 1) != 0);
+    const bool area_ok = (blob.area_mm2 >= rt.nb_area_min) & (blob.area_mm2 <= rt.nb_area_max);
+    const int group = (colour_ok & area_ok) ? blob_bucket[i] + 1 : 0;  // 0 too when not Usable
+    list_bucket[i] = group;
+    ++list.start[group + 1];
+  }
+  for (int g = 0; g <= num_buckets; ++g) list.start[g + 1] += list.start[g];
+  bucket_fill.assign(list.start.begin(), list.start.end() - 1);
+  for (int i = 0; i < n; ++i) {
+    const int slot = bucket_fill[list_bucket[i]]++;
+    list.position_mm[slot] = blobs[i].position_mm;
+    list.blob[slot] = i;
+    list.label[slot] = blobs[i].colour;
+  }
+  return list;
+}
+
+// Stage 2: neighbours in the ring around the key (x-bucketed search over the blobs passing the
+// pattern's colour and area filters).
+void Detector::Impl::FindNeighbours(int p, int key, std::span<const Blob> blobs, Neighbours* nb) {
+  const PatternRuntime& rt = runtimes[p];
+  const NeighbourList& list = NeighbourListOf(p, blobs);
   const Vec2 k = blobs[key].position_mm;
-  std::array<double, kMaxGathered> ring_dev;
-  nb->n = 0;
-  const int num_buckets = static_cast<int>(bucket_start.size()) - 1;
+  std::array<double, kMaxGathered + 1> d2s;
   auto bucket_of = [&](double x) {
     return std::clamp(static_cast<int>(std::floor((x - bucket_min_x) / bucket_width_mm)), 0,
                       num_buckets - 1);
   };
   const int first = bucket_of(k.x() - rt.reach_max_mm), last = bucket_of(k.x() + rt.reach_max_mm);
-  for (int t = bucket_start[first]; t < bucket_start[last + 1]; ++t) {
-    const int j = by_x[t];
-    if (j == key) continue;
-    const Blob& b = blobs[j];
-    if (b.colour < 0 || b.colour >= kMaxLabels || !((rt.neighbour_mask >> b.colour) & 1)) continue;
-    if (b.area_mm2 < rt.nb_area_min || b.area_mm2 > rt.nb_area_max) continue;
-    const double d2 = (b.position_mm - k).squaredNorm();
-    if (d2 < rt.reach_min2 || d2 > rt.reach_max2) continue;
-    if (nb->n == kMaxGathered) {
-      ++stats.neighbours_cut;
-      continue;
-    }
-    const double d = std::sqrt(d2);
-    ring_dev[nb->n] = d < rt.ring_min_mm ? rt.ring_min_mm - d : std::max(0.0, d - rt.ring_max_mm);
-    nb->blob[nb->n++] = j;
+  // Branch-free: every blob scanned is written at nb->n, which advances when it is within reach
+  // and room is left (the arrays have one spare slot).
+  const int end = list.start[last + 2];
+  int count = 0;
+  long cut = 0;
+  for (int t = list.start[first + 1]; t < end; ++t) {
+    const double d2 = (list.position_mm[t] - k).squaredNorm();
+    const int j = list.blob[t];
+    const bool within = (d2 >= rt.reach_min2) & (d2 <= rt.reach_max2) & (j != key);
+    d2s[count] = d2;
+    nb->position_mm[count] = list.position_mm[t];
+    nb->label[count] = list.label[t];
+    nb->blob[count] = j;
+    const bool room = count < kMaxGathered;
+    cut += static_cast<long>(within & !room);
+    count += static_cast<int>(within & room);
   }
+  nb->n = count;
+  stats.neighbours_cut += cut;
   stats.neighbours += nb->n;
   const int max_nb = config.options.max_neighbours;
   if (nb->n > max_nb) {
     stats.neighbours_cut += nb->n - max_nb;
-    KeepNearestToRing(max_nb, ring_dev, nb);
+    KeepNearestToRing(rt, max_nb, d2s, nb);
   }
 }
 
@@ -358,7 +436,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   if (explain != nullptr) before = stats;
   key_best_e = std::numeric_limits<double>::infinity();
   Neighbours nb;
-  FindNeighbours(rt, key, blobs, &nb);
+  FindNeighbours(p, key, blobs, &nb);
   stage_ns[internal::kNeighbours] += clock.Lap();
   const bool try_missing = rt.can_fit_missing && nb.n >= rt.mk - 1;
   if (nb.n < rt.mk && !try_missing) {
@@ -367,7 +445,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   }
 
   const Vec2 key_mm = blobs[key].position_mm;
-  RadialSort(key_mm, blobs, &nb);
+  internal::RadialSort(key_mm, &nb);
   stage_ns[internal::kRadialSort] += clock.Lap();
 
   Candidate best;
