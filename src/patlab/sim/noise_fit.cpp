@@ -543,6 +543,28 @@ FitDesign AddTable1Discrepancy(const FitDesign& design, double* delta_mm) {
   return out;
 }
 
+namespace {
+
+// Adds one run's squared error estimates to `sum2` and their degrees of freedom to `count`: the
+// residuals of the paper's Gaussian smoothing, or, without smoothing, the deviations from the
+// run's mean (one degree of freedom spent on it).
+void AddRunResiduals(const std::vector<double>& run, const stats::SmoothingOptions& smoothing,
+                     double& sum2, double& count) {
+  std::vector<double> resid;
+  if (smoothing.sigma_samples > 0.0) {
+    resid = stats::SmoothingResiduals(run, smoothing);
+  } else {
+    const double frames = static_cast<double>(run.size());
+    double mean = 0.0;
+    for (double v : run) mean += v / frames;
+    for (double v : run) resid.push_back(v - mean);
+  }
+  for (double v : resid) sum2 += v * v;
+  count += static_cast<double>(run.size()) - (smoothing.sigma_samples > 0.0 ? 0.0 : 1.0);
+}
+
+}  // namespace
+
 std::vector<double> SimulateTrack(const std::vector<FitDatum>& data,
                                   const NoiseFitGeometry& geometry, const Magnitudes& m, int runs,
                                   int frames, uint64_t seed) {
@@ -597,18 +619,8 @@ std::vector<double> SimulateTrack(const std::vector<FitDatum>& data,
       series[3][f] = est.y_mm - t.y();
       series[4][f] = WrapAngle(est.theta_rad - heading);
     }
-    for (size_t s = 0; s < series.size(); ++s) {
-      std::vector<double> resid;
-      if (smoothing.sigma_samples > 0.0) {
-        resid = stats::SmoothingResiduals(series[s], smoothing);
-      } else {
-        double mean = 0.0;
-        for (double v : series[s]) mean += v / frames;
-        for (double v : series[s]) resid.push_back(v - mean);
-      }
-      for (double v : resid) sum2[s] += v * v;
-      count[s] += static_cast<double>(frames) - (smoothing.sigma_samples > 0.0 ? 0.0 : 1.0);
-    }
+    for (size_t s = 0; s < series.size(); ++s)
+      AddRunResiduals(series[s], smoothing, sum2[s], count[s]);
   }
   std::vector<double> out;
   for (const FitDatum& d : data) {
