@@ -73,7 +73,7 @@ void AddOptions(po::options_description* d, Options* o) {
 std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
   std::string csv =
       "label,group,samples,sx_mm,sx_lo,sx_hi,sy_mm,sy_lo,sy_hi,stheta_rad,stheta_lo,stheta_hi,"
-      "missed_patches,frames\n";
+      "missed_patches,frames,tau_x,tau_y,tau_theta,detected_frames,wrong_id_frames\n";
   for (const sim::GroupError& g : r.groups) {
     csv.append(label).append(",").append(g.group).append(",").append(std::to_string(g.samples));
     for (double v :

@@ -1,0 +1,60 @@
+// patlab camtrack end to end, the binary run as a user would: a short track through the colour
+// camera, its CSV read back by its header.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "../test_util.h"
+
+namespace patlab::cli {
+namespace {
+
+using testing::RunCommand;
+
+const std::string kBinary = PATLAB_BINARY;
+const std::string kSource = PATLAB_SOURCE_DIR;
+
+std::vector<std::string> Cells(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) out.push_back(cell);
+  return out;
+}
+
+// Every row has as many cells as the header names, and the named columns hold what the track
+// was: one run of 40 frames, each with the robot found (--detect), none with a wrong ID.
+TEST(CamtrackCli, EveryRowHasTheHeadersColumns) {
+  testing::TempDir dir;
+  const std::string csv = dir.Path("t.csv");
+  const auto r = RunCommand(kBinary + " camtrack " + kSource +
+                            "/experiments/issue14/track-scene.toml --thresholds " + kSource +
+                            "/experiments/issue14/track.thresholds.toml --runs 1 --frames 40 "
+                            "--no-bayer --chroma-444 --detect --out " +
+                            csv);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(csv);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  const std::vector<std::string> header = Cells(line);
+  EXPECT_EQ(header.back(), "wrong_id_frames");
+  int rows = 0;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = Cells(line);
+    ASSERT_EQ(cells.size(), header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = cells[i];
+    EXPECT_EQ(row["frames"], "40");
+    EXPECT_EQ(row["detected_frames"], "40") << line;
+    EXPECT_EQ(row["wrong_id_frames"], "0");
+    EXPECT_GE(std::stod(row["tau_x"]), 0.0);
+    ++rows;
+  }
+  EXPECT_GE(rows, 4);  // key, id, all, pose (and detect)
+}
+
+}  // namespace
+}  // namespace patlab::cli
