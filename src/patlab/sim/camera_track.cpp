@@ -12,6 +12,7 @@
 #include "patlab/estimate/estimators.h"
 #include "patlab/stats/effective_n.h"
 #include "patlab/stats/summary.h"
+#include "patlab/vision/frame_detector.h"
 #include "patlab/vision/segment.h"
 
 namespace patlab::sim {
@@ -161,8 +162,8 @@ bool MeasureFrame(const vision::Segmenter& segmenter, const vision::CameraModel&
 class DetectStage {
  public:
   DetectStage(const vision::FieldScene& scene, const vision::Thresholds& thresholds,
-              const std::string& team)
-      : detector_(Config(scene, thresholds, team)) {}
+              const vision::Calibration& calibration, const std::string& team)
+      : detector_(Config(scene, thresholds, calibration, team)) {}
 
   void Score(const vision::Segmenter& segmenter, const vision::CameraModel& camera,
              double height_mm, const vision::PixelWindow& window, int num_classes, int id,
@@ -195,12 +196,16 @@ class DetectStage {
   }
 
  private:
+  // The shipped detector options, adapted to the camera as patlab detect adapts them
+  // (vision::AdaptToCamera: the calibration's residual, the segmentation's edge loss).
   static detect::DetectorConfig Config(const vision::FieldScene& scene,
                                        const vision::Thresholds& thresholds,
+                                       const vision::Calibration& calibration,
                                        const std::string& team) {
     detect::DetectorConfig config;
     for (const vision::ColorClass& c : thresholds.classes) config.palette.push_back(c.name);
     config.patterns.push_back({scene.pattern, scene.codebook, {team}});
+    vision::AdaptToCamera(config, calibration, vision::FrameDetectorOptions{}.edge_loss_px);
     return config;
   }
   detect::Detector detector_;
@@ -248,7 +253,7 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
 
   GroupSums key, ids, all, pose, detected;
   std::optional<DetectStage> detect_stage;
-  if (options.detect) detect_stage.emplace(s, thresholds, team);
+  if (options.detect) detect_stage.emplace(s, thresholds, calibration, team);
   CameraTrackResult result;
   std::vector<Vec2> measured(static_cast<size_t>(n));
   for (int run = 0; run < options.runs; ++run) {

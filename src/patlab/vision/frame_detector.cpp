@@ -124,6 +124,18 @@ std::vector<std::string> DebugImageNames(const std::string& stem, bool with_dete
   return names;
 }
 
+void AdaptToCamera(detect::DetectorConfig& config, const Calibration& calibration,
+                   double edge_loss_px) {
+  // The calibration's recorded residual on the robot-top plane (default height) widens the
+  // detector's geometric tolerance (detect::DetectorOptions::calibration_residual_mm).
+  config.options.calibration_residual_mm = calibration.ResidualRmsMm(calibration.default_height_mm);
+  // The lower area bound of a patch whose rim the segmentation loses (FrameDetectorOptions::
+  // edge_loss_px): area_ratio_min of the shrunk patch, i.e. area_ratio_min times the smallest
+  // shrunk fraction over the patterns' patches.
+  const double edge_mm = edge_loss_px * MmPerPx(calibration.camera, calibration.default_height_mm);
+  config.options.area_ratio_min *= EdgeLossFactor(config, edge_mm);
+}
+
 FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
                              std::optional<detect::DetectorConfig> detector,
                              FrameDetectorOptions options)
@@ -134,13 +146,7 @@ FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
   if (!detector) return;
   // The calibration's recorded residual on the robot-top plane (default height) widens the
   // detector's geometric tolerance (detect::DetectorOptions::calibration_residual_mm).
-  const Calibration& camera = pipeline_.calibration();
-  detector->options.calibration_residual_mm = camera.ResidualRmsMm(camera.default_height_mm);
-  // The lower area bound of a patch whose rim the segmentation loses (FrameDetectorOptions::
-  // edge_loss_px): area_ratio_min of the shrunk patch, i.e. area_ratio_min times the smallest
-  // shrunk fraction over the patterns' patches.
-  const double edge_mm = options_.edge_loss_px * MmPerPx(camera.camera, camera.default_height_mm);
-  detector->options.area_ratio_min *= EdgeLossFactor(*detector, edge_mm);
+  AdaptToCamera(*detector, pipeline_.calibration(), options_.edge_loss_px);
   detector_.emplace(std::move(*detector));
   for (const ColorClass& c : pipeline_.thresholds().classes) {
     palette_label_.push_back(detector_->ColourLabel(c.name));

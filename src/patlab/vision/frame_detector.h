@@ -59,6 +59,14 @@ struct FrameDetectorOptions {
 std::vector<OptionsProblem> Check(const FrameDetectorOptions& options);
 void Validate(const FrameDetectorOptions& options);
 
+// What FrameDetector does to a detector configuration for frames of `calibration`: the
+// calibration's recorded residual on the robot-top plane widens the geometric tolerance, and the
+// lower area bound allows for the segmentation's edge loss (FrameDetectorOptions::edge_loss_px).
+// Every front end that turns segmented regions into blobs applies it (patlab camtrack does), so
+// the detector sees rendered and real frames alike.
+void AdaptToCamera(detect::DetectorConfig& config, const Calibration& calibration,
+                   double edge_loss_px);
+
 // The debug images of a frame whose file stem is `stem`, one per stage that has a picture, named
 // "<stem>.<stage number>_<stage name>.png" after kFrameStageNames:
 //   <stem>.2_colour_lookup.png - the class image: each classified pixel in its class's colour;
