@@ -13,6 +13,7 @@
 #include "patlab/io/pattern_file.h"
 #include "patlab/sim/experiment.h"
 #include "patlab/sim/report.h"
+#include "patlab/sim/reproduce_compare.h"
 #include "patlab/sim/runner.h"
 #include "patlab/sim/track.h"
 #include "patlab/sim/track_runner.h"
@@ -27,17 +28,9 @@ class Table {
   explicit Table(const std::string& text) {
     std::istringstream in(text);
     std::string line;
-    while (std::getline(in, line)) rows_.push_back(Split(line));
+    while (std::getline(in, line)) rows_.push_back(SplitCsvCells(line));
     PATLAB_CHECK(!rows_.empty());
     for (size_t k = 0; k < rows_[0].size(); ++k) column_[rows_[0][k]] = k;
-  }
-  static std::vector<std::string> Split(const std::string& line) {
-    std::vector<std::string> cells;
-    std::stringstream cells_in(line);
-    std::string cell;
-    while (std::getline(cells_in, cell, ',')) cells.push_back(cell);
-    if (!line.empty() && line.back() == ',') cells.emplace_back();
-    return cells;
   }
   // The number in `column` of the first row whose cells in `keys` (column -> value) all match.
   double Get(const std::map<std::string, std::string>& keys, const std::string& column) const {
@@ -659,7 +652,7 @@ std::string CompareResultText(const std::string& regenerated, const std::string&
     if (!ha && !hb) return "";
     const std::string where = "line " + std::to_string(line) + ": ";
     if (ha != hb) return where + (ha ? "extra line " + la : "missing line " + lb);
-    const auto ca = Table::Split(la), cb = Table::Split(lb);
+    const auto ca = SplitCsvCells(la), cb = SplitCsvCells(lb);
     bool same = ca.size() == cb.size();
     for (size_t k = 0; same && k < ca.size(); ++k) {
       if (ca[k] == cb[k]) continue;

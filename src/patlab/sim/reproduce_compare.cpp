@@ -103,13 +103,7 @@ CsvRules RulesForResultFile(const std::string& name) {
   return rules;
 }
 
-namespace {
-
-constexpr const char* kKindNames[] = {"text",       "continuous", "count",   "first trial",
-                                      "mean count", "KS D",       "KS p",    "Wilcoxon p",
-                                      "rank sum",   "Wilcoxon z", "normal p"};
-
-std::vector<std::string> SplitCells(const std::string& line) {
+std::vector<std::string> SplitCsvCells(const std::string& line) {
   std::vector<std::string> cells;
   std::stringstream in(line);
   std::string cell;
@@ -118,11 +112,17 @@ std::vector<std::string> SplitCells(const std::string& line) {
   return cells;
 }
 
+namespace {
+
+constexpr const char* kKindNames[] = {"text",       "continuous", "count",   "first trial",
+                                      "mean count", "KS D",       "KS p",    "Wilcoxon p",
+                                      "rank sum",   "Wilcoxon z", "normal p"};
+
 std::vector<std::vector<std::string>> SplitRows(const std::string& text) {
   std::vector<std::vector<std::string>> rows;
   std::istringstream in(text);
   std::string line;
-  while (std::getline(in, line)) rows.push_back(SplitCells(line));
+  while (std::getline(in, line)) rows.push_back(SplitCsvCells(line));
   return rows;
 }
 
