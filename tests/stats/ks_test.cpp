@@ -193,6 +193,7 @@ TEST(Ks, BucketedAndSortedWalksAgreeWithTheStraightforwardOne) {
       const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
       ExpectSameExtremes(detail::EcdfExtremesBySorting(x, y), want);
       ExpectSameExtremes(detail::EcdfExtremesByBuckets(x, y), want);
+      if (n1 == n2) ExpectSameExtremes(detail::EcdfExtremesByPairs(x, y), want);
       const KsResult r =
           KsTwoSample(x, y, KsOptions{Alternative::kTwoSided, KsMethod::kAsymptotic});
       EXPECT_EQ(r.d, std::max(want.max_diff, std::clamp(-want.min_diff, 0.0, 1.0)));
@@ -222,6 +223,78 @@ TEST(Ks, BucketedWalkInWindowsAgreesOnSamplesLargerThanAWindow) {
                          : x[k] * (1.0 + 1e-13 * (uniform() - 0.5));
       }
       ExpectSameExtremes(detail::EcdfExtremesByBuckets(x, y), StraightforwardExtremes(x, y));
+    }
+  }
+}
+
+// The paired walk on the pairs it is made for and on those that defeat its shortcuts: pairs that
+// differ by rounding (a few ulps, or relative 1e-13, some equal), so that c stays in {-1, 0, 1}
+// and step 2 decides among thousands of group ends by rounding alone; the same with values on a
+// coarse grid, so that intervals overlap and tie across pairs (c reaches 2 and more); every pair
+// going up (no group end below 0); estimators that really differ; signed zeros; one pair apart;
+// two pairs apart where the largest rounding step is never reached.
+TEST(Ks, PairedWalkAgreesWithTheStraightforwardOneOnPairsThatDifferByRounding) {
+  uint64_t state = 4242;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<double>(state >> 11) + 0.5) * 0x1p-53;
+  };
+  const auto normal = [&] {
+    return std::sqrt(-2.0 * std::log(uniform())) * std::cos(6.283185307179586 * uniform());
+  };
+  const auto ulps = [](double v, int steps) {
+    for (int k = 0; k < steps; ++k) v = std::nextafter(v, 1e300);
+    for (int k = 0; k > steps; --k) v = std::nextafter(v, -1e300);
+    return v;
+  };
+  for (int kind = 0; kind < 8; ++kind) {
+    for (const size_t n : {2100u, 20000u, 100000u}) {
+      SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n);
+      std::vector<double> x(n), y(n);
+      for (size_t k = 0; k < n; ++k) {
+        const double u = uniform();
+        x[k] = normal() * 3.0;
+        if (kind == 2) x[k] = std::round(x[k] * 64.0) / 64.0;
+        if (kind == 5) x[k] = u < 0.4 ? -0.0 : u < 0.8 ? 0.0 : x[k];
+        switch (kind) {
+          case 0:
+            y[k] = ulps(x[k], static_cast<int>(uniform() * 7.0) - 3);
+            break;
+          case 1:
+            y[k] = u < 0.6 ? x[k] : x[k] * (1.0 + 1e-13 * (uniform() - 0.5));
+            break;
+          case 2:
+            y[k] = ulps(x[k], static_cast<int>(uniform() * 5.0) - 2);
+            break;
+          case 3:
+            y[k] = ulps(x[k], 1);
+            break;
+          case 4:
+            y[k] = x[k] + 0.1 * normal();
+            break;
+          case 5:
+            y[k] = u < 0.5 ? -x[k] : ulps(x[k], u < 0.7 ? 1 : -1);
+            break;
+          case 6:
+            y[k] = x[k];
+            break;
+          default:
+            y[k] = ulps(x[k], -1);
+            break;
+        }
+      }
+      if (kind == 6) y[n / 3] = x[n / 3] + 1e-9;
+      if (kind == 6 && n == 20000) {
+        // One pair up, one down, both at small values: c = 1 and -1 are reached only at ranks
+        // where the rounding does not give the largest step, so the shortcut must give up.
+        const size_t low = static_cast<size_t>(std::min_element(x.begin(), x.end()) - x.begin());
+        y[n / 3] = x[n / 3];
+        y[low] = ulps(x[low], 1);
+        const size_t next = low == 0 ? 1 : 0;
+        y[next] = ulps(x[next], -1);
+      }
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(x, y), StraightforwardExtremes(x, y));
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(y, x), StraightforwardExtremes(y, x));
     }
   }
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "patlab/core/error.h"
+#include "patlab/stats/sort.h"
 #include "patlab/stats/summary.h"
 
 namespace patlab::stats {
@@ -167,7 +168,7 @@ struct Buffers {
   std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
   std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
   std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
-  std::vector<uint8_t> walk;         // 1 for the buckets the walk must visit
+  std::vector<uint8_t> walk;         // which walks visit the bucket (a bit per walk)
   std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
 };
 Buffers& ThreadBuffers() {
@@ -277,11 +278,13 @@ void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
 // takes four.
 constexpr std::size_t kWindowValues = std::size_t{1} << 18;
 
-// The window that starts at bucket `first`: it ends before the bucket whose walked values would
-// take either sample past kWindowValues (but holds at least one bucket). Sets the write positions
-// of its walked buckets (s->pos1, s->pos2; every other bucket stays kSkipped) and returns its
-// runs of consecutive walked buckets and its end.
-std::size_t PlanWindow(std::size_t first, std::size_t buckets, Buffers* s, std::vector<Run>* runs) {
+// The window that starts at bucket `first`: it ends before the bucket whose walked values
+// (buckets with a bit of `mask` in s->walk) would take either sample past `window_values` (but
+// holds at least one bucket). Sets the write positions of its walked buckets (s->pos1, s->pos2;
+// every other bucket stays kSkipped) and returns its runs of consecutive walked buckets and its
+// end.
+std::size_t PlanWindow(std::size_t first, std::size_t buckets, uint8_t mask,
+                       std::size_t window_values, Buffers* s, std::vector<Run>* runs) {
   runs->clear();
   const uint32_t* e1 = s->end1.data();
   const uint32_t* e2 = s->end2.data();
@@ -292,10 +295,10 @@ std::size_t PlanWindow(std::size_t first, std::size_t buckets, Buffers* s, std::
   for (; k < buckets; ++k) {
     const uint32_t i1 = e1[k], j1 = e2[k];
     const bool empty = i1 == i0 && j1 == j0;
-    const bool walk = s->walk[k] != 0;
+    const bool walk = (s->walk[k] & mask) != 0;
     // +1: the sentinel slot after the run
     if (walk && k > first &&
-        (a + (i1 - i0) + 1 > kWindowValues || b + (j1 - j0) + 1 > kWindowValues)) {
+        (a + (i1 - i0) + 1 > window_values || b + (j1 - j0) + 1 > window_values)) {
       break;
     }
     if (walk && !in_run) {
@@ -319,10 +322,13 @@ std::size_t PlanWindow(std::size_t first, std::size_t buckets, Buffers* s, std::
 }
 
 // Copies the values of the buckets to walk to their positions (pos becomes each bucket's end).
+// The walk flags (a byte a bucket) are read first: pos is set only where a flag is.
 template <class BucketOf>
-void Extract(std::span<const double> x, BucketOf bucket_of, uint32_t* pos, double* out) {
+void Extract(std::span<const double> x, BucketOf bucket_of, const uint8_t* walk, uint8_t mask,
+             uint32_t* pos, double* out) {
   for (const double v : x) {
     const uint32_t k = bucket_of(v);
+    if ((walk[k] & mask) == 0) continue;
     const uint32_t p = pos[k];
     if (p == kSkipped) continue;
     out[p] = v;
@@ -332,17 +338,70 @@ void Extract(std::span<const double> x, BucketOf bucket_of, uint32_t* pos, doubl
 
 // Sorts every walked bucket of [first, last) in place, and marks it kSkipped again: bucket k's
 // values end at pos[k] and number end[k] - end[k - 1].
-void SortBuckets(std::size_t first, std::size_t last, uint32_t* pos, const uint32_t* end,
-                 double* v) {
+void SortBuckets(std::size_t first, std::size_t last, const uint8_t* walk, uint8_t mask,
+                 uint32_t* pos, const uint32_t* end, double* v) {
   uint32_t before = first == 0 ? 0 : end[first - 1];
   for (std::size_t k = first; k < last; ++k) {
     const uint32_t count = end[k] - before;
     before = end[k];
-    if (pos[k] == kSkipped) continue;
+    if ((walk[k] & mask) == 0 || pos[k] == kSkipped) continue;
     if (count > 1) SortSmall(v + (pos[k] - count), count);
     pos[k] = kSkipped;
   }
 }
+
+// Sizes the write positions and sets those of the buckets with a walk flag to kSkipped (the
+// only ones Extract and SortBuckets read).
+void ResetPositions(std::size_t buckets, Buffers* s) {
+  s->pos1.resize(buckets);
+  s->pos2.resize(buckets);
+  for (std::size_t k = 0; k < buckets; ++k) {
+    if (s->walk[k] != 0) s->pos1[k] = s->pos2[k] = kSkipped;
+  }
+}
+
+// Walks, in order, the buckets with a bit of `mask` in s->walk (s->end1, s->end2 and the
+// positions set up by ResetPositions): window by window, the first window holding at most
+// `first_window` values of each sample and each next one eight times more (up to
+// kWindowValues), so that a walk that can stop early (`done()` true after a window) reads the
+// samples few times.
+template <class BucketOf, class Done>
+void WalkMarked(std::span<const double> x, std::span<const double> y, BucketOf bucket_of,
+                std::size_t buckets, uint8_t mask, std::size_t first_window, Buffers* s,
+                EcdfExtremes* e, Done done) {
+  thread_local std::vector<Run> runs;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
+  std::size_t window = std::min(first_window, kWindowValues);
+  for (std::size_t first = 0; first < buckets;) {
+    const std::size_t last = PlanWindow(first, buckets, mask, window, s, &runs);
+    if (!runs.empty()) {
+      const uint8_t* walk = s->walk.data();
+      Extract(x, bucket_of, walk, mask, s->pos1.data(), s->a.data());
+      Extract(y, bucket_of, walk, mask, s->pos2.data(), s->b.data());
+      SortBuckets(first, last, walk, mask, s->pos1.data(), s->end1.data(), s->a.data());
+      SortBuckets(first, last, walk, mask, s->pos2.data(), s->end2.data(), s->b.data());
+      for (const Run& r : runs) {
+        s->a[r.a0 + r.na] = kInf;
+        s->b[r.b0 + r.nb] = kInf;
+        WalkSorted(&s->a[r.a0], r.na, &s->b[r.b0], r.nb, r.i0, r.j0, dn1, dn2, e);
+      }
+      if (done()) return;
+    }
+    first = last;
+    window = std::min(window * 8, kWindowValues);
+  }
+}
+
+// Equal-width buckets between lo and hi; non-decreasing in v (each rounding is monotone), so
+// bucket k holds values <= those of k + 1 and equal values share a bucket.
+struct EqualWidthBuckets {
+  double lo, scale;
+  int64_t last;
+  uint32_t operator()(double v) const {
+    return static_cast<uint32_t>(std::min(static_cast<int64_t>((v - lo) * scale), last));
+  }
+};
 
 }  // namespace
 
@@ -358,38 +417,158 @@ EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const do
   if (!(hi > lo) || !std::isfinite(scale) || !std::isfinite(hi - lo)) {
     return EcdfExtremesBySorting(x, y);
   }
-  // Non-decreasing in v (each rounding is monotone), so bucket k holds values <= those of k + 1
-  // and equal values share a bucket.
-  const auto bucket_of = [lo, scale, last = static_cast<int64_t>(buckets) - 1](double v) {
-    return static_cast<uint32_t>(std::min(static_cast<int64_t>((v - lo) * scale), last));
-  };
+  const EqualWidthBuckets bucket_of{lo, scale, static_cast<int64_t>(buckets) - 1};
   Buffers& s = ThreadBuffers();
   CountsAtBucketEnds(x, buckets, bucket_of, &s.end1);
   CountsAtBucketEnds(y, buckets, bucket_of, &s.end2);
   PlanWalk(buckets, dn1, dn2, &s);
-  s.pos1.assign(buckets, kSkipped);
-  s.pos2.assign(buckets, kSkipped);
-  thread_local std::vector<Run> runs;
+  ResetPositions(buckets, &s);
   EcdfExtremes e;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  for (std::size_t first = 0; first < buckets;) {
-    const std::size_t last = PlanWindow(first, buckets, &s, &runs);
-    if (!runs.empty()) {
-      Extract(x, bucket_of, s.pos1.data(), s.a.data());
-      Extract(y, bucket_of, s.pos2.data(), s.b.data());
-      SortBuckets(first, last, s.pos1.data(), s.end1.data(), s.a.data());
-      SortBuckets(first, last, s.pos2.data(), s.end2.data(), s.b.data());
-      for (const Run& r : runs) {
-        s.a[r.a0 + r.na] = kInf;
-        s.b[r.b0 + r.nb] = kInf;
-        WalkSorted(&s.a[r.a0], r.na, &s.b[r.b0], r.nb, r.i0, r.j0, dn1, dn2, &e);
-      }
-    }
-    first = last;
-  }
+  WalkMarked(x, y, bucket_of, buckets, 1, kWindowValues, &s, &e, [] { return false; });
   return e;
 }
 
+// ---- Pairs that differ by rounding (n1 = n2) --------------------------------------------------
+//
+// Pairing x[k] with y[k] (two estimators' errors in the same trial), c(t) = #{x <= t} - #{y <= t}
+// is a sum over the pairs that differ: +1 on [x, y) when x < y ("up"), -1 on [y, x) when y < x
+// ("down"). When those intervals are pairwise disjoint (no start within reach of another
+// interval), no t is inside two of them, so c is -1, 0 or 1 at every group end; with at least one
+// up and one down pair, c = 1 and c = -1 are both reached. For n1 = n2 = n the walk's value at a
+// group end with counts (i, j) is fl(fl(i/n) - fl(j/n)), within 3 * 2^-53 of (i - j) / n, so the
+// computed values are ordered by c: the maximum is among the group ends with c = 1, where the
+// value is v(i) = fl(i/n) - fl((i - 1)/n), and the minimum among those with c = -1, where it is
+// fl(i/n) - fl((i + 1)/n) = -v(i + 1). So if G = max over i of v(i) is reached at all, the
+// maximum is G, first reached at the first group end with c = 1 and v(i) = G, whose i is at least
+// i_G = the smallest i with v(i) = G: at or after the i_G-th smallest x. Walking the merged order
+// exactly (WalkSorted) from the coarse bin holding that x until the walk has reached G gives that
+// group end; the minimum likewise. Estimators that agree to rounding (fast and ML on Simple,
+// Linear, Triangle: most pairs equal, the others a few ulps apart) are this case: one sort of the
+// starts to check them, two coarse histograms and a walk of a few hundred values, instead of a
+// walk of every bucket. Anything else (intervals that touch or overlap, no up or no down pair,
+// G not reached) goes to EcdfExtremesByBuckets, as do samples that really differ.
+
+namespace {
+
+// The coarse bins of the region walk: few enough to stay in the first-level cache.
+constexpr std::size_t kRegionBins = 4096;
+
+// v(i) = fl(i/n) - fl((i - 1)/n) for i in [1, n]: its largest value and the smallest i that
+// reaches it, for the last n asked (fig5 asks for the same n at every point).
+std::pair<double, std::size_t> LargestStep(std::size_t n) {
+  thread_local std::size_t cached_n = 0;
+  thread_local std::pair<double, std::size_t> cached;
+  if (n == cached_n) return cached;
+  const double dn = static_cast<double>(n);
+  double best = -1.0, previous = 0.0;
+  std::size_t at = 0;
+  for (std::size_t i = 1; i <= n; ++i) {
+    const double q = static_cast<double>(i) / dn;
+    const double v = q - previous;
+    previous = q;
+    if (v > best) best = v, at = i;
+  }
+  cached_n = n, cached = {best, at};
+  return cached;
+}
+
+// What one pass over the pairs tells: the range of all values, the pairs that go up and down,
+// and the widest interval.
+struct PairSummary {
+  double lo = 0.0, hi = 0.0, widest = 0.0;
+  std::size_t up = 0, down = 0;
+};
+PairSummary SummarisePairs(std::span<const double> x, std::span<const double> y) {
+  PairSummary p;
+  double lo = x[0], hi = x[0], widest = 0.0;
+  std::size_t up = 0, down = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const double a = x[k], b = y[k];
+    lo = std::min(lo, std::min(a, b));
+    hi = std::max(hi, std::max(a, b));
+    widest = std::max(widest, std::fabs(a - b));
+    up += a < b ? 1 : 0;
+    down += b < a ? 1 : 0;
+  }
+  p.lo = lo, p.hi = hi, p.widest = widest, p.up = up, p.down = down;
+  return p;
+}
+
+// True when no interval's start lies within 2 * widest of another's (sorted starts, in the
+// caller's scratch): then every interval ends before the next one starts (a rounded width can be
+// one rounding short of the true one; the factor 2 covers it).
+bool StartsApart(std::span<const double> x, std::span<const double> y, double widest,
+                 std::vector<double>* starts, std::vector<double>* scratch) {
+  starts->resize(x.size());
+  std::size_t m = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    (*starts)[m] = std::min(x[k], y[k]);
+    m += x[k] != y[k] ? 1 : 0;
+  }
+  const std::span<double> s(starts->data(), m);
+  if (scratch->size() < m) scratch->resize(m);
+  SortAscending(s, std::span<double>(scratch->data(), m));
+  for (std::size_t k = 1; k < m; ++k) {
+    if (!(s[k] - s[k - 1] > 2.0 * widest)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const double> y) {
+  PATLAB_CHECK(x.size() == y.size());
+  if (SameSamples(x, y)) return ExtremesOfSameSamples(x);
+  const std::size_t n = x.size();
+  const PairSummary p = SummarisePairs(x, y);
+  const double range = p.hi - p.lo;
+  // The shortcut needs both directions, and pays only if the intervals are far apart on the
+  // average: their total length a small part of the range (else the starts' check fails anyway).
+  const double scale = static_cast<double>(kRegionBins) / range;
+  if (p.up == 0 || p.down == 0 || !(range > 0.0) || !std::isfinite(scale) ||
+      !(p.widest * static_cast<double>(p.up + p.down) < range / 64.0)) {
+    return EcdfExtremesByBuckets(x, y);
+  }
+  Buffers& s = ThreadBuffers();
+  if (!StartsApart(x, y, p.widest, &s.a, &s.b)) return EcdfExtremesByBuckets(x, y);
+  const EqualWidthBuckets bin_of{p.lo, scale, static_cast<int64_t>(kRegionBins) - 1};
+  CountsAtBucketEnds(x, kRegionBins, bin_of, &s.end1);
+  CountsAtBucketEnds(y, kRegionBins, bin_of, &s.end2);
+  // The first bin whose values can hold a group end with v(i) = G or with the minimum's
+  // -v(i + 1) = -G: i >= i_G - 1, so at or after the bin of the (i_G - 1)-th smallest x.
+  const auto [largest, first_i] = LargestStep(n);
+  const std::size_t need = first_i - 1;
+  std::size_t first = 0;
+  while (first + 1 < kRegionBins && s.end1[first] < need) ++first;
+  // Walk from there, a growing region at a time (at first about kFirstRegion values of x), until
+  // both extremes are reached.
+  const double dn = static_cast<double>(n);
+  const uint32_t i0 = first == 0 ? 0 : s.end1[first - 1], j0 = first == 0 ? 0 : s.end2[first - 1];
+  constexpr uint32_t kFirstRegion = 512;
+  for (uint32_t target = kFirstRegion;; target *= 4) {
+    std::size_t last = first + 1;
+    while (last < kRegionBins && s.end1[last - 1] - i0 < target) ++last;
+    // The region's values, copied without a branch on whether each one is in it.
+    s.a.resize(n + 1);
+    s.b.resize(n + 1);
+    std::size_t na = 0, nb = 0;
+    const auto lo_bin = static_cast<uint32_t>(first), bins = static_cast<uint32_t>(last - first);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double a = x[k], b = y[k];
+      s.a[na] = a;
+      s.b[nb] = b;
+      na += bin_of(a) - lo_bin < bins ? 1 : 0;  // unsigned: bins below first wrap to large
+      nb += bin_of(b) - lo_bin < bins ? 1 : 0;
+    }
+    SortSmall(s.a.data(), na);
+    SortSmall(s.b.data(), nb);
+    s.a[na] = s.b[nb] = std::numeric_limits<double>::infinity();
+    EcdfExtremes e;
+    WalkSorted(s.a.data(), na, s.b.data(), nb, i0, j0, dn, dn, &e);
+    if (e.max_diff == largest && e.min_diff == -largest) return e;
+    if (last == kRegionBins) return EcdfExtremesByBuckets(x, y);
+  }
+}
 }  // namespace detail
 
 namespace {
@@ -411,8 +590,9 @@ KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
   detail::RequireFinite(y, "sample 2");
   const std::size_t n1 = x.size();
   const std::size_t n2 = y.size();
-  const detail::EcdfExtremes e = n1 + n2 >= kKsBucketMinSize ? detail::EcdfExtremesByBuckets(x, y)
-                                                             : detail::EcdfExtremesBySorting(x, y);
+  const detail::EcdfExtremes e = n1 + n2 < kKsBucketMinSize ? detail::EcdfExtremesBySorting(x, y)
+                                 : n1 == n2                 ? detail::EcdfExtremesByPairs(x, y)
+                                                            : detail::EcdfExtremesByBuckets(x, y);
   const double dn1 = static_cast<double>(n1);
   const double dn2 = static_cast<double>(n2);
   const double max_diff = e.max_diff, min_diff = e.min_diff;
