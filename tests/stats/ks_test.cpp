@@ -232,7 +232,8 @@ TEST(Ks, BucketedWalkInWindowsAgreesOnSamplesLargerThanAWindow) {
 // and step 2 decides among thousands of group ends by rounding alone; the same with values on a
 // coarse grid, so that intervals overlap and tie across pairs (c reaches 2 and more); every pair
 // going up (no group end below 0); estimators that really differ; signed zeros; one pair apart;
-// two pairs apart where the largest rounding step is never reached.
+// two pairs apart where the largest rounding step is never reached; intervals that overlap
+// without sharing a start.
 TEST(Ks, PairedWalkAgreesWithTheStraightforwardOneOnPairsThatDifferByRounding) {
   uint64_t state = 4242;
   const auto uniform = [&state] {
@@ -247,7 +248,7 @@ TEST(Ks, PairedWalkAgreesWithTheStraightforwardOneOnPairsThatDifferByRounding) {
     for (int k = 0; k > steps; --k) v = std::nextafter(v, -1e300);
     return v;
   };
-  for (int kind = 0; kind < 8; ++kind) {
+  for (int kind = 0; kind < 9; ++kind) {
     for (const size_t n : {2100u, 20000u, 100000u}) {
       SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n);
       std::vector<double> x(n), y(n);
@@ -278,8 +279,19 @@ TEST(Ks, PairedWalkAgreesWithTheStraightforwardOneOnPairsThatDifferByRounding) {
           case 6:
             y[k] = x[k];
             break;
-          default:
+          case 7:
             y[k] = ulps(x[k], -1);
+            break;
+          default:
+            // Below -4 (the lowest 9%, far from where the largest rounding step can occur):
+            // intervals of about 1e-9 starting within 1e-9 of one of a few values, which overlap
+            // (c reaches 2 and -2) without sharing a start; above, one ulp either way.
+            if (x[k] < -4.0) {
+              x[k] = std::round(x[k] * 20.0) / 20.0 + 1e-9 * uniform();
+              y[k] = x[k] + (u < 0.5 ? 1e-9 : -1e-9) * (0.5 + uniform());
+            } else {
+              y[k] = ulps(x[k], u < 0.5 ? 1 : -1);
+            }
             break;
         }
       }
