@@ -410,8 +410,12 @@ EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const do
   const auto [x_lo, x_hi] = MinMax(x);
   const auto [y_lo, y_hi] = MinMax(y);
   const double lo = std::min(x_lo, y_lo), hi = std::max(x_hi, y_hi);
+  // About 16 values a bucket: the bounds of a bucket are then looser than with 2 (more values
+  // walked), but the per-bucket arrays stay in the caches and their passes short; measured on
+  // 100,000 + 100,000 values, 2 a bucket took 2.0 ms, 16 0.65 ms, 64 0.9 ms, 256 3.3 ms
+  // (stats_bench, BM_KsTwoSample and BM_KsPairedEstimatorsDiffer).
   const std::size_t buckets =
-      std::clamp<std::size_t>((x.size() + y.size()) / 2, std::size_t{1}, kMaxBuckets);
+      std::clamp<std::size_t>((x.size() + y.size()) / 16, std::size_t{1}, kMaxBuckets);
   const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
   const double scale = static_cast<double>(buckets) / (hi - lo);
   if (!(hi > lo) || !std::isfinite(scale) || !std::isfinite(hi - lo)) {
