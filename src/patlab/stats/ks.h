@@ -94,14 +94,15 @@ EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const do
 // walks only the buckets inside which F1 - F2 could reach its extremes (for continuous samples a
 // few percent of them; all of them when the samples differ by rounding only); samples equal
 // index by index need one pass. O(n) for continuous data, never worse than sorting. KsTwoSample
-// uses it for n1 + n2 >= 4096 when n1 != n2.
+// uses it for n1 + n2 >= 4096 when n1 != n2 (and EcdfExtremesByPairs when its shortcut fails).
 EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const double> y);
-// Samples of equal size, taken as pairs x[k], y[k] (any pairing is valid; paired samples, such as
-// two estimators' errors in the same trials, make it fast): the counts' difference c = i - j
-// orders the computed F1 - F2, and a pair whose two values share a bucket bounds c there far
-// better than the counts alone, so that samples that differ by rounding only (all buckets walked
-// above) need a few walked buckets. Same results as the two above, bit for bit (the derivation is
-// in ks.cpp). KsTwoSample uses it for n1 = n2 and n1 + n2 >= 4096.
+// Samples of equal size, taken as pairs x[k], y[k] (two estimators' errors in the same trials):
+// when the pairs that differ do so by intervals [min, max) that are pairwise apart (the case of
+// estimators that agree to rounding), F1 - F2 is -1/n, 0 or 1/n up to rounding at every group
+// end, its extremes are the largest rounding step, and a walk of a few hundred values from the
+// rank where that step can first occur finds them (the derivation is in ks.cpp). Otherwise, and
+// if that walk does not find them, EcdfExtremesByBuckets. Same results as the two above, bit for
+// bit. KsTwoSample uses it for n1 = n2 and n1 + n2 >= 4096.
 EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const double> y);
 }  // namespace detail
 
