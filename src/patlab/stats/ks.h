@@ -89,12 +89,13 @@ struct EcdfExtremes {
 };
 // Sorts both samples whole and walks their merged order: O(n log n).
 EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const double> y);
-// Counts both samples into min((n1 + n2) / 16, 2^17) buckets of equal width between the smallest
-// and the largest value, takes the ECDFs' counts at every bucket end, and copies out, sorts and
-// walks only the buckets inside which F1 - F2 could reach its extremes (for continuous samples a
-// few percent of them; all of them when the samples differ by rounding only); samples equal
-// index by index need one pass. O(n) for continuous data, never worse than sorting. KsTwoSample
-// uses it for n1 + n2 >= 4096 when n1 != n2 (and EcdfExtremesByPairs when its shortcut fails).
+// Counts both samples into min((n1 + n2) / b, 2^17) buckets of equal width (b = sqrt(n1 + n2) / 48
+// values a bucket, 2 to 16) between the smallest and the largest value, takes the ECDFs' counts at
+// every bucket end, and copies out, sorts and walks only the buckets inside which F1 - F2 could
+// reach its extremes (for continuous samples a few percent of them; all of them when the samples
+// differ by rounding only); samples equal index by index need one pass. O(n) for continuous data,
+// never worse than sorting. KsTwoSample uses it for n1 + n2 >= 4096 when n1 != n2 (and
+// EcdfExtremesByPairs when its shortcut fails).
 EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const double> y);
 // Samples of equal size, taken as pairs x[k], y[k] (two estimators' errors in the same trials):
 // when the pairs that differ do so by intervals [min, max) that are pairwise apart (the case of
