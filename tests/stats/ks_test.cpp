@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -118,6 +119,14 @@ TEST(Ks, RejectsEmptyAndNonFiniteInput) {
       "the KS test needs two non-empty samples, got 1 and 0 values; expected at least one "
       "value in each");
   EXPECT_INPUT_ERROR(KsTwoSample(one, bad), "sample 2 value 2 is NaN; expected finite numbers");
+  // Equal sizes large enough for the paired walk, which checks the values in its own pass: the
+  // same messages, also when both samples are the same array.
+  std::vector<double> big(3000, 1.0), big_bad = big;
+  big_bad[2500] = std::numeric_limits<double>::infinity();
+  EXPECT_INPUT_ERROR(KsTwoSample(big, big_bad),
+                     "sample 2 value 2501 is infinite; expected finite numbers");
+  EXPECT_INPUT_ERROR(KsTwoSample(big_bad, big_bad),
+                     "sample 1 value 2501 is infinite; expected finite numbers");
   EXPECT_INPUT_ERROR(ParseKsMethod("approx"),
                      "method is \"approx\"; expected \"auto\", \"exact\" or \"asymp\"");
   EXPECT_EQ(ParseKsMethod("asymp"), KsMethod::kAsymptotic);

@@ -405,11 +405,11 @@ struct EqualWidthBuckets {
 
 }  // namespace
 
-EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const double> y) {
-  if (SameSamples(x, y)) return ExtremesOfSameSamples(x);
-  const auto [x_lo, x_hi] = MinMax(x);
-  const auto [y_lo, y_hi] = MinMax(y);
-  const double lo = std::min(x_lo, y_lo), hi = std::max(x_hi, y_hi);
+namespace {
+
+// EcdfExtremesByBuckets for samples that are not the same, all of whose values lie in [lo, hi].
+EcdfExtremes ExtremesByBucketsIn(std::span<const double> x, std::span<const double> y, double lo,
+                                 double hi) {
   // Values a bucket: more make the per-bucket arrays smaller and their passes shorter, fewer make
   // each bucket's bounds tighter (fewer walked). The walk visits the buckets whose bound comes
   // within their size of the extreme, which grows as sqrt(n1 + n2) for samples that differ, so the
@@ -434,6 +434,15 @@ EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const do
   EcdfExtremes e;
   WalkMarked(x, y, bucket_of, buckets, 1, kWindowValues, &s, &e, [] { return false; });
   return e;
+}
+
+}  // namespace
+
+EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const double> y) {
+  if (SameSamples(x, y)) return ExtremesOfSameSamples(x);
+  const auto [x_lo, x_hi] = MinMax(x);
+  const auto [y_lo, y_hi] = MinMax(y);
+  return ExtremesByBucketsIn(x, y, std::min(x_lo, y_lo), std::max(x_hi, y_hi));
 }
 
 // ---- Pairs that differ by rounding (n1 = n2) --------------------------------------------------
@@ -481,7 +490,8 @@ std::pair<double, std::size_t> LargestStep(std::size_t n) {
 }
 
 // What one pass over the pairs tells: the range of all values, the pairs that go up and down,
-// and the widest interval.
+// and the widest interval. The same pass checks that every value is finite (RequireFinite's
+// InputError otherwise).
 struct PairSummary {
   double lo = 0.0, hi = 0.0, widest = 0.0;
   std::size_t up = 0, down = 0;
@@ -490,13 +500,20 @@ PairSummary SummarisePairs(std::span<const double> x, std::span<const double> y)
   PairSummary p;
   double lo = x[0], hi = x[0], widest = 0.0;
   std::size_t up = 0, down = 0;
+  unsigned bad = 0;
+  constexpr double kMax = std::numeric_limits<double>::max();
   for (std::size_t k = 0; k < x.size(); ++k) {
     const double a = x[k], b = y[k];
+    bad |= std::fabs(a) <= kMax && std::fabs(b) <= kMax ? 0U : 1U;
     lo = std::min(lo, std::min(a, b));
     hi = std::max(hi, std::max(a, b));
     widest = std::max(widest, std::fabs(a - b));
     up += a < b ? 1 : 0;
     down += b < a ? 1 : 0;
+  }
+  if (bad != 0) {
+    RequireFinite(x, "sample 1");
+    RequireFinite(y, "sample 2");
   }
   p.lo = lo, p.hi = hi, p.widest = widest, p.up = up, p.down = down;
   return p;
@@ -525,20 +542,20 @@ bool StartsApart(std::span<const double> x, std::span<const double> y, double wi
 }  // namespace
 
 EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const double> y) {
-  PATLAB_CHECK(x.size() == y.size());
+  PATLAB_CHECK(x.size() == y.size() && !x.empty());
+  const PairSummary p = SummarisePairs(x, y);
   if (SameSamples(x, y)) return ExtremesOfSameSamples(x);
   const std::size_t n = x.size();
-  const PairSummary p = SummarisePairs(x, y);
   const double range = p.hi - p.lo;
   // The shortcut needs both directions, and pays only if the intervals are far apart on the
   // average: their total length a small part of the range (else the starts' check fails anyway).
   const double scale = static_cast<double>(kRegionBins) / range;
   if (p.up == 0 || p.down == 0 || !(range > 0.0) || !std::isfinite(scale) ||
       !(p.widest * static_cast<double>(p.up + p.down) < range / 64.0)) {
-    return EcdfExtremesByBuckets(x, y);
+    return ExtremesByBucketsIn(x, y, p.lo, p.hi);
   }
   Buffers& s = ThreadBuffers();
-  if (!StartsApart(x, y, p.widest, &s.a, &s.b)) return EcdfExtremesByBuckets(x, y);
+  if (!StartsApart(x, y, p.widest, &s.a, &s.b)) return ExtremesByBucketsIn(x, y, p.lo, p.hi);
   const EqualWidthBuckets bin_of{p.lo, scale, static_cast<int64_t>(kRegionBins) - 1};
   CountsAtBucketEnds(x, kRegionBins, bin_of, &s.end1);
   CountsAtBucketEnds(y, kRegionBins, bin_of, &s.end2);
@@ -574,7 +591,7 @@ EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const doub
     EcdfExtremes e;
     WalkSorted(s.a.data(), na, s.b.data(), nb, i0, j0, dn, dn, &e);
     if (e.max_diff == largest && e.min_diff == -largest) return e;
-    if (last == kRegionBins) return EcdfExtremesByBuckets(x, y);
+    if (last == kRegionBins) return ExtremesByBucketsIn(x, y, p.lo, p.hi);
   }
 }
 }  // namespace detail
@@ -594,13 +611,17 @@ KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
                      " and " + std::to_string(y.size()) +
                      " values; expected at least one value in each");
   }
-  detail::RequireFinite(x, "sample 1");
-  detail::RequireFinite(y, "sample 2");
   const std::size_t n1 = x.size();
   const std::size_t n2 = y.size();
-  const detail::EcdfExtremes e = n1 + n2 < kKsBucketMinSize ? detail::EcdfExtremesBySorting(x, y)
-                                 : n1 == n2                 ? detail::EcdfExtremesByPairs(x, y)
-                                                            : detail::EcdfExtremesByBuckets(x, y);
+  // The paired walk checks the values as it reads them; the others are checked first.
+  const bool pairs = n1 == n2 && n1 + n2 >= kKsBucketMinSize;
+  if (!pairs) {
+    detail::RequireFinite(x, "sample 1");
+    detail::RequireFinite(y, "sample 2");
+  }
+  const detail::EcdfExtremes e = pairs                        ? detail::EcdfExtremesByPairs(x, y)
+                                 : n1 + n2 < kKsBucketMinSize ? detail::EcdfExtremesBySorting(x, y)
+                                                              : detail::EcdfExtremesByBuckets(x, y);
   const double dn1 = static_cast<double>(n1);
   const double dn2 = static_cast<double>(n2);
   const double max_diff = e.max_diff, min_diff = e.min_diff;
