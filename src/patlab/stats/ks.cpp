@@ -519,22 +519,58 @@ PairSummary SummarisePairs(std::span<const double> x, std::span<const double> y)
   return p;
 }
 
-// True when no interval's start lies within 2 * widest of another's (sorted starts, in the
-// caller's scratch): then every interval ends before the next one starts (a rounded width can be
-// one rounding short of the true one; the factor 2 covers it).
-bool StartsApart(std::span<const double> x, std::span<const double> y, double widest,
-                 std::vector<double>* starts, std::vector<double>* scratch) {
-  starts->resize(x.size());
+// The starts of the intervals (the smaller value of each pair that differs) with bins in
+// [first_bin, last_bin) of `bin_of` (all of them: 0 and ~0), copied without a branch into *out,
+// which holds at least the copied values + 1 (`capacity`, counted before).
+template <class BinOf>
+std::size_t CopyStarts(std::span<const double> x, std::span<const double> y, BinOf bin_of,
+                       uint32_t first_bin, uint32_t bins, double* out) {
   std::size_t m = 0;
   for (std::size_t k = 0; k < x.size(); ++k) {
-    (*starts)[m] = std::min(x[k], y[k]);
-    m += x[k] != y[k] ? 1 : 0;
+    const double start = std::min(x[k], y[k]);
+    out[m] = start;
+    m += x[k] != y[k] && bin_of(start) - first_bin < bins ? 1 : 0;  // unsigned: below wraps
   }
-  const std::span<double> s(starts->data(), m);
-  if (scratch->size() < m) scratch->resize(m);
-  SortAscending(s, std::span<double>(scratch->data(), m));
-  for (std::size_t k = 1; k < m; ++k) {
-    if (!(s[k] - s[k - 1] > 2.0 * widest)) return false;
+  return m;
+}
+
+// True when no interval's start lies within 2 * widest of another's: then every interval ends
+// before the next one starts (a rounded width can be one rounding short of the true one; the
+// factor 2 covers it). The starts are sorted and compared a window of coarse bins at a time, each
+// window holding at most kWindowValues starts (fig5's samples: one window), so that the buffers
+// stay bounded (docs/hardening.md, "Bounded memory"); false also if one bin alone holds more.
+template <class BinOf>
+bool StartsApart(std::span<const double> x, std::span<const double> y, std::size_t intervals,
+                 double widest, BinOf bin_of, Buffers* s) {
+  std::vector<uint32_t>& count = s->pos1;  // per coarse bin, then the windows' ends
+  if (intervals <= kWindowValues) {
+    count.assign(1, static_cast<uint32_t>(intervals));
+  } else {
+    count.assign(kRegionBins, 0);
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      count[bin_of(std::min(x[k], y[k]))] += x[k] != y[k] ? 1 : 0;
+    }
+  }
+  const bool whole = count.size() == 1;
+  double previous = -std::numeric_limits<double>::infinity();
+  for (std::size_t first = 0; first < count.size();) {
+    std::size_t last = first, m = 0;
+    while (last < count.size() && m + count[last] <= kWindowValues) m += count[last++];
+    if (last == first) return false;  // one bin holds more than a window
+    s->a.resize(m + 1);
+    s->b.resize(m + 1);
+    const std::size_t got = whole ? CopyStarts(
+                                        x, y, [](double) { return uint32_t{0}; }, 0, 1, s->a.data())
+                                  : CopyStarts(x, y, bin_of, static_cast<uint32_t>(first),
+                                               static_cast<uint32_t>(last - first), s->a.data());
+    PATLAB_CHECK(got == m);
+    const std::span<double> starts(s->a.data(), m);
+    SortAscending(starts, std::span<double>(s->b.data(), m));
+    for (const double start : starts) {
+      if (!(start - previous > 2.0 * widest)) return false;
+      previous = start;
+    }
+    first = last;
   }
   return true;
 }
@@ -555,8 +591,10 @@ EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const doub
     return ExtremesByBucketsIn(x, y, p.lo, p.hi);
   }
   Buffers& s = ThreadBuffers();
-  if (!StartsApart(x, y, p.widest, &s.a, &s.b)) return ExtremesByBucketsIn(x, y, p.lo, p.hi);
   const EqualWidthBuckets bin_of{p.lo, scale, static_cast<int64_t>(kRegionBins) - 1};
+  if (!StartsApart(x, y, p.up + p.down, p.widest, bin_of, &s)) {
+    return ExtremesByBucketsIn(x, y, p.lo, p.hi);
+  }
   CountsAtBucketEnds(x, kRegionBins, bin_of, &s.end1);
   CountsAtBucketEnds(y, kRegionBins, bin_of, &s.end2);
   // The first bin whose values can hold a group end with v(i) = G or with the minimum's
@@ -573,9 +611,14 @@ EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const doub
   for (uint32_t target = kFirstRegion;; target *= 4) {
     std::size_t last = first + 1;
     while (last < kRegionBins && s.end1[last - 1] - i0 < target) ++last;
-    // The region's values, copied without a branch on whether each one is in it.
-    s.a.resize(n + 1);
-    s.b.resize(n + 1);
+    // The region's values, copied without a branch on whether each one is in it into buffers of
+    // their counts + 1, at most a window's (else the buckets' walk, whose memory is bounded).
+    const uint32_t count_a = s.end1[last - 1] - i0, count_b = s.end2[last - 1] - j0;
+    if (count_a >= kWindowValues || count_b >= kWindowValues) {
+      return ExtremesByBucketsIn(x, y, p.lo, p.hi);
+    }
+    s.a.resize(std::max<std::size_t>(s.a.size(), count_a + 1));
+    s.b.resize(std::max<std::size_t>(s.b.size(), count_b + 1));
     std::size_t na = 0, nb = 0;
     const auto lo_bin = static_cast<uint32_t>(first), bins = static_cast<uint32_t>(last - first);
     for (std::size_t k = 0; k < n; ++k) {
@@ -585,6 +628,7 @@ EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const doub
       na += bin_of(a) - lo_bin < bins ? 1 : 0;  // unsigned: bins below first wrap to large
       nb += bin_of(b) - lo_bin < bins ? 1 : 0;
     }
+    PATLAB_CHECK(na == count_a && nb == count_b);
     SortSmall(s.a.data(), na);
     SortSmall(s.b.data(), nb);
     s.a[na] = s.b[nb] = std::numeric_limits<double>::infinity();
