@@ -4,14 +4,20 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "patlab/detect/codebook.h"
+#include "patlab/detect/settings.h"
+#include "patlab/io/pattern_file.h"
+#include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/render.h"
 
@@ -38,11 +44,15 @@ std::string Dir() {
   return dir.string();
 }
 
-CliRun Detect(const std::string& dir, const std::string& args) {
-  const std::string cmd = std::string(PATLAB_BINARY) + " detect " + args + " >" + dir +
-                          "/out.txt 2>" + dir + "/err.txt";
+CliRun RunPatlab(const std::string& dir, const std::string& args) {
+  const std::string cmd =
+      std::string(PATLAB_BINARY) + " " + args + " >" + dir + "/out.txt 2>" + dir + "/err.txt";
   const int raw = std::system(cmd.c_str());
   return {WEXITSTATUS(raw), Slurp(dir + "/out.txt"), Slurp(dir + "/err.txt")};
+}
+
+CliRun Detect(const std::string& dir, const std::string& args) {
+  return RunPatlab(dir, "detect " + args);
 }
 
 // One blue disc of radius 10 px at (30.5, 20.25) on grey; calibration 2 mm per px, y up.
@@ -192,6 +202,60 @@ TEST(DetectCli, DetectsTheSharedStandardPatternSheet) {
     EXPECT_NE(r.out.find("\"id\": " + std::to_string(id) + ","), std::string::npos) << id;
   }
   EXPECT_EQ(r.out.find("\"id\": 16,"), std::string::npos);
+}
+
+// The segmentation's edge loss: a settings file's [frame] edge_loss_px, and --edge-loss-px over
+// it. One blue ssl-standard robot (ID 0) at 2 mm per px whose 20 mm dots are drawn with radius
+// 11 mm: area ratio (11/20)^2 = 0.30, below area_ratio_min 0.4 of the full dot but above 0.4 times
+// the dot shrunk by a 2 px (4 mm) rim, 0.4 (16/20)^2 = 0.256.
+TEST(DetectCli, EdgeLossFromTheSettingsAndTheFlag) {
+  const std::string dir = Dir();
+  const std::string shipped = std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml";
+  const detect::DetectorConfig config = detect::LoadDetectorSettings(shipped);
+  const detect::DetectorPattern& dp = config.patterns[0];
+  const std::vector<int> slots = detect::IdSlots(dp.pattern);
+  std::vector<Disc> discs;
+  for (int i = 0; i < dp.pattern.size(); ++i) {
+    const Patch& patch = dp.pattern.patches[i];
+    if (patch.role != PatchRole::kId) {
+      discs.push_back({patch.position_mm, patch.radius_mm, {20, 40, 230}});
+      continue;
+    }
+    const int slot = static_cast<int>(std::find(slots.begin(), slots.end(), i) - slots.begin());
+    const std::string& colour = dp.codebook.colours[dp.codebook.entries[0].colour[slot]];
+    discs.push_back(
+        {patch.position_mm, 11.0, colour == "pink" ? Rgb{250, 60, 220} : Rgb{40, 230, 60}});
+  }
+  const std::string calibration =
+      "model = \"homography\"\nimage_size_px = [200, 150]\n[[homography]]\nheight_mm = 0\n"
+      "matrix = [[2, 0, -200], [0, -2, 150], [0, 0, 1]]\n";
+  std::ofstream(dir + "/c.toml") << calibration;
+  WritePng(RenderWorldDiscs(200, 150, ParseCalibration(calibration, "c.toml").camera, 0.0,
+                            {70, 70, 70}, discs),
+           dir + "/robot.png");
+  std::ofstream(dir + "/t.toml")
+      << "space = \"rgb\"\n"
+         "[[class]]\nname = \"blue\"\nr = [0, 80]\ng = [0, 100]\nb = [180, 255]\n"
+         "[[class]]\nname = \"pink\"\nr = [200, 255]\ng = [0, 110]\nb = [160, 255]\n"
+         "[[class]]\nname = \"green\"\nr = [0, 90]\ng = [180, 255]\nb = [0, 110]\n";
+  std::ofstream(dir + "/s.toml") << "palette = [\"blue\", \"yellow\", \"pink\", \"green\"]\n"
+                                    "[frame]\nedge_loss_px = 2\n[[pattern]]\npattern = \""
+                                 << PATLAB_SOURCE_DIR
+                                 << "/patterns/ssl-standard.toml\"\ncodebook = \""
+                                 << PATLAB_SOURCE_DIR
+                                 << "/patterns/ssl-standard.codebook.toml\"\n"
+                                    "key_colours = [\"blue\"]\n";
+  const std::string args =
+      dir + "/robot.png -t " + dir + "/t.toml -c " + dir + "/c.toml -s " + dir + "/s.toml";
+  const CliRun file_only = Detect(dir, args);  // the file's 2 px
+  ASSERT_EQ(file_only.status, 0) << file_only.err;
+  EXPECT_NE(file_only.out.find(",blue,0,ok,"), std::string::npos) << file_only.out;
+  EXPECT_EQ(std::count(file_only.out.begin(), file_only.out.end(), '\n'), 2) << file_only.out;
+  for (const char* px : {"0", "1"}) {  // the flag over the file
+    const CliRun flag = Detect(dir, args + " --edge-loss-px " + px);
+    ASSERT_EQ(flag.status, 0) << flag.err;
+    EXPECT_EQ(std::count(flag.out.begin(), flag.out.end(), '\n'), 1) << px << "\n" << flag.out;
+  }
 }
 
 }  // namespace

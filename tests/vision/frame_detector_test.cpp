@@ -154,6 +154,39 @@ TEST(FrameDetector, OptionsAreChecked) {
                      "min_area_px is 0; expected an integer >= 1");
 }
 
+// A settings file's [frame] table reaches the detector through the front end: its missing-patch
+// policy replaces the [detector] one, its edge loss shrinks the lower area bound (2 mm per px:
+// a 1 px rim of the ssl-standard 20 mm dots leaves (18/20)^2, 2 px (16/20)^2).
+TEST(FrameDetector, FrameSettingsReachTheDetector) {
+  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  ASSERT_EQ(config.options.missing_patch, detect::MissingPatchPolicy::kReject);
+  FrameDetectorOptions options;
+  FrameDetector as_is(Classes(), TwoMmPerPixel(), config, options);
+  EXPECT_EQ(as_is.detector().config().options.missing_patch, detect::MissingPatchPolicy::kReject);
+  const double r = config.patterns[0].pattern.patches[1].radius_mm;
+  EXPECT_NEAR(as_is.detector().config().options.area_ratio_min,
+              0.4 * (r - 2.0) * (r - 2.0) / (r * r), 1e-12);
+
+  ApplyFrameSettings(
+      detect::ParseFrameSettings("[frame]\nedge_loss_px = 2\nmissing_patch = \"fit\"\n", "s.toml"),
+      &options);
+  EXPECT_EQ(options.edge_loss_px, 2.0);
+  FrameDetector adapted(Classes(), TwoMmPerPixel(), config, options);
+  EXPECT_EQ(adapted.detector().config().options.missing_patch, detect::MissingPatchPolicy::kFit);
+  EXPECT_NEAR(adapted.detector().config().options.area_ratio_min,
+              0.4 * (r - 4.0) * (r - 4.0) / (r * r), 1e-12);
+
+  // An empty [frame] changes nothing.
+  FrameDetectorOptions unchanged;
+  ApplyFrameSettings(detect::FrameSettings{}, &unchanged);
+  EXPECT_EQ(unchanged.edge_loss_px, 1.0);
+  EXPECT_FALSE(unchanged.missing_patch.has_value());
+
+  options.edge_loss_px = -0.5;
+  EXPECT_INPUT_ERROR(FrameDetector(Classes(), TwoMmPerPixel(), config, options),
+                     "edge_loss_px is -0.5; expected a number in [0, 10] (px)");
+}
+
 }  // namespace
 }  // namespace patlab::vision
 

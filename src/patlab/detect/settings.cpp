@@ -109,6 +109,31 @@ DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReade
   return o;
 }
 
+// [frame]: every field optional; a bad value at its key's line.
+FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlReader& reader,
+                                const std::string& file) {
+  FrameSettings f;
+  const toml::node* frame_node = root.get("frame");
+  if (frame_node == nullptr) return f;
+  if (!frame_node->is_table()) {
+    reader.Fail("frame", "frame is " + io::TypeName(*frame_node) + "; expected a table");
+  }
+  io::TomlReader fr(*frame_node->as_table(), file, "[frame]");
+  fr.CheckKeys({"edge_loss_px", "missing_patch"});
+  f.edge_loss_px = fr.OptionalNumber("edge_loss_px");
+  if (auto v = fr.OptionalString("missing_patch")) {
+    const auto policy = FindName(*v, kMissingPatchPolicyNames);
+    if (!policy) {
+      fr.Fail("missing_patch",
+              "missing_patch is \"" + *v + "\"; expected " + NameList(kMissingPatchPolicyNames));
+    }
+    f.missing_patch = *policy;
+  }
+  const std::vector<OptionsProblem> problems = Check(f);
+  if (!problems.empty()) fr.Fail(problems.front().field, problems.front().message);
+  return f;
+}
+
 // The pattern a [[pattern]] table names: a path (relative to the settings file) or a name in
 // patterns_dir. One that cannot be found is reported at its line; a broken pattern file reports
 // its own file and line.
@@ -175,7 +200,7 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
                                      const std::string& base_dir) {
   const toml::table root = io::ParseTomlText(text, source_name);
   io::TomlReader reader(root, source_name);
-  reader.CheckKeys({"palette", "patterns_dir", "detector", "pattern"});
+  reader.CheckKeys({"palette", "patterns_dir", "detector", "frame", "pattern"});
   DetectorConfig config;
   config.palette = StringList(root, "palette", source_name, "colour names");
   if (config.palette.size() > 64) {
@@ -185,6 +210,7 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
   const std::string patterns_dir =
       Resolve(base_dir, reader.OptionalString("patterns_dir").value_or("../patterns"));
   config.options = ReadDetectorOptions(root, reader, source_name);
+  ReadFrameSettings(root, reader, source_name);  // checked here, applied by the frame front ends
 
   const toml::node* patterns_node = root.get("pattern");
   const toml::array* patterns = patterns_node == nullptr ? nullptr : patterns_node->as_array();
@@ -228,6 +254,23 @@ DetectorConfig MakeDetectorConfig(std::vector<std::string> palette, const Detect
   config.patterns = std::move(patterns);
   const Detector check(config);  // throws InputError for the first problem
   return config;
+}
+
+std::vector<OptionsProblem> Check(const FrameSettings& settings) {
+  OptionsChecker check;
+  if (settings.edge_loss_px) {
+    check.InRange("edge_loss_px", *settings.edge_loss_px, 0.0, kMaxEdgeLossPx, "px");
+  }
+  return check.Take();
+}
+
+FrameSettings ParseFrameSettings(const std::string& text, const std::string& source_name) {
+  const toml::table root = io::ParseTomlText(text, source_name);
+  return ReadFrameSettings(root, io::TomlReader(root, source_name), source_name);
+}
+
+FrameSettings LoadFrameSettings(const std::string& path) {
+  return ParseFrameSettings(io::ReadTextFile(path, "TOML file"), path);
 }
 
 DetectorConfig LoadDetectorSettings(const std::string& path) {

@@ -23,14 +23,18 @@ std::vector<OptionsProblem> Check(const FrameDetectorOptions& o) {
                                         std::to_string(o.raw_height_px) +
                                         "; expected a positive even width and a positive height"});
   }
-  if (!(o.edge_loss_px >= 0.0 && o.edge_loss_px <= 10.0)) {
-    problems.push_back({"edge_loss_px", "edge_loss_px is " + FormatNumber(o.edge_loss_px) +
-                                            "; expected a number in [0, 10] (px)"});
+  for (OptionsProblem& problem : detect::Check(detect::FrameSettings{o.edge_loss_px, {}})) {
+    problems.push_back(std::move(problem));
   }
   return problems;
 }
 
 void Validate(const FrameDetectorOptions& options) { ThrowFirstProblem(Check(options)); }
+
+void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOptions* options) {
+  if (settings.edge_loss_px) options->edge_loss_px = *settings.edge_loss_px;
+  if (settings.missing_patch) options->missing_patch = settings.missing_patch;
+}
 
 namespace {
 
@@ -147,6 +151,7 @@ FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
   // The calibration's recorded residual on the robot-top plane (default height) widens the
   // detector's geometric tolerance (detect::DetectorOptions::calibration_residual_mm).
   AdaptToCamera(*detector, pipeline_.calibration(), options_.edge_loss_px);
+  if (options_.missing_patch) detector->options.missing_patch = *options_.missing_patch;
   detector_.emplace(std::move(*detector));
   for (const ColorClass& c : pipeline_.thresholds().classes) {
     palette_label_.push_back(detector_->ColourLabel(c.name));

@@ -5,8 +5,10 @@
 // name are not shown to the detector). This is what `patlab detect` runs per frame; a robot's
 // vision stack can call it the same way:
 //
+//   vision::FrameDetectorOptions options;
+//   vision::ApplyFrameSettings(detect::LoadFrameSettings(s), &options);  // the file's [frame]
 //   vision::FrameDetector frames(LoadThresholds(t), LoadCalibration(c),
-//                                detect::LoadDetectorSettings(s), {});
+//                                detect::LoadDetectorSettings(s), options);
 //   const vision::FrameResult& result = frames.DetectFile("frame.png");
 //   for (const detect::Detection& d : result.detections) ...
 //
@@ -24,6 +26,7 @@
 #include "patlab/core/options.h"
 #include "patlab/core/timeprofile.h"
 #include "patlab/detect/detector.h"
+#include "patlab/detect/settings.h"
 #include "patlab/vision/image.h"
 #include "patlab/vision/pipeline.h"
 
@@ -50,14 +53,22 @@ struct FrameDetectorOptions {
   // interiors miss them. The detector's lower area bound is area_ratio_min times the area of the
   // patch shrunk by this rim (at the camera's mm per px on the robot-top plane), not times its
   // full area: a 40 mm dot seen at 6 mm per px loses half its area to a 1 px rim, a 50 mm dot at
-  // 1 mm per px 8%. 0 = the full area (the detector's own test).
+  // 1 mm per px 8%. 0 = the full area (the detector's own test). A settings file's [frame]
+  // edge_loss_px; patlab detect --edge-loss-px.
   double edge_loss_px = 1.0;
+  // The missing-patch policy on frames; unset: the detector settings' own ([detector]
+  // missing_patch). A settings file's [frame] missing_patch (experiments/detector.toml: "fit";
+  // docs/detect.md, "Settings that travel").
+  std::optional<detect::MissingPatchPolicy> missing_patch;
 };
 
-// Every broken constraint (core/options.h): the segmenter's, and a raw size that is either
-// 0 x 0 or a positive even width and a positive height.
+// Every broken constraint (core/options.h): the segmenter's, a raw size that is either 0 x 0 or a
+// positive even width and a positive height, and edge_loss_px as detect::Check(FrameSettings).
 std::vector<OptionsProblem> Check(const FrameDetectorOptions& options);
 void Validate(const FrameDetectorOptions& options);
+
+// The set fields of a settings file's [frame] table (detect::LoadFrameSettings) into `options`.
+void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOptions* options);
 
 // What FrameDetector does to a detector configuration for frames of `calibration`: the
 // calibration's recorded residual on the robot-top plane widens the geometric tolerance, and the
