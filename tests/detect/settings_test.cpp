@@ -121,6 +121,9 @@ TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
   const FrameSettings none = ParseFrameSettings(kHead + kPattern, "s.toml");
   EXPECT_FALSE(none.edge_loss_px.has_value());
   EXPECT_FALSE(none.missing_patch.has_value());
+  // The shipped file: simulations keep "reject", camera frames fit (docs/detect.md).
+  EXPECT_EQ(LoadFrameSettings(kExperiments + "/detector.toml").missing_patch,
+            MissingPatchPolicy::kFit);
 }
 
 TEST(Settings, BadFrameTablesGiveTheirMessages) {

@@ -176,11 +176,13 @@ TEST(FrameDetector, FrameSettingsReachTheDetector) {
   EXPECT_NEAR(adapted.detector().config().options.area_ratio_min,
               0.4 * (r - 4.0) * (r - 4.0) / (r * r), 1e-12);
 
-  // An empty [frame] changes nothing.
+  // An empty [frame] changes nothing; the shipped file's makes frames fit.
   FrameDetectorOptions unchanged;
   ApplyFrameSettings(detect::FrameSettings{}, &unchanged);
   EXPECT_EQ(unchanged.edge_loss_px, 1.0);
   EXPECT_FALSE(unchanged.missing_patch.has_value());
+  ApplyFrameSettings(detect::LoadFrameSettings(kSettings), &unchanged);
+  EXPECT_EQ(unchanged.missing_patch, detect::MissingPatchPolicy::kFit);
 
   options.edge_loss_px = -0.5;
   EXPECT_INPUT_ERROR(FrameDetector(Classes(), TwoMmPerPixel(), config, options),
