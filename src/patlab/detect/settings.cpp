@@ -63,6 +63,18 @@ void CheckInPalette(const std::vector<std::string>& names, const std::vector<std
   }
 }
 
+// A table's missing_patch key, if present: "reject" or "fit".
+std::optional<MissingPatchPolicy> OptionalMissingPatch(const io::TomlReader& table) {
+  const auto name = table.OptionalString("missing_patch");
+  if (!name) return std::nullopt;
+  const auto policy = FindName(*name, kMissingPatchPolicyNames);
+  if (!policy) {
+    table.Fail("missing_patch", "missing_patch is \"" + *name + "\"; expected " +
+                                    NameList(kMissingPatchPolicyNames));
+  }
+  return policy;
+}
+
 // [detector]: every field optional, defaults from DetectorOptions; a broken constraint
 // (Check) at its key's line.
 DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReader& reader,
@@ -90,14 +102,7 @@ DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReade
   };
   if (auto v = dr.OptionalInteger("max_neighbours")) o.max_neighbours = to_int(*v);
   if (auto v = dr.OptionalInteger("ml_max_iterations")) o.ml.max_iterations = to_int(*v);
-  if (auto v = dr.OptionalString("missing_patch")) {
-    const auto policy = FindName(*v, kMissingPatchPolicyNames);
-    if (!policy) {
-      dr.Fail("missing_patch",
-              "missing_patch is \"" + *v + "\"; expected " + NameList(kMissingPatchPolicyNames));
-    }
-    o.missing_patch = *policy;
-  }
+  if (auto policy = OptionalMissingPatch(dr)) o.missing_patch = *policy;
   if (auto v = dr.OptionalString("estimator")) {
     if (!estimate::ParseEstimator(*v, &o.estimator)) {
       dr.Fail("estimator",
@@ -121,14 +126,7 @@ FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlReader& r
   io::TomlReader fr(*frame_node->as_table(), file, "[frame]");
   fr.CheckKeys({"edge_loss_px", "missing_patch"});
   f.edge_loss_px = fr.OptionalNumber("edge_loss_px");
-  if (auto v = fr.OptionalString("missing_patch")) {
-    const auto policy = FindName(*v, kMissingPatchPolicyNames);
-    if (!policy) {
-      fr.Fail("missing_patch",
-              "missing_patch is \"" + *v + "\"; expected " + NameList(kMissingPatchPolicyNames));
-    }
-    f.missing_patch = *policy;
-  }
+  f.missing_patch = OptionalMissingPatch(fr);
   const std::vector<OptionsProblem> problems = Check(f);
   if (!problems.empty()) fr.Fail(problems.front().field, problems.front().message);
   return f;
