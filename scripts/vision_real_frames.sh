@@ -38,55 +38,63 @@ trap 'rm -rf "$DBG"' EXIT
   --blobs --out "$R/vss-test-frame.blobs.csv"
 
 # Settings that travel (docs/detect.md): every frame with the SHIPPED detector numbers -- the
-# [detector] table of experiments/detector.toml, unchanged -- and only what the robots wear
-# (palette, patterns, ID colours) from the frame's settings file; the SSL 2008 frame through the
-# calibration patlab calibrate fits to its points (with its [[residual]] rows) and the pattern
-# measured through that calibration. Each frame runs with the calibration as it is and with its
-# [[residual]] tables removed (the residual term ignored). Prints the table and writes
-# results/vision/settings_travel.csv.
-SHIPPED=$(awk '/^\[detector\]/{on=1; print; next} /^\[/{on=0} on' experiments/detector.toml)
-wear() {  # settings file $1 with its [detector] table replaced by the shipped one
+# [detector] and [frame] tables of experiments/detector.toml, unchanged (frames fit a pattern
+# with a patch missing) -- and only what the robots wear (palette, patterns, ID colours) from the
+# frame's settings file; the SSL 2008 frame through the calibration patlab calibrate fits to its
+# points (with its [[residual]] rows) and the pattern measured through that calibration. Each
+# frame runs with the calibration as it is and with its [[residual]] tables removed (the residual
+# term ignored), and again with [frame] missing_patch = "reject" (the [detector] policy the
+# simulations keep), to show what each part does. Prints the table and writes
+# results/vision/settings_travel.csv (ids_with: pattern:team-id of every detection, -1 = no ID).
+table_of() { awk -v t="$2" '$0 == "[" t "]" {on=1; print; next} /^\[/{on=0} on' "$1"; }
+SHIPPED="$(table_of experiments/detector.toml detector)
+$(table_of experiments/detector.toml frame)"
+wear() {  # settings file $1 with its [detector] and [frame] tables replaced by the shipped ones
   local dir
   dir=$(cd "$(dirname "$1")" && pwd)
-  awk '/^\[detector\]/{skip=1; next} /^\[/{skip=0} !skip' "$1" |
+  awk '/^\[(detector|frame)\]/{skip=1; next} /^\[/{skip=0} !skip' "$1" |
     sed -E "s#^(patterns_dir|codebook) = \"([^/].*)\"#\1 = \"$dir/\2\"#"
   echo "$SHIPPED"
 }
+reject() { sed 's/^missing_patch = "fit"/missing_patch = "reject"/' "$1"; }
 without_residual() { awk '/^\[\[residual\]\]/{skip=1; next} /^\[/{skip=0} !skip' "$1"; }
 "$PATLAB" calibrate "$D/ssl-2008.calibration-input.toml" --out "$DBG/ssl-2008.fitted.toml" >/dev/null
 wear "$D/ssl-2008.detector.toml" | sed 's|^pattern = "kiks-sectors"|pattern = "kiks-sectors-fitted"|' \
   >"$DBG/ssl-2008.toml"
-# The same with the frame's own missing-patch policy (fit: most of its robots lose a sector to
-# segmentation), the tolerances still the shipped ones.
-sed 's/^missing_patch = .*/missing_patch = "fit"/' "$DBG/ssl-2008.toml" >"$DBG/ssl-2008-fit.toml"
 wear experiments/detector.toml >"$DBG/sheet.toml"
 wear "$D/vss.detector.toml" >"$DBG/vss.toml"
+for f in ssl-2008 sheet vss; do reject "$DBG/$f.toml" >"$DBG/$f-reject.toml"; done
 # frame | expected robots | thresholds | calibration | settings | note
 FRAMES=(
   "ssl-standard-pattern-2010-16ids.png|16|$D/ssl-standard-sheet.thresholds.toml|$D/ssl-standard-sheet.calibration.toml|$DBG/sheet.toml"
+  "ssl-standard-pattern-2010-16ids.png|16|$D/ssl-standard-sheet.thresholds.toml|$D/ssl-standard-sheet.calibration.toml|$DBG/sheet-reject.toml|missing_patch = reject"
   "ssl-field-2008.jpg|6|$D/ssl-2008.thresholds.toml|$DBG/ssl-2008.fitted.toml|$DBG/ssl-2008.toml"
-  "ssl-field-2008.jpg|6|$D/ssl-2008.thresholds.toml|$DBG/ssl-2008.fitted.toml|$DBG/ssl-2008-fit.toml|missing_patch = fit"
+  "ssl-field-2008.jpg|6|$D/ssl-2008.thresholds.toml|$DBG/ssl-2008.fitted.toml|$DBG/ssl-2008-reject.toml|missing_patch = reject"
   "vss-test-frame.png|5|$D/vss.colors.txt|$D/vss.calibration.toml|$DBG/vss.toml"
+  "vss-test-frame.png|5|$D/vss.colors.txt|$D/vss.calibration.toml|$DBG/vss-reject.toml|missing_patch = reject"
 )
 count() {  # detections of a CSV: all, and those with an ID
   tail -n +2 "$1" | awk -F, '{n++; if ($4 >= 0) k++} END {printf "%d,%d", n, k}'
+}
+ids() {  # pattern:team-id of every detection of a CSV (id -1: no ID), sorted, ';'-separated
+  tail -n +2 "$1" | awk -F, '{print $2 ":" $3 "-" $4}' | sort -V | paste -sd';' -
 }
 residual_of() {  # rms_mm of the [[residual]] row nearest the default height, or 0
   awk -F'= *' '/^default_mm/{h=$2+0} /^\[\[residual\]\]/{r=1} r&&/^height_mm/{hh=$2+0}
     r&&/^rms_mm/{d=hh-h; if(d<0)d=-d; if(best==""||d<best){best=d; v=$2+0}}
     END {print (v=="" ? 0 : v)}' "$1"
 }
-echo "frame,note,robots,residual_mm,found_with,id_with,found_without,id_without" \
+echo "frame,note,robots,residual_mm,found_with,id_with,found_without,id_without,ids_with" \
   >"$R/settings_travel.csv"
 for row in "${FRAMES[@]}"; do
   IFS='|' read -r frame robots thr cal set note <<<"$row"
   without_residual "$cal" >"$DBG/cal-without.toml"
   "$PATLAB" detect "$F/$frame" -t "$thr" -c "$cal" -s "$set" --out "$DBG/with.csv"
   "$PATLAB" detect "$F/$frame" -t "$thr" -c "$DBG/cal-without.toml" -s "$set" --out "$DBG/without.csv"
-  echo "$frame,${note:-shipped},$robots,$(residual_of "$cal"),$(count "$DBG/with.csv"),$(count "$DBG/without.csv")" \
+  echo "$frame,${note:-shipped},$robots,$(residual_of "$cal"),$(count "$DBG/with.csv"),$(count "$DBG/without.csv"),$(ids "$DBG/with.csv")" \
     >>"$R/settings_travel.csv"
 done
-echo "settings that travel: shipped [detector] of experiments/detector.toml on every frame"
+echo "settings that travel: shipped [detector] and [frame] of experiments/detector.toml on every frame"
 column -s, -t <"$R/settings_travel.csv"
 
 for stem in ssl-standard-pattern-2010-16ids ssl-field-2008 vss-test-frame; do

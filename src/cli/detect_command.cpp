@@ -51,6 +51,7 @@ struct DetectOptions {
   std::string track;
   bool blobs = false;
   bool keep_going = false;
+  double edge_loss_px = 0.0;  // --edge-loss-px, when given (it overrides the settings' [frame])
   vision::FrameDetectorOptions frame;
 };
 
@@ -94,7 +95,10 @@ po::options_description Flags(DetectOptions* o) {
       "min-area-px", po::value(&o->frame.segmenter.min_area_px),
       "drop regions with fewer pixels (default 4)")(
       "min-fill", po::value(&o->frame.segmenter.min_fill),
-      "drop regions filling less of their bounding box (default 0)");
+      "drop regions filling less of their bounding box (default 0)")(
+      "edge-loss-px", po::value(&o->edge_loss_px),
+      "pixels a region loses around its patch, for the area test (default: the settings' [frame] "
+      "edge_loss_px, else 1)");
   return visible;
 }
 
@@ -112,6 +116,17 @@ void CheckRequired(DetectOptions* o) {
     ParseRawSize(o->raw_size, &o->frame.raw_width_px, &o->frame.raw_height_px);
   }
   vision::Validate(o->frame.segmenter);
+}
+
+// --edge-loss-px as the settings' [frame] edge_loss_px is checked, the message naming the flag.
+void CheckEdgeLoss(double edge_loss_px) {
+  const std::vector<OptionsProblem> problems =
+      detect::Check(detect::FrameSettings{edge_loss_px, {}});
+  if (!problems.empty()) {
+    std::string message = "--edge-loss-px";
+    message.append(problems.front().message, problems.front().field.size());
+    throw InputError(message);
+  }
 }
 
 // With --debug every frame's images are named after its file name without the extension, so two
@@ -208,13 +223,18 @@ int RunDetect(const std::vector<std::string>& args) {
     return kExitOk;
   }
   CheckRequired(&o);
+  if (vm.count("edge-loss-px") > 0) CheckEdgeLoss(o.edge_loss_px);
   if (!o.track.empty() && o.settings.empty()) {
     throw InputError("--track needs --settings; expected detector settings naming the patterns");
   }
   if (!o.out.empty()) io::CheckWritable({o.out});
   if (!o.track.empty()) io::CheckWritable({o.track});
   std::optional<detect::DetectorConfig> settings;
-  if (!o.settings.empty()) settings = detect::LoadDetectorSettings(o.settings);
+  if (!o.settings.empty()) {
+    settings = detect::LoadDetectorSettings(o.settings);
+    vision::ApplyFrameSettings(detect::LoadFrameSettings(o.settings), &o.frame);
+  }
+  if (vm.count("edge-loss-px") > 0) o.frame.edge_loss_px = o.edge_loss_px;
   vision::FrameDetector frames(vision::LoadThresholds(o.thresholds),
                                vision::LoadCalibration(o.calibration), std::move(settings),
                                o.frame);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "../expect_error.h"
 #include "patlab/core/error.h"
 
@@ -102,6 +104,53 @@ TEST(Settings, BadFilesGiveTheirMessages) {
   ExpectSettingsError(kHead + "[detector\n",
                       "bad.toml:2: TOML syntax error: Error while parsing table header: expected "
                       "']', saw '\\n'");
+}
+
+// The [frame] table: read for the camera front ends, checked by every loader, never part of the
+// detector's own options.
+TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
+  const std::string text = kHead + "[detector]\nmissing_patch = \"reject\"\n" +
+                           "[frame]\nedge_loss_px = 0.5\nmissing_patch = \"fit\"\n" + kPattern;
+  const FrameSettings frame = ParseFrameSettings(text, "s.toml");
+  ASSERT_TRUE(frame.edge_loss_px.has_value());
+  EXPECT_EQ(*frame.edge_loss_px, 0.5);
+  ASSERT_TRUE(frame.missing_patch.has_value());
+  EXPECT_EQ(*frame.missing_patch, MissingPatchPolicy::kFit);
+  EXPECT_EQ(ParseDetectorSettings(text, "s.toml", kExperiments).options.missing_patch,
+            MissingPatchPolicy::kReject);
+  const FrameSettings none = ParseFrameSettings(kHead + kPattern, "s.toml");
+  EXPECT_FALSE(none.edge_loss_px.has_value());
+  EXPECT_FALSE(none.missing_patch.has_value());
+  // The shipped file: simulations keep "reject", camera frames fit (docs/detect.md).
+  EXPECT_EQ(LoadFrameSettings(kExperiments + "/detector.toml").missing_patch,
+            MissingPatchPolicy::kFit);
+}
+
+TEST(Settings, BadFrameTablesGiveTheirMessages) {
+  const auto frame_error = [](const std::string& table, const std::string& message) {
+    const std::string text = kHead + "[frame]\n" + table + kPattern;
+    ExpectSettingsError(text, message);
+    EXPECT_INPUT_ERROR(ParseFrameSettings(text, "bad.toml"), message);
+  };
+  frame_error("edge_loss_px = -1\n",
+              "bad.toml:3: edge_loss_px is -1; expected a number in [0, 10] (px)");
+  frame_error("edge_loss_px = 10.5\n",
+              "bad.toml:3: edge_loss_px is 10.5; expected a number in [0, 10] (px)");
+  frame_error("edge_loss_px = nan\n",
+              "bad.toml:3: edge_loss_px in [frame] is nan; expected a finite number");
+  frame_error("missing_patch = \"sometimes\"\n",
+              "bad.toml:3: missing_patch is \"sometimes\"; expected \"reject\" or \"fit\"");
+  frame_error("edge_loss = 1\n",
+              "bad.toml:3: unknown key 'edge_loss' in [frame]; expected one of: edge_loss_px, "
+              "missing_patch");
+  ExpectSettingsError(kHead + "frame = 1\n" + kPattern,
+                      "bad.toml:2: frame is an integer; expected a table");
+  FrameSettings ok;
+  ok.edge_loss_px = 0.0;
+  EXPECT_TRUE(Check(ok).empty());
+  ok.edge_loss_px = std::numeric_limits<double>::infinity();
+  ASSERT_EQ(Check(ok).size(), 1u);
+  EXPECT_EQ(Check(ok)[0].message, "edge_loss_px is inf; expected a number in [0, 10] (px)");
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "../test_util.h"
 #include "malformed_cases.h"
+#include "malformed_frame_cases.h"
 
 namespace patlab {
 namespace {
@@ -77,11 +78,21 @@ INSTANTIATE_TEST_SUITE_P(AllInputs, Malformed, ::testing::ValuesIn(testing::Malf
                            return std::string(info.param.name);
                          });
 
+INSTANTIATE_TEST_SUITE_P(FrameSettings, Malformed,
+                         ::testing::ValuesIn(testing::FrameSettingsMalformedCases()),
+                         [](const ::testing::TestParamInfo<testing::MalformedCase>& info) {
+                           return std::string(info.param.name);
+                         });
+
 TEST(MalformedSuite, CoversAtLeastEightyCasesWithDistinctNames) {
   std::set<std::string> names;
   for (const testing::MalformedCase& c : testing::MalformedCases()) names.insert(c.name);
+  for (const testing::MalformedCase& c : testing::FrameSettingsMalformedCases()) {
+    names.insert(c.name);
+  }
   EXPECT_GE(names.size(), 80u);
-  EXPECT_EQ(names.size(), testing::MalformedCases().size());
+  EXPECT_EQ(names.size(),
+            testing::MalformedCases().size() + testing::FrameSettingsMalformedCases().size());
 }
 
 }  // namespace

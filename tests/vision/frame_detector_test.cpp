@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "patlab/detect/settings.h"
 #include "patlab/vision/frame_io.h"
@@ -152,6 +154,129 @@ TEST(FrameDetector, OptionsAreChecked) {
   options.segmenter.min_area_px = 0;
   EXPECT_INPUT_ERROR(FrameDetector(Classes(), TwoMmPerPixel(), std::nullopt, options),
                      "min_area_px is 0; expected an integer >= 1");
+}
+
+// A settings file's [frame] table reaches the detector through the front end: its missing-patch
+// policy replaces the [detector] one, its edge loss shrinks the lower area bound (2 mm per px:
+// a 1 px rim of the ssl-standard 20 mm dots leaves (18/20)^2, 2 px (16/20)^2).
+TEST(FrameDetector, FrameSettingsReachTheDetector) {
+  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  ASSERT_EQ(config.options.missing_patch, detect::MissingPatchPolicy::kReject);
+  FrameDetectorOptions options;
+  FrameDetector as_is(Classes(), TwoMmPerPixel(), config, options);
+  EXPECT_EQ(as_is.detector().config().options.missing_patch, detect::MissingPatchPolicy::kReject);
+  const double r = config.patterns[0].pattern.patches[1].radius_mm;
+  EXPECT_NEAR(as_is.detector().config().options.area_ratio_min,
+              0.4 * (r - 2.0) * (r - 2.0) / (r * r), 1e-12);
+
+  ApplyFrameSettings(
+      detect::ParseFrameSettings("[frame]\nedge_loss_px = 2\nmissing_patch = \"fit\"\n", "s.toml"),
+      &options);
+  EXPECT_EQ(options.edge_loss_px, 2.0);
+  FrameDetector adapted(Classes(), TwoMmPerPixel(), config, options);
+  EXPECT_EQ(adapted.detector().config().options.missing_patch, detect::MissingPatchPolicy::kFit);
+  EXPECT_NEAR(adapted.detector().config().options.area_ratio_min,
+              0.4 * (r - 4.0) * (r - 4.0) / (r * r), 1e-12);
+
+  // An empty [frame] changes nothing; the shipped file's makes frames fit.
+  FrameDetectorOptions unchanged;
+  ApplyFrameSettings(detect::FrameSettings{}, &unchanged);
+  EXPECT_EQ(unchanged.edge_loss_px, 1.0);
+  EXPECT_FALSE(unchanged.missing_patch.has_value());
+  ApplyFrameSettings(detect::LoadFrameSettings(kSettings), &unchanged);
+  EXPECT_EQ(unchanged.missing_patch, detect::MissingPatchPolicy::kFit);
+
+  options.edge_loss_px = -0.5;
+  EXPECT_INPUT_ERROR(FrameDetector(Classes(), TwoMmPerPixel(), config, options),
+                     "edge_loss_px is -0.5; expected a number in [0, 10] (px)");
+}
+
+// A missing-patch fit is checked where its missing patch should be (MissingPatchLook). Four
+// rendered ssl-standard robots (2 mm per px), the front-left dot of three of them changed: painted
+// orange (a palette colour no ID dot has: a fit there is not this pattern -> dropped), painted the
+// background grey (unseen, as an occluded patch or one the light does not show -> kept, nothing
+// in its footprint), shrunk to radius 7 mm (a pink blob below the area range, as a patch merged
+// or cut up -> kept, its own colour in the footprint); the fourth intact.
+TEST(FrameDetector, MissingPatchFitsAreCheckedWhereThePatchShouldBe) {
+  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  const detect::DetectorPattern& dp = config.patterns[0];
+  const std::vector<int> slots = detect::IdSlots(dp.pattern);
+  struct Change {
+    Pose2 pose;
+    int entry;
+    Rgb dot_rgb;
+    double dot_radius_mm;  // 0: unchanged
+  };
+  const Rgb kOrange{255, 140, 0}, kGrey{70, 70, 70};
+  const std::vector<Change> robots = {{Pose2{-200, 120, 0.3}, 3, kOrange, 20.0},
+                                      {Pose2{200, 120, -1.0}, 5, kGrey, 20.0},
+                                      {Pose2{-200, -130, 2.0}, 9, {}, 7.0},
+                                      {Pose2{200, -130, 0.0}, 12, {}, 0.0}};
+  std::vector<Disc> discs;
+  for (const Change& robot : robots) {
+    for (int i = 0; i < dp.pattern.size(); ++i) {
+      const Patch& patch = dp.pattern.patches[i];
+      Rgb rgb = {20, 40, 230};  // blue key
+      double radius = patch.radius_mm;
+      if (patch.role == PatchRole::kId) {
+        const int slot = static_cast<int>(std::find(slots.begin(), slots.end(), i) - slots.begin());
+        const std::string& colour =
+            dp.codebook.colours[dp.codebook.entries[robot.entry].colour[slot]];
+        rgb = colour == "pink" ? Rgb{250, 60, 220} : Rgb{40, 230, 60};
+        if (i == 1 && robot.dot_radius_mm == 20.0) rgb = robot.dot_rgb;
+        if (i == 1 && robot.dot_radius_mm > 0.0) radius = robot.dot_radius_mm;
+      }
+      discs.push_back({robot.pose.Apply(patch.position_mm), radius, rgb});
+    }
+  }
+  const Image image = RenderWorldDiscs(400, 300, TwoMmPerPixel().camera, 0.0, kGrey, discs);
+  Thresholds thresholds = Classes();
+  thresholds.classes.push_back(ParseThresholdsToml("space = \"rgb\"\n[[class]]\nname = \"orange\"\n"
+                                                   "r = [220, 255]\ng = [100, 180]\nb = [0, 60]\n",
+                                                   "t.toml")
+                                   .classes[0]);
+  FrameDetectorOptions options;
+  options.missing_patch = detect::MissingPatchPolicy::kFit;
+  options.explain = true;
+  FrameDetector frames(thresholds, TwoMmPerPixel(), config, options);
+  const FrameResult& r = frames.Detect(image, "robots");
+
+  ASSERT_EQ(r.missing_patch_looks.size(), 3u);
+  for (const MissingPatchLook& look : r.missing_patch_looks) {
+    EXPECT_EQ(look.detection.missing_patch, 1);
+    // The dot's footprint: pi 20^2 mm^2 at 4 mm^2 per px, ~314 px.
+    EXPECT_NEAR(look.pixels, std::numbers::pi * 100.0, 20.0);
+    const double x = look.detection.pose.x_mm, y = look.detection.pose.y_mm;
+    if (x < 0 && y > 0) {  // orange: nearly all other colours
+      EXPECT_GT(look.other, 0.9 * look.pixels);
+      EXPECT_EQ(look.own, 0);
+      EXPECT_TRUE(look.rejected);
+    } else if (x > 0) {  // grey: nothing classified
+      EXPECT_EQ(look.own + look.other, 0);
+      EXPECT_FALSE(look.rejected);
+    } else {  // shrunk: (7/20)^2 = 12% its colour
+      EXPECT_NEAR(static_cast<double>(look.own) / look.pixels, 0.1225, 0.04);
+      EXPECT_EQ(look.other, 0);
+      EXPECT_FALSE(look.rejected);
+    }
+  }
+  // The intact robot with its ID, the grey and shrunk ones fitted on the other four patches; the
+  // orange one is no detection, and --explain says why.
+  ASSERT_EQ(r.detections.size(), 3u);
+  int intact = 0;
+  for (const detect::Detection& d : r.detections) {
+    EXPECT_GT(std::hypot(d.pose.x_mm + 200, d.pose.y_mm - 120), 100.0);
+    if (d.status == detect::DetectionStatus::kOk) {
+      ++intact;
+      EXPECT_EQ(d.id, dp.codebook.entries[12].id);
+    }
+  }
+  EXPECT_EQ(intact, 1);
+  const std::string text = ExplanationText(r, frames);
+  EXPECT_NE(text.find("missing_patch_colour: fitted without patch 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("; missing patch 1 shows 0% its colours, 0% other colours of"),
+            std::string::npos)
+      << text;
 }
 
 }  // namespace

@@ -63,6 +63,18 @@ void CheckInPalette(const std::vector<std::string>& names, const std::vector<std
   }
 }
 
+// A table's missing_patch key, if present: "reject" or "fit".
+std::optional<MissingPatchPolicy> OptionalMissingPatch(const io::TomlReader& table) {
+  const auto name = table.OptionalString("missing_patch");
+  if (!name) return std::nullopt;
+  const auto policy = FindName(*name, kMissingPatchPolicyNames);
+  if (!policy) {
+    table.Fail("missing_patch", "missing_patch is \"" + *name + "\"; expected " +
+                                    NameList(kMissingPatchPolicyNames));
+  }
+  return policy;
+}
+
 // [detector]: every field optional, defaults from DetectorOptions; a broken constraint
 // (Check) at its key's line.
 DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReader& reader,
@@ -90,14 +102,7 @@ DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReade
   };
   if (auto v = dr.OptionalInteger("max_neighbours")) o.max_neighbours = to_int(*v);
   if (auto v = dr.OptionalInteger("ml_max_iterations")) o.ml.max_iterations = to_int(*v);
-  if (auto v = dr.OptionalString("missing_patch")) {
-    const auto policy = FindName(*v, kMissingPatchPolicyNames);
-    if (!policy) {
-      dr.Fail("missing_patch",
-              "missing_patch is \"" + *v + "\"; expected " + NameList(kMissingPatchPolicyNames));
-    }
-    o.missing_patch = *policy;
-  }
+  if (auto policy = OptionalMissingPatch(dr)) o.missing_patch = *policy;
   if (auto v = dr.OptionalString("estimator")) {
     if (!estimate::ParseEstimator(*v, &o.estimator)) {
       dr.Fail("estimator",
@@ -107,6 +112,24 @@ DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReade
   const std::vector<OptionsProblem> problems = Check(o);
   if (!problems.empty()) dr.Fail(problems.front().field, problems.front().message);
   return o;
+}
+
+// [frame]: every field optional; a bad value at its key's line.
+FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlReader& reader,
+                                const std::string& file) {
+  FrameSettings f;
+  const toml::node* frame_node = root.get("frame");
+  if (frame_node == nullptr) return f;
+  if (!frame_node->is_table()) {
+    reader.Fail("frame", "frame is " + io::TypeName(*frame_node) + "; expected a table");
+  }
+  io::TomlReader fr(*frame_node->as_table(), file, "[frame]");
+  fr.CheckKeys({"edge_loss_px", "missing_patch"});
+  f.edge_loss_px = fr.OptionalNumber("edge_loss_px");
+  f.missing_patch = OptionalMissingPatch(fr);
+  const std::vector<OptionsProblem> problems = Check(f);
+  if (!problems.empty()) fr.Fail(problems.front().field, problems.front().message);
+  return f;
 }
 
 // The pattern a [[pattern]] table names: a path (relative to the settings file) or a name in
@@ -175,7 +198,7 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
                                      const std::string& base_dir) {
   const toml::table root = io::ParseTomlText(text, source_name);
   io::TomlReader reader(root, source_name);
-  reader.CheckKeys({"palette", "patterns_dir", "detector", "pattern"});
+  reader.CheckKeys({"palette", "patterns_dir", "detector", "frame", "pattern"});
   DetectorConfig config;
   config.palette = StringList(root, "palette", source_name, "colour names");
   if (config.palette.size() > 64) {
@@ -185,6 +208,7 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
   const std::string patterns_dir =
       Resolve(base_dir, reader.OptionalString("patterns_dir").value_or("../patterns"));
   config.options = ReadDetectorOptions(root, reader, source_name);
+  ReadFrameSettings(root, reader, source_name);  // checked here, applied by the frame front ends
 
   const toml::node* patterns_node = root.get("pattern");
   const toml::array* patterns = patterns_node == nullptr ? nullptr : patterns_node->as_array();
@@ -228,6 +252,23 @@ DetectorConfig MakeDetectorConfig(std::vector<std::string> palette, const Detect
   config.patterns = std::move(patterns);
   const Detector check(config);  // throws InputError for the first problem
   return config;
+}
+
+std::vector<OptionsProblem> Check(const FrameSettings& settings) {
+  OptionsChecker check;
+  if (settings.edge_loss_px) {
+    check.InRange("edge_loss_px", *settings.edge_loss_px, 0.0, kMaxEdgeLossPx, "px");
+  }
+  return check.Take();
+}
+
+FrameSettings ParseFrameSettings(const std::string& text, const std::string& source_name) {
+  const toml::table root = io::ParseTomlText(text, source_name);
+  return ReadFrameSettings(root, io::TomlReader(root, source_name), source_name);
+}
+
+FrameSettings LoadFrameSettings(const std::string& path) {
+  return ParseFrameSettings(io::ReadTextFile(path, "TOML file"), path);
 }
 
 DetectorConfig LoadDetectorSettings(const std::string& path) {

@@ -23,14 +23,18 @@ std::vector<OptionsProblem> Check(const FrameDetectorOptions& o) {
                                         std::to_string(o.raw_height_px) +
                                         "; expected a positive even width and a positive height"});
   }
-  if (!(o.edge_loss_px >= 0.0 && o.edge_loss_px <= 10.0)) {
-    problems.push_back({"edge_loss_px", "edge_loss_px is " + FormatNumber(o.edge_loss_px) +
-                                            "; expected a number in [0, 10] (px)"});
+  for (OptionsProblem& problem : detect::Check(detect::FrameSettings{o.edge_loss_px, {}})) {
+    problems.push_back(std::move(problem));
   }
   return problems;
 }
 
 void Validate(const FrameDetectorOptions& options) { ThrowFirstProblem(Check(options)); }
+
+void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOptions* options) {
+  if (settings.edge_loss_px) options->edge_loss_px = *settings.edge_loss_px;
+  if (settings.missing_patch) options->missing_patch = settings.missing_patch;
+}
 
 namespace {
 
@@ -147,9 +151,27 @@ FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
   // The calibration's recorded residual on the robot-top plane (default height) widens the
   // detector's geometric tolerance (detect::DetectorOptions::calibration_residual_mm).
   AdaptToCamera(*detector, pipeline_.calibration(), options_.edge_loss_px);
+  if (options_.missing_patch) detector->options.missing_patch = *options_.missing_patch;
   detector_.emplace(std::move(*detector));
   for (const ColorClass& c : pipeline_.thresholds().classes) {
     palette_label_.push_back(detector_->ColourLabel(c.name));
+  }
+  // The colours each patch may have, as palette bits, for MissingPatchLook::own.
+  const auto bits = [this](const std::vector<std::string>& names) {
+    uint64_t mask = 0;
+    for (const std::string& name : names) {
+      const int label = detector_->ColourLabel(name);
+      if (label >= 0) mask |= uint64_t{1} << label;
+    }
+    return mask;
+  };
+  for (const detect::DetectorPattern& p : detector_->config().patterns) {
+    std::vector<uint64_t>& masks = patch_colours_.emplace_back();
+    for (const Patch& patch : p.pattern.patches) {
+      masks.push_back(patch.role == PatchRole::kKey  ? bits(p.key_colours)
+                      : patch.role == PatchRole::kId ? bits(p.codebook.colours)
+                                                     : bits({patch.colour}));
+    }
   }
   warnings_ = PaletteWarnings(pipeline_.thresholds(), detector_->config());
 }
@@ -207,7 +229,79 @@ void FrameDetector::RunStages(const Image& image) {
   }
   detector_->Detect(r.detector_blobs, &r.detections, &r.detect_stats, &r.detect_profile,
                     options_.explain ? &r.explanations : nullptr);
+  LookAtMissingPatches();
   r.profile.Stamp(kFrameStageNames[5]);
+}
+
+// The footprint of detection d's missing patch: the patch shape at the fitted pose on the
+// robot-top plane, the pixels whose centres map inside it, counted by class (MissingPatchLook).
+MissingPatchLook FrameDetector::LookAt(const detect::Detection& d) const {
+  MissingPatchLook look;
+  look.detection = d;
+  const detect::DetectorPattern& dp = detector_->config().patterns[static_cast<size_t>(d.pattern)];
+  look.key_blob = d.blob[static_cast<size_t>(dp.pattern.key_index)];
+  const Patch& patch = dp.pattern.patches[static_cast<size_t>(d.missing_patch)];
+  const uint64_t own =
+      patch_colours_[static_cast<size_t>(d.pattern)][static_cast<size_t>(d.missing_patch)];
+  const Calibration& calibration = pipeline_.calibration();
+  const double height = calibration.default_height_mm;
+  const Segmenter& segmenter = pipeline_.segmenter();
+  // The pixel box of the patch's bounding disc (its four extreme points, 1 px margin).
+  const Vec2 centre = d.pose.Apply(patch.position_mm);
+  const double reach = patch.BoundingRadius();
+  double u0 = segmenter.width_px(), v0 = segmenter.height_px(), u1 = -1.0, v1 = -1.0;
+  for (const Vec2& offset : {Vec2(reach, 0), Vec2(-reach, 0), Vec2(0, reach), Vec2(0, -reach)}) {
+    const auto px = calibration.camera.WorldToPixel(centre + offset, height);
+    if (!px) return look;
+    u0 = std::min(u0, px->x()), u1 = std::max(u1, px->x());
+    v0 = std::min(v0, px->y()), v1 = std::max(v1, px->y());
+  }
+  const int ulo = std::max(static_cast<int>(std::floor(u0)) - 1, 0);
+  const int uhi = std::min(static_cast<int>(std::ceil(u1)) + 1, segmenter.width_px() - 1);
+  const int vlo = std::max(static_cast<int>(std::floor(v0)) - 1, 0);
+  const int vhi = std::min(static_cast<int>(std::ceil(v1)) + 1, segmenter.height_px() - 1);
+  const double c = std::cos(d.pose.theta_rad), s = std::sin(d.pose.theta_rad);
+  for (int v = vlo; v <= vhi; ++v) {
+    for (int u = ulo; u <= uhi; ++u) {
+      const auto world = calibration.camera.PixelToWorld(Vec2(u, v), height);
+      if (!world) continue;
+      const Vec2 w = *world - Vec2(d.pose.x_mm, d.pose.y_mm);
+      if (!patch.Contains(Vec2(c * w.x() + s * w.y(), -s * w.x() + c * w.y()))) continue;
+      ++look.pixels;
+      const int cls = segmenter.class_image()[static_cast<size_t>(v) * segmenter.width_px() + u];
+      const int label = cls > 0 ? palette_label_[static_cast<size_t>(cls - 1)] : -1;
+      if (label < 0) continue;
+      ++((own >> label) & 1U ? look.own : look.other);
+    }
+  }
+  look.rejected = look.other > kMissingPatchOtherMax * look.pixels;
+  return look;
+}
+
+// Every missing-patch fit gets its MissingPatchLook; those whose missing patch shows clearly
+// another colour leave the detections (the explanations' detection indices follow).
+void FrameDetector::LookAtMissingPatches() {
+  FrameResult& r = result_;
+  r.missing_patch_looks.clear();
+  kept_.clear();
+  size_t kept = 0;
+  for (size_t i = 0; i < r.detections.size(); ++i) {
+    const detect::Detection& d = r.detections[i];
+    if (d.status == detect::DetectionStatus::kMissingPatch && d.missing_patch >= 0) {
+      r.missing_patch_looks.push_back(LookAt(d));
+      if (r.missing_patch_looks.back().rejected) {
+        kept_.push_back(-1);
+        continue;
+      }
+    }
+    kept_.push_back(static_cast<int>(kept));
+    r.detections[kept++] = r.detections[i];
+  }
+  if (kept == r.detections.size()) return;
+  r.detections.resize(kept);
+  for (detect::KeyExplanation& e : r.explanations) {
+    if (e.detection >= 0) e.detection = kept_[static_cast<size_t>(e.detection)];
+  }
 }
 
 namespace {
@@ -258,12 +352,13 @@ const char* OutcomeLetter(detect::KeyOutcome outcome) {
 // letter of its outcome.
 void DrawMisses(const FrameResult& r, Image* debug) {
   for (const detect::KeyExplanation& e : r.explanations) {
-    if (e.outcome == detect::KeyOutcome::kDetected) continue;
+    const bool rejected = e.outcome == detect::KeyOutcome::kDetected && e.detection < 0;
+    if (e.outcome == detect::KeyOutcome::kDetected && !rejected) continue;
     const Region& region = r.blob_regions[static_cast<size_t>(
         r.detector_blob_source[static_cast<size_t>(e.key_blob)])];
     const double radius = std::sqrt(region.area_px / std::numbers::pi) + 4.0;
-    DrawDetection(debug, region.centroid_px, radius, region.centroid_px, OutcomeLetter(e.outcome),
-                  {255, 40, 40});
+    DrawDetection(debug, region.centroid_px, radius, region.centroid_px,
+                  rejected ? "M" : OutcomeLetter(e.outcome), {255, 40, 40});
   }
 }
 
@@ -312,16 +407,43 @@ namespace patlab::vision {
 
 namespace {
 
+// The MissingPatchLook of a detected key candidate, or nullptr.
+const MissingPatchLook* LookOf(const detect::KeyExplanation& e, const FrameResult& r) {
+  for (const MissingPatchLook& look : r.missing_patch_looks) {
+    if (look.key_blob == e.key_blob && look.detection.pattern == e.pattern) return &look;
+  }
+  return nullptr;
+}
+
+// "its missing patch 1 shows 62% its colours, 3% other colours of 41 px"
+std::string LookText(const MissingPatchLook& look) {
+  const auto percent = [&look](int n) {
+    return FormatFixed(look.pixels > 0 ? 100.0 * n / look.pixels : 0.0, 0) + "%";
+  };
+  return "missing patch " + std::to_string(look.detection.missing_patch) + " shows " +
+         percent(look.own) + " its colours, " + percent(look.other) + " other colours of " +
+         std::to_string(look.pixels) + " px";
+}
+
 std::string OutcomeText(const detect::KeyExplanation& e, const FrameResult& r,
                         const detect::DetectorConfig& config) {
   const std::string tolerance = FormatSignificant(e.tolerance_mm2, 4) + " mm^2";
   switch (e.outcome) {
     case detect::KeyOutcome::kDetected: {
+      const MissingPatchLook* look = LookOf(e, r);
+      if (look != nullptr && look->rejected) {
+        return "missing_patch_colour: fitted without patch " +
+               std::to_string(look->detection.missing_patch) + " (E " +
+               FormatSignificant(look->detection.residual_mm2, 4) + " mm^2 <= tolerance " +
+               tolerance + ") but " + LookText(*look) + ": another colour is there";
+      }
       if (e.detection < 0) return "detected";
       const detect::Detection& d = r.detections[static_cast<size_t>(e.detection)];
-      return "detected, id " + std::to_string(d.id) + " (" +
-             std::string(detect::DetectionStatusName(d.status)) + "), E " +
-             FormatSignificant(d.residual_mm2, 4) + " mm^2 <= tolerance " + tolerance;
+      std::string text = "detected, id " + std::to_string(d.id) + " (" +
+                         std::string(detect::DetectionStatusName(d.status)) + "), E " +
+                         FormatSignificant(d.residual_mm2, 4) + " mm^2 <= tolerance " + tolerance;
+      if (look != nullptr) text.append("; ").append(LookText(*look));
+      return text;
     }
     case detect::KeyOutcome::kKeyArea:
       return "key_area: " +

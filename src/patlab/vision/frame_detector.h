@@ -5,8 +5,10 @@
 // name are not shown to the detector). This is what `patlab detect` runs per frame; a robot's
 // vision stack can call it the same way:
 //
+//   vision::FrameDetectorOptions options;
+//   vision::ApplyFrameSettings(detect::LoadFrameSettings(s), &options);  // the file's [frame]
 //   vision::FrameDetector frames(LoadThresholds(t), LoadCalibration(c),
-//                                detect::LoadDetectorSettings(s), {});
+//                                detect::LoadDetectorSettings(s), options);
 //   const vision::FrameResult& result = frames.DetectFile("frame.png");
 //   for (const detect::Detection& d : result.detections) ...
 //
@@ -15,6 +17,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +27,7 @@
 #include "patlab/core/options.h"
 #include "patlab/core/timeprofile.h"
 #include "patlab/detect/detector.h"
+#include "patlab/detect/settings.h"
 #include "patlab/vision/image.h"
 #include "patlab/vision/pipeline.h"
 
@@ -50,14 +54,22 @@ struct FrameDetectorOptions {
   // interiors miss them. The detector's lower area bound is area_ratio_min times the area of the
   // patch shrunk by this rim (at the camera's mm per px on the robot-top plane), not times its
   // full area: a 40 mm dot seen at 6 mm per px loses half its area to a 1 px rim, a 50 mm dot at
-  // 1 mm per px 8%. 0 = the full area (the detector's own test).
+  // 1 mm per px 8%. 0 = the full area (the detector's own test). A settings file's [frame]
+  // edge_loss_px; patlab detect --edge-loss-px.
   double edge_loss_px = 1.0;
+  // The missing-patch policy on frames; unset: the detector settings' own ([detector]
+  // missing_patch). A settings file's [frame] missing_patch (experiments/detector.toml: "fit";
+  // docs/detect.md, "Settings that travel").
+  std::optional<detect::MissingPatchPolicy> missing_patch;
 };
 
-// Every broken constraint (core/options.h): the segmenter's, and a raw size that is either
-// 0 x 0 or a positive even width and a positive height.
+// Every broken constraint (core/options.h): the segmenter's, a raw size that is either 0 x 0 or a
+// positive even width and a positive height, and edge_loss_px as detect::Check(FrameSettings).
 std::vector<OptionsProblem> Check(const FrameDetectorOptions& options);
 void Validate(const FrameDetectorOptions& options);
+
+// The set fields of a settings file's [frame] table (detect::LoadFrameSettings) into `options`.
+void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOptions* options);
 
 // What FrameDetector does to a detector configuration for frames of `calibration`: the
 // calibration's recorded residual on the robot-top plane widens the geometric tolerance, and the
@@ -77,9 +89,31 @@ void AdaptToCamera(detect::DetectorConfig& config, const Calibration& calibratio
 //   <stem>.6_detect.png        - the regions image with each detection's circle, heading and ID;
 //                                with FrameDetectorOptions::explain, every key candidate that is
 //                                no detection marked by a red ring and a letter: A key area,
-//                                N too few neighbours, G geometry, C colours, X conflict lost.
+//                                N too few neighbours, G geometry, C colours, X conflict lost,
+//                                M a missing-patch fit whose missing patch shows another colour.
 // The last only when patterns are detected.
 std::vector<std::string> DebugImageNames(const std::string& stem, bool with_detections);
+
+// What the frame shows where a missing-patch fit (detect::DetectionStatus::kMissingPatch) puts
+// its missing patch: the pixels of the patch's footprint (the patch shape placed by the fitted
+// pose on the robot-top plane, every pixel whose centre maps inside it) counted by their colour
+// class. `own`: a class whose palette colour the patch may have (a fixed patch's colour, an ID
+// patch's codebook colours, a key's team colours) -- the patch is there but was not a blob of its
+// own (merged with a dark body, cut up, outside the area range); `other`: another colour of the
+// detector's palette; the rest is unclassified or of classes the detector does not see (a colour
+// the light does not show, an occluder). A fit whose missing patch shows clearly another colour
+// -- more than kMissingPatchOtherMax of its footprint -- is no robot of this pattern there and is
+// dropped from the detections (`rejected`).
+struct MissingPatchLook {
+  detect::Detection detection;  // the fit as the detector returned it
+  int key_blob = -1;            // its key blob (index into FrameResult::detector_blobs)
+  int pixels = 0;               // footprint pixels inside the image
+  int own = 0, other = 0;       // of them: the patch's own colours, other palette colours
+  bool rejected = false;
+};
+// More than half of the missing patch's footprint in other palette colours: "clearly another
+// colour" (a majority, so that blur at the rim or a neighbour's edge does not decide).
+inline constexpr double kMissingPatchOtherMax = 0.5;
 
 // One frame's results; valid until the next call on the FrameDetector that returned it.
 struct FrameResult {
@@ -93,6 +127,9 @@ struct FrameResult {
   std::vector<detect::Blob> detector_blobs;
   std::vector<int> detector_blob_source;
   std::vector<detect::Detection> detections;
+  // Every missing-patch fit of the detector, with what the frame shows at its missing patch
+  // (MissingPatchLook); the rejected ones are not in `detections`.
+  std::vector<MissingPatchLook> missing_patch_looks;
   // With FrameDetectorOptions::explain: why each key candidate became a detection or not; key
   // blob indices refer to detector_blobs.
   std::vector<detect::KeyExplanation> explanations;
@@ -135,11 +172,16 @@ class FrameDetector {
   void Process(const Image& image, const std::string& name);
   void RunStages(const Image& image);
   void WriteDebugImages(const Image& image) const;
+  void LookAtMissingPatches();
+  MissingPatchLook LookAt(const detect::Detection& d) const;
 
   FrameDetectorOptions options_;
   VisionPipeline pipeline_;
   std::optional<detect::Detector> detector_;
   std::vector<int> palette_label_;  // class index -> detector palette label, or -1
+  // [pattern][patch]: bit L set when the patch may have palette colour L (MissingPatchLook::own).
+  std::vector<std::vector<uint64_t>> patch_colours_;
+  std::vector<int> kept_;  // detection index -> index after the missing-patch check, or -1
   std::vector<std::string> warnings_;
   FrameResult result_;
 };
