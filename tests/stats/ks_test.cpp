@@ -165,15 +165,23 @@ void ExpectSameExtremes(const detail::EcdfExtremes& got, const detail::EcdfExtre
   EXPECT_EQ(std::signbit(got.min_loc), std::signbit(want.min_loc));
 }
 
-TEST(Ks, BucketedAndSortedWalksAgreeWithTheStraightforwardOne) {
-  uint64_t state = 12345;
-  const auto uniform = [&state] {
+// A small deterministic generator for the walks' tests (an LCG; Box-Muller for normals).
+struct Lcg {
+  uint64_t state;
+  double Uniform() {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
     return (static_cast<double>(state >> 11) + 0.5) * 0x1p-53;
-  };
-  const auto normal = [&] {
-    return std::sqrt(-2.0 * std::log(uniform())) * std::cos(6.283185307179586 * uniform());
-  };
+  }
+  double Normal() {
+    const double u = Uniform();
+    return std::sqrt(-2.0 * std::log(u)) * std::cos(6.283185307179586 * Uniform());
+  }
+};
+
+TEST(Ks, BucketedAndSortedWalksAgreeWithTheStraightforwardOne) {
+  Lcg rng{12345};
+  const auto uniform = [&rng] { return rng.Uniform(); };
+  const auto normal = [&rng] { return rng.Normal(); };
   // kinds: 0 normal, 1 shifted and scaled, 2 quantised (ties within and between samples, signed
   // zeros), 3 heavy tails (outliers 1000x), 4 constant, 5 two values, 6 the same values index by
   // index, 7 pairs that differ by rounding (two estimators that agree to 1e-13, as fast and ML do
@@ -215,11 +223,8 @@ TEST(Ks, BucketedAndSortedWalksAgreeWithTheStraightforwardOne) {
 // case), with windows breaking inside runs; quantised pairs add ties across window ends; one
 // bucket holding more than a window (clustered values) is walked whole.
 TEST(Ks, BucketedWalkInWindowsAgreesOnSamplesLargerThanAWindow) {
-  uint64_t state = 777;
-  const auto uniform = [&state] {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (static_cast<double>(state >> 11) + 0.5) * 0x1p-53;
-  };
+  Lcg rng{777};
+  const auto uniform = [&rng] { return rng.Uniform(); };
   for (int kind = 0; kind < 3; ++kind) {
     for (const size_t n : {300000u, 700000u}) {
       SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n);
@@ -240,22 +245,17 @@ TEST(Ks, BucketedWalkInWindowsAgreesOnSamplesLargerThanAWindow) {
   }
 }
 
-// The paired walk on the pairs it is made for and on those that defeat its shortcuts: pairs that
-// differ by rounding (a few ulps, or relative 1e-13, some equal), so that c stays in {-1, 0, 1}
-// and step 2 decides among thousands of group ends by rounding alone; the same with values on a
-// coarse grid, so that intervals overlap and tie across pairs (c reaches 2 and more); every pair
-// going up (no group end below 0); estimators that really differ; signed zeros; one pair apart;
-// two pairs apart where the largest rounding step is never reached; intervals that overlap
-// without sharing a start.
+// The paired walk on the pairs its shortcut is made for and on those that must defeat it: pairs
+// that differ by rounding (a few ulps, or relative 1e-13, some equal), so that c stays in
+// {-1, 0, 1} and the largest rounding step decides; the same on a coarse grid (ties across pairs,
+// touching intervals); every pair going up (no down pair: the bucket walk); estimators that really
+// differ; signed zeros; one pair apart; two pairs apart where the largest rounding step is never
+// reached (the shortcut gives up); intervals that overlap without sharing a start (the starts'
+// check must reject them).
 TEST(Ks, PairedWalkAgreesWithTheStraightforwardOneOnPairsThatDifferByRounding) {
-  uint64_t state = 4242;
-  const auto uniform = [&state] {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (static_cast<double>(state >> 11) + 0.5) * 0x1p-53;
-  };
-  const auto normal = [&] {
-    return std::sqrt(-2.0 * std::log(uniform())) * std::cos(6.283185307179586 * uniform());
-  };
+  Lcg rng{4242};
+  const auto uniform = [&rng] { return rng.Uniform(); };
+  const auto normal = [&rng] { return rng.Normal(); };
   const auto ulps = [](double v, int steps) {
     for (int k = 0; k < steps; ++k) v = std::nextafter(v, 1e300);
     for (int k = 0; k > steps; --k) v = std::nextafter(v, -1e300);
