@@ -537,13 +537,19 @@ std::size_t CopyStarts(std::span<const double> x, std::span<const double> y, Bin
 // True when no interval's start lies within 2 * widest of another's: then every interval ends
 // before the next one starts (a rounded width can be one rounding short of the true one; the
 // factor 2 covers it). The starts are sorted and compared a window of coarse bins at a time, each
-// window holding at most kWindowValues starts (fig5's samples: one window), so that the buffers
+// window holding at most kStartsWindow starts (fig5's samples: one window), so that the buffers
 // stay bounded (docs/hardening.md, "Bounded memory"); false also if one bin alone holds more.
+// At most this many starts are sorted at a time (two buffers of 1 MB a thread): fig5's samples
+// (at most 65,000 starts) take one window, and the buffers stop growing with the trials at about
+// 500,000 trials a point, so that the memory per trial below the statistics block stays the
+// samples' (scripts/bytes_per_trial.sh with PATTERN=simple).
+constexpr std::size_t kStartsWindow = std::size_t{1} << 17;
+
 template <class BinOf>
 bool StartsApart(std::span<const double> x, std::span<const double> y, std::size_t intervals,
                  double widest, BinOf bin_of, Buffers* s) {
   std::vector<uint32_t>& count = s->pos1;  // per coarse bin, then the windows' ends
-  if (intervals <= kWindowValues) {
+  if (intervals <= kStartsWindow) {
     count.assign(1, static_cast<uint32_t>(intervals));
   } else {
     count.assign(kRegionBins, 0);
@@ -555,7 +561,7 @@ bool StartsApart(std::span<const double> x, std::span<const double> y, std::size
   double previous = -std::numeric_limits<double>::infinity();
   for (std::size_t first = 0; first < count.size();) {
     std::size_t last = first, m = 0;
-    while (last < count.size() && m + count[last] <= kWindowValues) m += count[last++];
+    while (last < count.size() && m + count[last] <= kStartsWindow) m += count[last++];
     if (last == first) return false;  // one bin holds more than a window
     s->a.resize(m + 1);
     s->b.resize(m + 1);
