@@ -364,6 +364,12 @@ void TallyBucketRest(double* keys, std::size_t begin, std::size_t end, std::size
                      std::size_t hi, std::size_t n_zero, RankTally* tally) {
   const std::uint64_t base = begin - n_zero;
   if (end - begin >= 2 * kWindow + 2) {  // too wide: none of it was ranked
+    if (std::all_of(keys + begin, keys + end, [&](double k) {
+          return std::bit_cast<std::uint64_t>(k) >> 1 == MagnitudeAt(keys, begin);
+        })) {  // one group (quantised values): no sort
+      TallySortedGroups(keys + begin, end - begin, base, tally);
+      return;
+    }
     std::sort(keys + begin, keys + end, [](double p, double q) {
       return std::bit_cast<std::uint64_t>(p) < std::bit_cast<std::uint64_t>(q);
     });
@@ -411,18 +417,32 @@ bool ScatterByBucket(std::span<const double> d, BucketOf bucket_of, std::size_t 
                      std::vector<std::uint32_t>* ends_out, double* keys) {
   std::vector<std::uint32_t>& ends = *ends_out;
   ends.assign(buckets + 2, 0);
-  const auto bucket_of_value = [bucket_of](double v) {
-    return bucket_of(std::bit_cast<std::uint64_t>(v) & ~kSignBit);
+  // The buckets of kIdBlock values at a time (a loop that vectorises), then the counts.
+  constexpr std::size_t kIdBlock = 256;
+  std::array<std::uint32_t, kIdBlock> ids{};
+  const auto block_ids = [&](std::size_t i0, std::size_t len) {
+    for (std::size_t i = 0; i < len; ++i) {
+      ids[i] = bucket_of(std::bit_cast<std::uint64_t>(d[i0 + i]) & ~kSignBit);
+    }
   };
-  for (const double v : d) ++ends[bucket_of_value(v) + 1];
+  const std::size_t n = d.size();
+  for (std::size_t i0 = 0; i0 < n; i0 += kIdBlock) {
+    const std::size_t len = std::min(kIdBlock, n - i0);
+    block_ids(i0, len);
+    for (std::size_t i = 0; i < len; ++i) ++ends[ids[i] + 1];
+  }
   std::uint32_t fullest = 0;
   for (std::size_t k = 2; k < ends.size(); ++k) {
     fullest = std::max(fullest, ends[k]);
     ends[k] += ends[k - 1];
   }
-  if (fullest > 32 && fullest > d.size() / 64) return false;  // clustered: sorting pays
-  for (const double v : d) {
-    keys[ends[bucket_of_value(v)]++] = std::bit_cast<double>(SignedMagnitudeKey(v));
+  if (fullest > 32 && fullest > n / 64) return false;  // clustered: sorting pays
+  for (std::size_t i0 = 0; i0 < n; i0 += kIdBlock) {
+    const std::size_t len = std::min(kIdBlock, n - i0);
+    block_ids(i0, len);
+    for (std::size_t i = 0; i < len; ++i) {
+      keys[ends[ids[i]]++] = std::bit_cast<double>(SignedMagnitudeKey(d[i0 + i]));
+    }
   }
   return true;
 }
