@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
+#include <random>
 #include <span>
 #include <vector>
 
@@ -168,6 +169,136 @@ TEST(Wilcoxon, InPlaceWithScratchGivesTheBitsOfTheCopyingTest) {
       }
     }
   }
+}
+
+// A plain reference for the property test below: sort by |d| with std::sort, then give every
+// group of equal |d| its midrank (zeros first; under 'wilcox' ranks start after the zeros),
+// summing in the sorted order, and the tie term t^3 - t of every group that stays ranked.
+struct ReferenceSums {
+  double r_plus = 0.0, r_minus = 0.0, tie_sum = 0.0;
+  bool has_ties = false;
+  std::size_t n_zero = 0;
+};
+ReferenceSums TextbookSums(std::vector<double> d, ZeroMethod zero_method) {
+  std::sort(d.begin(), d.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); });
+  ReferenceSums s;
+  for (const double v : d) s.n_zero += v == 0.0 ? 1 : 0;
+  const double offset = zero_method == ZeroMethod::kWilcox ? static_cast<double>(s.n_zero) : 0.0;
+  double r_zero = 0.0;
+  for (std::size_t start = 0; start < d.size();) {
+    std::size_t end = start;
+    while (end < d.size() && std::fabs(d[end]) == std::fabs(d[start])) ++end;
+    const double t = static_cast<double>(end - start);
+    const bool zeros = d[start] == 0.0;
+    if (!zeros || zero_method == ZeroMethod::kZsplit) s.tie_sum += t * t * t - t;
+    if (!zeros && end - start > 1) s.has_ties = true;
+    const double midrank = 0.5 * static_cast<double>(start + 1 + end) - offset;
+    for (std::size_t k = start; k < end; ++k) {
+      if (d[k] > 0) s.r_plus += midrank;
+      if (d[k] < 0) s.r_minus += midrank;
+      if (d[k] == 0) r_zero += midrank;
+    }
+    start = end;
+  }
+  if (zero_method == ZeroMethod::kZsplit) {
+    s.r_plus += r_zero / 2.0;
+    s.r_minus += r_zero / 2.0;
+  }
+  return s;
+}
+
+// The z of the normal approximation from the reference sums (two-sided, no correction), with the
+// operations of the library's formula: equal sums must give the same bits.
+double TextbookZ(const ReferenceSums& s, std::size_t n, ZeroMethod zero_method) {
+  const double count = static_cast<double>(zero_method == ZeroMethod::kWilcox ? n - s.n_zero : n);
+  double mean = count * (count + 1.0) * 0.25;
+  double var24 = count * (count + 1.0) * (2.0 * count + 1.0);
+  if (zero_method == ZeroMethod::kPratt) {
+    const double nz = static_cast<double>(s.n_zero);
+    mean -= nz * (nz + 1.0) * 0.25;
+    var24 -= nz * (nz + 1.0) * (2.0 * nz + 1.0);
+  }
+  var24 -= 0.5 * s.tie_sum;
+  return (std::min(s.r_plus, s.r_minus) - mean) / std::sqrt(var24 / 24.0);
+}
+
+uint64_t Bits(double v) { return std::bit_cast<uint64_t>(v); }
+
+// Differences of every kind the sort-free path must rank exactly: 0 continuous (normal), 1 heavy
+// ties (quantised to 1/8), 2 a third zeros of both signs, 3 magnitudes from 1e-300 to 1e300,
+// 4 half-normal piled up at 0 with outliers 1e6 times larger (uneven buckets), 5 all equal,
+// 6 two values +-x (every bucket but two empty), 7 tiny subnormals only, 8 ties within buckets
+// (quantised to 2^-12: up to ~15 copies of a value), 9 occasional ties among distinct values in
+// a bucket (quantised to 2^-17). Kinds 0, 2, 8 and 9 take the sort-free path from n = 1024 on,
+// the others (clustered or extreme magnitudes) fall back to the sort.
+std::vector<double> PropertySample(int kind, std::size_t n, std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(-300.0, 300.0);
+  std::vector<double> d(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double x = normal(rng);
+    double v = x;
+    if (kind == 1) v = std::round(x * 8.0) / 8.0;
+    if (kind == 2) v = k % 3 == 0 ? (rng() % 2 ? 0.0 : -0.0) : x;
+    if (kind == 3) v = (x < 0 ? -1.0 : 1.0) * std::pow(10.0, uniform(rng));
+    if (kind == 4) v = k % 1000 == 7 ? x * 1e6 : x * std::fabs(x) * 1e-3;
+    if (kind == 5) v = -2.5;
+    if (kind == 6) v = rng() % 2 ? 0.75 : -0.75;
+    if (kind == 7) v = x * 1e-320;
+    if (kind == 8) v = std::round(x * 0x1p12) * 0x1p-12;
+    if (kind == 9) v = std::round(x * 0x1p17) * 0x1p-17;
+    d[k] = v;
+  }
+  return d;
+}
+
+// Property: for every kind of input and size, the sort-free rank sums (and the whole in-place
+// test) give the bits of the textbook sorted walk. The bucket path must actually run for most
+// of the large continuous samples.
+TEST(Wilcoxon, SortFreeRankSumsMatchTheTextbookSortedWalkBitForBit) {
+  std::mt19937_64 rng(20261202);
+  std::vector<std::size_t> sizes = {1,    2,    3,    17,    1000,   1023,
+                                    1024, 1025, 4096, 50000, 100000, 300000};
+  for (int extra = 0; extra < 6; ++extra) sizes.push_back(1024 + rng() % 20000);
+  int bucket_runs = 0;
+  for (int kind = 0; kind < 10; ++kind) {
+    for (const std::size_t n : sizes) {
+      const std::vector<double> d = PropertySample(kind, n, rng);
+      for (const ZeroMethod zero : {ZeroMethod::kWilcox, ZeroMethod::kPratt, ZeroMethod::kZsplit}) {
+        SCOPED_TRACE(::testing::Message()
+                     << "kind " << kind << " n " << n << " zero method " << ZeroMethodName(zero));
+        const ReferenceSums want = TextbookSums(d, zero);
+        std::vector<double> scratch(n + 3, std::nan(""));
+        detail::SignedRankSums sums;
+        const bool sort_free =
+            detail::SignedRankSumsByBuckets(d, want.n_zero, zero, scratch, &sums);
+        const bool smooth = kind == 0 || kind == 2 || kind == 8 || kind == 9;
+        ASSERT_EQ(sort_free, smooth && n >= detail::kSignedRanksMinN);
+        if (sort_free) {
+          ++bucket_runs;
+          ASSERT_EQ(Bits(sums.r_plus), Bits(want.r_plus));
+          ASSERT_EQ(Bits(sums.r_minus), Bits(want.r_minus));
+          ASSERT_EQ(Bits(sums.tie_sum), Bits(want.tie_sum));
+          ASSERT_EQ(sums.has_ties, want.has_ties);
+        }
+        if (want.n_zero == n && zero != ZeroMethod::kZsplit) continue;  // an InputError
+        WilcoxonOptions options;
+        options.zero_method = zero;
+        options.method = WilcoxonMethod::kApprox;
+        std::vector<double> in_place = d;
+        const WilcoxonResult got = WilcoxonSignedRankInPlace(in_place, scratch, options);
+        ASSERT_EQ(Bits(got.r_plus), Bits(want.r_plus));
+        ASSERT_EQ(Bits(got.r_minus), Bits(want.r_minus));
+        ASSERT_EQ(got.n_zero, want.n_zero);
+        ASSERT_EQ(got.has_ties, want.has_ties);
+        ASSERT_EQ(Bits(got.z), Bits(TextbookZ(want, n, zero)));
+        const WilcoxonResult copying = WilcoxonSignedRank(std::span<const double>(d), options);
+        ASSERT_EQ(Bits(copying.z), Bits(got.z));
+        ASSERT_EQ(Bits(copying.p_value), Bits(got.p_value));
+      }
+    }
+  }
+  EXPECT_EQ(bucket_runs, 4 * 12 * 3);
 }
 
 }  // namespace

@@ -3,8 +3,11 @@
 #include "patlab/stats/sort.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -38,13 +41,9 @@ std::pair<double, double> ExactTails(std::size_t n, std::size_t r) {
 
 // The signed-rank sums of the sorted differences d (average ranks for ties, scipy rankdata
 // 'average'; zeros first), with the tie term sum of t^3 - t over the groups that stay ranked.
-struct RankSums {
-  double r_plus = 0.0, r_minus = 0.0;
-  double tie_sum = 0.0;
-  bool has_ties = false;
-};
-RankSums SignedRankSums(std::span<const double> d, std::size_t n_zero, ZeroMethod zero_method) {
-  RankSums sums;
+detail::SignedRankSums SortedRankSums(std::span<const double> d, std::size_t n_zero,
+                                      ZeroMethod zero_method) {
+  detail::SignedRankSums sums;
   double r_zero = 0.0;
   const bool drop_zero_ranks = zero_method != ZeroMethod::kZsplit;
   // Under kWilcox the zeros are removed before ranking: ranks start after them.
@@ -144,16 +143,13 @@ void ApproximatePValue(std::size_t n, std::size_t n_zero, double tie_sum,
   result->p_value = std::clamp(result->p_value, 0.0, 1.0);
 }
 
-// The differences sorted by magnitude in this thread's buffer, grown to the largest sample seen
-// and then reused (a fresh 100,000-element array costs more in page faults than the sort). Only
-// serial code uses it.
-std::span<double> SortedCopy(std::span<const double> d_in) {
+// This thread's buffer of n doubles (the sort-free path's scratch, or the copy that is sorted),
+// grown to the largest sample seen and then reused (a fresh 100,000-element array costs more in
+// page faults than the test). Only serial code uses it.
+std::span<double> ThreadBuffer(std::size_t n) {
   thread_local std::vector<double> buffer;
-  if (buffer.size() < d_in.size()) buffer.resize(d_in.size());
-  const std::span<double> d(buffer.data(), d_in.size());
-  std::copy(d_in.begin(), d_in.end(), d.begin());
-  SortByMagnitude(d);
-  return d;
+  if (buffer.size() < n) buffer.resize(n);
+  return {buffer.data(), n};
 }
 
 }  // namespace
@@ -167,7 +163,7 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const dou
   }
   detail::RequireFinite(x, "sample 1");
   detail::RequireFinite(y, "sample 2");
-  thread_local std::vector<double> d;  // reused, as in SortedCopy
+  thread_local std::vector<double> d;  // reused, as in ThreadBuffer
   if (d.size() < x.size()) d.resize(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) d[i] = x[i] - y[i];
   return WilcoxonSignedRank(std::span<const double>(d.data(), x.size()), options);
@@ -183,56 +179,317 @@ void RequireDifferences(std::span<const double> d) {
   detail::RequireFinite(d, "difference");
 }
 
-// The test on the differences d, already sorted by magnitude, n_zero of them zero.
-WilcoxonResult FromSorted(std::span<const double> d, std::size_t n_zero,
-                          const WilcoxonOptions& options) {
+std::size_t CountZeros(std::span<const double> d) {
+  return static_cast<std::size_t>(std::count(d.begin(), d.end(), 0.0));
+}
+
+// The test from the rank sums of n differences, n_zero of them zero.
+WilcoxonResult FromSums(std::size_t n, std::size_t n_zero, const detail::SignedRankSums& sums,
+                        const WilcoxonOptions& options) {
   WilcoxonResult result;
-  result.n = d.size();
+  result.n = n;
   result.n_zero = n_zero;
-  const RankSums sums = SignedRankSums(d, n_zero, options.zero_method);
   result.has_ties = sums.has_ties;
   result.r_plus = sums.r_plus;
   result.r_minus = sums.r_minus;
   const Alternative alt = options.alternative;
   result.statistic =
       alt == Alternative::kTwoSided ? std::min(sums.r_plus, sums.r_minus) : sums.r_plus;
-  result.method_used = ChooseMethod(options.method, d.size(), n_zero, result.has_ties);
+  result.method_used = ChooseMethod(options.method, n, n_zero, result.has_ties);
   if (result.method_used == WilcoxonMethod::kExact) {
     result.z = std::numeric_limits<double>::quiet_NaN();
-    result.p_value = ExactPValue(d.size(), sums.r_plus, alt);
+    result.p_value = ExactPValue(n, sums.r_plus, alt);
     return result;
   }
-  if (options.zero_method != ZeroMethod::kZsplit && n_zero == d.size()) {
+  if (options.zero_method != ZeroMethod::kZsplit && n_zero == n) {
     throw InputError("every difference is zero, so zero method '" +
                      std::string(ZeroMethodName(options.zero_method)) +
                      "' leaves nothing to rank; expected at least one non-zero difference "
                      "(or use zsplit)");
   }
-  ApproximatePValue(d.size(), n_zero, sums.tie_sum, options, &result);
+  ApproximatePValue(n, n_zero, sums.tie_sum, options, &result);
   return result;
+}
+
+// The sums of d without sorting where the bucket path applies; otherwise d is sorted by magnitude
+// in place with `scratch`, and walked.
+detail::SignedRankSums RankSumsInPlace(std::span<double> d, std::size_t n_zero,
+                                       ZeroMethod zero_method, std::span<double> scratch) {
+  detail::SignedRankSums sums;
+  if (detail::SignedRankSumsByBuckets(d, n_zero, zero_method, scratch, &sums)) return sums;
+  SortByMagnitude(d, scratch);
+  return SortedRankSums(d, n_zero, zero_method);
 }
 
 }  // namespace
 
 WilcoxonResult WilcoxonSignedRank(std::span<const double> d_in, const WilcoxonOptions& options) {
   RequireDifferences(d_in);
-  const auto n_zero = static_cast<std::size_t>(std::count(d_in.begin(), d_in.end(), 0.0));
-  return FromSorted(SortedCopy(d_in), n_zero, options);
+  const std::size_t n_zero = CountZeros(d_in);
+  const std::span<double> buffer = ThreadBuffer(d_in.size());
+  detail::SignedRankSums sums;
+  if (!detail::SignedRankSumsByBuckets(d_in, n_zero, options.zero_method, buffer, &sums)) {
+    std::copy(d_in.begin(), d_in.end(), buffer.begin());
+    SortByMagnitude(buffer);
+    sums = SortedRankSums(buffer, n_zero, options.zero_method);
+  }
+  return FromSums(d_in.size(), n_zero, sums, options);
 }
 
 WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, const WilcoxonOptions& options) {
   RequireDifferences(d);
-  const auto n_zero = static_cast<std::size_t>(std::count(d.begin(), d.end(), 0.0));
-  SortByMagnitude(d);
-  return FromSorted(d, n_zero, options);
+  const std::size_t n_zero = CountZeros(d);
+  const detail::SignedRankSums sums =
+      RankSumsInPlace(d, n_zero, options.zero_method, ThreadBuffer(d.size()));
+  return FromSums(d.size(), n_zero, sums, options);
 }
 
 WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, std::span<double> scratch,
                                          const WilcoxonOptions& options) {
   RequireDifferences(d);
-  const auto n_zero = static_cast<std::size_t>(std::count(d.begin(), d.end(), 0.0));
-  SortByMagnitude(d, scratch);
-  return FromSorted(d, n_zero, options);
+  PATLAB_CHECK(scratch.size() >= d.size());
+  const std::size_t n_zero = CountZeros(d);
+  const detail::SignedRankSums sums =
+      RankSumsInPlace(d, n_zero, options.zero_method, scratch.first(d.size()));
+  return FromSums(d.size(), n_zero, sums, options);
 }
+
+namespace {
+
+constexpr std::uint64_t kSignBit = std::uint64_t{1} << 63;
+// At most 2^17 buckets (O(buckets) thread-local counters, docs/hardening.md "Bounded memory").
+constexpr std::size_t kMaxRankBuckets = std::size_t{1} << 17;
+// A value is ranked by comparing it with the kWindow keys either side of it in bucket order;
+// buckets of up to kWindow + 1 values always fit in the window.
+constexpr std::size_t kWindow = 7;
+// Below this, a sum of the integers t^3 - t is exact in double whatever the order of additions.
+constexpr std::uint64_t kExactTieSum = std::uint64_t{1} << 52;
+// The zeros' tie term n0^3 - n0 fits in 64 bits up to here.
+constexpr std::size_t kMaxZeroGroup = std::size_t{1} << 17;
+
+// The magnitude bits shifted up, and 1 in the lowest bit for a positive value: keys order by |v|,
+// and values of equal magnitude have equal key >> 1 (the bits of |v|).
+inline std::uint64_t SignedMagnitudeKey(double v) {
+  const auto u = std::bit_cast<std::uint64_t>(v);
+  return ((u & ~kSignBit) << 1) | ((u >> 63) ^ 1);
+}
+inline std::uint64_t KeyAt(const double* keys, std::size_t i) {
+  return std::bit_cast<std::uint64_t>(keys[i]);
+}
+inline std::uint64_t MagnitudeAt(const double* keys, std::size_t i) { return KeyAt(keys, i) >> 1; }
+
+// Bucket 0 holds the zeros, bucket 1 + min(floor(|v| x scale), last) the other values: a
+// non-decreasing function of |v| (every step rounds monotonically), so equal magnitudes share a
+// bucket, and a value of a lower bucket is smaller than every value of a higher one. Takes the
+// bits of |v|.
+struct BucketOf {
+  double scale;
+  double last;
+  std::uint32_t operator()(std::uint64_t magnitude_bits) const {
+    const double magnitude = std::bit_cast<double>(magnitude_bits);
+    return static_cast<std::uint32_t>(std::min(magnitude * scale, last)) +
+           (magnitude_bits != 0 ? 1U : 0U);
+  }
+};
+
+// Integer tallies: a value's rank0 is the number of non-zero |d| smaller than its |d|, and its
+// group of t equal magnitudes shares the midrank rank0 + (t + 1) / 2, summed twice over so that
+// it is an integer.
+struct RankTally {
+  std::uint64_t twice_r_plus = 0;  // sum over d > 0 of 2 x midrank
+  std::uint64_t positives = 0;
+  std::uint64_t tie_terms = 0;  // sum of t^3 - t over the groups: t^2 - 1 for each value
+};
+
+inline void AddValue(std::uint64_t key, std::uint64_t rank0, std::uint64_t group,
+                     RankTally* tally) {
+  const std::uint64_t positive = key & 1;
+  tally->twice_r_plus += positive * (2 * rank0 + group + 1);
+  tally->positives += positive;
+  tally->tie_terms += group * group - 1;
+}
+
+// Ranks the values at positions [lo, hi) of the keys in bucket order (kWindow < lo,
+// hi + kWindow < n) whose bucket lies inside the window of kWindow positions either side: every
+// key before the window is then of a smaller magnitude, every key after it of a larger one, so
+// rank0 = (start of the window) + (smaller magnitudes in it) - n_zero. The other values are left
+// to TallyRest. No branch on the data: the loop vectorises across positions.
+void TallyWindowed(const double* keys, std::size_t lo, std::size_t hi, std::size_t n_zero,
+                   BucketOf bucket_of, RankTally* tally) {
+  std::uint64_t twice = 0, positives = 0, ties = 0;
+  for (std::size_t p = lo; p < hi; ++p) {
+    const std::uint64_t key = KeyAt(keys, p), magnitude = key >> 1;
+    std::uint64_t less = 0, group = 0;
+#pragma GCC unroll 16
+    for (std::size_t o = 0; o <= 2 * kWindow; ++o) {  // positions p - kWindow ... p + kWindow
+      const std::uint64_t other = MagnitudeAt(keys, p - kWindow + o);
+      less += other < magnitude ? 1 : 0;
+      group += other == magnitude ? 1 : 0;
+    }
+    const std::uint32_t bucket = bucket_of(magnitude);
+    const std::uint64_t inside = bucket_of(MagnitudeAt(keys, p - kWindow - 1)) != bucket &&
+                                         bucket_of(MagnitudeAt(keys, p + kWindow + 1)) != bucket
+                                     ? 1
+                                     : 0;
+    const std::uint64_t positive = key & inside;
+    twice += positive * (2 * (p + less - kWindow - n_zero) + group + 1);
+    positives += positive;
+    ties += inside * (group * group - 1);
+  }
+  tally->twice_r_plus += twice;
+  tally->positives += positives;
+  tally->tie_terms += ties;
+}
+
+// The keys[0, count), sorted, the first at rank0 `base`: each group of equal magnitudes [a, b)
+// has rank0 base + a.
+void TallySortedGroups(const double* keys, std::size_t count, std::uint64_t base,
+                       RankTally* tally) {
+  for (std::size_t a = 0; a < count;) {
+    const std::uint64_t magnitude = MagnitudeAt(keys, a);
+    std::uint64_t positives = KeyAt(keys, a) & 1;
+    std::size_t b = a + 1;
+    for (; b < count && MagnitudeAt(keys, b) == magnitude; ++b) positives += KeyAt(keys, b) & 1;
+    const std::uint64_t t = b - a;
+    tally->twice_r_plus += positives * (2 * (base + a) + t + 1);
+    tally->positives += positives;
+    tally->tie_terms += t * t * t - t;
+    a = b;
+  }
+}
+
+// The values of the bucket [begin, end) that TallyWindowed did not rank (it ranked the positions
+// in [lo, hi) within kWindow of both ends of the bucket).
+void TallyBucketRest(double* keys, std::size_t begin, std::size_t end, std::size_t lo,
+                     std::size_t hi, std::size_t n_zero, RankTally* tally) {
+  const std::uint64_t base = begin - n_zero;
+  if (end - begin >= 2 * kWindow + 2) {  // too wide: none of it was ranked
+    if (std::all_of(keys + begin, keys + end, [&](double k) {
+          return std::bit_cast<std::uint64_t>(k) >> 1 == MagnitudeAt(keys, begin);
+        })) {  // one group (quantised values): no sort
+      TallySortedGroups(keys + begin, end - begin, base, tally);
+      return;
+    }
+    std::sort(keys + begin, keys + end, [](double p, double q) {
+      return std::bit_cast<std::uint64_t>(p) < std::bit_cast<std::uint64_t>(q);
+    });
+    TallySortedGroups(keys + begin, end - begin, base, tally);
+    return;
+  }
+  const std::size_t done_lo = std::max(lo, end > kWindow + 1 ? end - kWindow - 1 : 0);
+  const std::size_t done_hi = std::min(hi, begin + kWindow + 1);
+  for (std::size_t p = begin; p < end; ++p) {
+    if (p >= done_lo && p < done_hi) continue;
+    const std::uint64_t magnitude = MagnitudeAt(keys, p);
+    std::uint64_t less = 0, group = 0;
+    for (std::size_t j = begin; j < end; ++j) {
+      less += MagnitudeAt(keys, j) < magnitude ? 1 : 0;
+      group += MagnitudeAt(keys, j) == magnitude ? 1 : 0;
+    }
+    AddValue(KeyAt(keys, p), base + less, group, tally);
+  }
+}
+
+// The buckets 1.. (ends[k] is the end of bucket k) that TallyWindowed did not rank completely:
+// those wider than its window and those near either end of the keys. They are found 64 buckets at
+// a time with a mask (a loop that vectorises), since most buckets need nothing.
+void TallyRest(double* keys, const std::vector<std::uint32_t>& ends, std::size_t lo, std::size_t hi,
+               std::size_t n_zero, RankTally* tally) {
+  const std::size_t last = ends.size() - 2;  // buckets 1..last
+  for (std::size_t k0 = 1; k0 <= last; k0 += 64) {
+    const std::size_t count = std::min<std::size_t>(64, last + 1 - k0);
+    std::uint64_t mask = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint32_t begin = ends[k0 + i - 1], end = ends[k0 + i];
+      const bool rest = end - begin > kWindow + 1 || (end > begin && (begin < lo || end > hi));
+      mask |= static_cast<std::uint64_t>(rest ? 1 : 0) << i;
+    }
+    for (; mask != 0; mask &= mask - 1) {
+      const std::size_t k = k0 + static_cast<std::size_t>(std::countr_zero(mask));
+      TallyBucketRest(keys, ends[k - 1], ends[k], lo, hi, n_zero, tally);
+    }
+  }
+}
+
+// Scatters the keys of d into `keys` by bucket; on return ends[k] is the end of bucket k (and
+// the start of bucket k + 1). Returns false when one bucket is too full for the path to pay.
+bool ScatterByBucket(std::span<const double> d, BucketOf bucket_of, std::size_t buckets,
+                     std::vector<std::uint32_t>* ends_out, double* keys) {
+  std::vector<std::uint32_t>& ends = *ends_out;
+  ends.assign(buckets + 2, 0);
+  // The buckets of kIdBlock values at a time (a loop that vectorises), then the counts.
+  constexpr std::size_t kIdBlock = 256;
+  std::array<std::uint32_t, kIdBlock> ids{};
+  const auto block_ids = [&](std::size_t i0, std::size_t len) {
+    for (std::size_t i = 0; i < len; ++i) {
+      ids[i] = bucket_of(std::bit_cast<std::uint64_t>(d[i0 + i]) & ~kSignBit);
+    }
+  };
+  const std::size_t n = d.size();
+  for (std::size_t i0 = 0; i0 < n; i0 += kIdBlock) {
+    const std::size_t len = std::min(kIdBlock, n - i0);
+    block_ids(i0, len);
+    for (std::size_t i = 0; i < len; ++i) ++ends[ids[i] + 1];
+  }
+  std::uint32_t fullest = 0;
+  for (std::size_t k = 2; k < ends.size(); ++k) {
+    fullest = std::max(fullest, ends[k]);
+    ends[k] += ends[k - 1];
+  }
+  if (fullest > 32 && fullest > n / 64) return false;  // clustered: sorting pays
+  for (std::size_t i0 = 0; i0 < n; i0 += kIdBlock) {
+    const std::size_t len = std::min(kIdBlock, n - i0);
+    block_ids(i0, len);
+    for (std::size_t i = 0; i < len; ++i) {
+      keys[ends[ids[i]]++] = std::bit_cast<double>(SignedMagnitudeKey(d[i0 + i]));
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+namespace detail {
+
+bool SignedRankSumsByBuckets(std::span<const double> d, std::size_t n_zero, ZeroMethod zero_method,
+                             std::span<double> scratch, SignedRankSums* sums) {
+  const std::size_t n = d.size();
+  if (n < kSignedRanksMinN || n > kSignedRanksMaxN || n_zero == n) return false;
+  if (zero_method == ZeroMethod::kZsplit && n_zero > kMaxZeroGroup) return false;
+  PATLAB_CHECK(scratch.size() >= n);
+  std::uint64_t largest = 0;  // the bits of the largest |v|: a reduction that vectorises
+  for (const double v : d) largest = std::max(largest, std::bit_cast<std::uint64_t>(v) & ~kSignBit);
+  const std::size_t buckets = std::clamp<std::size_t>(n / 2, 1, kMaxRankBuckets);
+  const double scale = static_cast<double>(buckets) / std::bit_cast<double>(largest);
+  if (!(scale <= std::numeric_limits<double>::max())) return false;  // subnormal largest |v|
+  thread_local std::vector<std::uint32_t> ends;                      // O(buckets), at most 2^17 + 2
+  const BucketOf bucket_of{scale, static_cast<double>(buckets - 1)};
+  double* const keys = scratch.data();
+  if (!ScatterByBucket(d, bucket_of, buckets, &ends, keys)) return false;
+  RankTally tally;
+  const std::size_t lo = std::max(n_zero, kWindow + 1), hi = n - kWindow - 1;
+  if (lo < hi) TallyWindowed(keys, lo, hi, n_zero, bucket_of, &tally);
+  TallyRest(keys, ends, lo, hi, n_zero, &tally);
+  std::uint64_t tie_terms = tally.tie_terms;
+  if (zero_method == ZeroMethod::kZsplit) tie_terms += n_zero * n_zero * n_zero - n_zero;
+  if (tie_terms >= kExactTieSum) return false;  // the sorted walk's rounding would matter
+  // Ranks count the zeros before them unless 'wilcox' dropped the zeros.
+  const std::uint64_t m = n - n_zero;
+  const std::uint64_t shift = zero_method == ZeroMethod::kWilcox ? 0 : n_zero;
+  const std::uint64_t twice_plus = tally.twice_r_plus + 2 * shift * tally.positives;
+  const std::uint64_t twice_all = m * (m + 1) + 2 * shift * m;
+  sums->r_plus = 0.5 * static_cast<double>(twice_plus);
+  sums->r_minus = 0.5 * static_cast<double>(twice_all - twice_plus);
+  if (zero_method == ZeroMethod::kZsplit) {
+    const auto r_zero = static_cast<double>(n_zero * (n_zero + 1) / 2);
+    sums->r_plus += r_zero / 2.0;
+    sums->r_minus += r_zero / 2.0;
+  }
+  sums->tie_sum = static_cast<double>(tie_terms);
+  sums->has_ties = tally.tie_terms > 0;
+  return true;
+}
+
+}  // namespace detail
 
 }  // namespace patlab::stats

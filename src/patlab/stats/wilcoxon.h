@@ -86,12 +86,39 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const dou
                                   const WilcoxonOptions& options = {});
 // The same on the differences d directly.
 WilcoxonResult WilcoxonSignedRank(std::span<const double> d, const WilcoxonOptions& options = {});
-// The same on differences the caller no longer needs: d is sorted by magnitude in place (no copy
-// of the sample is made), with bit-identical results.
+// The same on differences the caller no longer needs: d may be reordered (it is sorted by
+// magnitude when the sort-free path below does not apply; no copy of the sample is made), with
+// bit-identical results.
 WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, const WilcoxonOptions& options = {});
-// The same with the caller's scratch for the sort (at least d.size() long, overwritten): no
-// memory that grows with n is allocated.
+// The same with the caller's scratch (at least d.size() long, overwritten): no memory that grows
+// with n is allocated.
 WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, std::span<double> scratch,
                                          const WilcoxonOptions& options = {});
+
+namespace detail {
+
+// The signed-rank sums the test is computed from: midranks of |d| (ties averaged, zeros ranked
+// first), r_plus / r_minus over d > 0 / d < 0 (plus half the zeros' ranks for kZsplit), and the
+// tie term: the sum of t^3 - t over the groups that stay ranked, added in ascending |d| order.
+struct SignedRankSums {
+  double r_plus = 0.0, r_minus = 0.0;
+  double tie_sum = 0.0;
+  bool has_ties = false;
+};
+
+// The sums without sorting d, bit for bit those of the sorted walk: the non-zero |d| are counted
+// into equal-width buckets (a non-decreasing map, so equal values share a bucket), and a bucket's
+// ranks follow from the counts before it; only the order inside each bucket (a few values) is
+// looked at. The ranks are summed as integers, exact. d is only read; `scratch` (at least d.size()
+// long) is overwritten. Returns false, computing nothing, when the path does not apply: fewer
+// than kSignedRanksMinN differences, no non-zero one, more than kSignedRanksMaxN (sums would
+// pass 2^53), or magnitudes too clustered or too spread for equal-width buckets (ties of one
+// value, 1e-310 beside 1e300); the caller then sorts.
+inline constexpr std::size_t kSignedRanksMinN = 1024;
+inline constexpr std::size_t kSignedRanksMaxN = std::size_t{1} << 25;
+bool SignedRankSumsByBuckets(std::span<const double> d, std::size_t n_zero, ZeroMethod zero_method,
+                             std::span<double> scratch, SignedRankSums* sums);
+
+}  // namespace detail
 
 }  // namespace patlab::stats
