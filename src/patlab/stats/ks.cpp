@@ -176,7 +176,11 @@ Buffers& ThreadBuffers() {
   return buffers;
 }
 constexpr uint32_t kSkipped = ~uint32_t{0};
-constexpr std::size_t kMaxBuckets = std::size_t{1} << 17;
+// At most this many buckets (about 1 MB of per-bucket arrays a thread): reached at about 250,000
+// values a sample, so that they stop growing with the trials well below the statistics block
+// (scripts/bytes_per_trial.sh: 28 B a trial and estimator from 500,000 to 10^6 trials with 2^17,
+// as the arrays grew; 24.6 B with 2^15); larger samples put more values in a bucket.
+constexpr std::size_t kMaxBuckets = std::size_t{1} << 15;
 
 // The smallest and the largest value (finite), in a loop the compiler vectorises.
 std::pair<double, double> MinMax(std::span<const double> x) {
@@ -272,11 +276,14 @@ void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
 
 // The walked buckets' values are copied out, sorted and walked a window of consecutive buckets
 // at a time, each window holding at most this many values of each sample (unless one bucket
-// alone holds more), so that the buffers a and b stay bounded (4 MB) whatever the sample size:
-// one more pass over the samples per window (docs/hardening.md, "Bounded memory"). fig5's samples
-// of 10^5 values always fit in one window; a statistics block of 2^20 near-identical samples
-// takes four.
-constexpr std::size_t kWindowValues = std::size_t{1} << 18;
+// alone holds more), so that the buffers a and b stay bounded (256 KB) whatever the sample size:
+// one more pass over the samples per window (docs/hardening.md, "Bounded memory"). The walked
+// values of fig5's samples that differ (10^5 values, a few percent walked) fit in one or two
+// windows; a walk of every bucket (samples that differ by rounding, when the paired shortcut does
+// not apply) takes one pass per 2^14 values. Small, so that the buffers are full-sized long before
+// the statistics block and the memory per trial below it stays the samples'
+// (scripts/bytes_per_trial.sh: 28 B a trial and estimator with 2^18, 24.6 B with 2^14).
+constexpr std::size_t kWindowValues = std::size_t{1} << 14;
 
 // The window that starts at bucket `first`: it ends before the bucket whose walked values
 // (buckets with a bit of `mask` in s->walk) would take either sample past `window_values` (but
@@ -539,11 +546,12 @@ std::size_t CopyStarts(std::span<const double> x, std::span<const double> y, Bin
 // factor 2 covers it). The starts are sorted and compared a window of coarse bins at a time, each
 // window holding at most kStartsWindow starts (fig5's samples: one window), so that the buffers
 // stay bounded (docs/hardening.md, "Bounded memory"); false also if one bin alone holds more.
-// At most this many starts are sorted at a time (two buffers of 1 MB a thread): fig5's samples
-// (at most 65,000 starts) take one window, and the buffers stop growing with the trials at about
-// 500,000 trials a point, so that the memory per trial below the statistics block stays the
-// samples' (scripts/bytes_per_trial.sh with PATTERN=simple).
-constexpr std::size_t kStartsWindow = std::size_t{1} << 17;
+// At most this many starts are sorted at a time (two buffers of 512 KB a thread): fig5's samples
+// (at most 39,000 starts) take one window, and the buffers stop growing with the trials at about
+// 260,000 trials a point, so that the memory per trial below the statistics block stays the
+// samples' (scripts/bytes_per_trial.sh with PATTERN=simple: 29.4 B a trial and estimator from
+// 600,000 to 10^6 trials with 2^17, 24.0 B with 2^16).
+constexpr std::size_t kStartsWindow = std::size_t{1} << 16;
 
 template <class BinOf>
 bool StartsApart(std::span<const double> x, std::span<const double> y, std::size_t intervals,

@@ -89,7 +89,7 @@ struct EcdfExtremes {
 };
 // Sorts both samples whole and walks their merged order: O(n log n).
 EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const double> y);
-// Counts both samples into min((n1 + n2) / b, 2^17) buckets of equal width (b = sqrt(n1 + n2) / 48
+// Counts both samples into min((n1 + n2) / b, 2^15) buckets of equal width (b = sqrt(n1 + n2) / 48
 // values a bucket, 2 to 16) between the smallest and the largest value, takes the ECDFs' counts at
 // every bucket end, and copies out, sorts and walks only the buckets inside which F1 - F2 could
 // reach its extremes (for continuous samples a few percent of them; all of them when the samples
