@@ -168,7 +168,7 @@ struct Buffers {
   std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
   std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
   std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
-  std::vector<uint8_t> walk;         // which walks visit the bucket (a bit per walk)
+  std::vector<uint8_t> walk;         // 1 for the buckets the walk must visit
   std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
 };
 Buffers& ThreadBuffers() {
@@ -285,13 +285,11 @@ void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
 // (scripts/bytes_per_trial.sh: 28 B a trial and estimator with 2^18, 24.6 B with 2^14).
 constexpr std::size_t kWindowValues = std::size_t{1} << 14;
 
-// The window that starts at bucket `first`: it ends before the bucket whose walked values
-// (buckets with a bit of `mask` in s->walk) would take either sample past `window_values` (but
-// holds at least one bucket). Sets the write positions of its walked buckets (s->pos1, s->pos2;
-// every other bucket stays kSkipped) and returns its runs of consecutive walked buckets and its
-// end.
-std::size_t PlanWindow(std::size_t first, std::size_t buckets, uint8_t mask,
-                       std::size_t window_values, Buffers* s, std::vector<Run>* runs) {
+// The window that starts at bucket `first`: it ends before the bucket whose walked values would
+// take either sample past kWindowValues (but holds at least one bucket). Sets the write positions
+// of its walked buckets (s->pos1, s->pos2; every other bucket stays kSkipped) and returns its runs
+// of consecutive walked buckets and its end.
+std::size_t PlanWindow(std::size_t first, std::size_t buckets, Buffers* s, std::vector<Run>* runs) {
   runs->clear();
   const uint32_t* e1 = s->end1.data();
   const uint32_t* e2 = s->end2.data();
@@ -302,10 +300,10 @@ std::size_t PlanWindow(std::size_t first, std::size_t buckets, uint8_t mask,
   for (; k < buckets; ++k) {
     const uint32_t i1 = e1[k], j1 = e2[k];
     const bool empty = i1 == i0 && j1 == j0;
-    const bool walk = (s->walk[k] & mask) != 0;
+    const bool walk = s->walk[k] != 0;
     // +1: the sentinel slot after the run
     if (walk && k > first &&
-        (a + (i1 - i0) + 1 > window_values || b + (j1 - j0) + 1 > window_values)) {
+        (a + (i1 - i0) + 1 > kWindowValues || b + (j1 - j0) + 1 > kWindowValues)) {
       break;
     }
     if (walk && !in_run) {
@@ -331,11 +329,11 @@ std::size_t PlanWindow(std::size_t first, std::size_t buckets, uint8_t mask,
 // Copies the values of the buckets to walk to their positions (pos becomes each bucket's end).
 // The walk flags (a byte a bucket) are read first: pos is set only where a flag is.
 template <class BucketOf>
-void Extract(std::span<const double> x, BucketOf bucket_of, const uint8_t* walk, uint8_t mask,
-             uint32_t* pos, double* out) {
+void Extract(std::span<const double> x, BucketOf bucket_of, const uint8_t* walk, uint32_t* pos,
+             double* out) {
   for (const double v : x) {
     const uint32_t k = bucket_of(v);
-    if ((walk[k] & mask) == 0) continue;
+    if (walk[k] == 0) continue;
     const uint32_t p = pos[k];
     if (p == kSkipped) continue;
     out[p] = v;
@@ -345,13 +343,13 @@ void Extract(std::span<const double> x, BucketOf bucket_of, const uint8_t* walk,
 
 // Sorts every walked bucket of [first, last) in place, and marks it kSkipped again: bucket k's
 // values end at pos[k] and number end[k] - end[k - 1].
-void SortBuckets(std::size_t first, std::size_t last, const uint8_t* walk, uint8_t mask,
-                 uint32_t* pos, const uint32_t* end, double* v) {
+void SortBuckets(std::size_t first, std::size_t last, const uint8_t* walk, uint32_t* pos,
+                 const uint32_t* end, double* v) {
   uint32_t before = first == 0 ? 0 : end[first - 1];
   for (std::size_t k = first; k < last; ++k) {
     const uint32_t count = end[k] - before;
     before = end[k];
-    if ((walk[k] & mask) == 0 || pos[k] == kSkipped) continue;
+    if (walk[k] == 0 || pos[k] == kSkipped) continue;
     if (count > 1) SortSmall(v + (pos[k] - count), count);
     pos[k] = kSkipped;
   }
@@ -367,36 +365,29 @@ void ResetPositions(std::size_t buckets, Buffers* s) {
   }
 }
 
-// Walks, in order, the buckets with a bit of `mask` in s->walk (s->end1, s->end2 and the
-// positions set up by ResetPositions): window by window, the first window holding at most
-// `first_window` values of each sample and each next one eight times more (up to
-// kWindowValues), so that a walk that can stop early (`done()` true after a window) reads the
-// samples few times.
-template <class BucketOf, class Done>
+// Walks, in order, the buckets flagged in s->walk (s->end1, s->end2 and the positions set up by
+// ResetPositions), a window at a time.
+template <class BucketOf>
 void WalkMarked(std::span<const double> x, std::span<const double> y, BucketOf bucket_of,
-                std::size_t buckets, uint8_t mask, std::size_t first_window, Buffers* s,
-                EcdfExtremes* e, Done done) {
+                std::size_t buckets, Buffers* s, EcdfExtremes* e) {
   thread_local std::vector<Run> runs;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
-  std::size_t window = std::min(first_window, kWindowValues);
   for (std::size_t first = 0; first < buckets;) {
-    const std::size_t last = PlanWindow(first, buckets, mask, window, s, &runs);
+    const std::size_t last = PlanWindow(first, buckets, s, &runs);
     if (!runs.empty()) {
       const uint8_t* walk = s->walk.data();
-      Extract(x, bucket_of, walk, mask, s->pos1.data(), s->a.data());
-      Extract(y, bucket_of, walk, mask, s->pos2.data(), s->b.data());
-      SortBuckets(first, last, walk, mask, s->pos1.data(), s->end1.data(), s->a.data());
-      SortBuckets(first, last, walk, mask, s->pos2.data(), s->end2.data(), s->b.data());
+      Extract(x, bucket_of, walk, s->pos1.data(), s->a.data());
+      Extract(y, bucket_of, walk, s->pos2.data(), s->b.data());
+      SortBuckets(first, last, walk, s->pos1.data(), s->end1.data(), s->a.data());
+      SortBuckets(first, last, walk, s->pos2.data(), s->end2.data(), s->b.data());
       for (const Run& r : runs) {
         s->a[r.a0 + r.na] = kInf;
         s->b[r.b0 + r.nb] = kInf;
         WalkSorted(&s->a[r.a0], r.na, &s->b[r.b0], r.nb, r.i0, r.j0, dn1, dn2, e);
       }
-      if (done()) return;
     }
     first = last;
-    window = std::min(window * 8, kWindowValues);
   }
 }
 
@@ -439,7 +430,7 @@ EcdfExtremes ExtremesByBucketsIn(std::span<const double> x, std::span<const doub
   PlanWalk(buckets, dn1, dn2, &s);
   ResetPositions(buckets, &s);
   EcdfExtremes e;
-  WalkMarked(x, y, bucket_of, buckets, 1, kWindowValues, &s, &e, [] { return false; });
+  WalkMarked(x, y, bucket_of, buckets, &s, &e);
   return e;
 }
 
