@@ -10,57 +10,46 @@
 
 namespace patlab::testing {
 
-inline const std::vector<MalformedCase>& FrameSettingsMalformedCases() {
+// A patlab detect run on the golden frame with a settings file whose [frame] table holds
+// `frame_line` (its line 5), plus `extra` arguments; all that differs between the cases.
+inline MalformedCase FrameSettingsCase(const char* name, const std::string& frame_line,
+                                       const std::string& extra, const std::string& message) {
   using namespace std::string_literals;
+  return {name,
+          {{"s.toml",
+            "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"orange\"]\n[detector]\n"
+            "patch_sigma_mm = 2.0\n[frame]\n"s +
+                frame_line +
+                "\n[[pattern]]\npattern = \"{src}/patterns/ssl-standard.toml\"\ncodebook = "
+                "\"c.toml\"\nkey_colours = [\"blue\", \"yellow\"]\n"},
+           {"c.toml",
+            "pattern = \"ssl-standard\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\nslots = "
+            "[\"pink\", \"pink\", \"green\", \"pink\"]\n[[id]]\nid = 1\nslots = [\"green\", "
+            "\"pink\", \"green\", \"pink\"]\n"s}},
+          "detect {src}/tests/data/golden/ssl-frame.png -t "
+          "{src}/tests/data/golden/ssl-frame.thresholds.toml -c "
+          "{src}/tests/data/golden/ssl-frame.calibration.toml -s {dir}s.toml --out "
+          "{dir}out/d.csv"s +
+              extra,
+          2,
+          message,
+          nullptr};
+}
+
+inline const std::vector<MalformedCase>& FrameSettingsMalformedCases() {
   static const std::vector<MalformedCase> cases = {
-      {"SettingsFrameEdgeLossNegative",
-       {{"s.toml",
-         "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"orange\"]\n[detector]\npatch_sigma_mm = 2.0\n[frame]\nedge_loss_px = -1\n[[pattern]]\npattern = \"{src}/patterns/ssl-standard.toml\"\ncodebook = \"c.toml\"\nkey_colours = [\"blue\", \"yellow\"]\n"s},
-        {"c.toml",
-         "pattern = \"ssl-standard\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\nslots = [\"pink\", \"pink\", \"green\", \"pink\"]\n[[id]]\nid = 1\nslots = [\"green\", \"pink\", \"green\", \"pink\"]\n"s}},
-       "detect {src}/tests/data/golden/ssl-frame.png -t "
-       "{src}/tests/data/golden/ssl-frame.thresholds.toml -c "
-       "{src}/tests/data/golden/ssl-frame.calibration.toml -s {dir}s.toml --out "
-       "{dir}out/d.csv",
-       2,
-       "patlab detect: {dir}s.toml:5: edge_loss_px is -1; expected a number in [0, 10] (px)"s,
-       nullptr},
-      {"SettingsFrameMissingPatchPolicy",
-       {{"s.toml",
-         "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"orange\"]\n[detector]\npatch_sigma_mm = 2.0\n[frame]\nmissing_patch = \"always\"\n[[pattern]]\npattern = \"{src}/patterns/ssl-standard.toml\"\ncodebook = \"c.toml\"\nkey_colours = [\"blue\", \"yellow\"]\n"s},
-        {"c.toml",
-         "pattern = \"ssl-standard\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\nslots = [\"pink\", \"pink\", \"green\", \"pink\"]\n[[id]]\nid = 1\nslots = [\"green\", \"pink\", \"green\", \"pink\"]\n"s}},
-       "detect {src}/tests/data/golden/ssl-frame.png -t "
-       "{src}/tests/data/golden/ssl-frame.thresholds.toml -c "
-       "{src}/tests/data/golden/ssl-frame.calibration.toml -s {dir}s.toml --out "
-       "{dir}out/d.csv",
-       2,
-       "patlab detect: {dir}s.toml:5: missing_patch is \"always\"; expected \"reject\" or \"fit\""s,
-       nullptr},
-      {"SettingsFrameUnknownKey",
-       {{"s.toml",
-         "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"orange\"]\n[detector]\npatch_sigma_mm = 2.0\n[frame]\nedge_loss = 1\n[[pattern]]\npattern = \"{src}/patterns/ssl-standard.toml\"\ncodebook = \"c.toml\"\nkey_colours = [\"blue\", \"yellow\"]\n"s},
-        {"c.toml",
-         "pattern = \"ssl-standard\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\nslots = [\"pink\", \"pink\", \"green\", \"pink\"]\n[[id]]\nid = 1\nslots = [\"green\", \"pink\", \"green\", \"pink\"]\n"s}},
-       "detect {src}/tests/data/golden/ssl-frame.png -t "
-       "{src}/tests/data/golden/ssl-frame.thresholds.toml -c "
-       "{src}/tests/data/golden/ssl-frame.calibration.toml -s {dir}s.toml --out "
-       "{dir}out/d.csv",
-       2,
-       "patlab detect: {dir}s.toml:5: unknown key 'edge_loss' in [frame]; expected one of: edge_loss_px, missing_patch"s,
-       nullptr},
-      {"DetectEdgeLossFlagTooLarge",
-       {{"s.toml",
-         "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"orange\"]\n[detector]\npatch_sigma_mm = 2.0\n[frame]\nedge_loss_px = 1\n[[pattern]]\npattern = \"{src}/patterns/ssl-standard.toml\"\ncodebook = \"c.toml\"\nkey_colours = [\"blue\", \"yellow\"]\n"s},
-        {"c.toml",
-         "pattern = \"ssl-standard\"\ncolours = [\"pink\", \"green\"]\n[[id]]\nid = 0\nslots = [\"pink\", \"pink\", \"green\", \"pink\"]\n[[id]]\nid = 1\nslots = [\"green\", \"pink\", \"green\", \"pink\"]\n"s}},
-       "detect {src}/tests/data/golden/ssl-frame.png -t "
-       "{src}/tests/data/golden/ssl-frame.thresholds.toml -c "
-       "{src}/tests/data/golden/ssl-frame.calibration.toml -s {dir}s.toml --out "
-       "{dir}out/d.csv --edge-loss-px 12",
-       2,
-       "patlab detect: --edge-loss-px is 12; expected a number in [0, 10] (px)"s,
-       nullptr},
+      FrameSettingsCase(
+          "SettingsFrameEdgeLossNegative", "edge_loss_px = -1", "",
+          "patlab detect: {dir}s.toml:5: edge_loss_px is -1; expected a number in [0, 10] (px)"),
+      FrameSettingsCase("SettingsFrameMissingPatchPolicy", "missing_patch = \"always\"", "",
+                        "patlab detect: {dir}s.toml:5: missing_patch is \"always\"; expected "
+                        "\"reject\" or \"fit\""),
+      FrameSettingsCase(
+          "SettingsFrameUnknownKey", "edge_loss = 1", "",
+          "patlab detect: {dir}s.toml:5: unknown key 'edge_loss' in [frame]; expected "
+          "one of: edge_loss_px, missing_patch"),
+      FrameSettingsCase("DetectEdgeLossFlagTooLarge", "edge_loss_px = 1", " --edge-loss-px 12",
+                        "patlab detect: --edge-loss-px is 12; expected a number in [0, 10] (px)"),
   };
   return cases;
 }
