@@ -1,0 +1,86 @@
+// Internals of the KS walk shared by its source files: ks.cpp (the walks by sorting and by
+// buckets, KsTwoSample) and ks_pairs.cpp (the walk of pairs that differ by rounding). Not part of
+// the public API: include ks.h instead.
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "patlab/stats/ks.h"
+
+namespace patlab::stats::detail::internal {
+
+// The order of SortAscending as unsigned integers (-0.0 before +0.0).
+inline uint64_t OrderKey(double v) {
+  const uint64_t u = std::bit_cast<uint64_t>(v);
+  constexpr uint64_t kSign = uint64_t{1} << 63;
+  return (u & kSign) ? ~u : (u | kSign);
+}
+
+// This thread's buffers, grown to the largest samples seen and then reused: fresh arrays cost
+// more in page faults than the work on them. Only serial code uses them. The per-bucket arrays
+// are O(buckets) (at most kMaxBuckets); a and b hold the values of one window of the buckets that
+// must be walked (at most kWindowValues each, below).
+struct Buffers {
+  std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
+  std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
+  std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
+  std::vector<uint8_t> walk;         // 1 for the buckets the walk must visit
+  std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
+};
+// This thread's Buffers (only serial code uses them).
+Buffers& ThreadBuffers();
+
+// The walked buckets' values are copied out, sorted and walked a window of consecutive buckets
+// at a time, each window holding at most this many values of each sample (unless one bucket
+// alone holds more), so that the buffers a and b stay bounded (256 KB) whatever the sample size:
+// one more pass over the samples per window (docs/hardening.md, "Bounded memory"). The walked
+// values of fig5's samples that differ (10^5 values, a few percent walked) fit in one or two
+// windows; a walk of every bucket (samples that differ by rounding, when the paired shortcut does
+// not apply) takes one pass per 2^14 values. Small, so that the buffers are full-sized long before
+// the statistics block and the memory per trial below it stays the samples'
+// (scripts/bytes_per_trial.sh: 28 B a trial and estimator with 2^18, 24.6 B with 2^14).
+constexpr std::size_t kWindowValues = std::size_t{1} << 14;
+
+// Equal-width buckets between lo and hi; non-decreasing in v (each rounding is monotone), so
+// bucket k holds values <= those of k + 1 and equal values share a bucket.
+struct EqualWidthBuckets {
+  double lo, scale;
+  int64_t last;
+  uint32_t operator()(double v) const {
+    return static_cast<uint32_t>(std::min(static_cast<int64_t>((v - lo) * scale), last));
+  }
+};
+
+// Counts per bucket, turned into the ECDF counts at every bucket end.
+template <class BucketOf>
+void CountsAtBucketEnds(std::span<const double> x, std::size_t buckets, BucketOf bucket_of,
+                        std::vector<uint32_t>* end) {
+  end->assign(buckets, 0);
+  uint32_t* e = end->data();
+  for (const double v : x) ++e[bucket_of(v)];
+  for (std::size_t k = 1; k < buckets; ++k) e[k] += e[k - 1];
+}
+
+// Walks the merged order of a[0, n1) and b[0, n2), both sorted and followed by a +infinity
+// sentinel, whose first elements are elements i0 and j0 of the whole samples (definition in
+// ks.cpp).
+void WalkSorted(const double* a, std::size_t n1, const double* b, std::size_t n2, std::size_t i0,
+                std::size_t j0, double dn1, double dn2, EcdfExtremes* e);
+
+// Sorts v[0, n) in SortAscending's order (a bucket's few values).
+void SortSmall(double* v, std::size_t n);
+
+// Samples equal index by index, and their extremes (F1 = F2 at every group end).
+bool SameSamples(std::span<const double> x, std::span<const double> y);
+EcdfExtremes ExtremesOfSameSamples(std::span<const double> x);
+
+// EcdfExtremesByBuckets for samples that are not the same, all of whose values lie in [lo, hi].
+EcdfExtremes ExtremesByBucketsIn(std::span<const double> x, std::span<const double> y, double lo,
+                                 double hi);
+
+}  // namespace patlab::stats::detail::internal
