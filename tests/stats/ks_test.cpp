@@ -324,5 +324,139 @@ TEST(Ks, PairedWalkAgreesWithTheStraightforwardOneOnPairsThatDifferByRounding) {
   }
 }
 
+// The paired walk's check of the starts goes in the order of a 22-bit key of each start (2^22
+// cells over the range) and compares neighbours exactly: pairs of intervals a few ulps wide that
+// overlap (c reaches 2, so the shortcut's +-1/n answer would be wrong) with their starts in
+// adjacent cells, in one cell in the samples' reverse order, or at the same value, and placed far
+// from the rank where the largest rounding step occurs (where the walked region would see them);
+// starts close but apart (the shortcut stands); a range so wide that every start has key 0; and,
+// above 2^16 differing pairs (the check goes window by window), overlaps straddling every coarse
+// bin boundary around the windows' ends. Values in [0, 1] with 0 and 1 present, so that the key
+// of a start s is floor(s * 2^22) and its coarse bin floor(s * 4096).
+TEST(Ks, PairedWalkChecksStartsByKeyBitForBit) {
+  const auto ulps = [](double v, int steps) {
+    for (int k = 0; k < steps; ++k) v = std::nextafter(v, 2.0);
+    for (int k = 0; k > steps; --k) v = std::nextafter(v, -1.0);
+    return v;
+  };
+  const auto largest_step = [](size_t n) {  // G = max fl(i/n) - fl((i - 1)/n), first reached at i
+    double best = -1.0, previous = 0.0;
+    size_t at = 0;
+    for (size_t i = 1; i <= n; ++i) {
+      const double q = static_cast<double>(i) / static_cast<double>(n);
+      if (q - previous > best) best = q - previous, at = i;
+      previous = q;
+    }
+    return std::pair{best, at};
+  };
+  enum Plant {
+    kAdjacentCells,
+    kOneCellReversed,
+    kEqualStarts,
+    kCloseButApart,
+    kHugeRange,
+    kAcrossWindows
+  };
+  for (const Plant plant : {kAdjacentCells, kOneCellReversed, kEqualStarts, kCloseButApart,
+                            kHugeRange, kAcrossWindows}) {
+    for (const size_t n : {2100u, 20000u, 300000u}) {
+      if ((plant == kAcrossWindows) != (n == 300000u)) continue;
+      SCOPED_TRACE(::testing::Message() << "plant " << plant << " n " << n);
+      Lcg rng{static_cast<uint64_t>(31 + plant)};
+      std::vector<double> x(n), y(n);
+      for (size_t k = 0; k < n; ++k) {
+        x[k] = rng.Uniform();
+        const double u = rng.Uniform();
+        y[k] = u < 0.15 ? ulps(x[k], 1) : u < 0.3 ? ulps(x[k], -1) : x[k];
+      }
+      x[0] = y[0] = 0.0;
+      x[1] = y[1] = plant == kHugeRange ? 1e300 : 1.0;
+      const auto [g, at] = largest_step(n);
+      // Away from the rank of the largest step (uniform values: rank / n).
+      const double far = static_cast<double>(at) / static_cast<double>(n) < 0.5 ? 0.8 : 0.2;
+      const auto up = [&](size_t k, double start, int width) {
+        x[k] = start;
+        y[k] = ulps(start, width);
+      };
+      size_t k = 2;
+      for (int c = 0; c < 40; ++c) {
+        // Cell boundaries b = j / 2^22 near `far` (exact), one cluster every 1000 cells.
+        const double b = std::round(far * 0x1p22 + 1000.0 * c) * 0x1p-22;
+        switch (plant) {
+          case kAdjacentCells:  // [b - 2u, b + 2u) and [b, b + 3u): cells j - 1 and j
+            up(k++, ulps(b, -2), 4), up(k++, b, 3);
+            break;
+          case kOneCellReversed:  // the later start first in the samples, both in cell j
+            up(k++, ulps(b, 6), 3), up(k++, ulps(b, 4), 4);
+            break;
+          case kEqualStarts:
+            up(k++, ulps(b, 4), 2), up(k++, ulps(b, 4), 1);
+            break;
+          case kCloseButApart:  // widest 2 ulps: starts 5 ulps apart, across and within cells
+            up(k++, ulps(b, -3), 2), up(k++, ulps(b, 2), 1), up(k++, ulps(b, 7), 2);
+            break;
+          case kHugeRange:
+            up(k++, ulps(b, -2), 4), up(k++, b, 3);
+            break;
+          case kAcrossWindows:
+            break;
+        }
+      }
+      if (plant == kAcrossWindows) {
+        // One overlapping pair of intervals straddling the end of the first window: the first
+        // coarse bin B whose starts would bring the window above 2^16 (values in [0, 1]: the
+        // bin of s is floor(s * 4096)); [b - 2u, b + 2u) ends the window, [b, b + 3u) begins
+        // the next, with b = B / 4096. Only the check across windows can see it.
+        up(2, 0.5, 0), up(3, 0.5, 0);
+        std::vector<size_t> per_bin(4096, 0);
+        for (size_t j = 0; j < n; ++j) {
+          if (x[j] != y[j]) ++per_bin[static_cast<size_t>(std::min(x[j], y[j]) * 4096.0)];
+        }
+        size_t bin = 0, below = 0;
+        while (below + per_bin[bin] <= (size_t{1} << 16)) below += per_bin[bin++];
+        ASSERT_LE(below + 1, size_t{1} << 16);  // the lower start stays in the first window
+        const double b = static_cast<double>(bin) / 4096.0;
+        ASSERT_GT(std::abs(b - static_cast<double>(at) / static_cast<double>(n)), 0.1);
+        up(2, ulps(b, -2), 4), up(3, b, 3);
+      }
+      const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
+      if (plant != kCloseButApart) {
+        EXPECT_GT(want.max_diff, 1.5 * g);  // the overlap decides: the shortcut must not
+      } else {
+        EXPECT_EQ(want.max_diff, g);
+      }
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(x, y), want);
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(y, x), StraightforwardExtremes(y, x));
+    }
+  }
+}
+
+// The pair summary runs in 8 lanes and a tail: a non-finite value in the lanes or in the tail,
+// in either sample or in both (the same array, or equal arrays), gives the messages of the check
+// of each sample.
+TEST(Ks, PairedWalkRejectsNonFiniteValuesInLanesAndTail) {
+  for (const size_t n : {4096u, 4099u}) {
+    for (const size_t at : {size_t{0}, size_t{9}, n - 1}) {
+      SCOPED_TRACE(::testing::Message() << "n " << n << " at " << at);
+      std::vector<double> x(n), y(n);
+      for (size_t k = 0; k < n; ++k) x[k] = y[k] = static_cast<double>(k % 97) * 0.25;
+      y[n / 2] += 1.0;
+      const std::string where = " value " + std::to_string(at + 1) + " is ";
+      std::vector<double> bad = x;
+      bad[at] = std::nan("");
+      EXPECT_INPUT_ERROR(KsTwoSample(x, bad), "sample 2" + where + "NaN; expected finite numbers");
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, y), "sample 1" + where + "NaN; expected finite numbers");
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, bad),
+                         "sample 1" + where + "NaN; expected finite numbers");
+      const std::vector<double> copy = bad;
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, copy),
+                         "sample 1" + where + "NaN; expected finite numbers");
+      bad[at] = -std::numeric_limits<double>::infinity();
+      EXPECT_INPUT_ERROR(KsTwoSample(y, bad),
+                         "sample 2" + where + "infinite; expected finite numbers");
+    }
+  }
+}
+
 }  // namespace
 }  // namespace patlab::stats

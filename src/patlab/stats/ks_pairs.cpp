@@ -112,7 +112,7 @@ struct PairSummary {
   double lo = 0.0, hi = 0.0, widest = 0.0;
   std::size_t up = 0, down = 0;
 };
-[[gnu::noinline]] PairSummary SummarisePairs(std::span<const double> x, std::span<const double> y) {
+PairSummary SummarisePairs(std::span<const double> x, std::span<const double> y) {
   // Eight independent lanes (k mod 8 for the first n - n mod 8 pairs, then the rest in lane 0),
   // combined at the end, so that the compiler keeps each in a vector register: minimum and maximum
   // of the values and of the widths (exact whatever the order for finite values, which are the only
@@ -160,9 +160,8 @@ struct PairSummary {
 // [first_bin, last_bin) of `bin_of` (all of them: 0 and ~0), copied without a branch into *out,
 // which holds at least the copied values + 1 (`capacity`, counted before).
 template <class BinOf>
-[[gnu::noinline]] std::size_t CopyStarts(std::span<const double> x, std::span<const double> y,
-                                         BinOf bin_of, uint32_t first_bin, uint32_t bins,
-                                         double* out) {
+std::size_t CopyStarts(std::span<const double> x, std::span<const double> y, BinOf bin_of,
+                       uint32_t first_bin, uint32_t bins, double* out) {
   std::size_t m = 0;
   for (std::size_t k = 0; k < x.size(); ++k) {
     const double start = std::min(x[k], y[k]);
@@ -176,11 +175,9 @@ template <class BinOf>
 // b, which hold at least the copied values + 1 (counted before). The region holds a few hundred of
 // the 2n values: a block of 8 pairs is tested at once (a loop the compiler vectorises) and copied
 // (without a branch on each value) only if one of its values is in the region.
-[[gnu::noinline]] std::pair<std::size_t, std::size_t> CopyRegion(std::span<const double> x,
-                                                                 std::span<const double> y,
-                                                                 RegionBins bin_of,
-                                                                 uint32_t first_bin, uint32_t bins,
-                                                                 double* a, double* b) {
+std::pair<std::size_t, std::size_t> CopyRegion(std::span<const double> x, std::span<const double> y,
+                                               RegionBins bin_of, uint32_t first_bin, uint32_t bins,
+                                               double* a, double* b) {
   const auto in = [&](double v) -> std::size_t {
     return bin_of(v) - first_bin < bins ? 1 : 0;  // unsigned: bins below first wrap to large
   };
