@@ -63,26 +63,53 @@ struct RegionBins {
   }
 };
 
+// Calls use(i, key(v[i])) for i in [0, m) in order, the keys of a chunk computed first by a loop
+// the compiler vectorises (the uses, scattered increments and stores, cannot be).
+template <class Key, class Use>
+void ForKeys(const double* v, std::size_t m, Key key, Use use) {
+  constexpr std::size_t kChunk = 256;
+  std::array<uint32_t, kChunk> keys;
+  for (std::size_t i0 = 0; i0 < m; i0 += kChunk) {
+    const std::size_t c = std::min(kChunk, m - i0);
+    for (std::size_t l = 0; l < c; ++l) keys[l] = key(v[i0 + l]);
+    for (std::size_t l = 0; l < c; ++l) use(i0 + l, keys[l]);
+  }
+}
+
 // The counts of x and of y per coarse bin, turned into the counts at every bin's end (end1, end2).
-// With `starts` (room for n + 1 values), the same pass copies the starts of the pairs that
-// differ into it (without a branch) and returns their number.
+// Most pairs have both values in one bin: y's counts are x's plus, for each pair whose values'
+// bins differ, one in y's bin and minus one in x's (wrapping uint32 arithmetic, exact once
+// summed), so the scattered increments are x's and a few. With `starts` (room for n + 1 values),
+// the same pass copies the starts of the pairs that differ into it (without a branch) and returns
+// their number.
 std::size_t CoarseCounts(std::span<const double> x, std::span<const double> y, RegionBins bin_of,
                          Buffers* s, double* starts) {
   s->end1.assign(kRegionBins, 0);
   s->end2.assign(kRegionBins, 0);
   uint32_t* e1 = s->end1.data();
   uint32_t* e2 = s->end2.data();
+  constexpr std::size_t kChunk = 256;
+  std::array<uint32_t, kChunk> bx, by;
+  const std::size_t n = x.size();
   std::size_t m = 0;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    const double a = x[k], b = y[k];
-    ++e1[bin_of(a)];
-    ++e2[bin_of(b)];
-    if (starts != nullptr) {
-      starts[m] = std::min(a, b);
-      m += a != b ? 1 : 0;
+  for (std::size_t k0 = 0; k0 < n; k0 += kChunk) {
+    const std::size_t c = std::min(kChunk, n - k0);
+    for (std::size_t l = 0; l < c; ++l) bx[l] = bin_of(x[k0 + l]), by[l] = bin_of(y[k0 + l]);
+    for (std::size_t l = 0; l < c; ++l) {
+      ++e1[bx[l]];
+      if (bx[l] != by[l]) ++e2[by[l]], --e2[bx[l]];
+    }
+    if (starts == nullptr) continue;
+    for (std::size_t k = k0; k < k0 + c; ++k) {
+      starts[m] = std::min(x[k], y[k]);
+      m += x[k] != y[k] ? 1 : 0;
     }
   }
-  for (std::size_t k = 1; k < kRegionBins; ++k) e1[k] += e1[k - 1], e2[k] += e2[k - 1];
+  e2[0] += e1[0];
+  for (std::size_t k = 1; k < kRegionBins; ++k) {
+    e2[k] += e1[k] + e2[k - 1];
+    e1[k] += e1[k - 1];
+  }
   return m;
 }
 
@@ -245,11 +272,10 @@ struct StartKey {
 void SortStartsByKey(double* v, double* w, std::size_t m, StartKey key) {
   constexpr std::size_t kDigits = std::size_t{1} << kKeyBits;
   std::array<std::array<uint32_t, kDigits>, kKeyPasses> at{};
-  for (std::size_t i = 0; i < m; ++i) {
-    const uint32_t k = key(v[i]);
+  ForKeys(v, m, key, [&at](std::size_t, uint32_t k) {
     ++at[0][k & (kDigits - 1)];
     ++at[1][k >> kKeyBits];
-  }
+  });
   for (auto& digit : at) {
     uint32_t sum = 0;
     for (uint32_t& c : digit) sum += std::exchange(c, sum);
@@ -259,10 +285,9 @@ void SortStartsByKey(double* v, double* w, std::size_t m, StartKey key) {
     double* to = pass == 0 ? w : v;
     uint32_t* digit = at[static_cast<std::size_t>(pass)].data();
     const int shift = pass * kKeyBits;
-    for (std::size_t i = 0; i < m; ++i) {
-      const double value = from[i];
-      to[digit[(key(value) >> shift) & (kDigits - 1)]++] = value;
-    }
+    ForKeys(from, m, key, [from, to, digit, shift](std::size_t i, uint32_t k) {
+      to[digit[(k >> shift) & (kDigits - 1)]++] = from[i];
+    });
   }
 }
 
