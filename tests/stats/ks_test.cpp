@@ -329,120 +329,127 @@ TEST(Ks, PairedWalkAgreesWithTheStraightforwardOneOnPairsThatDifferByRounding) {
 // overlap (c reaches 2, so the shortcut's +-1/n answer would be wrong) with their starts in
 // adjacent cells, in one cell in the samples' reverse order, or at the same value, and placed far
 // from the rank where the largest rounding step occurs (where the walked region would see them);
-// starts close but apart (the shortcut stands); a range so wide that every start has key 0; and,
-// above 2^16 differing pairs (the check goes window by window), overlaps straddling every coarse
-// bin boundary around the windows' ends. Values in [0, 1] with 0 and 1 present, so that the key
-// of a start s is floor(s * 2^22) and its coarse bin floor(s * 4096).
-TEST(Ks, PairedWalkChecksStartsByKeyBitForBit) {
-  const auto ulps = [](double v, int steps) {
-    for (int k = 0; k < steps; ++k) v = std::nextafter(v, 2.0);
-    for (int k = 0; k > steps; --k) v = std::nextafter(v, -1.0);
-    return v;
-  };
-  const auto largest_step = [](size_t n) {  // G = max fl(i/n) - fl((i - 1)/n), first reached at i
-    double best = -1.0, previous = 0.0;
-    size_t at = 0;
-    for (size_t i = 1; i <= n; ++i) {
-      const double q = static_cast<double>(i) / static_cast<double>(n);
-      if (q - previous > best) best = q - previous, at = i;
-      previous = q;
+// starts close but apart (the shortcut stands); a range so wide that every start has key 0;
+// above 2^16 differing pairs (the check goes window by window), an overlap straddling the first
+// window's end; pairs apart across every coarse bin boundary. Values in [0, 1] with 0 and 1
+// present, so that the key of a start s is floor(s * 2^22) and its coarse bin floor(s * 4096).
+enum class Plant {
+  kAdjacentCells,
+  kOneCellReversed,
+  kEqualStarts,
+  kCloseButApart,
+  kHugeRange,
+  kAcrossWindows,
+  kAcrossBins
+};
+
+double Ulps(double v, int steps) {
+  for (int k = 0; k < steps; ++k) v = std::nextafter(v, 2.0);
+  for (int k = 0; k > steps; --k) v = std::nextafter(v, -1.0);
+  return v;
+}
+
+// G = max over i of fl(i/n) - fl((i - 1)/n), and the first i that reaches it.
+std::pair<double, size_t> LargestStep(size_t n) {
+  double best = -1.0, previous = 0.0;
+  size_t at = 0;
+  for (size_t i = 1; i <= n; ++i) {
+    const double q = static_cast<double>(i) / static_cast<double>(n);
+    if (q - previous > best) best = q - previous, at = i;
+    previous = q;
+  }
+  return {best, at};
+}
+
+struct PlantedPairs {
+  std::vector<double> x, y;
+  size_t next = 2;  // pairs 0 and 1 hold the range's ends
+  void Up(double start, int width) {
+    x[next] = start;
+    y[next++] = Ulps(start, width);
+  }
+};
+
+// Clusters of planted pairs at 40 cell boundaries b = j / 2^22 near `far`.
+void PlantInCells(Plant plant, double far, PlantedPairs* p) {
+  for (int c = 0; c < 40; ++c) {
+    const double b = std::round(far * 0x1p22 + 1000.0 * c) * 0x1p-22;
+    if (plant == Plant::kAdjacentCells || plant == Plant::kHugeRange) {
+      p->Up(Ulps(b, -2), 4), p->Up(b, 3);  // [b - 2u, b + 2u), [b, b + 3u): cells j - 1, j
+    } else if (plant == Plant::kOneCellReversed) {
+      p->Up(Ulps(b, 6), 3), p->Up(Ulps(b, 4), 4);  // the later start first, both in cell j
+    } else if (plant == Plant::kEqualStarts) {
+      p->Up(Ulps(b, 4), 2), p->Up(Ulps(b, 4), 1);
+    } else if (plant == Plant::kCloseButApart) {  // widest 2u: starts 5u apart
+      p->Up(Ulps(b, -3), 2), p->Up(Ulps(b, 2), 1), p->Up(Ulps(b, 7), 2);
     }
-    return std::pair{best, at};
-  };
-  enum Plant {
-    kAdjacentCells,
-    kOneCellReversed,
-    kEqualStarts,
-    kCloseButApart,
-    kHugeRange,
-    kAcrossWindows,
-    kAcrossBins
-  };
-  for (const Plant plant : {kAdjacentCells, kOneCellReversed, kEqualStarts, kCloseButApart,
-                            kHugeRange, kAcrossWindows, kAcrossBins}) {
-    for (const size_t n : {2100u, 20000u, 300000u}) {
-      if ((plant == kAcrossWindows) != (n == 300000u)) continue;
-      if (plant == kAcrossBins && n != 20000u) continue;  // 4095 pairs planted
-      SCOPED_TRACE(::testing::Message() << "plant " << plant << " n " << n);
-      Lcg rng{static_cast<uint64_t>(31 + plant)};
-      std::vector<double> x(n), y(n);
+  }
+}
+
+// One overlapping pair of intervals straddling the end of the first window: the first coarse
+// bin B whose starts would bring the window above 2^16; [b - 2u, b + 2u) ends the window,
+// [b, b + 3u) begins the next, with b = B / 4096. Only the check across windows can see it.
+void PlantAcrossWindows(size_t at, PlantedPairs* p) {
+  p->Up(0.5, 0), p->Up(0.5, 0);
+  std::vector<size_t> per_bin(4096, 0);
+  for (size_t j = 0; j < p->x.size(); ++j) {
+    if (p->x[j] != p->y[j]) ++per_bin[static_cast<size_t>(std::min(p->x[j], p->y[j]) * 4096.0)];
+  }
+  size_t bin = 0, below = 0;
+  while (below + per_bin[bin] <= (size_t{1} << 16)) below += per_bin[bin++];
+  ASSERT_LE(below + 1, size_t{1} << 16);  // the lower start stays in the first window
+  const double b = static_cast<double>(bin) / 4096.0;
+  ASSERT_GT(std::abs(b - static_cast<double>(at) / static_cast<double>(p->x.size())), 0.1);
+  p->next = 2;
+  p->Up(Ulps(b, -2), 4), p->Up(b, 3);
+}
+
+// Pairs apart whose values lie in adjacent coarse bins, at every bin boundary (up and down in
+// turn), so also where the walked region begins and ends: y's counts at the bins' ends differ
+// from x's there.
+void PlantAcrossBins(PlantedPairs* p) {
+  for (int bin = 1; bin < 4096; ++bin) {
+    const double b = bin / 4096.0;
+    if (bin % 2 == 0) {
+      p->Up(Ulps(b, -1), 2);
+    } else {
+      p->x[p->next] = Ulps(b, 1), p->y[p->next++] = Ulps(b, -1);
+    }
+  }
+}
+
+TEST(Ks, PairedWalkChecksStartsByKeyBitForBit) {
+  for (const Plant plant :
+       {Plant::kAdjacentCells, Plant::kOneCellReversed, Plant::kEqualStarts, Plant::kCloseButApart,
+        Plant::kHugeRange, Plant::kAcrossWindows, Plant::kAcrossBins}) {
+    const bool windows = plant == Plant::kAcrossWindows, bins = plant == Plant::kAcrossBins;
+    for (const size_t n : windows ? std::vector<size_t>{300000}
+                          : bins  ? std::vector<size_t>{20000}
+                                  : std::vector<size_t>{2100, 20000}) {
+      SCOPED_TRACE(::testing::Message() << "plant " << static_cast<int>(plant) << " n " << n);
+      Lcg rng{static_cast<uint64_t>(31 + static_cast<int>(plant))};
+      PlantedPairs p{std::vector<double>(n), std::vector<double>(n)};
       for (size_t k = 0; k < n; ++k) {
-        x[k] = rng.Uniform();
+        p.x[k] = rng.Uniform();
         const double u = rng.Uniform();
-        y[k] = u < 0.15 ? ulps(x[k], 1) : u < 0.3 ? ulps(x[k], -1) : x[k];
+        p.y[k] = u < 0.15 ? Ulps(p.x[k], 1) : u < 0.3 ? Ulps(p.x[k], -1) : p.x[k];
       }
-      x[0] = y[0] = 0.0;
-      x[1] = y[1] = plant == kHugeRange ? 1e300 : 1.0;
-      const auto [g, at] = largest_step(n);
+      p.x[0] = p.y[0] = 0.0;
+      p.x[1] = p.y[1] = plant == Plant::kHugeRange ? 1e300 : 1.0;
+      const auto [g, at] = LargestStep(n);
       // Away from the rank of the largest step (uniform values: rank / n).
       const double far = static_cast<double>(at) / static_cast<double>(n) < 0.5 ? 0.8 : 0.2;
-      const auto up = [&](size_t k, double start, int width) {
-        x[k] = start;
-        y[k] = ulps(start, width);
-      };
-      size_t k = 2;
-      for (int c = 0; c < 40; ++c) {
-        // Cell boundaries b = j / 2^22 near `far` (exact), one cluster every 1000 cells.
-        const double b = std::round(far * 0x1p22 + 1000.0 * c) * 0x1p-22;
-        switch (plant) {
-          case kAdjacentCells:  // [b - 2u, b + 2u) and [b, b + 3u): cells j - 1 and j
-            up(k++, ulps(b, -2), 4), up(k++, b, 3);
-            break;
-          case kOneCellReversed:  // the later start first in the samples, both in cell j
-            up(k++, ulps(b, 6), 3), up(k++, ulps(b, 4), 4);
-            break;
-          case kEqualStarts:
-            up(k++, ulps(b, 4), 2), up(k++, ulps(b, 4), 1);
-            break;
-          case kCloseButApart:  // widest 2 ulps: starts 5 ulps apart, across and within cells
-            up(k++, ulps(b, -3), 2), up(k++, ulps(b, 2), 1), up(k++, ulps(b, 7), 2);
-            break;
-          case kHugeRange:
-            up(k++, ulps(b, -2), 4), up(k++, b, 3);
-            break;
-          case kAcrossWindows:
-          case kAcrossBins:
-            break;
-        }
-      }
-      if (plant == kAcrossWindows) {
-        // One overlapping pair of intervals straddling the end of the first window: the first
-        // coarse bin B whose starts would bring the window above 2^16 (values in [0, 1]: the
-        // bin of s is floor(s * 4096)); [b - 2u, b + 2u) ends the window, [b, b + 3u) begins
-        // the next, with b = B / 4096. Only the check across windows can see it.
-        up(2, 0.5, 0), up(3, 0.5, 0);
-        std::vector<size_t> per_bin(4096, 0);
-        for (size_t j = 0; j < n; ++j) {
-          if (x[j] != y[j]) ++per_bin[static_cast<size_t>(std::min(x[j], y[j]) * 4096.0)];
-        }
-        size_t bin = 0, below = 0;
-        while (below + per_bin[bin] <= (size_t{1} << 16)) below += per_bin[bin++];
-        ASSERT_LE(below + 1, size_t{1} << 16);  // the lower start stays in the first window
-        const double b = static_cast<double>(bin) / 4096.0;
-        ASSERT_GT(std::abs(b - static_cast<double>(at) / static_cast<double>(n)), 0.1);
-        up(2, ulps(b, -2), 4), up(3, b, 3);
-      }
-      if (plant == kAcrossBins) {
-        // Pairs apart whose values lie in adjacent coarse bins, at every bin boundary (up and
-        // down in turn), so also where the walked region begins and ends: y's counts at the
-        // bins' ends differ from x's there.
-        for (int bin = 1; bin < 4096; ++bin) {
-          const double b = bin / 4096.0;
-          if (bin % 2 == 0) {
-            up(k++, ulps(b, -1), 2);
-          } else {
-            x[k] = ulps(b, 1), y[k++] = ulps(b, -1);
-          }
-        }
-      }
-      const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
-      if (plant != kCloseButApart && plant != kAcrossBins) {
-        EXPECT_GT(want.max_diff, 1.5 * g);  // the overlap decides: the shortcut must not
+      PlantInCells(plant, far, &p);
+      if (windows) PlantAcrossWindows(at, &p);
+      if (bins) PlantAcrossBins(&p);
+      const detail::EcdfExtremes want = StraightforwardExtremes(p.x, p.y);
+      if (plant == Plant::kCloseButApart || bins) {
+        EXPECT_EQ(want.max_diff, g);  // the shortcut stands
       } else {
-        EXPECT_EQ(want.max_diff, g);
+        EXPECT_GT(want.max_diff, 1.5 * g);  // the overlap decides: the shortcut must not
       }
-      ExpectSameExtremes(detail::EcdfExtremesByPairs(x, y), want);
-      ExpectSameExtremes(detail::EcdfExtremesByPairs(y, x), StraightforwardExtremes(y, x));
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(p.x, p.y), want);
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(p.y, p.x), StraightforwardExtremes(p.y, p.x));
     }
   }
 }
