@@ -324,5 +324,162 @@ TEST(Ks, PairedWalkAgreesWithTheStraightforwardOneOnPairsThatDifferByRounding) {
   }
 }
 
+// The paired walk's check of the starts goes in the order of a 22-bit key of each start (2^22
+// cells over the range) and compares neighbours exactly: pairs of intervals a few ulps wide that
+// overlap (c reaches 2, so the shortcut's +-1/n answer would be wrong) with their starts in
+// adjacent cells, in one cell in the samples' reverse order, or at the same value, and placed far
+// from the rank where the largest rounding step occurs (where the walked region would see them);
+// starts close but apart (the shortcut stands); a range so wide that every start has key 0;
+// above 2^16 differing pairs (the check goes window by window), an overlap straddling the first
+// window's end; pairs apart across every coarse bin boundary. Values in [0, 1] with 0 and 1
+// present, so that the key of a start s is floor(s * 2^22) and its coarse bin floor(s * 4096).
+enum class Plant {
+  kAdjacentCells,
+  kOneCellReversed,
+  kEqualStarts,
+  kCloseButApart,
+  kHugeRange,
+  kAcrossWindows,
+  kAcrossBins
+};
+
+double Ulps(double v, int steps) {
+  for (int k = 0; k < steps; ++k) v = std::nextafter(v, 2.0);
+  for (int k = 0; k > steps; --k) v = std::nextafter(v, -1.0);
+  return v;
+}
+
+// G = max over i of fl(i/n) - fl((i - 1)/n), and the first i that reaches it.
+std::pair<double, size_t> LargestStep(size_t n) {
+  double best = -1.0, previous = 0.0;
+  size_t at = 0;
+  for (size_t i = 1; i <= n; ++i) {
+    const double q = static_cast<double>(i) / static_cast<double>(n);
+    if (q - previous > best) best = q - previous, at = i;
+    previous = q;
+  }
+  return {best, at};
+}
+
+struct PlantedPairs {
+  std::vector<double> x, y;
+  size_t next = 2;  // pairs 0 and 1 hold the range's ends
+  void Up(double start, int width) {
+    x[next] = start;
+    y[next++] = Ulps(start, width);
+  }
+};
+
+// Clusters of planted pairs at 40 cell boundaries b = j / 2^22 near `far`.
+void PlantInCells(Plant plant, double far, PlantedPairs* p) {
+  for (int c = 0; c < 40; ++c) {
+    const double b = std::round(far * 0x1p22 + 1000.0 * c) * 0x1p-22;
+    if (plant == Plant::kAdjacentCells || plant == Plant::kHugeRange) {
+      p->Up(Ulps(b, -2), 4), p->Up(b, 3);  // [b - 2u, b + 2u), [b, b + 3u): cells j - 1, j
+    } else if (plant == Plant::kOneCellReversed) {
+      p->Up(Ulps(b, 6), 3), p->Up(Ulps(b, 4), 4);  // the later start first, both in cell j
+    } else if (plant == Plant::kEqualStarts) {
+      p->Up(Ulps(b, 4), 2), p->Up(Ulps(b, 4), 1);
+    } else if (plant == Plant::kCloseButApart) {  // widest 2u: starts 5u apart
+      p->Up(Ulps(b, -3), 2), p->Up(Ulps(b, 2), 1), p->Up(Ulps(b, 7), 2);
+    }
+  }
+}
+
+// One overlapping pair of intervals straddling the end of the first window: the first coarse
+// bin B whose starts would bring the window above 2^16; [b - 2u, b + 2u) ends the window,
+// [b, b + 3u) begins the next, with b = B / 4096. Only the check across windows can see it.
+void PlantAcrossWindows(size_t at, PlantedPairs* p) {
+  p->Up(0.5, 0), p->Up(0.5, 0);
+  std::vector<size_t> per_bin(4096, 0);
+  for (size_t j = 0; j < p->x.size(); ++j) {
+    if (p->x[j] != p->y[j]) ++per_bin[static_cast<size_t>(std::min(p->x[j], p->y[j]) * 4096.0)];
+  }
+  size_t bin = 0, below = 0;
+  while (below + per_bin[bin] <= (size_t{1} << 16)) below += per_bin[bin++];
+  ASSERT_LE(below + 1, size_t{1} << 16);  // the lower start stays in the first window
+  const double b = static_cast<double>(bin) / 4096.0;
+  ASSERT_GT(std::abs(b - static_cast<double>(at) / static_cast<double>(p->x.size())), 0.1);
+  p->next = 2;
+  p->Up(Ulps(b, -2), 4), p->Up(b, 3);
+}
+
+// Pairs apart whose values lie in adjacent coarse bins, at every bin boundary (up and down in
+// turn), so also where the walked region begins and ends: y's counts at the bins' ends differ
+// from x's there.
+void PlantAcrossBins(PlantedPairs* p) {
+  for (int bin = 1; bin < 4096; ++bin) {
+    const double b = bin / 4096.0;
+    if (bin % 2 == 0) {
+      p->Up(Ulps(b, -1), 2);
+    } else {
+      p->x[p->next] = Ulps(b, 1), p->y[p->next++] = Ulps(b, -1);
+    }
+  }
+}
+
+TEST(Ks, PairedWalkChecksStartsByKeyBitForBit) {
+  for (const Plant plant :
+       {Plant::kAdjacentCells, Plant::kOneCellReversed, Plant::kEqualStarts, Plant::kCloseButApart,
+        Plant::kHugeRange, Plant::kAcrossWindows, Plant::kAcrossBins}) {
+    const bool windows = plant == Plant::kAcrossWindows, bins = plant == Plant::kAcrossBins;
+    for (const size_t n : windows ? std::vector<size_t>{300000}
+                          : bins  ? std::vector<size_t>{20000}
+                                  : std::vector<size_t>{2100, 20000}) {
+      SCOPED_TRACE(::testing::Message() << "plant " << static_cast<int>(plant) << " n " << n);
+      Lcg rng{static_cast<uint64_t>(31 + static_cast<int>(plant))};
+      PlantedPairs p{std::vector<double>(n), std::vector<double>(n)};
+      for (size_t k = 0; k < n; ++k) {
+        p.x[k] = rng.Uniform();
+        const double u = rng.Uniform();
+        p.y[k] = u < 0.15 ? Ulps(p.x[k], 1) : u < 0.3 ? Ulps(p.x[k], -1) : p.x[k];
+      }
+      p.x[0] = p.y[0] = 0.0;
+      p.x[1] = p.y[1] = plant == Plant::kHugeRange ? 1e300 : 1.0;
+      const auto [g, at] = LargestStep(n);
+      // Away from the rank of the largest step (uniform values: rank / n).
+      const double far = static_cast<double>(at) / static_cast<double>(n) < 0.5 ? 0.8 : 0.2;
+      PlantInCells(plant, far, &p);
+      if (windows) PlantAcrossWindows(at, &p);
+      if (bins) PlantAcrossBins(&p);
+      const detail::EcdfExtremes want = StraightforwardExtremes(p.x, p.y);
+      if (plant == Plant::kCloseButApart || bins) {
+        EXPECT_EQ(want.max_diff, g);  // the shortcut stands
+      } else {
+        EXPECT_GT(want.max_diff, 1.5 * g);  // the overlap decides: the shortcut must not
+      }
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(p.x, p.y), want);
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(p.y, p.x), StraightforwardExtremes(p.y, p.x));
+    }
+  }
+}
+
+// The pair summary runs in 8 lanes and a tail: a non-finite value in the lanes or in the tail,
+// in either sample or in both (the same array, or equal arrays), gives the messages of the check
+// of each sample.
+TEST(Ks, PairedWalkRejectsNonFiniteValuesInLanesAndTail) {
+  for (const size_t n : {4096u, 4099u}) {
+    for (const size_t at : {size_t{0}, size_t{9}, n - 1}) {
+      SCOPED_TRACE(::testing::Message() << "n " << n << " at " << at);
+      std::vector<double> x(n), y(n);
+      for (size_t k = 0; k < n; ++k) x[k] = y[k] = static_cast<double>(k % 97) * 0.25;
+      y[n / 2] += 1.0;
+      const std::string where = " value " + std::to_string(at + 1) + " is ";
+      std::vector<double> bad = x;
+      bad[at] = std::nan("");
+      EXPECT_INPUT_ERROR(KsTwoSample(x, bad), "sample 2" + where + "NaN; expected finite numbers");
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, y), "sample 1" + where + "NaN; expected finite numbers");
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, bad),
+                         "sample 1" + where + "NaN; expected finite numbers");
+      const std::vector<double> copy = bad;
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, copy),
+                         "sample 1" + where + "NaN; expected finite numbers");
+      bad[at] = -std::numeric_limits<double>::infinity();
+      EXPECT_INPUT_ERROR(KsTwoSample(y, bad),
+                         "sample 2" + where + "infinite; expected finite numbers");
+    }
+  }
+}
+
 }  // namespace
 }  // namespace patlab::stats

@@ -1,5 +1,6 @@
 // The KS walk of pairs that differ by rounding (detail::EcdfExtremesByPairs, declared in ks.h).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -17,7 +18,6 @@ namespace patlab::stats::detail {
 
 using internal::Buffers;
 using internal::CountsAtBucketEnds;
-using internal::EqualWidthBuckets;
 using internal::ExtremesByBucketsIn;
 using internal::ExtremesOfSameSamples;
 using internal::kWindowValues;
@@ -41,15 +41,84 @@ using internal::WalkSorted;
 // i_G = the smallest i with v(i) = G: at or after the i_G-th smallest x. Walking the merged order
 // exactly (WalkSorted) from the coarse bin holding that x until the walk has reached G gives that
 // group end; the minimum likewise. Estimators that agree to rounding (fast and ML on Simple,
-// Linear, Triangle: most pairs equal, the others a few ulps apart) are this case: one sort of the
-// starts to check them, two coarse histograms and a walk of a few hundred values, instead of a
-// walk of every bucket. Anything else (intervals that touch or overlap, no up or no down pair,
-// G not reached) goes to EcdfExtremesByBuckets, as do samples that really differ.
+// Linear, Triangle: most pairs equal, the others a few ulps apart) are this case: a summary pass
+// (vectorised), one pass that copies the starts and counts the coarse bins, a sort of the starts
+// by a 22-bit key (two radix passes; StartsApart and ApartInKeyOrder prove that the check in key
+// order is the check in value order), and a walk of a few hundred values found by a prefiltered
+// pass, instead of a walk of every bucket. Anything else (intervals that touch or overlap, no up
+// or no down pair, G not reached) goes to EcdfExtremesByBuckets, as do samples that really
+// differ; samples equal index by index (a memcmp first) need only the finiteness check.
+//
+// Cost (tests/bench/stats_bench.cpp, BM_KsFig5Rounding, 100,000 pairs, 30% a few ulps apart; CPU
+// time, the smallest of 4-5 runs alternating with the previous version, load 4-5 on 2 cores):
+// 0.35 ms from 0.98-1.02 ms; the same values in two arrays 0.035 ms from 0.18 ms.
 
 namespace {
 
 // The coarse bins of the region walk: few enough to stay in the first-level cache.
 constexpr std::size_t kRegionBins = 4096;
+
+// The coarse bins: kRegionBins of equal width between lo and hi, non-decreasing in the value
+// (each rounding is monotone) so that equal values share a bin. Position is the value in bin
+// widths from lo, whose integer part (at most `last`) is the bin.
+struct RegionBins {
+  double lo, scale;
+  int64_t last;
+  double Position(double v) const { return (v - lo) * scale; }
+  uint32_t operator()(double v) const {
+    return static_cast<uint32_t>(std::min(static_cast<int64_t>(Position(v)), last));
+  }
+};
+
+// Calls use(i, key(v[i])) for i in [0, m) in order, the keys of a chunk computed first by a loop
+// the compiler vectorises (the uses, scattered increments and stores, cannot be).
+template <class Key, class Use>
+void ForKeys(const double* v, std::size_t m, Key key, Use use) {
+  constexpr std::size_t kChunk = 256;
+  std::array<uint32_t, kChunk> keys;
+  for (std::size_t i0 = 0; i0 < m; i0 += kChunk) {
+    const std::size_t c = std::min(kChunk, m - i0);
+    for (std::size_t l = 0; l < c; ++l) keys[l] = key(v[i0 + l]);
+    for (std::size_t l = 0; l < c; ++l) use(i0 + l, keys[l]);
+  }
+}
+
+// The counts of x and of y per coarse bin, turned into the counts at every bin's end (end1, end2).
+// Most pairs have both values in one bin: y's counts are x's plus, for each pair whose values'
+// bins differ, one in y's bin and minus one in x's (wrapping uint32 arithmetic, exact once
+// summed), so the scattered increments are x's and a few. With `starts` (room for n + 1 values),
+// the same pass copies the starts of the pairs that differ into it (without a branch) and returns
+// their number.
+std::size_t CoarseCounts(std::span<const double> x, std::span<const double> y, RegionBins bin_of,
+                         Buffers* s, double* starts) {
+  s->end1.assign(kRegionBins, 0);
+  s->end2.assign(kRegionBins, 0);
+  uint32_t* e1 = s->end1.data();
+  uint32_t* e2 = s->end2.data();
+  constexpr std::size_t kChunk = 256;
+  std::array<uint32_t, kChunk> bx, by;
+  const std::size_t n = x.size();
+  std::size_t m = 0;
+  for (std::size_t k0 = 0; k0 < n; k0 += kChunk) {
+    const std::size_t c = std::min(kChunk, n - k0);
+    for (std::size_t l = 0; l < c; ++l) bx[l] = bin_of(x[k0 + l]), by[l] = bin_of(y[k0 + l]);
+    for (std::size_t l = 0; l < c; ++l) {
+      ++e1[bx[l]];
+      if (bx[l] != by[l]) ++e2[by[l]], --e2[bx[l]];
+    }
+    if (starts == nullptr) continue;
+    for (std::size_t k = k0; k < k0 + c; ++k) {
+      starts[m] = std::min(x[k], y[k]);
+      m += x[k] != y[k] ? 1 : 0;
+    }
+  }
+  e2[0] += e1[0];
+  for (std::size_t k = 1; k < kRegionBins; ++k) {
+    e2[k] += e1[k] + e2[k - 1];
+    e1[k] += e1[k - 1];
+  }
+  return m;
+}
 
 // v(i) = fl(i/n) - fl((i - 1)/n) for i in [1, n]: its largest value and the smallest i that
 // reaches it, for the last n asked (fig5 asks for the same n at every point).
@@ -78,25 +147,46 @@ struct PairSummary {
   std::size_t up = 0, down = 0;
 };
 PairSummary SummarisePairs(std::span<const double> x, std::span<const double> y) {
-  PairSummary p;
-  double lo = x[0], hi = x[0], widest = 0.0;
-  std::size_t up = 0, down = 0;
-  unsigned bad = 0;
-  constexpr double kMax = std::numeric_limits<double>::max();
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    const double a = x[k], b = y[k];
-    bad |= std::fabs(a) <= kMax && std::fabs(b) <= kMax ? 0U : 1U;
-    lo = std::min(lo, std::min(a, b));
-    hi = std::max(hi, std::max(a, b));
-    widest = std::max(widest, std::fabs(a - b));
-    up += a < b ? 1 : 0;
-    down += b < a ? 1 : 0;
+  // Eight independent lanes (k mod 8 for the first n - n mod 8 pairs, then the rest in lane 0),
+  // combined at the end, so that the compiler keeps each in a vector register: minimum and maximum
+  // of the values and of the widths (exact whatever the order for finite values, which are the only
+  // ones used: the sign of a zero lo or hi may differ, but neither the bins nor the range depend on
+  // it), the counts up and down, and a sum of a - a + b - b, which stays 0 while every value is
+  // finite and becomes NaN at the first that is not.
+  constexpr std::size_t kLanes = 8;
+  const std::size_t n = x.size();
+  const double* xs = x.data();
+  const double* ys = y.data();
+  double lo[kLanes], hi[kLanes], widest[kLanes], nonfinite[kLanes];
+  int64_t up[kLanes], down[kLanes];
+  for (std::size_t l = 0; l < kLanes; ++l) {
+    lo[l] = hi[l] = xs[0], widest[l] = nonfinite[l] = 0.0, up[l] = down[l] = 0;
   }
-  if (bad != 0) {
+  const auto add = [&](std::size_t l, double a, double b) {
+    nonfinite[l] += (a - a) + (b - b);
+    lo[l] = std::min(lo[l], std::min(a, b));
+    hi[l] = std::max(hi[l], std::max(a, b));
+    widest[l] = std::max(widest[l], std::fabs(a - b));
+    up[l] += a < b ? 1 : 0;
+    down[l] += b < a ? 1 : 0;
+  };
+  std::size_t k = 0;
+  for (; k + kLanes <= n; k += kLanes) {
+    for (std::size_t l = 0; l < kLanes; ++l) add(l, xs[k + l], ys[k + l]);
+  }
+  for (; k < n; ++k) add(0, xs[k], ys[k]);
+  PairSummary p{lo[0], hi[0], widest[0], 0, 0};
+  double bad = 0.0;
+  for (std::size_t l = 0; l < kLanes; ++l) {
+    p.lo = std::min(p.lo, lo[l]), p.hi = std::max(p.hi, hi[l]);
+    p.widest = std::max(p.widest, widest[l]);
+    p.up += static_cast<std::size_t>(up[l]), p.down += static_cast<std::size_t>(down[l]);
+    bad += nonfinite[l];
+  }
+  if (!(bad == 0.0)) {
     RequireFinite(x, "sample 1");
     RequireFinite(y, "sample 2");
   }
-  p.lo = lo, p.hi = hi, p.widest = widest, p.up = up, p.down = down;
   return p;
 }
 
@@ -115,21 +205,142 @@ std::size_t CopyStarts(std::span<const double> x, std::span<const double> y, Bin
   return m;
 }
 
+// The values of x and of y with bins in [first_bin, first_bin + bins), in their order, into a and
+// b, which hold at least the copied values + 1 (counted before). The region holds a few hundred of
+// the 2n values: a block of 8 pairs is tested at once (a loop the compiler vectorises) and copied
+// (without a branch on each value) only if one of its values is in the region.
+std::pair<std::size_t, std::size_t> CopyRegion(std::span<const double> x, std::span<const double> y,
+                                               RegionBins bin_of, uint32_t first_bin, uint32_t bins,
+                                               double* a, double* b) {
+  const auto in = [&](double v) -> std::size_t {
+    return bin_of(v) - first_bin < bins ? 1 : 0;  // unsigned: bins below first wrap to large
+  };
+  std::size_t na = 0, nb = 0;
+  const auto copy = [&](std::size_t from, std::size_t to) {
+    for (std::size_t k = from; k < to; ++k) {
+      a[na] = x[k];
+      b[nb] = y[k];
+      na += in(x[k]);
+      nb += in(y[k]);
+    }
+  };
+  // A value whose bin is in the region has its position in [first_bin, first_bin + bins) (the
+  // bin is its integer part, or `last` if larger), at most bins / 2 from the middle. A chunk of
+  // pairs at a time, a loop the compiler vectorises takes each pair's distance from the middle,
+  // and only those within bins / 2 + 1 (a bin's slack: some outside may pass, none inside is
+  // missed) are tested and copied, in order.
+  const double middle = static_cast<double>(first_bin) + 0.5 * static_cast<double>(bins);
+  const double reach = 0.5 * static_cast<double>(bins) + 1.0;
+  constexpr std::size_t kChunk = 256;
+  std::array<double, kChunk> distance;
+  const std::size_t n = x.size();
+  std::size_t k = 0;
+  for (; k + kChunk <= n; k += kChunk) {
+    for (std::size_t l = 0; l < kChunk; ++l) {
+      distance[l] = std::min(std::fabs(bin_of.Position(x[k + l]) - middle),
+                             std::fabs(bin_of.Position(y[k + l]) - middle));
+    }
+    for (std::size_t l = 0; l < kChunk; ++l) {
+      if (distance[l] < reach) copy(k + l, k + l + 1);
+    }
+  }
+  copy(k, n);
+  return {na, nb};
+}
+
 // True when no interval's start lies within 2 * widest of another's: then every interval ends
 // before the next one starts (a rounded width can be one rounding short of the true one; the
-// factor 2 covers it). The starts are sorted and compared a window of coarse bins at a time, each
-// window holding at most kStartsWindow starts (fig5's samples: one window), so that the buffers
-// stay bounded (docs/hardening.md, "Bounded memory"); false also if one bin alone holds more.
-// At most this many starts are sorted at a time (two buffers of 512 KB a thread): fig5's samples
-// (at most 39,000 starts) take one window, and the buffers stop growing with the trials at about
+// factor 2 covers it). The starts are sorted (by key) and compared a window of coarse bins at a
+// time, each window holding at most kStartsWindow starts (fig5's samples: mostly one window), so
+// that the buffers stay bounded (docs/hardening.md, "Bounded memory"); false also if one bin alone
+// holds more. At most this many starts are sorted at a time (two buffers of 512 KB a thread, the
+// sort by key needs no more): fig5's samples (25,000-39,000 starts on most tests) take one
+// window, and the buffers stop growing with the trials at about
 // 260,000 trials a point, so that the memory per trial below the statistics block stays the
 // samples' (scripts/bytes_per_trial.sh with PATTERN=simple: 29.4 B a trial and estimator from
 // 600,000 to 10^6 trials with 2^17, 24.0 B with 2^16).
 constexpr std::size_t kStartsWindow = std::size_t{1} << 16;
 
-template <class BinOf>
+// A key of 22 bits non-decreasing in the start (each rounding is monotone, and so is the clamp):
+// the whole range [lo, lo + range] in 2^22 equal cells, so that two starts share a key only if
+// they are within about range / 2^22 of each other.
+constexpr int kKeyBits = 11, kKeyPasses = 2;
+struct StartKey {
+  double lo, scale;
+  uint32_t operator()(double v) const {
+    constexpr double kLargest = static_cast<double>((uint32_t{1} << (kKeyBits * kKeyPasses)) - 1);
+    return static_cast<uint32_t>(static_cast<int64_t>(std::min((v - lo) * scale, kLargest)));
+  }
+};
+
+// Sorts the starts v[0, m) by their keys (scratch w[0, m)): a least-significant-digit radix sort
+// of two passes of 11 bits on the key alone, stable, which leaves them in v. Starts with
+// different keys are then in order (key(p) < key(q) implies p < q, the key being
+// non-decreasing); those with equal keys are in their order in the samples.
+void SortStartsByKey(double* v, double* w, std::size_t m, StartKey key) {
+  constexpr std::size_t kDigits = std::size_t{1} << kKeyBits;
+  std::array<std::array<uint32_t, kDigits>, kKeyPasses> at{};
+  ForKeys(v, m, key, [&at](std::size_t, uint32_t k) {
+    ++at[0][k & (kDigits - 1)];
+    ++at[1][k >> kKeyBits];
+  });
+  for (auto& digit : at) {
+    uint32_t sum = 0;
+    for (uint32_t& c : digit) sum += std::exchange(c, sum);
+  }
+  for (int pass = 0; pass < kKeyPasses; ++pass) {
+    const double* from = pass == 0 ? v : w;
+    double* to = pass == 0 ? w : v;
+    uint32_t* digit = at[static_cast<std::size_t>(pass)].data();
+    const int shift = pass * kKeyBits;
+    ForKeys(from, m, key, [from, to, digit, shift](std::size_t i, uint32_t k) {
+      to[digit[(k >> shift) & (kDigits - 1)]++] = from[i];
+    });
+  }
+}
+
+// True when the starts v[0, m), sorted by key, are each more than 2 * widest above the one
+// before (the first above *previous, which becomes the last start). They are compared in the
+// order of the keys; where two fail, the run of equal keys around them, whose order is the
+// samples', is sorted by value (SortSmall) and compared again: the runs sorted, the order is
+// SortAscending's (but for -0.0 and +0.0, which fail either way: 0 - 0 is no gap), and the
+// answer is the one of a sort of the values. Fig5's samples: about 2^22 / 25,000 cells a start,
+// so a few hundred runs of two among 25,000-39,000 starts, half of them in the wrong order.
+bool ApartInKeyOrder(double* v, std::size_t m, StartKey key, double widest, double* previous) {
+  const double gap = 2.0 * widest;
+  double last = *previous;
+  for (std::size_t i = 0; i < m; ++i) {
+    if (v[i] - last > gap) {
+      last = v[i];
+      continue;
+    }
+    // The run of key(v[i]) and the one of key(v[i - 1]) if different (v[i - 1] may be the last
+    // of its run, sorted or not): sorted by value, then compared from the first of them.
+    if (i == 0) return false;
+    std::size_t begin = i - 1, end = i + 1;
+    const uint32_t k_before = key(v[i - 1]), k = key(v[i]);
+    while (begin > 0 && key(v[begin - 1]) == k_before) --begin;
+    while (end < m && key(v[end]) == k) ++end;
+    if (end - begin == 2 && k_before != k) return false;  // two runs of one: already in order
+    if (k_before != k) {
+      SortSmall(v + begin, i - begin);
+      SortSmall(v + i, end - i);
+    } else {
+      SortSmall(v + begin, end - begin);
+    }
+    last = begin == 0 ? *previous : v[begin - 1];
+    for (std::size_t j = begin; j < end; ++j) {
+      if (!(v[j] - last > gap)) return false;
+      last = v[j];
+    }
+    i = end - 1;
+  }
+  *previous = last;
+  return true;
+}
+
 bool StartsApart(std::span<const double> x, std::span<const double> y, std::size_t intervals,
-                 double widest, BinOf bin_of, Buffers* s) {
+                 double widest, RegionBins bin_of, StartKey key, Buffers* s) {
   std::vector<uint32_t>& count = s->pos1;  // per coarse bin, then the windows' ends
   if (intervals <= kStartsWindow) {
     count.assign(1, static_cast<uint32_t>(intervals));
@@ -145,19 +356,17 @@ bool StartsApart(std::span<const double> x, std::span<const double> y, std::size
     std::size_t last = first, m = 0;
     while (last < count.size() && m + count[last] <= kStartsWindow) m += count[last++];
     if (last == first) return false;  // one bin holds more than a window
-    s->a.resize(m + 1);
-    s->b.resize(m + 1);
-    const std::size_t got = whole ? CopyStarts(
-                                        x, y, [](double) { return uint32_t{0}; }, 0, 1, s->a.data())
+    s->a.resize(std::max(s->a.size(), m + 1));
+    s->b.resize(std::max(s->b.size(), m + 1));
+    // All the starts in one window (fig5's samples): copied by the pass that counts the coarse
+    // bins, which the region walk needs after.
+    const std::size_t got = whole ? CoarseCounts(x, y, bin_of, s, s->a.data())
                                   : CopyStarts(x, y, bin_of, static_cast<uint32_t>(first),
                                                static_cast<uint32_t>(last - first), s->a.data());
     PATLAB_CHECK(got == m);
-    const std::span<double> starts(s->a.data(), m);
-    SortAscending(starts, std::span<double>(s->b.data(), m));
-    for (const double start : starts) {
-      if (!(start - previous > 2.0 * widest)) return false;
-      previous = start;
-    }
+    double* starts = s->a.data();
+    SortStartsByKey(starts, s->b.data(), m, key);
+    if (!ApartInKeyOrder(starts, m, key, widest, &previous)) return false;
     first = last;
   }
   return true;
@@ -167,24 +376,36 @@ bool StartsApart(std::span<const double> x, std::span<const double> y, std::size
 
 EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const double> y) {
   PATLAB_CHECK(x.size() == y.size() && !x.empty());
+  // The same values index by index (fig5's x and y on Linear and Triangle): a memcmp, which stops
+  // at the first difference for the others, and the finiteness check of one of them (the values
+  // are the same bits, so the first non-finite value of x is the first of either sample and its
+  // message is the one the check of both gives: "sample 1 ...").
+  if (x.data() == y.data() || SameSamples(x, y)) {
+    RequireFinite(x, "sample 1");
+    return ExtremesOfSameSamples(x);
+  }
   const PairSummary p = SummarisePairs(x, y);
-  if (SameSamples(x, y)) return ExtremesOfSameSamples(x);
   const std::size_t n = x.size();
   const double range = p.hi - p.lo;
   // The shortcut needs both directions, and pays only if the intervals are far apart on the
   // average: their total length a small part of the range (else the starts' check fails anyway).
   const double scale = static_cast<double>(kRegionBins) / range;
-  if (p.up == 0 || p.down == 0 || !(range > 0.0) || !std::isfinite(scale) ||
-      !(p.widest * static_cast<double>(p.up + p.down) < range / 64.0)) {
+  if (p.up == 0 || p.down == 0 || !(range > 0.0) || !std::isfinite(range) ||
+      !std::isfinite(scale) || !(p.widest * static_cast<double>(p.up + p.down) < range / 64.0)) {
     return ExtremesByBucketsIn(x, y, p.lo, p.hi);
   }
   Buffers& s = ThreadBuffers();
-  const EqualWidthBuckets bin_of{p.lo, scale, static_cast<int64_t>(kRegionBins) - 1};
-  if (!StartsApart(x, y, p.up + p.down, p.widest, bin_of, &s)) {
+  const RegionBins bin_of{p.lo, scale, static_cast<int64_t>(kRegionBins) - 1};
+  // 2^22 cells over the range (each start minus lo is at most the range, so its product with the
+  // scale stays below 2^22 (1 + 2^-51); the clamp is there for safety); a range too small for
+  // that scale to be finite (below 2^-1002) takes the coarse bins' finite one.
+  constexpr double kKeyCells = static_cast<double>(uint32_t{1} << (kKeyBits * kKeyPasses));
+  const double key_scale = std::isfinite(kKeyCells / range) ? kKeyCells / range : scale;
+  const StartKey key{p.lo, key_scale};
+  if (!StartsApart(x, y, p.up + p.down, p.widest, bin_of, key, &s)) {
     return ExtremesByBucketsIn(x, y, p.lo, p.hi);
   }
-  CountsAtBucketEnds(x, kRegionBins, bin_of, &s.end1);
-  CountsAtBucketEnds(y, kRegionBins, bin_of, &s.end2);
+  if (p.up + p.down > kStartsWindow) CoarseCounts(x, y, bin_of, &s, nullptr);  // else done
   // The first bin whose values can hold a group end with v(i) = G or with the minimum's
   // -v(i + 1) = -G: i >= i_G - 1, so at or after the bin of the (i_G - 1)-th smallest x.
   const auto [largest, first_i] = LargestStep(n);
@@ -207,15 +428,8 @@ EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const doub
     }
     s.a.resize(std::max<std::size_t>(s.a.size(), count_a + 1));
     s.b.resize(std::max<std::size_t>(s.b.size(), count_b + 1));
-    std::size_t na = 0, nb = 0;
-    const auto lo_bin = static_cast<uint32_t>(first), bins = static_cast<uint32_t>(last - first);
-    for (std::size_t k = 0; k < n; ++k) {
-      const double a = x[k], b = y[k];
-      s.a[na] = a;
-      s.b[nb] = b;
-      na += bin_of(a) - lo_bin < bins ? 1 : 0;  // unsigned: bins below first wrap to large
-      nb += bin_of(b) - lo_bin < bins ? 1 : 0;
-    }
+    const auto [na, nb] = CopyRegion(x, y, bin_of, static_cast<uint32_t>(first),
+                                     static_cast<uint32_t>(last - first), s.a.data(), s.b.data());
     PATLAB_CHECK(na == count_a && nb == count_b);
     SortSmall(s.a.data(), na);
     SortSmall(s.b.data(), nb);
