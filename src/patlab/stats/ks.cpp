@@ -299,14 +299,29 @@ void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
   double* __restrict f2 = s->f2.data();
   const uint32_t* __restrict e1 = s->end1.data();
   const uint32_t* __restrict e2 = s->end2.data();
-  double max_end = -1.0, min_end = 1.0;
-  for (std::size_t k = 0; k < buckets; ++k) {
-    const double a = static_cast<double>(e1[k]) / dn1, b = static_cast<double>(e2[k]) / dn2;
-    f1[k] = a, f2[k] = b;
-    const double d = a - b;
-    max_end = d > max_end ? d : max_end;
-    min_end = d < min_end ? d : min_end;
+  for (std::size_t k = 0; k < buckets; ++k) f1[k] = static_cast<double>(e1[k]) / dn1;
+  for (std::size_t k = 0; k < buckets; ++k) f2[k] = static_cast<double>(e2[k]) / dn2;
+  // The largest and smallest D_k, in kLanes independent lanes (a loop that vectorises; D is never
+  // NaN or -0.0, so the lanes' order does not matter).
+  constexpr std::size_t kLanes = 8;
+  double max_lane[kLanes], min_lane[kLanes];
+  std::fill_n(max_lane, kLanes, -1.0);
+  std::fill_n(min_lane, kLanes, 1.0);
+  std::size_t k = 0;
+  for (; k + kLanes <= buckets; k += kLanes) {
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const double d = f1[k + l] - f2[k + l];
+      max_lane[l] = d > max_lane[l] ? d : max_lane[l];
+      min_lane[l] = d < min_lane[l] ? d : min_lane[l];
+    }
   }
+  for (; k < buckets; ++k) {
+    const double d = f1[k] - f2[k];
+    max_lane[0] = d > max_lane[0] ? d : max_lane[0];
+    min_lane[0] = d < min_lane[0] ? d : min_lane[0];
+  }
+  const double max_end = *std::max_element(max_lane, max_lane + kLanes);
+  const double min_end = *std::min_element(min_lane, min_lane + kLanes);
   s->walked.resize(buckets);
   uint32_t* __restrict walked = s->walked.data();
   std::size_t m = 0;
@@ -326,6 +341,7 @@ void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
   s->walked.resize(m);
   s->pos1.assign(buckets, kSkipped);
   s->pos2.assign(buckets, kSkipped);
+  s->in_window.assign((buckets + 63) / 64, 0);
 }
 
 // The window that starts at walked bucket s->walked[first]: it ends before the walked bucket whose
@@ -359,6 +375,7 @@ std::size_t PlanWindow(std::size_t first, Buffers* s, std::vector<Run>* runs) {
       in_run = true;
     }
     s->pos1[k] = a, s->pos2[k] = b;
+    s->in_window[k / 64] |= uint64_t{1} << (k % 64);
     a += i1 - i0, b += j1 - j0;
     runs->back().na += i1 - i0, runs->back().nb += j1 - j0;
     run_i = i1, run_j = j1;
@@ -369,21 +386,75 @@ std::size_t PlanWindow(std::size_t first, Buffers* s, std::vector<Run>* runs) {
   return w;
 }
 
-// Copies the values of the buckets whose write position is set to their positions (pos becomes
-// each bucket's end), a sample at a time.
-void Extract(std::span<const double> x, const EqualWidthBuckets& of, uint32_t* __restrict pos,
+// At most this many ranges of buckets cover the window's walked buckets for the first test in
+// Extract (a few compares that vectorise; the walked buckets of fig5's samples that differ are a
+// few dozen in a few runs, around the two extremes).
+constexpr std::size_t kCoverRanges = 4;
+struct Cover {
+  uint32_t first[kCoverRanges] = {}, size[kCoverRanges] = {};  // size 0: an unused range
+};
+
+// The fewest ranges (at most kCoverRanges) that hold the buckets walked[first, last) (in
+// increasing order) and the fewest other buckets: the runs of consecutive walked buckets, the
+// closest two merged until few enough.
+Cover CoverOf(const uint32_t* walked, std::size_t first, std::size_t last) {
+  thread_local std::vector<std::pair<uint32_t, uint32_t>> ranges;  // [first, last] of each
+  ranges.clear();
+  for (std::size_t w = first; w < last; ++w) {
+    if (!ranges.empty() && ranges.back().second + 1 == walked[w]) {
+      ranges.back().second = walked[w];
+    } else {
+      ranges.emplace_back(walked[w], walked[w]);
+    }
+  }
+  while (ranges.size() > kCoverRanges) {
+    std::size_t closest = 0;
+    for (std::size_t r = 1; r + 1 < ranges.size(); ++r) {
+      const uint32_t gap = ranges[r + 1].first - ranges[r].second;
+      if (gap < ranges[closest + 1].first - ranges[closest].second) closest = r;
+    }
+    ranges[closest].second = ranges[closest + 1].second;
+    ranges.erase(ranges.begin() + static_cast<std::ptrdiff_t>(closest) + 1);
+  }
+  Cover c;
+  for (std::size_t r = 0; r < ranges.size(); ++r) {
+    c.first[r] = ranges[r].first, c.size[r] = ranges[r].second - ranges[r].first + 1;
+  }
+  return c;
+}
+
+// Copies the values of the window's buckets (a bit each in `in_window`) to their write positions
+// (pos becomes each bucket's end), a sample at a time. A chunk's buckets and whether each lies in
+// the cover are computed in a loop that vectorises; only the values in the cover (a few percent)
+// are looked at one by one.
+void Extract(std::span<const double> x, const EqualWidthBuckets& of, const Cover& cover,
+             const uint64_t* __restrict in_window, uint32_t* __restrict pos,
              double* __restrict out) {
   const LocalBuckets bucket{of.lo, of.scale, of.last};
   alignas(64) uint32_t k[kChunk];
+  alignas(64) uint8_t hit[kChunk];
+  const Cover c = cover;
   for (std::size_t first = 0; first < x.size(); first += kChunk) {
     const std::size_t n = std::min(kChunk, x.size() - first);
     const double* __restrict v = x.data() + first;
-    BucketsOf(bucket, v, n, k);
     for (std::size_t i = 0; i < n; ++i) {
-      const uint32_t p = pos[k[i]];
-      if (p == kSkipped) continue;
-      out[p] = v[i];
-      pos[k[i]] = p + 1;
+      const uint32_t kk = bucket(v[i]);
+      k[i] = kk;
+      uint8_t h = 0;
+      for (std::size_t r = 0; r < kCoverRanges; ++r) h |= kk - c.first[r] < c.size[r] ? 1 : 0;
+      hit[i] = h;
+    }
+    for (std::size_t i = n; i < (n + 7) / 8 * 8; ++i) hit[i] = 0;
+    for (std::size_t i8 = 0; i8 < n; i8 += 8) {
+      uint64_t word;
+      std::memcpy(&word, hit + i8, 8);
+      if (word == 0) continue;
+      for (std::size_t i = i8; i < i8 + 8 && i < n; ++i) {
+        if ((in_window[k[i] / 64] >> (k[i] % 64) & 1) == 0) continue;
+        const uint32_t p = pos[k[i]];
+        out[p] = v[i];
+        pos[k[i]] = p + 1;
+      }
     }
   }
 }
@@ -409,8 +480,10 @@ void WalkMarked(std::span<const double> x, std::span<const double> y, const Equa
   const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
   for (std::size_t first = 0; first < s->walked.size();) {
     const std::size_t last = PlanWindow(first, s, &runs);
-    Extract(x, of, s->pos1.data(), s->a.data());
-    Extract(y, of, s->pos2.data(), s->b.data());
+    const Cover cover = CoverOf(s->walked.data(), first, last);
+    Extract(x, of, cover, s->in_window.data(), s->pos1.data(), s->a.data());
+    Extract(y, of, cover, s->in_window.data(), s->pos2.data(), s->b.data());
+    for (std::size_t w = first; w < last; ++w) s->in_window[s->walked[w] / 64] = 0;
     SortBuckets(s->walked.data(), first, last, s->pos1.data(), s->end1.data(), s->a.data());
     SortBuckets(s->walked.data(), first, last, s->pos2.data(), s->end2.data(), s->b.data());
     for (const Run& r : runs) {
