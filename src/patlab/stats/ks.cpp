@@ -182,7 +182,6 @@ Buffers& ThreadBuffers() {
 
 namespace {
 
-constexpr uint32_t kSkipped = ~uint32_t{0};
 // At most this many buckets (about 1 MB of per-bucket arrays a thread): reached at about 250,000
 // values a sample, so that they stop growing with the trials well below the statistics block
 // (scripts/bytes_per_trial.sh: 28 B a trial and estimator from 500,000 to 10^6 trials with 2^17,
@@ -278,7 +277,8 @@ void CountBoth(std::span<const double> x, std::span<const double> y, const Equal
   }
   uint32_t* __restrict e1 = s->end1.data();
   uint32_t* __restrict e2 = s->end2.data();
-  for (std::size_t k = 1; k < buckets; ++k) e1[k] += e1[k - 1], e2[k] += e2[k - 1];
+  uint32_t i = 0, j = 0;  // in registers: a sum through memory waits for every store
+  for (std::size_t k = 0; k < buckets; ++k) i += e1[k], j += e2[k], e1[k] = i, e2[k] = j;
 }
 
 // Which buckets the walk must visit (their indices, in order, into s->walked). Every bucket end
@@ -288,8 +288,7 @@ void CountBoth(std::span<const double> x, std::span<const double> y, const Equal
 // computed the same way (each rounding is monotone, so the bound holds for the computed values
 // exactly). A bucket with U_k < max D and L_k > min D holds no group end that reaches either
 // extreme, and the walk keeps the first group end that does, so skipping such buckets leaves the
-// result unchanged. Also sets every write position to kSkipped (Extract copies only the values of
-// buckets whose position is set).
+// result unchanged. Also sizes the write positions and clears the window's bits.
 void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
   // f1[k] = I_k / n1 and f2[k] = J_k / n2, each division done once (a loop that vectorises);
   // every bound below is a difference of two of them, the walk's own arithmetic.
@@ -322,31 +321,36 @@ void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
   }
   const double max_end = *std::max_element(max_lane, max_lane + kLanes);
   const double min_end = *std::min_element(min_lane, min_lane + kLanes);
-  s->walked.resize(buckets);
-  uint32_t* __restrict walked = s->walked.data();
-  std::size_t m = 0;
+  // A byte a bucket (1: walk it) in a loop that vectorises, then their indices, 8 flags at a time.
+  s->walk.resize((buckets + 7) / 8 * 8);
+  uint8_t* __restrict walk = s->walk.data();
   // Bucket 0: the counts before it are 0 (0 / n = 0.0).
-  {
-    const bool walk = (e1[0] != 0 || e2[0] != 0) && (f1[0] >= max_end || -f2[0] <= min_end);
-    walked[m] = 0;
-    m += walk ? 1 : 0;
-  }
+  walk[0] = (e1[0] != 0 || e2[0] != 0) && (f1[0] >= max_end || -f2[0] <= min_end) ? 1 : 0;
   for (std::size_t k = 1; k < buckets; ++k) {
     const double upper = f1[k] - f2[k - 1];
     const double lower = f1[k - 1] - f2[k];
-    const bool empty = e1[k] == e1[k - 1] && e2[k] == e2[k - 1];
-    walked[m] = static_cast<uint32_t>(k);
-    m += !empty && (upper >= max_end || lower <= min_end) ? 1 : 0;
+    const bool full = (e1[k] != e1[k - 1]) | (e2[k] != e2[k - 1]);
+    walk[k] = full & ((upper >= max_end) | (lower <= min_end)) ? 1 : 0;
   }
-  s->walked.resize(m);
-  s->pos1.assign(buckets, kSkipped);
-  s->pos2.assign(buckets, kSkipped);
+  std::fill(walk + buckets, walk + s->walk.size(), uint8_t{0});
+  s->walked.clear();
+  for (std::size_t k8 = 0; k8 < buckets; k8 += 8) {
+    uint64_t word;
+    std::memcpy(&word, walk + k8, 8);
+    if (word == 0) continue;
+    for (std::size_t k = k8; k < k8 + 8; ++k) {
+      if (walk[k] != 0) s->walked.push_back(static_cast<uint32_t>(k));
+    }
+  }
+  // Only the window's buckets' positions are read (after their bit in in_window).
+  s->pos1.resize(buckets);
+  s->pos2.resize(buckets);
   s->in_window.assign((buckets + 63) / 64, 0);
 }
 
 // The window that starts at walked bucket s->walked[first]: it ends before the walked bucket whose
 // values would take either sample past kWindowValues (but holds at least one bucket). Sets the
-// write positions of its buckets (s->pos1, s->pos2; every other bucket stays kSkipped) and returns
+// write positions of its buckets (s->pos1, s->pos2) and their bits in s->in_window, and returns
 // its runs of consecutive walked buckets (only empty buckets between them) and its end in
 // s->walked.
 std::size_t PlanWindow(std::size_t first, Buffers* s, std::vector<Run>* runs) {
@@ -459,15 +463,14 @@ void Extract(std::span<const double> x, const EqualWidthBuckets& of, const Cover
   }
 }
 
-// Sorts the values of the walked buckets s->walked[first, last) of one sample in place, and marks
-// them kSkipped again: bucket k's values end at pos[k] and number end[k] - end[k - 1].
+// Sorts the values of the walked buckets s->walked[first, last) of one sample in place: bucket k's
+// values end at pos[k] and number end[k] - end[k - 1].
 void SortBuckets(const uint32_t* walked, std::size_t first, std::size_t last, uint32_t* pos,
                  const uint32_t* end, double* v) {
   for (std::size_t w = first; w < last; ++w) {
     const uint32_t k = walked[w];
     const uint32_t count = end[k] - (k == 0 ? 0 : end[k - 1]);
     if (count > 1) SortSmall(v + (pos[k] - count), count);
-    pos[k] = kSkipped;
   }
 }
 

@@ -29,7 +29,8 @@ struct Buffers {
   std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
   std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
   std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
-  std::vector<uint32_t> walked;      // the buckets the walk must visit, in order
+  std::vector<uint8_t> walk;         // 1 for the buckets the walk must visit
+  std::vector<uint32_t> walked;      // their indices, in order
   std::vector<uint64_t> in_window;   // a bit a bucket: 1 for the walked buckets of this window
   std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
 };
