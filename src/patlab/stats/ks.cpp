@@ -260,27 +260,6 @@ inline void BucketsOf(const LocalBuckets& bucket, const double* __restrict x, st
   for (std::size_t k = 0; k < n; ++k) out[k] = bucket(x[k]);
 }
 
-// The counts of both samples per bucket, turned into the ECDF counts at every bucket end
-// (s->end1, s->end2).
-void CountBoth(std::span<const double> x, std::span<const double> y, const EqualWidthBuckets& of,
-               std::size_t buckets, Buffers* s) {
-  s->end1.assign(buckets, 0);
-  s->end2.assign(buckets, 0);
-  const LocalBuckets bucket{of.lo, of.scale, of.last};
-  for (auto [v, e] : {std::pair{x, s->end1.data()}, std::pair{y, s->end2.data()}}) {
-    alignas(64) uint32_t k[kChunk];
-    for (std::size_t first = 0; first < v.size(); first += kChunk) {
-      const std::size_t n = std::min(kChunk, v.size() - first);
-      BucketsOf(bucket, v.data() + first, n, k);
-      for (std::size_t i = 0; i < n; ++i) ++e[k[i]];
-    }
-  }
-  uint32_t* __restrict e1 = s->end1.data();
-  uint32_t* __restrict e2 = s->end2.data();
-  uint32_t i = 0, j = 0;  // in registers: a sum through memory waits for every store
-  for (std::size_t k = 0; k < buckets; ++k) i += e1[k], j += e2[k], e1[k] = i, e2[k] = j;
-}
-
 // Which buckets the walk must visit (their indices, in order, into s->walked). Every bucket end
 // is a group end of the walk, so the largest (smallest) of the bucket-end values D_k, computed as
 // the walk computes them, is a lower (upper) bound on the walk's extreme. Inside bucket k the
@@ -521,7 +500,8 @@ EcdfExtremes ExtremesByBucketsIn(std::span<const double> x, std::span<const doub
   }
   const EqualWidthBuckets bucket_of{lo, scale, static_cast<int64_t>(buckets) - 1};
   Buffers& s = ThreadBuffers();
-  CountBoth(x, y, bucket_of, buckets, &s);
+  CountsAtBucketEnds(x, buckets, bucket_of, &s.end1);
+  CountsAtBucketEnds(y, buckets, bucket_of, &s.end2);
   PlanWalk(buckets, dn1, dn2, &s);
   EcdfExtremes e;
   WalkMarked(x, y, bucket_of, &s, &e);
