@@ -250,15 +250,9 @@ struct LocalBuckets {
   }
 };
 
-// The loops over the values first compute the buckets of a chunk of them in a loop the compiler
-// vectorises, then use them one at a time (increments, write positions) in a second loop.
+// Extract first computes the buckets of a chunk of values in a loop the compiler vectorises, then
+// uses them one at a time in a second loop.
 constexpr std::size_t kChunk = 256;
-
-// The buckets of x[first, first + n) into out (n <= kChunk).
-inline void BucketsOf(const LocalBuckets& bucket, const double* __restrict x, std::size_t n,
-                      uint32_t* __restrict out) {
-  for (std::size_t k = 0; k < n; ++k) out[k] = bucket(x[k]);
-}
 
 // Which buckets the walk must visit (their indices, in order, into s->walked). Every bucket end
 // is a group end of the walk, so the largest (smallest) of the bucket-end values D_k, computed as
