@@ -1,6 +1,7 @@
 #include "patlab/stats/ks.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -371,32 +372,31 @@ struct Cover {
   uint32_t first[kCoverRanges] = {}, size[kCoverRanges] = {};  // size 0: an unused range
 };
 
-// The fewest ranges (at most kCoverRanges) that hold the buckets walked[first, last) (in
-// increasing order) and the fewest other buckets: the runs of consecutive walked buckets, the
-// closest two merged until few enough.
+// At most kCoverRanges ranges that hold the buckets walked[first, last) (increasing, at least one)
+// and the fewest other buckets: the span from the first to the last, split at the widest
+// kCoverRanges - 1 gaps between consecutive walked buckets (one pass, however many runs).
 Cover CoverOf(const uint32_t* walked, std::size_t first, std::size_t last) {
-  thread_local std::vector<std::pair<uint32_t, uint32_t>> ranges;  // [first, last] of each
-  ranges.clear();
-  for (std::size_t w = first; w < last; ++w) {
-    if (!ranges.empty() && ranges.back().second + 1 == walked[w]) {
-      ranges.back().second = walked[w];
-    } else {
-      ranges.emplace_back(walked[w], walked[w]);
-    }
+  constexpr std::size_t kSplits = kCoverRanges - 1;
+  // (gap, w): the buckets between walked[w] and walked[w + 1]; widest first, gap 0 = no split
+  std::array<std::pair<uint32_t, std::size_t>, kSplits> widest{};
+  for (std::size_t w = first; w + 1 < last; ++w) {
+    const uint32_t gap = walked[w + 1] - walked[w] - 1;
+    if (gap <= widest[kSplits - 1].first) continue;
+    std::size_t at = kSplits - 1;
+    for (; at > 0 && widest[at - 1].first < gap; --at) widest[at] = widest[at - 1];
+    widest[at] = {gap, w};
   }
-  while (ranges.size() > kCoverRanges) {
-    std::size_t closest = 0;
-    for (std::size_t r = 1; r + 1 < ranges.size(); ++r) {
-      const uint32_t gap = ranges[r + 1].first - ranges[r].second;
-      if (gap < ranges[closest + 1].first - ranges[closest].second) closest = r;
-    }
-    ranges[closest].second = ranges[closest + 1].second;
-    ranges.erase(ranges.begin() + static_cast<std::ptrdiff_t>(closest) + 1);
-  }
+  std::sort(widest.begin(), widest.end(),
+            [](const auto& p, const auto& q) { return p.second < q.second; });
   Cover c;
-  for (std::size_t r = 0; r < ranges.size(); ++r) {
-    c.first[r] = ranges[r].first, c.size[r] = ranges[r].second - ranges[r].first + 1;
+  uint32_t start = walked[first];
+  std::size_t r = 0;
+  for (const auto& [gap, w] : widest) {
+    if (gap == 0) continue;
+    c.first[r] = start, c.size[r] = walked[w] - start + 1;
+    ++r, start = walked[w + 1];
   }
+  c.first[r] = start, c.size[r] = walked[last - 1] - start + 1;
   return c;
 }
 
