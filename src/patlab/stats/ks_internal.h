@@ -28,7 +28,7 @@ inline uint64_t OrderKey(double v) {
 struct Buffers {
   std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
   std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
-  std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
+  std::vector<uint32_t> pos1, pos2;  // write position of a bucket of the window (in_window)
   std::vector<uint8_t> walk;         // 1 for the buckets the walk must visit
   std::vector<uint32_t> walked;      // their indices, in order
   std::vector<uint64_t> in_window;   // a bit a bucket: 1 for the walked buckets of this window
