@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "patlab/stats/ks.h"
+#include "patlab/stats/ks_internal.h"
 #include "patlab/stats/sort.h"
 #include "patlab/stats/summary.h"
 #include "patlab/stats/wilcoxon.h"
@@ -74,6 +75,57 @@ void BM_KsPairedEstimatorsDiffer(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(patlab::stats::KsTwoSample(x, y));
 }
 BENCHMARK(BM_KsPairedEstimatorsDiffer)->Unit(benchmark::kMillisecond);
+
+// fig5's KS tests whose samples really differ (fast vs ML on Butterfly and SSL-standard), the
+// bucket walk's case: 100,000 errors each, ML slightly better than fast (std ratio ~1.1). paired:
+// in the same trials (fast = ML + an independent part, as the runner's samples), else independent.
+// tails: every 50th trial's errors 3x larger in both (wider range, so ~40 values in the walked
+// buckets, in 10-15 runs, as measured on fig5's samples; without: ~15 a bucket in 4-8 runs).
+struct Fig5Samples {
+  std::vector<double> fast, ml;
+  double lo, hi;
+};
+Fig5Samples Fig5Like(bool paired, bool tails) {
+  Fig5Samples s;
+  s.ml = Sample(11, 100000, 0.0, 0.0);
+  const std::vector<double> extra = Sample(12, 100000, 0.0, 0.0);
+  s.fast.resize(s.ml.size());
+  for (std::size_t k = 0; k < s.ml.size(); ++k) {
+    s.fast[k] = paired ? s.ml[k] + 0.458 * extra[k] : 1.1 * extra[k];
+  }
+  for (std::size_t k = 0; tails && k < s.ml.size(); k += 50) s.ml[k] *= 3.0, s.fast[k] *= 3.0;
+  const auto [lo1, hi1] = std::minmax_element(s.fast.begin(), s.fast.end());
+  const auto [lo2, hi2] = std::minmax_element(s.ml.begin(), s.ml.end());
+  s.lo = std::min(*lo1, *lo2), s.hi = std::max(*hi1, *hi2);
+  return s;
+}
+
+void BM_KsFig5Differ(benchmark::State& state) {
+  const Fig5Samples s = Fig5Like(state.range(0) != 0, state.range(1) != 0);
+  for (auto _ : state) benchmark::DoNotOptimize(patlab::stats::KsTwoSample(s.fast, s.ml));
+}
+BENCHMARK(BM_KsFig5Differ)
+    ->ArgNames({"paired", "tails"})
+    ->Args({1, 0})
+    ->Args({0, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond);
+
+// The bucket walk alone on the samples above (the range given, as EcdfExtremesByPairs gives it).
+void BM_KsBucketWalkFig5(benchmark::State& state) {
+  const Fig5Samples s = Fig5Like(state.range(0) != 0, state.range(1) != 0);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        patlab::stats::detail::internal::ExtremesByBucketsIn(s.fast, s.ml, s.lo, s.hi));
+  }
+}
+BENCHMARK(BM_KsBucketWalkFig5)
+    ->ArgNames({"paired", "tails"})
+    ->Args({1, 0})
+    ->Args({0, 0})
+    ->Args({1, 1})
+    ->Args({0, 1})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_KsExactLattice(benchmark::State& state) {
   const std::vector<double> x = Sample(1, 5000, 0.0, 0.0);

@@ -13,6 +13,7 @@
 #include "../expect_error.h"
 #include "fixtures.h"
 #include "patlab/core/error.h"
+#include "patlab/stats/ks_internal.h"
 
 namespace patlab::stats {
 namespace {
@@ -450,6 +451,67 @@ TEST(Ks, PairedWalkChecksStartsByKeyBitForBit) {
       }
       ExpectSameExtremes(detail::EcdfExtremesByPairs(p.x, p.y), want);
       ExpectSameExtremes(detail::EcdfExtremesByPairs(p.y, p.x), StraightforwardExtremes(p.y, p.x));
+// The bucket walk's plan on the shapes that stress it, each against the straightforward walk:
+// fig5-like samples that differ (std ratio 1.1, a few heavy tails so the walked buckets are full
+// and in many runs: more runs than the ranges that cover them in Extract), n1 != n2, sizes that
+// are no multiple of the chunks and flag words, the extremes at the first bucket (ties at the
+// smallest value) and at the last (ties at the largest, which the clamp puts there), values
+// quantised coarser than a bucket (ties, most buckets empty), signed zeros among them, and two
+// samples that cross many times (the walked buckets scattered over the whole range).
+TEST(Ks, BucketWalkAgreesWithTheStraightforwardOneOnShapesThatStressItsPlan) {
+  Lcg rng{2026};
+  const auto uniform = [&rng] { return rng.Uniform(); };
+  const auto normal = [&rng] { return rng.Normal(); };
+  for (int kind = 0; kind < 7; ++kind) {
+    for (const auto& [n1, n2] :
+         {std::pair{100000, 100000}, {100003, 99997}, {60001, 4099}, {2047, 30011}}) {
+      SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n1 << "," << n2);
+      std::vector<double> x(n1), y(n2);
+      for (size_t k = 0; k < x.size(); ++k) {
+        x[k] = normal() * 1.1;
+        if (k % 50 == 0) x[k] *= 3.0;
+      }
+      for (size_t k = 0; k < y.size(); ++k) {
+        y[k] = normal();
+        if (k % 50 == 0) y[k] *= 3.0;
+      }
+      switch (kind) {
+        case 1:  // extremes at the first bucket: a third of x at the smallest value
+          for (size_t k = 0; k < x.size(); k += 3) x[k] = -20.0;
+          break;
+        case 2:  // extremes at the last bucket: a third of y at the largest value
+          for (size_t k = 0; k < y.size(); k += 3) y[k] = 20.0;
+          break;
+        case 3:  // quantised coarser than a bucket, signed zeros
+          for (auto* v : {&x, &y}) {
+            for (double& z : *v) {
+              z = std::round(z * 16.0) / 16.0;
+              if (z == 0.0 && uniform() < 0.5) z = -0.0;
+            }
+          }
+          break;
+        case 4:  // y paired with x (fast and ML in the same trials), n1 != n2 cut short
+          for (size_t k = 0; k < y.size(); ++k) y[k] = x[k % x.size()] / 1.1 + 0.05 * normal();
+          break;
+        case 5:  // the same distribution: F1 - F2 crosses zero many times, flat extremes
+          for (size_t k = 0; k < y.size(); ++k) y[k] = normal() * 1.1;
+          break;
+        case 6:  // sine-shaped shifts: several local extremes of equal height
+          for (double& z : y) z += 0.02 * std::sin(z * 12.0);
+          break;
+        default:
+          break;
+      }
+      const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
+      ExpectSameExtremes(detail::EcdfExtremesByBuckets(x, y), want);
+      ExpectSameExtremes(detail::EcdfExtremesByBuckets(y, x), StraightforwardExtremes(y, x));
+      // As EcdfExtremesByPairs calls it: the range given, not computed by the walk.
+      const auto [x_lo, x_hi] = std::minmax_element(x.begin(), x.end());
+      const auto [y_lo, y_hi] = std::minmax_element(y.begin(), y.end());
+      ExpectSameExtremes(detail::internal::ExtremesByBucketsIn(x, y, std::min(*x_lo, *y_lo),
+                                                               std::max(*x_hi, *y_hi)),
+                         want);
+      if (n1 == n2) ExpectSameExtremes(detail::EcdfExtremesByPairs(x, y), want);
     }
   }
 }
@@ -481,5 +543,38 @@ TEST(Ks, PairedWalkRejectsNonFiniteValuesInLanesAndTail) {
   }
 }
 
+// More walked values than a window holds with n1 != n2 (the windows break inside runs and between
+// them, and the buffers keep their bound): samples of one distribution whose F1 - F2 stays small,
+// on a grid so that ties cross the window ends, a cluster where one bucket alone holds more than a
+// window, and x = every value of y twice (F1 = F2 at every group end: every bucket walked), also
+// with one copy moved by an ulp.
+TEST(Ks, BucketWalkInWindowsAgreesWhenTheSizesDiffer) {
+  Lcg rng{99};
+  const auto uniform = [&rng] { return rng.Uniform(); };
+  for (int kind = 0; kind < 5; ++kind) {
+    SCOPED_TRACE(::testing::Message() << "kind " << kind);
+    std::vector<double> x(300001), y(150001);
+    for (auto* v : {&x, &y}) {
+      for (double& z : *v) {
+        z = uniform() + uniform() - 1.0;
+        if (kind == 1) z = std::round(z * 65536.0) / 65536.0;
+        if (kind == 2 && uniform() < 0.3) z = 0.25 + 1e-12 * uniform();
+      }
+    }
+    // y a thinned copy of x: F1 - F2 is noise of order 1/sqrt(n), many buckets reach it.
+    for (size_t k = 0; k < y.size(); ++k) y[k] = kind == 2 ? y[k] : x[2 * k];
+    if (kind >= 3) {
+      y.resize(100003);
+      x.resize(2 * y.size());
+      for (size_t k = 0; k < y.size(); ++k) {
+        x[2 * k] = y[k];
+        x[2 * k + 1] = kind == 4 && k % 7 == 0 ? std::nextafter(y[k], 2.0) : y[k];
+      }
+    }
+    const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
+    ExpectSameExtremes(detail::EcdfExtremesByBuckets(x, y), want);
+    ExpectSameExtremes(detail::EcdfExtremesByBuckets(y, x), StraightforwardExtremes(y, x));
+  }
+}
 }  // namespace
 }  // namespace patlab::stats

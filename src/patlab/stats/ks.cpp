@@ -1,6 +1,7 @@
 #include "patlab/stats/ks.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -182,7 +183,6 @@ Buffers& ThreadBuffers() {
 
 namespace {
 
-constexpr uint32_t kSkipped = ~uint32_t{0};
 // At most this many buckets (about 1 MB of per-bucket arrays a thread): reached at about 250,000
 // values a sample, so that they stop growing with the trials well below the statistics block
 // (scripts/bytes_per_trial.sh: 28 B a trial and estimator from 500,000 to 10^6 trials with 2^17,
@@ -241,145 +241,231 @@ EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const do
 
 namespace {
 
-// Which buckets the walk must visit (s->walk). Every bucket end is a group end of the walk, so
-// the largest (smallest) of the bucket-end values D_k, computed as the walk computes them, is a
-// lower (upper) bound on the walk's extreme. Inside bucket k the walk's values lie between
-// L_k = I_{k-1} / n1 - J_k / n2 and U_k = I_k / n1 - J_{k-1} / n2, computed the same way
-// (each rounding is monotone, so the bound holds for the computed values exactly). A bucket with
-// U_k < max D and L_k > min D holds no group end that reaches either extreme, and the walk keeps
-// the first group end that does, so skipping such buckets leaves the result unchanged.
+// EqualWidthBuckets' arithmetic on copies of its members that the loops below keep in registers
+// (the struct itself, passed on, was reloaded from memory after every store of a double).
+struct LocalBuckets {
+  const double lo, scale;
+  const int64_t last;
+  uint32_t operator()(double v) const {
+    return static_cast<uint32_t>(std::min(static_cast<int64_t>((v - lo) * scale), last));
+  }
+};
+
+// Extract first computes the buckets of a chunk of values in a loop the compiler vectorises, then
+// uses them one at a time in a second loop.
+constexpr std::size_t kChunk = 256;
+
+// Which buckets the walk must visit (their indices, in order, into s->walked). Every bucket end
+// is a group end of the walk, so the largest (smallest) of the bucket-end values D_k, computed as
+// the walk computes them, is a lower (upper) bound on the walk's extreme. Inside bucket k the
+// walk's values lie between L_k = I_{k-1} / n1 - J_k / n2 and U_k = I_k / n1 - J_{k-1} / n2,
+// computed the same way (each rounding is monotone, so the bound holds for the computed values
+// exactly). A bucket with U_k < max D and L_k > min D holds no group end that reaches either
+// extreme, and the walk keeps the first group end that does, so skipping such buckets leaves the
+// result unchanged. Also sizes the write positions and clears the window's bits.
 void PlanWalk(std::size_t buckets, double dn1, double dn2, Buffers* s) {
   // f1[k] = I_k / n1 and f2[k] = J_k / n2, each division done once (a loop that vectorises);
   // every bound below is a difference of two of them, the walk's own arithmetic.
   s->f1.resize(buckets);
   s->f2.resize(buckets);
-  double* f1 = s->f1.data();
-  double* f2 = s->f2.data();
-  const uint32_t* e1 = s->end1.data();
-  const uint32_t* e2 = s->end2.data();
+  double* __restrict f1 = s->f1.data();
+  double* __restrict f2 = s->f2.data();
+  const uint32_t* __restrict e1 = s->end1.data();
+  const uint32_t* __restrict e2 = s->end2.data();
   for (std::size_t k = 0; k < buckets; ++k) f1[k] = static_cast<double>(e1[k]) / dn1;
   for (std::size_t k = 0; k < buckets; ++k) f2[k] = static_cast<double>(e2[k]) / dn2;
-  double max_end = -1.0, min_end = 1.0;
-  for (std::size_t k = 0; k < buckets; ++k) {
+  // The largest and smallest D_k, in kLanes independent lanes (a loop that vectorises; D is never
+  // NaN or -0.0, so the lanes' order does not matter).
+  constexpr std::size_t kLanes = 8;
+  double max_lane[kLanes], min_lane[kLanes];
+  std::fill_n(max_lane, kLanes, -1.0);
+  std::fill_n(min_lane, kLanes, 1.0);
+  std::size_t k = 0;
+  for (; k + kLanes <= buckets; k += kLanes) {
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const double d = f1[k + l] - f2[k + l];
+      max_lane[l] = d > max_lane[l] ? d : max_lane[l];
+      min_lane[l] = d < min_lane[l] ? d : min_lane[l];
+    }
+  }
+  for (; k < buckets; ++k) {
     const double d = f1[k] - f2[k];
-    max_end = std::max(max_end, d);
-    min_end = std::min(min_end, d);
+    max_lane[0] = d > max_lane[0] ? d : max_lane[0];
+    min_lane[0] = d < min_lane[0] ? d : min_lane[0];
   }
-  s->walk.resize(buckets);
-  uint32_t i0 = 0, j0 = 0;
-  double f1_before = 0.0, f2_before = 0.0;  // 0 / n: the counts before bucket 0
-  for (std::size_t k = 0; k < buckets; ++k) {
-    const uint32_t i1 = e1[k], j1 = e2[k];
-    const double upper = f1[k] - f2_before;
-    const double lower = f1_before - f2[k];
-    f1_before = f1[k], f2_before = f2[k];
-    const bool empty = i1 == i0 && j1 == j0;
-    s->walk[k] = !empty && (upper >= max_end || lower <= min_end) ? 1 : 0;
-    i0 = i1, j0 = j1;
+  const double max_end = *std::max_element(max_lane, max_lane + kLanes);
+  const double min_end = *std::min_element(min_lane, min_lane + kLanes);
+  // A byte a bucket (1: walk it) in a loop that vectorises, then their indices, 8 flags at a time.
+  s->walk.resize((buckets + 7) / 8 * 8);
+  uint8_t* __restrict walk = s->walk.data();
+  // Bucket 0: the counts before it are 0 (0 / n = 0.0).
+  walk[0] = (e1[0] != 0 || e2[0] != 0) && (f1[0] >= max_end || -f2[0] <= min_end) ? 1 : 0;
+  for (std::size_t k = 1; k < buckets; ++k) {
+    const double upper = f1[k] - f2[k - 1];
+    const double lower = f1[k - 1] - f2[k];
+    const bool full = (e1[k] != e1[k - 1]) | (e2[k] != e2[k - 1]);
+    walk[k] = full & ((upper >= max_end) | (lower <= min_end)) ? 1 : 0;
   }
+  std::fill(walk + buckets, walk + s->walk.size(), uint8_t{0});
+  s->walked.clear();
+  for (std::size_t k8 = 0; k8 < buckets; k8 += 8) {
+    uint64_t word;
+    std::memcpy(&word, walk + k8, 8);
+    if (word == 0) continue;
+    for (std::size_t k = k8; k < k8 + 8; ++k) {
+      if (walk[k] != 0) s->walked.push_back(static_cast<uint32_t>(k));
+    }
+  }
+  // Only the window's buckets' positions are read (after their bit in in_window).
+  s->pos1.resize(buckets);
+  s->pos2.resize(buckets);
+  s->in_window.assign((buckets + 63) / 64, 0);
 }
 
-// The window that starts at bucket `first`: it ends before the bucket whose walked values would
-// take either sample past kWindowValues (but holds at least one bucket). Sets the write positions
-// of its walked buckets (s->pos1, s->pos2; every other bucket stays kSkipped) and returns its runs
-// of consecutive walked buckets and its end.
-std::size_t PlanWindow(std::size_t first, std::size_t buckets, Buffers* s, std::vector<Run>* runs) {
+// The window that starts at walked bucket s->walked[first]: it ends before the walked bucket whose
+// values would take either sample past kWindowValues (but holds at least one bucket). Sets the
+// write positions of its buckets (s->pos1, s->pos2) and their bits in s->in_window, and returns
+// its runs of consecutive walked buckets (only empty buckets between them) and its end in
+// s->walked.
+std::size_t PlanWindow(std::size_t first, Buffers* s, std::vector<Run>* runs) {
   runs->clear();
   const uint32_t* e1 = s->end1.data();
   const uint32_t* e2 = s->end2.data();
+  const uint32_t* walked = s->walked.data();
   uint32_t a = 0, b = 0;
-  uint32_t i0 = first == 0 ? 0 : e1[first - 1], j0 = first == 0 ? 0 : e2[first - 1];
+  uint32_t run_i = 0, run_j = 0;  // the counts at the end of the current run
   bool in_run = false;
-  std::size_t k = first;
-  for (; k < buckets; ++k) {
+  std::size_t w = first;
+  for (; w < s->walked.size(); ++w) {
+    const uint32_t k = walked[w];
+    const uint32_t i0 = k == 0 ? 0 : e1[k - 1], j0 = k == 0 ? 0 : e2[k - 1];
     const uint32_t i1 = e1[k], j1 = e2[k];
-    const bool empty = i1 == i0 && j1 == j0;
-    const bool walk = s->walk[k] != 0;
-    // +1: the sentinel slot after the run
-    if (walk && k > first &&
-        (a + (i1 - i0) + 1 > kWindowValues || b + (j1 - j0) + 1 > kWindowValues)) {
-      break;
-    }
-    if (walk && !in_run) {
-      runs->push_back(Run{a, b, 0, 0, i0, j0});
-      in_run = true;
-    } else if (!walk && !empty && in_run) {
+    if (in_run && (i0 != run_i || j0 != run_j)) {
       a += 1, b += 1;  // the sentinel slots after the run
       in_run = false;
     }
-    if (walk) {
-      s->pos1[k] = a, s->pos2[k] = b;
-      a += i1 - i0, b += j1 - j0;
-      runs->back().na += i1 - i0, runs->back().nb += j1 - j0;
+    // +1: the sentinel slot after the run
+    if (w > first && (a + (i1 - i0) + 1 > kWindowValues || b + (j1 - j0) + 1 > kWindowValues)) {
+      break;
     }
-    i0 = i1, j0 = j1;
+    if (!in_run) {
+      runs->push_back(Run{a, b, 0, 0, i0, j0});
+      in_run = true;
+    }
+    s->pos1[k] = a, s->pos2[k] = b;
+    s->in_window[k / 64] |= uint64_t{1} << (k % 64);
+    a += i1 - i0, b += j1 - j0;
+    runs->back().na += i1 - i0, runs->back().nb += j1 - j0;
+    run_i = i1, run_j = j1;
   }
   if (in_run) a += 1, b += 1;
   if (s->a.size() < a) s->a.resize(a);
   if (s->b.size() < b) s->b.resize(b);
-  return k;
+  return w;
 }
 
-// Copies the values of the buckets to walk to their positions (pos becomes each bucket's end).
-// The walk flags (a byte a bucket) are read first: pos is set only where a flag is.
-template <class BucketOf>
-void Extract(std::span<const double> x, BucketOf bucket_of, const uint8_t* walk, uint32_t* pos,
-             double* out) {
-  for (const double v : x) {
-    const uint32_t k = bucket_of(v);
-    if (walk[k] == 0) continue;
-    const uint32_t p = pos[k];
-    if (p == kSkipped) continue;
-    out[p] = v;
-    pos[k] = p + 1;
+// At most this many ranges of buckets cover the window's walked buckets for the first test in
+// Extract (a few compares that vectorise; the walked buckets of fig5's samples that differ are a
+// few dozen in a few runs, around the two extremes).
+constexpr std::size_t kCoverRanges = 4;
+struct Cover {
+  uint32_t first[kCoverRanges] = {}, size[kCoverRanges] = {};  // size 0: an unused range
+};
+
+// At most kCoverRanges ranges that hold the buckets walked[first, last) (increasing, at least one)
+// and the fewest other buckets: the span from the first to the last, split at the widest
+// kCoverRanges - 1 gaps between consecutive walked buckets (one pass, however many runs).
+Cover CoverOf(const uint32_t* walked, std::size_t first, std::size_t last) {
+  constexpr std::size_t kSplits = kCoverRanges - 1;
+  // (gap, w): the buckets between walked[w] and walked[w + 1]; widest first, gap 0 = no split
+  std::array<std::pair<uint32_t, std::size_t>, kSplits> widest{};
+  for (std::size_t w = first; w + 1 < last; ++w) {
+    const uint32_t gap = walked[w + 1] - walked[w] - 1;
+    if (gap <= widest[kSplits - 1].first) continue;
+    std::size_t at = kSplits - 1;
+    for (; at > 0 && widest[at - 1].first < gap; --at) widest[at] = widest[at - 1];
+    widest[at] = {gap, w};
+  }
+  std::sort(widest.begin(), widest.end(),
+            [](const auto& p, const auto& q) { return p.second < q.second; });
+  Cover c;
+  uint32_t start = walked[first];
+  std::size_t r = 0;
+  for (const auto& [gap, w] : widest) {
+    if (gap == 0) continue;
+    c.first[r] = start, c.size[r] = walked[w] - start + 1;
+    ++r, start = walked[w + 1];
+  }
+  c.first[r] = start, c.size[r] = walked[last - 1] - start + 1;
+  return c;
+}
+
+// Copies the values of the window's buckets (a bit each in `in_window`) to their write positions
+// (pos becomes each bucket's end), a sample at a time. A chunk's buckets and whether each lies in
+// the cover are computed in a loop that vectorises; only the values in the cover (a few percent)
+// are looked at one by one.
+void Extract(std::span<const double> x, const EqualWidthBuckets& of, const Cover& cover,
+             const uint64_t* __restrict in_window, uint32_t* __restrict pos,
+             double* __restrict out) {
+  const LocalBuckets bucket{of.lo, of.scale, of.last};
+  alignas(64) uint32_t k[kChunk];
+  alignas(64) uint8_t hit[kChunk];
+  const Cover c = cover;
+  for (std::size_t first = 0; first < x.size(); first += kChunk) {
+    const std::size_t n = std::min(kChunk, x.size() - first);
+    const double* __restrict v = x.data() + first;
+    for (std::size_t i = 0; i < n; ++i) {
+      const uint32_t kk = bucket(v[i]);
+      k[i] = kk;
+      uint8_t h = 0;
+      for (std::size_t r = 0; r < kCoverRanges; ++r) h |= kk - c.first[r] < c.size[r] ? 1 : 0;
+      hit[i] = h;
+    }
+    for (std::size_t i = n; i < (n + 7) / 8 * 8; ++i) hit[i] = 0;
+    for (std::size_t i8 = 0; i8 < n; i8 += 8) {
+      uint64_t word;
+      std::memcpy(&word, hit + i8, 8);
+      if (word == 0) continue;
+      for (std::size_t i = i8; i < i8 + 8 && i < n; ++i) {
+        if ((in_window[k[i] / 64] >> (k[i] % 64) & 1) == 0) continue;
+        const uint32_t p = pos[k[i]];
+        out[p] = v[i];
+        pos[k[i]] = p + 1;
+      }
+    }
   }
 }
 
-// Sorts every walked bucket of [first, last) in place, and marks it kSkipped again: bucket k's
+// Sorts the values of the walked buckets s->walked[first, last) of one sample in place: bucket k's
 // values end at pos[k] and number end[k] - end[k - 1].
-void SortBuckets(std::size_t first, std::size_t last, const uint8_t* walk, uint32_t* pos,
+void SortBuckets(const uint32_t* walked, std::size_t first, std::size_t last, uint32_t* pos,
                  const uint32_t* end, double* v) {
-  uint32_t before = first == 0 ? 0 : end[first - 1];
-  for (std::size_t k = first; k < last; ++k) {
-    const uint32_t count = end[k] - before;
-    before = end[k];
-    if (walk[k] == 0 || pos[k] == kSkipped) continue;
+  for (std::size_t w = first; w < last; ++w) {
+    const uint32_t k = walked[w];
+    const uint32_t count = end[k] - (k == 0 ? 0 : end[k - 1]);
     if (count > 1) SortSmall(v + (pos[k] - count), count);
-    pos[k] = kSkipped;
   }
 }
 
-// Sizes the write positions and sets those of the buckets with a walk flag to kSkipped (the
-// only ones Extract and SortBuckets read).
-void ResetPositions(std::size_t buckets, Buffers* s) {
-  s->pos1.resize(buckets);
-  s->pos2.resize(buckets);
-  for (std::size_t k = 0; k < buckets; ++k) {
-    if (s->walk[k] != 0) s->pos1[k] = s->pos2[k] = kSkipped;
-  }
-}
-
-// Walks, in order, the buckets flagged in s->walk (s->end1, s->end2 and the positions set up by
-// ResetPositions), a window at a time.
-template <class BucketOf>
-void WalkMarked(std::span<const double> x, std::span<const double> y, BucketOf bucket_of,
-                std::size_t buckets, Buffers* s, EcdfExtremes* e) {
+// Walks, in order, the buckets listed in s->walked (s->end1, s->end2 and the positions set up by
+// PlanWalk), a window at a time.
+void WalkMarked(std::span<const double> x, std::span<const double> y, const EqualWidthBuckets& of,
+                Buffers* s, EcdfExtremes* e) {
   thread_local std::vector<Run> runs;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
-  for (std::size_t first = 0; first < buckets;) {
-    const std::size_t last = PlanWindow(first, buckets, s, &runs);
-    if (!runs.empty()) {
-      const uint8_t* walk = s->walk.data();
-      Extract(x, bucket_of, walk, s->pos1.data(), s->a.data());
-      Extract(y, bucket_of, walk, s->pos2.data(), s->b.data());
-      SortBuckets(first, last, walk, s->pos1.data(), s->end1.data(), s->a.data());
-      SortBuckets(first, last, walk, s->pos2.data(), s->end2.data(), s->b.data());
-      for (const Run& r : runs) {
-        s->a[r.a0 + r.na] = kInf;
-        s->b[r.b0 + r.nb] = kInf;
-        WalkSorted(&s->a[r.a0], r.na, &s->b[r.b0], r.nb, r.i0, r.j0, dn1, dn2, e);
-      }
+  for (std::size_t first = 0; first < s->walked.size();) {
+    const std::size_t last = PlanWindow(first, s, &runs);
+    const Cover cover = CoverOf(s->walked.data(), first, last);
+    Extract(x, of, cover, s->in_window.data(), s->pos1.data(), s->a.data());
+    Extract(y, of, cover, s->in_window.data(), s->pos2.data(), s->b.data());
+    for (std::size_t w = first; w < last; ++w) s->in_window[s->walked[w] / 64] = 0;
+    SortBuckets(s->walked.data(), first, last, s->pos1.data(), s->end1.data(), s->a.data());
+    SortBuckets(s->walked.data(), first, last, s->pos2.data(), s->end2.data(), s->b.data());
+    for (const Run& r : runs) {
+      s->a[r.a0 + r.na] = kInf;
+      s->b[r.b0 + r.nb] = kInf;
+      WalkSorted(&s->a[r.a0], r.na, &s->b[r.b0], r.nb, r.i0, r.j0, dn1, dn2, e);
     }
     first = last;
   }
@@ -411,9 +497,8 @@ EcdfExtremes ExtremesByBucketsIn(std::span<const double> x, std::span<const doub
   CountsAtBucketEnds(x, buckets, bucket_of, &s.end1);
   CountsAtBucketEnds(y, buckets, bucket_of, &s.end2);
   PlanWalk(buckets, dn1, dn2, &s);
-  ResetPositions(buckets, &s);
   EcdfExtremes e;
-  WalkMarked(x, y, bucket_of, buckets, &s, &e);
+  WalkMarked(x, y, bucket_of, &s, &e);
   return e;
 }
 

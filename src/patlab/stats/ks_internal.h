@@ -28,8 +28,10 @@ inline uint64_t OrderKey(double v) {
 struct Buffers {
   std::vector<double> a, b;          // candidate buckets' values in bucket order (or sorted)
   std::vector<uint32_t> end1, end2;  // counts, then the ECDF counts at each bucket's end
-  std::vector<uint32_t> pos1, pos2;  // write position of a candidate bucket, kSkipped if none
+  std::vector<uint32_t> pos1, pos2;  // write position of a bucket of the window (in_window)
   std::vector<uint8_t> walk;         // 1 for the buckets the walk must visit
+  std::vector<uint32_t> walked;      // their indices, in order
+  std::vector<uint64_t> in_window;   // a bit a bucket: 1 for the walked buckets of this window
   std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
 };
 // This thread's Buffers (only serial code uses them).
@@ -56,14 +58,24 @@ struct EqualWidthBuckets {
   }
 };
 
-// Counts per bucket, turned into the ECDF counts at every bucket end.
+// Counts per bucket, turned into the ECDF counts at every bucket end. The buckets of a chunk of
+// values are computed first, in a loop that vectorises, then counted one at a time; the running
+// sum stays in a register (a sum through memory waits for every store).
 template <class BucketOf>
 void CountsAtBucketEnds(std::span<const double> x, std::size_t buckets, BucketOf bucket_of,
                         std::vector<uint32_t>* end) {
   end->assign(buckets, 0);
   uint32_t* e = end->data();
-  for (const double v : x) ++e[bucket_of(v)];
-  for (std::size_t k = 1; k < buckets; ++k) e[k] += e[k - 1];
+  constexpr std::size_t kChunk = 256;
+  alignas(64) uint32_t k[kChunk];
+  for (std::size_t first = 0; first < x.size(); first += kChunk) {
+    const std::size_t n = std::min(kChunk, x.size() - first);
+    const double* v = x.data() + first;
+    for (std::size_t i = 0; i < n; ++i) k[i] = bucket_of(v[i]);
+    for (std::size_t i = 0; i < n; ++i) ++e[k[i]];
+  }
+  uint32_t sum = 0;
+  for (std::size_t b = 0; b < buckets; ++b) sum += e[b], e[b] = sum;
 }
 
 // Walks the merged order of a[0, n1) and b[0, n2), both sorted and followed by a +infinity
