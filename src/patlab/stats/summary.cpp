@@ -175,7 +175,8 @@ struct PlanarColumns {
 
 // Pass 1 of K samples: the sums of x, y, theta, x^2 + y^2 and r, in index order.
 template <int K>
-void PlanarSums(const PlanarColumns& c, std::size_t n, double (&sum)[5][K]) {
+void PlanarSums(const PlanarColumns& c, std::size_t n, double (&sum_out)[5][K]) {
+  double sum[5][K] = {};  // local, so that the sums stay in registers (the columns cannot alias)
   alignas(64) double sq[K][kTile];
   alignas(64) double r[K][kTile];
   for (std::size_t i0 = 0; i0 < n; i0 += kTile) {
@@ -196,12 +197,14 @@ void PlanarSums(const PlanarColumns& c, std::size_t n, double (&sum)[5][K]) {
       }
     }
   }
+  std::copy(&sum[0][0], &sum[0][0] + 5 * K, &sum_out[0][0]);
 }
 
 // Pass 2 of K samples: the sums of squared deviations from mean[0..3] (x, y, theta, r).
 template <int K>
 void PlanarDeviations(const PlanarColumns& c, std::size_t n, const double (&mean)[4][K],
-                      double (&m2)[4][K]) {
+                      double (&m2_out)[4][K]) {
+  double m2[4][K] = {};  // local, as in PlanarSums
   alignas(64) double d2[4][K][kTile];
   for (std::size_t i0 = 0; i0 < n; i0 += kTile) {
     const std::size_t m = std::min(kTile, n - i0);
@@ -226,6 +229,7 @@ void PlanarDeviations(const PlanarColumns& c, std::size_t n, const double (&mean
       }
     }
   }
+  std::copy(&m2[0][0], &m2[0][0] + 4 * K, &m2_out[0][0]);
 }
 
 template <int K>
@@ -236,7 +240,7 @@ void PlanarMomentsInterleaved(const PlanarSample* samples, std::size_t n, Planar
     c.y[k] = samples[k].y.data();
     c.theta[k] = samples[k].theta.data();
   }
-  double sum[5][K] = {};
+  double sum[5][K];
   PlanarSums<K>(c, n, sum);
   // A non-finite value makes its column's sum non-finite, and only then are the columns searched
   // for it (a finite sample can also overflow its sum; then the search finds nothing and the
@@ -257,7 +261,7 @@ void PlanarMomentsInterleaved(const PlanarSample* samples, std::size_t n, Planar
     for (int q = 0; q < 3; ++q) mean[q][k] = sum[q][k] / count;
     mean[3][k] = sum[4][k] / count;
   }
-  double m2[4][K] = {};
+  double m2[4][K];
   PlanarDeviations<K>(c, n, mean, m2);
   const auto size = static_cast<std::int64_t>(n);
   for (int k = 0; k < K; ++k) {
