@@ -285,9 +285,8 @@ TEST(PlanarMoments, HaveTheBitsOfThePlainDefinition) {
         std::vector<PlanarMoments> out(count);
         PlanarMomentsOfEach(Spans(d), out);
         for (size_t k = 0; k < count; ++k) {
-          const std::string what = "n " + std::to_string(n) + " samples " +
-                                   std::to_string(count) + " kind " + std::to_string(kind) +
-                                   " sample " + std::to_string(k);
+          const std::string what = "n " + std::to_string(n) + " samples " + std::to_string(count) +
+                                   " kind " + std::to_string(kind) + " sample " + std::to_string(k);
           const PlainPlanar p = PlainPlanarMoments(d.x[k], d.y[k], d.theta[k]);
           ExpectSameMoments(out[k].x, p.x, what + " x");
           ExpectSameMoments(out[k].y, p.y, what + " y");
