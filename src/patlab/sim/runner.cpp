@@ -38,35 +38,30 @@ struct Samples {
   }
 };
 
-// The block's moments: x, y and theta from one interleaved pass each (stats::MomentsOfEach, the
-// arithmetic of Mean and SampleStd), the radial errors sqrt(x^2 + y^2) recomputed in each of
-// their two passes instead of stored (the same operations give the same bits, and no array of
-// the block's size is needed).
-void BlockMoments(const Samples& s, size_t size, EstimatorBlock* b) {
-  const std::span<const double> columns[3] = {std::span<const double>(s.x.data(), size),
-                                              std::span<const double>(s.y.data(), size),
-                                              std::span<const double>(s.theta.data(), size)};
-  stats::Moments m[3];
-  stats::MomentsOfEach(columns, m);
-  b->x = m[0];
-  b->y = m[1];
-  b->theta = m[2];
-  const double* x = s.x.data();
-  const double* y = s.y.data();
-  double sum_sq = 0.0, sum = 0.0;
-  for (size_t k = 0; k < size; ++k) {
-    const double sq = x[k] * x[k] + y[k] * y[k];
-    sum_sq += sq;
-    sum += std::sqrt(sq);
+// The block's moments of every estimator: x, y, theta and the radial error sqrt(x^2 + y^2) (not
+// stored: computed a tile at a time in each pass), all in one stats::PlanarMomentsOfEach call, so
+// that the estimators' addition chains overlap in one loop; the arithmetic is that of Mean and
+// SampleStd, every sum in index order.
+void BlockMoments(const Experiment& experiment, const Samples* by_estimator, size_t size,
+                  std::span<EstimatorBlock> out) {
+  std::array<stats::PlanarSample, 4> samples;
+  std::array<stats::PlanarMoments, 4> moments;
+  const size_t count = experiment.estimators.size();
+  PATLAB_CHECK(count <= samples.size());
+  for (size_t k = 0; k < count; ++k) {
+    const Samples& s = by_estimator[static_cast<int>(experiment.estimators[k])];
+    samples[k] = stats::PlanarSample{std::span<const double>(s.x.data(), size),
+                                     std::span<const double>(s.y.data(), size),
+                                     std::span<const double>(s.theta.data(), size)};
   }
-  const double mean = sum / static_cast<double>(size);
-  double m2 = 0.0;
-  for (size_t k = 0; k < size; ++k) {
-    const double r = std::sqrt(x[k] * x[k] + y[k] * y[k]);
-    m2 += (r - mean) * (r - mean);
+  stats::PlanarMomentsOfEach(std::span(samples).first(count), std::span(moments).first(count));
+  for (size_t k = 0; k < count; ++k) {
+    out[k].x = moments[k].x;
+    out[k].y = moments[k].y;
+    out[k].theta = moments[k].theta;
+    out[k].radial = moments[k].radial;
+    out[k].sum_sq = moments[k].sum_sq;
   }
-  b->radial = stats::Moments{static_cast<int64_t>(size), mean, m2};
-  b->sum_sq = sum_sq;
 }
 
 EstimatorBlock Fold(const EstimatorBlock& a, const EstimatorBlock& b) {
@@ -297,11 +292,10 @@ void BlockStatistics(const Experiment& experiment, PointBuffers& pb, double sigm
   const bool has_fast = std::find(experiment.estimators.begin(), experiment.estimators.end(),
                                   Estimator::kFast) != experiment.estimators.end();
   const size_t n = static_cast<size_t>(trials);
-  tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
-    const Estimator e = experiment.estimators[k];
-    BlockMoments(pb.samples[static_cast<int>(e)], n, &out[k]);
-    if (e == Estimator::kMl) MlCounters(pb, first_trial, trials, &out[k]);
-  });
+  BlockMoments(experiment, pb.samples, n, out);
+  for (size_t k = 0; k < experiment.estimators.size(); ++k) {
+    if (experiment.estimators[k] == Estimator::kMl) MlCounters(pb, first_trial, trials, &out[k]);
+  }
   if (first_trial != 0 || !has_fast || !(sigma_mm > 0.0)) return;
   tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
     const Estimator e = experiment.estimators[k];

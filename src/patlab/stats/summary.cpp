@@ -146,6 +146,160 @@ void MomentsOfEach(std::span<const std::span<const double>> samples, std::span<M
   }
 }
 
+namespace {
+
+// The planar moments work on tiles of kTile values: the squares, roots and deviations of a tile
+// are computed in loops the compiler vectorises and stored in tile buffers (in L1: at most
+// 4 samples x 4 columns x 128 values = 16 KiB), and a second loop adds the tile's values to the
+// running sums, every sum in index order. A product stored in a buffer and added in another loop
+// is rounded before the addition, whatever the compiler's contraction setting.
+constexpr std::size_t kTile = 128;
+
+// x^2 + y^2 as the runner's former per-estimator loops computed it: GCC contracted x * x + y * y
+// into fma(x, x, y * y) on targets with FMA (-march=native here), so the same operation is
+// written out, for the same bits under any compiler or contraction setting.
+inline double SquaredRadius(double x, double y) {
+#ifdef __FMA__
+  return std::fma(x, x, y * y);
+#else
+  const double yy = y * y;
+  return x * x + yy;
+#endif
+}
+
+struct PlanarColumns {
+  const double* x[4];
+  const double* y[4];
+  const double* theta[4];
+};
+
+// Pass 1 of K samples: the sums of x, y, theta, x^2 + y^2 and r, in index order.
+template <int K>
+void PlanarSums(const PlanarColumns& c, std::size_t n, double (&sum_out)[5][K]) {
+  double sum[5][K] = {};  // local, so that the sums stay in registers (the columns cannot alias)
+  alignas(64) double sq[K][kTile];
+  alignas(64) double r[K][kTile];
+  for (std::size_t i0 = 0; i0 < n; i0 += kTile) {
+    const std::size_t m = std::min(kTile, n - i0);
+    for (int k = 0; k < K; ++k) {
+      const double* x = c.x[k] + i0;
+      const double* y = c.y[k] + i0;
+      for (std::size_t j = 0; j < m; ++j) sq[k][j] = SquaredRadius(x[j], y[j]);
+      for (std::size_t j = 0; j < m; ++j) r[k][j] = std::sqrt(sq[k][j]);
+    }
+    for (std::size_t j = 0; j < m; ++j) {
+      for (int k = 0; k < K; ++k) {
+        sum[0][k] += c.x[k][i0 + j];
+        sum[1][k] += c.y[k][i0 + j];
+        sum[2][k] += c.theta[k][i0 + j];
+        sum[3][k] += sq[k][j];
+        sum[4][k] += r[k][j];
+      }
+    }
+  }
+  std::copy(&sum[0][0], &sum[0][0] + 5 * K, &sum_out[0][0]);
+}
+
+// Pass 2 of K samples: the sums of squared deviations from mean[0..3] (x, y, theta, r).
+template <int K>
+void PlanarDeviations(const PlanarColumns& c, std::size_t n, const double (&mean)[4][K],
+                      double (&m2_out)[4][K]) {
+  double m2[4][K] = {};  // local, as in PlanarSums
+  alignas(64) double d2[4][K][kTile];
+  for (std::size_t i0 = 0; i0 < n; i0 += kTile) {
+    const std::size_t m = std::min(kTile, n - i0);
+    for (int k = 0; k < K; ++k) {
+      const double* x = c.x[k] + i0;
+      const double* y = c.y[k] + i0;
+      const double* t = c.theta[k] + i0;
+      for (std::size_t j = 0; j < m; ++j) {
+        const double dx = x[j] - mean[0][k], dy = y[j] - mean[1][k], dt = t[j] - mean[2][k];
+        d2[0][k][j] = dx * dx;
+        d2[1][k][j] = dy * dy;
+        d2[2][k][j] = dt * dt;
+      }
+      for (std::size_t j = 0; j < m; ++j) {
+        const double dr = std::sqrt(SquaredRadius(x[j], y[j])) - mean[3][k];
+        d2[3][k][j] = dr * dr;
+      }
+    }
+    for (std::size_t j = 0; j < m; ++j) {
+      for (int k = 0; k < K; ++k) {
+        for (int q = 0; q < 4; ++q) m2[q][k] += d2[q][k][j];
+      }
+    }
+  }
+  std::copy(&m2[0][0], &m2[0][0] + 4 * K, &m2_out[0][0]);
+}
+
+template <int K>
+void PlanarMomentsInterleaved(const PlanarSample* samples, std::size_t n, PlanarMoments* out) {
+  PlanarColumns c{};
+  for (int k = 0; k < K; ++k) {
+    c.x[k] = samples[k].x.data();
+    c.y[k] = samples[k].y.data();
+    c.theta[k] = samples[k].theta.data();
+  }
+  double sum[5][K];
+  PlanarSums<K>(c, n, sum);
+  // A non-finite value makes its column's sum non-finite, and only then are the columns searched
+  // for it (a finite sample can also overflow its sum; then the search finds nothing and the
+  // moments are what the arithmetic gives).
+  for (int k = 0; k < K; ++k) {
+    if (!std::isfinite(sum[0][k]) || !std::isfinite(sum[1][k]) || !std::isfinite(sum[2][k])) {
+      for (int j = 0; j < K; ++j) {
+        detail::RequireFinite(samples[j].x, "sample");
+        detail::RequireFinite(samples[j].y, "sample");
+        detail::RequireFinite(samples[j].theta, "sample");
+      }
+      break;
+    }
+  }
+  const double count = static_cast<double>(n);
+  double mean[4][K];
+  for (int k = 0; k < K; ++k) {
+    for (int q = 0; q < 3; ++q) mean[q][k] = sum[q][k] / count;
+    mean[3][k] = sum[4][k] / count;
+  }
+  double m2[4][K];
+  PlanarDeviations<K>(c, n, mean, m2);
+  const auto size = static_cast<std::int64_t>(n);
+  for (int k = 0; k < K; ++k) {
+    out[k].x = Moments{size, mean[0][k], m2[0][k]};
+    out[k].y = Moments{size, mean[1][k], m2[1][k]};
+    out[k].theta = Moments{size, mean[2][k], m2[2][k]};
+    out[k].radial = Moments{size, mean[3][k], m2[3][k]};
+    out[k].sum_sq = sum[3][k];
+  }
+}
+
+}  // namespace
+
+void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<PlanarMoments> out) {
+  constexpr std::size_t kMaxSamples = 4;
+  PATLAB_CHECK(samples.size() <= kMaxSamples && out.size() == samples.size());
+  if (samples.empty()) return;
+  const std::size_t n = samples[0].x.size();
+  for (const PlanarSample& s : samples) {
+    PATLAB_CHECK(s.x.size() == n && s.y.size() == n && s.theta.size() == n);
+  }
+  RequireCount(samples[0].x, 1, "the moments");
+  switch (samples.size()) {
+    case 1:
+      PlanarMomentsInterleaved<1>(samples.data(), n, out.data());
+      break;
+    case 2:
+      PlanarMomentsInterleaved<2>(samples.data(), n, out.data());
+      break;
+    case 3:
+      PlanarMomentsInterleaved<3>(samples.data(), n, out.data());
+      break;
+    default:
+      PlanarMomentsInterleaved<4>(samples.data(), n, out.data());
+      break;
+  }
+}
+
 Moments CombineMoments(const Moments& a, const Moments& b) {
   if (b.n == 0) return a;
   if (a.n == 0) return b;

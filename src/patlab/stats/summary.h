@@ -64,6 +64,27 @@ struct Moments {
 // two-pass with the arithmetic of Mean and SampleStd (sums in index order), so for one block
 // Moments::Std() is bit-identical to SampleStd.
 void MomentsOfEach(std::span<const std::span<const double>> samples, std::span<Moments> out);
+// A planar error sample: x and y (the position error) and theta, of equal length.
+struct PlanarSample {
+  std::span<const double> x, y, theta;
+};
+// The moments of a planar sample: those of x, y and theta, those of the radial error
+// r = sqrt(x^2 + y^2), and sum_sq, the sum of x^2 + y^2 (the radial RMS).
+struct PlanarMoments {
+  Moments x, y, theta, radial;
+  double sum_sq = 0.0;
+};
+// PlanarMoments of each of up to 4 planar samples (every column of the same length >= 1; x, y and
+// theta finite, otherwise the InputError of MomentsOfEach, naming the first bad column in the
+// order sample 0's x, y, theta, sample 1's x, ...). Each moment is the plain two-pass definition,
+// every sum in index order: mean = (sum of v) / n, m2 = sum of (v - mean) * (v - mean) with each
+// product rounded (never fused with the addition); for the radial error x^2 + y^2 is computed as
+// fma(x, x, y * y) where the target has FMA (the contraction the compiler applied to the former
+// per-estimator loops), else as the rounded sum, and sum_sq adds these values in index order.
+// All the samples' sums (5 a sample in the first pass, 4 in the second) run in one loop, so that
+// the CPU overlaps their addition chains; the squares, roots and deviations are computed for a
+// tile of values at a time in loops the compiler vectorises.
+void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<PlanarMoments> out);
 // The moments of the union of two disjoint samples (Chan, Golub & LeVeque 1979, eq. 2.1):
 // delta = mean_b - mean_a, mean = mean_a + delta n_b / n, M2 = M2_a + M2_b + delta^2 n_a n_b / n.
 // Combining with an empty side returns the other side unchanged.
