@@ -451,6 +451,37 @@ TEST(Ks, PairedWalkChecksStartsByKeyBitForBit) {
       }
       ExpectSameExtremes(detail::EcdfExtremesByPairs(p.x, p.y), want);
       ExpectSameExtremes(detail::EcdfExtremesByPairs(p.y, p.x), StraightforwardExtremes(p.y, p.x));
+    }
+  }
+}
+
+// The pair summary runs in 8 lanes and a tail: a non-finite value in the lanes or in the tail,
+// in either sample or in both (the same array, or equal arrays), gives the messages of the check
+// of each sample.
+TEST(Ks, PairedWalkRejectsNonFiniteValuesInLanesAndTail) {
+  for (const size_t n : {4096u, 4099u}) {
+    for (const size_t at : {size_t{0}, size_t{9}, n - 1}) {
+      SCOPED_TRACE(::testing::Message() << "n " << n << " at " << at);
+      std::vector<double> x(n), y(n);
+      for (size_t k = 0; k < n; ++k) x[k] = y[k] = static_cast<double>(k % 97) * 0.25;
+      y[n / 2] += 1.0;
+      const std::string where = " value " + std::to_string(at + 1) + " is ";
+      std::vector<double> bad = x;
+      bad[at] = std::nan("");
+      EXPECT_INPUT_ERROR(KsTwoSample(x, bad), "sample 2" + where + "NaN; expected finite numbers");
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, y), "sample 1" + where + "NaN; expected finite numbers");
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, bad),
+                         "sample 1" + where + "NaN; expected finite numbers");
+      const std::vector<double> copy = bad;
+      EXPECT_INPUT_ERROR(KsTwoSample(bad, copy),
+                         "sample 1" + where + "NaN; expected finite numbers");
+      bad[at] = -std::numeric_limits<double>::infinity();
+      EXPECT_INPUT_ERROR(KsTwoSample(y, bad),
+                         "sample 2" + where + "infinite; expected finite numbers");
+    }
+  }
+}
+
 // The bucket walk's plan on the shapes that stress it, each against the straightforward walk:
 // fig5-like samples that differ (std ratio 1.1, a few heavy tails so the walked buckets are full
 // and in many runs: more runs than the ranges that cover them in Extract), n1 != n2, sizes that
@@ -512,33 +543,6 @@ TEST(Ks, BucketWalkAgreesWithTheStraightforwardOneOnShapesThatStressItsPlan) {
                                                                std::max(*x_hi, *y_hi)),
                          want);
       if (n1 == n2) ExpectSameExtremes(detail::EcdfExtremesByPairs(x, y), want);
-    }
-  }
-}
-
-// The pair summary runs in 8 lanes and a tail: a non-finite value in the lanes or in the tail,
-// in either sample or in both (the same array, or equal arrays), gives the messages of the check
-// of each sample.
-TEST(Ks, PairedWalkRejectsNonFiniteValuesInLanesAndTail) {
-  for (const size_t n : {4096u, 4099u}) {
-    for (const size_t at : {size_t{0}, size_t{9}, n - 1}) {
-      SCOPED_TRACE(::testing::Message() << "n " << n << " at " << at);
-      std::vector<double> x(n), y(n);
-      for (size_t k = 0; k < n; ++k) x[k] = y[k] = static_cast<double>(k % 97) * 0.25;
-      y[n / 2] += 1.0;
-      const std::string where = " value " + std::to_string(at + 1) + " is ";
-      std::vector<double> bad = x;
-      bad[at] = std::nan("");
-      EXPECT_INPUT_ERROR(KsTwoSample(x, bad), "sample 2" + where + "NaN; expected finite numbers");
-      EXPECT_INPUT_ERROR(KsTwoSample(bad, y), "sample 1" + where + "NaN; expected finite numbers");
-      EXPECT_INPUT_ERROR(KsTwoSample(bad, bad),
-                         "sample 1" + where + "NaN; expected finite numbers");
-      const std::vector<double> copy = bad;
-      EXPECT_INPUT_ERROR(KsTwoSample(bad, copy),
-                         "sample 1" + where + "NaN; expected finite numbers");
-      bad[at] = -std::numeric_limits<double>::infinity();
-      EXPECT_INPUT_ERROR(KsTwoSample(y, bad),
-                         "sample 2" + where + "infinite; expected finite numbers");
     }
   }
 }
