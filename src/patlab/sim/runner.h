@@ -36,7 +36,7 @@ inline constexpr int kMaxShards = 100000;
 // Bounded memory (docs/hardening.md): a data point is run in blocks of at most this many trials
 // (or frames, in detect mode), and only one block's samples are held per estimator, so memory
 // stops growing with the trials asked for beyond one block. Each block's moments come from its
-// samples (stats::MomentsOfEach) and the blocks are combined in trial order
+// samples (stats::PlanarMomentsOfEach) and the blocks are combined in trial order
 // (stats::CombineMoments); a point of one block gets exactly the bits of the whole-sample
 // computation. The KS and Wilcoxon comparisons need the samples themselves: they are computed on
 // the first block, trials 0 .. min(trials, kStatisticsBlockTrials) - 1 (Comparison::trials).
