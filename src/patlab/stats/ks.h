@@ -101,10 +101,10 @@ EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const do
 // when the pairs that differ do so by intervals [min, max) that are pairwise apart (the case of
 // estimators that agree to rounding), F1 - F2 is -1/n, 0 or 1/n up to rounding at every group
 // end, its extremes are the largest rounding step, and a walk of a few hundred values from the
-// rank where that step can first occur finds them (the derivation is in ks_pairs.cpp). Otherwise, and
-// if that walk does not find them, EcdfExtremesByBuckets. Same results as the two above, bit for
-// bit. KsTwoSample uses it for n1 = n2 and n1 + n2 >= 4096. Its first pass checks that the values
-// are finite (InputError as KsTwoSample's); the other two expect finite values.
+// rank where that step can first occur finds them (the derivation is in ks_pairs.cpp). Otherwise,
+// and if that walk does not find them, EcdfExtremesByBuckets. Same results as the two above, bit
+// for bit. KsTwoSample uses it for n1 = n2 and n1 + n2 >= 4096. Its first pass checks that the
+// values are finite (InputError as KsTwoSample's); the other two expect finite values.
 EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const double> y);
 }  // namespace detail
 
