@@ -318,7 +318,13 @@ TEST(PlanarMoments, HandComputed) {
 
 TEST(PlanarMoments, AgreeWithMomentsOfEachOnAVectorisedLength) {
   // On lengths that are a multiple of 8, MomentsOfEach's sums of squares are the rounded products
-  // too (its vector loop; its scalar tail may fuse), so the two give the same bits there.
+  // too (its vector loop; its scalar tail may fuse), so the two give the same bits there with GCC.
+  // Clang contracts MomentsOfEach's (v - mean) * (v - mean) + s into an FMA (-ffp-contract=on,
+  // seen in the sanitizer build), so there the old call's bits are not the plain definition's;
+  // HaveTheBitsOfThePlainDefinition checks PlanarMomentsOfEach on every compiler.
+#if defined(__clang__)
+  GTEST_SKIP() << "clang fuses MomentsOfEach's squared deviations; see the comment";
+#endif
   const PlanarData d = MakePlanar(2, 4096, 4, 5);
   std::vector<PlanarMoments> out(2);
   PlanarMomentsOfEach(Spans(d), out);
