@@ -5,6 +5,7 @@
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -167,69 +168,203 @@ inline double SquaredRadius(double x, double y) {
 #endif
 }
 
+// The sums of the planar moments are chains: one running sum per column of each sample, advanced
+// in index order (that order is what gives the committed bits). Scalar code needs one addition
+// per chain and index, and 10 to 20 chains a trial are bound by the adder's throughput. Here the
+// chains are the lanes of vectors ("lanes = chains"): lane c of a group holds chain c's sum, a
+// block of W indices of W chains is transposed (moves only, exact), and one vector addition then
+// advances W chains by one index, in index order. No chain's order of additions changes, so every
+// sum has the bits of its scalar loop on any target; the width only decides the speed: 8 doubles
+// where the target has AVX-512, 4 with AVX, 2 otherwise (GCC and clang vector extensions; the
+// compiler lowers what the target lacks). Chains left over by the widest groups go to narrower
+// ones (10 chains with AVX-512: 8 + 2).
+using V8 = double __attribute__((vector_size(64)));
+using V4 = double __attribute__((vector_size(32)));
+using V2 = double __attribute__((vector_size(16)));
+
+#if defined(__AVX512F__)
+constexpr int kLaneWidth = 8;
+#elif defined(__AVX__)
+constexpr int kLaneWidth = 4;
+#else
+constexpr int kLaneWidth = 2;
+#endif
+
+template <class V>
+V LoadVector(const double* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// acc[c] += col[c][j + t] for t = 0..7 in that order, c = 0..7: an 8 x 8 transpose in three
+// rounds (pairs of doubles, then of 128-bit halves, then of 256-bit halves).
+inline void AddTransposed8(V8& acc, const double* const* col, std::size_t j) {
+  V8 r[8];
+  for (int c = 0; c < 8; ++c) r[c] = LoadVector<V8>(col[c] + j);
+  V8 t[8];  // t[2q] = indices 0, 2, 4, 6 of chains 2q, 2q + 1; t[2q + 1] the odd indices
+  for (int q = 0; q < 4; ++q) {
+    t[2 * q] = __builtin_shufflevector(r[2 * q], r[2 * q + 1], 0, 8, 2, 10, 4, 12, 6, 14);
+    t[2 * q + 1] = __builtin_shufflevector(r[2 * q], r[2 * q + 1], 1, 9, 3, 11, 5, 13, 7, 15);
+  }
+  V8 u[8];  // u[4h + e]: chains 4h..4h+3 at indices e and e + 4 (e = 0..3)
+  for (int h = 0; h < 2; ++h) {
+    const V8* th = t + 4 * h;
+    u[4 * h + 0] = __builtin_shufflevector(th[0], th[2], 0, 1, 8, 9, 4, 5, 12, 13);
+    u[4 * h + 2] = __builtin_shufflevector(th[0], th[2], 2, 3, 10, 11, 6, 7, 14, 15);
+    u[4 * h + 1] = __builtin_shufflevector(th[1], th[3], 0, 1, 8, 9, 4, 5, 12, 13);
+    u[4 * h + 3] = __builtin_shufflevector(th[1], th[3], 2, 3, 10, 11, 6, 7, 14, 15);
+  }
+  for (int e = 0; e < 4; ++e)
+    acc += __builtin_shufflevector(u[e], u[4 + e], 0, 1, 2, 3, 8, 9, 10, 11);
+  for (int e = 0; e < 4; ++e)
+    acc += __builtin_shufflevector(u[e], u[4 + e], 4, 5, 6, 7, 12, 13, 14, 15);
+}
+
+// acc[c] += col[c][j + t] for t = 0..3 in that order, c = 0..3.
+inline void AddTransposed4(V4& acc, const double* const* col, std::size_t j) {
+  const V4 r0 = LoadVector<V4>(col[0] + j), r1 = LoadVector<V4>(col[1] + j);
+  const V4 r2 = LoadVector<V4>(col[2] + j), r3 = LoadVector<V4>(col[3] + j);
+  const V4 t0 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6);
+  const V4 t1 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7);
+  const V4 t2 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6);
+  const V4 t3 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+  acc += __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+  acc += __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+  acc += __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+  acc += __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+}
+
+// acc[c] += col[c][j + t] for t = 0, 1 in that order, c = 0, 1.
+inline void AddTransposed2(V2& acc, const double* const* col, std::size_t j) {
+  const V2 r0 = LoadVector<V2>(col[0] + j), r1 = LoadVector<V2>(col[1] + j);
+  acc += __builtin_shufflevector(r0, r1, 0, 2);
+  acc += __builtin_shufflevector(r0, r1, 1, 3);
+}
+
+// C chains in groups of 8 (AVX-512), then 4 (AVX), then 2, then one scalar.
+template <int C>
+class LaneSums {
+ public:
+  static constexpr std::size_t kBlock = 8;  // indices advanced by Add
+
+  // Every chain c += col[c][j], ..., col[c][j + 7], in that order.
+  void Add(const double* const* col, std::size_t j) {
+    for (int g = 0; g < kGroups8; ++g) AddTransposed8(a8_[g], col + 8 * g, j);
+    for (int g = 0; g < kGroups4; ++g) {
+      for (std::size_t t = 0; t < kBlock; t += 4)
+        AddTransposed4(a4_[g], col + kFirst4 + 4 * g, j + t);
+    }
+    for (int g = 0; g < kGroups2; ++g) {
+      for (std::size_t t = 0; t < kBlock; t += 2)
+        AddTransposed2(a2_[g], col + kFirst2 + 2 * g, j + t);
+    }
+    for (int c = kFirst1; c < C; ++c) {
+      for (std::size_t t = 0; t < kBlock; ++t) a1_[c - kFirst1] += col[c][j + t];
+    }
+  }
+  // Every chain c += col[c][j] (the tail of a tile).
+  void AddOne(const double* const* col, std::size_t j) {
+    for (int c = 0; c < kFirst4; ++c) a8_[c / 8][c % 8] += col[c][j];
+    for (int c = kFirst4; c < kFirst2; ++c) a4_[(c - kFirst4) / 4][(c - kFirst4) % 4] += col[c][j];
+    for (int c = kFirst2; c < kFirst1; ++c) a2_[(c - kFirst2) / 2][(c - kFirst2) % 2] += col[c][j];
+    for (int c = kFirst1; c < C; ++c) a1_[c - kFirst1] += col[c][j];
+  }
+  double Sum(int c) const {
+    if (c < kFirst4) return a8_[c / 8][c % 8];
+    if (c < kFirst2) return a4_[(c - kFirst4) / 4][(c - kFirst4) % 4];
+    if (c < kFirst1) return a2_[(c - kFirst2) / 2][(c - kFirst2) % 2];
+    return a1_[c - kFirst1];
+  }
+
+ private:
+  static constexpr int kGroups8 = kLaneWidth >= 8 ? C / 8 : 0;
+  static constexpr int kFirst4 = 8 * kGroups8;
+  static constexpr int kGroups4 = kLaneWidth >= 4 ? (C - kFirst4) / 4 : 0;
+  static constexpr int kFirst2 = kFirst4 + 4 * kGroups4;
+  static constexpr int kGroups2 = (C - kFirst2) / 2;
+  static constexpr int kFirst1 = kFirst2 + 2 * kGroups2;
+  V8 a8_[std::max(kGroups8, 1)] = {};
+  V4 a4_[std::max(kGroups4, 1)] = {};
+  V2 a2_[std::max(kGroups2, 1)] = {};
+  double a1_[std::max(C - kFirst1, 1)] = {};
+};
+
+// Advances `sums` by the first m indices of the columns col (a tile), in index order.
+template <int C>
+void AddTile(LaneSums<C>& sums, const double* const* col, std::size_t m) {
+  constexpr std::size_t kBlock = LaneSums<C>::kBlock;
+  std::size_t j = 0;
+  for (; j + kBlock <= m; j += kBlock) sums.Add(col, j);
+  for (; j < m; ++j) sums.AddOne(col, j);
+}
+
 struct PlanarColumns {
   const double* x[4];
   const double* y[4];
   const double* theta[4];
 };
 
-// Pass 1 of K samples: the sums of x, y, theta, x^2 + y^2 and r, in index order.
+// Pass 1 of K samples: the sums of x, y, theta, x^2 + y^2 and r, in index order. Chains: 4k + 0..3
+// are sample k's x, y, theta and x^2 + y^2, chain 4K + k its r.
 template <int K>
 void PlanarSums(const PlanarColumns& c, std::size_t n, double (&sum_out)[5][K]) {
-  double sum[5][K] = {};  // local, so that the sums stay in registers (the columns cannot alias)
+  LaneSums<5 * K> sums;
   alignas(64) double sq[K][kTile];
   alignas(64) double r[K][kTile];
   for (std::size_t i0 = 0; i0 < n; i0 += kTile) {
     const std::size_t m = std::min(kTile, n - i0);
+    const double* col[5 * K];
     for (int k = 0; k < K; ++k) {
       const double* x = c.x[k] + i0;
       const double* y = c.y[k] + i0;
       for (std::size_t j = 0; j < m; ++j) sq[k][j] = SquaredRadius(x[j], y[j]);
       for (std::size_t j = 0; j < m; ++j) r[k][j] = std::sqrt(sq[k][j]);
+      col[4 * k + 0] = x;
+      col[4 * k + 1] = y;
+      col[4 * k + 2] = c.theta[k] + i0;
+      col[4 * k + 3] = sq[k];
+      col[4 * K + k] = r[k];
     }
-    for (std::size_t j = 0; j < m; ++j) {
-      for (int k = 0; k < K; ++k) {
-        sum[0][k] += c.x[k][i0 + j];
-        sum[1][k] += c.y[k][i0 + j];
-        sum[2][k] += c.theta[k][i0 + j];
-        sum[3][k] += sq[k][j];
-        sum[4][k] += r[k][j];
-      }
-    }
+    AddTile(sums, col, m);
   }
-  std::copy(&sum[0][0], &sum[0][0] + 5 * K, &sum_out[0][0]);
+  for (int k = 0; k < K; ++k) {
+    for (int q = 0; q < 4; ++q) sum_out[q][k] = sums.Sum(4 * k + q);
+    sum_out[4][k] = sums.Sum(4 * K + k);
+  }
 }
 
-// Pass 2 of K samples: the sums of squared deviations from mean[0..3] (x, y, theta, r).
+// Pass 2 of K samples: the sums of squared deviations from mean[0..3] (x, y, theta, r). Chain
+// 4k + q is sample k's column q.
 template <int K>
 void PlanarDeviations(const PlanarColumns& c, std::size_t n, const double (&mean)[4][K],
                       double (&m2_out)[4][K]) {
-  double m2[4][K] = {};  // local, as in PlanarSums
-  alignas(64) double d2[4][K][kTile];
+  LaneSums<4 * K> sums;
+  alignas(64) double d2[K][4][kTile];
   for (std::size_t i0 = 0; i0 < n; i0 += kTile) {
     const std::size_t m = std::min(kTile, n - i0);
+    const double* col[4 * K];
     for (int k = 0; k < K; ++k) {
       const double* x = c.x[k] + i0;
       const double* y = c.y[k] + i0;
       const double* t = c.theta[k] + i0;
       for (std::size_t j = 0; j < m; ++j) {
         const double dx = x[j] - mean[0][k], dy = y[j] - mean[1][k], dt = t[j] - mean[2][k];
-        d2[0][k][j] = dx * dx;
-        d2[1][k][j] = dy * dy;
-        d2[2][k][j] = dt * dt;
+        d2[k][0][j] = dx * dx;
+        d2[k][1][j] = dy * dy;
+        d2[k][2][j] = dt * dt;
       }
       for (std::size_t j = 0; j < m; ++j) {
         const double dr = std::sqrt(SquaredRadius(x[j], y[j])) - mean[3][k];
-        d2[3][k][j] = dr * dr;
+        d2[k][3][j] = dr * dr;
       }
+      for (int q = 0; q < 4; ++q) col[4 * k + q] = d2[k][q];
     }
-    for (std::size_t j = 0; j < m; ++j) {
-      for (int k = 0; k < K; ++k) {
-        for (int q = 0; q < 4; ++q) m2[q][k] += d2[q][k][j];
-      }
-    }
+    AddTile(sums, col, m);
   }
-  std::copy(&m2[0][0], &m2[0][0] + 4 * K, &m2_out[0][0]);
+  for (int k = 0; k < K; ++k) {
+    for (int q = 0; q < 4; ++q) m2_out[q][k] = sums.Sum(4 * k + q);
+  }
 }
 
 template <int K>
