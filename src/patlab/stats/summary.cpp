@@ -306,15 +306,20 @@ struct PlanarColumns {
 };
 
 // Pass 1 of K samples: the sums of x, y, theta, x^2 + y^2 and r, in index order. Chains: 4k + 0..3
-// are sample k's x, y, theta and x^2 + y^2, chain 4K + k its r.
+// are sample k's x, y, theta and x^2 + y^2, chain 4K + k its r. No tile: each block of 8 indices
+// computes its squares and roots into 8-value buffers (a loop the compiler vectorises) and adds
+// them at once, so the loads of the next block overlap the additions of this one (the columns are
+// read from memory only here and in pass 2). No product is added here: x^2 + y^2 is
+// SquaredRadius's explicit rule.
 template <int K>
 void PlanarSums(const PlanarColumns& c, std::size_t n, double (&sum_out)[5][K]) {
-  LaneSums<5 * K> sums;
-  alignas(64) double sq[K][kTile];
-  alignas(64) double r[K][kTile];
-  for (std::size_t i0 = 0; i0 < n; i0 += kTile) {
-    const std::size_t m = std::min(kTile, n - i0);
-    const double* col[5 * K];
+  using Sums = LaneSums<5 * K>;
+  constexpr std::size_t kBlock = Sums::kBlock;
+  Sums sums;
+  alignas(64) double sq[K][kBlock];
+  alignas(64) double r[K][kBlock];
+  const double* col[5 * K];
+  auto block = [&](std::size_t i0, std::size_t m) {
     for (int k = 0; k < K; ++k) {
       const double* x = c.x[k] + i0;
       const double* y = c.y[k] + i0;
@@ -326,8 +331,14 @@ void PlanarSums(const PlanarColumns& c, std::size_t n, double (&sum_out)[5][K]) 
       col[4 * k + 3] = sq[k];
       col[4 * K + k] = r[k];
     }
-    AddTile(sums, col, m);
+  };
+  std::size_t i0 = 0;
+  for (; i0 + kBlock <= n; i0 += kBlock) {
+    block(i0, kBlock);
+    sums.Add(col, 0);
   }
+  block(i0, n - i0);
+  for (std::size_t j = 0; j < n - i0; ++j) sums.AddOne(col, j);
   for (int k = 0; k < K; ++k) {
     for (int q = 0; q < 4; ++q) sum_out[q][k] = sums.Sum(4 * k + q);
     sum_out[4][k] = sums.Sum(4 * K + k);
