@@ -364,8 +364,6 @@ void PlanarDeviations(const PlanarColumns& c, std::size_t n, const double (&mean
         d2[k][0][j] = dx * dx;
         d2[k][1][j] = dy * dy;
         d2[k][2][j] = dt * dt;
-      }
-      for (std::size_t j = 0; j < m; ++j) {
         const double dr = std::sqrt(SquaredRadius(x[j], y[j])) - mean[3][k];
         d2[k][3][j] = dr * dr;
       }
