@@ -190,18 +190,18 @@ constexpr int kLaneWidth = 4;
 constexpr int kLaneWidth = 2;
 #endif
 
+// By reference, not by value: a 64-byte vector passed or returned by value on a target without
+// AVX-512 draws GCC's -Wpsabi note.
 template <class V>
-V LoadVector(const double* p) {
-  V v;
+void LoadVector(V& v, const double* p) {
   std::memcpy(&v, p, sizeof v);
-  return v;
 }
 
 // acc[c] += col[c][j + t] for t = 0..7 in that order, c = 0..7: an 8 x 8 transpose in three
 // rounds (pairs of doubles, then of 128-bit halves, then of 256-bit halves).
 inline void AddTransposed8(V8& acc, const double* const* col, std::size_t j) {
   V8 r[8];
-  for (int c = 0; c < 8; ++c) r[c] = LoadVector<V8>(col[c] + j);
+  for (int c = 0; c < 8; ++c) LoadVector(r[c], col[c] + j);
   V8 t[8];  // t[2q] = indices 0, 2, 4, 6 of chains 2q, 2q + 1; t[2q + 1] the odd indices
   for (int q = 0; q < 4; ++q) {
     t[2 * q] = __builtin_shufflevector(r[2 * q], r[2 * q + 1], 0, 8, 2, 10, 4, 12, 6, 14);
@@ -223,8 +223,11 @@ inline void AddTransposed8(V8& acc, const double* const* col, std::size_t j) {
 
 // acc[c] += col[c][j + t] for t = 0..3 in that order, c = 0..3.
 inline void AddTransposed4(V4& acc, const double* const* col, std::size_t j) {
-  const V4 r0 = LoadVector<V4>(col[0] + j), r1 = LoadVector<V4>(col[1] + j);
-  const V4 r2 = LoadVector<V4>(col[2] + j), r3 = LoadVector<V4>(col[3] + j);
+  V4 r0, r1, r2, r3;
+  LoadVector(r0, col[0] + j);
+  LoadVector(r1, col[1] + j);
+  LoadVector(r2, col[2] + j);
+  LoadVector(r3, col[3] + j);
   const V4 t0 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6);
   const V4 t1 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7);
   const V4 t2 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6);
@@ -237,7 +240,9 @@ inline void AddTransposed4(V4& acc, const double* const* col, std::size_t j) {
 
 // acc[c] += col[c][j + t] for t = 0, 1 in that order, c = 0, 1.
 inline void AddTransposed2(V2& acc, const double* const* col, std::size_t j) {
-  const V2 r0 = LoadVector<V2>(col[0] + j), r1 = LoadVector<V2>(col[1] + j);
+  V2 r0, r1;
+  LoadVector(r0, col[0] + j);
+  LoadVector(r1, col[1] + j);
   acc += __builtin_shufflevector(r0, r1, 0, 2);
   acc += __builtin_shufflevector(r0, r1, 1, 3);
 }
