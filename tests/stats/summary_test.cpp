@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
@@ -221,9 +222,11 @@ PlainPlanar PlainPlanarMoments(const std::vector<double>& x, const std::vector<d
                      sum_sq};
 }
 
-// Bit equality that also holds for NaN == NaN (an overflowing sum).
+// Bit equality (so +0 and -0 differ) that also holds for NaN == NaN (an overflowing sum).
 void ExpectSameBits(double a, double b, const std::string& what) {
-  EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << what << ": " << a << " vs " << b;
+  EXPECT_TRUE(std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b) ||
+              (std::isnan(a) && std::isnan(b)))
+      << what << ": " << a << " vs " << b;
 }
 void ExpectSameMoments(const Moments& a, const Moments& b, const std::string& what) {
   EXPECT_EQ(a.n, b.n) << what;
@@ -234,8 +237,9 @@ void ExpectSameMoments(const Moments& a, const Moments& b, const std::string& wh
 struct PlanarData {
   std::vector<std::vector<double>> x, y, theta;
 };
-// `count` samples of n values; scale picks the kind: values near 1, huge, tiny, offsets far from
-// zero (where the order of the additions shows), or mixed magnitudes.
+// `count` samples of n values; kind picks the data: values near 1, huge, tiny, offsets far from
+// zero (where the order of the additions shows), mixed magnitudes, quantised values with ties and
+// signed zeros, or heavy tails (Cauchy).
 PlanarData MakePlanar(size_t count, size_t n, int kind, uint64_t seed) {
   PlanarData d;
   uint64_t state = seed;
@@ -254,6 +258,10 @@ PlanarData MakePlanar(size_t count, size_t n, int kind, uint64_t seed) {
         return 1e6 + u;
       case 4:
         return u * std::pow(10.0, static_cast<double>(i % 13) - 6.0);
+      case 5:
+        return u < -0.25 ? -0.0 : u < 0.0 ? 0.0 : std::round(u * 8.0) / 8.0;
+      case 6:
+        return std::tan(3.14159265358979 * u);
       default:
         return u;
     }
@@ -273,6 +281,21 @@ std::vector<PlanarSample> Spans(const PlanarData& d) {
   return s;
 }
 
+// PlanarMomentsOfEach on all of d's samples at once against the plain definition of each.
+void ExpectPlainBits(const PlanarData& d, const std::string& what) {
+  std::vector<PlanarMoments> out(d.x.size());
+  PlanarMomentsOfEach(Spans(d), out);
+  for (size_t k = 0; k < d.x.size(); ++k) {
+    const std::string sample = what + " sample " + std::to_string(k);
+    const PlainPlanar p = PlainPlanarMoments(d.x[k], d.y[k], d.theta[k]);
+    ExpectSameMoments(out[k].x, p.x, sample + " x");
+    ExpectSameMoments(out[k].y, p.y, sample + " y");
+    ExpectSameMoments(out[k].theta, p.theta, sample + " theta");
+    ExpectSameMoments(out[k].radial, p.radial, sample + " radial");
+    ExpectSameBits(out[k].sum_sq, p.sum_sq, sample + " sum_sq");
+  }
+}
+
 TEST(PlanarMoments, HaveTheBitsOfThePlainDefinition) {
   // n = 1, 2, 3, around the 128-value tile (remainders 1 and 127), and a data point's 100,000;
   // 1 to 4 samples; every kind of data.
@@ -281,20 +304,57 @@ TEST(PlanarMoments, HaveTheBitsOfThePlainDefinition) {
     for (size_t count = 1; count <= 4; ++count) {
       for (int kind = 0; kind <= 4; ++kind) {
         if (n == 100000 && (count == 3 || kind == 2)) continue;  // enough of the large ones
-        const PlanarData d = MakePlanar(count, n, kind, 11 * n + 7 * count + kind);
-        std::vector<PlanarMoments> out(count);
-        PlanarMomentsOfEach(Spans(d), out);
-        for (size_t k = 0; k < count; ++k) {
-          const std::string what = "n " + std::to_string(n) + " samples " + std::to_string(count) +
-                                   " kind " + std::to_string(kind) + " sample " + std::to_string(k);
-          const PlainPlanar p = PlainPlanarMoments(d.x[k], d.y[k], d.theta[k]);
-          ExpectSameMoments(out[k].x, p.x, what + " x");
-          ExpectSameMoments(out[k].y, p.y, what + " y");
-          ExpectSameMoments(out[k].theta, p.theta, what + " theta");
-          ExpectSameMoments(out[k].radial, p.radial, what + " radial");
-          ExpectSameBits(out[k].sum_sq, p.sum_sq, what + " sum_sq");
+        ExpectPlainBits(MakePlanar(count, n, kind, 11 * n + 7 * count + kind),
+                        "n " + std::to_string(n) + " samples " + std::to_string(count) + " kind " +
+                            std::to_string(kind));
+      }
+    }
+  }
+}
+
+TEST(PlanarMoments, HaveThePlainBitsAtEveryLengthUpTo300) {
+  // The sums run in vector lanes (one lane per column of a sample) over blocks of 8 indices, with
+  // a scalar tail, and pass 2 in tiles of 128: every length up to 300 crosses every block and tile
+  // remainder, for 1 to 4 samples (5 to 20 chains in pass 1, 4 to 16 in pass 2: every mix of lane
+  // groups of 8, 4, 2 and 1).
+  for (size_t n = 1; n <= 300; ++n) {
+    for (size_t count = 1; count <= 4; ++count) {
+      for (const int kind : {3, 5, 6}) {
+        ExpectPlainBits(MakePlanar(count, n, kind, 3 * n + count + 1000 * kind),
+                        "n " + std::to_string(n) + " samples " + std::to_string(count) + " kind " +
+                            std::to_string(kind));
+        if (HasFailure()) return;
+      }
+    }
+  }
+}
+
+TEST(PlanarMoments, HaveThePlainBitsOnEveryKindOfData) {
+  // The kinds the length sweep skips, and every kind at lengths just off a data point's 100,000.
+  for (const size_t n : {size_t{255}, size_t{99999}, size_t{100001}}) {
+    for (int kind = 0; kind <= 6; ++kind) {
+      const size_t count = n == 99999 ? 3 : 2;
+      ExpectPlainBits(MakePlanar(count, n, kind, 5 * n + count + kind),
+                      "n " + std::to_string(n) + " samples " + std::to_string(count) + " kind " +
+                          std::to_string(kind));
+    }
+  }
+}
+
+TEST(PlanarMoments, KeepEachChainInItsLane) {
+  // Every column of every sample a different constant offset plus small noise: a sum that lands
+  // in another column's lane, or takes its values in another order, changes the bits.
+  for (const size_t n : {size_t{8}, size_t{16}, size_t{37}, size_t{129}}) {
+    for (size_t count = 1; count <= 4; ++count) {
+      PlanarData d = MakePlanar(count, n, 0, 77 + n + count);
+      for (size_t k = 0; k < count; ++k) {
+        for (size_t i = 0; i < n; ++i) {
+          d.x[k][i] += 1e3 * static_cast<double>(3 * k + 1);
+          d.y[k][i] += 1e3 * static_cast<double>(3 * k + 2);
+          d.theta[k][i] += 1e3 * static_cast<double>(3 * k + 3);
         }
       }
+      ExpectPlainBits(d, "n " + std::to_string(n) + " samples " + std::to_string(count));
     }
   }
 }
@@ -375,6 +435,30 @@ TEST(PlanarMoments, RejectNonFiniteValuesNamingTheFirst) {
   const std::vector<double> none;
   EXPECT_INPUT_ERROR((run({{none, none, none}})),
                      "the moments needs at least 1 samples, got 0; expected at least 1");
+}
+
+TEST(PlanarMoments, RejectANonFiniteValueInAnyLaneAndPosition) {
+  // One NaN or infinity in any column of any of 1 to 4 samples, in a vector block (first, last
+  // index of a block) or the scalar tail: the message names it.
+  constexpr size_t kN = 301;  // 37 blocks of 8 and a tail of 5
+  for (size_t count = 1; count <= 4; ++count) {
+    for (size_t k = 0; k < count; ++k) {
+      for (int column = 0; column < 3; ++column) {
+        for (const size_t at :
+             {size_t{0}, size_t{7}, size_t{8}, size_t{150}, size_t{297}, kN - 1}) {
+          for (const bool nan : {true, false}) {
+            PlanarData d = MakePlanar(count, kN, 0, 9 + at);
+            auto& values = column == 0 ? d.x : column == 1 ? d.y : d.theta;
+            values[k][at] = nan ? std::nan("") : -std::numeric_limits<double>::infinity();
+            std::vector<PlanarMoments> out(count);
+            EXPECT_INPUT_ERROR(PlanarMomentsOfEach(Spans(d), out),
+                               "sample value " + std::to_string(at + 1) + " is " +
+                                   (nan ? "NaN" : "infinite") + "; expected finite numbers");
+          }
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
