@@ -291,7 +291,7 @@ constexpr unsigned kCoarseBits = 13;
 constexpr std::size_t kCoarseBins = std::size_t{1} << kCoarseBits;
 // Buckets per non-zero value (within the cap): num / den.
 constexpr std::uint64_t kBucketsPerValueNum = 1;
-constexpr std::uint64_t kBucketsPerValueDen = 1;
+constexpr std::uint64_t kBucketsPerValueDen = 2;
 // A key holds a bucket (< 2^17), the low `shift` bits of |d| and the sign bit: shift <= 46.
 constexpr unsigned kMaxLowBits = 46;
 // A value is ranked by comparing it with the kWindow keys either side of it in bucket order;
@@ -552,13 +552,14 @@ bool ScatterByBucket(std::span<const double> d, double* d_keys, const BucketMap&
     for (std::size_t i = 0; i < len; ++i) ++ends[(block[i] >> bucket_shift) + 1];
     if (d_keys != nullptr) std::memcpy(d_keys + i0, block.data(), len * sizeof(double));
   }
-  std::uint32_t fullest = 0;
-  for (std::size_t k = 2; k < ends.size(); ++k) {
-    const std::uint32_t count = ends[k];
-    if (count > kWindow + 1) wide->push_back(static_cast<std::uint32_t>(k - 1));
-    fullest = std::max(fullest, count);
-    ends[k] += ends[k - 1];
+  std::uint32_t fullest = 0;  // of buckets 1..: a reduction that vectorises
+  for (std::size_t k = 2; k < ends.size(); ++k) fullest = std::max(fullest, ends[k]);
+  if (fullest > kWindow + 1) {
+    for (std::size_t k = 2; k < ends.size(); ++k) {
+      if (ends[k] > kWindow + 1) wide->push_back(static_cast<std::uint32_t>(k - 1));
+    }
   }
+  for (std::size_t k = 2; k < ends.size(); ++k) ends[k] += ends[k - 1];
   if (fullest > 32 && fullest > n / 64) {  // clustered: sorting pays
     if (d_keys != nullptr) RestoreDifferences(map, std::span<double>(d_keys, n));
     return false;
