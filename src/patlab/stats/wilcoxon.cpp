@@ -289,6 +289,8 @@ constexpr std::size_t kMaxRankBuckets = std::size_t{1} << 17;
 // The coarse bins of the bucket map: 2^12 counters (see BucketMap).
 constexpr unsigned kCoarseBits = 13;
 constexpr std::size_t kCoarseBins = std::size_t{1} << kCoarseBits;
+// The coarse bins are counted on every kSampleStride-th value.
+constexpr std::size_t kSampleStride = 4;
 // Buckets per non-zero value (within the cap): num / den.
 constexpr std::uint64_t kBucketsPerValueNum = 1;
 constexpr std::uint64_t kBucketsPerValueDen = 2;
@@ -355,30 +357,33 @@ bool MakeBucketMap(std::span<const double> d, const DifferenceScan& scan, Bucket
   map->shift = shift;
   map->base = scan.smallest >> shift;
   map->low_mask = (std::uint64_t{1} << shift) - 1;
-  // The count of each coarse bin (the zeros' bin last), kIdBlock values at a time: the bins in a
-  // loop that vectorises, then the counts.
+  // The count of each coarse bin (the zeros' bin last) among every kSampleStride-th value (the
+  // counts only share out the buckets: any alloc >= 1 per bin keeps the map monotone), kIdBlock
+  // values at a time: the bins in a loop that vectorises, then the counts.
   thread_local std::array<std::uint32_t, kCoarseBins + 1> counts;
   counts.fill(0);
   constexpr std::size_t kIdBlock = 256;
   std::array<std::uint32_t, kIdBlock> ids{};
-  const std::size_t n = d.size();
-  for (std::size_t i0 = 0; i0 < n; i0 += kIdBlock) {
-    const std::size_t len = std::min(kIdBlock, n - i0);
+  const std::size_t n = d.size(), sampled = (n + kSampleStride - 1) / kSampleStride;
+  for (std::size_t i0 = 0; i0 < sampled; i0 += kIdBlock) {
+    const std::size_t len = std::min(kIdBlock, sampled - i0);
     for (std::size_t i = 0; i < len; ++i) {
-      ids[i] = static_cast<std::uint32_t>(
-          map->CoarseOf(std::bit_cast<std::uint64_t>(d[i0 + i]) & ~kSignBit));
+      ids[i] = static_cast<std::uint32_t>(map->CoarseOf(
+          std::bit_cast<std::uint64_t>(d[(i0 + i) * kSampleStride]) & ~kSignBit));
     }
     for (std::size_t i = 0; i < len; ++i) ++counts[ids[i]];
   }
-  // alloc[c] = max(1, count * budget / nonzero) for an occupied bin: at most budget + kCoarseBins
-  // buckets besides bucket 0.
-  const std::uint64_t nonzero = n - scan.n_zero;
-  const std::uint64_t budget = std::min<std::uint64_t>(
-      kMaxRankBuckets - 1 - kCoarseBins, nonzero * kBucketsPerValueNum / kBucketsPerValueDen);
+  // alloc[c] = max(1, count * budget / sampled non-zero) for every bin up to the largest |d|'s:
+  // at most budget + kCoarseBins buckets besides bucket 0.
+  const std::uint64_t sampled_nonzero = std::max<std::uint64_t>(1, sampled - counts[kCoarseBins]);
+  const std::uint64_t budget =
+      std::min<std::uint64_t>(kMaxRankBuckets - 1 - kCoarseBins,
+                              (n - scan.n_zero) * kBucketsPerValueNum / kBucketsPerValueDen);
+  const std::uint64_t top = (scan.largest >> shift) - map->base;  // < kCoarseBins
   std::uint64_t off = 1;
   for (std::size_t c = 0; c < kCoarseBins; ++c) {
     const std::uint64_t alloc =
-        counts[c] == 0 ? 0 : std::max<std::uint64_t>(1, counts[c] * budget / nonzero);
+        c > top ? 0 : std::max<std::uint64_t>(1, counts[c] * budget / sampled_nonzero);
     map->table[c] = (off << 32) | alloc;
     off += alloc;
   }
