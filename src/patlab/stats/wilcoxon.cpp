@@ -184,15 +184,15 @@ struct DifferenceScan {
   std::uint64_t smallest = 0;  // 0 when every difference is zero
 };
 
-// One loop without an early exit, which the compiler vectorises: m - 1 wraps a zero magnitude
-// round to the largest integer, so the minimum skips the zeros.
+// One loop without an early exit, written (ternaries, no std::max on references) so that the
+// compiler vectorises it: m - 1 wraps a zero magnitude round to the largest integer, so the
+// minimum skips the zeros.
 DifferenceScan ScanDifferences(std::span<const double> d) {
-  std::uint64_t largest = 0, smallest_less_one = ~std::uint64_t{0};
-  std::size_t zeros = 0;
+  std::uint64_t largest = 0, smallest_less_one = ~std::uint64_t{0}, zeros = 0;
   for (const double v : d) {
     const std::uint64_t m = std::bit_cast<std::uint64_t>(v) & ~kSignBit;
-    largest = std::max(largest, m);
-    smallest_less_one = std::min(smallest_less_one, m - 1);
+    largest = m > largest ? m : largest;
+    smallest_less_one = m - 1 < smallest_less_one ? m - 1 : smallest_less_one;
     zeros += m == 0 ? 1 : 0;
   }
   return {zeros, largest, smallest_less_one + 1};
