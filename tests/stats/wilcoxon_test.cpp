@@ -295,8 +295,8 @@ int TakesBucketPath(int kind, std::size_t n, ZeroMethod zero) {
 TEST(Wilcoxon, SortFreeRankSumsMatchTheTextbookSortedWalkBitForBit) {
   std::mt19937_64 rng(20261202);
   // Around the path's minimum n, past the 2^17 bucket cap (n / 2 buckets), and 1, 2, 3 values.
-  std::vector<std::size_t> sizes = {1,    2,    3,     17,     1000,  1023,
-                                    1024, 1025, 4096,  50000,  100000, 262145};
+  std::vector<std::size_t> sizes = {1,    2,    3,    17,    1000,   1023,
+                                    1024, 1025, 4096, 50000, 100000, 262145};
   for (int extra = 0; extra < 6; ++extra) sizes.push_back(1024 + rng() % 20000);
   int bucket_runs = 0, must_runs = 0;
   for (int kind = 0; kind < kPropertyKinds; ++kind) {

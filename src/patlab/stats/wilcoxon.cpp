@@ -239,8 +239,7 @@ WilcoxonResult FromSums(std::size_t n, std::size_t n_zero, const detail::SignedR
 }
 
 bool SumsByBuckets(std::span<const double> d, double* d_keys, const DifferenceScan& scan,
-                   ZeroMethod zero_method, std::span<double> scratch,
-                   detail::SignedRankSums* sums);
+                   ZeroMethod zero_method, std::span<double> scratch, detail::SignedRankSums* sums);
 
 // The sums of d without sorting where the bucket path applies; otherwise d is sorted by magnitude
 // in place with `scratch`, and walked.
@@ -328,7 +327,7 @@ inline std::uint64_t MagnitudeAt(const double* keys, std::size_t i) { return Key
 // is key >> (shift + 1): everything after the map works on keys, without the table.
 struct BucketMap {
   unsigned shift = 0;
-  std::uint64_t base = 0;     // smallest >> shift
+  std::uint64_t base = 0;      // smallest >> shift
   std::uint64_t low_mask = 0;  // 2^shift - 1
   std::size_t buckets = 0;     // bucket ids are 0 .. buckets - 1
   // Per coarse bin (and one more, kCoarseBins, for the zeros: 0): off[c] << 32 | alloc[c].
@@ -368,8 +367,8 @@ bool MakeBucketMap(std::span<const double> d, const DifferenceScan& scan, Bucket
   for (std::size_t i0 = 0; i0 < sampled; i0 += kIdBlock) {
     const std::size_t len = std::min(kIdBlock, sampled - i0);
     for (std::size_t i = 0; i < len; ++i) {
-      ids[i] = static_cast<std::uint32_t>(map->CoarseOf(
-          std::bit_cast<std::uint64_t>(d[(i0 + i) * kSampleStride]) & ~kSignBit));
+      ids[i] = static_cast<std::uint32_t>(
+          map->CoarseOf(std::bit_cast<std::uint64_t>(d[(i0 + i) * kSampleStride]) & ~kSignBit));
     }
     for (std::size_t i = 0; i < len; ++i) ++counts[ids[i]];
   }
