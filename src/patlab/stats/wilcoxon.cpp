@@ -285,11 +285,14 @@ namespace {
 
 // At most 2^17 buckets (O(buckets) thread-local counters, docs/hardening.md "Bounded memory").
 constexpr std::size_t kMaxRankBuckets = std::size_t{1} << 17;
-// The coarse bins of the bucket map: 2^12 counters (see BucketMap).
+// The coarse bins of the bucket map: 2^13 counters (see BucketMap).
 constexpr unsigned kCoarseBits = 13;
 constexpr std::size_t kCoarseBins = std::size_t{1} << kCoarseBits;
 // The coarse bins are counted on every kSampleStride-th value.
 constexpr std::size_t kSampleStride = 4;
+// Bins and keys are computed kIdBlock values at a time (loops that vectorise; the table lookups
+// as gathers), then counted or scattered.
+constexpr std::size_t kIdBlock = 256;
 // Buckets per non-zero value (within the cap): num / den.
 constexpr std::uint64_t kBucketsPerValueNum = 1;
 constexpr std::uint64_t kBucketsPerValueDen = 2;
@@ -308,7 +311,7 @@ inline std::uint64_t KeyAt(const double* keys, std::size_t i) {
 }
 inline std::uint64_t MagnitudeAt(const double* keys, std::size_t i) { return KeyAt(keys, i) >> 1; }
 
-// A non-decreasing map of |d| onto about one bucket per non-zero value, however the magnitudes
+// A non-decreasing map of |d| onto about one bucket per two non-zero values, however the magnitudes
 // spread (the runner's differences are heavy-tailed: on n / 2 equal-width buckets a few buckets
 // near 0 held tens of values each). Two levels, both on the bits m of |d| (which order as |d|
 // does):
@@ -316,7 +319,8 @@ inline std::uint64_t MagnitudeAt(const double* keys, std::size_t i) { return Key
 //   non-zero magnitude into kCoarseBins bins (a bin is a 2^-k slice of a binade: log-like);
 // - the bin's alloc[c] fine buckets, numbered from off[c] (off[c + 1] = off[c] + alloc[c]),
 //   share its span linearly: bucket = off[c] + floor(low * alloc[c] / 2^shift), low = the
-//   lowest `shift` bits of m. alloc[c] follows the bin's count, so buckets hold ~1 value.
+//   lowest `shift` bits of m. alloc[c] >= 1 for every bin up to the largest |d|'s, and follows
+//   the bin's count in a sample, so that buckets hold ~2 values (a wrong share costs time only).
 // Bucket 0 holds the zeros. Monotone: for m < m', either c < c', and then bucket(m) <= off[c] +
 // alloc[c] - 1 < off[c'] <= bucket(m') since low < 2^shift; or c == c' and low < low', and the
 // integer product and shift round down alike, so bucket(m) <= bucket(m'). Equal magnitudes get
@@ -361,7 +365,6 @@ bool MakeBucketMap(std::span<const double> d, const DifferenceScan& scan, Bucket
   // values at a time: the bins in a loop that vectorises, then the counts.
   thread_local std::array<std::uint32_t, kCoarseBins + 1> counts;
   counts.fill(0);
-  constexpr std::size_t kIdBlock = 256;
   std::array<std::uint32_t, kIdBlock> ids{};
   const std::size_t n = d.size(), sampled = (n + kSampleStride - 1) / kSampleStride;
   for (std::size_t i0 = 0; i0 < sampled; i0 += kIdBlock) {
@@ -530,8 +533,7 @@ void TallyRest(double* keys, std::size_t n, const std::vector<std::uint32_t>& en
   }
 }
 
-// The keys of d, kIdBlock at a time (a loop that vectorises, table lookups as gathers).
-constexpr std::size_t kIdBlock = 256;
+// The keys of d[0, len), len <= kIdBlock (a loop that vectorises, table lookups as gathers).
 void BlockKeys(const double* d, std::size_t len, const BucketMap& map, std::uint64_t* block) {
   for (std::size_t i = 0; i < len; ++i) block[i] = map.KeyOf(d[i]);
 }
