@@ -237,32 +237,59 @@ uint64_t Bits(double v) { return std::bit_cast<uint64_t>(v); }
 // 2^-60..2^60 (the widest range the map takes is 2^13 coarse bins of 2^-6 binade), 16 the same
 // over 2^-70..2^70 (too wide: sorted), 17 three values of one magnitude in each bucket-sized
 // step (every group a tie of 3).
+// Value k of PropertySample's kind from a normal draw x, a random sign and the generator.
+double PropertyValue(int kind, std::size_t k, double x, double sign, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> uniform(-300.0, 300.0);
+  const auto random_binade = [&](int half_width) {
+    return static_cast<int>(rng() % static_cast<unsigned>(2 * half_width + 1)) - half_width;
+  };
+  switch (kind) {
+    case 1:
+      return std::round(x * 8.0) / 8.0;
+    case 2:
+      return k % 3 == 0 ? sign * 0.0 : x;
+    case 3:
+      return (x < 0 ? -1.0 : 1.0) * std::pow(10.0, uniform(rng));
+    case 4:
+      return k % 1000 == 7 ? x * 1e6 : x * std::fabs(x) * 1e-3;
+    case 5:
+      return -2.5;
+    case 6:
+      return sign * 0.75;
+    case 7:
+      return x * 1e-320;
+    case 8:
+      return std::round(x * 0x1p12) * 0x1p-12;
+    case 9:
+      return std::round(x * 0x1p17) * 0x1p-17;
+    case 10:
+      return sign * 1e-3 * std::exp(3.0 * x);
+    case 11:
+      return k % 10 == 0 ? x : sign * 0.0;
+    case 12:
+      return sign * (1.0 + std::fabs(x) * 0x1p-40);
+    case 13:
+      return std::round(sign * 1e-3 * std::exp(3.0 * x) * 0x1p20) * 0x1p-20;
+    case 14:
+      return k % 4 == 0 ? sign * (1.0 + 1e-6 * x) : x;
+    case 15:
+      return sign * std::ldexp(1.0 + std::fabs(x), random_binade(60));
+    case 16:
+      return sign * std::ldexp(1.0 + std::fabs(x), random_binade(70));
+    case 17:
+      return sign * static_cast<double>(k / 3 + 1) * 0x1p-30;
+    default:
+      return x;
+  }
+}
+
 std::vector<double> PropertySample(int kind, std::size_t n, std::mt19937_64& rng) {
   std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> uniform(-300.0, 300.0);
   std::vector<double> d(n);
   for (std::size_t k = 0; k < n; ++k) {
     const double x = normal(rng);
     const double sign = rng() % 2 ? 1.0 : -1.0;
-    double v = x;
-    if (kind == 1) v = std::round(x * 8.0) / 8.0;
-    if (kind == 2) v = k % 3 == 0 ? (rng() % 2 ? 0.0 : -0.0) : x;
-    if (kind == 3) v = (x < 0 ? -1.0 : 1.0) * std::pow(10.0, uniform(rng));
-    if (kind == 4) v = k % 1000 == 7 ? x * 1e6 : x * std::fabs(x) * 1e-3;
-    if (kind == 5) v = -2.5;
-    if (kind == 6) v = rng() % 2 ? 0.75 : -0.75;
-    if (kind == 7) v = x * 1e-320;
-    if (kind == 8) v = std::round(x * 0x1p12) * 0x1p-12;
-    if (kind == 9) v = std::round(x * 0x1p17) * 0x1p-17;
-    if (kind == 10) v = sign * 1e-3 * std::exp(3.0 * x);
-    if (kind == 11) v = k % 10 == 0 ? x : sign * 0.0;
-    if (kind == 12) v = sign * (1.0 + std::fabs(x) * 0x1p-40);
-    if (kind == 13) v = std::round(sign * 1e-3 * std::exp(3.0 * x) * 0x1p20) * 0x1p-20;
-    if (kind == 14) v = k % 4 == 0 ? sign * (1.0 + 1e-6 * x) : x;
-    if (kind == 15) v = sign * std::ldexp(1.0 + std::fabs(x), static_cast<int>(rng() % 121) - 60);
-    if (kind == 16) v = sign * std::ldexp(1.0 + std::fabs(x), static_cast<int>(rng() % 141) - 70);
-    if (kind == 17) v = sign * static_cast<double>(k / 3 + 1) * 0x1p-30;
-    d[k] = v;
+    d[k] = PropertyValue(kind, k, x, sign, rng);
   }
   return d;
 }
