@@ -379,8 +379,11 @@ TEST(Wilcoxon, InPlaceDeclineRestoresTheDifferences) {
     std::vector<double> d = PropertySample(kind, 5000, rng);
     d[10] = -0.0;
     d[11] = 0.0;
-    d[12] = 1e-300;
+    d[12] = d[12] * (1.0 + 0x1p-52);  // a value beside the cluster, one ulp away
     std::vector<double> in_place = d, scratch(d.size());
+    detail::SignedRankSums sums;
+    const auto zeros = static_cast<std::size_t>(std::count(d.begin(), d.end(), 0.0));
+    ASSERT_FALSE(detail::SignedRankSumsByBuckets(d, zeros, ZeroMethod::kWilcox, scratch, &sums));
     WilcoxonSignedRankInPlace(in_place, scratch);
     const auto order = [](double a, double b) { return Bits(a) < Bits(b); };
     std::sort(d.begin(), d.end(), order);
