@@ -170,6 +170,23 @@ BENCHMARK(BM_WilcoxonInPlace)
     ->Args({100000, 1})
     ->Unit(benchmark::kMillisecond);
 
+// The runner's Wilcoxon on heavy-tailed differences like fig5's |error| fast - ML (Butterfly,
+// SSL-standard): magnitudes 1e-3 x exp(3 N(0, 1)), spread over ~40 binades and piled up near
+// their median, with random signs; in place with the caller's scratch (copy of d timed with it).
+void BM_WilcoxonHeavyTails(benchmark::State& state) {
+  const std::vector<double> u = Sample(8, 100000, 0.0, 0.0);  // roughly N(0, 2/3)
+  const std::vector<double> s = Sample(9, 100000, 0.0, 0.0);
+  std::vector<double> d(u.size()), work(u.size()), scratch(u.size());
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    d[i] = (s[i] < 0 ? -1e-3 : 1e-3) * std::exp(3.0 * 1.2247 * u[i]);
+  }
+  for (auto _ : state) {
+    std::copy(d.begin(), d.end(), work.begin());
+    benchmark::DoNotOptimize(patlab::stats::WilcoxonSignedRankInPlace(work, scratch));
+  }
+}
+BENCHMARK(BM_WilcoxonHeavyTails)->Unit(benchmark::kMillisecond);
+
 // One sort of 100,000 doubles (the unit of work of the tests above), and the same with
 // std::sort for scale.
 void BM_SortAscending(benchmark::State& state) {

@@ -229,39 +229,104 @@ uint64_t Bits(double v) { return std::bit_cast<uint64_t>(v); }
 // 4 half-normal piled up at 0 with outliers 1e6 times larger (uneven buckets), 5 all equal,
 // 6 two values +-x (every bucket but two empty), 7 tiny subnormals only, 8 ties within buckets
 // (quantised to 2^-12: up to ~15 copies of a value), 9 occasional ties among distinct values in
-// a bucket (quantised to 2^-17). Kinds 0, 2, 8 and 9 take the sort-free path from n = 1024 on,
-// the others (clustered or extreme magnitudes) fall back to the sort.
+// a bucket (quantised to 2^-17), 10 heavy tails like the runner's differences of |errors|
+// (log-normal magnitudes over ~40 binades), 11 nine zeros in ten, 12 every magnitude in one
+// coarse bin (1 + 2^-40 u: the fine buckets split one bin), 13 heavy tails quantised to 2^-20
+// (ties of many sizes, zeros), 14 every 4th value (the coarse bins' sample) from a narrow cluster
+// and the others spread (buckets shared out wrongly: wide buckets, sorted), 15 magnitudes
+// 2^-60..2^60 (the widest range the map takes is 2^13 coarse bins of 2^-6 binade), 16 the same
+// over 2^-70..2^70 (too wide: sorted), 17 three values of one magnitude in each bucket-sized
+// step (every group a tie of 3).
+// Value k of PropertySample's kind from a normal draw x, a random sign and the generator.
+double PropertyValue(int kind, std::size_t k, double x, double sign, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> uniform(-300.0, 300.0);
+  const auto random_binade = [&](int half_width) {
+    return static_cast<int>(rng() % static_cast<unsigned>(2 * half_width + 1)) - half_width;
+  };
+  switch (kind) {
+    case 1:
+      return std::round(x * 8.0) / 8.0;
+    case 2:
+      return k % 3 == 0 ? sign * 0.0 : x;
+    case 3:
+      return (x < 0 ? -1.0 : 1.0) * std::pow(10.0, uniform(rng));
+    case 4:
+      return k % 1000 == 7 ? x * 1e6 : x * std::fabs(x) * 1e-3;
+    case 5:
+      return -2.5;
+    case 6:
+      return sign * 0.75;
+    case 7:
+      return x * 1e-320;
+    case 8:
+      return std::round(x * 0x1p12) * 0x1p-12;
+    case 9:
+      return std::round(x * 0x1p17) * 0x1p-17;
+    case 10:
+      return sign * 1e-3 * std::exp(3.0 * x);
+    case 11:
+      return k % 10 == 0 ? x : sign * 0.0;
+    case 12:
+      return sign * (1.0 + std::fabs(x) * 0x1p-40);
+    case 13:
+      return std::round(sign * 1e-3 * std::exp(3.0 * x) * 0x1p20) * 0x1p-20;
+    case 14:
+      return k % 4 == 0 ? sign * (1.0 + 1e-6 * x) : x;
+    case 15:
+      return sign * std::ldexp(1.0 + std::fabs(x), random_binade(60));
+    case 16:
+      return sign * std::ldexp(1.0 + std::fabs(x), random_binade(70));
+    case 17:
+      return sign * static_cast<double>(k / 3 + 1) * 0x1p-30;
+    default:
+      return x;
+  }
+}
+
 std::vector<double> PropertySample(int kind, std::size_t n, std::mt19937_64& rng) {
   std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> uniform(-300.0, 300.0);
   std::vector<double> d(n);
   for (std::size_t k = 0; k < n; ++k) {
     const double x = normal(rng);
-    double v = x;
-    if (kind == 1) v = std::round(x * 8.0) / 8.0;
-    if (kind == 2) v = k % 3 == 0 ? (rng() % 2 ? 0.0 : -0.0) : x;
-    if (kind == 3) v = (x < 0 ? -1.0 : 1.0) * std::pow(10.0, uniform(rng));
-    if (kind == 4) v = k % 1000 == 7 ? x * 1e6 : x * std::fabs(x) * 1e-3;
-    if (kind == 5) v = -2.5;
-    if (kind == 6) v = rng() % 2 ? 0.75 : -0.75;
-    if (kind == 7) v = x * 1e-320;
-    if (kind == 8) v = std::round(x * 0x1p12) * 0x1p-12;
-    if (kind == 9) v = std::round(x * 0x1p17) * 0x1p-17;
-    d[k] = v;
+    const double sign = rng() % 2 ? 1.0 : -1.0;
+    d[k] = PropertyValue(kind, k, x, sign, rng);
   }
   return d;
 }
+constexpr int kPropertyKinds = 18;
+
+// Whether the sort-free path must take a sample of PropertySample's kind (1) or must decline it
+// (0), or either (-1: whether the clustered buckets pass the fullness test depends on n).
+int TakesBucketPath(int kind, std::size_t n, ZeroMethod zero) {
+  if (n < detail::kSignedRanksMinN) return 0;
+  switch (kind) {
+    case 1:  // clustered: one bucket of many ties
+    case 3:  // magnitudes over 2000 binades
+    case 5:
+    case 6:
+    case 16:  // 140 binades
+      return 0;
+    case 11:  // zsplit ranks at most 2^17 zeros without sorting
+      return zero == ZeroMethod::kZsplit && n * 9 / 10 > (std::size_t{1} << 17) ? 0 : 1;
+    case 13:
+    case 14:
+      return -1;
+    default:
+      return 1;
+  }
+}
 
 // Property: for every kind of input and size, the sort-free rank sums (and the whole in-place
-// test) give the bits of the textbook sorted walk. The bucket path must actually run for most
-// of the large continuous samples.
+// test, which writes its keys over d and restores d when it declines) give the bits of the
+// textbook sorted walk. The bucket path must actually run for the kinds it is meant for.
 TEST(Wilcoxon, SortFreeRankSumsMatchTheTextbookSortedWalkBitForBit) {
   std::mt19937_64 rng(20261202);
+  // Around the path's minimum n, past the 2^17 bucket cap (n / 2 buckets), and 1, 2, 3 values.
   std::vector<std::size_t> sizes = {1,    2,    3,    17,    1000,   1023,
-                                    1024, 1025, 4096, 50000, 100000, 300000};
+                                    1024, 1025, 4096, 50000, 100000, 262145};
   for (int extra = 0; extra < 6; ++extra) sizes.push_back(1024 + rng() % 20000);
-  int bucket_runs = 0;
-  for (int kind = 0; kind < 10; ++kind) {
+  int bucket_runs = 0, must_runs = 0;
+  for (int kind = 0; kind < kPropertyKinds; ++kind) {
     for (const std::size_t n : sizes) {
       const std::vector<double> d = PropertySample(kind, n, rng);
       for (const ZeroMethod zero : {ZeroMethod::kWilcox, ZeroMethod::kPratt, ZeroMethod::kZsplit}) {
@@ -272,8 +337,11 @@ TEST(Wilcoxon, SortFreeRankSumsMatchTheTextbookSortedWalkBitForBit) {
         detail::SignedRankSums sums;
         const bool sort_free =
             detail::SignedRankSumsByBuckets(d, want.n_zero, zero, scratch, &sums);
-        const bool smooth = kind == 0 || kind == 2 || kind == 8 || kind == 9;
-        ASSERT_EQ(sort_free, smooth && n >= detail::kSignedRanksMinN);
+        const int expected = TakesBucketPath(kind, n, zero);
+        if (expected >= 0) {
+          ASSERT_EQ(sort_free, expected == 1);
+        }
+        must_runs += expected == 1 ? 1 : 0;
         if (sort_free) {
           ++bucket_runs;
           ASSERT_EQ(Bits(sums.r_plus), Bits(want.r_plus));
@@ -298,7 +366,30 @@ TEST(Wilcoxon, SortFreeRankSumsMatchTheTextbookSortedWalkBitForBit) {
       }
     }
   }
-  EXPECT_EQ(bucket_runs, 4 * 12 * 3);
+  EXPECT_GE(bucket_runs, must_runs);
+  EXPECT_GT(must_runs, 10 * 12 * 3);
+}
+
+// When the sort-free path declines after writing its keys over d (a bucket too full: one value
+// repeated, or two), the in-place test restores every difference exactly before sorting: d
+// ends up a permutation of what it was, signed zeros included.
+TEST(Wilcoxon, InPlaceDeclineRestoresTheDifferences) {
+  std::mt19937_64 rng(7);
+  for (const int kind : {5, 6, 1}) {
+    std::vector<double> d = PropertySample(kind, 5000, rng);
+    d[10] = -0.0;
+    d[11] = 0.0;
+    d[12] = d[12] * (1.0 + 0x1p-52);  // a value beside the cluster, one ulp away
+    std::vector<double> in_place = d, scratch(d.size());
+    detail::SignedRankSums sums;
+    const auto zeros = static_cast<std::size_t>(std::count(d.begin(), d.end(), 0.0));
+    ASSERT_FALSE(detail::SignedRankSumsByBuckets(d, zeros, ZeroMethod::kWilcox, scratch, &sums));
+    WilcoxonSignedRankInPlace(in_place, scratch);
+    const auto order = [](double a, double b) { return Bits(a) < Bits(b); };
+    std::sort(d.begin(), d.end(), order);
+    std::sort(in_place.begin(), in_place.end(), order);
+    for (std::size_t k = 0; k < d.size(); ++k) ASSERT_EQ(Bits(in_place[k]), Bits(d[k])) << k;
+  }
 }
 
 }  // namespace

@@ -86,8 +86,9 @@ EstimatorBlock Fold(const EstimatorBlock& a, const EstimatorBlock& b) {
 // p = 1.
 // The values compared are value(k) of each sample (|position error| or |theta error|); the
 // differences are written to d (value(k) is read before d[k] is written, so d may be one of the
-// arrays value reads, element k of it being dead once read) and sorted with `scratch` (an array
-// of at least `size` elements whose contents are dead): no memory that grows with the trials.
+// arrays value reads, element k of it being dead once read) and ranked in place, d overwritten,
+// with `scratch` (an array of at least `size` elements whose contents are dead): no memory that
+// grows with the trials.
 template <class Value>
 stats::WilcoxonResult PairedTest(size_t size, Value value, double* d_out,
                                  std::span<double> scratch) {

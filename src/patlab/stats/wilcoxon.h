@@ -86,9 +86,9 @@ WilcoxonResult WilcoxonSignedRank(std::span<const double> x, std::span<const dou
                                   const WilcoxonOptions& options = {});
 // The same on the differences d directly.
 WilcoxonResult WilcoxonSignedRank(std::span<const double> d, const WilcoxonOptions& options = {});
-// The same on differences the caller no longer needs: d may be reordered (it is sorted by
-// magnitude when the sort-free path below does not apply; no copy of the sample is made), with
-// bit-identical results.
+// The same on differences the caller no longer needs: d is overwritten (the sort-free path below
+// writes its keys over it; d is sorted by magnitude when that path does not apply; no copy of the
+// sample is made), with bit-identical results.
 WilcoxonResult WilcoxonSignedRankInPlace(std::span<double> d, const WilcoxonOptions& options = {});
 // The same with the caller's scratch (at least d.size() long, overwritten): no memory that grows
 // with n is allocated.
@@ -107,13 +107,15 @@ struct SignedRankSums {
 };
 
 // The sums without sorting d, bit for bit those of the sorted walk: the non-zero |d| are counted
-// into equal-width buckets (a non-decreasing map, so equal values share a bucket), and a bucket's
-// ranks follow from the counts before it; only the order inside each bucket (a few values) is
-// looked at. The ranks are summed as integers, exact. d is only read; `scratch` (at least d.size()
-// long) is overwritten. Returns false, computing nothing, when the path does not apply: fewer
-// than kSignedRanksMinN differences, no non-zero one, more than kSignedRanksMaxN (sums would
-// pass 2^53), or magnitudes too clustered or too spread for equal-width buckets (ties of one
-// value, 1e-310 beside 1e300); the caller then sorts.
+// into about n / 2 buckets by a non-decreasing map of equal-frequency buckets (coarse bins on the
+// bits of |d|, each split into buckets by its share of a sample; equal values share a bucket),
+// and a bucket's ranks follow from the counts before it; only the order inside each bucket (a
+// few values) is looked at. The ranks are summed as integers, exact. d is only read; `scratch`
+// (at least d.size() long) is overwritten. Returns false, computing nothing, when the path does
+// not apply: fewer than kSignedRanksMinN differences, no non-zero one, more than
+// kSignedRanksMaxN (sums would pass 2^53), non-zero magnitudes spread over more than 2^7 binades
+// (1e-300 beside 1e300), or a bucket too full (many ties of one value, or values a few ulps
+// apart); the caller then sorts.
 inline constexpr std::size_t kSignedRanksMinN = 1024;
 inline constexpr std::size_t kSignedRanksMaxN = std::size_t{1} << 25;
 bool SignedRankSumsByBuckets(std::span<const double> d, std::size_t n_zero, ZeroMethod zero_method,
