@@ -149,11 +149,12 @@ void MomentsOfEach(std::span<const std::span<const double>> samples, std::span<M
 
 namespace {
 
-// The planar moments work on tiles of kTile values: the squares, roots and deviations of a tile
+// Pass 2 of the planar moments works on tiles of kTile values: the squared deviations of a tile
 // are computed in loops the compiler vectorises and stored in tile buffers (in L1: at most
 // 4 samples x 4 columns x 128 values = 16 KiB), and a second loop adds the tile's values to the
 // running sums, every sum in index order. A product stored in a buffer and added in another loop
-// is rounded before the addition, whatever the compiler's contraction setting.
+// is rounded before the addition, whatever the compiler's contraction setting. (Pass 1 adds no
+// product and works in blocks of 8 indices; see PlanarSums.)
 constexpr std::size_t kTile = 128;
 
 // x^2 + y^2 as the runner's former per-estimator loops computed it: GCC contracted x * x + y * y
