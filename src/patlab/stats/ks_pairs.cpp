@@ -225,8 +225,9 @@ PairsLook LookAtPairs(std::span<const double> x, std::span<const double> y) {
     }
   }
   look.lo = lo, look.hi = hi;
-  // false for NaN (the summary pass then reports it)
-  look.give_up = length * (static_cast<double>(n) / static_cast<double>(kSampled)) >= hi - lo;
+  // false for NaN (the summary pass then reports it) and when the sampled pairs are all equal
+  look.give_up =
+      length > 0.0 && length * (static_cast<double>(n) / static_cast<double>(kSampled)) >= hi - lo;
   return look;
 }
 
