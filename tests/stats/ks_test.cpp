@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <iomanip>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -578,6 +579,144 @@ TEST(Ks, BucketWalkInWindowsAgreesWhenTheSizesDiffer) {
     const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
     ExpectSameExtremes(detail::EcdfExtremesByBuckets(x, y), want);
     ExpectSameExtremes(detail::EcdfExtremesByBuckets(y, x), StraightforwardExtremes(y, x));
+  }
+}
+
+// Paired samples that really differ (fast and ML on Butterfly and SSL-standard): a look at 256
+// pairs sends them to the bucket walk over a range guessed from those pairs, counted in one pass
+// over the pairs, the walk planned on the integer counts. Against the straightforward walk: sizes
+// at the paired walk's threshold (n1 + n2 = 4096) and around the chunks, fig5-like errors, heavy
+// tails (values beyond the guess in the end buckets, which are then walked), the extremes out in
+// the tails (within the guess, and beyond it), ties and signed zeros, sorted samples (the guess
+// misses most of the range: the counts again over the range found), a constant sample against a
+// varying one.
+TEST(Ks, PairsThatReallyDifferAgreeWithTheStraightforwardWalk) {
+  Lcg rng{31337};
+  const auto uniform = [&rng] { return rng.Uniform(); };
+  const auto normal = [&rng] { return rng.Normal(); };
+  for (int kind = 0; kind < 8; ++kind) {
+    for (const size_t n : {2048u, 2049u, 4099u, 100000u, 100003u}) {
+      SCOPED_TRACE(::testing::Message() << "kind " << kind << " n " << n);
+      std::vector<double> x(n), y(n);
+      for (size_t k = 0; k < n; ++k) {
+        x[k] = normal();
+        y[k] = x[k] / 1.1 + 0.4 * normal();
+        switch (kind) {
+          case 1:  // heavy tails: a ratio of normals (Cauchy), both samples
+            x[k] = normal() / normal();
+            y[k] = 0.9 * x[k] + 0.5 * normal() / normal();
+            break;
+          case 2:  // the extremes out in the tails: 2% of the pairs far beyond the rest
+            if (k % 50 == 7) x[k] = 40.0 + normal(), y[k] = 41.5 + normal();
+            break;
+          case 3:  // ties within and across samples, signed zeros
+            x[k] = std::round(x[k] * 4.0) / 4.0;
+            y[k] = std::round(y[k] * 4.0) / 4.0;
+            if (x[k] == 0.0 && uniform() < 0.5) x[k] = -0.0;
+            if (y[k] == 0.0 && uniform() < 0.5) y[k] = -0.0;
+            break;
+          case 5:  // a constant sample against a varying one
+            x[k] = 0.25;
+            break;
+          case 6:  // widely different scales
+            y[k] = 1e6 * x[k] + normal();
+            break;
+          case 7:  // 1% of the pairs beyond the guess (none in the sampled blocks), the extremes
+                   // among them: in the end bucket, walked because it is not empty
+            if (k % 100 == 99 && k % (n / 8) >= 32)
+              x[k] = 100.0 + normal(), y[k] = 100.5 + normal();
+            break;
+          default:
+            break;
+        }
+      }
+      if (kind == 4) {  // sorted: the sampled blocks miss the top eighth and more
+        std::sort(x.begin(), x.end());
+        std::sort(y.begin(), y.end());
+        for (size_t k = 0; k < n; ++k) y[k] += 0.1 * static_cast<double>(k % 3);
+      }
+      const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(x, y), want);
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(y, x), StraightforwardExtremes(y, x));
+      const KsResult r =
+          KsTwoSample(x, y, KsOptions{Alternative::kTwoSided, KsMethod::kAsymptotic});
+      EXPECT_EQ(r.d, std::max(want.max_diff, std::clamp(-want.min_diff, 0.0, 1.0)));
+    }
+  }
+}
+
+// The bucket walk over a guessed range, any guess: good, too narrow (many values in the end
+// buckets: counted again over the range found), beside every value, inside one bucket, inverted,
+// of zero width, too wide or too small for a finite scale, NaN. Every one gives the walk's result.
+TEST(Ks, PairsBucketWalkAgreesWhateverTheGuessedRange) {
+  Lcg rng{8080};
+  const auto normal = [&rng] { return rng.Normal(); };
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (const size_t n : {3000u, 65536u}) {
+    std::vector<double> x(n), y(n);
+    for (size_t k = 0; k < n; ++k) {
+      x[k] = normal() * 2.0;
+      y[k] = x[k] * 0.8 + normal();
+      if (k % 97 == 0) y[k] *= 30.0;  // a few far out: the end buckets of most guesses
+    }
+    const detail::EcdfExtremes want = StraightforwardExtremes(x, y);
+    for (const auto& [lo, hi] : {std::pair{-3.0, 3.0},
+                                 {-8.0, 8.0},
+                                 {-0.5, 0.5},
+                                 {100.0, 200.0},
+                                 {-200.0, -100.0},
+                                 {0.1, 0.1 + 1e-15},
+                                 {3.0, -3.0},
+                                 {1.0, 1.0},
+                                 {-1e308, 1e308},
+                                 {0.0, 1e-310},
+                                 {std::nan(""), 1.0},
+                                 {-kInf, kInf}}) {
+      SCOPED_TRACE(::testing::Message() << "n " << n << " guess " << lo << ", " << hi);
+      ExpectSameExtremes(detail::internal::ExtremesOfPairsByBuckets(x, y, lo, hi), want);
+    }
+  }
+}
+
+// Non-finite values where the look sends the pairs to the bucket walk: NaN and infinities go to
+// the end buckets, which are then walked and checked; the messages are RequireFinite's (sample 1
+// first, the first bad value), also when the bad value is in a sampled block (the look then leaves
+// it to the summary pass), outside them, in the last pair, or in both samples.
+TEST(Ks, PairsThatReallyDifferRejectNonFiniteValues) {
+  Lcg rng{5150};
+  const auto normal = [&rng] { return rng.Normal(); };
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (const size_t n : {2048u, 100001u}) {
+    std::vector<double> x(n), y(n);
+    for (size_t k = 0; k < n; ++k) x[k] = normal(), y[k] = 0.9 * x[k] + 0.5 * normal();
+    for (const size_t at : {size_t{0}, size_t{5}, n / 2 + 3, n / 2 + 100, n - 1}) {
+      SCOPED_TRACE(::testing::Message() << "n " << n << " at " << at);
+      const std::string where = " value " + std::to_string(at + 1) + " is ";
+      for (const double bad : {std::nan(""), kInf, -kInf}) {
+        const std::string what = std::isnan(bad) ? "NaN" : "infinite";
+        std::vector<double> bx = x, by = y;
+        bx[at] = bad;
+        EXPECT_INPUT_ERROR(KsTwoSample(bx, y),
+                           "sample 1" + where + what + "; expected finite numbers");
+        by[at] = bad;
+        EXPECT_INPUT_ERROR(KsTwoSample(x, by),
+                           "sample 2" + where + what + "; expected finite numbers");
+        EXPECT_INPUT_ERROR(KsTwoSample(bx, by),
+                           "sample 1" + where + what + "; expected finite numbers");
+        // y bad here, x bad further on: sample 1's message
+        if (at + 1 < n) {
+          std::vector<double> later = x;
+          later[at + 1] = bad;
+          EXPECT_INPUT_ERROR(KsTwoSample(later, by), "sample 1 value " + std::to_string(at + 2) +
+                                                         " is " + what +
+                                                         "; expected finite numbers");
+        }
+        EXPECT_INPUT_ERROR(detail::internal::ExtremesOfPairsByBuckets(bx, y, -0.1, 0.1),
+                           "sample 1" + where + what + "; expected finite numbers");
+        EXPECT_INPUT_ERROR(detail::internal::ExtremesOfPairsByBuckets(x, by, -4.0, 4.0),
+                           "sample 2" + where + what + "; expected finite numbers");
+      }
+    }
   }
 }
 }  // namespace

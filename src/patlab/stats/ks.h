@@ -89,7 +89,7 @@ struct EcdfExtremes {
 };
 // Sorts both samples whole and walks their merged order: O(n log n).
 EcdfExtremes EcdfExtremesBySorting(std::span<const double> x, std::span<const double> y);
-// Counts both samples into min((n1 + n2) / b, 2^15) buckets of equal width (b = sqrt(n1 + n2) / 48
+// Counts both samples into min((n1 + n2) / b, 2^15) buckets of equal width (b = sqrt(n1 + n2) / 72
 // values a bucket, 2 to 16) between the smallest and the largest value, takes the ECDFs' counts at
 // every bucket end, and copies out, sorts and walks only the buckets inside which F1 - F2 could
 // reach its extremes (for continuous samples a few percent of them; all of them when the samples
@@ -102,9 +102,11 @@ EcdfExtremes EcdfExtremesByBuckets(std::span<const double> x, std::span<const do
 // estimators that agree to rounding), F1 - F2 is -1/n, 0 or 1/n up to rounding at every group
 // end, its extremes are the largest rounding step, and a walk of a few hundred values from the
 // rank where that step can first occur finds them (the derivation is in ks_pairs.cpp). Otherwise,
-// and if that walk does not find them, EcdfExtremesByBuckets. Same results as the two above, bit
-// for bit. KsTwoSample uses it for n1 = n2 and n1 + n2 >= 4096. Its first pass checks that the
-// values are finite (InputError as KsTwoSample's); the other two expect finite values.
+// and if that walk does not find them, EcdfExtremesByBuckets (samples that really differ go there
+// at once, after a look at 256 pairs, counted in one pass over the pairs on a range guessed from
+// them). Same results as the two above, bit for bit. KsTwoSample uses it for n1 = n2 and
+// n1 + n2 >= 4096. It checks that the values are finite (InputError as KsTwoSample's); the other
+// two expect finite values.
 EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const double> y);
 }  // namespace detail
 

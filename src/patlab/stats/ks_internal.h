@@ -31,7 +31,7 @@ struct Buffers {
   std::vector<uint32_t> pos1, pos2;  // write position of a bucket of the window (in_window)
   std::vector<uint8_t> walk;         // 1 for the buckets the walk must visit
   std::vector<uint32_t> walked;      // their indices, in order
-  std::vector<uint64_t> in_window;   // a bit a bucket: 1 for the walked buckets of this window
+  std::vector<uint8_t> in_window;    // a byte a bucket: 1 for the walked buckets of this window
   std::vector<double> f1, f2;        // ECDF at each bucket end: end1[k] / n1, end2[k] / n2
 };
 // This thread's Buffers (only serial code uses them).
@@ -48,13 +48,20 @@ Buffers& ThreadBuffers();
 // (scripts/bytes_per_trial.sh: 28 B a trial and estimator with 2^18, 24.6 B with 2^14).
 constexpr std::size_t kWindowValues = std::size_t{1} << 14;
 
-// Equal-width buckets between lo and hi; non-decreasing in v (each rounding is monotone), so
-// bucket k holds values <= those of k + 1 and equal values share a bucket.
+// Equal-width buckets from lo: bucket k holds the values whose position (v - lo) * scale, clamped
+// to [0, last] before its truncation, lies in [k, k + 1). Non-decreasing in v (each rounding is
+// monotone, and so are the clamps and the truncation), so bucket k holds values <= those of k + 1
+// and equal values share a bucket (-0.0 and +0.0 too: v - lo is the same for both unless lo is a
+// zero, where both positions truncate to 0). Values outside [lo, lo + (last + 1) / scale) go to
+// the end buckets, a NaN to bucket 0: defined for any input, and the walk stays exact whatever
+// the buckets' widths (its bounds only need the order). The clamps compile to a max and a min.
 struct EqualWidthBuckets {
-  double lo, scale;
-  int64_t last;
+  double lo, scale, last;
   uint32_t operator()(double v) const {
-    return static_cast<uint32_t>(std::min(static_cast<int64_t>((v - lo) * scale), last));
+    double p = (v - lo) * scale;
+    p = p > 0.0 ? p : 0.0;
+    p = p < last ? p : last;
+    return static_cast<uint32_t>(static_cast<int32_t>(p));
   }
 };
 
@@ -94,5 +101,14 @@ EcdfExtremes ExtremesOfSameSamples(std::span<const double> x);
 // EcdfExtremesByBuckets for samples that are not the same, all of whose values lie in [lo, hi].
 EcdfExtremes ExtremesByBucketsIn(std::span<const double> x, std::span<const double> y, double lo,
                                  double hi);
+
+// The same for samples of equal size that are not the same, of unknown range and finiteness: lo and
+// hi are a guess of the range (from a sample of the pairs). One pass over the pairs counts both
+// samples into buckets over the guessed range (values outside it in the end buckets) and finds
+// the range and whether every value is finite (RequireFinite's InputError otherwise, "sample 1"
+// checked first). If the end buckets hold many values (a poor guess), the counts are taken again
+// over the range found (ExtremesByBucketsIn).
+EcdfExtremes ExtremesOfPairsByBuckets(std::span<const double> x, std::span<const double> y,
+                                      double lo, double hi);
 
 }  // namespace patlab::stats::detail::internal
