@@ -14,6 +14,7 @@
 #include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
 #include "patlab/stats/summary.h"
+#include "patlab/stats/wilcoxon.h"
 
 namespace patlab::sim {
 namespace {
@@ -342,6 +343,35 @@ TEST(Runner, APointOfMoreThanOneBlockFoldsItsBlocksInTrialOrder) {
   EXPECT_EQ(ml.vs_fast.ks_x.d, stats::KsTwoSample(head(errors[0][0]), head(errors[1][0])).d);
   EXPECT_EQ(ml.vs_fast.ks_theta.p_value,
             stats::KsTwoSample(head(errors[0][2]), head(errors[1][2])).p_value);
+  // The paired Wilcoxon tests of |position error| and |theta error| on the same trials, from
+  // differences computed here trial by trial (rounding below 1e-10 + 1e-12 relative is a zero;
+  // x^2 + y^2 by the moments' rule, fma(x, x, y * y) where the target has FMA).
+  const size_t m = static_cast<size_t>(kStatisticsBlockTrials);
+  std::vector<double> d_position(m), d_theta(m);
+  const auto difference = [](double a, double b) {
+    const double diff = a - b;
+    return std::abs(diff) <= 1e-10 + 1e-12 * std::max(std::abs(a), std::abs(b)) ? 0.0 : diff;
+  };
+  const auto radius = [](double x, double y) {
+#ifdef __FMA__
+    return std::sqrt(std::fma(x, x, y * y));
+#else
+    const double yy = y * y;
+    return std::sqrt(x * x + yy);
+#endif
+  };
+  for (size_t t = 0; t < m; ++t) {
+    d_position[t] = difference(radius(errors[0][0][t], errors[0][1][t]),
+                               radius(errors[1][0][t], errors[1][1][t]));
+    d_theta[t] = difference(std::abs(errors[0][2][t]), std::abs(errors[1][2][t]));
+  }
+  const stats::WilcoxonResult position = stats::WilcoxonSignedRank(d_position);
+  const stats::WilcoxonResult theta = stats::WilcoxonSignedRank(d_theta);
+  EXPECT_EQ(ml.vs_fast.wilcoxon_position.r_plus, position.r_plus);
+  EXPECT_EQ(ml.vs_fast.wilcoxon_position.n_zero, position.n_zero);
+  EXPECT_EQ(ml.vs_fast.wilcoxon_position.p_value, position.p_value);
+  EXPECT_EQ(ml.vs_fast.wilcoxon_theta.r_plus, theta.r_plus);
+  EXPECT_EQ(ml.vs_fast.wilcoxon_theta.p_value, theta.p_value);
 }
 
 TEST(Runner, CameraNoiseModelsReportTheirOwnFirstOrderPrediction) {

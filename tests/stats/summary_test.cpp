@@ -312,6 +312,53 @@ TEST(PlanarMoments, HaveTheBitsOfThePlainDefinition) {
   }
 }
 
+TEST(PlanarMoments, ShowEveryTileOfPassTwoWithItsRadialErrorsOnceRead) {
+  // The overload with a visitor: the same bits as the plain definition; tiles in index order that
+  // cover [0, n) once, each with every sample's r = sqrt(x^2 + y^2) by the plain rule; and a
+  // visitor that overwrites the tile's values (as the runner writes its paired differences there)
+  // changes nothing, so each tile was read before it was shown and never read again.
+  for (const size_t n :
+       {size_t{1}, size_t{127}, size_t{128}, size_t{129}, size_t{300}, size_t{1000}}) {
+    for (size_t count = 1; count <= 4; ++count) {
+      for (const int kind : {0, 5, 6}) {
+        const std::string what = "n " + std::to_string(n) + " samples " + std::to_string(count) +
+                                 " kind " + std::to_string(kind);
+        const PlanarData original = MakePlanar(count, n, kind, 13 * n + 5 * count + kind);
+        PlanarData d = original;
+        size_t next = 0, mismatches = 0;
+        std::vector<PlanarMoments> out(count);
+        PlanarMomentsOfEach(Spans(d), out, [&](const PlanarTile& tile) {
+          EXPECT_EQ(tile.first, next) << what;
+          EXPECT_GE(tile.count, 1u) << what;
+          EXPECT_LE(tile.first + tile.count, n) << what;
+          next = tile.first + tile.count;
+          for (size_t k = 0; k < count; ++k) {
+            for (size_t j = 0; j < tile.count; ++j) {
+              const size_t i = tile.first + j;
+              const double r = std::sqrt(PlainSquaredRadius(original.x[k][i], original.y[k][i]));
+              mismatches +=
+                  std::bit_cast<uint64_t>(tile.radial[k][j]) != std::bit_cast<uint64_t>(r);
+              d.x[k][i] = d.y[k][i] = d.theta[k][i] = std::numeric_limits<double>::quiet_NaN();
+            }
+          }
+        });
+        EXPECT_EQ(next, n) << what;
+        EXPECT_EQ(mismatches, 0u) << what;
+        for (size_t k = 0; k < count; ++k) {
+          const PlainPlanar p = PlainPlanarMoments(original.x[k], original.y[k], original.theta[k]);
+          const std::string sample = what + " sample " + std::to_string(k);
+          ExpectSameMoments(out[k].x, p.x, sample + " x");
+          ExpectSameMoments(out[k].y, p.y, sample + " y");
+          ExpectSameMoments(out[k].theta, p.theta, sample + " theta");
+          ExpectSameMoments(out[k].radial, p.radial, sample + " radial");
+          ExpectSameBits(out[k].sum_sq, p.sum_sq, sample + " sum_sq");
+        }
+        if (HasFailure()) return;
+      }
+    }
+  }
+}
+
 TEST(PlanarMoments, HaveThePlainBitsAtEveryLengthUpTo300) {
   // The sums run in vector lanes (one lane per column of a sample) over blocks of 8 indices, with
   // a scalar tail, and pass 2 in tiles of 128: every length up to 300 crosses every block and tile

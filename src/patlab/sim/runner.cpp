@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <span>
 #include <utility>
 
@@ -41,9 +42,11 @@ struct Samples {
 // The block's moments of every estimator: x, y, theta and the radial error sqrt(x^2 + y^2) (not
 // stored: computed a tile at a time in each pass), all in one stats::PlanarMomentsOfEach call, so
 // that the estimators' addition chains overlap in one loop; the arithmetic is that of Mean and
-// SampleStd, every sum in index order.
+// SampleStd, every sum in index order. With `visit`, each tile of the second pass is shown to it
+// (PlanarMomentsOfEach's overload; samples in the order of experiment.estimators).
 void BlockMoments(const Experiment& experiment, const Samples* by_estimator, size_t size,
-                  std::span<EstimatorBlock> out) {
+                  std::span<EstimatorBlock> out,
+                  const std::function<void(const stats::PlanarTile&)>* visit = nullptr) {
   std::array<stats::PlanarSample, 4> samples;
   std::array<stats::PlanarMoments, 4> moments;
   const size_t count = experiment.estimators.size();
@@ -54,7 +57,12 @@ void BlockMoments(const Experiment& experiment, const Samples* by_estimator, siz
                                      std::span<const double>(s.y.data(), size),
                                      std::span<const double>(s.theta.data(), size)};
   }
-  stats::PlanarMomentsOfEach(std::span(samples).first(count), std::span(moments).first(count));
+  if (visit != nullptr) {
+    stats::PlanarMomentsOfEach(std::span(samples).first(count), std::span(moments).first(count),
+                               *visit);
+  } else {
+    stats::PlanarMomentsOfEach(std::span(samples).first(count), std::span(moments).first(count));
+  }
   for (size_t k = 0; k < count; ++k) {
     out[k].x = moments[k].x;
     out[k].y = moments[k].y;
@@ -79,68 +87,83 @@ EstimatorBlock Fold(const EstimatorBlock& a, const EstimatorBlock& b) {
   return f;
 }
 
-// Wilcoxon signed-rank of paired samples. A difference below 1e-10 (mm or rad) + 1e-12 relative
-// is rounding (fast, ml and lsq are the same estimator on Simple, Linear and Triangle, and the
-// errors carry the ~1e-13 rounding of poses of ~1e3 mm) and counts as a zero, which the 'wilcox'
-// zero method drops; if every difference is a zero, the samples carry no evidence of a difference:
+// The paired Wilcoxon signed-rank tests compare |error| of fast and of another estimator trial by
+// trial. A difference below 1e-10 (mm or rad) + 1e-12 relative is rounding (fast, ml and lsq are
+// the same estimator on Simple, Linear and Triangle, and the errors carry the ~1e-13 rounding of
+// poses of ~1e3 mm) and counts as a zero, which the 'wilcox' zero method drops.
+inline double PairedDifference(double a, double b) {
+  const double diff = a - b;
+  const bool rounding = std::abs(diff) <= 1e-10 + 1e-12 * std::max(std::abs(a), std::abs(b));
+  return rounding ? 0.0 : diff;
+}
+
+// The test of the differences d, `nonzero` of them not zero, ranked in place (d overwritten) with
+// `scratch` (an array of at least d.size() elements whose contents are dead): no memory that grows
+// with the trials. If every difference is a zero, the samples carry no evidence of a difference:
 // p = 1.
-// The values compared are value(k) of each sample (|position error| or |theta error|); the
-// differences are written to d (value(k) is read before d[k] is written, so d may be one of the
-// arrays value reads, element k of it being dead once read) and ranked in place, d overwritten,
-// with `scratch` (an array of at least `size` elements whose contents are dead): no memory that
-// grows with the trials.
-template <class Value>
-stats::WilcoxonResult PairedTest(size_t size, Value value, double* d_out,
-                                 std::span<double> scratch) {
-  const std::span<double> d(d_out, size);
-  size_t nonzero = 0;
-  for (size_t k = 0; k < size; ++k) {
-    const auto [a, b] = value(k);
-    const double diff = a - b;
-    const bool rounding = std::abs(diff) <= 1e-10 + 1e-12 * std::max(std::abs(a), std::abs(b));
-    d[k] = rounding ? 0.0 : diff;
-    nonzero += rounding ? 0 : 1;
-  }
+stats::WilcoxonResult PairedTest(std::span<double> d, size_t nonzero, std::span<double> scratch) {
   if (nonzero == 0) {
     stats::WilcoxonResult identical;
-    identical.n = identical.n_zero = size;
+    identical.n = identical.n_zero = d.size();
     identical.p_value = 1.0;
     return identical;
   }
   return stats::WilcoxonSignedRankInPlace(d, scratch);
 }
 
-// The tests of `other` against fast on the first n trials. They consume other's arrays: the
-// KS tests need them as they are, then the Wilcoxon differences overwrite them (position into
-// other.x, whose pair other.y is then dead and serves as the sorts' scratch; theta into
-// other.theta), so that the statistics need no array of the trials' size beyond the samples
-// (docs/hardening.md, "Bounded memory"). fast's arrays are only read (several estimators may be
-// compared with it at once). other's moments must be taken before.
-Comparison Compare(const Samples& fast, Samples* other, size_t n) {
-  Comparison c;
-  c.computed = true;
-  c.trials = static_cast<int64_t>(n);
+// The comparisons of the first block with fast, in three steps that share the moments' pass over
+// the samples:
+// 1. the KS tests of each compared estimator's x, y and theta against fast's (they only read);
+// 2. the moments (BlockMoments), whose second pass shows each tile's radial errors to Differences:
+//    it writes the paired differences of |position error| over the compared estimator's x and of
+//    |theta error| over its theta, tile by tile once the moments have read them, so that the
+//    paired tests need no pass and no square root of their own;
+// 3. the two Wilcoxon tests of each, ranked in place with the estimator's y (dead once the
+//    differences are written) as the scratch.
+// fast's arrays are only read; no array of the trials' size is needed beyond the samples
+// (docs/hardening.md, "Bounded memory").
+void KsAgainstFast(const Samples& fast, const Samples& other, size_t n, Comparison* c) {
+  c->computed = true;
+  c->trials = static_cast<int64_t>(n);
   const auto head = [n](const std::vector<double>& v) {
     return std::span<const double>(v.data(), n);
   };
   tbb::parallel_invoke(
-      [&] { c.ks_x = stats::KsTwoSample(head(fast.x), head(other->x)); },
-      [&] { c.ks_y = stats::KsTwoSample(head(fast.y), head(other->y)); },
-      [&] { c.ks_theta = stats::KsTwoSample(head(fast.theta), head(other->theta)); });
-  double* ox = other->x.data();
-  double* oy = other->y.data();
-  double* ot = other->theta.data();
-  const std::span<double> scratch(oy, n);
-  // |error| (errors are far from overflow, so no need for hypot's scaling).
-  const auto position = [&](size_t k) {
-    return std::pair{std::sqrt(fast.x[k] * fast.x[k] + fast.y[k] * fast.y[k]),
-                     std::sqrt(ox[k] * ox[k] + oy[k] * oy[k])};
-  };
-  const auto theta = [&](size_t k) { return std::pair{std::abs(fast.theta[k]), std::abs(ot[k])}; };
-  c.wilcoxon_position = PairedTest(n, position, ox, scratch);
-  c.wilcoxon_theta = PairedTest(n, theta, ot, scratch);
-  return c;
+      [&] { c->ks_x = stats::KsTwoSample(head(fast.x), head(other.x)); },
+      [&] { c->ks_y = stats::KsTwoSample(head(fast.y), head(other.y)); },
+      [&] { c->ks_theta = stats::KsTwoSample(head(fast.theta), head(other.theta)); });
 }
+
+// Step 2's visitor state: the compared estimators' sample indices (in experiment.estimators) and
+// arrays, fast's, and the count of differences that are not zero, per estimator.
+struct Differences {
+  size_t fast_index = 0;
+  const Samples* fast = nullptr;
+  std::array<Samples*, 4> other{};  // by sample index; null for fast
+  std::array<size_t, 4> nonzero_position{}, nonzero_theta{};
+
+  void operator()(const stats::PlanarTile& tile) {
+    const double* rf = tile.radial[fast_index];
+    const double* tf = fast->theta.data() + tile.first;
+    for (size_t k = 0; k < other.size(); ++k) {
+      if (other[k] == nullptr) continue;
+      const double* ro = tile.radial[k];
+      double* dp = other[k]->x.data() + tile.first;
+      double* dt = other[k]->theta.data() + tile.first;
+      size_t np = 0, nt = 0;
+      for (size_t j = 0; j < tile.count; ++j) {
+        dp[j] = PairedDifference(rf[j], ro[j]);
+        np += dp[j] != 0.0 ? 1 : 0;
+      }
+      for (size_t j = 0; j < tile.count; ++j) {
+        dt[j] = PairedDifference(std::abs(tf[j]), std::abs(dt[j]));
+        nt += dt[j] != 0.0 ? 1 : 0;
+      }
+      nonzero_position[k] += np;
+      nonzero_theta[k] += nt;
+    }
+  }
+};
 
 }  // namespace
 
@@ -285,24 +308,46 @@ void MlCounters(const PointBuffers& pb, int64_t first_trial, int64_t trials, Est
 }
 
 // Stage 2: every estimator's block statistics, from the block's samples in `pb`; the first block
-// also compares each estimator with fast. The comparisons consume the compared estimators'
-// arrays (Compare), so every estimator's moments are taken first; the arrays are not needed
-// after this stage (the next block is simulated into them).
+// also compares each estimator with fast (KsAgainstFast's steps). The comparisons consume the
+// compared estimators' arrays; the arrays are not needed after this stage (the next block is
+// simulated into them).
 void BlockStatistics(const Experiment& experiment, PointBuffers& pb, double sigma_mm,
                      int64_t first_trial, int64_t trials, std::span<EstimatorBlock> out) {
-  const bool has_fast = std::find(experiment.estimators.begin(), experiment.estimators.end(),
-                                  Estimator::kFast) != experiment.estimators.end();
+  const auto& estimators = experiment.estimators;
+  const auto fast_at = std::find(estimators.begin(), estimators.end(), Estimator::kFast);
   const size_t n = static_cast<size_t>(trials);
-  BlockMoments(experiment, pb.samples, n, out);
-  for (size_t k = 0; k < experiment.estimators.size(); ++k) {
-    if (experiment.estimators[k] == Estimator::kMl) MlCounters(pb, first_trial, trials, &out[k]);
+  for (size_t k = 0; k < estimators.size(); ++k) {
+    if (estimators[k] == Estimator::kMl) MlCounters(pb, first_trial, trials, &out[k]);
   }
-  if (first_trial != 0 || !has_fast || !(sigma_mm > 0.0)) return;
-  tbb::parallel_for(size_t{0}, experiment.estimators.size(), [&](size_t k) {
-    const Estimator e = experiment.estimators[k];
-    if (e == Estimator::kFast) return;
-    out[k].vs_fast = Compare(pb.samples[static_cast<int>(Estimator::kFast)],
-                             &pb.samples[static_cast<int>(e)], n);
+  const bool compare = first_trial == 0 && fast_at != estimators.end() && sigma_mm > 0.0;
+  if (!compare) {
+    BlockMoments(experiment, pb.samples, n, out);
+    return;
+  }
+  const Samples& fast = pb.samples[static_cast<int>(Estimator::kFast)];
+  const auto other = [&](size_t k) -> Samples& {
+    return pb.samples[static_cast<int>(estimators[k])];
+  };
+  tbb::parallel_for(size_t{0}, estimators.size(), [&](size_t k) {
+    if (estimators[k] != Estimator::kFast) KsAgainstFast(fast, other(k), n, &out[k].vs_fast);
+  });
+  Differences differences;
+  differences.fast_index = static_cast<size_t>(fast_at - estimators.begin());
+  differences.fast = &fast;
+  PATLAB_CHECK(estimators.size() <= differences.other.size());
+  for (size_t k = 0; k < estimators.size(); ++k) {
+    if (estimators[k] != Estimator::kFast) differences.other[k] = &other(k);
+  }
+  const std::function<void(const stats::PlanarTile&)> visit = std::ref(differences);
+  BlockMoments(experiment, pb.samples, n, out, &visit);
+  tbb::parallel_for(size_t{0}, estimators.size(), [&](size_t k) {
+    if (estimators[k] == Estimator::kFast) return;
+    Samples& o = other(k);
+    const std::span<double> scratch(o.y.data(), n);
+    out[k].vs_fast.wilcoxon_position =
+        PairedTest(std::span<double>(o.x.data(), n), differences.nonzero_position[k], scratch);
+    out[k].vs_fast.wilcoxon_theta =
+        PairedTest(std::span<double>(o.theta.data(), n), differences.nonzero_theta[k], scratch);
   });
 }
 

@@ -352,12 +352,14 @@ void PlanarSums(const PlanarColumns& c, std::size_t n, double (&sum_out)[5][K]) 
 }
 
 // Pass 2 of K samples: the sums of squared deviations from mean[0..3] (x, y, theta, r). Chain
-// 4k + q is sample k's column q.
-template <int K>
+// 4k + q is sample k's column q. Each tile's radial errors are kept in a tile buffer and shown to
+// `visit` (a no-op for PlanarMomentsOfEach without a visitor) once the tile has been read.
+template <int K, class Visit>
 void PlanarDeviations(const PlanarColumns& c, std::size_t n, const double (&mean)[4][K],
-                      double (&m2_out)[4][K]) {
+                      double (&m2_out)[4][K], Visit visit) {
   LaneSums<4 * K> sums;
   alignas(64) double d2[K][4][kTile];
+  alignas(64) double radial[K][kTile];
   for (std::size_t i0 = 0; i0 < n; i0 += kTile) {
     const std::size_t m = std::min(kTile, n - i0);
     const double* col[4 * K];
@@ -370,11 +372,13 @@ void PlanarDeviations(const PlanarColumns& c, std::size_t n, const double (&mean
         d2[k][0][j] = dx * dx;
         d2[k][1][j] = dy * dy;
         d2[k][2][j] = dt * dt;
-        const double dr = std::sqrt(SquaredRadius(x[j], y[j])) - mean[3][k];
+        radial[k][j] = std::sqrt(SquaredRadius(x[j], y[j]));
+        const double dr = radial[k][j] - mean[3][k];
         d2[k][3][j] = dr * dr;
       }
       for (int q = 0; q < 4; ++q) col[4 * k + q] = d2[k][q];
     }
+    visit(i0, m, radial);
     AddTile(sums, col, m);
   }
   for (int k = 0; k < K; ++k) {
@@ -382,8 +386,9 @@ void PlanarDeviations(const PlanarColumns& c, std::size_t n, const double (&mean
   }
 }
 
-template <int K>
-void PlanarMomentsInterleaved(const PlanarSample* samples, std::size_t n, PlanarMoments* out) {
+template <int K, class Visit>
+void PlanarMomentsInterleaved(const PlanarSample* samples, std::size_t n, PlanarMoments* out,
+                              Visit visit) {
   PlanarColumns c{};
   for (int k = 0; k < K; ++k) {
     c.x[k] = samples[k].x.data();
@@ -412,7 +417,7 @@ void PlanarMomentsInterleaved(const PlanarSample* samples, std::size_t n, Planar
     mean[3][k] = sum[4][k] / count;
   }
   double m2[4][K];
-  PlanarDeviations<K>(c, n, mean, m2);
+  PlanarDeviations<K>(c, n, mean, m2, visit);
   const auto size = static_cast<std::int64_t>(n);
   for (int k = 0; k < K; ++k) {
     out[k].x = Moments{size, mean[0][k], m2[0][k]};
@@ -425,7 +430,11 @@ void PlanarMomentsInterleaved(const PlanarSample* samples, std::size_t n, Planar
 
 }  // namespace
 
-void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<PlanarMoments> out) {
+namespace {
+
+template <class Visit>
+void PlanarMomentsWith(std::span<const PlanarSample> samples, std::span<PlanarMoments> out,
+                       Visit visit) {
   constexpr std::size_t kMaxSamples = 4;
   PATLAB_CHECK(samples.size() <= kMaxSamples && out.size() == samples.size());
   if (samples.empty()) return;
@@ -436,18 +445,37 @@ void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<Planar
   RequireCount(samples[0].x, 1, "the moments");
   switch (samples.size()) {
     case 1:
-      PlanarMomentsInterleaved<1>(samples.data(), n, out.data());
+      PlanarMomentsInterleaved<1>(samples.data(), n, out.data(), visit);
       break;
     case 2:
-      PlanarMomentsInterleaved<2>(samples.data(), n, out.data());
+      PlanarMomentsInterleaved<2>(samples.data(), n, out.data(), visit);
       break;
     case 3:
-      PlanarMomentsInterleaved<3>(samples.data(), n, out.data());
+      PlanarMomentsInterleaved<3>(samples.data(), n, out.data(), visit);
       break;
     default:
-      PlanarMomentsInterleaved<4>(samples.data(), n, out.data());
+      PlanarMomentsInterleaved<4>(samples.data(), n, out.data(), visit);
       break;
   }
+}
+
+}  // namespace
+
+void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<PlanarMoments> out) {
+  PlanarMomentsWith(samples, out, [](std::size_t, std::size_t, const auto&) {});
+}
+
+void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<PlanarMoments> out,
+                         const std::function<void(const PlanarTile&)>& visit) {
+  PlanarMomentsWith(samples, out,
+                    [&visit](std::size_t first, std::size_t count, const auto& radial) {
+                      PlanarTile tile;
+                      tile.first = first;
+                      tile.count = count;
+                      for (std::size_t k = 0; k < std::size(radial); ++k)
+                        tile.radial[k] = radial[k];
+                      visit(tile);
+                    });
 }
 
 Moments CombineMoments(const Moments& a, const Moments& b) {

@@ -4,8 +4,10 @@
 // outside (0, 1)) throws patlab::InputError.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 
 namespace patlab::stats {
@@ -85,6 +87,20 @@ struct PlanarMoments {
 // the CPU overlaps their addition chains; the squares, roots and deviations are computed for a
 // tile of values at a time in loops the compiler vectorises.
 void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<PlanarMoments> out);
+// One tile of the second pass of PlanarMomentsOfEach: trials [first, first + count) of every
+// sample, with sample k's radial errors r = sqrt(x^2 + y^2) of those trials in radial[k][0, count),
+// as the moments computed them (x^2 + y^2 by the rule above).
+struct PlanarTile {
+  std::size_t first = 0, count = 0;
+  std::array<const double*, 4> radial{};
+};
+// PlanarMomentsOfEach (the same results, bit for bit) that shows each tile of its second pass to
+// `visit`, in index order, once the tile's values of every sample have been read: visit may then
+// overwrite those elements of the samples' arrays. A caller that needs the radial errors after
+// the moments (the runner's paired Wilcoxon tests) gets them without a pass and square roots of
+// its own.
+void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<PlanarMoments> out,
+                         const std::function<void(const PlanarTile&)>& visit);
 // The moments of the union of two disjoint samples (Chan, Golub & LeVeque 1979, eq. 2.1):
 // delta = mean_b - mean_a, mean = mean_a + delta n_b / n, M2 = M2_a + M2_b + delta^2 n_a n_b / n.
 // Combining with an empty side returns the other side unchanged.
