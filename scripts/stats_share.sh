@@ -8,7 +8,9 @@
 # robust to inlining into the caller and to TBB's work stealing, unlike inclusive times). A
 # sample counts as statistics when its symbol is in patlab::stats (KS, Wilcoxon, moments, sorts)
 # or is one of the runner's statistics stage functions (BlockStatistics and the tasks it spawns,
-# BlockMoments, Compare, PairedTest); everything else (the trials, TBB's scheduler, the kernel,
+# BlockMoments, KsAgainstFast, Differences (the paired differences written from the moments'
+# second pass, and its std::function thunk), PairedTest; Compare, its former name, for older
+# binaries); everything else (the trials, TBB's scheduler, the kernel,
 # start-up, memset of the sample arrays) counts as not. The largest symbols of each class are
 # printed, so that the classification can be checked.
 set -euo pipefail
@@ -20,7 +22,7 @@ command -v perf >/dev/null || { echo "stats_share.sh: perf is not installed (apt
 [[ -x $patlab ]] || { echo "stats_share.sh: $patlab is not an executable; build it first" >&2; exit 2; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-stats_regex='patlab::stats::|BlockStatistics|BlockMoments|Compare\(|PairedTest'
+stats_regex='patlab::stats::|BlockStatistics|BlockMoments|KsAgainstFast|Differences|Compare\(|PairedTest'
 echo "load: $(uptime | sed 's/.*load average: //')"
 for ((r = 1; r <= runs; ++r)); do
   perf record -q -F 8000 -o "$work/perf.data" "$patlab" simulate experiments/fig5.toml -q \
