@@ -415,10 +415,12 @@ std::size_t PlanWindow(std::size_t first, Buffers* s, std::vector<Run>* runs) {
 // (pos becomes each bucket's end), a sample at a time. A chunk's buckets are computed in a loop
 // that vectorises, their marks gathered 8 to a word (byte loads from a table of one byte a bucket,
 // which stays in the first-level cache), and only the values whose mark is set (a few percent)
-// are copied, one at a time.
-void Extract(std::span<const double> x, EqualWidthBuckets of, const uint8_t* __restrict in_window,
-             uint32_t* __restrict pos, double* __restrict out) {
+// are copied, one at a time. Returns the number copied.
+std::size_t Extract(std::span<const double> x, EqualWidthBuckets of,
+                    const uint8_t* __restrict in_window, uint32_t* __restrict pos,
+                    double* __restrict out) {
   const EqualWidthBuckets bucket = of;
+  std::size_t copied = 0;
   alignas(64) uint32_t k[kChunk];
   for (std::size_t first = 0; first < x.size(); first += kChunk) {
     const std::size_t n = std::min(kChunk, x.size() - first);
@@ -437,9 +439,11 @@ void Extract(std::span<const double> x, EqualWidthBuckets of, const uint8_t* __r
         const uint32_t p = pos[k[i]];
         out[p] = v[i];
         pos[k[i]] = p + 1;
+        ++copied;
       }
     }
   }
+  return copied;
 }
 
 // Sorts the values of the walked buckets s->walked[first, last) of one sample in place: bucket k's
@@ -477,8 +481,16 @@ void WalkMarked(std::span<const double> x, std::span<const double> y, EqualWidth
   const double dn1 = static_cast<double>(x.size()), dn2 = static_cast<double>(y.size());
   for (std::size_t first = 0; first < s->walked.size();) {
     const std::size_t last = PlanWindow(first, s, &runs);
-    Extract(x, of, s->in_window.data(), s->pos1.data(), s->a.data());
-    Extract(y, of, s->in_window.data(), s->pos2.data(), s->b.data());
+    // Every value of the window's buckets, as counted: the sorts below take each bucket's values
+    // as the count before its end position, so a value not copied would make them read outside
+    // the bucket. The buckets are the counting pass's own function of the same values, so this
+    // holds unless the code is wrong; checked, so that it fails as an internal error, not as a
+    // crash or a silently wrong statistic.
+    std::size_t want1 = 0, want2 = 0;
+    for (const Run& r : runs) want1 += r.na, want2 += r.nb;
+    const std::size_t got1 = Extract(x, of, s->in_window.data(), s->pos1.data(), s->a.data());
+    const std::size_t got2 = Extract(y, of, s->in_window.data(), s->pos2.data(), s->b.data());
+    PATLAB_CHECK(got1 == want1 && got2 == want2);
     for (std::size_t w = first; w < last; ++w) s->in_window[s->walked[w]] = 0;
     if (check_finite &&
         !(AllFinite(s->walked.data(), first, last, s->pos1.data(), s->end1.data(), s->a.data()) &&
