@@ -456,6 +456,31 @@ TEST(Ks, PairedWalkChecksStartsByKeyBitForBit) {
   }
 }
 
+// Samples equal index by index are compared and scanned a block of 1,024 values at a time: the
+// extremes (0 at the smallest value, -0.0 before +0.0) wherever the smallest value lies, and
+// samples equal in every block but the last (or but one value) take the paired walk's answer.
+TEST(Ks, PairedWalkOfEqualSamplesAgreesWithTheStraightforwardOne) {
+  Lcg rng{77};
+  for (const size_t n : {size_t{1}, size_t{1023}, size_t{1024}, size_t{1025}, size_t{5000}}) {
+    for (const size_t at : {size_t{0}, n / 2, n - 1}) {
+      SCOPED_TRACE(::testing::Message() << "n " << n << " smallest at " << at);
+      std::vector<double> x(n);
+      for (double& v : x) v = rng.Normal();
+      x[at] = -10.0;
+      const std::vector<double> y = x;
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(x, y), StraightforwardExtremes(x, y));
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(x, x), StraightforwardExtremes(x, x));
+      std::vector<double> zeros(n, 0.0);
+      zeros[at] = -0.0;
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(zeros, zeros),
+                         StraightforwardExtremes(zeros, zeros));
+      std::vector<double> last = x;
+      last[n - 1] = std::nextafter(last[n - 1], 100.0);
+      ExpectSameExtremes(detail::EcdfExtremesByPairs(x, last), StraightforwardExtremes(x, last));
+    }
+  }
+}
+
 // The pair summary runs in 8 lanes and a tail: a non-finite value in the lanes or in the tail,
 // in either sample or in both (the same array, or equal arrays), gives the messages of the check
 // of each sample.

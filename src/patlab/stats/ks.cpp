@@ -209,12 +209,40 @@ namespace internal {
 bool SameSamples(std::span<const double> x, std::span<const double> y) {
   return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0;
 }
-EcdfExtremes ExtremesOfSameSamples(std::span<const double> x) {
-  uint64_t smallest = OrderKey(x[0]);
-  for (const double v : x) smallest = std::min(smallest, OrderKey(v));
+namespace {
+// The extremes of samples equal index by index, from the smallest OrderKey of their values: the
+// ECDFs are equal at every group end, first at the smallest value.
+EcdfExtremes SameExtremesAt(uint64_t smallest) {
   const double loc = std::bit_cast<double>(
       (smallest & (uint64_t{1} << 63)) ? (smallest & ~(uint64_t{1} << 63)) : ~smallest);
   return EcdfExtremes{0.0, 0.0, loc, loc};
+}
+}  // namespace
+EcdfExtremes ExtremesOfSameSamples(std::span<const double> x) {
+  uint64_t smallest = OrderKey(x[0]);
+  for (const double v : x) smallest = std::min(smallest, OrderKey(v));
+  return SameExtremesAt(smallest);
+}
+bool ExtremesIfSameSamples(std::span<const double> x, std::span<const double> y, EcdfExtremes* e) {
+  if (x.size() != y.size() || x.empty()) return false;
+  constexpr std::size_t kBlock = 1024;  // 8 KB of each sample
+  constexpr double kMax = std::numeric_limits<double>::max();
+  uint64_t smallest = OrderKey(x[0]);
+  unsigned bad = 0;
+  for (std::size_t first = 0; first < x.size(); first += kBlock) {
+    const std::size_t n = std::min(kBlock, x.size() - first);
+    const double* v = x.data() + first;
+    if (x.data() != y.data() && std::memcmp(v, y.data() + first, n * sizeof(double)) != 0) {
+      return false;
+    }
+    for (std::size_t i = 0; i < n; ++i) {  // no early exit: a loop that vectorises
+      bad |= std::fabs(v[i]) <= kMax ? 0U : 1U;
+      smallest = std::min(smallest, OrderKey(v[i]));
+    }
+  }
+  if (bad != 0) RequireFinite(x, "sample 1");  // throws, naming the first non-finite value
+  *e = SameExtremesAt(smallest);
+  return true;
 }
 
 }  // namespace internal

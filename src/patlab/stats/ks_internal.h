@@ -97,6 +97,11 @@ void SortSmall(double* v, std::size_t n);
 // Samples equal index by index, and their extremes (F1 = F2 at every group end).
 bool SameSamples(std::span<const double> x, std::span<const double> y);
 EcdfExtremes ExtremesOfSameSamples(std::span<const double> x);
+// Both in one pass, with RequireFinite's check of x ("sample 1", its InputError) when they are the
+// same: a block at a time is compared and, if equal, scanned while it is in the first-level cache
+// (the same bits as SameSamples, RequireFinite and ExtremesOfSameSamples one after the other);
+// false at the first block that differs (samples that differ do so near their start).
+bool ExtremesIfSameSamples(std::span<const double> x, std::span<const double> y, EcdfExtremes* e);
 
 // EcdfExtremesByBuckets for samples that are not the same, all of whose values lie in [lo, hi].
 EcdfExtremes ExtremesByBucketsIn(std::span<const double> x, std::span<const double> y, double lo,

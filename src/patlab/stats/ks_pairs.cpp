@@ -19,10 +19,9 @@ namespace patlab::stats::detail {
 using internal::Buffers;
 using internal::CountsAtBucketEnds;
 using internal::ExtremesByBucketsIn;
+using internal::ExtremesIfSameSamples;
 using internal::ExtremesOfPairsByBuckets;
-using internal::ExtremesOfSameSamples;
 using internal::kWindowValues;
-using internal::SameSamples;
 using internal::SortSmall;
 using internal::ThreadBuffers;
 using internal::WalkSorted;
@@ -417,14 +416,12 @@ bool StartsApart(std::span<const double> x, std::span<const double> y, std::size
 
 EcdfExtremes EcdfExtremesByPairs(std::span<const double> x, std::span<const double> y) {
   PATLAB_CHECK(x.size() == y.size() && !x.empty());
-  // The same values index by index (fig5's x and y on Linear and Triangle): a memcmp, which stops
-  // at the first difference for the others, and the finiteness check of one of them (the values
-  // are the same bits, so the first non-finite value of x is the first of either sample and its
-  // message is the one the check of both gives: "sample 1 ...").
-  if (x.data() == y.data() || SameSamples(x, y)) {
-    RequireFinite(x, "sample 1");
-    return ExtremesOfSameSamples(x);
-  }
+  // The same values index by index (fig5's x and y on Linear and Triangle): a memcmp a block at a
+  // time, which stops at the first block that differs for the others, with the finiteness check
+  // of one of them in the same pass (the values are the same bits, so the first non-finite value
+  // of x is the first of either sample and its message is the one the check of both gives:
+  // "sample 1 ...").
+  if (EcdfExtremes same; ExtremesIfSameSamples(x, y, &same)) return same;
   const PairsLook look = LookAtPairs(x, y);
   if (look.give_up) {
     // The bucket walk over a guess of the range: the sampled span widened by a quarter of it on
