@@ -6,6 +6,7 @@
 #include <random>
 
 #include "patlab/vision/render.h"
+#include "patlab/vision/segment_internal.h"
 #include "test_util.h"
 
 namespace patlab::vision {
@@ -326,6 +327,139 @@ TEST(Segmenter, RgbRowClassificationIsExactForEveryColour) {
     }
     EXPECT_EQ(mismatches, 0) << file;
   }
+}
+
+}  // namespace
+}  // namespace patlab::vision
+
+namespace patlab::vision {
+namespace {
+
+// Stage 3's runs against the plain definition (a run ends where the class changes), on rows of
+// random runs from 1 to 100 pixels of no class, red and green, 1 to 200 pixels wide: runs start
+// and end at every offset around EncodeRuns' 32- and 8-pixel strides and at the row ends.
+TEST(Segmenter, RunsAreThoseOfThePlainDefinition) {
+  std::mt19937 rng(11);
+  for (int width = 1; width <= 200; ++width) {
+    std::vector<std::string> rows(6, std::string(static_cast<size_t>(width), '.'));
+    for (std::string& row : rows) {
+      for (int x = 0; x < width;) {
+        const int length = 1 + static_cast<int>(rng() % (rng() % 2 == 0 ? 8 : 100));
+        const char c = ".rg"[rng() % 3];
+        for (int k = x; k < std::min(width, x + length); ++k) row[static_cast<size_t>(k)] = c;
+        x += length;
+      }
+    }
+    Segmenter s(RedGreen(), Keep());
+    s.Process(FromText(rows));
+    std::vector<std::array<int, 4>> want, got;  // x_begin, x_end, y, colour
+    for (int y = 0; y < static_cast<int>(rows.size()); ++y) {
+      const std::string& row = rows[static_cast<size_t>(y)];
+      for (int x = 0; x < width;) {
+        int end = x;
+        while (end + 1 < width &&
+               row[static_cast<size_t>(end + 1)] == row[static_cast<size_t>(x)]) {
+          ++end;
+        }
+        if (row[static_cast<size_t>(x)] != '.') {
+          want.push_back({x, end, y, row[static_cast<size_t>(x)] == 'r' ? 0 : 1});
+        }
+        x = end + 1;
+      }
+    }
+    for (const vision::Run& r : s.runs()) got.push_back({r.x_begin, r.x_end, r.y, r.colour});
+    ASSERT_EQ(got, want) << "width " << width;
+  }
+}
+
+// Random boxes, one per class.
+Thresholds RandomBoxes(ColorSpace space, int classes, std::mt19937& rng) {
+  Thresholds t;
+  t.space = space;
+  for (int k = 0; k < classes; ++k) {
+    ColorClass c;
+    c.name = "c";
+    c.name += std::to_string(k);
+    for (ChannelRange& r : c.range) {
+      const int a = static_cast<int>(rng() % 256), b = static_cast<int>(rng() % 256);
+      r = {std::min(a, b), std::max(a, b)};
+    }
+    t.classes.push_back(c);
+  }
+  return t;
+}
+
+// Pixel (x, y) of an RGB or UYVY frame in the colour space `space` (image.h's conversions).
+std::array<int, 3> PixelIn(const Image& image, int x, int y, ColorSpace space) {
+  int a, b, c;
+  if (image.format == PixelFormat::kUyvy) {
+    const uint8_t* pair = image.Row(y) + 4 * (x / 2);
+    a = pair[1 + 2 * (x % 2)], b = pair[0], c = pair[2];
+    if (space == ColorSpace::kRgb) YuvToRgb(a, b, c, &a, &b, &c);
+  } else {
+    const uint8_t* p = image.Row(y) + 3 * x;
+    a = p[0], b = p[1], c = p[2];
+    if (space == ColorSpace::kYuv) RgbToYuv(a, b, c, &a, &b, &c);
+  }
+  return {a, b, c};
+}
+
+// Stage 2 against ColorLut on every pixel, for each frame format and thresholds space, with
+// 1, 3, 8 (byte tables, where the build has them) and 9, 12 classes (box tests): random boxes,
+// random pixels, rows whose width is no multiple of a vector's.
+TEST(Segmenter, ClassesAreColorLutsForEveryFormatSpaceAndClassCount) {
+  std::mt19937 rng(5);
+  for (const ColorSpace space : {ColorSpace::kYuv, ColorSpace::kRgb}) {
+    for (const int classes : {1, 3, 8, 9, 12}) {
+      const Thresholds t = RandomBoxes(space, classes, rng);
+      for (const bool uyvy : {false, true}) {
+        Image image = uyvy ? ToUyvy(Image::Rgb(98, 37)) : Image::Rgb(98, 37);
+        for (uint8_t& v : image.data) v = static_cast<uint8_t>(rng());  // any U, Y, V too
+        Segmenter s(t, Keep());
+        s.Classify(image);
+        long mismatches = 0;
+        for (int y = 0; y < image.height_px; ++y) {
+          for (int x = 0; x < image.width_px; ++x) {
+            const auto [a, b, c] = PixelIn(image, x, y, space);
+            mismatches += s.class_image()[static_cast<size_t>(y * image.width_px + x)] !=
+                          s.lut().Classify(a, b, c) + 1;
+          }
+        }
+        EXPECT_EQ(mismatches, 0) << classes << " classes, uyvy " << uyvy << ", space "
+                                 << static_cast<int>(space);
+      }
+    }
+  }
+}
+
+// The AVX-512 row conversion gives the portable loop's bytes for every RGB colour, in rows of
+// every length from 1 to 100 (the masked last block) and a long one.
+TEST(Segmenter, Avx512RowConversionIsThePortableOnes) {
+  if (!internal::HaveAvx512Rows()) GTEST_SKIP() << "this build has no AVX-512 row conversion";
+  constexpr int kLong = 4099;
+  std::vector<uint8_t> in(3 * static_cast<size_t>(kLong));
+  std::vector<uint8_t> want(3 * static_cast<size_t>(kLong)), got(want.size());
+  long mismatches = 0;
+  const auto compare = [&](int n) {
+    uint8_t* w = want.data();
+    uint8_t* g = got.data();
+    std::fill(got.begin(), got.end(), 0xA5);
+    internal::RgbRowToYuv(in.data(), n, w, w + n, w + 2 * n);
+    internal::RgbRowToYuvAvx512(in.data(), n, g, g + n, g + 2 * n);
+    for (int i = 0; i < 3 * n; ++i) mismatches += w[i] != g[i];
+    for (size_t i = 3 * static_cast<size_t>(n); i < got.size(); ++i) mismatches += g[i] != 0xA5;
+  };
+  for (int first = 0; first < (1 << 24); first += kLong) {
+    for (int i = 0; i < kLong; ++i) {
+      const int c = (first + i) & 0xffffff;
+      in[3 * static_cast<size_t>(i)] = static_cast<uint8_t>(c >> 16);
+      in[3 * static_cast<size_t>(i) + 1] = static_cast<uint8_t>(c >> 8);
+      in[3 * static_cast<size_t>(i) + 2] = static_cast<uint8_t>(c);
+    }
+    compare(kLong);
+  }
+  for (int n = 1; n <= 100; ++n) compare(n);
+  EXPECT_EQ(mismatches, 0);
 }
 
 }  // namespace

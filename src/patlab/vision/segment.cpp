@@ -2,10 +2,17 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <climits>
 #include <cstring>
 
+#if defined(__AVX512VBMI__) && defined(__AVX512BW__)
+#include <immintrin.h>
+#define PATLAB_SEGMENT_AVX512 1
+#endif
+
 #include "patlab/core/error.h"
+#include "patlab/vision/segment_internal.h"
 
 namespace patlab::vision {
 
@@ -30,6 +37,16 @@ Segmenter::Segmenter(const Thresholds& thresholds, const SegmenterOptions& optio
       box.width[ch] = static_cast<uint8_t>(c.range[ch].hi - c.range[ch].lo);
     }
     boxes_.push_back(box);
+  }
+#ifdef PATLAB_SEGMENT_AVX512
+  use_tables_ = boxes_.size() <= 8;
+#endif
+  if (!use_tables_) return;
+  for (int ch = 0; ch < 3; ++ch) {  // ColorLut's masks, which fit a byte
+    for (int v = 0; v < 256; ++v) channel_bits_[ch][v] = static_cast<uint8_t>(lut_.table(ch)[v]);
+  }
+  for (int bits = 1; bits < 256; ++bits) {
+    first_class_[bits] = static_cast<uint8_t>(std::countr_zero(static_cast<unsigned>(bits)) + 1);
   }
 }
 
@@ -56,8 +73,10 @@ void SplitRgb(const uint8_t* __restrict in, int n, uint8_t* __restrict c0, uint8
 //       floor(P / 2) = X / 2 - ceil(S / 2) = (64b + 16448) - ((S + 1) >> 1), in 128..32768,
 //       and floor(P / 256) = floor(P / 2) >> 7, in 1..256, clamped to 255.
 //   V the same with X = 128r + 32896, S = 107g + 21b.
-void RgbRowToYuv(const uint8_t* __restrict in, int n, uint8_t* __restrict c0,
-                 uint8_t* __restrict c1, uint8_t* __restrict c2) {
+}  // namespace
+
+void internal::RgbRowToYuv(const uint8_t* __restrict in, int n, uint8_t* __restrict c0,
+                           uint8_t* __restrict c1, uint8_t* __restrict c2) {
   for (int x = 0; x < n; ++x) {
     const uint16_t r = in[3 * x], g = in[3 * x + 1], b = in[3 * x + 2];
     const uint16_t y = static_cast<uint16_t>(77 * r + 150 * g + 29 * b + 128);
@@ -70,6 +89,8 @@ void RgbRowToYuv(const uint8_t* __restrict in, int n, uint8_t* __restrict c0,
     c2[x] = static_cast<uint8_t>(v < 255 ? v : 255);
   }
 }
+
+namespace {
 
 // UYVY: U and V are shared by each pixel pair; n_pairs = width / 2.
 void SplitUyvy(const uint8_t* __restrict in, int n_pairs, uint8_t* __restrict c0,
@@ -115,7 +136,106 @@ void PaintBox(const uint8_t* __restrict c0, const uint8_t* __restrict c1,
   }
 }
 
+#ifdef PATLAB_SEGMENT_AVX512
+// A table of 256 bytes in four registers, looked up 64 indices at a time: two permutes of 128
+// entries each (index bit 6 picks the register of a pair), the pair chosen by index bit 7.
+struct ByteTable {
+  __m512i part[4];
+  explicit ByteTable(const std::array<uint8_t, 256>& t) {
+    for (int i = 0; i < 4; ++i) part[i] = _mm512_loadu_si512(t.data() + 64 * i);
+  }
+  __m512i operator()(__m512i index) const {
+    const __m512i low = _mm512_permutex2var_epi8(part[0], index, part[1]);
+    const __m512i high = _mm512_permutex2var_epi8(part[2], index, part[3]);
+    return _mm512_mask_blend_epi8(_mm512_movepi8_mask(index), low, high);
+  }
+};
+
+// out[x] = first_class[bits0[c0[x]] & bits1[c1[x]] & bits2[c2[x]]] for x < n, 64 pixels at a
+// time (the last ones under a mask).
+void LabelRow(const uint8_t* c0, const uint8_t* c1, const uint8_t* c2, int n,
+              const std::array<std::array<uint8_t, 256>, 3>& channel_bits,
+              const std::array<uint8_t, 256>& first_class, uint8_t* out) {
+  const ByteTable bits0(channel_bits[0]), bits1(channel_bits[1]), bits2(channel_bits[2]);
+  const ByteTable label(first_class);
+  for (int x = 0; x < n; x += 64) {
+    const __mmask64 lanes = n - x >= 64 ? ~__mmask64{0} : (__mmask64{1} << (n - x)) - 1;
+    const __m512i v0 = _mm512_maskz_loadu_epi8(lanes, c0 + x);
+    const __m512i v1 = _mm512_maskz_loadu_epi8(lanes, c1 + x);
+    const __m512i v2 = _mm512_maskz_loadu_epi8(lanes, c2 + x);
+    const __m512i bits = _mm512_and_si512(_mm512_and_si512(bits0(v0), bits1(v1)), bits2(v2));
+    _mm512_mask_storeu_epi8(out + x, lanes, label(bits));
+  }
+}
+#endif
+
 }  // namespace
+
+bool internal::HaveAvx512Rows() {
+#ifdef PATLAB_SEGMENT_AVX512
+  return true;
+#else
+  return false;
+#endif
+}
+
+// internal::RgbRowToYuv 32 pixels at a time with byte multiply-adds (vpmaddubsw: unsigned bytes
+// times signed byte coefficients, pairs summed into 16 bits, saturating, so each pair's
+// coefficients must sum to at most 128). Two byte permutes make each pixel's (r, g) and (g, b)
+// pairs; then, in 16-bit lanes and exactly as internal::RgbRowToYuv:
+//   77r + 150g + 29b = (77r + 51g) + (99g + 29b), each at most 128 * 255 (no saturation); the sum
+//                      plus 128 is at most 65408, so it wraps nowhere in unsigned 16-bit lanes;
+//   43r + 85g and 107g + 21b (coefficients summing to 128) are U's and V's S;
+//   64b and 64r come from the high byte of (g, b) and the low byte of (r, g).
+void internal::RgbRowToYuvAvx512(const uint8_t* __restrict in, int n, uint8_t* __restrict c0,
+                                 uint8_t* __restrict c1, uint8_t* __restrict c2) {
+#ifndef PATLAB_SEGMENT_AVX512
+  RgbRowToYuv(in, n, c0, c1, c2);
+#else
+  alignas(64) std::array<uint8_t, 64> rg_index, gb_index;
+  for (int p = 0; p < 32; ++p) {
+    rg_index[2 * p] = static_cast<uint8_t>(3 * p);
+    rg_index[2 * p + 1] = static_cast<uint8_t>(3 * p + 1);
+    gb_index[2 * p] = static_cast<uint8_t>(3 * p + 1);
+    gb_index[2 * p + 1] = static_cast<uint8_t>(3 * p + 2);
+  }
+  const __m512i rg_at = _mm512_load_si512(rg_index.data());
+  const __m512i gb_at = _mm512_load_si512(gb_index.data());
+  const auto pairs = [](int8_t a, int8_t b) {  // the coefficients (a, b) in every 16-bit lane
+    return _mm512_set1_epi16(static_cast<int16_t>(
+        static_cast<uint8_t>(a) | (static_cast<uint16_t>(static_cast<uint8_t>(b)) << 8)));
+  };
+  const __m512i y_rg = pairs(77, 51), y_gb = pairs(99, 29);
+  const __m512i u_rg = pairs(43, 85), v_gb = pairs(107, 21);
+  const __m512i c128 = _mm512_set1_epi16(128), one = _mm512_set1_epi16(1);
+  const __m512i c16448 = _mm512_set1_epi16(16448), c255 = _mm512_set1_epi16(255);
+  for (int x = 0; x < n; x += 32) {
+    const int bytes = 3 * std::min(32, n - x);
+    const __mmask64 first = bytes >= 64 ? ~__mmask64{0} : (__mmask64{1} << bytes) - 1;
+    const __mmask64 second = bytes > 64 ? (__mmask64{1} << (bytes - 64)) - 1 : 0;
+    const __m512i lo = _mm512_maskz_loadu_epi8(first, in + 3 * x);
+    const __m512i hi = _mm512_maskz_loadu_epi8(second, in + 3 * x + 64);
+    const __m512i rg = _mm512_permutex2var_epi8(lo, rg_at, hi);
+    const __m512i gb = _mm512_permutex2var_epi8(lo, gb_at, hi);
+    const __m512i y = _mm512_srli_epi16(
+        _mm512_add_epi16(
+            _mm512_add_epi16(_mm512_maddubs_epi16(rg, y_rg), _mm512_maddubs_epi16(gb, y_gb)), c128),
+        8);
+    const __m512i su = _mm512_srli_epi16(_mm512_add_epi16(_mm512_maddubs_epi16(rg, u_rg), one), 1);
+    const __m512i sv = _mm512_srli_epi16(_mm512_add_epi16(_mm512_maddubs_epi16(gb, v_gb), one), 1);
+    const __m512i b64 = _mm512_slli_epi16(_mm512_srli_epi16(gb, 8), 6);
+    const __m512i r64 = _mm512_slli_epi16(_mm512_and_si512(rg, c255), 6);
+    const __m512i u = _mm512_min_epu16(
+        _mm512_srli_epi16(_mm512_sub_epi16(_mm512_add_epi16(b64, c16448), su), 7), c255);
+    const __m512i v = _mm512_min_epu16(
+        _mm512_srli_epi16(_mm512_sub_epi16(_mm512_add_epi16(r64, c16448), sv), 7), c255);
+    const __mmask32 lanes = n - x >= 32 ? ~__mmask32{0} : (__mmask32{1} << (n - x)) - 1;
+    _mm512_mask_cvtepi16_storeu_epi8(c0 + x, lanes, y);
+    _mm512_mask_cvtepi16_storeu_epi8(c1 + x, lanes, u);
+    _mm512_mask_cvtepi16_storeu_epi8(c2 + x, lanes, v);
+  }
+#endif
+}
 
 void Segmenter::Classify(const Image& image) {
   PATLAB_CHECK(image.width_px > 0 && image.height_px > 0);
@@ -138,10 +258,17 @@ void Segmenter::Classify(const Image& image) {
     const uint8_t* in = image.Row(y);
     uint8_t* out = class_image_.data() + static_cast<size_t>(y) * w;
     if (rgb) {
-      (yuv_lut ? RgbRowToYuv : SplitRgb)(in, w, c0, c1, c2);
+      (yuv_lut ? internal::RgbRowToYuvAvx512 : SplitRgb)(in, w, c0, c1, c2);
     } else {
       (yuv_lut ? SplitUyvy : UyvyRowToRgb)(in, w / 2, c0, c1, c2);
     }
+#ifdef PATLAB_SEGMENT_AVX512
+    if (use_tables_) {
+      LabelRow(c0, c1, c2, w, channel_bits_, first_class_, out);
+      if (!rgb && w % 2 != 0) out[w - 1] = 0;
+      continue;
+    }
+#endif
     std::memset(out, 0, static_cast<size_t>(w));
     // Last class first: a pixel in several boxes ends with the first listed (ColorLut's rule).
     for (int k = num_boxes - 1; k >= 0; --k) {
@@ -160,6 +287,33 @@ inline int32_t FindRoot(std::vector<Run>& runs, int32_t i) {
     i = runs[i].parent;
   }
   return i;
+}
+
+// The first x' >= x with row[x'] != c, or w: 32 pixels at a time while they are all c (a run of
+// no class, most of a frame, and a long run of one class), then eight, the first differing byte
+// of a word found from its lowest differing bit (its highest on a big-endian machine).
+inline int SkipRun(const uint8_t* row, int x, int w, uint8_t c) {
+  static_assert(std::endian::native == std::endian::little ||
+                std::endian::native == std::endian::big);
+  const uint64_t same = 0x0101010101010101ULL * c;
+  for (; x + 32 <= w; x += 32) {  // 32 pixels a compare while all are c
+    std::array<uint64_t, 4> words;
+    std::memcpy(words.data(), row + x, 32);
+    if (((words[0] ^ same) | (words[1] ^ same) | (words[2] ^ same) | (words[3] ^ same)) != 0) {
+      break;
+    }
+  }
+  for (; x + 8 <= w; x += 8) {
+    uint64_t word;
+    std::memcpy(&word, row + x, 8);
+    const uint64_t differ = word ^ same;
+    if (differ == 0) continue;
+    const int bit = std::endian::native == std::endian::little ? std::countr_zero(differ)
+                                                               : std::countl_zero(differ);
+    return x + bit / 8;
+  }
+  while (x < w && row[x] == c) ++x;
+  return x;
 }
 
 // Links the later root under the earlier one, so a run's parent always has a smaller index;
@@ -182,20 +336,10 @@ void Segmenter::EncodeRuns() {
   for (int y = 0; y < height_; ++y) {
     const uint8_t* row = class_image_.data() + static_cast<size_t>(y) * w;
     const int32_t cur_begin = static_cast<int32_t>(runs_.size());
-    int x = 0;
-    while (x < w) {
-      // Most pixels belong to no class: skip them eight at a time.
-      while (x + 8 <= w) {
-        uint64_t word;
-        std::memcpy(&word, row + x, 8);
-        if (word != 0) break;
-        x += 8;
-      }
-      while (x < w && row[x] == 0) ++x;
-      if (x >= w) break;
+    for (int x = SkipRun(row, 0, w, 0); x < w; x = SkipRun(row, x, w, 0)) {
       const uint8_t c = row[x];
       const int start = x;
-      while (x < w && row[x] == c) ++x;
+      x = SkipRun(row, x + 1, w, c);
       const int32_t index = static_cast<int32_t>(runs_.size());
       runs_.push_back(Run{start, x - 1, y, index, c - 1});
     }

@@ -1,9 +1,12 @@
 // Stages 2-4 of the vision pipeline (CMVision, Bruce et al. IROS 2000):
 //   2. classify  - every pixel into its colour class (the class image): the first class whose
-//                  box holds it, as ColorLut's lookup gives it, computed with byte compares
-//                  over a row at a time (vectorised; no per-pixel branch or table lookup);
-//   3. encode    - run-length encode each row, then union-find joins runs of the same class
-//                  that overlap on adjacent rows (4-connectivity);
+//                  box holds it, as ColorLut's lookup gives it, a row at a time with no
+//                  per-pixel branch: byte compares per class (vectorised), or, with AVX-512 VBMI
+//                  and at most 8 classes, ColorLut's per-channel masks looked up 64 pixels at a
+//                  time from registers;
+//   3. encode    - run-length encode each row (32 pixels a compare where they are all one
+//                  class), then union-find joins runs of the same class that overlap on
+//                  adjacent rows (4-connectivity);
 //   4. regions   - one pass over the runs accumulates area, bounding box and the sub-pixel
 //                  centroid of every connected region; filters drop small or sparse regions;
 //                  regions are grouped by class and sorted by area, largest first.
@@ -102,12 +105,21 @@ class Segmenter {
   // Stage 2 works one row at a time: the row's pixels are converted (vectorised) into three
   // planes of the thresholds' channels, then every class's box test runs over the planes as
   // byte compares, last class first, so the first class listed wins (as ColorLut's lowest bit).
-  // Exact for every colour and free of per-pixel branches and table lookups.
+  // Exact for every colour and free of per-pixel branches.
   struct ClassBox {
     std::array<uint8_t, 3> lo;     // lower bound per channel
     std::array<uint8_t, 3> width;  // hi - lo per channel: v is inside when uint8(v - lo) <= width
   };
   std::vector<ClassBox> boxes_;
+  // With at most 8 classes and AVX-512 VBMI (a byte permute of 64 table entries), the box tests
+  // are table lookups instead (CMVision's own scheme): channel_bits_[ch][v] has bit k set when
+  // class k's range on channel ch holds v, so a pixel's classes are the AND of its three
+  // channels' entries, and first_class_[bits] is the label of the lowest bit (0 for none). The
+  // same labels as the box tests (ColorLut's own masks), at a cost that does not grow with the
+  // classes.
+  bool use_tables_ = false;
+  std::array<std::array<uint8_t, 256>, 3> channel_bits_{};
+  std::array<uint8_t, 256> first_class_{};
   std::vector<uint8_t> planes_;  // 3 x width_: the current row's channels
   std::vector<Run> runs_;
   struct Accumulator {
