@@ -214,7 +214,8 @@ void internal::RgbRowToYuvAvx512(const uint8_t* __restrict in, int n, uint8_t* _
     const __mmask64 first = bytes >= 64 ? ~__mmask64{0} : (__mmask64{1} << bytes) - 1;
     const __mmask64 second = bytes > 64 ? (__mmask64{1} << (bytes - 64)) - 1 : 0;
     const __m512i lo = _mm512_maskz_loadu_epi8(first, in + 3 * x);
-    const __m512i hi = _mm512_maskz_loadu_epi8(second, in + 3 * x + 64);
+    const __m512i hi =  // no pointer past the row when no byte of it is read
+        second != 0 ? _mm512_maskz_loadu_epi8(second, in + 3 * x + 64) : _mm512_setzero_si512();
     const __m512i rg = _mm512_permutex2var_epi8(lo, rg_at, hi);
     const __m512i gb = _mm512_permutex2var_epi8(lo, gb_at, hi);
     const __m512i y = _mm512_srli_epi16(
