@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
@@ -477,6 +478,49 @@ TEST(Ks, PairedWalkOfEqualSamplesAgreesWithTheStraightforwardOne) {
       std::vector<double> last = x;
       last[n - 1] = std::nextafter(last[n - 1], 100.0);
       ExpectSameExtremes(detail::EcdfExtremesByPairs(x, last), StraightforwardExtremes(x, last));
+    }
+  }
+}
+
+// The starts of the pairs that differ, copied 8 pairs at a time where the build has AVX-512 (the
+// differing ones compressed to the front of each store): the plain definition's values bit for
+// bit, in order, appended after the m already there, for every length around the vector width,
+// pairs that differ by an ulp either way, equal pairs, signed zeros (equal, so never a start; which
+// of them a min returns is std::min's choice) and a NaN (differs, as x != y says); nothing written
+// beyond the count + kStartsSlack - 1.
+TEST(Ks, DifferingStartsAreThoseOfThePlainDefinition) {
+  using detail::internal::CopyDifferingStarts;
+  using detail::internal::kStartsSlack;
+  Lcg rng{4242};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (size_t c = 0; c <= 40; ++c) {
+    for (int trial = 0; trial < 50; ++trial) {
+      std::vector<double> x(c), y(c);
+      for (size_t k = 0; k < c; ++k) {
+        x[k] = rng.Normal();
+        const double u = rng.Uniform();
+        y[k] = u < 0.3   ? std::nextafter(x[k], 10.0)
+               : u < 0.6 ? std::nextafter(x[k], -10.0)
+               : u < 0.9 ? x[k]
+                         : rng.Normal();
+        if (rng.Uniform() < 0.05) x[k] = -0.0, y[k] = 0.0;
+        if (rng.Uniform() < 0.02) y[k] = nan;
+      }
+      const size_t m0 = trial % 3;  // starts already in the buffer
+      std::vector<double> want(m0, 7.0);
+      for (size_t k = 0; k < c; ++k) {
+        if (x[k] != y[k]) want.push_back(std::min(x[k], y[k]));
+      }
+      const double sentinel = 1234.5;
+      std::vector<double> got(want.size() + kStartsSlack + 4, sentinel);
+      std::fill(got.begin(), got.begin() + static_cast<std::ptrdiff_t>(m0), 7.0);
+      const size_t m = CopyDifferingStarts(x.data(), y.data(), c, got.data(), m0);
+      SCOPED_TRACE(::testing::Message() << "c " << c << " trial " << trial);
+      ASSERT_EQ(m, want.size());
+      for (size_t i = 0; i < m; ++i) {
+        EXPECT_EQ(std::bit_cast<uint64_t>(got[i]), std::bit_cast<uint64_t>(want[i])) << i;
+      }
+      for (size_t i = m + kStartsSlack; i < got.size(); ++i) EXPECT_EQ(got[i], sentinel) << i;
     }
   }
 }

@@ -1,12 +1,18 @@
 // The KS walk of pairs that differ by rounding (detail::EcdfExtremesByPairs, declared in ks.h).
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
 #include <utility>
 #include <vector>
+
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#define PATLAB_KS_AVX512 1
+#endif
 
 #include "patlab/core/error.h"
 #include "patlab/stats/ks.h"
@@ -17,14 +23,37 @@
 namespace patlab::stats::detail {
 
 using internal::Buffers;
+using internal::CopyDifferingStarts;
 using internal::CountsAtBucketEnds;
 using internal::ExtremesByBucketsIn;
 using internal::ExtremesIfSameSamples;
 using internal::ExtremesOfPairsByBuckets;
+using internal::kStartsSlack;
 using internal::kWindowValues;
 using internal::SortSmall;
 using internal::ThreadBuffers;
 using internal::WalkSorted;
+
+// The same values as the plain loop: min_pd(y, x) is y < x ? y : x, std::min(x, y)'s
+// choice for equal values (-0.0, +0.0) too, and NEQ_UQ is x != y (true for NaN).
+std::size_t internal::CopyDifferingStarts(const double* x, const double* y, std::size_t c,
+                                          double* starts, std::size_t m) {
+  std::size_t k = 0;
+#ifdef PATLAB_KS_AVX512
+  for (; k + 8 <= c; k += 8) {
+    const __m512d xv = _mm512_loadu_pd(x + k), yv = _mm512_loadu_pd(y + k);
+    const __mmask8 differ = _mm512_cmp_pd_mask(xv, yv, _CMP_NEQ_UQ);
+    _mm512_storeu_pd(starts + m,
+                     _mm512_maskz_compress_pd(differ, _mm512_maskz_min_pd(0xff, yv, xv)));
+    m += static_cast<std::size_t>(std::popcount(static_cast<unsigned>(differ)));
+  }
+#endif
+  for (; k < c; ++k) {
+    starts[m] = std::min(x[k], y[k]);
+    m += x[k] != y[k] ? 1 : 0;
+  }
+  return m;
+}
 
 // ---- Pairs that differ by rounding (n1 = n2) --------------------------------------------------
 //
@@ -86,9 +115,9 @@ void ForKeys(const double* v, std::size_t m, Key key, Use use) {
 // The counts of x and of y per coarse bin, turned into the counts at every bin's end (end1, end2).
 // Most pairs have both values in one bin: y's counts are x's plus, for each pair whose values'
 // bins differ, one in y's bin and minus one in x's (wrapping uint32 arithmetic, exact once
-// summed), so the scattered increments are x's and a few. With `starts` (room for n + 1 values),
-// the same pass copies the starts of the pairs that differ into it (without a branch) and returns
-// their number.
+// summed), so the scattered increments are x's and a few. With `starts` (room for the pairs that
+// differ + kStartsSlack values), the same pass copies the starts of the pairs that differ into it
+// (CopyDifferingStarts) and returns their number.
 std::size_t CoarseCounts(std::span<const double> x, std::span<const double> y, RegionBins bin_of,
                          Buffers* s, double* starts) {
   s->end1.assign(kRegionBins, 0);
@@ -106,11 +135,7 @@ std::size_t CoarseCounts(std::span<const double> x, std::span<const double> y, R
       ++e1[bx[l]];
       if (bx[l] != by[l]) ++e2[by[l]], --e2[bx[l]];
     }
-    if (starts == nullptr) continue;
-    for (std::size_t k = k0; k < k0 + c; ++k) {
-      starts[m] = std::min(x[k], y[k]);
-      m += x[k] != y[k] ? 1 : 0;
-    }
+    if (starts != nullptr) m = CopyDifferingStarts(x.data() + k0, y.data() + k0, c, starts, m);
   }
   e2[0] += e1[0];
   for (std::size_t k = 1; k < kRegionBins; ++k) {
@@ -396,7 +421,7 @@ bool StartsApart(std::span<const double> x, std::span<const double> y, std::size
     std::size_t last = first, m = 0;
     while (last < count.size() && m + count[last] <= kStartsWindow) m += count[last++];
     if (last == first) return false;  // one bin holds more than a window
-    s->a.resize(std::max(s->a.size(), m + 1));
+    s->a.resize(std::max(s->a.size(), m + kStartsSlack));
     s->b.resize(std::max(s->b.size(), m + 1));
     // All the starts in one window (fig5's samples): copied by the pass that counts the coarse
     // bins, which the region walk needs after.
