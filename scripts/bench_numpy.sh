@@ -6,8 +6,9 @@
 # patlab runs the whole experiment (fast + ML, and every statistic and test of each point) on one
 # thread and on two; numpy runs the estimators only (fast + 3 Newton steps, no statistics) in one
 # process with its BLAS/OpenMP pools held to one thread. The ratios are trials per second of
-# patlab over numpy's. The machines are shared: run it when `uptime` shows a low load, and read
-# the load line it prints first.
+# patlab over numpy's; with the benchmarks built (build/bench/sim_bench), the last two lines give
+# patlab's kernel alone on one thread, the ceiling of the one-core ratio. The machines are shared:
+# run it when `uptime` shows a low load, and read the load line it prints first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TRIALS=${1:-0}
@@ -58,3 +59,20 @@ printf '%-44s %10.3f %14.3f %7.1fx\n' "patlab, everything, 2 threads" "$p2" "$(r
 echo "same workload, one core each: patlab is $(ratio "$numpy_s" "$p1")x numpy's throughput"
 echo "in CPU time (user + sys): numpy ${numpy_cpu} s, patlab 1 thread ${p1_cpu} s:" \
   "$(ratio "$numpy_cpu" "$p1_cpu")x"
+# The core-for-core ceiling, when the benchmarks are built: patlab's kernel alone on one thread
+# (noise, fast and ML; no statistics, no start-up, no output) and the noisy inputs alone (the
+# floor every estimator adds to), in trials per second against numpy's estimators
+# (docs/performance.md, "Issue 12").
+bench=$(dirname "$P")/bench/sim_bench
+if [[ -x $bench ]]; then
+  "$bench" --benchmark_filter='butterfly_(inputs_only|fast_and_ml)/real_time/threads:1$' \
+    --benchmark_format=csv 2>/dev/null > "$OUT/kernel.csv"
+  # CSV columns: name, iterations, real_time, cpu_time, time_unit, bytes/s, items/s, ...
+  awk -F, '/^"?Kernel/ { gsub(/"/, "", $1); sub(/^Kernel\/butterfly_/, "", $1);
+                         sub(/\/real_time.*/, "", $1); print $1, $7 }' "$OUT/kernel.csv" |
+    while read -r name rate; do
+      printf '%-44s %10s %14.3f %7.1fx\n' "patlab kernel only ($name), 1 thread" "-" \
+        "$(awk -v r="$rate" 'BEGIN { print r / 1e6 }')" \
+        "$(awk -v r="$rate" -v n="$total" -v s="$numpy_s" 'BEGIN { print r * s / n }')"
+    done
+fi
