@@ -68,11 +68,11 @@ if [[ -x $bench ]]; then
   "$bench" --benchmark_filter='butterfly_(inputs_only|fast_and_ml)/real_time/threads:1$' \
     --benchmark_format=csv 2>/dev/null > "$OUT/kernel.csv"
   # CSV columns: name, iterations, real_time, cpu_time, time_unit, bytes/s, items/s, ...
+  numpy_rate=$(ratio "$total" "$numpy_s")
   awk -F, '/^"?Kernel/ { gsub(/"/, "", $1); sub(/^Kernel\/butterfly_/, "", $1);
                          sub(/\/real_time.*/, "", $1); print $1, $7 }' "$OUT/kernel.csv" |
-    while read -r name rate; do
+    while read -r name per_second; do
       printf '%-44s %10s %14.3f %7.1fx\n' "patlab kernel only ($name), 1 thread" "-" \
-        "$(awk -v r="$rate" 'BEGIN { print r / 1e6 }')" \
-        "$(awk -v r="$rate" -v n="$total" -v s="$numpy_s" 'BEGIN { print r * s / n }')"
+        "$(ratio "$per_second" 1e6)" "$(ratio "$per_second" "$numpy_rate")"
     done
 fi

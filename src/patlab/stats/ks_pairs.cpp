@@ -34,8 +34,8 @@ using internal::SortSmall;
 using internal::ThreadBuffers;
 using internal::WalkSorted;
 
-// The same values as the plain loop: min_pd(y, x) is y < x ? y : x, std::min(x, y)'s
-// choice for equal values (-0.0, +0.0) too, and NEQ_UQ is x != y (true for NaN).
+// The same values as the plain loop: min_pd(y, x) is y < x ? y : x, as std::min(x, y) (x when
+// y is NaN), and NEQ_UQ is x != y (true for NaN).
 std::size_t internal::CopyDifferingStarts(const double* x, const double* y, std::size_t c,
                                           double* starts, std::size_t m) {
   std::size_t k = 0;
