@@ -52,7 +52,8 @@ single_and_parallel() {
     --shard {}/"$N" --out "$work/$case-parallel" -q ::: $(seq "$N")
   "$P" merge "$work/$case-parallel" --out "$work/$case-parallel-merged" -q
   cmp "$work/$case-single/$name.csv" "$work/$case-parallel-merged/$name.csv"
-  echo "$case, GNU parallel: merged CSV identical to the single-process CSV"
+  cmp "$work/$case-single/$name.json" "$work/$case-parallel-merged/$name.json"
+  echo "$case, GNU parallel: merged CSV and manifest identical to the single-process ones"
 }
 single_and_parallel known "$EXP" "${KNOWN_ARGS[@]}"
 single_and_parallel detect "$DETECT_EXP" "${DETECT_ARGS[@]}"
@@ -138,11 +139,12 @@ done
 for case in known detect; do
   name=$(cat "$work/$case.name")
   array_var=${case}_array
-  if ! cmp "$work/$case-single/$name.csv" "$s/$case-merged/$name.csv"; then
-    echo "Slurm, $case: the merged CSV differs or is missing; logs:" >&2
+  if ! cmp "$work/$case-single/$name.csv" "$s/$case-merged/$name.csv" ||
+     ! cmp "$work/$case-single/$name.json" "$s/$case-merged/$name.json"; then
+    echo "Slurm, $case: the merged CSV or manifest differs or is missing; logs:" >&2
     tail -n 20 "$s"/*.out "$s"/*.log >&2 || true
     exit 1
   fi
-  echo "$case, Slurm: merged CSV of array job ${!array_var} identical to the single-process CSV"
+  echo "$case, Slurm: merged CSV and manifest of array job ${!array_var} identical to the single-process ones"
 done
 echo "check_cluster: ok in $(($(date +%s) - start)) s"

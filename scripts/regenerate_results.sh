@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates every committed file under results/ from the committed inputs (run after
-# scripts/build.sh). Each line is the documented command of one result; with the same build the
-# CSVs come out byte-identical (the JSON manifests differ only in their timings).
+# scripts/build.sh). Each line is the documented command of one result; every file comes out the
+# same bytes on any x86-64 machine (scripts/check_main_job.sh checks that for the main job).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 P=build/patlab

@@ -144,28 +144,24 @@ int RunAnalyze(const std::vector<std::string>& args) {
   const sim::AnalyzeReport report =
       sim::AnalyzeTracks(std::move(tracks), o.analysis, o.truth.empty() ? nullptr : &truth);
   const auto analysed = std::chrono::steady_clock::now();
-  std::string command_line = "patlab analyze";
-  for (const std::string& a : args) command_line.append(" ").append(a);
   std::vector<std::string> inputs = o.tracks;
   if (!o.truth.empty()) inputs.push_back(o.truth);
-  // The per-sample errors (35 MB for 1e6 samples) are streamed into their temporary file; the
-  // manifest, produced last, times the writing of the CSVs before it.
+  // The per-sample errors (35 MB for 1e6 samples) are streamed into their temporary file.
   std::vector<std::pair<std::string, double>> timings = {{"read", Seconds(start, read)},
                                                          {"analyse", Seconds(read, analysed)}};
   const std::vector<io::StreamedFile> files = {
       {paths[0], [&](const io::TextSink& sink) { sink(sim::AnalyzeTableCsv(report)); }},
       {paths[1], [&](const io::TextSink& sink) { sink(sim::PairedTestsCsv(report.tests)); }},
       {paths[2], [&](const io::TextSink& sink) { sim::WriteAnalyzeErrorsCsv(report, sink); }},
-      {paths[3], [&](const io::TextSink& sink) {
-         timings.emplace_back("write", Seconds(analysed, std::chrono::steady_clock::now()));
-         sink(sim::AnalyzeManifestJson(report, command_line, inputs, paths, timings));
-       }}};
+      {paths[3],
+       [&](const io::TextSink& sink) { sink(sim::AnalyzeManifestJson(report, inputs, paths)); }}};
   try {
     io::WriteFilesAtomic(files);
   } catch (const EnvironmentError& e) {
     std::cerr << "patlab analyze: " << e.what() << "\n";
     return kExitFailure;
   }
+  timings.emplace_back("write", Seconds(analysed, std::chrono::steady_clock::now()));
   if (!o.quiet)
     PrintSummary(report, timings, Seconds(start, std::chrono::steady_clock::now()), paths);
   return kExitOk;

@@ -51,9 +51,7 @@ int RunMerge(const std::vector<std::string>& args) {
   if (o.shards.empty()) {
     throw InputError("missing SHARD; expected 'patlab merge SHARD... --out DIR' (see --help)");
   }
-  std::string command_line = "patlab merge";
-  for (const std::string& a : args) command_line += " " + a;
-  const sim::MergedOutputs merged = sim::MergeShards(o.shards, o.out_dir, o.name, command_line);
+  const sim::MergedOutputs merged = sim::MergeShards(o.shards, o.out_dir, o.name);
   try {
     io::WriteFilesAtomic({{merged.csv_path, merged.csv}, {merged.json_path, merged.json}});
   } catch (const InputError& e) {

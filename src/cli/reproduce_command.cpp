@@ -143,10 +143,7 @@ int RunReproduce(const std::vector<std::string>& args) {
     return kExitOk;
   }
   CheckThreads(o.threads);
-  std::string command_line = "patlab reproduce";
-  for (const std::string& a : args) command_line.append(" ").append(a);
-  const sim::ReproduceOptions options{
-      .root = o.root, .threads = o.threads, .out_dir = o.out_dir, .command_line = command_line};
+  const sim::ReproduceOptions options{.root = o.root, .threads = o.threads, .out_dir = o.out_dir};
   const sim::Reproduction r = sim::Reproduce(options);
   const std::vector<sim::FigureStep> steps = sim::FigureSteps(options);
   int ok = 0;

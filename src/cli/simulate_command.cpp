@@ -66,7 +66,7 @@ void ProgressBar(int done, int total) {
   std::fflush(stderr);
 }
 
-// The result files of a run: <out>/<base>.csv and .json, and the command line for the manifest.
+// The result files of a run: <out>/<base>.csv and .json, and the command line for a shard's record.
 struct OutputFiles {
   std::string csv_path, json_path, command_line;
 };
@@ -146,8 +146,7 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
     return kExitOk;
   }
   WriteOutputs(files, sim::DetectResultsCsv(experiment, result),
-               sim::DetectManifestJson(experiment, result, files.command_line,
-                                       {files.csv_path, files.json_path}));
+               sim::DetectManifestJson(experiment, result, {files.csv_path, files.json_path}));
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld frames in %.3f s wall (frames %.3f s = %.0f frames/s, "
@@ -201,9 +200,8 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
                                          BaseName(experiment, o), files.command_line)}});
     return kExitOk;
   }
-  WriteOutputs(
-      files, sim::ResultsCsv(experiment, result),
-      sim::ManifestJson(experiment, result, files.command_line, {files.csv_path, files.json_path}));
+  WriteOutputs(files, sim::ResultsCsv(experiment, result),
+               sim::ManifestJson(experiment, result, {files.csv_path, files.json_path}));
   if (!o.quiet) {
     std::fprintf(stderr,
                  "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "

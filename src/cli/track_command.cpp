@@ -117,15 +117,14 @@ std::array<std::string, 4> OutputPaths(const TrackCliOptions& o, const sim::Trac
 std::optional<std::array<std::string, 4>> WriteOutputs(const TrackCliOptions& o,
                                                        const sim::TrackOptions& options,
                                                        const sim::TrackResult& result,
-                                                       const std::vector<sim::TableRow>& table,
-                                                       const std::string& command_line) {
+                                                       const std::vector<sim::TableRow>& table) {
   const std::array<std::string, 4> paths = OutputPaths(o, options);
   try {
-    io::WriteFilesAtomic({{paths[0], sim::TableCsv(table)},
-                          {paths[1], sim::SizeTestsCsv(sim::MakeSizeTests(result))},
-                          {paths[2], sim::ErrorsCsv(options, result, o.decimate)},
-                          {paths[3], sim::TrackManifestJson(options, result, table, command_line,
-                                                            {paths.begin(), paths.end()})}});
+    io::WriteFilesAtomic(
+        {{paths[0], sim::TableCsv(table)},
+         {paths[1], sim::SizeTestsCsv(sim::MakeSizeTests(result))},
+         {paths[2], sim::ErrorsCsv(options, result, o.decimate)},
+         {paths[3], sim::TrackManifestJson(options, result, table, {paths.begin(), paths.end()})}});
   } catch (const InputError& e) {
     std::cerr << "patlab track: " << e.what() << "\n";
     return std::nullopt;
@@ -189,9 +188,7 @@ int RunTrackCommand(const std::vector<std::string>& args) {
   run_options.threads = o.threads;
   const sim::TrackResult result = sim::RunTrack(options, run_options);
   const std::vector<sim::TableRow> table = sim::MakeTable(result);
-  std::string command_line = "patlab track";
-  for (const std::string& a : args) command_line += " " + a;
-  const auto written = WriteOutputs(o, options, result, table, command_line);
+  const auto written = WriteOutputs(o, options, result, table);
   if (!written) return kExitFailure;
   if (!o.quiet) PrintSummary(options, result, table, *written);
   return kExitOk;

@@ -59,11 +59,11 @@ TEST(TrackCli, WritesTableTestsErrorsAndManifestIdenticalForAnyThreadCount) {
 
   const auto manifest = nlohmann::json::parse(testing::ReadFile(dir.Path("one/tiny.json")));
   EXPECT_EQ(manifest["seed"], 5);
-  EXPECT_EQ(manifest["threads"], 1);
+  EXPECT_FALSE(manifest.contains("threads"));
   EXPECT_EQ(manifest["run_setups"].size(), 2u);
   EXPECT_EQ(manifest["table"].size(), 3u);
   EXPECT_TRUE(manifest["table"][2].contains("true_theta"));
-  EXPECT_TRUE(manifest["timings_s"].contains("measure"));
+  EXPECT_FALSE(manifest.contains("timings_s"));
   int files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir.Path("one"))) {
     (void)entry;

@@ -124,12 +124,16 @@ TEST(Design, DotsThatCannotFitAfterTheSearch) {
                      "no layout of 8 ID patches fits with outer_diameter_mm 180, rim_gap_mm 0, "
                      "key_radius_mm 25 and min_gap_mm 20 (3 starts); expected fewer or smaller ID "
                      "patches, a smaller min_gap_mm or a larger outer_diameter_mm");
+  // An impossible limit is the one named: with min_ids 1 no layout can fail on its IDs first
+  // (which limit the search's best start misses otherwise depends on its path).
   o = Small(3);
+  o.min_ids = 1;
   o.min_rotation_onset_mm = 100;
   EXPECT_INPUT_ERROR_STARTS_WITH(RunDesign(o),
                                  "no layout meets every limit (3 starts); the best inside the "
                                  "robot top by angle_crlb has rotation onset ");
   o = Small(3);
+  o.min_ids = 1;
   o.max_position_crlb_per_mm = 0.4;  // never below 1 / sqrt(5) = 0.447 with 5 patches
   EXPECT_INPUT_ERROR_STARTS_WITH(RunDesign(o),
                                  "no layout meets every limit (3 starts); the best inside the "

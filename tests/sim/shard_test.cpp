@@ -31,16 +31,6 @@ Experiment Small(uint64_t seed = 9) {
   return e;
 }
 
-// The manifest without the keys that describe the run rather than the experiment.
-nlohmann::json WithoutRunKeys(const std::string& text) {
-  nlohmann::json j = nlohmann::json::parse(text);
-  for (const char* key : {"command_line", "threads", "timings_s", "trials_per_second",
-                          "frames_per_second", "outputs"}) {
-    j.erase(key);
-  }
-  return j;
-}
-
 // Runs share k of n of `e` and writes its shard file into `dir`; returns the path.
 std::string WriteKnownShard(const Experiment& e, int k, int n, const testing::TempDir& dir) {
   RunOptions options;
@@ -70,23 +60,21 @@ TEST(Shard, MergedKnownSharesEqualTheUnshardedRunByteForByte) {
   const Experiment e = Small();
   const RunResult whole = RunExperiment(e, {});
   const std::string csv = ResultsCsv(e, whole);
-  const std::string manifest = ManifestJson(e, whole, "x", {});
   // 3 shares of 8 points (uneven), and 11 shares: three of them hold no point.
   for (int n : {3, 11}) {
     testing::TempDir dir;
     for (int k = n; k >= 1; --k) WriteKnownShard(e, k, n, dir);
-    const MergedOutputs merged = MergeShards({dir.Path()}, dir.Path("out"), "", "merge");
+    const MergedOutputs merged = MergeShards({dir.Path()}, dir.Path("out"), "");
     EXPECT_EQ(merged.csv, csv) << n;
-    EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(manifest)) << n;
+    EXPECT_EQ(merged.json, ManifestJson(e, whole, {merged.csv_path, merged.json_path})) << n;
     EXPECT_EQ(merged.csv_path, dir.Path("out/small.csv"));
-    EXPECT_EQ(nlohmann::json::parse(merged.json)["command_line"], "merge");
   }
 }
 
 TEST(Shard, TrialRangeSharesMergeToTheUnshardedRunByteForByte) {
   // Points of three blocks (2 x 2^20 + 5000 trials): with 2 or 4 shares no share holds a whole
   // point; the merge folds every point's blocks as the runner does, so the CSV is the same bytes
-  // and the manifest the same but for the run's keys. Two points, one with ML non-converged
+  // and the manifest the same bytes. Two points, one with ML non-converged
   // trials and the first block's KS/Wilcoxon comparison.
   Experiment e = Small();
   e.patterns.resize(1);
@@ -98,18 +86,17 @@ TEST(Shard, TrialRangeSharesMergeToTheUnshardedRunByteForByte) {
   options.threads = 2;
   const RunResult whole = RunExperiment(e, options);
   const std::string csv = ResultsCsv(e, whole);
-  const std::string manifest = ManifestJson(e, whole, "x", {});
   for (int n : {2, 4}) {
     testing::TempDir dir;
     for (int k = 1; k <= n; ++k) WriteKnownShard(e, k, n, dir);
-    const MergedOutputs merged = MergeShards({dir.Path()}, dir.Path("out"), "", "merge");
+    const MergedOutputs merged = MergeShards({dir.Path()}, dir.Path("out"), "");
     EXPECT_EQ(merged.csv, csv) << n;
-    EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(manifest)) << n;
+    EXPECT_EQ(merged.json, ManifestJson(e, whole, {merged.csv_path, merged.json_path})) << n;
   }
   // A missing share is named, and nothing is merged.
   testing::TempDir dir;
   const std::string s1 = WriteKnownShard(e, 1, 2, dir);
-  EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s1}, dir.Path("out"), "", ""), "missing shards 2/2");
+  EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s1}, dir.Path("out"), ""), "missing shards 2/2");
 }
 
 // A detect-mode experiment in `dir` (Butterfly with 2 ID colours, Triangle with 3): `body` is the
@@ -147,16 +134,16 @@ TEST(Shard, MergedDetectSharesEqualTheUnshardedRun) {
       "[detect]\nsettings = \"det.toml\"\nframes = 100\nfalse_blob_rate_per_m2 = [0, 3]\n");
   const DetectRunResult whole = RunDetectExperiment(e, {});
   for (int k = 1; k <= 3; ++k) WriteDetectShard(e, k, 3, dir);
-  const MergedOutputs merged = MergeShards({dir.Path("shards")}, dir.Path("out"), "", "m");
+  const MergedOutputs merged = MergeShards({dir.Path("shards")}, dir.Path("out"), "");
   EXPECT_EQ(merged.csv, DetectResultsCsv(e, whole));
-  EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(DetectManifestJson(e, whole, "", {})));
+  EXPECT_EQ(merged.json, DetectManifestJson(e, whole, {merged.csv_path, merged.json_path}));
 }
 
 TEST(Shard, DetectTrialRangeSharesMergeToTheUnshardedRunByteForByte) {
   // Detect points of three blocks of frames (2 x 2^14 + 300 frames; small frames: one robot per
   // team, no ball): with 2 or 4 shares no share holds a whole point. The merge adds every
   // point's counters and folds its pose-error moments as the runner does (FinishDetectPoint), so
-  // the CSV is the same bytes and the manifest the same but for the run's keys. Two points, with
+  // the CSV is the same bytes and the manifest the same bytes. Two points, with
   // false blobs, missing patches and colour errors, so that every counter is non-zero somewhere.
   testing::TempDir dir;
   const Experiment e =
@@ -172,20 +159,19 @@ TEST(Shard, DetectTrialRangeSharesMergeToTheUnshardedRunByteForByte) {
   ASSERT_EQ(whole.points.size(), 2U);
   EXPECT_GT(whole.points[1].wrong_id + whole.points[1].ambiguous, 0);
   const std::string csv = DetectResultsCsv(e, whole);
-  const std::string manifest = DetectManifestJson(e, whole, "x", {});
   for (int n : {2, 4}) {
     testing::TempDir shards;
     for (int k = n; k >= 1; --k) WriteDetectShard(e, k, n, shards);
-    const MergedOutputs merged = MergeShards({shards.Path("shards")}, dir.Path("out"), "", "m");
+    const MergedOutputs merged = MergeShards({shards.Path("shards")}, dir.Path("out"), "");
     EXPECT_EQ(merged.csv, csv) << n;
-    EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(manifest)) << n;
+    EXPECT_EQ(merged.json, DetectManifestJson(e, whole, {merged.csv_path, merged.json_path})) << n;
     EXPECT_EQ(nlohmann::json::parse(merged.json)["total_frames"], whole.total_frames) << n;
   }
   // A missing share is named, and nothing is merged.
   testing::TempDir one;
   const std::string s2 = WriteDetectShard(e, 2, 4, one);
   const std::string s3 = WriteDetectShard(e, 3, 4, one);
-  EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s2, s3}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s2, s3}, dir.Path("out"), ""),
                                  "missing shards 1/4, 4/4 of experiment 'det'");
 }
 
@@ -202,10 +188,10 @@ TEST(Shard, TheFingerprintIsTheExperimentsContentNotItsPathAsTyped) {
   ASSERT_NE(plain.source_file, dotted.source_file);
   WriteDetectShard(plain, 1, 2, dir);
   WriteDetectShard(dotted, 2, 2, dir);
-  const MergedOutputs merged = MergeShards({dir.Path("shards")}, dir.Path("out"), "", "m");
+  const MergedOutputs merged = MergeShards({dir.Path("shards")}, dir.Path("out"), "");
   const DetectRunResult whole = RunDetectExperiment(plain, {});
   EXPECT_EQ(merged.csv, DetectResultsCsv(plain, whole));
-  EXPECT_EQ(WithoutRunKeys(merged.json), WithoutRunKeys(DetectManifestJson(plain, whole, "", {})));
+  EXPECT_EQ(merged.json, DetectManifestJson(plain, whole, {merged.csv_path, merged.json_path}));
   // The same paths with other content are another experiment: a settings file whose Triangle
   // lists its ID colours in another order (another codebook) is refused.
   dir.Write("experiments/det.toml",
@@ -218,7 +204,7 @@ TEST(Shard, TheFingerprintIsTheExperimentsContentNotItsPathAsTyped) {
   const std::string other =
       WriteDetectShard(LoadExperimentFile(dir.Path("experiments/e.toml")), 2, 2, dir);
   EXPECT_INPUT_ERROR_STARTS_WITH(
-      MergeShards({dir.Path("shards/det.shard-1-of-2.json"), other}, dir.Path("out"), "", "m"),
+      MergeShards({dir.Path("shards/det.shard-1-of-2.json"), other}, dir.Path("out"), ""),
       other + ": shard of experiment 'det', seed 5, patlab " + PATLAB_VERSION + ", fingerprint ");
 }
 
@@ -229,25 +215,25 @@ TEST(Shard, MissingRepeatedAndForeignSharesAreNamed) {
   const std::string s3 = WriteKnownShard(e, 3, 4, dir);
   const std::string fp =
       nlohmann::json::parse(testing::ReadFile(s1))["fingerprint"].get<std::string>();
-  EXPECT_INPUT_ERROR(MergeShards({s1, s3}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({s1, s3}, dir.Path("out"), ""),
                      "missing shards 2/4, 4/4 of experiment 'small', seed 9, patlab " +
                          std::string(PATLAB_VERSION) + ", fingerprint " + fp +
                          "; expected one file for each share 1..4; nothing written");
-  EXPECT_INPUT_ERROR(MergeShards({s1, s3, s1}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({s1, s3, s1}, dir.Path("out"), ""),
                      s1 + ": share 1/4 again (also " + s1 + "); expected each share once");
   // Another seed is another experiment.
   testing::TempDir other_dir;
   const std::string other = WriteKnownShard(Small(10), 2, 4, other_dir);
   const std::string other_fp =
       nlohmann::json::parse(testing::ReadFile(other))["fingerprint"].get<std::string>();
-  EXPECT_INPUT_ERROR(MergeShards({s1, other}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({s1, other}, dir.Path("out"), ""),
                      other + ": shard of experiment 'small', seed 10, patlab " +
                          std::string(PATLAB_VERSION) + ", fingerprint " + other_fp +
                          "; expected a shard of experiment 'small', seed 9, patlab " +
                          PATLAB_VERSION + ", fingerprint " + fp + " like " + s1);
   // Another share count.
   const std::string s2of3 = WriteKnownShard(e, 2, 3, other_dir);
-  EXPECT_INPUT_ERROR(MergeShards({s1, s2of3}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({s1, s2of3}, dir.Path("out"), ""),
                      s2of3 + ": shard 2/3; expected a share of N = 4 like " + s1);
 }
 
@@ -264,7 +250,7 @@ TEST(Shard, ShardsOfAnotherPatlabVersionAreRefused) {
       "%016llx",
       static_cast<unsigned long long>(StreamKey(0).Add(std::string_view(j.dump())).value()));
   dir.Write(ShardFileName("small", {1, 1}), j.dump(1) + "\n");
-  EXPECT_INPUT_ERROR(MergeShards({s1}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({s1}, dir.Path("out"), ""),
                      s1 + ": written by patlab \"0.0.9\"; expected " + PATLAB_VERSION +
                          " (this patlab): rerun the shard with this version");
 }
@@ -277,7 +263,7 @@ TEST(Shard, TruncatedOrEditedShardsAreRefused) {
   const std::string text = testing::ReadFile(s2);
   const std::string expected = "; expected a shard file as 'patlab simulate --shard K/N' wrote it";
   dir.Write(ShardFileName("small", {2, 2}), text.substr(0, text.size() / 2));
-  EXPECT_INPUT_ERROR(MergeShards({s1, s2}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({s1, s2}, dir.Path("out"), ""),
                      s2 + ": not JSON (truncated or edited?)" + expected);
   // One digit of one result changed: the checksum no longer matches.
   std::string edited = text;
@@ -286,17 +272,16 @@ TEST(Shard, TruncatedOrEditedShardsAreRefused) {
   const size_t digit = edited.find_first_of("123456789", row + 30);
   edited[digit] = edited[digit] == '9' ? '8' : static_cast<char>(edited[digit] + 1);
   dir.Write(ShardFileName("small", {2, 2}), edited);
-  EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s1, s2}, dir.Path("out"), "", ""),
-                                 s2 + ": checksum \"");
+  EXPECT_INPUT_ERROR_STARTS_WITH(MergeShards({s1, s2}, dir.Path("out"), ""), s2 + ": checksum \"");
   dir.Write(ShardFileName("small", {2, 2}), "{\"format\": \"something else\"}");
-  EXPECT_INPUT_ERROR(MergeShards({s1, s2}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({s1, s2}, dir.Path("out"), ""),
                      s2 + ": not a patlab shard file (no \"format\": \"patlab shard\")" + expected);
   testing::TempDir empty;
-  EXPECT_INPUT_ERROR(MergeShards({empty.Path("")}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({empty.Path("")}, dir.Path("out"), ""),
                      empty.Path("") + ": no *.shard-K-of-N.json files; expected shard files");
-  EXPECT_INPUT_ERROR(MergeShards({}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({}, dir.Path("out"), ""),
                      "no shard files given; expected SHARD... (files or dirs)");
-  EXPECT_INPUT_ERROR(MergeShards({dir.Path("nothing")}, dir.Path("out"), "", ""),
+  EXPECT_INPUT_ERROR(MergeShards({dir.Path("nothing")}, dir.Path("out"), ""),
                      dir.Path("nothing") +
                          ": cannot read; expected a shard file written by 'patlab simulate "
                          "--shard'");

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "patlab/core/portable_math.h"
+
 namespace patlab {
 
 using Vec2 = Eigen::Vector2d;
@@ -17,7 +19,8 @@ struct Pose2 {
   double theta_rad = 0.0;
 
   Vec2 Apply(const Vec2& model_point) const {
-    const double c = std::cos(theta_rad), s = std::sin(theta_rad);
+    double s, c;
+    pmath::SinCos(theta_rad, &s, &c);
     return {x_mm + c * model_point.x() - s * model_point.y(),
             y_mm + s * model_point.x() + c * model_point.y()};
   }

@@ -18,6 +18,8 @@
 #include <numbers>
 #include <string_view>
 
+#include "patlab/core/portable_math.h"
+
 namespace patlab {
 
 // The four 32-bit words of Philox4x32-10 for counter (a, b, c, d) under a 64-bit key.
@@ -75,10 +77,12 @@ inline void PhiloxBatch(uint64_t key, const uint32_t* c0, uint32_t c1, uint32_t 
 // Box-Muller: two independent standard normals from two uniforms in (0, 1).
 // (Box & Muller 1958, Ann. Math. Statist. 29(2).)
 inline void BoxMuller(double u1, double u2, double* z0, double* z1) {
-  const double r = std::sqrt(-2.0 * std::log(u1));
+  const double r = std::sqrt(-2.0 * pmath::Log(u1));
   const double phi = 2.0 * std::numbers::pi * u2;
-  *z0 = r * std::cos(phi);
-  *z1 = r * std::sin(phi);
+  double sin_phi, cos_phi;
+  pmath::SinCos(phi, &sin_phi, &cos_phi);
+  *z0 = r * cos_phi;
+  *z1 = r * sin_phi;
 }
 
 // The 64-bit Philox key of a stream from what the stream *is* (docs/architecture.md rule 1): the

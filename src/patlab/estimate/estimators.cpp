@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "patlab/core/error.h"
+#include "patlab/core/portable_math.h"
 
 namespace patlab::estimate {
 
@@ -47,12 +48,13 @@ double FastAngle(const Model& model, const Vec2* observed) {
     sx += c * d.x() + s * d.y();
     sy += -s * d.x() + c * d.y();
   }
-  return std::atan2(sy, sx);
+  return pmath::Atan2(sy, sx);
 }
 
 // The origin whose pose maps `model_point` to `world_point` at heading theta.
 Pose2 OriginFrom(const Vec2& world_point, const Vec2& model_point, double theta) {
-  const double c = std::cos(theta), s = std::sin(theta);
+  double s, c;
+  pmath::SinCos(theta, &s, &c);
   return {world_point.x() - (c * model_point.x() - s * model_point.y()),
           world_point.y() - (s * model_point.x() + c * model_point.y()), WrapAngle(theta)};
 }
@@ -77,11 +79,12 @@ Pose2 LeastSquares(const Model& model, const Vec2* observed) {
     dot += q.x() * w.x() + q.y() * w.y();
     cross += q.x() * w.y() - q.y() * w.x();
   }
-  return OriginFrom(mean, model.centroid_mm, std::atan2(cross, dot));
+  return OriginFrom(mean, model.centroid_mm, pmath::Atan2(cross, dot));
 }
 
 double SumSquaredError(const Model& model, const Vec2* observed, const Pose2& pose) {
-  const double c = std::cos(pose.theta_rad), s = std::sin(pose.theta_rad);
+  double s, c;
+  pmath::SinCos(pose.theta_rad, &s, &c);
   double e = 0.0;
   for (int i = 0; i < model.num_patches; ++i) {
     const Vec2& p = model.model_mm[i];
@@ -94,7 +97,8 @@ double SumSquaredError(const Model& model, const Vec2* observed, const Pose2& po
 
 void SumSquaredErrorDerivatives(const Model& model, const Vec2* observed, const Pose2& pose,
                                 double gradient[3], double hessian[3][3]) {
-  const double c = std::cos(pose.theta_rad), s = std::sin(pose.theta_rad);
+  double s, c;
+  pmath::SinCos(pose.theta_rad, &s, &c);
   double gx = 0.0, gy = 0.0, gt = 0.0, hxt = 0.0, hyt = 0.0, htt = 0.0;
   for (int i = 0; i < model.num_patches; ++i) {
     const Vec2& p = model.model_mm[i];

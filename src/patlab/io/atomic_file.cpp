@@ -289,4 +289,11 @@ void InstallSignalCleanup() {
   (void)installed;
 }
 
+std::vector<std::string> OutputNames(const std::vector<std::string>& paths) {
+  std::vector<std::string> names;
+  names.reserve(paths.size());
+  for (const std::string& p : paths) names.push_back(fs::path(p).filename().string());
+  return names;
+}
+
 }  // namespace patlab::io

@@ -52,6 +52,10 @@ bool IsFileBaseName(std::string_view name);
 inline constexpr const char* kFileBaseNameExpected =
     "a non-empty file base name without '/' of at most 200 bytes";
 
+// The names of the files of a result set, without their folder, as its manifest lists them: a
+// manifest describes results, so it reads the same wherever they were written.
+std::vector<std::string> OutputNames(const std::vector<std::string>& paths);
+
 // Installs the SIGINT / SIGTERM / SIGHUP handler that removes WriteFilesAtomic's temporary files
 // when a signal arrives while they are written, and defers a signal that arrives during the
 // commit renames until they are done; the signal then takes its default action (the process

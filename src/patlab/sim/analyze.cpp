@@ -12,6 +12,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/core/geometry.h"
+#include "patlab/io/atomic_file.h"
 
 namespace patlab::sim {
 
@@ -395,15 +396,12 @@ std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
   return csv;
 }
 
-std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::string& command_line,
-                                const std::vector<std::string>& inputs,
-                                const std::vector<std::string>& outputs,
-                                const std::vector<std::pair<std::string, double>>& timings_s) {
+std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::vector<std::string>& inputs,
+                                const std::vector<std::string>& outputs) {
   const AnalyzeOptions& o = report.options;
   nlohmann::json j;
   j["tool"] = "patlab analyze";
   j["version"] = PATLAB_VERSION;
-  j["command_line"] = command_line;
   j["inputs"] = inputs;
   j["analysis"] = {{"smoothing_sigma_samples", o.smoothing.sigma_samples},
                    {"truncate_sigmas", o.smoothing.truncate_sigmas},
@@ -427,9 +425,7 @@ std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::string& 
     subjects.push_back(s);
   }
   j["subjects"] = subjects;
-  j["timings_s"] = nlohmann::json::object();
-  for (const auto& [stage, seconds] : timings_s) j["timings_s"][stage] = seconds;
-  j["outputs"] = outputs;
+  j["outputs"] = io::OutputNames(outputs);
   return j.dump(2) + "\n";
 }
 

@@ -119,10 +119,8 @@ std::string AnalyzeErrorsCsv(const AnalyzeReport& report);
 // no 35 MB string for a million samples). The concatenation of the pieces is AnalyzeErrorsCsv.
 void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
                            const std::function<void(std::string_view)>& sink);
-// The manifest (JSON): command line, inputs, options, the table, timings and outputs.
-std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::string& command_line,
-                                const std::vector<std::string>& inputs,
-                                const std::vector<std::string>& outputs,
-                                const std::vector<std::pair<std::string, double>>& timings_s);
+// The manifest (JSON): inputs, options, the table and the output files (by name).
+std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::vector<std::string>& inputs,
+                                const std::vector<std::string>& outputs);
 
 }  // namespace patlab::sim

@@ -1,18 +1,20 @@
-// Compiled with -O3 -ffast-math (src/patlab/sim/CMakeLists.txt) so that GCC vectorises log, sqrt,
-// sin, cos and atan2 through glibc's libmvec. Every stage is a plain loop over the trials of the
-// batch; sin and cos of one angle are computed in separate loops because GCC 12 will not
-// vectorise a loop that needs both. Fast-math may reassociate sums, which changes results only
-// between builds, never between thread counts (the batch layout is fixed). Nothing here relies on
-// NaN or infinity: inputs are validated before they reach the kernel, and the few trials whose
-// Newton iteration needs care are re-run by the reference estimator (compiled without
-// fast-math).
+// The Monte-Carlo kernel: every stage is a plain loop over the trials of the batch that GCC
+// vectorises at whatever width the target has. Its transcendentals are patlab's own
+// (core/portable_math.h), in plain IEEE arithmetic, and the file is compiled like the rest of
+// patlab (no -ffast-math, no fused multiply-add contraction): a trial's numbers are then the same
+// bits on every x86-64 CPU, whatever vector width the loops were given (docs/architecture.md,
+// "Same bytes on every machine"). Nothing here relies on NaN or infinity: inputs are validated
+// before they reach the kernel, and the few trials whose Newton iteration needs care are re-run
+// by the reference estimator.
 #include "patlab/sim/batch.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
+#include "patlab/core/portable_math.h"
 #include "patlab/core/rng.h"
 
 namespace patlab::sim {
@@ -64,9 +66,13 @@ void Blocks(const PointSetup& s, uint64_t t0, int m, uint32_t block, Scratch& w)
 void Normals(const uint32_t* radius_word, const uint32_t* angle_word, int m, Scratch& w) {
   for (int k = 0; k < m; ++k) w.u1[k] = UniformOpen01(radius_word[k]);
   for (int k = 0; k < m; ++k) w.u2[k] = 2.0 * kPi * UniformOpen01(angle_word[k]);
-  for (int k = 0; k < m; ++k) w.radius[k] = std::sqrt(-2.0 * std::log(w.u1[k]));
-  for (int k = 0; k < m; ++k) w.zx[k] = w.radius[k] * std::cos(w.u2[k]);
-  for (int k = 0; k < m; ++k) w.zy[k] = w.radius[k] * std::sin(w.u2[k]);
+  for (int k = 0; k < m; ++k) w.radius[k] = std::sqrt(-2.0 * pmath::Log(w.u1[k]));
+  for (int k = 0; k < m; ++k) {
+    double sin_u2, cos_u2;
+    pmath::SinCos(w.u2[k], &sin_u2, &cos_u2);
+    w.zx[k] = w.radius[k] * cos_u2;
+    w.zy[k] = w.radius[k] * sin_u2;
+  }
 }
 
 // The true poses: uniform over the field and in (-pi, pi] (block 0), with cos and sin.
@@ -77,8 +83,7 @@ void TruePoses(const PointSetup& s, uint64_t t0, int m, Scratch& w) {
     w.true_y[k] = (UniformOpen01(w.words[1][k]) - 0.5) * s.field_width_mm;
     w.true_t[k] = kPi * (2.0 * UniformOpen01(w.words[2][k]) - 1.0);
   }
-  for (int k = 0; k < m; ++k) w.true_c[k] = std::cos(w.true_t[k]);
-  for (int k = 0; k < m; ++k) w.true_s[k] = std::sin(w.true_t[k]);
+  for (int k = 0; k < m; ++k) pmath::SinCos(w.true_t[k], &w.true_s[k], &w.true_c[k]);
 }
 
 // The common-mode offset of each trial (block first_common_block), or zero.
@@ -140,7 +145,7 @@ void CorrelationFactor(const estimate::Model& model, double length_mm,
   chol.fill(0.0);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j <= i; ++j) {
-      double v = std::exp(-(model.model_mm[i] - model.model_mm[j]).norm() / length_mm);
+      double v = pmath::Exp(-(model.model_mm[i] - model.model_mm[j]).norm() / length_mm);
       for (int k = 0; k < j; ++k) v -= chol[i * kMaxPatches + k] * chol[j * kMaxPatches + k];
       if (i == j) {
         chol[i * kMaxPatches + i] = v > 0.0 ? std::sqrt(v) : 0.0;
@@ -189,8 +194,12 @@ void CameraJitter(const PointSetup& s, uint64_t t0, int m, uint32_t block, Scrat
     w.u1[k] = sigma_phi * w.zx[k];
     w.u2[k] = 1.0 + sigma_eps * w.zy[k];
   }
-  for (int k = 0; k < m; ++k) w.zx[k] = w.u2[k] * std::cos(w.u1[k]);
-  for (int k = 0; k < m; ++k) w.zy[k] = w.u2[k] * std::sin(w.u1[k]);
+  for (int k = 0; k < m; ++k) {
+    double sin_phi, cos_phi;
+    pmath::SinCos(w.u1[k], &sin_phi, &cos_phi);
+    w.zx[k] = w.u2[k] * cos_phi;
+    w.zy[k] = w.u2[k] * sin_phi;
+  }
   for (int i = 0; i < s.model->num_patches; ++i) {
     for (int k = 0; k < m; ++k) {
       const double x = w.ox[i][k], y = w.oy[i][k];
@@ -281,9 +290,8 @@ void Fast(const PointSetup& s, int m, Scratch& w) {
       w.sum_b[k] += -sn * dx + c * dy;
     }
   }
-  for (int k = 0; k < m; ++k) w.fast_t[k] = std::atan2(w.sum_b[k], w.sum_a[k]);
-  for (int k = 0; k < m; ++k) w.fast_c[k] = std::cos(w.fast_t[k]);
-  for (int k = 0; k < m; ++k) w.fast_s[k] = std::sin(w.fast_t[k]);
+  for (int k = 0; k < m; ++k) w.fast_t[k] = pmath::Atan2(w.sum_b[k], w.sum_a[k]);
+  for (int k = 0; k < m; ++k) pmath::SinCos(w.fast_t[k], &w.fast_s[k], &w.fast_c[k]);
 }
 
 // The closed-form least-squares fit (2-D Procrustes).
@@ -299,9 +307,8 @@ void LeastSquares(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out
       w.sum_b[k] += qx * wy - qy * wx;
     }
   }
-  for (int k = 0; k < m; ++k) w.est_t[k] = std::atan2(w.sum_b[k], w.sum_a[k]);
-  for (int k = 0; k < m; ++k) w.est_c[k] = std::cos(w.est_t[k]);
-  for (int k = 0; k < m; ++k) w.est_s[k] = std::sin(w.est_t[k]);
+  for (int k = 0; k < m; ++k) w.est_t[k] = pmath::Atan2(w.sum_b[k], w.sum_a[k]);
+  for (int k = 0; k < m; ++k) pmath::SinCos(w.est_t[k], &w.est_s[k], &w.est_c[k]);
   WriteErrors(w.mean_x, w.mean_y, model.centroid_mm, w.est_t, w.est_c, w.est_s, m, w, out);
 }
 
@@ -353,8 +360,7 @@ void NewtonSteps(const estimate::Model& model, const estimate::Options& o, int m
   const double inv_tol_mm = 1.0 / std::max(o.step_tolerance_mm, 1e-300);
   const double inv_tol_rad = 1.0 / std::max(o.step_tolerance_rad, 1e-300);
   for (int it = 0; it < o.max_iterations; ++it) {
-    for (int k = 0; k < m; ++k) w.est_c[k] = std::cos(w.ml_t[k]);
-    for (int k = 0; k < m; ++k) w.est_s[k] = std::sin(w.ml_t[k]);
+    for (int k = 0; k < m; ++k) pmath::SinCos(w.ml_t[k], &w.est_s[k], &w.est_c[k]);
     double any_active = 0.0;
     for (int k = 0; k < m; ++k) {
       const double c = w.est_c[k], sn = w.est_s[k];
@@ -427,8 +433,7 @@ void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays
     w.ml_y[k] += w.mean_y[k];
     w.est_t[k] = w.ml_t[k];
   }
-  for (int k = 0; k < m; ++k) w.est_c[k] = std::cos(w.est_t[k]);
-  for (int k = 0; k < m; ++k) w.est_s[k] = std::sin(w.est_t[k]);
+  for (int k = 0; k < m; ++k) pmath::SinCos(w.est_t[k], &w.est_s[k], &w.est_c[k]);
   const Vec2 zero = Vec2::Zero();
   WriteErrors(w.ml_x, w.ml_y, zero, w.est_t, w.est_c, w.est_s, m, w, out);
   for (int k = 0; k < m; ++k) {
@@ -439,9 +444,9 @@ void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays
   }
 }
 
-}  // namespace
-
-void RunBatch(const PointSetup& setup, uint64_t first_trial, int count, const BatchOutput& out) {
+// RunBatch's stages in one function, compiled once per instruction set below.
+inline void RunBatchStages(const PointSetup& setup, uint64_t first_trial, int count,
+                           const BatchOutput& out) {
   Scratch& w = scratch;
   const int m = count;
   // Always a whole batch of patch positions, so that GenerateTrial reproduces them lane for lane.
@@ -467,6 +472,80 @@ void RunBatch(const PointSetup& setup, uint64_t first_trial, int count, const Ba
     MaximumLikelihood(setup, m, w, out.errors[static_cast<int>(Estimator::kMl)], out.ml_iterations,
                       out.ml_termination);
   }
+}
+
+}  // namespace
+
+// The kernel for the baseline x86-64 (SSE2: two trials a vector), x86-64-v3 (AVX2: four) and
+// x86-64-v4 (AVX-512: eight), every stage inlined into each (flatten). Wider vectors only run
+// more trials at once: without fused multiply-add (-ffp-contract=off) and with patlab's own
+// transcendentals every lane computes the same operations in the same order, so every version
+// gives the same bits (tests/sim/batch_test.cpp runs each one the CPU has). clang builds (the
+// sanitizer build) have the baseline version only.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define PATLAB_KERNEL_ISA_VERSIONS 1
+#else
+#define PATLAB_KERNEL_ISA_VERSIONS 0
+#endif
+
+namespace {
+
+__attribute__((flatten)) void RunBatchBaseline(const PointSetup& setup, uint64_t first_trial,
+                                               int count, const BatchOutput& out) {
+  RunBatchStages(setup, first_trial, count, out);
+}
+
+#if PATLAB_KERNEL_ISA_VERSIONS
+__attribute__((flatten, target("arch=x86-64-v3"))) void RunBatchAvx2(const PointSetup& setup,
+                                                                     uint64_t first_trial,
+                                                                     int count,
+                                                                     const BatchOutput& out) {
+  RunBatchStages(setup, first_trial, count, out);
+}
+
+__attribute__((flatten, target("arch=x86-64-v4"))) void RunBatchAvx512(const PointSetup& setup,
+                                                                       uint64_t first_trial,
+                                                                       int count,
+                                                                       const BatchOutput& out) {
+  RunBatchStages(setup, first_trial, count, out);
+}
+#endif
+
+}  // namespace
+
+KernelIsa WidestKernelIsa() {
+#if PATLAB_KERNEL_ISA_VERSIONS
+  if (__builtin_cpu_supports("x86-64-v4")) return KernelIsa::kAvx512;
+  if (__builtin_cpu_supports("x86-64-v3")) return KernelIsa::kAvx2;
+#endif
+  return KernelIsa::kBaseline;
+}
+
+std::vector<KernelIsa> SupportedKernelIsas() {
+  std::vector<KernelIsa> isas;
+  for (KernelIsa isa : {KernelIsa::kBaseline, KernelIsa::kAvx2, KernelIsa::kAvx512}) {
+    if (isa <= WidestKernelIsa()) isas.push_back(isa);
+  }
+  return isas;
+}
+
+void RunBatchWith(KernelIsa isa, const PointSetup& setup, uint64_t first_trial, int count,
+                  const BatchOutput& out) {
+  switch (isa) {
+#if PATLAB_KERNEL_ISA_VERSIONS
+    case KernelIsa::kAvx512:
+      return RunBatchAvx512(setup, first_trial, count, out);
+    case KernelIsa::kAvx2:
+      return RunBatchAvx2(setup, first_trial, count, out);
+#endif
+    default:
+      return RunBatchBaseline(setup, first_trial, count, out);
+  }
+}
+
+void RunBatch(const PointSetup& setup, uint64_t first_trial, int count, const BatchOutput& out) {
+  static const KernelIsa widest = WidestKernelIsa();  // no allocation: the inner loop (rule 7)
+  RunBatchWith(widest, setup, first_trial, count, out);
 }
 
 void GenerateTrial(const PointSetup& setup, uint64_t trial, Pose2* truth, Vec2* observed) {

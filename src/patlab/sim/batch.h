@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "patlab/core/geometry.h"
 #include "patlab/estimate/estimators.h"
@@ -59,8 +60,20 @@ struct BatchOutput {
 };
 
 // Runs trials [first_trial, first_trial + count) of a point, count <= kBatchSize, writing slot
-// k of every output array for trial first_trial + k.
+// k of every output array for trial first_trial + k, with the widest version of the kernel the
+// CPU runs.
 void RunBatch(const PointSetup& setup, uint64_t first_trial, int count, const BatchOutput& out);
+
+// The kernel's versions: the same code compiled for the baseline x86-64 (SSE2), x86-64-v3
+// (AVX2) and x86-64-v4 (AVX-512). They give the same bits (docs/reproducibility.md); the wider
+// ones are faster. WidestKernelIsa is the one RunBatch runs; SupportedKernelIsas lists those
+// this CPU and build have, baseline first and widest last; RunBatchWith runs a chosen one
+// (tests and benchmarks).
+enum class KernelIsa { kBaseline, kAvx2, kAvx512 };
+KernelIsa WidestKernelIsa();
+std::vector<KernelIsa> SupportedKernelIsas();
+void RunBatchWith(KernelIsa isa, const PointSetup& setup, uint64_t first_trial, int count,
+                  const BatchOutput& out);
 
 // Replays one trial (rule 3): its true pose and noisy patch positions, exactly as RunBatch
 // generated them.

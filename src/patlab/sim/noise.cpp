@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "patlab/core/portable_math.h"
+
 namespace patlab::sim {
 
 double NoiseModel::EffectiveSigmaRatio() const {
@@ -67,7 +69,7 @@ FrameCameraNoise::FrameCameraNoise(const NoiseModel& noise, const std::vector<Ve
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j <= i; ++j) {
         double v =
-            std::exp(-(positions_mm[i] - positions_mm[j]).norm() / noise.correlation_length_mm);
+            pmath::Exp(-(positions_mm[i] - positions_mm[j]).norm() / noise.correlation_length_mm);
         for (int k = 0; k < j; ++k) v -= l(i, k) * l(j, k);
         if (i == j) {
           l(i, i) = v > 0.0 ? std::sqrt(v) : 0.0;
@@ -82,8 +84,10 @@ FrameCameraNoise::FrameCameraNoise(const NoiseModel& noise, const std::vector<Ve
       noise.rotation_jitter_rad > 0.0 ? noise.rotation_jitter_rad * rng.Normal() : 0.0;
   const double eps =
       noise.scale_jitter_ppm > 0.0 ? 1e-6 * noise.scale_jitter_ppm * rng.Normal() : 0.0;
-  cos_ = (1.0 + eps) * std::cos(phi);
-  sin_ = (1.0 + eps) * std::sin(phi);
+  double sin_phi, cos_phi;
+  pmath::SinCos(phi, &sin_phi, &cos_phi);
+  cos_ = (1.0 + eps) * cos_phi;
+  sin_ = (1.0 + eps) * sin_phi;
 }
 
 Vec2 FrameCameraNoise::Next(const Vec2& base_mm, const Vec2& independent_mm) {

@@ -7,6 +7,7 @@
 #include <span>
 
 #include "patlab/core/format.h"
+#include "patlab/io/atomic_file.h"
 
 namespace patlab::sim {
 
@@ -142,12 +143,11 @@ std::string ResultsCsvRows(const std::string& noise, std::span<const PointResult
 namespace {
 
 // The manifest fields both modes share: tool, inputs, grid, seed, field, noise.
-nlohmann::json ManifestCommon(const Experiment& experiment, const std::string& command_line) {
+nlohmann::json ManifestCommon(const Experiment& experiment) {
   using nlohmann::json;
   json j;
   j["tool"] = "patlab";
   j["version"] = PATLAB_VERSION;
-  j["command_line"] = command_line;
   j["experiment"] = {{"file", experiment.source_file},
                      {"name", experiment.name},
                      {"description", experiment.description}};
@@ -170,26 +170,18 @@ nlohmann::json ManifestCommon(const Experiment& experiment, const std::string& c
   return j;
 }
 
-// The end every manifest of a run shares: threads, the stage timings, the simulation rate of
-// `count` trials or frames under `rate_key`, and the files written. Returns the text.
-template <typename Result>
-std::string WithRunTotals(nlohmann::json j, const Result& result, const char* rate_key,
-                          int64_t count, const std::vector<std::string>& outputs) {
-  j["threads"] = result.threads;
-  j["timings_s"] = {{"simulate", result.simulate_seconds},
-                    {"statistics", result.statistics_seconds},
-                    {"wall", result.wall_seconds}};
-  j[rate_key] = result.simulate_seconds > 0 ? count / result.simulate_seconds : 0.0;
-  j["outputs"] = outputs;
+// The manifest's last key, the files written (by name, without their folder), and its text.
+std::string WithOutputs(nlohmann::json j, const std::vector<std::string>& outputs) {
+  j["outputs"] = io::OutputNames(outputs);
   return j.dump(2) + "\n";
 }
 
 }  // namespace
 
 std::string ManifestJson(const Experiment& experiment, const RunResult& result,
-                         const std::string& command_line, const std::vector<std::string>& outputs) {
+                         const std::vector<std::string>& outputs) {
   using nlohmann::json;
-  json j = ManifestCommon(experiment, command_line);
+  json j = ManifestCommon(experiment);
   json estimators = json::array();
   for (auto e : experiment.estimators)
     estimators.push_back(std::string(estimate::EstimatorName(e)));
@@ -211,7 +203,7 @@ std::string ManifestJson(const Experiment& experiment, const RunResult& result,
   }
   j["ml_nonconverged_trials"] = nonconverged;
   j["total_trials"] = result.total_trials;
-  return WithRunTotals(std::move(j), result, "trials_per_second", result.total_trials, outputs);
+  return WithOutputs(std::move(j), outputs);
 }
 
 namespace {
@@ -306,10 +298,9 @@ std::string DetectResultsCsvRows(const std::string& noise,
 }
 
 std::string DetectManifestJson(const Experiment& experiment, const DetectRunResult& result,
-                               const std::string& command_line,
                                const std::vector<std::string>& outputs) {
   using nlohmann::json;
-  json j = ManifestCommon(experiment, command_line);
+  json j = ManifestCommon(experiment);
   const DetectSettings& d = experiment.detect;
   const detect::DetectorOptions& o = d.detector.options;
   const SceneOptions& s = d.scene;
@@ -339,7 +330,7 @@ std::string DetectManifestJson(const Experiment& experiment, const DetectRunResu
                     {"false_positives_per_frame", "Garwood (exact Poisson), 95%"},
                     {"stds", "chi-square, 95%"}};
   j["total_frames"] = result.total_frames;
-  return WithRunTotals(std::move(j), result, "frames_per_second", result.total_frames, outputs);
+  return WithOutputs(std::move(j), outputs);
 }
 
 }  // namespace patlab::sim

@@ -1,5 +1,8 @@
 // The simulator's results as text: a tidy CSV (one row per pattern x estimator x sigma) and a
-// JSON manifest (inputs, seed, version, timings). Column meanings: docs/file-formats.md.
+// JSON manifest (inputs, seed, version, totals, the files written). Column meanings:
+// docs/file-formats.md. Both are the same bytes on every machine, at every thread count and for
+// every way of running the sweep (one process or merged shards): how the run went (its command
+// line, threads and timings) is printed by the tool, not recorded with the results.
 #pragma once
 
 #include <span>
@@ -16,9 +19,9 @@ std::string ResultsCsv(const Experiment& experiment, const RunResult& result);
 // `noise`: what `patlab merge` writes for points it finishes from trial-range shards.
 std::string ResultsCsvRows(const std::string& noise, std::span<const PointResult> points);
 
-// The manifest. `command_line` and `outputs` are recorded as given.
+// The manifest; `outputs` are recorded by file name (io::OutputNames).
 std::string ManifestJson(const Experiment& experiment, const RunResult& result,
-                         const std::string& command_line, const std::vector<std::string>& outputs);
+                         const std::vector<std::string>& outputs);
 
 // Detect mode (correspondence = "detect"): one row per pattern x false-blob rate x sigma
 // (columns: docs/file-formats.md), and its manifest, with the same common fields.
@@ -28,7 +31,6 @@ std::string DetectResultsCsv(const Experiment& experiment, const DetectRunResult
 std::string DetectResultsCsvRows(const std::string& noise,
                                  std::span<const DetectPointResult> points);
 std::string DetectManifestJson(const Experiment& experiment, const DetectRunResult& result,
-                               const std::string& command_line,
                                const std::vector<std::string>& outputs);
 
 }  // namespace patlab::sim

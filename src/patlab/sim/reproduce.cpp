@@ -481,7 +481,7 @@ std::pair<std::string, std::string> AddTrackFiles(const ReproduceOptions& o,
   r->files.emplace_back(names[0], table_csv);
   r->files.emplace_back(names[1], tests_csv);
   r->files.emplace_back(names[2], ErrorsCsv(track, result, decimate));
-  r->files.emplace_back(names[3], TrackManifestJson(track, result, table, o.command_line, outputs));
+  r->files.emplace_back(names[3], TrackManifestJson(track, result, table, outputs));
   for (int k = 0; k < 3; ++k) r->rules[names[k]] = RulesForResultFile(names[k]);
   r->rules[names[1]].rank_allowances = SizeTestAllowances(result);
   return {table_csv, tests_csv};
@@ -498,7 +498,7 @@ Reproduction Reproduce(const ReproduceOptions& options) {
   const std::string fig5_csv = ResultsCsv(fig5, fig5_result);
   r.files = {
       {"fig5.csv", fig5_csv},
-      {"fig5.json", ManifestJson(fig5, fig5_result, options.command_line,
+      {"fig5.json", ManifestJson(fig5, fig5_result,
                                  {Output(options, "fig5.csv"), Output(options, "fig5.json")})}};
   r.rules["fig5.csv"] = RulesForResultFile("fig5.csv");
   const TrackOptions table1 = LoadTrackExperiment(Input(options, "experiments/table1.toml"));

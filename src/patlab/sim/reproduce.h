@@ -50,8 +50,7 @@ struct Reproduction {
 struct ReproduceOptions {
   std::string root = ".";           // the checkout: experiments/ and patterns/ are read from here
   int threads = 0;                  // 0 = all cores; results do not depend on it
-  std::string out_dir = "results";  // where the files go (the manifests' outputs)
-  std::string command_line = "patlab reproduce";  // recorded in the manifests
+  std::string out_dir = "results";  // where the files go
 };
 
 // Runs experiments/fig5.toml and experiments/table1.toml (twice: as calibrated, and without

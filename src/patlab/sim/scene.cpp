@@ -6,6 +6,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/core/portable_math.h"
 
 namespace patlab::sim {
 
@@ -42,10 +43,10 @@ namespace {
 // O(lambda)).
 int Poisson(double lambda, RandomStream& rng) {
   int count = 0;
-  double t = -std::log(rng.Uniform());
+  double t = -pmath::Log(rng.Uniform());
   while (t < lambda) {
     ++count;
-    t -= std::log(rng.Uniform());
+    t -= pmath::Log(rng.Uniform());
   }
   return count;
 }

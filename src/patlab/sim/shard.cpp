@@ -12,6 +12,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/core/rng.h"
+#include "patlab/io/atomic_file.h"
 #include "patlab/sim/point_key.h"
 #include "patlab/sim/report.h"
 
@@ -23,8 +24,8 @@ using nlohmann::json;
 
 constexpr const char* kFormat = "patlab shard";
 constexpr int kFormatVersion = 2;  // 2: trial-range shares (blocks)
-// The manifest keys that describe a run rather than the experiment: a merged manifest takes
-// them from the merge, and the fingerprint leaves them out.
+// The manifest keys that describe a run rather than the experiment (results manifests no longer
+// carry the first five; shards record them under "run"): the fingerprint leaves them out.
 constexpr const char* kRunKeys[] = {"command_line",      "threads",           "timings_s",
                                     "trials_per_second", "frames_per_second", "outputs"};
 // The manifest keys that sum over points: each shard holds its part, the merge sums them.
@@ -343,7 +344,7 @@ std::string KnownShardText(const Experiment& experiment, const RunResult& result
     if (i > 0 && result.blocks[i].work.point != result.blocks[i - 1].work.point) ++h;
     blocks.push_back(BlockEntry(result.block_headers.at(h), result.blocks[i]));
   }
-  return ShardText(experiment, ManifestJson(experiment, result, "", {}), header, std::move(points),
+  return ShardText(experiment, ManifestJson(experiment, result, {}), header, std::move(points),
                    shard, base, total, RunPart(result, command_line), std::move(blocks),
                    BlocksPerPoint(experiment.trials, kStatisticsBlockTrials));
 }
@@ -367,7 +368,7 @@ std::string DetectShardText(const Experiment& experiment, const DetectRunResult&
     if (i > 0 && result.blocks[i].work.point != result.blocks[i - 1].work.point) ++h;
     blocks.push_back(DetectBlockEntry(result.block_headers.at(h), result.blocks[i]));
   }
-  return ShardText(experiment, DetectManifestJson(experiment, result, "", {}), header,
+  return ShardText(experiment, DetectManifestJson(experiment, result, {}), header,
                    std::move(points), shard, base, NumDetectPoints(experiment),
                    RunPart(result, command_line), std::move(blocks),
                    BlocksPerPoint(experiment.detect.frames, kStatisticsBlockFrames));
@@ -577,15 +578,13 @@ std::vector<const ShardFile*> ByShare(const std::vector<ShardFile>& files) {
   return by_share;
 }
 
-// The merged manifest: the experiment part, the totals summed over points, and the merge's run
-// keys (threads: the most any shard used; timings: summed over shards).
+// The merged manifest: the experiment part, the totals summed over points, and the files
+// written: the bytes a single process writes (report.h).
 std::string MergedManifest(const std::vector<const ShardFile*>& shards,
-                           const std::string& command_line, const std::vector<std::string>& out) {
+                           const std::vector<std::string>& out) {
   json m = shards.front()->content["manifest"];
   const bool known = shards.front()->content["mode"] == "known";
   int64_t total = 0, nonconverged = 0;
-  int threads = 0;
-  double simulate = 0, statistics = 0, wall = 0;
   for (const ShardFile* f : shards) {
     for (const json& p : f->content["points"]) {
       total += p["count"].get<int64_t>();
@@ -596,11 +595,6 @@ std::string MergedManifest(const std::vector<const ShardFile*>& shards,
       if (!known) continue;  // detect-mode blocks have no estimators
       for (const json& e : b["estimators"]) nonconverged += e["ml"][1].get<int64_t>();
     }
-    const json& run = f->content["run"];
-    threads = std::max(threads, run["threads"].get<int>());
-    simulate += run["timings_s"]["simulate"].get<double>();
-    statistics += run["timings_s"]["statistics"].get<double>();
-    wall += run["timings_s"]["wall"].get<double>();
   }
   if (known) {
     m["ml_nonconverged_trials"] = nonconverged;
@@ -608,12 +602,7 @@ std::string MergedManifest(const std::vector<const ShardFile*>& shards,
   } else {
     m["total_frames"] = total;
   }
-  m["command_line"] = command_line;
-  m["threads"] = threads;
-  m["timings_s"] = {{"simulate", simulate}, {"statistics", statistics}, {"wall", wall}};
-  m[known ? "trials_per_second" : "frames_per_second"] =
-      simulate > 0 ? static_cast<double>(total) / simulate : 0.0;
-  m["outputs"] = out;
+  m["outputs"] = io::OutputNames(out);
   return m.dump(2) + "\n";
 }
 
@@ -690,7 +679,7 @@ json FinishBlockPoints(const std::vector<const ShardFile*>& shards) {
 }  // namespace
 
 MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::string& out_dir,
-                          const std::string& name, const std::string& command_line) {
+                          const std::string& name) {
   const std::vector<std::string> paths = ExpandInputs(inputs);
   if (paths.empty()) throw InputError("no shard files given; expected SHARD... (files or dirs)");
   std::vector<ShardFile> files;
@@ -716,7 +705,7 @@ MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::str
   for (const auto& [index, point] : rows_by_point) {
     for (const json& row : (*point)["rows"]) out.csv += row.get<std::string>() + "\n";
   }
-  out.json = MergedManifest(shards, command_line, {out.csv_path, out.json_path});
+  out.json = MergedManifest(shards, {out.csv_path, out.json_path});
   return out;
 }
 

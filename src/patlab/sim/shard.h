@@ -1,8 +1,7 @@
 // Sweeps split across processes or machines (docs/merge.md): `patlab simulate EXP --shard K/N`
 // computes only share K of N and writes one shard file; `patlab merge` checks that every share
 // of one experiment is present and intact and writes the CSV and manifest the unsharded run
-// writes, byte for byte (the manifest's run-specific keys aside: command_line, threads,
-// timings_s, the rate, outputs).
+// writes, byte for byte.
 //
 // A share is whole data points: point i of the grid (the runner's order: pattern-major, then
 // false-blob rate in detect mode, then sigma) belongs to share (i mod N) + 1, so every share mixes
@@ -59,8 +58,8 @@ struct MergedOutputs {
 // and merges them. Throws InputError, before anything is written, naming the file and what was
 // expected when a file is not an intact shard, comes from another experiment, seed or patlab
 // version, repeats a share, or when shares are missing (all of them named). `name` overrides
-// the base name recorded in the shards; `command_line` is recorded in the manifest.
+// the base name recorded in the shards.
 MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::string& out_dir,
-                          const std::string& name, const std::string& command_line);
+                          const std::string& name);
 
 }  // namespace patlab::sim

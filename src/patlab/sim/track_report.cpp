@@ -7,6 +7,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/io/atomic_file.h"
 #include "patlab/stats/smoothing.h"
 
 namespace patlab::sim {
@@ -179,12 +180,11 @@ std::string ErrorsCsv(const TrackOptions& options, const TrackResult& result, in
 }
 
 std::string TrackManifestJson(const TrackOptions& o, const TrackResult& result,
-                              const std::vector<TableRow>& table, const std::string& command_line,
+                              const std::vector<TableRow>& table,
                               const std::vector<std::string>& outputs) {
   nlohmann::json j;
   j["tool"] = "patlab track";
   j["version"] = PATLAB_VERSION;
-  j["command_line"] = command_line;
   j["experiment"] = o.source_file;
   j["name"] = o.name;
   j["description"] = o.description;
@@ -200,11 +200,7 @@ std::string TrackManifestJson(const TrackOptions& o, const TrackResult& result,
   }
   j["run_setups"] = runs;
   j["table"] = TableJson(table);
-  j["threads"] = result.threads;
-  j["timings_s"] = {{"wall", result.wall_seconds},
-                    {"measure", result.measure_seconds},
-                    {"analysis", result.analysis_seconds}};
-  j["outputs"] = outputs;
+  j["outputs"] = io::OutputNames(outputs);
   return j.dump(2) + "\n";
 }
 

@@ -39,10 +39,10 @@ std::string SizeTestsCsv(const std::vector<SizeTest>& tests);
 // sample and the sample after it (so that lag-1 pairs, Fig. 6, survive the decimation).
 std::string ErrorsCsv(const TrackOptions& options, const TrackResult& result, int decimate);
 
-// The manifest (JSON text): the command line, every option, the run setups, Table I, the
-// threads, the stage timings and the output files.
+// The manifest (JSON text): every option, the run setups, Table I and the output files (by
+// name). How long the run took is printed by the tool, not recorded with the results.
 std::string TrackManifestJson(const TrackOptions& options, const TrackResult& result,
-                              const std::vector<TableRow>& table, const std::string& command_line,
+                              const std::vector<TableRow>& table,
                               const std::vector<std::string>& outputs);
 
 }  // namespace patlab::sim

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "patlab/core/error.h"
+#include "patlab/core/portable_math.h"
 #include "patlab/stats/ks_internal.h"
 #include "patlab/stats/sort.h"
 #include "patlab/stats/summary.h"
@@ -27,7 +28,7 @@ double KolmogorovSurvival(double x) {
     const double w = -std::numbers::pi * std::numbers::pi / (8.0 * x * x);
     double sum = 0.0;
     for (int k = 1; k < 100; ++k) {
-      const double term = std::exp(w * (2 * k - 1) * (2 * k - 1));
+      const double term = pmath::Exp(w * (2 * k - 1) * (2 * k - 1));
       sum += term;
       if (term <= 1e-18 * sum) break;
     }
@@ -36,7 +37,7 @@ double KolmogorovSurvival(double x) {
   // Large x: P(K > x) = 2 sum_{k>=1} (-1)^(k-1) exp(-2 k^2 x^2), no cancellation for x >= 1.
   double sum = 0.0;
   for (int k = 1; k < 100; ++k) {
-    const double term = std::exp(-2.0 * k * k * x * x);
+    const double term = pmath::Exp(-2.0 * k * k * x * x);
     sum += (k % 2 == 1) ? term : -term;
     if (term <= 1e-18 * sum) break;
   }
@@ -721,7 +722,7 @@ KsResult KsTwoSample(std::span<const double> x, std::span<const double> y,
     } else {
       // Hodges (1958) eq. 5.3, as scipy; m is the larger sample.
       result.p_value =
-          std::exp(-2.0 * z * z - 2.0 * z * (m + 2.0 * n) / std::sqrt(m * n * (m + n)) / 3.0);
+          pmath::Exp(-2.0 * z * z - 2.0 * z * (m + 2.0 * n) / std::sqrt(m * n * (m + n)) / 3.0);
     }
   }
   result.method_used = method;
