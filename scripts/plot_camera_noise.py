@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Issue 14 through the colour camera: merges results/issue14/camera/*.csv (patlab camtrack, one
-file per mechanism setting and colour scheme) into results/issue14/camera.csv, computes the
-error-share breakdown results/issue14/camera_shares.csv, and draws
-results/issue14/camera_shares.png. Run by scripts/issue14_camera.sh.
+"""Camera-level noise through the colour camera: merges results/camera-noise/camera/*.csv (patlab
+camtrack, one file per mechanism setting and colour scheme) into results/camera-noise/camera.csv,
+computes the error-share breakdown results/camera-noise/camera_shares.csv, and draws
+results/camera-noise/camera_shares.png. Run by scripts/camera_noise.sh.
 
 Shares: for a group (white patches, key, ID dots, the pattern's position and angle) the variance
 with one mechanism on alone minus the quantisation-only variance is that mechanism's added
@@ -19,7 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-root = "results/issue14"
+root = "results/camera-noise"
 rows = []
 for path in sorted(glob.glob(os.path.join(root, "camera", "*.csv"))):
     scheme = "white" if path.endswith("-white.csv") else "colour"

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Issue 14, the fit (patlab fitnoise): draws DIR/profiles.png (the profile likelihood of every
+"""The fit of the camera-level noise mechanisms (patlab fitnoise): draws DIR/profiles.png (the profile likelihood of every
 fitted magnitude, the 95% level, the estimate and both intervals) and DIR/sensitivity.png (the
 fitted magnitudes with profile intervals against the Butterfly's assumed ID-dot distance, and the
-fit quality of the model without a colour excess). Usage: plot_issue14_fit.py DIR"""
+fit quality of the model without a colour excess). Usage: plot_camera_noise_fit.py DIR"""
 import csv
 import math
 import os
@@ -13,7 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-root = sys.argv[1] if len(sys.argv) > 1 else "results/issue14/fit"
+root = sys.argv[1] if len(sys.argv) > 1 else "results/camera-noise/fit"
 
 
 def read(name):
