@@ -12,7 +12,7 @@
 // (section IV) is the isotropic Gaussian: sigma_y_ratio = 1, p = 0, common = 0; sigma is then
 // "the patch positional standard deviation" along each axis.
 //
-// Four camera-level models (issue 14), in absolute units (they do not scale with sigma), applied
+// Four camera-level models, in absolute units (they do not scale with sigma), applied
 // in this order on top of the above (in detect mode through FrameCameraNoise below, a frame
 // being one trial):
 //
