@@ -341,7 +341,7 @@ TEST(SymmetryBruteForce, DetectorFindsEveryIdOfThePentagonCodebook) {
     }
     if (keep) old_rule.entries.push_back({static_cast<int>(old_rule.entries.size()), c});
   }
-  ASSERT_EQ(old_rule.entries.size(), 10u);  // the 10 IDs the issue reports
+  ASSERT_EQ(old_rule.entries.size(), 10u);  // the 10 IDs of the shifts-as-a-group rule
   EXPECT_LT(detected_ok(old_rule), 10);
 }
 

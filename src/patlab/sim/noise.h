@@ -1,5 +1,6 @@
-// Patch noise models of the Monte-Carlo engine. One parametrisation covers all four models of the
-// issue; every spread is a multiple of the swept patch sigma, so a sweep scales them together.
+// Patch noise models of the Monte-Carlo engine. One parametrisation covers four models (isotropic,
+// anisotropic, outliers, common jitter); every spread is a multiple of the swept patch sigma, so
+// a sweep scales them together.
 //
 // For trial t with true patch positions P_i (world frame) the observed positions are
 //
