@@ -7,6 +7,7 @@ joined to the measured ones, one panel per design, a legend that says which curv
 
 Run by ctest (tests/CMakeLists.txt): /usr/bin/python3 -m pytest tests/scripts.
 """
+import json
 import math
 import os
 import shutil
@@ -266,23 +267,28 @@ def test_zero_count_interval_gives_back_its_robots():
 
 
 def test_compare_draws_zero_rates_at_one_over_n_and_does_not_join_them():
-    rows, sigmas = plot_compare.read(os.path.join(RESULTS, "compare", "compare.csv"))
+    path = os.path.join(RESULTS, "compare", "compare.csv")
+    rows, sigmas = plot_compare.read(path)
+    with open(os.path.join(RESULTS, "compare", "compare.json")) as f:
+        frames = json.load(f)["options"]["frames"]
     fig = plot_compare.figure(rows, sigmas, "t")
     panels = [ax for ax in fig.subfigs[1].axes if ax.get_title()]
+    row = next(r for r in rows if r["design"] == "butterfly")
     butterfly = next(ax for ax in panels if ax.get_title().endswith("butterfly"))
-    # results/compare: `patlab compare` defaults, 1000 frames of 10 robots per sigma, and the
-    # Butterfly has no rotation error at 1, 2 and 3 mm and 77 in 10,000 robots at 4 mm.
+    # The Butterfly's 16 IDs give every frame 10 robots (5 a team): N = frames x 10 a sigma.
+    rates = [float(row["rotation_errors_%gmm" % s]) for s in sigmas]
+    zero = [s for s, r in zip(sigmas, rates) if r == 0]
+    assert zero and len(zero) < len(sigmas)  # the file has both kinds, or the test tests nothing
     line, *rest = butterfly.get_lines()
-    assert sigmas == [1, 2, 3, 4]
-    assert all(math.isnan(y) for y in line.get_ydata()[:3])
-    assert line.get_ydata()[3] == pytest.approx(0.0077)
+    for y, r in zip(line.get_ydata(), rates):
+        assert math.isnan(y) if r == 0 else y == r  # zeros break the line
     zeros = [ln for ln in rest if ln.get_marker() == "v"]
     assert len(zeros) == 1
-    assert list(zeros[0].get_xdata()) == [1, 2, 3]
-    assert list(zeros[0].get_ydata()) == pytest.approx([1e-4] * 3, rel=1e-12)
-    drawn = [y for ln in butterfly.get_lines() if ln.get_transform() == butterfly.transData
-             for y in ln.get_ydata() if not math.isnan(y)]  # not the onset line (axes units)
-    assert min(drawn) == pytest.approx(1e-4, rel=1e-12)  # nothing below 1/N, no made-up floor
+    assert list(zeros[0].get_xdata()) == zero
+    assert list(zeros[0].get_ydata()) == pytest.approx([1 / (frames * 10)] * len(zero), rel=1e-12)
+    drawn = [y for ln in butterfly.get_lines() if ln.get_marker() in ("o", "v")
+             for y in ln.get_ydata() if not math.isnan(y)]  # the points, not bar caps or onset
+    assert min(drawn) >= 1 / (frames * 10) * (1 - 1e-12)  # nothing below 1/N, no made-up floor
 
 
 def test_compare_gives_each_of_the_seventeen_team_designs_its_own_panel():
@@ -323,7 +329,8 @@ def test_id_confusion_draws_zero_rates_at_one_over_robots():
     rows = plot_id_confusion.read(os.path.join(RESULTS, "id_confusion.csv"))
     sel = [r for r in rows if r["pattern"] == "triangle" and r["false_blob_rate_per_m2"] == "0"]
     (sigma, shown, _, _), (zero_sigma, floor) = plot_id_confusion.series(sel, "ambiguous_rate")
-    # The Triangle's colours fix its rotation: never ambiguous, 50,000 robots per point.
+    # The Triangle's colours fix its rotation: never ambiguous; N is the point's robots.
     assert all(math.isnan(v) for v in shown)
     assert zero_sigma == sigma
-    assert floor == pytest.approx([1 / 50000] * len(sigma), rel=1e-12)
+    assert floor == pytest.approx([1 / int(r["robots"]) for r in sel], rel=1e-12)
+    assert int(sel[0]["robots"]) == 50000  # 5000 frames of 10 robots (id_confusion.toml)
