@@ -125,8 +125,8 @@ def rotation_panel(ax, row, sigmas):
         ax.plot(s, floor, "v", ms=6, mfc="none", color=RATE_COLOUR)
     onset = num(row["rotation_onset_mm"])
     if math.isnan(onset):
-        ax.text(0.04, 0.92, "colours decide every rotation: no onset", transform=ax.transAxes, fontsize=7,
-                va="top")
+        ax.text(0.04, 0.92, "colours decide every rotation: no onset", transform=ax.transAxes,
+                fontsize=7, va="top")
     elif onset > sigmas[-1] + 0.25:
         ax.text(0.96, 0.92, f"onset {onset:.2f} mm →", transform=ax.transAxes, fontsize=7,
                 ha="right", va="top")

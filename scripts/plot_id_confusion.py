@@ -78,7 +78,9 @@ def series(rows, key):
     lo = [number(r[key + "_lo"]) for r in rows]
     hi = [number(r[key + "_hi"]) for r in rows]
     shown = [v if v > 0 else math.nan for v in value]
-    measured = (sigma, shown, [v - a for v, a in zip(shown, lo)], [b - v for v, b in zip(shown, hi)])
+    below = [v - a for v, a in zip(shown, lo)]
+    above = [b - v for v, b in zip(shown, hi)]
+    measured = (sigma, shown, below, above)
     zeros = [(s, 1 / denominator(r, key)) for s, v, r in zip(sigma, value, rows)
              if v == 0 and denominator(r, key) > 0]
     return measured, ([s for s, _ in zeros], [f for _, f in zeros])

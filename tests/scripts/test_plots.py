@@ -241,7 +241,8 @@ def test_a_figure_that_cannot_be_written_is_one_line_and_exit_1(tmp_path):
     out = tmp_path / "no-such-dir" / "c.png"
     result = run("plot_compare.py", os.path.join(RESULTS, "compare", "compare.csv"), str(out))
     assert result.returncode == 1, result.stderr
-    assert result.stderr == f"plot_compare.py: {out}: cannot be written: No such file or directory\n"
+    message = f"plot_compare.py: {out}: cannot be written: No such file or directory\n"
+    assert result.stderr == message
 
 
 def test_csv_reader_takes_quotes_crlf_and_a_bom_and_counts_lines(tmp_path):
