@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Frames -> tracks -> section-II analysis, end to end, against known truth (issue 10, item 8).
+"""Frames -> tracks -> section-II analysis, end to end, against known truth.
 
 usage: /usr/bin/python3 scripts/analyze_chain.py [PATLAB [OUT_DIR [FRAMES]]]
        (defaults: build/patlab, results/analyze, 300)

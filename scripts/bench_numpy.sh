@@ -62,7 +62,7 @@ echo "in CPU time (user + sys): numpy ${numpy_cpu} s, patlab 1 thread ${p1_cpu} 
 # The core-for-core ceiling, when the benchmarks are built: patlab's kernel alone on one thread
 # (noise, fast and ML; no statistics, no start-up, no output) and the noisy inputs alone (the
 # floor every estimator adds to), in trials per second against numpy's estimators
-# (docs/performance.md, "Issue 12").
+# (docs/performance.md, "The Monte-Carlo engine and the numpy anchor").
 bench=$(dirname "$P")/bench/sim_bench
 if [[ -x $bench ]]; then
   "$bench" --benchmark_filter='butterfly_(inputs_only|fast_and_ml)/real_time/threads:1$' \

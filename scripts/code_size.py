@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The largest source files and functions of patlab (the numbers the issue "The house" asks for).
+"""The largest source files and functions of patlab, against the size limits of docs/contributing.md.
 
     /usr/bin/python3 scripts/code_size.py [--top N]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# patlab design on the SSL robot top (issue 9, part 4): Ø180 mm, Ø50 key, four Ø40 dots, 2 ID
+# patlab design on the SSL robot top: Ø180 mm, Ø50 key, four Ø40 dots, 2 ID
 # colours (pink / green, as the SSL standard), 20 mm between patches, each design started from
 # patterns/ssl-standard.toml among 32 seeded starts, then every design and the SSL standard
 # compared with patlab compare (100,000 Monte-Carlo trials per design, 10,000 detect-mode frames

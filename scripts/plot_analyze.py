@@ -9,6 +9,9 @@ and with --truth the true error) and writes into DIR:
                  of the same std (linear and log scale); true error dashed when present;
   NAME_fig3.png  cumulative distributions of |error| per subject, x and y;
   NAME_fig6.png  lag-1 scatter (e_t, e_t+1) of adjacent frames' x errors, per subject.
+
+A missing or malformed CSV ends the script with one line on stderr and exit status 2
+(scripts/plotinput.py).
 """
 import os
 import sys
@@ -19,9 +22,21 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import plotinput  # noqa: E402
+
+WHAT = "the NAME_errors.csv of `patlab analyze --out DIR --name NAME`"
+COLUMNS = {"subject": "str", "run": "str", "frame": "int", "est_x_mm": "float",
+           "est_y_mm": "float"}
+TRUE_COLUMNS = {"true_x_mm": "float", "true_y_mm": "float"}
+
 
 def read(path):
-    return np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    table = plotinput.read_csv(path, WHAT, columns=list(COLUMNS), integers=["frame"])
+    columns = dict(COLUMNS)
+    if all(c in table.columns for c in TRUE_COLUMNS):
+        columns.update(TRUE_COLUMNS)
+    table.require_numbers([c for c, kind in columns.items() if kind == "float"], empty_ok=False)
+    return table.array(columns)
 
 
 def subjects(data):
@@ -61,7 +76,7 @@ def fig2(data, out):
     axes[0].set_title("Fig. 2: aggregate error distribution (dotted: Gaussian, same σ)")
     axes[1].set_title("same, log scale")
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    plotinput.save(fig, out, dpi=110)
     plt.close(fig)
 
 
@@ -83,7 +98,7 @@ def fig3(data, out):
     fig.suptitle("Fig. 3: cumulative distributions of absolute error "
                  "(solid: sample - smoothed, dashed: sample - truth)")
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    plotinput.save(fig, out, dpi=110)
     plt.close(fig)
 
 
@@ -114,11 +129,13 @@ def fig6(data, out):
         ax.set_title(f"{subject}: lag-1 correlation {r:.2f}, n = {a.size}", fontsize=10)
     fig.suptitle("Fig. 6: adjacent readings (uncorrelated errors give a round cloud)")
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    plotinput.save(fig, out, dpi=110)
     plt.close(fig)
 
 
 def main():
+    if len(sys.argv) > 3:
+        plotinput.usage("[DIR [NAME]]")
     directory = sys.argv[1] if len(sys.argv) > 1 else "results/analyze"
     name = sys.argv[2] if len(sys.argv) > 2 else "analyze"
     data = read(os.path.join(directory, f"{name}_errors.csv"))

@@ -3,6 +3,9 @@
 
 usage: /usr/bin/python3 scripts/plot_fig5.py results/fig5.csv results/fig5.png
 
+A missing or malformed CSV ends the script with one line on stderr and exit status 2
+(scripts/plotinput.py).
+
 Top row: pattern position std (per axis, pooled over x and y) and pattern angle std against the
 patch positional std, one colour per pattern; the fast estimator as a line with dots, the
 maximum-likelihood estimator as crosses, each with its 95% confidence interval as error bars,
@@ -15,7 +18,6 @@ Patterns whose rows are identical in every number (the same geometry, so the sam
 streams and the same results: butterfly and ssl-standard in the paper's sweep) are drawn once,
 with a combined label that says so, instead of one curve hiding the other.
 """
-import csv
 import sys
 from collections import defaultdict
 
@@ -23,6 +25,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import plotinput  # noqa: E402
+
+WHAT = "the CSV of `patlab simulate` (known correspondence, e.g. experiments/fig5.toml)"
+NUMBERS = ["sigma_mm", "trials", "std_pos_mm", "std_pos_lo_mm", "std_pos_hi_mm", "crlb_pos_mm",
+           "std_theta_rad", "std_theta_lo_rad", "std_theta_hi_rad", "crlb_theta_rad"]
 
 STYLES = {
     "fast": dict(marker="o", ms=3.5, lw=1.3, ls="-"),
@@ -33,10 +41,14 @@ STYLES = {
 
 
 def read(path):
+    table = plotinput.read_csv(path, WHAT, columns=["pattern", "estimator"] + NUMBERS,
+                               numbers=NUMBERS)
     rows = defaultdict(list)
-    with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            rows[(row["pattern"], row["estimator"])].append(row)
+    for row, line in zip(table.rows, table.lines):
+        if row["estimator"] not in STYLES:
+            plotinput.fail(path, f"line {line}: estimator '{row['estimator']}'; expected one of "
+                                 + ", ".join(STYLES))
+        rows[(row["pattern"], row["estimator"])].append(row)
     return rows
 
 
@@ -94,7 +106,7 @@ def draw_efficiency(ax, series, colour, estimator, value, lo, hi, bound, offset,
 
 def main(argv):
     if len(argv) != 3:
-        sys.exit("usage: plot_fig5.py RESULTS.csv OUT.png")
+        plotinput.usage("RESULTS.csv OUT.png")
     rows = read(argv[1])
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     fig, axes = plt.subplots(2, 2, figsize=(12, 9), gridspec_kw=dict(height_ratios=[3, 2]))
@@ -145,7 +157,7 @@ def main(argv):
                  "error bars: 95% confidence intervals (smaller than the markers in the top row)",
                  fontsize=10)
     fig.tight_layout()
-    fig.savefig(argv[2], dpi=130)
+    plotinput.save(fig, argv[2], dpi=130)
 
 
 if __name__ == "__main__":

@@ -13,6 +13,9 @@ without sensor noise or camera jitter, for Fig. 6) and writes into RESULTS_DIR:
             (across it); solid: the paper's estimate, dashed: the true error;
   fig6.png  lag-1 scatter of adjacent along-track errors (e_t, e_t+1): a single 40 mm patch (top)
             and the Butterfly pattern (bottom), quantisation only (left) and with noise (right).
+
+A missing or malformed CSV ends the script with one line on stderr and exit status 2
+(scripts/plotinput.py).
 """
 import os
 import sys
@@ -23,9 +26,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import plotinput  # noqa: E402
+
+WHAT = "the track_errors.csv of `patlab track` (e.g. experiments/table1.toml)"
+COLUMNS = {"subject": "str", "run": "int", "frame": "int", "est_x_mm": "float",
+           "est_y_mm": "float", "true_x_mm": "float", "true_y_mm": "float"}
+
 
 def read(path):
-    data = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    numbers = [c for c, kind in COLUMNS.items() if kind == "float"]
+    integers = [c for c, kind in COLUMNS.items() if kind == "int"]
+    table = plotinput.read_csv(path, WHAT, columns=list(COLUMNS), numbers=numbers,
+                               integers=integers, empty_ok=False)
+    data = table.array(COLUMNS)
+    if not discs(data):
+        plotinput.fail(path, "no single-patch subject (a name ending in mm, e.g. 40mm); "
+                             f"expected {WHAT}")
     return data
 
 
@@ -67,7 +83,7 @@ def fig2(data, out):
     axes[0].set_title("Fig. 2: aggregate error distribution (dotted: Gaussian, same σ)")
     axes[1].set_title("same, log scale")
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
+    plotinput.save(fig, out, dpi=120)
     plt.close(fig)
 
 
@@ -91,7 +107,7 @@ def fig3(data, out):
     fig.suptitle("Fig. 3: cumulative distributions of absolute error "
                  "(solid: sample - smoothed, dashed: sample - truth)")
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
+    plotinput.save(fig, out, dpi=120)
     plt.close(fig)
 
 
@@ -134,11 +150,13 @@ def fig6(panels, out):
             axes[1][col].axis("off")
     fig.suptitle("Fig. 6: adjacent readings (uncorrelated errors would give a round cloud)")
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
+    plotinput.save(fig, out, dpi=120)
     plt.close(fig)
 
 
 def main():
+    if len(sys.argv) > 3:
+        plotinput.usage("[RESULTS_DIR [QUANTISATION_DIR]]")
     results = sys.argv[1] if len(sys.argv) > 1 else "results"
     quant = sys.argv[2] if len(sys.argv) > 2 else os.path.join(results, "track_quantisation")
     data = read(os.path.join(results, "track_errors.csv"))

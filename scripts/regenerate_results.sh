@@ -8,13 +8,14 @@ P=build/patlab
 # Fig. 5 (paper section IV) and its table in docs/paper-reproduction.md.
 $P simulate experiments/fig5.toml --out results -q
 /usr/bin/python3 scripts/plot_fig5.py results/fig5.csv results/fig5.png
-# Issue 14: the Butterfly on the section-II track, independent vs rotation jitter vs correlated.
+# Camera-level noise: the Butterfly on the section-II track, independent vs rotation jitter vs
+# correlated patch noise, then through the colour camera, and the fit of the mechanisms.
 for n in iid jitter correlated; do
-  $P simulate experiments/issue14/butterfly_$n.toml --out results/issue14 -q
+  $P simulate experiments/camera-noise/butterfly_$n.toml --out results/camera-noise -q
 done
-bash scripts/issue14_camera.sh "$P"   # the colour-camera tracks: ~5 CPU min
-bash scripts/issue14_fit.sh "$P"      # the mechanism fit + 2 confirming camera tracks: ~50 CPU s
-# Detect mode: where geometry stops fixing the rotation (issue 4).
+bash scripts/camera_noise.sh "$P"       # the colour-camera tracks: ~5 CPU min
+bash scripts/camera_noise_fit.sh "$P"   # the mechanism fit + 2 confirming camera tracks: ~50 CPU s
+# Detect mode: where geometry stops fixing the rotation.
 $P simulate experiments/id_confusion.toml --out results -q
 /usr/bin/python3 scripts/plot_id_confusion.py
 # Section II in simulation: Table I, the Wilcoxon tests, Figs. 2, 3, 6.
@@ -22,7 +23,7 @@ $P track experiments/table1.toml --out results -q
 $P track experiments/table1.toml --pixel-sigma 0 --jitter-px 0 --decimate 4 \
   --out results/track_quantisation -q
 /usr/bin/python3 scripts/plot_track.py
-# Measured tracks (issue 10): 300 rendered frames -> detect --track -> analyze, against the truth;
+# Measured tracks: 300 rendered frames -> detect --track -> analyze, against the truth;
 # Figs. 2, 3, 6 of the analysed track.
 /usr/bin/python3 scripts/analyze_chain.py "$P" results/analyze 300
 /usr/bin/python3 scripts/plot_analyze.py results/analyze chain
@@ -30,10 +31,10 @@ $P track experiments/table1.toml --pixel-sigma 0 --jitter-px 0 --decimate 4 \
 bash scripts/vision_real_frames.sh "$P"
 # Every number the paper prints, judged: results/paper.md (rewrites the CSVs above, byte-identical).
 $P reproduce --out results -q
-# Pattern designs side by side (issue 9): the shipped patterns, and the real team designs of
+# Pattern designs side by side: the shipped patterns, and the real team designs of
 # c. 2009-2013 imported from their SSL-Vision sheets (needs ../shared/frames; skipped without it).
 $P compare simple linear triangle butterfly ssl-standard --out results/compare -q
 /usr/bin/python3 scripts/plot_compare.py results/compare/compare.csv results/compare/compare.png
 bash scripts/team_designs.sh "$P"
-# patlab design on the SSL robot top, compared with the SSL standard (issue 9, part 4).
+# patlab design on the SSL robot top, compared with the SSL standard.
 bash scripts/design_results.sh "$P"

@@ -9,7 +9,7 @@ packages=(
   libeigen3-dev libboost-program-options-dev libboost-math-dev libtbb-dev
   libtomlplusplus-dev librandom123-dev nlohmann-json3-dev libpng-dev libjpeg-dev
   libceres-dev libnlopt-dev libgtest-dev libgmock-dev libbenchmark-dev clang-format clang-tidy clang
-  python3 python3-numpy python3-scipy python3-matplotlib
+  python3 python3-numpy python3-scipy python3-matplotlib python3-pytest
   parallel slurm-wlm munge
 )
 if [[ "${1:-}" == "--bench" ]]; then packages+=(libopencv-dev libspng-dev); fi

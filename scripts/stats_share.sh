@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The statistics' share of the CPU time of the Fig. 5 sweep (issue 12: at most a quarter), from
+# The statistics' share of the CPU time of the Fig. 5 sweep (the target: at most a quarter), from
 # `perf record` samples of `patlab simulate experiments/fig5.toml`.
 #
 #   bash scripts/stats_share.sh [runs] [patlab binary] [threads]     (defaults: 3, build/patlab, 2)

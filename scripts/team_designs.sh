@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The real team pattern designs of c. 2009-2013 (issue 9): each SSL-Vision sheet in
+# The real team pattern designs of c. 2009-2013: each SSL-Vision sheet in
 # ../shared/frames/team-patterns (GPL-3.0 test data, not in this repository) imported with
 # patlab import into results/team-designs/patterns/, then every imported design and the shipped
 # SSL standard compared with patlab compare into results/team-designs/.

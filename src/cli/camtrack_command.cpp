@@ -19,10 +19,10 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab camtrack experiments/issue14/track-scene.toml \
-      --thresholds experiments/issue14/track.thresholds.toml --label full --out /tmp/full.csv
-  patlab camtrack experiments/issue14/track-scene.toml \
-      --thresholds experiments/issue14/track.thresholds.toml --read-noise-levels 0 \
+  patlab camtrack experiments/camera-noise/track-scene.toml \
+      --thresholds experiments/camera-noise/track.thresholds.toml --label full --out /tmp/full.csv
+  patlab camtrack experiments/camera-noise/track-scene.toml \
+      --thresholds experiments/camera-noise/track.thresholds.toml --read-noise-levels 0 \
       --shot-noise-gain 0 --no-bayer --chroma-444 --white --label quant --out /tmp/q.csv
 
 The SCENE file (docs/render.md) gives the pattern, codebook, colours, render options and the

@@ -1,5 +1,5 @@
 // patlab fitnoise: which error mechanisms, with which magnitudes, reproduce the paper's Table I
-// and its section-IV Butterfly at once (issue 14; sim/noise_fit.h): the fit with profile
+// and its section-IV Butterfly at once (sim/noise_fit.h): the fit with profile
 // likelihood intervals, bootstrap correlations, candidate models and the sensitivity to the
 // Butterfly's unknown size, as CSV files in a directory.
 #include <boost/program_options.hpp>
@@ -19,7 +19,7 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab fitnoise --out results/issue14/fit
+  patlab fitnoise --out results/camera-noise/fit
   patlab fitnoise --free independent_x_mm,independent_y_mm,common_mm,colour_mm \
       --id-radius-mm 58 --out /tmp/fit58
 
@@ -106,8 +106,7 @@ int RunFitnoise(const std::vector<std::string>& args) {
 
 }  // namespace
 
-PATLAB_REGISTER_COMMAND("fitnoise",
-                        "fit error-mechanism magnitudes to Table I and the Butterfly (issue 14)",
+PATLAB_REGISTER_COMMAND("fitnoise", "fit error-mechanism magnitudes to Table I and the Butterfly",
                         RunFitnoise);
 
 }  // namespace patlab::cli

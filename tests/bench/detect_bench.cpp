@@ -1,5 +1,5 @@
 // Detection speed: full detection of a 10-robot SSL frame (5 per team, distinct IDs, a ball)
-// with 20 false blobs, on one core. Target (issue 4): >= 50,000 frames/s.
+// with 20 false blobs, on one core. Target: >= 50,000 frames/s.
 //
 //   build/bench/detect_bench --benchmark_min_time=2
 #include <benchmark/benchmark.h>

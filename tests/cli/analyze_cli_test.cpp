@@ -1,6 +1,6 @@
 // `patlab analyze` end to end (the real binary, real files), `patlab detect --track`, and the
-// chain frames -> detect -> track -> analyze against known truth (issue 10, item 8), here with few
-// frames; scripts/analyze_chain.py runs the same chain with 300 frames (results/analyze).
+// chain frames -> detect -> track -> analyze against known truth, here with few frames;
+// scripts/analyze_chain.py runs the same chain with 300 frames (results/analyze).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -33,8 +33,8 @@ TEST(CamtrackCli, EveryRowHasTheHeadersColumns) {
   testing::TempDir dir;
   const std::string csv = dir.Path("t.csv");
   const auto r = RunCommand(kBinary + " camtrack " + kSource +
-                            "/experiments/issue14/track-scene.toml --thresholds " + kSource +
-                            "/experiments/issue14/track.thresholds.toml --runs 1 --frames 40 "
+                            "/experiments/camera-noise/track-scene.toml --thresholds " + kSource +
+                            "/experiments/camera-noise/track.thresholds.toml --runs 1 --frames 40 "
                             "--detect --out " +
                             csv);
   ASSERT_EQ(r.exit_code, 0) << r.err;

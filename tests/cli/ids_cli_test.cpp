@@ -74,7 +74,7 @@ TEST(IdsCli, PrintsTableTwo) {
       "  3      270.0      27.96        rejected: residual > tolerance                 geometry\n");
 }
 
-// Issue 9's irregular pentagon: geometry accepts shifts 2 and 3 only, colours must decide all five
+// The irregular pentagon: geometry accepts shifts 2 and 3 only, colours must decide all five
 // rotations of the group they generate, and the table says why for each shift.
 TEST(IdsCli, NearSymmetricPentagonCountsTheGroupGenerated) {
   const IdsRun run = RunPatlab("ids tests/data/detect/pentagon-irregular.toml");

@@ -1,5 +1,5 @@
 // End-to-end tests of `patlab simulate --shard K/N` and `patlab merge`, and of points keyed by
-// identity through the real binary (issue 13's reproducer: the Butterfly at sigma = 1 mm).
+// identity through the real binary (the Butterfly at sigma = 1 mm in every grid).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -109,8 +109,9 @@ std::string Rows(const std::string& csv, const std::string& prefix) {
   return rows;
 }
 
-// Issue 13: the Butterfly's row at sigma = 1 mm was 0.44997 in fig5.toml, 0.44917 with
-// --sigmas 0.5,1 and 0.45031 with --sigmas 1,2; now every grid gives the same bytes.
+// When points were keyed by their grid position, the Butterfly's row at sigma = 1 mm was 0.44997
+// in fig5.toml, 0.44917 with --sigmas 0.5,1 and 0.45031 with --sigmas 1,2; now every grid gives
+// the same bytes.
 TEST(MergeCli, TheButterflyAtOneMillimetreIsTheSameRowInEveryGrid) {
   testing::TempDir dir;
   std::string reference;

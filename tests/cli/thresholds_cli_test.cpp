@@ -42,7 +42,7 @@ TEST(ThresholdsCli, FitsTheGoldenFrameLabelsAndDetectsWithThem) {
   EXPECT_EQ(CountSubstrings(d.err, ": detected, id "), 10) << d.err;
 }
 
-// The silent case: "magenta" for the palette's "pink" now warns on stderr, and --explain
+// A silent mismatch: "magenta" for the palette's "pink" warns on stderr, and --explain
 // says why each robot with a pink dot is missed (too few neighbours).
 TEST(ThresholdsCli, DetectWarnsAboutNamesAndExplainsTheMisses) {
   testing::TempDir dir;

@@ -1,4 +1,4 @@
-// The detector's fast paths (issue 12) against the plain computations they replace: stage 2's
+// The detector's fast paths against the plain computations they replace: stage 2's
 // bucketed, pre-filtered search against a brute-force scan of every blob; stage 3's placement by
 // counting against a sort by atan2; the rotation tables of stage 4 against modular arithmetic.
 #include <gtest/gtest.h>

@@ -278,9 +278,9 @@ TEST(SymmetryBruteForce, ExactCyclicSymmetriesAndASubgroup) {
   }
 }
 
-// Issue 9's reproducer: geometry accepts the fifth-turns by shifts 2 and 3 only (residuals 9.93
+// The irregular pentagon: geometry accepts the fifth-turns by shifts 2 and 3 only (residuals 9.93
 // mm against 10.17 mm for shifts 1 and 4); the group they generate is all of Z5.
-TEST(SymmetryBruteForce, IrregularPentagonOfTheIssue) {
+TEST(SymmetryBruteForce, IrregularPentagonsAcceptedShiftsGenerateAllOfZ5) {
   const Pattern pentagon = io::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) +
                                                "/tests/data/detect/pentagon-irregular.toml");
   const Symmetry symmetry = FindSymmetry(pentagon, kTolerance);
@@ -341,7 +341,7 @@ TEST(SymmetryBruteForce, DetectorFindsEveryIdOfThePentagonCodebook) {
     }
     if (keep) old_rule.entries.push_back({static_cast<int>(old_rule.entries.size()), c});
   }
-  ASSERT_EQ(old_rule.entries.size(), 10u);  // the 10 IDs the issue reports
+  ASSERT_EQ(old_rule.entries.size(), 10u);  // the 10 IDs of the shifts-as-a-group rule
   EXPECT_LT(detected_ok(old_rule), 10);
 }
 

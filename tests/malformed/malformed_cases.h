@@ -1291,7 +1291,7 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    nullptr},
                   {"CliCamtrackMissingThresholds",
                    {},
-                   "camtrack {src}/experiments/issue14/track-scene.toml --out {dir}t.csv",
+                   "camtrack {src}/experiments/camera-noise/track-scene.toml --out {dir}t.csv",
                    2,
                    "patlab camtrack: missing --thresholds; expected a thresholds file"s,
                    nullptr},

@@ -1,4 +1,4 @@
-// The malformed-input suite (issue 11; docs/hardening.md): every input patlab reads, broken in
+// The malformed-input suite (docs/hardening.md): every input patlab reads, broken in
 // the ways a hostile or careless user breaks it. Each case runs the real binary on files written
 // into a fresh directory and asserts the exit status (2 bad input, 1 environment), the whole
 // message on stderr word for word, an empty stdout, and that no output appeared: the directory

@@ -1,4 +1,4 @@
-// The track through the colour camera (sim/camera_track.h) on the issue-14 inputs: every patch
+// The track through the colour camera (sim/camera_track.h) on the camera-noise inputs: every patch
 // found in every frame, the same numbers on a second run (frame identity), and an analytic check
 // of the pixel-grid error: with a still, noise-free three-chip camera a patch's centroid error is
 // at most half a pixel (4.17 mm/px / 2 = 2.1 mm) per axis, and its std over a track well below
@@ -12,7 +12,7 @@
 namespace patlab::sim {
 namespace {
 
-const std::string kDir = std::string(PATLAB_SOURCE_DIR) + "/experiments/issue14/";
+const std::string kDir = std::string(PATLAB_SOURCE_DIR) + "/experiments/camera-noise/";
 
 CameraTrackResult RunTrack(bool still_and_quiet, int frames) {
   const vision::SceneFile file = vision::LoadSceneFile(kDir + "track-scene.toml");

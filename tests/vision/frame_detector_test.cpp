@@ -285,7 +285,7 @@ TEST(FrameDetector, MissingPatchFitsAreCheckedWhereThePatchShouldBe) {
 namespace patlab::vision {
 namespace {
 
-// The case: a thresholds class "magenta" where the detector palette says "pink" drops
+// A thresholds class "magenta" where the detector palette says "pink" drops
 // every pink-dotted robot; the front end says so, naming both sides.
 TEST(FrameDetector, WarnsWhenClassNamesAndPaletteDisagree) {
   const std::string golden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";

@@ -1,4 +1,4 @@
-// The section-II track through the colour camera (issue 14): one pattern rides the paper's
+// The section-II track through the colour camera: one pattern rides the paper's
 // platform path across the view of a camera 3 m up while vision/camera_render.h renders each
 // frame (only a window around the pattern) and the real-frame low-level vision (colour lookup
 // table, runs, regions, pixel -> mm through the calibration) measures every patch. Truth is

@@ -70,7 +70,7 @@ Scene GenerateDetectFrame(const Experiment& experiment, const DetectPoint& point
   const Vec2 common = noise.CommonOffset(sigma, rng);
   PatchNoise patch_noise;
   patch_noise.sigma_mm = sigma;
-  if (!noise.HasCameraModels()) {  // the streams of the models before issue 14, unchanged
+  if (!noise.HasCameraModels()) {  // no camera-level model: the plain models' own streams
     patch_noise.perturb = [&noise, sigma, common](const Vec2& truth, double /*radius_mm*/,
                                                   RandomStream& r) -> Vec2 {
       return truth + common + noise.PatchError(sigma, r);

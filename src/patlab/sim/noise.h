@@ -1,5 +1,6 @@
-// Patch noise models of the Monte-Carlo engine. One parametrisation covers all four models of the
-// issue; every spread is a multiple of the swept patch sigma, so a sweep scales them together.
+// Patch noise models of the Monte-Carlo engine. One parametrisation covers four models (isotropic,
+// anisotropic, outliers, common jitter); every spread is a multiple of the swept patch sigma, so
+// a sweep scales them together.
 //
 // For trial t with true patch positions P_i (world frame) the observed positions are
 //
@@ -12,7 +13,7 @@
 // (section IV) is the isotropic Gaussian: sigma_y_ratio = 1, p = 0, common = 0; sigma is then
 // "the patch positional standard deviation" along each axis.
 //
-// Four camera-level models (issue 14), in absolute units (they do not scale with sigma), applied
+// Four camera-level models, in absolute units (they do not scale with sigma), applied
 // in this order on top of the above (in detect mode through FrameCameraNoise below, a frame
 // being one trial):
 //

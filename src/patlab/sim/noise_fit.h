@@ -1,4 +1,4 @@
-// Issue 14, item 3: which error mechanisms, with which magnitudes, reproduce the paper's
+// Which error mechanisms, with which magnitudes, reproduce the paper's
 // section-II white patches (Table I) and its section-IV Butterfly (sigma_x 0.3766, sigma_y
 // 0.3432 mm, sigma_theta 0.0070 rad) at once -- an estimation problem with confidence intervals.
 //
@@ -196,7 +196,7 @@ estimate::Model ButterflyModel(double id_radius_mm);
 
 namespace patlab::sim {
 
-// The whole issue-14 study behind `patlab fitnoise`: the fit of `free` (all mechanisms by
+// The whole camera-noise study behind `patlab fitnoise`: the fit of `free` (all mechanisms by
 // default) with profiles and bootstrap, a table of nested candidate models (which mechanisms are
 // needed), the sensitivity of a chosen model to the Butterfly's unknown size, and the blob-level
 // check of the best fit. Returns the result files (name -> CSV text), written by the caller.

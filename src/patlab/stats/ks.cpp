@@ -546,7 +546,7 @@ void WalkMarked(std::span<const double> x, std::span<const double> y, EqualWidth
 // point, 2 a bucket 2.0 ms a test, 8 0.61 s in all, 16 0.68 s; 20,000 trials, 4 0.13 s, 8 0.14 s,
 // 16 0.17 s. Since the plan is by the integer counts and Extract a look-up, the per-bucket passes
 // cost less: on fig5's 96 tests of samples that really differ, 2^15 buckets take 0.237 ms a test
-// against 0.272 ms with sqrt / 48 (22,222 buckets; /tmp/h13k/ksbench, sum of per-test bests).
+// against 0.272 ms with sqrt / 48 (22,222 buckets; a timing harness, sum of per-test bests).
 std::size_t BucketCount(std::size_t n1, std::size_t n2) {
   const double total = static_cast<double>(n1 + n2);
   const auto per_bucket = static_cast<std::size_t>(std::clamp(std::sqrt(total) / 72.0, 2.0, 16.0));

@@ -81,7 +81,7 @@ std::size_t internal::CopyDifferingStarts(const double* x, const double* y, std:
 // Cost (tests/bench/stats_bench.cpp, BM_KsFig5Rounding, 100,000 pairs, 30% a few ulps apart; CPU
 // time, the smallest of 4-5 runs alternating with the previous version, load 4-5 on 2 cores):
 // 0.35 ms from 0.98-1.02 ms; the same values in two arrays 0.035 ms from 0.18 ms. On a faster
-// machine (docs/performance.md, ninth pass), the starts copied 8 at a time and the region's near
+// machine (docs/performance.md), the starts copied 8 at a time and the region's near
 // pairs found from a mask: 0.204 ms from 0.273 ms.
 
 namespace {

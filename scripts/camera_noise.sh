@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
-# Issue 14 through the colour camera: the section-II track (5 runs x 2570 frames) of the SSL
-# standard pattern, coloured (blue key, pink/green dots) and all white, through patlab camtrack
-# with each camera mechanism on alone and all together, then a sweep of sensor noise and camera
-# roll for the fit to Table I and the section-IV Butterfly. Writes results/issue14/camera/*.csv,
-# results/issue14/camera.csv (all rows) and results/issue14/camera_shares.png.
-# ~19 CPU s per track (16 tracks); 2 at a time.
-# Usage: bash scripts/issue14_camera.sh [build/patlab]   (from the repository root)
+# Camera-level noise through the colour camera: the section-II track (5 runs x 2570 frames) of
+# the SSL standard pattern, coloured (blue key, pink/green dots) and all white, through patlab
+# camtrack with each camera mechanism on alone and all together, then a sweep of sensor noise and
+# camera roll for the fit to Table I and the section-IV Butterfly. Writes
+# results/camera-noise/camera/*.csv, results/camera-noise/camera.csv (all rows) and
+# results/camera-noise/camera_shares.png. ~19 CPU s per track (16 tracks); 2 at a time.
+# Usage: bash scripts/camera_noise.sh [build/patlab]   (from the repository root)
 set -euo pipefail
 patlab=${1:-build/patlab}
-out=results/issue14/camera
+out=results/camera-noise/camera
 mkdir -p "$out"
-scene=experiments/issue14/track-scene.toml
-thr=experiments/issue14/track.thresholds.toml
+scene=experiments/camera-noise/track-scene.toml
+thr=experiments/camera-noise/track.thresholds.toml
 quiet=(--read-noise-levels 0 --shot-noise-gain 0)
 three=(--no-bayer --chroma-444)
 # Jitter of the section-II fit (experiments/table1.toml: 0.09 px = 0.38 mm of shift) plus a
@@ -36,4 +36,4 @@ run all-but-jitter
 # Sensor noise and roll: what the full camera needs to reach the paper's numbers.
 run read8 --read-noise-levels 8 "${jit[@]}"
 run roll0.004 --shift-jitter-mm 0.38 --height-jitter-mm 1 --roll-jitter-rad 0.004
-/usr/bin/python3 scripts/plot_issue14_camera.py
+/usr/bin/python3 scripts/plot_camera_noise.py
