@@ -28,3 +28,43 @@ if ! diff -u build/example/cli.txt build/example/lib.txt; then
   exit 1
 fi
 echo "install ok: examples/detect_blobs found $(wc -l < build/example/lib.txt) robots, as patlab detect did"
+
+# The same example through pkg-config (patlab.pc, relocatable), and a shared-library build of
+# patlab (BUILD_SHARED_LIBS=ON: versioned SONAMEs) installed into its own prefix, with the example
+# linked against it both ways and run from another folder: the installed tool and example must
+# find their libraries by themselves (RUNPATH), and report the same robots.
+pc_check() {  # $1: prefix, $2: output binary, $3: extra pkg-config flags
+  local flags
+  flags=$(PKG_CONFIG_PATH="$(dirname "$(find "$1" -name patlab.pc | head -n 1)")" \
+    pkg-config $3 --cflags --libs patlab)
+  # shellcheck disable=SC2086
+  g++ -O1 examples/detect_blobs/main.cpp -o "$2" $flags -Wl,-rpath,"$(dirname "$(find "$1" -name 'libpatlab_core*' | head -n 1)")"
+}
+pc_check "$prefix" build/example/detect_blobs_pc --static
+build/example/detect_blobs_pc "$golden/ssl-frame.detector.toml" build/example/blobs.csv |
+  cut -d' ' -f1-4 | sort | diff -u build/example/lib.txt -
+echo "install ok: the pkg-config build of the example (static libraries) agrees"
+
+shared_prefix=$PWD/build/install-shared
+rm -rf build/shared "$shared_prefix"
+cmake -S . -B build/shared -DCMAKE_BUILD_TYPE=Release -DBUILD_SHARED_LIBS=ON \
+  -DPATLAB_BUILD_TESTS=OFF > build/shared-configure.log
+cmake --build build/shared -j"$(nproc)" > build/shared-build.log 2>&1 ||
+  { tail -n 30 build/shared-build.log; exit 1; }
+cmake --install build/shared --prefix "$shared_prefix" > build/shared-install.log
+soname=$(objdump -p "$(find "$shared_prefix" -name 'libpatlab_detect.so.*.*.*' | head -n 1)" |
+  awk '/SONAME/ {print $2}')
+[[ "$soname" == libpatlab_detect.so.* ]] || { echo "no versioned SONAME: '$soname'"; exit 1; }
+cmake -S examples/detect_blobs -B build/example-shared -DCMAKE_PREFIX_PATH="$shared_prefix" \
+  > build/example-shared-configure.log
+cmake --build build/example-shared 2>&1 | tail -n 1
+pc_check "$shared_prefix" build/example-shared/detect_blobs_pc ""
+(
+  cd "$(mktemp -d)"
+  for example in "$OLDPWD/build/example-shared/detect_blobs" "$OLDPWD/build/example-shared/detect_blobs_pc"; do
+    "$example" "$OLDPWD/$golden/ssl-frame.detector.toml" "$OLDPWD/build/example/blobs.csv" |
+      cut -d' ' -f1-4 | sort | diff -u "$OLDPWD/build/example/lib.txt" -
+  done
+  "$shared_prefix/bin/patlab" --help > /dev/null
+)
+echo "install ok: shared libraries ($soname), the example through find_package and pkg-config agree"
