@@ -12,7 +12,7 @@
 
 #include "expect_error.h"
 #include "patlab/core/pattern.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/pattern_file.h"
 
 namespace patlab::testing {
 

@@ -1,5 +1,6 @@
 // detect_blobs: detect robots in one frame from its blobs with patlab's detection core, as a
-// robot's vision stack would after its own segmentation.
+// robot's vision stack would after its own segmentation, configured by a detector settings file
+// (read by the formats room; examples/detect_in_code builds the configuration in code instead).
 //
 //   detect_blobs SETTINGS.toml BLOBS.csv
 //
@@ -17,7 +18,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/detect/detector.h"
-#include "patlab/detect/settings.h"
+#include "patlab/formats/detector_settings.h"
 
 namespace {
 

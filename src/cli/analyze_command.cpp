@@ -1,6 +1,6 @@
-// patlab analyze: the paper's section-II error analysis of measured tracks (sim/analyze.h): Table
-// I, Wilcoxon tests between subjects and the per-sample errors behind Figs. 2, 3 and 6. This file
-// parses flags, calls the library and writes the files.
+// patlab analyze: the paper's section-II error analysis of measured tracks (analysis/analyze.h):
+// Table I, Wilcoxon tests between subjects and the per-sample errors behind Figs. 2, 3 and 6. This
+// file parses flags, calls the library and writes the files.
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cstdio>
@@ -8,10 +8,10 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "patlab/analysis/analyze.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/io/atomic_file.h"
-#include "patlab/sim/analyze.h"
 
 namespace patlab::cli {
 

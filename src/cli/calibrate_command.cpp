@@ -9,6 +9,7 @@
 #include "patlab/calib/calibrate.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/formats/calibration_input.h"
 #include "patlab/io/atomic_file.h"
 
 namespace patlab::cli {

@@ -1,16 +1,18 @@
-// patlab camtrack: the section-II track through the colour camera (sim/camera_track.h): one
+// patlab camtrack: the section-II track through the colour camera (analysis/camera_track.h): one
 // pattern on the platform path, every frame rendered (a window around the pattern) by
-// vision/camera_render.h and measured by the real-frame colour segmentation; per colour group the
+// render/camera_render.h and measured by the real-frame colour segmentation; per colour group the
 // std of the patch errors and the pattern's pose error, with 95% intervals, as CSV.
 #include <boost/program_options.hpp>
 #include <iostream>
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "patlab/analysis/camera_track.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/formats/scene_file.h"
+#include "patlab/formats/thresholds_file.h"
 #include "patlab/io/atomic_file.h"
-#include "patlab/sim/camera_track.h"
 
 namespace patlab::cli {
 

@@ -1,4 +1,4 @@
-// patlab compare: pattern designs ranked side by side (sim/compare.h computes and renders it).
+// patlab compare: pattern designs ranked side by side (design/compare.h computes and renders it).
 #include <unistd.h>
 
 #include <boost/program_options.hpp>
@@ -12,9 +12,9 @@
 #include "cli/command.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
+#include "patlab/design/compare.h"
+#include "patlab/formats/pattern_file.h"
 #include "patlab/io/atomic_file.h"
-#include "patlab/io/pattern_file.h"
-#include "patlab/sim/compare.h"
 
 namespace patlab::cli {
 

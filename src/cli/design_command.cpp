@@ -1,4 +1,4 @@
-// patlab design: search patch layouts for a better pattern (sim/design.h searches and renders).
+// patlab design: search patch layouts for a better pattern (design/design.h searches and renders).
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -11,10 +11,10 @@
 #include "cli/command.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
+#include "patlab/design/design.h"
 #include "patlab/detect/codebook.h"
+#include "patlab/formats/pattern_file.h"
 #include "patlab/io/atomic_file.h"
-#include "patlab/io/pattern_file.h"
-#include "patlab/sim/design.h"
 
 namespace patlab::cli {
 

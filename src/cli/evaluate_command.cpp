@@ -1,4 +1,4 @@
-// patlab evaluate: one report for a pattern designer (sim/evaluate.h computes and renders it).
+// patlab evaluate: one report for a pattern designer (design/evaluate.h computes and renders it).
 #include <boost/program_options.hpp>
 #include <iostream>
 #include <string>
@@ -8,8 +8,8 @@
 #include "cli/command.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
-#include "patlab/io/pattern_file.h"
-#include "patlab/sim/evaluate.h"
+#include "patlab/design/evaluate.h"
+#include "patlab/formats/pattern_file.h"
 
 namespace patlab::cli {
 

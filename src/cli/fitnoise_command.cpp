@@ -1,5 +1,5 @@
 // patlab fitnoise: which error mechanisms, with which magnitudes, reproduce the paper's Table I
-// and its section-IV Butterfly at once (sim/noise_fit.h): the fit with profile
+// and its section-IV Butterfly at once (paper/noise_fit.h): the fit with profile
 // likelihood intervals, bootstrap correlations, candidate models and the sensitivity to the
 // Butterfly's unknown size, as CSV files in a directory.
 #include <boost/program_options.hpp>
@@ -10,7 +10,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/io/atomic_file.h"
-#include "patlab/sim/noise_fit.h"
+#include "patlab/paper/noise_fit.h"
 
 namespace patlab::cli {
 

@@ -11,7 +11,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/detect/codebook.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/pattern_file.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::cli {

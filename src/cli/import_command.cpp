@@ -1,4 +1,4 @@
-// patlab import: SSL-Vision pattern sheets -> pattern files and codebooks (vision/sheet_import.h).
+// patlab import: SSL-Vision pattern sheets -> pattern files and codebooks (design/sheet_import.h).
 #include <boost/program_options.hpp>
 #include <filesystem>
 #include <iostream>
@@ -9,9 +9,9 @@
 #include "cli/command.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/design/sheet_import.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/vision/frame_io.h"
-#include "patlab/vision/sheet_import.h"
 
 namespace patlab::cli {
 

@@ -1,15 +1,16 @@
 // patlab render: a scene file (robots wearing a pattern at known poses, a ball, a camera) ->
-// a synthetic camera frame (PNG) and its true poses (CSV), through vision/scene_render.h.
+// a synthetic camera frame (PNG) and its true poses (CSV), through render/scene_render.h.
 #include <boost/program_options.hpp>
 #include <iostream>
 
 #include "cli/arguments.h"
 #include "cli/command.h"
 #include "patlab/core/error.h"
+#include "patlab/formats/scene_file.h"
 #include "patlab/io/atomic_file.h"
-#include "patlab/vision/camera_render.h"
+#include "patlab/render/camera_render.h"
+#include "patlab/render/scene_render.h"
 #include "patlab/vision/frame_io.h"
-#include "patlab/vision/scene_render.h"
 
 namespace patlab::cli {
 
@@ -26,7 +27,7 @@ constexpr const char* kExamples = R"(examples:
   patlab render tests/data/golden/ssl-frame.toml --camera --read-noise-levels 0 \
       --shot-noise-gain 0 --roll-jitter-rad 0.001 --window 200,140,120,90 -o /tmp/win.png
 
---camera renders through the colour camera (vision/camera_render.h, docs/render.md): per-frame
+--camera renders through the colour camera (render/camera_render.h, docs/render.md): per-frame
 camera jitter, exposure, RGGB sensor noise, bilinear demosaicing and YUV 4:2:2; frame F is the
 same image in any run. Its frame is written as raw UYVY for .yuv/.uyvy/.raw (what patlab
 detect --raw-size reads), else as PNG (the UYVY frame converted to RGB).

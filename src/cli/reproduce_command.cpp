@@ -14,7 +14,7 @@
 #include "cli/command.h"
 #include "patlab/core/error.h"
 #include "patlab/io/atomic_file.h"
-#include "patlab/sim/reproduce.h"
+#include "patlab/paper/reproduce.h"
 
 namespace patlab::cli {
 

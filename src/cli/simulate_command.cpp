@@ -10,6 +10,7 @@
 #include "cli/arguments.h"
 #include "cli/command.h"
 #include "patlab/core/error.h"
+#include "patlab/formats/experiment_file.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/sim/detect_runner.h"
 #include "patlab/sim/replay.h"

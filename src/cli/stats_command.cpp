@@ -10,7 +10,7 @@
 #include "patlab/core/enum_names.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
-#include "patlab/io/numeric_column.h"
+#include "patlab/formats/numeric_column.h"
 #include "patlab/stats/ks.h"
 #include "patlab/stats/summary.h"
 #include "patlab/stats/wilcoxon.h"

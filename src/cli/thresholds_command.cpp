@@ -10,6 +10,8 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/detect/settings.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/labels_file.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/thresholds_fit.h"

@@ -12,10 +12,11 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "patlab/analysis/track.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/formats/track_file.h"
 #include "patlab/io/atomic_file.h"
-#include "patlab/sim/track.h"
 
 namespace patlab::cli {
 

@@ -1,4 +1,4 @@
-// The colour camera (vision/camera_render.h) on one core: a 780x580 frame of the golden scene's
+// The colour camera (render/camera_render.h) on one core: a 780x580 frame of the golden scene's
 // ten robots and ball (tests/data/golden/ssl-frame.toml, its camera seeing a wider image), as
 // frames per second (items_per_second). BM_Scene: geometry, distortion and blur (RenderScene);
 // BM_Sensor: exposure, RGGB noise, demosaicing and UYVY on an already rendered frame;
@@ -8,7 +8,8 @@
 
 #include <string>
 
-#include "patlab/vision/camera_render.h"
+#include "patlab/formats/scene_file.h"
+#include "patlab/render/camera_render.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/pattern_file.h"
 #include "patlab/sim/batch.h"
 
 namespace {

@@ -6,9 +6,12 @@
 
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/render.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/pipeline.h"
-#include "patlab/vision/render.h"
 #include "patlab/vision/segment.h"
 
 namespace {

@@ -14,6 +14,9 @@
 #include "../expect_error.h"
 #include "../test_util.h"
 #include "patlab/core/rng.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/calibration_input.h"
+#include "patlab/formats/field_file.h"
 
 namespace patlab::calib {
 namespace {

@@ -9,13 +9,17 @@
 #include <random>
 
 #include "../test_util.h"
+#include "patlab/analysis/analyze.h"
 #include "patlab/core/format.h"
 #include "patlab/core/geometry.h"
 #include "patlab/detect/settings.h"
-#include "patlab/sim/analyze.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/scene_file.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/scene_render.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_results.h"
-#include "patlab/vision/scene_render.h"
 
 namespace patlab {
 namespace {

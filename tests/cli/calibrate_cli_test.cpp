@@ -6,7 +6,8 @@
 #include <string>
 
 #include "../test_util.h"
-#include "patlab/vision/camera.h"
+#include "patlab/camera/camera.h"
+#include "patlab/formats/calibration_file.h"
 
 namespace patlab::cli {
 namespace {

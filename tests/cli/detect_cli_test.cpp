@@ -16,10 +16,13 @@
 
 #include "patlab/detect/codebook.h"
 #include "patlab/detect/settings.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/pattern_file.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/render.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
-#include "patlab/vision/render.h"
 
 namespace patlab::vision {
 namespace {

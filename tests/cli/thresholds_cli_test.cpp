@@ -7,6 +7,7 @@
 #include <string>
 
 #include "../test_util.h"
+#include "patlab/formats/thresholds_file.h"
 #include "patlab/vision/color_lut.h"
 
 namespace patlab::cli {

@@ -5,6 +5,7 @@
 #include "../allocation_counter.h"
 
 #include "patlab/detect/settings.h"
+#include "patlab/formats/detector_settings.h"
 #include "patlab/sim/scene.h"
 
 namespace patlab::detect {

@@ -8,6 +8,7 @@
 
 #include "../expect_error.h"
 #include "patlab/core/error.h"
+#include "patlab/formats/codebook_file.h"
 #include "test_util.h"
 
 namespace patlab::detect {

@@ -10,6 +10,8 @@
 
 #include "../expect_error.h"
 #include "patlab/core/error.h"
+#include "patlab/formats/codebook_file.h"
+#include "patlab/formats/detector_settings.h"
 #include "test_util.h"
 
 namespace patlab::detect {

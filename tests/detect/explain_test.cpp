@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "patlab/detect/detector.h"
+#include "patlab/formats/codebook_file.h"
 #include "test_util.h"
 
 namespace patlab::detect {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "patlab/detect/detector_internal.h"
+#include "patlab/formats/detector_settings.h"
 #include "test_util.h"
 
 namespace patlab::detect {

@@ -6,6 +6,7 @@
 
 #include "../expect_error.h"
 #include "patlab/core/error.h"
+#include "patlab/formats/detector_settings.h"
 
 namespace patlab::detect {
 namespace {

@@ -15,7 +15,8 @@
 #include "patlab/core/rng.h"
 #include "patlab/detect/codebook.h"
 #include "patlab/detect/detector.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/pattern_file.h"
 #include "test_util.h"
 
 namespace patlab::detect {

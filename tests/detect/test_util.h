@@ -8,7 +8,8 @@
 #include "patlab/core/rng.h"
 #include "patlab/detect/blob.h"
 #include "patlab/detect/detector.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/pattern_file.h"
 
 namespace patlab::detect::testing {
 

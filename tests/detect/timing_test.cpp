@@ -9,6 +9,7 @@
 
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
+#include "patlab/formats/detector_settings.h"
 #include "patlab/sim/scene.h"
 
 namespace patlab::detect {

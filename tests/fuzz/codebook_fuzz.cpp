@@ -1,7 +1,8 @@
-// Codebooks (detect/codebook.h) for the shipped SSL standard pattern.
+// Codebooks (formats/codebook_file.h) for the shipped SSL standard pattern.
 #include "fuzz_util.h"
 #include "patlab/detect/codebook.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/codebook_file.h"
+#include "patlab/formats/pattern_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const patlab::Pattern pattern =

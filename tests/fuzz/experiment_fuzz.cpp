@@ -1,5 +1,5 @@
-// Experiment files (sim/experiment.h) and the noise and settings files they name. The loader
-// reads a path, so each input is written to a file in PATLAB_FUZZ_WORK_DIR/run/, beside the
+// Experiment files (formats/experiment_file.h) and the noise and settings files they name. The
+// loader reads a path, so each input is written to a file in PATLAB_FUZZ_WORK_DIR/run/, beside the
 // links patterns -> the shipped patterns/ and experiments -> experiments/ (tests/fuzz/
 // CMakeLists.txt): the seeds' default patterns_dir "../patterns" and a settings path
 // "../experiments/id_confusion-detector.toml" resolve as they do for a shipped experiment.
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "fuzz_util.h"
+#include "patlab/formats/experiment_file.h"
 #include "patlab/sim/experiment.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

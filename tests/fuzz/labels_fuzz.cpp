@@ -1,6 +1,7 @@
-// Labels files of `patlab thresholds` (vision/thresholds_fit.h): the parser, then the pixels the
+// Labels files of `patlab thresholds` (formats/labels_file.h): the parser, then the pixels the
 // labels name on a small image (points, rectangles and their bounds checks; no mask).
 #include "fuzz_util.h"
+#include "patlab/formats/labels_file.h"
 #include "patlab/vision/thresholds_fit.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

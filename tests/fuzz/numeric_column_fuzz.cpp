@@ -1,8 +1,8 @@
-// Number columns (io/numeric_column.h): the first byte chooses plain (even) or CSV column "x".
+// Number columns (formats/numeric_column.h): the first byte chooses plain (even) or CSV column "x".
 #include <sstream>
 
 #include "fuzz_util.h"
-#include "patlab/io/numeric_column.h"
+#include "patlab/formats/numeric_column.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;

@@ -1,6 +1,6 @@
-// Pattern files (io/pattern_file.h).
+// Pattern files (formats/pattern_file.h).
 #include "fuzz_util.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/pattern_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   patlab::fuzz::ExpectInputErrorOnly(

@@ -1,6 +1,7 @@
-// Colour thresholds (vision/color_lut.h): CMVision colors.txt and the TOML form, as
+// Colour thresholds (formats/thresholds_file.h): CMVision colors.txt and the TOML form, as
 // LoadThresholds chooses between them (a first section [Colors] is colors.txt).
 #include "fuzz_util.h"
+#include "patlab/formats/thresholds_file.h"
 #include "patlab/vision/color_lut.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

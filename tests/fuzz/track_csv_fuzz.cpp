@@ -1,8 +1,8 @@
-// Measured-track CSVs of `patlab analyze` (sim/analyze.h): the parser, then the whole section-II
-// analysis on what parsed (smoothing, gaps, Table I, Wilcoxon pairing, autocorrelation) when it
-// is small enough to keep the harness fast.
+// Measured-track CSVs of `patlab analyze` (analysis/analyze.h): the parser, then the whole
+// section-II analysis on what parsed (smoothing, gaps, Table I, Wilcoxon pairing, autocorrelation)
+// when it is small enough to keep the harness fast.
 #include "fuzz_util.h"
-#include "patlab/sim/analyze.h"
+#include "patlab/analysis/analyze.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text = patlab::fuzz::Text(data, size);

@@ -1,6 +1,6 @@
-// Track experiment files (sim/track_file.h).
+// Track experiment files (formats/track_file.h).
 #include "fuzz_util.h"
-#include "patlab/sim/track_file.h"
+#include "patlab/formats/track_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   patlab::fuzz::ExpectInputErrorOnly([&] {

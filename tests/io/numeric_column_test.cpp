@@ -1,4 +1,4 @@
-#include "patlab/io/numeric_column.h"
+#include "patlab/formats/numeric_column.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/pattern_file.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// The section-II analysis of measured tracks (sim/analyze.h): the residual estimator's bias
+// The section-II analysis of measured tracks (analysis/analyze.h): the residual estimator's bias
 // against its analytic value, gaps, orientation wrap, the along-travel frame, the truth, the
 // paired tests, and every bad input word for word.
-#include "patlab/sim/analyze.h"
+#include "patlab/analysis/analyze.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "patlab/sim/compare.h"
+#include "patlab/design/compare.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 
 #include "../expect_error.h"
 #include "patlab/detect/codebook.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/pattern_file.h"
 
 namespace patlab::sim {
 namespace {

@@ -1,9 +1,9 @@
-// The constraints file of patlab design (sim/design.h ParseDesignConstraints): every key read,
+// The constraints file of patlab design (design/design.h ParseDesignConstraints): every key read,
 // absent keys kept, and bad values at their file:line with what was expected.
 #include <gtest/gtest.h>
 
 #include "../expect_error.h"
-#include "patlab/sim/design.h"
+#include "patlab/design/design.h"
 
 namespace patlab::sim {
 namespace {

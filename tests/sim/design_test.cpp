@@ -1,7 +1,7 @@
-// The layout search behind patlab design (sim/design.h): impossible constraints, every output
+// The layout search behind patlab design (design/design.h): impossible constraints, every output
 // inside its constraints, criteria against independent recomputation, the known start beaten or
 // equalled, determinism, and optima known in closed form.
-#include "patlab/sim/design.h"
+#include "patlab/design/design.h"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 
 #include "../expect_error.h"
 #include "../test_util.h"
+#include "patlab/design/compare.h"
 #include "patlab/detect/codebook.h"
-#include "patlab/sim/compare.h"
 
 namespace patlab::sim {
 namespace {

@@ -9,6 +9,7 @@
 
 #include "../expect_error.h"
 #include "../test_util.h"
+#include "patlab/formats/experiment_file.h"
 #include "patlab/sim/replay.h"
 #include "patlab/sim/report.h"
 #include "patlab/stats/summary.h"

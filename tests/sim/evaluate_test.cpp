@@ -1,5 +1,5 @@
 // EvaluatePattern as a library call: the four parts of the report and its option checks.
-#include "patlab/sim/evaluate.h"
+#include "patlab/design/evaluate.h"
 
 #include <gtest/gtest.h>
 

@@ -9,6 +9,7 @@
 
 #include "../test_util.h"
 #include "patlab/core/error.h"
+#include "patlab/formats/experiment_file.h"
 #include "patlab/sim/experiment.h"
 
 namespace patlab::sim::testing_support {

@@ -5,6 +5,7 @@
 #include "../test_util.h"
 #include "experiment_fixture.h"
 #include "patlab/core/error.h"
+#include "patlab/formats/experiment_file.h"
 
 namespace patlab::sim {
 namespace {

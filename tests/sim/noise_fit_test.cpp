@@ -1,4 +1,4 @@
-#include "patlab/sim/noise_fit.h"
+#include "patlab/paper/noise_fit.h"
 
 #include <gtest/gtest.h>
 

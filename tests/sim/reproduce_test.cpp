@@ -1,5 +1,5 @@
-// The comparison behind `patlab reproduce --check` (src/patlab/sim/reproduce.h).
-#include "patlab/sim/reproduce.h"
+// The comparison behind `patlab reproduce --check` (src/patlab/paper/reproduce.h).
+#include "patlab/paper/reproduce.h"
 
 #include <cmath>
 

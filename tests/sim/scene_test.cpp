@@ -9,6 +9,7 @@
 #include "../test_util.h"
 #include "patlab/core/error.h"
 #include "patlab/detect/settings.h"
+#include "patlab/formats/detector_settings.h"
 
 namespace patlab::sim {
 namespace {

@@ -10,6 +10,7 @@
 #include "../test_util.h"
 #include "patlab/core/format.h"
 #include "patlab/core/rng.h"
+#include "patlab/formats/experiment_file.h"
 #include "patlab/sim/report.h"
 
 namespace patlab::sim {

@@ -1,5 +1,5 @@
-// Tests of the section II track experiment (src/patlab/sim/track.h).
-#include "patlab/sim/track.h"
+// Tests of the section II track experiment (src/patlab/analysis/track.h).
+#include "patlab/analysis/track.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,8 @@
 
 #include "../vision/test_util.h"
 #include "patlab/core/rng.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/pattern_file.h"
+#include "patlab/formats/track_file.h"
 #include "patlab/stats/smoothing.h"
 #include "patlab/stats/summary.h"
 

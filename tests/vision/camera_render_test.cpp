@@ -1,8 +1,8 @@
-// The colour camera (vision/camera_render.h): the golden scene through exposure, the RGGB
+// The colour camera (render/camera_render.h): the golden scene through exposure, the RGGB
 // sensor, bilinear demosaicing and UYVY, then through the unchanged real-frame pipeline
 // (thresholds, regions, calibration, detector) of the golden frame; determinism per frame
 // identity; the demosaicing of a flat colour and of a vertical edge by hand.
-#include "patlab/vision/camera_render.h"
+#include "patlab/render/camera_render.h"
 
 #include <gtest/gtest.h>
 
@@ -12,6 +12,10 @@
 
 #include "../expect_error.h"
 #include "patlab/detect/settings.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/scene_file.h"
+#include "patlab/formats/thresholds_file.h"
 #include "patlab/vision/frame_detector.h"
 
 namespace patlab::vision {

@@ -1,4 +1,5 @@
-#include "patlab/vision/camera.h"
+#include "patlab/camera/camera.h"
+#include "patlab/formats/calibration_file.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "patlab/vision/image.h"
+#include "patlab/camera/image.h"
+#include "patlab/formats/thresholds_file.h"
 #include "test_util.h"
 
 namespace patlab::vision {

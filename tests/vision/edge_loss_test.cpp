@@ -12,7 +12,10 @@
 #include <string>
 
 #include "patlab/detect/settings.h"
-#include "patlab/vision/camera_render.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/scene_file.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/camera_render.h"
 #include "patlab/vision/frame_detector.h"
 
 namespace patlab::vision {

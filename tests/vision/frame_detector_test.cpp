@@ -11,9 +11,12 @@
 #include <numbers>
 
 #include "patlab/detect/settings.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/render.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/frame_results.h"
-#include "patlab/vision/render.h"
 #include "test_util.h"
 
 namespace patlab::vision {

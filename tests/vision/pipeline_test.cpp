@@ -4,7 +4,9 @@
 
 #include <cmath>
 
-#include "patlab/vision/render.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/render.h"
 #include "test_util.h"
 
 namespace patlab::vision {

@@ -10,11 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "patlab/camera/image.h"
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/thresholds_file.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
-#include "patlab/vision/image.h"
 #include "test_util.h"
 
 namespace patlab::vision {

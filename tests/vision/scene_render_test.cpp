@@ -1,4 +1,4 @@
-#include "patlab/vision/scene_render.h"
+#include "patlab/render/scene_render.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,10 @@
 #include <vector>
 
 #include "patlab/detect/settings.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/pattern_file.h"
+#include "patlab/formats/scene_file.h"
 #include "test_util.h"
 
 namespace patlab::vision {

@@ -5,7 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "patlab/vision/render.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/render.h"
 #include "patlab/vision/segment_internal.h"
 #include "test_util.h"
 

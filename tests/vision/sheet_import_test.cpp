@@ -1,4 +1,4 @@
-#include "patlab/vision/sheet_import.h"
+#include "patlab/design/sheet_import.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,8 @@
 
 #include "../expect_error.h"
 #include "patlab/detect/codebook.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/codebook_file.h"
+#include "patlab/formats/pattern_file.h"
 #include "patlab/vision/frame_io.h"
 #include "test_util.h"
 

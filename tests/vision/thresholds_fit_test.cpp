@@ -6,9 +6,14 @@
 #include <filesystem>
 
 #include "patlab/detect/settings.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/labels_file.h"
+#include "patlab/formats/scene_file.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/scene_render.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
-#include "patlab/vision/scene_render.h"
 #include "test_util.h"
 
 namespace patlab::vision {

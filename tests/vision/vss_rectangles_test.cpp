@@ -8,10 +8,13 @@
 #include <vector>
 
 #include "patlab/detect/settings.h"
-#include "patlab/io/pattern_file.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/pattern_file.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/render/scene_render.h"
 #include "patlab/vision/color_lut.h"
 #include "patlab/vision/frame_detector.h"
-#include "patlab/vision/scene_render.h"
 
 namespace patlab::vision {
 namespace {

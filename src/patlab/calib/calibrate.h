@@ -1,4 +1,4 @@
-// `patlab calibrate`: fits the pinhole camera of vision/camera.h (fx, fy, cx, cy, radial k1, k2,
+// `patlab calibrate`: fits the pinhole camera of camera/camera.h (fx, fy, cx, cy, radial k1, k2,
 // and the pose R, t with X_camera = R X_world + t) to what a user can measure in one image:
 //  - points: a pixel and the world point it shows (x, y on the floor, at a plane height);
 //  - lines: pixels anywhere on a known straight field line (one free position per pixel);
@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "patlab/calib/field.h"
+#include "patlab/camera/camera.h"
 #include "patlab/core/error.h"
 #include "patlab/core/geometry.h"
 #include "patlab/core/pattern.h"
-#include "patlab/vision/camera.h"
 
 namespace patlab::calib {
 
@@ -100,13 +100,6 @@ struct CalibrationInput {
   std::map<std::string, double> class_height_mm;
   FileLoc loc;  // the file, for whole-file messages
 };
-
-// Reads a calibration-input TOML file (docs/file-formats.md#calibration-input). The files it
-// names (`field = "..."`, `pattern = "..."`) are read relative to the file's own directory;
-// ParseCalibrationInput reads them relative to `base_dir`.
-CalibrationInput LoadCalibrationInput(const std::string& path);
-CalibrationInput ParseCalibrationInput(std::string_view text, const std::string& name,
-                                       const std::string& base_dir);
 
 // One observation's residual after the fit.
 struct ObservationResidual {

@@ -54,7 +54,7 @@ namespace {
 
 using internal::FitState;
 
-// The camera of vision/camera.h, written for Ceres' automatic derivatives.
+// The camera of camera/camera.h, written for Ceres' automatic derivatives.
 template <typename T>
 bool Project(const T* intrinsics, const T* pose, const T* world, T* pixel) {
   T p[3];

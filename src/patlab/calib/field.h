@@ -60,7 +60,4 @@ struct Field {
   std::string PointNames() const;
 };
 
-Field LoadField(const std::string& path);
-Field ParseField(std::string_view text, const std::string& source_name);
-
 }  // namespace patlab::calib

@@ -1,5 +1,5 @@
 // The one sampled Gaussian kernel, shared by the track analysis's smoothing (stats/smoothing.h)
-// and the renderer's optics blur (vision/scene_render.h), which may not depend on each other.
+// and the renderer's optics blur (render/scene_render.h), which may not depend on each other.
 #pragma once
 
 #include <vector>

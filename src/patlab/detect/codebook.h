@@ -111,13 +111,17 @@ struct Codebook {
 Codebook GenerateCodebook(const Pattern& pattern, const Symmetry& symmetry,
                           const std::vector<std::string>& colours);
 
-// Reads a codebook file (format in patterns/ssl-standard.codebook.toml) for `pattern` and checks
-// it against the pattern's symmetry: every colouring must be an ID and no two may be the same up
-// to a symmetry rotation. Throws InputError "file:line: what is wrong; expected what".
-Codebook LoadCodebookFile(const std::string& path, const Pattern& pattern,
-                          const Symmetry& symmetry);
-Codebook ParseCodebook(const std::string& text, const std::string& source_name,
-                       const Pattern& pattern, const Symmetry& symmetry);
+// The colourings of the ID slots under the rotations of the effective group, for checking a
+// codebook read from a file (formats/codebook_file.h) as GenerateCodebook builds one:
+// SlotPermutations gives, for each shift of symmetry.effective_shifts (the identity first), the
+// permutation of ID slots it induces (slot k moves to slot perm[k]); Stabilises is true when
+// `perm` maps `colour` (one entry per ID slot) onto itself; Permuted is `colour` moved by `perm`;
+// DegreesText is the rotation angle of effective shift number t in degrees in [0, 360), as text
+// for messages.
+std::vector<std::vector<int>> SlotPermutations(const Pattern& pattern, const Symmetry& symmetry);
+bool Stabilises(const std::vector<int>& perm, const std::vector<int>& colour);
+std::vector<int> Permuted(const std::vector<int>& perm, const std::vector<int>& colour);
+std::string DegreesText(const Symmetry& symmetry, size_t t);
 
 // True when a rotation of symmetry.effective_shifts (the identity included) maps colouring `a`
 // onto colouring `b` (one entry per ID slot each): the two cannot both be IDs.

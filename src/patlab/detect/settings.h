@@ -1,4 +1,7 @@
-// Detector settings files (format and defaults: experiments/detector.toml).
+// The values of a detector settings file that the detection core owns: a whole configuration
+// checked as the Detector checks it, and the [frame] table that camera front ends apply. Reading
+// the files themselves (format and defaults: experiments/detector.toml) is
+// formats/detector_settings.h.
 #pragma once
 
 #include <optional>
@@ -10,27 +13,12 @@
 
 namespace patlab::detect {
 
-// Reads a detector settings file: palette, [detector] options, and one [[pattern]] table per
-// enabled pattern (pattern file, codebook file or ID colours, team key colours, symmetry
-// tolerance). Relative paths are relative to the settings file's folder. Throws InputError
-// "file:line: what is wrong; expected what" for the first problem, including a broken option
-// constraint (Check(const DetectorOptions&)) at the line of that option.
-DetectorConfig LoadDetectorSettings(const std::string& path);
-// The same from text; `source_name` stands for the file in messages and `base_dir` resolves
-// relative paths.
-DetectorConfig ParseDetectorSettings(const std::string& text, const std::string& source_name,
-                                     const std::string& base_dir);
-
-// The same from values, for callers that build a configuration in code (patlab evaluate); the
-// settings files go through these too. MakeDetectorPattern is one [[pattern]] table: the
-// pattern's symmetry at symmetry_tolerance_mm, then its codebook read from `codebook_file` (when
-// not empty) or generated from `id_colours` (every ID, GenerateCodebook). MakeDetectorConfig
-// checks the whole configuration as the Detector does (palette, options, colours in the
-// palette). Both throw InputError.
-DetectorPattern MakeDetectorPattern(Pattern pattern, std::vector<std::string> key_colours,
-                                    const std::string& codebook_file,
-                                    const std::vector<std::string>& id_colours,
-                                    double symmetry_tolerance_mm = 10.0);
+// A configuration from values, for callers that build one in code (patlab evaluate, a robot's
+// vision stack without settings files); the settings files go through it too. Checks the whole
+// configuration as the Detector does (palette, options, colours in the palette) and throws
+// InputError for the first problem. A DetectorPattern built in code is its pattern, its key
+// colours, symmetry_tolerance_mm and a codebook, e.g. GenerateCodebook(pattern,
+// FindSymmetry(pattern, tolerance_mm), id_colours) (codebook.h).
 DetectorConfig MakeDetectorConfig(std::vector<std::string> palette, const DetectorOptions& options,
                                   std::vector<DetectorPattern> patterns);
 
@@ -52,10 +40,5 @@ inline constexpr double kMaxEdgeLossPx = 10.0;
 // Every broken constraint (core/options.h): edge_loss_px, when set, finite and in
 // [0, kMaxEdgeLossPx].
 std::vector<OptionsProblem> Check(const FrameSettings& settings);
-// The [frame] table of a settings file (all fields unset without one). Throws InputError
-// "file:line: ...; expected ..." for an unknown key or a bad value. ParseDetectorSettings checks
-// the table the same way, so a settings file with a broken [frame] is rejected everywhere.
-FrameSettings LoadFrameSettings(const std::string& path);
-FrameSettings ParseFrameSettings(const std::string& text, const std::string& source_name);
 
 }  // namespace patlab::detect

@@ -115,7 +115,7 @@ inline std::string_view EstimatorName(Estimator estimator) {
   return NameOf(estimator, kEstimatorNames);
 }
 // Returns false if `name` is not an estimator name. (FindName(name, kEstimatorNames) is the same;
-// this form serves the callers in detect/settings.cpp and sim/experiment.cpp.)
+// this form serves the file readers of formats/ and the shard merge of sim/.)
 inline bool ParseEstimator(std::string_view name, Estimator* estimator) {
   const std::optional<Estimator> found = FindName(name, kEstimatorNames);
   if (found) *estimator = *found;

@@ -98,12 +98,6 @@ struct Experiment {
 std::vector<OptionsProblem> Check(const Experiment& experiment);
 void Validate(const Experiment& experiment);
 
-// Reads an experiment file. Pattern names resolve to <patterns_dir>/<name>.toml, where
-// patterns_dir defaults to ../patterns relative to the experiment file (key `patterns_dir`).
-// With correspondence = "detect" they name [[pattern]]s of the [detect] settings file instead,
-// and trials, estimators, ml and patterns_dir are rejected (the detector settings hold them).
-Experiment LoadExperimentFile(const std::string& path);
-
 // Command-line overrides, applied after loading and checked with the file's limits; messages name
 // the flag ("--trials is 1; expected an integer in [2, 1000000000]").
 struct Overrides {

@@ -7,6 +7,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/render/draw.h"
 #include "patlab/vision/debug_image.h"
 #include "patlab/vision/frame_io.h"
 

@@ -24,11 +24,11 @@
 #include <string_view>
 #include <vector>
 
+#include "patlab/camera/image.h"
 #include "patlab/core/options.h"
 #include "patlab/core/timeprofile.h"
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
-#include "patlab/vision/image.h"
 #include "patlab/vision/pipeline.h"
 
 namespace patlab::vision {

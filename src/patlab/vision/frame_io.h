@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "patlab/vision/image.h"
+#include "patlab/camera/image.h"
 
 namespace patlab::vision {
 

@@ -41,7 +41,7 @@ class FrameResultsWriter {
 };
 
 // patlab detect --track: the detections of a frame sequence as a track CSV that `patlab analyze`
-// reads directly (sim/analyze.h, docs/file-formats.md "Track CSV"): header
+// reads directly (analysis/analyze.h, docs/file-formats.md "Track CSV"): header
 //   frame,subject,x_mm,y_mm,theta_rad
 // frame = the frame's index in the sequence (0, 1, ...: the order the frames were given), subject
 // = "<team>-<id>" (e.g. "blue-3"). Only detections with status "ok" and a known ID are written; a

@@ -19,10 +19,10 @@
 
 #include "patlab/core/timeprofile.h"
 
+#include "patlab/camera/camera.h"
+#include "patlab/camera/image.h"
 #include "patlab/detect/blob.h"
-#include "patlab/vision/camera.h"
 #include "patlab/vision/color_lut.h"
-#include "patlab/vision/image.h"
 #include "patlab/vision/segment.h"
 
 namespace patlab::vision {

@@ -19,10 +19,10 @@
 #include <span>
 #include <vector>
 
+#include "patlab/camera/image.h"
 #include "patlab/core/geometry.h"
 #include "patlab/core/options.h"
 #include "patlab/vision/color_lut.h"
-#include "patlab/vision/image.h"
 
 namespace patlab::vision {
 

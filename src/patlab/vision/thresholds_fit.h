@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "patlab/camera/image.h"
 #include "patlab/core/options.h"
 #include "patlab/vision/color_lut.h"
-#include "patlab/vision/image.h"
 
 namespace patlab::vision {
 
@@ -50,7 +50,7 @@ struct LabelClass {
   int max_area_px = 0;
 };
 
-// A labels file (docs/file-formats.md, "Labels files"):
+// A labels file (docs/file-formats.md, "Labels files"; read by formats/labels_file.h):
 //   image = "frame.png"          # required, relative to the labels file's folder
 //   mask = "frame.mask.png"      # optional label mask, same size as the image
 //   point_radius_px = 1          # optional (default 0): a point samples the disc of this radius
@@ -70,12 +70,6 @@ struct Labels {
   int point_radius_px = 0;
   std::vector<LabelClass> classes;
 };
-
-// `base_dir` resolves the relative image and mask paths. InputError at the offending line for
-// bad syntax, unknown keys, duplicate or empty names, malformed points or rectangles, a class
-// with no samples at all.
-Labels ParseLabels(std::string_view text, const std::string& name, const std::string& base_dir);
-Labels LoadLabels(const std::string& path);
 
 // Every class must be one of `known` (e.g. the detector palette): InputError at the class's line
 // naming the first that is not.

@@ -1,0 +1,50 @@
+#include "patlab/camera/image.h"
+
+#include "patlab/core/error.h"
+
+namespace patlab::vision {
+
+Image ToRgb(const Image& image) {
+  if (image.format == PixelFormat::kRgb8) return image;
+  Image rgb = Image::Rgb(image.width_px, image.height_px);
+  for (int y = 0; y < image.height_px; ++y) {
+    const uint8_t* in = image.Row(y);
+    uint8_t* out = rgb.Row(y);
+    for (int x = 0; x + 1 < image.width_px; x += 2, in += 4, out += 6) {
+      for (int k = 0; k < 2; ++k) {
+        int r, g, b;
+        YuvToRgb(in[1 + 2 * k], in[0], in[2], &r, &g, &b);
+        out[3 * k + 0] = static_cast<uint8_t>(r);
+        out[3 * k + 1] = static_cast<uint8_t>(g);
+        out[3 * k + 2] = static_cast<uint8_t>(b);
+      }
+    }
+  }
+  return rgb;
+}
+
+Image ToUyvy(const Image& image) {
+  if (image.format == PixelFormat::kUyvy) return image;
+  PATLAB_CHECK(image.width_px % 2 == 0);
+  Image yuv;
+  yuv.width_px = image.width_px;
+  yuv.height_px = image.height_px;
+  yuv.format = PixelFormat::kUyvy;
+  yuv.data.resize(static_cast<size_t>(image.width_px) * image.height_px * 2);
+  for (int y = 0; y < image.height_px; ++y) {
+    const uint8_t* in = image.Row(y);
+    uint8_t* out = yuv.Row(y);
+    for (int x = 0; x + 1 < image.width_px; x += 2, in += 6, out += 4) {
+      int y0, u0, v0, y1, u1, v1;
+      RgbToYuv(in[0], in[1], in[2], &y0, &u0, &v0);
+      RgbToYuv(in[3], in[4], in[5], &y1, &u1, &v1);
+      out[0] = static_cast<uint8_t>((u0 + u1 + 1) / 2);
+      out[1] = static_cast<uint8_t>(y0);
+      out[2] = static_cast<uint8_t>((v0 + v1 + 1) / 2);
+      out[3] = static_cast<uint8_t>(y1);
+    }
+  }
+  return yuv;
+}
+
+}  // namespace patlab::vision

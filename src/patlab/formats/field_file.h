@@ -1,0 +1,17 @@
+// Field geometry files (docs/file-formats.md): the named lines, circles and points of a field
+// (calib/field.h) that calibration inputs refer to.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "patlab/calib/field.h"
+
+namespace patlab::calib {
+
+// Reads a field file. Throws InputError "file:line: what is wrong; expected what" for the first
+// problem.
+Field LoadField(const std::string& path);
+Field ParseField(std::string_view text, const std::string& source_name);
+
+}  // namespace patlab::calib
