@@ -1,8 +1,8 @@
-// The track through the colour camera (analysis/camera_track.h) on the camera-noise inputs: every patch
-// found in every frame, the same numbers on a second run (frame identity), and an analytic check
-// of the pixel-grid error: with a still, noise-free three-chip camera a patch's centroid error is
-// at most half a pixel (4.17 mm/px / 2 = 2.1 mm) per axis, and its std over a track well below
-// the uniform rounding std of a pixel, 4.17 / sqrt(12) = 1.2 mm.
+// The track through the colour camera (analysis/camera_track.h) on the camera-noise inputs: every
+// patch found in every frame, the same numbers on a second run (frame identity), and an analytic
+// check of the pixel-grid error: with a still, noise-free three-chip camera a patch's centroid
+// error is at most half a pixel (4.17 mm/px / 2 = 2.1 mm) per axis, and its std over a track well
+// below the uniform rounding std of a pixel, 4.17 / sqrt(12) = 1.2 mm.
 #include "patlab/analysis/camera_track.h"
 #include "patlab/formats/scene_file.h"
 #include "patlab/formats/thresholds_file.h"
