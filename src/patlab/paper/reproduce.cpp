@@ -541,10 +541,9 @@ std::vector<FigureStep> FigureSteps(const ReproduceOptions& options) {
 
 namespace {
 
-// The manifest keys that describe the run, or where the inputs were read from.
+// The manifest keys that say where the files were written, or where the inputs were read from.
 void EraseRunAndPaths(nlohmann::json* j) {
-  for (const char* key : {"command_line", "threads", "timings_s", "trials_per_second",
-                          "frames_per_second", "outputs", "pattern_file"}) {
+  for (const char* key : {"outputs", "pattern_file"}) {
     j->erase(key);
   }
   if (j->contains("experiment")) {

@@ -24,10 +24,9 @@ using nlohmann::json;
 
 constexpr const char* kFormat = "patlab shard";
 constexpr int kFormatVersion = 2;  // 2: trial-range shares (blocks)
-// The manifest keys that describe a run rather than the experiment (results manifests no longer
-// carry the first five; shards record them under "run"): the fingerprint leaves them out.
-constexpr const char* kRunKeys[] = {"command_line",      "threads",           "timings_s",
-                                    "trials_per_second", "frames_per_second", "outputs"};
+// The manifest key that describes where a run wrote rather than the experiment: the fingerprint
+// leaves it out (a manifest records no other run fact; shards keep theirs under "run").
+constexpr const char* kRunKeys[] = {"outputs"};
 // The manifest keys that sum over points: each shard holds its part, the merge sums them.
 constexpr const char* kTotalKeys[] = {"total_trials", "total_frames", "ml_nonconverged_trials"};
 
