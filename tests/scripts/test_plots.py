@@ -5,7 +5,7 @@ wrong` and exits 2 (no traceback); from the committed CSVs each draws its figure
 content that a reviewer reads is checked on the figure objects: zero rates drawn at 1/N and not
 joined to the measured ones, one panel per design, a legend that says which curve is which.
 
-Run by ctest (tests/CMakeLists.txt): /usr/bin/python3 -m pytest tests/scripts.
+Run by ctest (tests/CMakeLists.txt): /usr/bin/python3 -m pytest tests/scripts/test_plots.py.
 """
 import json
 import math
