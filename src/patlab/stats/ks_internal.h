@@ -1,6 +1,7 @@
-// Internals of the KS walk shared by its source files: ks.cpp (the walks by sorting and by
-// buckets, KsTwoSample) and ks_pairs.cpp (the walk of pairs that differ by rounding). Not part of
-// the public API: include ks.h instead.
+// Internals of the KS walk shared by its source files: ks.cpp (the walk by sorting, KsTwoSample),
+// ks_buckets.cpp (the walk by buckets), ks_pairs.cpp and ks_pairs_starts.cpp (the walk of pairs
+// that differ by rounding); ks_distribution.cpp holds the p-values. Not part of the public API: include ks.h
+// instead.
 #pragma once
 
 #include <algorithm>
@@ -111,6 +112,38 @@ bool ExtremesIfSameSamples(std::span<const double> x, std::span<const double> y,
 constexpr std::size_t kStartsSlack = 8;
 std::size_t CopyDifferingStarts(const double* x, const double* y, std::size_t c, double* starts,
                                 std::size_t m);
+
+// True when no interval's start lies within 2 * widest of another's: then every interval ends
+// before the next one starts (a rounded width can be one rounding short of the true one; the
+// factor 2 covers it). The starts are sorted (by key) and compared a window of coarse bins at a
+// time, each window holding at most kStartsWindow starts (fig5's samples: mostly one window), so
+// that the buffers stay bounded (docs/hardening.md, "Bounded memory"); false also if one bin alone
+// holds more. At most this many starts are sorted at a time (two buffers of 512 KB a thread, the
+// sort by key needs no more): fig5's samples (25,000-39,000 starts on most tests) take one
+// window, and the buffers stop growing with the trials at about
+// 260,000 trials a point, so that the memory per trial below the statistics block stays the
+// samples' (scripts/bytes_per_trial.sh with PATTERN=simple: 29.4 B a trial and estimator from
+// 600,000 to 10^6 trials with 2^17, 24.0 B with 2^16).
+constexpr std::size_t kStartsWindow = std::size_t{1} << 16;
+
+// A key of 22 bits non-decreasing in the start (each rounding is monotone, and so is the clamp):
+// the whole range [lo, lo + range] in 2^22 equal cells, so that two starts share a key only if
+// they are within about range / 2^22 of each other.
+constexpr int kKeyBits = 11, kKeyPasses = 2;
+struct StartKey {
+  double lo, scale;
+  uint32_t operator()(double v) const {
+    constexpr double kLargest = static_cast<double>((uint32_t{1} << (kKeyBits * kKeyPasses)) - 1);
+    return static_cast<uint32_t>(static_cast<int64_t>(std::min((v - lo) * scale, kLargest)));
+  }
+};
+
+// Sorts the starts v[0, m) by their keys (scratch w[0, m)); ks_pairs_starts.cpp says how.
+void SortStartsByKey(double* v, double* w, std::size_t m, StartKey key);
+
+// True when the starts v[0, m), sorted by key, are each more than 2 * widest above the one
+// before (the first above *previous, which becomes the last start); ks_pairs_starts.cpp.
+bool ApartInKeyOrder(double* v, std::size_t m, StartKey key, double widest, double* previous);
 
 // EcdfExtremesByBuckets for samples that are not the same, all of whose values lie in [lo, hi].
 EcdfExtremes ExtremesByBucketsIn(std::span<const double> x, std::span<const double> y, double lo,
