@@ -1,7 +1,7 @@
 // Internals of the KS walk shared by its source files: ks.cpp (the walk by sorting, KsTwoSample),
 // ks_buckets.cpp (the walk by buckets), ks_pairs.cpp and ks_pairs_starts.cpp (the walk of pairs
-// that differ by rounding); ks_distribution.cpp holds the p-values. Not part of the public API: include ks.h
-// instead.
+// that differ by rounding); ks_distribution.cpp holds the p-values. Not part of the public API:
+// include ks.h instead.
 #pragma once
 
 #include <algorithm>
