@@ -1,4 +1,5 @@
-// Pieces of the camera fit shared by calibrate_fit.cpp and calibrate_report.cpp.
+// Pieces of the camera fit shared by calibrate_fit.cpp, calibrate_start.cpp and
+// calibrate_report.cpp.
 #pragma once
 
 #include <array>
@@ -26,6 +27,17 @@ vision::PinholeCamera CameraOf(const FitState& s);
 Vec2 LineTarget(const LineObservation& l, double t);
 Vec2 CircleTarget(const CircleObservation& c, double phi);
 Vec2 PatternTarget(const PatternObservation& p, const std::array<double, 3>& pose, int patch);
+
+// The input's checks before the fit (calibrate_start.cpp): every observed pixel inside the image,
+// and at least four known points on one plane, no three of them on a line, so that the plane
+// homography of the start is determined (InputError at the observation's file:line otherwise).
+void CheckPixels(const CalibrationInput& in);
+void CheckStartPoints(const CalibrationInput& in);
+
+// Start cameras: the plane homography of the known points on the best-covered plane, decomposed
+// with each candidate focal length (calibrate_start.cpp says which). The fit's first stage starts
+// from each and keeps the best.
+std::vector<FitState> StartCandidates(const CalibrationInput& in);
 
 // Residuals of every pixel, per-plane summaries and totals into `fit`.
 void FillResiduals(const CalibrationInput& input, const FitState& s, CalibrationFit& fit);
