@@ -12,146 +12,27 @@
 #include "patlab/core/format.h"
 #include "patlab/core/rng.h"
 #include "patlab/design/compare.h"
+#include "patlab/design/design_internal.h"
 #include "patlab/detect/codebook.h"
 #include "patlab/estimate/bounds.h"
 #include "patlab/estimate/estimators.h"
 
 namespace patlab::sim {
 
-namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-// The geometric constraints hold to within the precision of the file, 1e-3 mm: the layout is
-// rounded to it (a move of at most 0.71e-3 mm per patch), and a ring exactly as wide as a dot
-// plus the gap (the SSL robot top with a 5 mm rim) leaves no room for a margin on both sides.
-// The local search keeps a little inside each limit so that most of that tolerance is spare.
-constexpr double kGeometryToleranceMm = 1e-3;
-constexpr double kSafetyMm = 0.0;
-// The criteria limits likewise (COBYLA ends on an active constraint within about its final trust
-// radius, xtol_mm): onset in mm, the angle CRLB in mrad/mm, the position CRLB in mm/mm.
-constexpr double kSafetyOnsetMm = 1e-3;
-constexpr double kSafetyAngle = 1e-4;
-constexpr double kSafetyPosition = 1e-6;
-// Criteria that are infinite (no wrong rotation to reject) enter the search clamped to this.
-constexpr double kLargeMm = 1e3;
-constexpr uint32_t kStartStream = 0x64657369u;  // "desi": the random start layouts
-
-double IdRadius(const DesignOptions& o, int i) {
-  return o.id_radii_mm.size() == 1 ? o.id_radii_mm[0] : o.id_radii_mm[i];
-}
-// The largest patch-centre radius plus patch radius allowed (mm).
-double InnerRadius(const DesignOptions& o) { return 0.5 * o.outer_diameter_mm - o.rim_gap_mm; }
-
-uint64_t MaxIds(const DesignOptions& o) {
-  uint64_t n = 1;
-  for (int i = 0; i < o.id_patches; ++i) n *= static_cast<uint64_t>(o.palette);
-  return n;
-}
-uint64_t RequiredIds(const DesignOptions& o) {
-  return o.min_ids == 0 ? MaxIds(o) : static_cast<uint64_t>(o.min_ids);
-}
-
-std::string Mm(double v) { return FormatFixed(v, 3); }
-
-// The geometric impossibilities that no search can fix (checked once every field is in range).
-void CheckFits(const DesignOptions& o, OptionsChecker* check) {
-  const double inner = InnerRadius(o);
-  if (o.key_radius_mm > inner) {
-    check->Require("key_radius_mm", o.key_radius_mm, false,
-                   "at most outer_diameter_mm / 2 - rim_gap_mm = " + FormatNumber(inner) +
-                       " (the key patch must fit in the robot top)");
-    return;
-  }
-  const double ring = 0.5 * (inner - o.key_radius_mm - o.min_gap_mm);
-  for (int i = 0; i < static_cast<int>(o.id_radii_mm.size()); ++i) {
-    check->Require("id_radii_mm", o.id_radii_mm[i], o.id_radii_mm[i] <= ring,
-                   "at most (outer_diameter_mm / 2 - rim_gap_mm - key_radius_mm - min_gap_mm) / 2"
-                   " = " +
-                       FormatNumber(ring) +
-                       " (an ID patch must fit between the key patch and the rim)");
-  }
-  if (!check->problems().empty()) return;
-  // Necessary for any layout: the discs of radius r_i + gap/2 are disjoint, lie inside the disc
-  // of radius inner + gap/2 and outside the key's disc of radius r_key + gap/2.
-  const double half_gap = 0.5 * o.min_gap_mm;
-  const double room = std::pow(inner + half_gap, 2) - std::pow(o.key_radius_mm + half_gap, 2);
-  double need = 0.0;
-  for (int i = 0; i < o.id_patches; ++i) need += std::pow(IdRadius(o, i) + half_gap, 2);
-  if (need > room) {
-    check->Require("id_patches", o.id_patches, false,
-                   "fewer ID patches of these radii: with half of min_gap_mm around each they "
-                   "cover " +
-                       FormatFixed(std::numbers::pi * need, 0) + " mm^2, more than the " +
-                       FormatFixed(std::numbers::pi * room, 0) +
-                       " mm^2 between the key patch and the rim");
-  }
-}
-
-// A cyclic family accepts every rotation by 360/id_patches: its ID capacity is that of the regular
-// layout (the same for every member), counted once before the search.
-void CheckCyclic(const DesignOptions& o, OptionsChecker* check) {
-  const double rho = 0.5 * (o.key_radius_mm + o.min_gap_mm + InnerRadius(o));
-  const double x[2] = {rho, 0.0};
-  const Pattern regular = DesignPattern(o, ExpandSymmetry(o, x));
-  const uint64_t ids =
-      detect::CountIds(regular, detect::FindSymmetry(regular, o.tolerance_mm), o.palette);
-  if (RequiredIds(o) > ids) {
-    check->Fail("min_ids", "symmetry cyclic leaves " + std::to_string(ids) + " IDs with " +
-                               std::to_string(o.palette) +
-                               " colours; expected min_ids <= " + std::to_string(ids) +
-                               " (0 asks for all " + std::to_string(MaxIds(o)) + ")");
-  }
-}
-
-}  // namespace
-
-std::vector<OptionsProblem> Check(const DesignOptions& o) {
-  OptionsChecker check;
-  const bool name_ok =
-      !o.name.empty() && o.name.size() <= 100 &&
-      std::all_of(o.name.begin(), o.name.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.';
-      });
-  if (!name_ok) {
-    check.Fail("name",
-               "name is \"" + o.name + "\"; expected 1 to 100 letters, digits, '-', '_' or '.'");
-  }
-  check.Positive("outer_diameter_mm", o.outer_diameter_mm, "mm")
-      .NonNegative("rim_gap_mm", o.rim_gap_mm, "mm")
-      .Positive("key_radius_mm", o.key_radius_mm, "mm")
-      .IntegerInRange("id_patches", o.id_patches, 1, kMaxPatches - 1)
-      .NonNegative("min_gap_mm", o.min_gap_mm, "mm")
-      .IntegerInRange("palette", o.palette, 2, 8)
-      .NonNegative("tolerance_mm", o.tolerance_mm, "mm")
-      .NonNegative("min_rotation_onset_mm", o.min_rotation_onset_mm, "mm")
-      .Require("max_angle_crlb_mrad_per_mm", o.max_angle_crlb_mrad_per_mm,
-               o.max_angle_crlb_mrad_per_mm > 0, "a number > 0 or inf (mrad/mm)")
-      .Require("max_position_crlb_per_mm", o.max_position_crlb_per_mm,
-               o.max_position_crlb_per_mm > 0, "a number > 0 or inf (mm/mm)")
-      .IntegerInRange("starts", o.starts, 1, 100000)
-      .IntegerInRange("max_evaluations", o.max_evaluations, 10, 10000000)
-      .Positive("xtol_mm", o.xtol_mm, "mm");
-  const bool count_ok = o.id_patches >= 1 && o.id_patches < kMaxPatches;
-  if (count_ok && o.palette >= 2 && o.palette <= 8) {
-    check.IntegerInRange("min_ids", o.min_ids, 0, static_cast<int64_t>(MaxIds(o)));
-  }
-  if (o.id_radii_mm.size() != 1 && (!count_ok || o.id_radii_mm.size() != size_t(o.id_patches))) {
-    check.Fail("id_radii_mm", "id_radii_mm has " + std::to_string(o.id_radii_mm.size()) +
-                                  " values; expected 1 or id_patches (" +
-                                  std::to_string(o.id_patches) + ")");
-  }
-  for (double r : o.id_radii_mm) check.Positive("id_radii_mm", r, "mm");
-  if (!o.start_mm.empty() && o.start_mm.size() != size_t(o.id_patches)) {
-    check.Fail("start_mm", "start_mm has " + std::to_string(o.start_mm.size()) +
-                               " positions; expected none or id_patches (" +
-                               std::to_string(o.id_patches) + ")");
-  }
-  if (check.problems().empty()) CheckFits(o, &check);
-  if (check.problems().empty() && o.symmetry == DesignSymmetry::kCyclic) CheckCyclic(o, &check);
-  return check.Take();
-}
-
-void Validate(const DesignOptions& options) { ThrowFirstProblem(Check(options)); }
+using internal::EvaluateLayout;
+using internal::IdRadius;
+using internal::InnerRadius;
+using internal::kGeometryToleranceMm;
+using internal::kInf;
+using internal::kLargeMm;
+using internal::kSafetyAngle;
+using internal::kSafetyMm;
+using internal::kSafetyOnsetMm;
+using internal::kSafetyPosition;
+using internal::kStartStream;
+using internal::LayoutEvaluation;
+using internal::Mm;
+using internal::RequiredIds;
 
 Pattern DesignPattern(const DesignOptions& o, const std::vector<Vec2>& id_positions_mm) {
   PATLAB_CHECK(static_cast<int>(id_positions_mm.size()) == o.id_patches);
@@ -220,150 +101,6 @@ std::vector<double> ReduceSymmetry(const DesignOptions& o, const std::vector<Vec
     x.push_back(q.x() < 0.0 ? -q.norm() : q.norm());
   }
   return x;
-}
-
-namespace {
-
-// The criteria of a layout, and how deep inside the tolerance the nearest accepted wrong shift
-// lies (mm; <= 0 when geometry rejects every wrong rotation): the continuous measure the search
-// uses to move out of an ID-losing symmetry.
-struct LayoutEvaluation {
-  DesignMetrics metrics;
-  double accepted_depth_mm = 0.0;
-  // The onset (mm) of each wrong rotation, shifts 1 .. m - 1 of the circular order; +inf for a
-  // shift that colours decide. The minimum is metrics.rotation_onset_mm; each one alone is a
-  // smooth function of the layout, which the search needs (their minimum is not).
-  std::vector<double> shift_onset_mm;
-};
-
-void CheckGeometry(const Pattern& pattern, const DesignOptions& o, DesignMetrics* m) {
-  m->min_gap_mm = kInf;
-  double reach = 0.0;
-  for (int i = 0; i < pattern.size(); ++i) {
-    const Patch& p = pattern.patches[i];
-    reach = std::max(reach, p.position_mm.norm() + p.radius_mm);
-    for (int j = 0; j < i; ++j) {
-      const Patch& q = pattern.patches[j];
-      m->min_gap_mm = std::min(m->min_gap_mm,
-                               (p.position_mm - q.position_mm).norm() - p.radius_mm - q.radius_mm);
-    }
-  }
-  m->rim_gap_mm = 0.5 * o.outer_diameter_mm - reach;
-}
-
-// The first violated constraint, in the order geometry, IDs, onset, angle, position.
-std::string Violation(const DesignMetrics& m, const DesignOptions& o) {
-  if (m.rim_gap_mm < o.rim_gap_mm - kGeometryToleranceMm) {
-    return "a patch " + Mm(m.rim_gap_mm) +
-           " mm from the rim; expected rim_gap_mm >= " + FormatNumber(o.rim_gap_mm);
-  }
-  if (m.min_gap_mm < o.min_gap_mm - kGeometryToleranceMm) {
-    return "two patches " + Mm(m.min_gap_mm) +
-           " mm apart; expected min_gap_mm >= " + FormatNumber(o.min_gap_mm);
-  }
-  if (m.ids < RequiredIds(o)) {
-    return std::to_string(m.ids) + " IDs; expected min_ids >= " + std::to_string(RequiredIds(o));
-  }
-  if (m.rotation_onset_mm < o.min_rotation_onset_mm) {
-    return "rotation onset " + Mm(m.rotation_onset_mm) +
-           " mm; expected min_rotation_onset_mm >= " + FormatNumber(o.min_rotation_onset_mm);
-  }
-  if (m.angle_crlb_mrad_per_mm > o.max_angle_crlb_mrad_per_mm) {
-    return "angle CRLB " + Mm(m.angle_crlb_mrad_per_mm) +
-           " mrad/mm; expected max_angle_crlb_mrad_per_mm <= " +
-           FormatNumber(o.max_angle_crlb_mrad_per_mm);
-  }
-  if (m.position_crlb_per_mm > o.max_position_crlb_per_mm) {
-    return "position CRLB " + FormatFixed(m.position_crlb_per_mm, 5) +
-           " mm/mm; expected max_position_crlb_per_mm <= " +
-           FormatNumber(o.max_position_crlb_per_mm);
-  }
-  return "";
-}
-
-// The rotation fix as patlab compare computes it (design/compare.h ComputeDesignGeometry, from its
-// own pieces): the shifts that neither ID colours nor fixed colours decide, their noise-free
-// error E0 and onset; `chi2` is DetectorChiSquared of the pattern (the same for every layout of
-// one size, so the search computes it once).
-void RotationFix(const Pattern& pattern, const detect::Symmetry& symmetry, double chi2,
-                 LayoutEvaluation* e) {
-  const auto& effective = symmetry.effective_shifts;
-  const int dof = 2 * pattern.size() - 3;
-  double e0 = kInf;
-  e->shift_onset_mm.clear();
-  for (const detect::ShiftFit& fit : symmetry.fits) {
-    if (fit.shift == 0) continue;
-    const bool by_colours =
-        std::find(effective.begin(), effective.end(), fit.shift) != effective.end() ||
-        !fit.preserves_roles;
-    double onset = kInf;
-    if (!by_colours) {
-      const double e0_shift = WrongRotationError(pattern, symmetry, fit.shift);
-      e0 = std::min(e0, e0_shift);
-      onset = RotationOnsetSigma(e0_shift, dof, chi2);
-    }
-    e->shift_onset_mm.push_back(onset);
-  }
-  DesignMetrics& m = e->metrics;
-  m.rotation_sigma0_mm = std::isinf(e0) ? kInf : std::sqrt(e0 / chi2);
-  m.rotation_onset_mm = std::isinf(e0) ? kInf : RotationOnsetSigma(e0, dof, chi2);
-}
-
-// A layout the search may try with two patch centres on one point: the estimators' model (and
-// so the bound) is undefined there; such a layout gets the worst finite criteria instead.
-bool HasCoincidentPatches(const Pattern& pattern) {
-  for (int i = 0; i < pattern.size(); ++i) {
-    for (int j = 0; j < i; ++j) {
-      if ((pattern.patches[i].position_mm - pattern.patches[j].position_mm).norm() < 1e-6) {
-        return true;
-      }
-    }
-  }
-  return false;
-}
-
-LayoutEvaluation CoincidentLayout(const Pattern& pattern, const DesignOptions& o) {
-  LayoutEvaluation e;
-  DesignMetrics& m = e.metrics;
-  m.angle_crlb_mrad_per_mm = m.position_crlb_per_mm = kLargeMm;
-  m.rotation_onset_mm = m.rotation_sigma0_mm = 0.0;
-  e.accepted_depth_mm = o.tolerance_mm;
-  e.shift_onset_mm.assign(pattern.size() - 2, 0.0);
-  CheckGeometry(pattern, o, &m);
-  m.violated = Violation(m, o);
-  m.feasible = false;
-  return e;
-}
-
-LayoutEvaluation EvaluateLayout(const Pattern& pattern, const DesignOptions& o, double chi2) {
-  if (HasCoincidentPatches(pattern)) return CoincidentLayout(pattern, o);
-  LayoutEvaluation e;
-  DesignMetrics& m = e.metrics;
-  const estimate::StdPerSigma crlb =
-      estimate::CramerRaoBound(estimate::Model::FromPattern(pattern));
-  m.angle_crlb_mrad_per_mm = 1e3 * crlb.theta;
-  m.position_crlb_per_mm = crlb.position_per_axis;
-  const detect::Symmetry symmetry = detect::FindSymmetry(pattern, o.tolerance_mm);
-  m.ids = detect::CountIds(pattern, symmetry, o.palette);
-  m.rotations = symmetry.effective_order();
-  RotationFix(pattern, symmetry, chi2, &e);
-  e.accepted_depth_mm = -kInf;
-  for (const detect::ShiftFit& fit : symmetry.fits) {
-    if (fit.shift != 0 && fit.accepted) {
-      e.accepted_depth_mm = std::max(e.accepted_depth_mm, o.tolerance_mm - fit.residual_mm);
-    }
-  }
-  CheckGeometry(pattern, o, &m);
-  m.violated = Violation(m, o);
-  m.feasible = m.violated.empty();
-  return e;
-}
-
-}  // namespace
-
-DesignMetrics EvaluateDesign(const Pattern& pattern, const DesignOptions& options) {
-  return EvaluateLayout(pattern, options, DetectorChiSquared(pattern, options.tolerance_mm))
-      .metrics;
 }
 
 namespace {
@@ -635,100 +372,6 @@ DesignResult RunDesign(const DesignOptions& options) {
   r.pattern = DesignPattern(options, best_layout);
   r.metrics = r.starts[best].final;
   return r;
-}
-
-namespace {
-
-std::string Criterion(double v, int decimals) {
-  if (std::isinf(v)) return "inf";
-  // A value that rounds to zero (a patch 1e-5 mm inside the rim) prints as 0, not -0.
-  return FormatFixed(std::abs(v) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : v, decimals);
-}
-
-std::string OptionsLines(const DesignOptions& o, const std::string& prefix) {
-  std::string radii;
-  for (double r : o.id_radii_mm) {
-    if (!radii.empty()) radii += ",";
-    radii += FormatNumber(r);
-  }
-  std::string out;
-  out += prefix + "constraints: outer_diameter_mm " + FormatNumber(o.outer_diameter_mm) +
-         ", rim_gap_mm " + FormatNumber(o.rim_gap_mm) + ", key_radius_mm " +
-         FormatNumber(o.key_radius_mm) + ", id_patches " + std::to_string(o.id_patches) +
-         ", id_radii_mm " + radii + ", min_gap_mm " + FormatNumber(o.min_gap_mm) + ", palette " +
-         std::to_string(o.palette) + ", tolerance_mm " + FormatNumber(o.tolerance_mm) + "\n";
-  out += prefix + "objective: minimise " + std::string(NameOf(o.objective, kDesignObjectiveNames)) +
-         " subject to ids >= " + std::to_string(RequiredIds(o)) +
-         ", rotation_onset_mm >= " + FormatNumber(o.min_rotation_onset_mm) +
-         ", angle_crlb_mrad_per_mm <= " + FormatNumber(o.max_angle_crlb_mrad_per_mm) +
-         ", position_crlb_per_mm <= " + FormatNumber(o.max_position_crlb_per_mm) + "\n";
-  out += prefix + "search: NLopt COBYLA from " + std::to_string(o.starts) +
-         " seeded starts, max_evaluations " + std::to_string(o.max_evaluations) + ", xtol_mm " +
-         FormatNumber(o.xtol_mm) + ", seed " + std::to_string(o.seed) +
-         (o.symmetry == DesignSymmetry::kNone
-              ? std::string()
-              : ", symmetry " + std::string(NameOf(o.symmetry, kDesignSymmetryNames))) +
-         "\n";
-  return out;
-}
-
-std::string MetricsLine(const DesignMetrics& m) {
-  return "angle CRLB " + Criterion(m.angle_crlb_mrad_per_mm, 3) + " mrad/mm, position CRLB " +
-         Criterion(m.position_crlb_per_mm, 4) + " mm/mm, IDs " + std::to_string(m.ids) +
-         ", rotations " + std::to_string(m.rotations) + ", rotation sigma0/onset " +
-         Criterion(m.rotation_sigma0_mm, 2) + "/" + Criterion(m.rotation_onset_mm, 2) +
-         " mm, smallest gap " + Criterion(m.min_gap_mm, 3) + " mm, rim gap " +
-         Criterion(m.rim_gap_mm, 3) + " mm";
-}
-
-}  // namespace
-
-std::string DesignPatternFileText(const DesignResult& result) {
-  const Pattern& p = result.pattern;
-  std::string out = "# Designed by patlab design (docs/design.md).\n";
-  out += OptionsLines(result.options, "# ");
-  out += "# result: " + MetricsLine(result.metrics) + "\n";
-  out += "name = \"" + p.name + "\"\n";
-  out += "description = \"" + p.description + "\"\n";
-  for (const Patch& patch : p.patches) {
-    out += "\n[[patch]]\nrole = \"" + std::string(NameOf(patch.role, kPatchRoleNames)) +
-           "\"\nx = " + Mm(patch.position_mm.x()) + "\ny = " + Mm(patch.position_mm.y()) +
-           "\nradius = " + Mm(patch.radius_mm) + "\n";
-  }
-  return out;
-}
-
-std::string DesignReportText(const DesignResult& r) {
-  std::string out = "Design " + r.pattern.name + "\n" + OptionsLines(r.options, "");
-  out += "\nbest (start " + std::to_string(r.best_start) + "): " + MetricsLine(r.metrics) + "\n";
-  out += "patches (mm):\n";
-  for (const Patch& patch : r.pattern.patches) {
-    out += "  " + std::string(NameOf(patch.role, kPatchRoleNames)) + "  x " +
-           Mm(patch.position_mm.x()) + "  y " + Mm(patch.position_mm.y()) + "  radius " +
-           Mm(patch.radius_mm) + "  (r " + Mm(patch.position_mm.norm()) + ", angle " +
-           FormatFixed(
-               std::atan2(patch.position_mm.y(), patch.position_mm.x()) * 180.0 / std::numbers::pi,
-               2) +
-           " deg)\n";
-  }
-  out += "\nstarts (objective " + std::string(NameOf(r.options.objective, kDesignObjectiveNames)) +
-         "; start -> end):\n";
-  out +=
-      "start  evals  nlopt  angle mrad/mm    pos mm/mm          IDs      onset mm       "
-      "feasible\n";
-  for (const DesignStart& s : r.starts) {
-    out += StringPrintf("%-5d  %-5d  %-5d  ", s.start, s.evaluations, s.nlopt_result);
-    out += Criterion(s.initial.angle_crlb_mrad_per_mm, 3) + "->" +
-           Criterion(s.final.angle_crlb_mrad_per_mm, 3) + "  " +
-           Criterion(s.initial.position_crlb_per_mm, 4) + "->" +
-           Criterion(s.final.position_crlb_per_mm, 4) + "  " + std::to_string(s.initial.ids) +
-           "->" + std::to_string(s.final.ids) + "  " + Criterion(s.initial.rotation_onset_mm, 2) +
-           "->" + Criterion(s.final.rotation_onset_mm, 2) + "  " +
-           (s.final.feasible ? "yes" : "no: " + s.final.violated) +
-           (s.from_options ? "  (given start)" : "") + "\n";
-  }
-  out += "\n" + std::to_string(r.evaluations) + " layouts evaluated\n";
-  return out;
 }
 
 }  // namespace patlab::sim
