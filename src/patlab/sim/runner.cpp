@@ -20,6 +20,7 @@
 #include "patlab/sim/batch.h"
 #include "patlab/sim/noise_prediction.h"
 #include "patlab/sim/point_key.h"
+#include "patlab/sim/runner_internal.h"
 #include "patlab/stats/summary.h"
 
 namespace patlab::sim {
@@ -29,141 +30,12 @@ namespace {
 using estimate::Estimator;
 using Clock = std::chrono::steady_clock;
 
-// Per-estimator sample arrays of one point.
-struct Samples {
-  std::vector<double> x, y, theta;
-  void Resize(int64_t n) {
-    x.resize(n);
-    y.resize(n);
-    theta.resize(n);
-  }
-};
-
-// The block's moments of every estimator: x, y, theta and the radial error sqrt(x^2 + y^2) (not
-// stored: computed a tile at a time in each pass), all in one stats::PlanarMomentsOfEach call, so
-// that the estimators' addition chains overlap in one loop; the arithmetic is that of Mean and
-// SampleStd, every sum in index order. With `visit`, each tile of the second pass is shown to it
-// (PlanarMomentsOfEach's overload; samples in the order of experiment.estimators).
-void BlockMoments(const Experiment& experiment, const Samples* by_estimator, size_t size,
-                  std::span<EstimatorBlock> out,
-                  const std::function<void(const stats::PlanarTile&)>* visit = nullptr) {
-  std::array<stats::PlanarSample, 4> samples;
-  std::array<stats::PlanarMoments, 4> moments;
-  const size_t count = experiment.estimators.size();
-  PATLAB_CHECK(count <= samples.size());
-  for (size_t k = 0; k < count; ++k) {
-    const Samples& s = by_estimator[static_cast<int>(experiment.estimators[k])];
-    samples[k] = stats::PlanarSample{std::span<const double>(s.x.data(), size),
-                                     std::span<const double>(s.y.data(), size),
-                                     std::span<const double>(s.theta.data(), size)};
-  }
-  if (visit != nullptr) {
-    stats::PlanarMomentsOfEach(std::span(samples).first(count), std::span(moments).first(count),
-                               *visit);
-  } else {
-    stats::PlanarMomentsOfEach(std::span(samples).first(count), std::span(moments).first(count));
-  }
-  for (size_t k = 0; k < count; ++k) {
-    out[k].x = moments[k].x;
-    out[k].y = moments[k].y;
-    out[k].theta = moments[k].theta;
-    out[k].radial = moments[k].radial;
-    out[k].sum_sq = moments[k].sum_sq;
-  }
-}
-
-EstimatorBlock Fold(const EstimatorBlock& a, const EstimatorBlock& b) {
-  EstimatorBlock f;
-  f.x = stats::CombineMoments(a.x, b.x);
-  f.y = stats::CombineMoments(a.y, b.y);
-  f.theta = stats::CombineMoments(a.theta, b.theta);
-  f.radial = stats::CombineMoments(a.radial, b.radial);
-  f.sum_sq = a.sum_sq + b.sum_sq;
-  f.iterations = a.iterations + b.iterations;
-  f.nonconverged = a.nonconverged + b.nonconverged;
-  f.first_nonconverged_trial =
-      a.first_nonconverged_trial >= 0 ? a.first_nonconverged_trial : b.first_nonconverged_trial;
-  f.vs_fast = a.x.n == 0 ? b.vs_fast : a.vs_fast;
-  return f;
-}
-
-// The paired Wilcoxon signed-rank tests compare |error| of fast and of another estimator trial by
-// trial. A difference below 1e-10 (mm or rad) + 1e-12 relative is rounding (fast, ml and lsq are
-// the same estimator on Simple, Linear and Triangle, and the errors carry the ~1e-13 rounding of
-// poses of ~1e3 mm) and counts as a zero, which the 'wilcox' zero method drops.
-inline double PairedDifference(double a, double b) {
-  const double diff = a - b;
-  const bool rounding = std::abs(diff) <= 1e-10 + 1e-12 * std::max(std::abs(a), std::abs(b));
-  return rounding ? 0.0 : diff;
-}
-
-// The test of the differences d, `nonzero` of them not zero, ranked in place (d overwritten) with
-// `scratch` (an array of at least d.size() elements whose contents are dead): no memory that grows
-// with the trials. If every difference is a zero, the samples carry no evidence of a difference:
-// p = 1.
-stats::WilcoxonResult PairedTest(std::span<double> d, size_t nonzero, std::span<double> scratch) {
-  if (nonzero == 0) {
-    stats::WilcoxonResult identical;
-    identical.n = identical.n_zero = d.size();
-    identical.p_value = 1.0;
-    return identical;
-  }
-  return stats::WilcoxonSignedRankInPlace(d, scratch);
-}
-
-// The comparisons of the first block with fast, in three steps that share the moments' pass over
-// the samples:
-// 1. the KS tests of each compared estimator's x, y and theta against fast's (they only read);
-// 2. the moments (BlockMoments), whose second pass shows each tile's radial errors to Differences:
-//    it writes the paired differences of |position error| over the compared estimator's x and of
-//    |theta error| over its theta, tile by tile once the moments have read them, so that the
-//    paired tests need no pass and no square root of their own;
-// 3. the two Wilcoxon tests of each, ranked in place with the estimator's y (dead once the
-//    differences are written) as the scratch.
-// fast's arrays are only read; no array of the trials' size is needed beyond the samples
-// (docs/hardening.md, "Bounded memory").
-void KsAgainstFast(const Samples& fast, const Samples& other, size_t n, Comparison* c) {
-  c->computed = true;
-  c->trials = static_cast<int64_t>(n);
-  const auto head = [n](const std::vector<double>& v) {
-    return std::span<const double>(v.data(), n);
-  };
-  tbb::parallel_invoke(
-      [&] { c->ks_x = stats::KsTwoSample(head(fast.x), head(other.x)); },
-      [&] { c->ks_y = stats::KsTwoSample(head(fast.y), head(other.y)); },
-      [&] { c->ks_theta = stats::KsTwoSample(head(fast.theta), head(other.theta)); });
-}
-
-// Step 2's visitor state: the compared estimators' sample indices (in experiment.estimators) and
-// arrays, fast's, and the count of differences that are not zero, per estimator.
-struct Differences {
-  size_t fast_index = 0;
-  const Samples* fast = nullptr;
-  std::array<Samples*, 4> other{};  // by sample index; null for fast
-  std::array<size_t, 4> nonzero_position{}, nonzero_theta{};
-
-  void operator()(const stats::PlanarTile& tile) {
-    const double* rf = tile.radial[fast_index];
-    const double* tf = fast->theta.data() + tile.first;
-    for (size_t k = 0; k < other.size(); ++k) {
-      if (other[k] == nullptr) continue;
-      const double* ro = tile.radial[k];
-      double* dp = other[k]->x.data() + tile.first;
-      double* dt = other[k]->theta.data() + tile.first;
-      size_t np = 0, nt = 0;
-      for (size_t j = 0; j < tile.count; ++j) {
-        dp[j] = PairedDifference(rf[j], ro[j]);
-        np += dp[j] != 0.0 ? 1 : 0;
-      }
-      for (size_t j = 0; j < tile.count; ++j) {
-        dt[j] = PairedDifference(std::abs(tf[j]), std::abs(dt[j]));
-        nt += dt[j] != 0.0 ? 1 : 0;
-      }
-      nonzero_position[k] += np;
-      nonzero_theta[k] += nt;
-    }
-  }
-};
+using internal::BlockMoments;
+using internal::Differences;
+using internal::Fold;
+using internal::KsAgainstFast;
+using internal::PairedTest;
+using internal::Samples;
 
 }  // namespace
 
