@@ -104,7 +104,7 @@ EcdfExtremes ExtremesOfSameSamples(std::span<const double> x);
 // false at the first block that differs (samples that differ do so near their start).
 bool ExtremesIfSameSamples(std::span<const double> x, std::span<const double> y, EcdfExtremes* e);
 
-// The paired walk's starts (ks_pairs.cpp): min(x[k], y[k]) of the pairs k < c that differ
+// The paired walk's starts (ks_pairs_starts.cpp): min(x[k], y[k]) of the pairs k < c that differ
 // (x[k] != y[k]), appended in order at starts[m] without a branch on the pair; returns the new
 // count. starts has room for the pairs that differ + kStartsSlack values: with AVX-512, 8 values
 // are stored at a time (the differing ones compressed to the front) at the current end, so up to
