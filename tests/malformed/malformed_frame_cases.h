@@ -1,4 +1,4 @@
-// More cases of tests/malformed/malformed_test.cpp, as MalformedCases() (malformed_cases.h)
+// More cases of tests/malformed/malformed_test.cpp, in the form malformed_case.h declares
 // declares them: the settings file's [frame] table and patlab detect --edge-loss-px
 // (docs/detect.md, "The segmentation's edge loss").
 #pragma once
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "malformed_cases.h"
+#include "malformed_case.h"
 
 namespace patlab::testing {
 

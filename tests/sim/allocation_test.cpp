@@ -9,6 +9,7 @@
 #include "../test_util.h"
 #include "patlab/estimate/bounds.h"
 #include "patlab/sim/batch.h"
+#include "point_setup.h"
 
 namespace patlab::sim {
 namespace {
@@ -23,11 +24,7 @@ TEST(Allocation, CounterSeesAllocations) {
 
 TEST(Allocation, BatchOfTrialsDoesNotAllocate) {
   const estimate::Model model = estimate::Model::FromPattern(testing::ShippedPattern("butterfly"));
-  PointSetup setup;
-  setup.model = &model;
-  setup.sigma_mm = 2.0;
-  setup.field_length_mm = 2800;
-  setup.field_width_mm = 2300;
+  PointSetup setup = testing::FieldPoint(model, 2.0, 0);
   setup.noise.common_sigma_ratio = 0.5;
   setup.noise.outlier_probability = 0.05;
   // The camera-level models too: the correlation factor is computed per batch on the stack.

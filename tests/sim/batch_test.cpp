@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../test_util.h"
+#include "point_setup.h"
 
 namespace patlab::sim {
 namespace {
@@ -88,13 +89,9 @@ TEST(Batch, EveryKernelVersionGivesTheBitsOfTheBaseline) {
     const estimate::Model model = estimate::Model::FromPattern(testing::ShippedPattern(pattern));
     for (const Case& c : Cases()) {
       SCOPED_TRACE(std::string(pattern) + " " + c.name);
-      PointSetup setup;
-      setup.model = &model;
+      PointSetup setup = testing::FieldPoint(model, c.sigma_mm,
+                                             0x5EEDull + static_cast<uint64_t>(c.sigma_mm * 100));
       setup.noise = c.noise;
-      setup.sigma_mm = c.sigma_mm;
-      setup.field_length_mm = 2800;
-      setup.field_width_mm = 2300;
-      setup.seed = 0x5EEDull + static_cast<uint64_t>(c.sigma_mm * 100);
       for (Estimator e : estimate::kAllEstimators) setup.run[static_cast<int>(e)] = true;
       const std::vector<uint8_t> baseline = RunAll(KernelIsa::kBaseline, setup, 3);
       for (KernelIsa isa : isas) {
@@ -109,12 +106,7 @@ TEST(Batch, GenerateTrialReplaysTheTrialsOfTheWidestKernel) {
   // for the same trials (to rounding: another implementation of the same estimator; a trial
   // from another batch or lane would be off by millimetres).
   const estimate::Model model = estimate::Model::FromPattern(testing::ShippedPattern("triangle"));
-  PointSetup setup;
-  setup.model = &model;
-  setup.sigma_mm = 1.0;
-  setup.field_length_mm = 2800;
-  setup.field_width_mm = 2300;
-  setup.seed = 99;
+  PointSetup setup = testing::FieldPoint(model, 1.0, 99);
   setup.run[static_cast<int>(Estimator::kFast)] = true;
   std::vector<double> x(kBatchSize), y(kBatchSize), t(kBatchSize);
   BatchOutput out;

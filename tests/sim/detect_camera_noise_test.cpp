@@ -11,7 +11,7 @@
 
 #include <cmath>
 
-#include "experiment_fixture.h"
+#include "../experiment_fixture.h"
 #include "patlab/formats/experiment_file.h"
 #include "patlab/sim/detect_runner.h"
 #include "patlab/sim/noise_prediction.h"

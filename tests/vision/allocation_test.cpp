@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "../allocation_counter.h"
+#include "../frame_test_util.h"
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
@@ -17,7 +18,6 @@
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/pipeline.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "../frame_test_util.h"
 #include "patlab/camera/image.h"
 #include "patlab/formats/thresholds_file.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <numbers>
 
+#include "../frame_test_util.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
@@ -17,7 +18,6 @@
 #include "patlab/render/render.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/frame_results.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

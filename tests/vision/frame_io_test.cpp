@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "test_util.h"
+#include "../frame_test_util.h"
 
 namespace patlab::vision {
 namespace {

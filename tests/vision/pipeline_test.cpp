@@ -4,10 +4,10 @@
 
 #include <cmath>
 
+#include "../frame_test_util.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/render/render.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "../frame_test_util.h"
 #include "patlab/camera/image.h"
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
@@ -18,7 +19,6 @@
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <random>
 
+#include "../frame_test_util.h"
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/render/render.h"
 #include "patlab/vision/segment_internal.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

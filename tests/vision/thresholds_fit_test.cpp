@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "../frame_test_util.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
@@ -14,7 +15,6 @@
 #include "patlab/render/scene_render.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

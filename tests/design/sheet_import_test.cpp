@@ -7,11 +7,11 @@
 #include <numbers>
 
 #include "../expect_error.h"
+#include "../frame_test_util.h"
 #include "patlab/detect/codebook.h"
 #include "patlab/formats/codebook_file.h"
 #include "patlab/formats/pattern_file.h"
 #include "patlab/vision/frame_io.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

@@ -7,10 +7,10 @@
 #include <initializer_list>
 #include <string>
 
-#include "../test_util.h"
 #include "patlab/core/error.h"
 #include "patlab/formats/experiment_file.h"
 #include "patlab/sim/experiment.h"
+#include "test_util.h"
 
 namespace patlab::sim::testing_support {
 

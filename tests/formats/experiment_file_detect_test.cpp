@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "../test_util.h"
-#include "experiment_fixture.h"
+#include "../experiment_fixture.h"
 #include "patlab/core/error.h"
 #include "patlab/formats/experiment_file.h"
 #include "patlab/sim/experiment.h"

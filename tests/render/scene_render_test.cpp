@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "../frame_test_util.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/pattern_file.h"
 #include "patlab/formats/scene_file.h"
-#include "test_util.h"
 
 namespace patlab::vision {
 namespace {

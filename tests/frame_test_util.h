@@ -1,4 +1,5 @@
-// Shared helpers of the vision tests.
+// Shared helpers of the tests that write scratch frame files or read the shared real frames
+// (vision, camera, render and design tests).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -8,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "../expect_error.h"
+#include "expect_error.h"
 #include "patlab/core/error.h"
 
 namespace patlab::vision::testing {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "test_util.h"
+#include "../frame_test_util.h"
 
 namespace patlab::vision {
 namespace {

@@ -1,0 +1,54 @@
+// A case of the malformed-input suite (tests/malformed/malformed_test.cpp) and the helpers its
+// set-up functions use. The cases themselves are in malformed_cases.h and the headers it
+// includes.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace patlab::testing {
+
+struct MalformedCase {
+  const char* name;
+  std::vector<std::pair<std::string, std::string>> files;
+  std::string arguments;
+  int exit_code;
+  std::string message;
+  void (*setup)(const std::string& dir) = nullptr;
+};
+
+// gtest prints a case by its name (ctest lists the tests by it).
+inline void PrintTo(const MalformedCase& c, std::ostream* os) { *os << c.name; }
+
+inline void WriteBytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+inline void CopyPrefix(const std::string& from, const std::string& to, size_t n) {
+  std::ifstream in(from, std::ios::binary);
+  std::string bytes(n, '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(n));
+  WriteBytes(to, bytes);
+}
+
+// A PNG whose header claims width x height RGB pixels but whose IDAT holds 10 bytes (CRCs are
+// not checked before the size is).
+inline std::string PngClaiming(uint32_t width, uint32_t height) {
+  const auto be32 = [](uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16),
+                       static_cast<char>(v >> 8), static_cast<char>(v)};
+  };
+  const auto chunk = [&](const std::string& type, const std::string& data) {
+    return be32(static_cast<uint32_t>(data.size())) + type + data + be32(0);
+  };
+  const std::string ihdr = be32(width) + be32(height) + std::string("\x08\x02\x00\x00\x00", 5);
+  return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) +
+         chunk("IDAT", std::string(10, '\0')) + chunk("IEND", "");
+}
+
+}  // namespace patlab::testing
