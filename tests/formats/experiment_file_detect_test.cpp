@@ -2,8 +2,8 @@
 // bad-file message, word for word.
 #include <gtest/gtest.h>
 
-#include "../test_util.h"
 #include "../experiment_fixture.h"
+#include "../test_util.h"
 #include "patlab/core/error.h"
 #include "patlab/formats/experiment_file.h"
 #include "patlab/sim/experiment.h"
