@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "../vision/test_util.h"
+#include "../frame_test_util.h"
 #include "patlab/core/rng.h"
 #include "patlab/formats/pattern_file.h"
 #include "patlab/formats/track_file.h"
