@@ -5,9 +5,9 @@
 
 #include <cfloat>
 #include <clocale>
-#include <cstdio>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -73,17 +73,16 @@ TEST(StringPrintf, FormatsShortAndLongText) {
   EXPECT_EQ(StringPrintf("%s", std::string(128, 'z').c_str()), std::string(128, 'z'));
 }
 
-
 // The values on which the to_chars formatter must give glibc printf's bytes: zeros, the extremes,
 // subnormals, powers of ten and two, halves (exact binary ties for %.0f and %.1f), values just
 // beside a decimal tie, and a pseudo-random spread over the whole exponent range.
 std::vector<double> ProbeValues() {
-  std::vector<double> v = {0.0,     -0.0,     1.0,      -1.0,     0.5,      1.5,     2.5,
-                           -2.5,    0.125,    0.375,    1e-7,     1e-5,     1e-4,    9.5e-5,
-                           1e15,    1e16,     1e17,     1e21,     1e22,     1e23,    123456.5,
-                           0.1,     0.2,      0.3,      1.0 / 3,  2.0 / 3,  DBL_MAX, -DBL_MAX,
+  std::vector<double> v = {0.0,     -0.0,     1.0,      -1.0,     0.5,      1.5,       2.5,
+                           -2.5,    0.125,    0.375,    1e-7,     1e-5,     1e-4,      9.5e-5,
+                           1e15,    1e16,     1e17,     1e21,     1e22,     1e23,      123456.5,
+                           0.1,     0.2,      0.3,      1.0 / 3,  2.0 / 3,  DBL_MAX,   -DBL_MAX,
                            DBL_MIN, -DBL_MIN, 4.9e-324, 2.2e-308, 999999.5, 9.9999995, 0.05,
-                           0.15,    0.25,     0.35,     1.005,    2.675,    1.45,    8.345};
+                           0.15,    0.25,     0.35,     1.005,    2.675,    1.45,      8.345};
   for (int e = -320; e <= 308; e += 7) {
     v.push_back(std::pow(10.0, e));
     v.push_back(-std::pow(10.0, e) * 1.2345678901234567);
@@ -180,18 +179,21 @@ TEST(StringPrintf, EqualsGlibcPrintf) {
     std::snprintf(buffer, sizeof buffer, "%lld|%-8lld|%08lld|%+lld|% lld|%.5lld|%llx|%016llx|%llX",
                   n, n, n, n, n, n, static_cast<unsigned long long>(n),
                   static_cast<unsigned long long>(n), static_cast<unsigned long long>(n));
-    EXPECT_EQ(StringPrintf("%lld|%-8lld|%08lld|%+lld|% lld|%.5lld|%llx|%016llx|%llX", n, n, n, n,
-                           n, n, static_cast<unsigned long long>(n),
+    EXPECT_EQ(StringPrintf("%lld|%-8lld|%08lld|%+lld|% lld|%.5lld|%llx|%016llx|%llX", n, n, n, n, n,
+                           n, static_cast<unsigned long long>(n),
                            static_cast<unsigned long long>(n), static_cast<unsigned long long>(n)),
               buffer);
   }
   const size_t z = 123;
-  std::snprintf(buffer, sizeof buffer, "%d|%-5d|%4d|%u|%ld|%9ld|%zu|%8zu|%-5zu|%02x|%o|%c|%%|%5s|"
-                "%-6s|%.2s|%*d|%-*d|%.*f", -5, 3, 12, 4000000000u, -7L, 99L, z, z, z, 10, 8, 'q',
-                "ab", "cd", "xyz", 6, 1, 6, 2, 3, 2.5);
+  std::snprintf(buffer, sizeof buffer,
+                "%d|%-5d|%4d|%u|%ld|%9ld|%zu|%8zu|%-5zu|%02x|%o|%c|%%|%5s|"
+                "%-6s|%.2s|%*d|%-*d|%.*f",
+                -5, 3, 12, 4000000000u, -7L, 99L, z, z, z, 10, 8, 'q', "ab", "cd", "xyz", 6, 1, 6,
+                2, 3, 2.5);
   EXPECT_EQ(StringPrintf("%d|%-5d|%4d|%u|%ld|%9ld|%zu|%8zu|%-5zu|%02x|%o|%c|%%|%5s|%-6s|%.2s|%*d|"
-                         "%-*d|%.*f", -5, 3, 12, 4000000000u, -7L, 99L, z, z, z, 10, 8, 'q', "ab",
-                         "cd", "xyz", 6, 1, 6, 2, 3, 2.5),
+                         "%-*d|%.*f",
+                         -5, 3, 12, 4000000000u, -7L, 99L, z, z, z, 10, 8, 'q', "ab", "cd", "xyz",
+                         6, 1, 6, 2, 3, 2.5),
             buffer);
 }
 
@@ -208,8 +210,7 @@ TEST(Format, SameTextUnderAGermanLocale) {
   std::snprintf(buffer, sizeof buffer, "%.1f", 1.5);
   const std::string printf_text = buffer;
   const std::string german_text = FormatSignificant(1.5, 6) + FormatFixed(-2.25, 3) +
-                                  FormatRoundTrip(0.1) +
-                                  StringPrintf("%.2f %g %e", 3.5, 1e-7, 2.0);
+                                  FormatRoundTrip(0.1) + StringPrintf("%.2f %g %e", 3.5, 1e-7, 2.0);
   std::setlocale(LC_ALL, saved.c_str());
   EXPECT_EQ(printf_text, "1,5");  // the locale is really in force
   EXPECT_EQ(german_text, c_text);

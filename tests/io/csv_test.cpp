@@ -16,9 +16,8 @@ using Rows = std::vector<std::vector<std::string>>;
 
 Rows ReadAll(std::string_view text, const CsvReadOptions& options = {}, size_t piece = 0) {
   Rows rows;
-  CsvParser parser("t.csv", options, [&](const CsvRecord& r) {
-    rows.emplace_back(r.cells.begin(), r.cells.end());
-  });
+  CsvParser parser("t.csv", options,
+                   [&](const CsvRecord& r) { rows.emplace_back(r.cells.begin(), r.cells.end()); });
   if (piece == 0) {
     parser.Feed(text);
   } else {
@@ -53,8 +52,13 @@ TEST(CsvReader, RoundTripsEveryKindOfCell) {
 
 TEST(CsvReader, CrlfBomAndLastLineWithoutEnd) {
   const Rows expected = {{"a", "b"}, {"1", "x,y"}, {"2", ""}};
-  EXPECT_EQ(ReadAll("\xEF\xBB\xBF" "a,b\r\n1,\"x,y\"\r\n2,\r\n"), expected);
-  EXPECT_EQ(ReadAll("\xEF\xBB\xBF" "a,b\r\n1,\"x,y\"\r\n2,", {}, 1), expected);
+  EXPECT_EQ(ReadAll("\xEF\xBB\xBF"
+                    "a,b\r\n1,\"x,y\"\r\n2,\r\n"),
+            expected);
+  EXPECT_EQ(ReadAll("\xEF\xBB\xBF"
+                    "a,b\r\n1,\"x,y\"\r\n2,",
+                    {}, 1),
+            expected);
   EXPECT_EQ(ReadAll("a,b\n1,\"x,y\"\n2,\r"), expected);
   EXPECT_EQ(ReadAll("\xEF\xBB"), Rows({{"\xEF\xBB"}}));  // a cut mark is text
   EXPECT_EQ(ReadAll(""), Rows());
@@ -62,8 +66,8 @@ TEST(CsvReader, CrlfBomAndLastLineWithoutEnd) {
 
 TEST(CsvReader, BlankAndCommentLinesOnlyWhereAllowed) {
   const std::string text = "a,b\n\n  # note\n1, 2 \n \"q\" ,3\n   \n";
-  EXPECT_EQ(ReadAll(text), Rows({{"a", "b"}, {""}, {"  # note"}, {"1", " 2 "}, {" \"q\" ", "3"},
-                                 {"   "}}));
+  EXPECT_EQ(ReadAll(text),
+            Rows({{"a", "b"}, {""}, {"  # note"}, {"1", " 2 "}, {" \"q\" ", "3"}, {"   "}}));
   CsvReadOptions lenient;
   lenient.trim_blanks = lenient.skip_blank_lines = lenient.skip_comment_lines = true;
   EXPECT_EQ(ReadAll(text, lenient), Rows({{"a", "b"}, {"1", "2"}, {"q", "3"}}));
@@ -108,7 +112,7 @@ TEST(ParseDouble, WholeNumbersInTheCLocaleForm) {
   EXPECT_EQ(ParseDouble("1e999"), INFINITY);
   EXPECT_EQ(ParseDouble("-1e999"), -INFINITY);
   EXPECT_EQ(ParseDouble("1e-999"), 0.0);
-  EXPECT_EQ(ParseDouble("12345e-330"), 12345e-330);  // a subnormal is in range
+  EXPECT_EQ(ParseDouble("12345e-320"), 12345e-320);  // a subnormal is in range
   EXPECT_EQ(ParseDouble("0.00001e-400"), 0.0);
 }
 

@@ -50,11 +50,16 @@ struct Spec {
 
 const char* ParseSpec(const char* p, Spec* spec, va_list* args) {
   for (;; ++p) {
-    if (*p == '-') spec->left = true;
-    else if (*p == '+') spec->plus = true;
-    else if (*p == ' ') spec->space = true;
-    else if (*p == '0') spec->zero = true;
-    else break;
+    if (*p == '-')
+      spec->left = true;
+    else if (*p == '+')
+      spec->plus = true;
+    else if (*p == ' ')
+      spec->space = true;
+    else if (*p == '0')
+      spec->zero = true;
+    else
+      break;
   }
   PATLAB_CHECK(*p != '#');  // the alternative forms are not used
   if (*p == '*') {
@@ -110,9 +115,8 @@ uintmax_t UnsignedArg(const Spec& s, va_list* args) {
 void Pad(const Spec& s, std::string_view sign, std::string_view digits, bool zero_ok,
          std::string* out) {
   const size_t used = sign.size() + digits.size();
-  const size_t fill = s.width > 0 && static_cast<size_t>(s.width) > used
-                          ? static_cast<size_t>(s.width) - used
-                          : 0;
+  const size_t fill =
+      s.width > 0 && static_cast<size_t>(s.width) > used ? static_cast<size_t>(s.width) - used : 0;
   if (s.left) {
     out->append(sign).append(digits).append(fill, ' ');
   } else if (s.zero && zero_ok) {
@@ -135,7 +139,8 @@ void AppendInteger(const Spec& s, va_list* args, std::string* out) {
   }
   const int base = c == 'x' || c == 'X' ? 16 : c == 'o' ? 8 : 10;
   std::array<char, 80> buffer;
-  const auto [end, ec] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), magnitude, base);
+  const auto [end, ec] =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), magnitude, base);
   std::string digits(buffer.data(), end);
   if (c == 'X') {
     for (char& d : digits) d = static_cast<char>(d >= 'a' && d <= 'f' ? d - 'a' + 'A' : d);
@@ -150,8 +155,8 @@ void AppendInteger(const Spec& s, va_list* args, std::string* out) {
 }
 
 void AppendFloat(const Spec& s, va_list* args, std::string* out) {
-  const double v = s.length == "L" ? static_cast<double>(va_arg(*args, long double))
-                                   : va_arg(*args, double);
+  const double v =
+      s.length == "L" ? static_cast<double>(va_arg(*args, long double)) : va_arg(*args, double);
   const char lower = static_cast<char>(s.conversion | 0x20);
   const std::chars_format fmt = lower == 'f'   ? std::chars_format::fixed
                                 : lower == 'e' ? std::chars_format::scientific
@@ -184,7 +189,12 @@ void AppendConversion(const Spec& s, va_list* args, std::string* out) {
       Pad(s, "", view, false, out);
       return;
     }
-    case 'd': case 'i': case 'u': case 'x': case 'X': case 'o':
+    case 'd':
+    case 'i':
+    case 'u':
+    case 'x':
+    case 'X':
+    case 'o':
       AppendInteger(s, args, out);
       return;
     default:

@@ -76,15 +76,16 @@ std::vector<double> ParseColumn(std::string_view text, const std::string& source
         names += (i ? ", " : "") + std::string(r.cells[i]);
       }
       if (!index) {
-        throw InputError(r.Loc(), "no column '" + EscapeForMessage(column) +
-                                      "' in the header; expected one of: " +
-                                      EscapeForMessage(names, 300));
+        throw InputError(r.Loc(),
+                         "no column '" + EscapeForMessage(column) +
+                             "' in the header; expected one of: " + EscapeForMessage(names, 300));
       }
       return;
     }
     if (*index >= r.cells.size()) {
-      throw InputError(r.Loc(), "row has " + std::to_string(r.cells.size()) + " cells, no column '" +
-                                    column + "'; expected at least " + std::to_string(*index + 1));
+      throw InputError(r.Loc(), "row has " + std::to_string(r.cells.size()) +
+                                    " cells, no column '" + column + "'; expected at least " +
+                                    std::to_string(*index + 1));
     }
     values.push_back(ParseCell(r.cells[*index], r.Loc(), " in column '" + column + "'"));
   });

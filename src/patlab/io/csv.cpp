@@ -38,8 +38,8 @@ bool Overflows(std::string_view text) {
   const size_t first = mantissa.find_first_of("123456789");
   const size_t point = std::min(mantissa.find('.'), mantissa.size());
   if (first == std::string_view::npos) return false;
-  const long lead = first < point ? static_cast<long>(point - first) - 1
-                                  : -static_cast<long>(first - point);
+  const long lead =
+      first < point ? static_cast<long>(point - first) - 1 : -static_cast<long>(first - point);
   return exponent + lead > 0;
 }
 
@@ -270,8 +270,9 @@ std::vector<std::vector<std::string>> ParseCsvRecords(std::string_view text,
                                                       const std::string& source,
                                                       const CsvReadOptions& options) {
   std::vector<std::vector<std::string>> records;
-  CsvParser parser(source, options,
-                   [&](const CsvRecord& r) { records.emplace_back(r.cells.begin(), r.cells.end()); });
+  CsvParser parser(source, options, [&](const CsvRecord& r) {
+    records.emplace_back(r.cells.begin(), r.cells.end());
+  });
   parser.Feed(text);
   parser.Finish();
   return records;
@@ -286,9 +287,9 @@ std::optional<size_t> CsvTable::Find(std::string_view name) const {
 
 size_t CsvTable::Require(std::string_view name, std::string_view expected) const {
   if (const auto index = Find(name)) return *index;
-  throw InputError(FileLoc{source, header_line},
-                   "no column " + Quote(name) + " in the header; expected " +
-                       std::string(expected));
+  throw InputError(
+      FileLoc{source, header_line},
+      "no column " + Quote(name) + " in the header; expected " + std::string(expected));
 }
 
 CsvTable ParseCsv(std::string_view text, const std::string& source, const CsvReadOptions& options,

@@ -82,8 +82,15 @@ class CsvParser {
   void Finish();
 
  private:
-  enum class State { kLineStart, kComment, kFieldStart, kUnquoted, kQuoted, kQuoteInQuoted,
-                     kAfterQuoted };
+  enum class State {
+    kLineStart,
+    kComment,
+    kFieldStart,
+    kUnquoted,
+    kQuoted,
+    kQuoteInQuoted,
+    kAfterQuoted
+  };
   void Step(char c);
   void EndField();
   void EndRecord();
@@ -93,17 +100,17 @@ class CsvParser {
   CsvReadOptions options_;
   RecordHandler on_record_;
   State state_ = State::kLineStart;
-  bool at_start_ = true;        // before the first byte (a byte order mark may follow)
-  bool pending_cr_ = false;     // a CR outside quotes not yet known to end a line
-  std::string bom_;             // bytes of a possible byte order mark seen so far
-  std::string bytes_;           // the cells of the record being read, back to back
-  std::vector<size_t> ends_;    // end of each finished cell in bytes_
-  size_t field_begin_ = 0;      // where the current cell starts in bytes_
-  bool field_quoted_ = false;   // the current cell was quoted
-  bool record_blank_ = true;    // nothing but blanks so far in the record
-  int line_ = 1;                // the line being read
-  int record_line_ = 1;         // the line the record started on
-  int quote_line_ = 0;          // the line on which the open quote started
+  bool at_start_ = true;       // before the first byte (a byte order mark may follow)
+  bool pending_cr_ = false;    // a CR outside quotes not yet known to end a line
+  std::string bom_;            // bytes of a possible byte order mark seen so far
+  std::string bytes_;          // the cells of the record being read, back to back
+  std::vector<size_t> ends_;   // end of each finished cell in bytes_
+  size_t field_begin_ = 0;     // where the current cell starts in bytes_
+  bool field_quoted_ = false;  // the current cell was quoted
+  bool record_blank_ = true;   // nothing but blanks so far in the record
+  int line_ = 1;               // the line being read
+  int record_line_ = 1;        // the line the record started on
+  int quote_line_ = 0;         // the line on which the open quote started
   CsvRecord record_;
 };
 

@@ -1,7 +1,6 @@
 // Merging shards (shard.h): reading and checking every shard, then the merged results.
 #include "patlab/sim/shard.h"
 
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
