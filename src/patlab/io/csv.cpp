@@ -175,42 +175,11 @@ void CsvParser::Step(char c) {
   if (c == '\n') ++line_;
   switch (state_) {
     case State::kLineStart:
-      record_line_ = line_ - (c == '\n' ? 1 : 0);
-      if (options_.skip_comment_lines && c == '#' && record_blank_) {
-        state_ = State::kComment;
-        return;
-      }
-      if (IsBlank(c)) {
-        bytes_.push_back(c);
-        return;
-      }
-      state_ = State::kFieldStart;
-      if (options_.trim_blanks) bytes_.clear();
-      [[fallthrough]];
+      if (!AtLineStart(c)) InField(c);
+      return;
     case State::kFieldStart:
-      if (c == '"' && bytes_.size() == field_begin_) {  // after blanks kept, a quote is text
-        state_ = State::kQuoted;
-        field_quoted_ = true;
-        quote_line_ = line_;
-        record_blank_ = false;
-        return;
-      }
-      if (IsBlank(c) && options_.trim_blanks) return;
-      state_ = State::kUnquoted;
-      [[fallthrough]];
     case State::kUnquoted:
-      if (c == ',') {
-        EndField();
-        record_blank_ = false;
-        state_ = State::kFieldStart;
-      } else if (c == '\n') {
-        EndRecord();
-      } else if (c == '\r') {
-        pending_cr_ = true;
-      } else {
-        if (!IsBlank(c)) record_blank_ = false;
-        bytes_.push_back(c);
-      }
+      InField(c);
       return;
     case State::kComment:
       if (c == '\n') {
@@ -219,33 +188,85 @@ void CsvParser::Step(char c) {
       }
       return;
     case State::kQuoted:
-      if (c == '"') {
-        state_ = State::kQuoteInQuoted;
-      } else {
-        bytes_.push_back(c);
-      }
-      return;
     case State::kQuoteInQuoted:
-      if (c == '"') {
-        bytes_.push_back('"');
-        state_ = State::kQuoted;
-        return;
-      }
-      state_ = State::kAfterQuoted;
-      [[fallthrough]];
-    case State::kAfterQuoted:
-      if (c == ',') {
-        EndField();
-        state_ = State::kFieldStart;
-      } else if (c == '\n') {
-        EndRecord();
-      } else if (c == '\r') {
-        pending_cr_ = true;
-      } else if (!(IsBlank(c) && options_.trim_blanks)) {
-        Fail(ColumnPrefix(ends_.size(), "") + "'" + EscapeForMessage(std::string_view(&c, 1)) +
-             "' after the closing quote; expected ',' or the end of the line");
-      }
+      InQuotes(c);
       return;
+    case State::kAfterQuoted:
+      AfterQuote(c);
+      return;
+  }
+}
+
+bool CsvParser::AtLineStart(char c) {
+  record_line_ = line_ - (c == '\n' ? 1 : 0);
+  if (options_.skip_comment_lines && c == '#') {
+    state_ = State::kComment;
+    return true;
+  }
+  if (IsBlank(c)) {  // kept: the start of an unquoted cell unless trim_blanks drops it
+    bytes_.push_back(c);
+    return true;
+  }
+  state_ = State::kFieldStart;
+  if (options_.trim_blanks) bytes_.clear();
+  return false;
+}
+
+void CsvParser::InField(char c) {
+  if (state_ == State::kFieldStart) {
+    if (c == '"' && bytes_.size() == field_begin_) {  // after blanks kept, a quote is text
+      state_ = State::kQuoted;
+      field_quoted_ = true;
+      quote_line_ = line_;
+      record_blank_ = false;
+      return;
+    }
+    if (IsBlank(c) && options_.trim_blanks) return;
+    state_ = State::kUnquoted;
+  }
+  if (c == ',') {
+    EndField();
+    record_blank_ = false;
+    state_ = State::kFieldStart;
+  } else if (c == '\n') {
+    EndRecord();
+  } else if (c == '\r') {
+    pending_cr_ = true;
+  } else {
+    if (!IsBlank(c)) record_blank_ = false;
+    bytes_.push_back(c);
+  }
+}
+
+void CsvParser::InQuotes(char c) {
+  if (state_ == State::kQuoted) {
+    if (c == '"') {
+      state_ = State::kQuoteInQuoted;
+    } else {
+      bytes_.push_back(c);
+    }
+    return;
+  }
+  if (c == '"') {  // a doubled quote
+    bytes_.push_back('"');
+    state_ = State::kQuoted;
+    return;
+  }
+  state_ = State::kAfterQuoted;
+  AfterQuote(c);
+}
+
+void CsvParser::AfterQuote(char c) {
+  if (c == ',') {
+    EndField();
+    state_ = State::kFieldStart;
+  } else if (c == '\n') {
+    EndRecord();
+  } else if (c == '\r') {
+    pending_cr_ = true;
+  } else if (!(IsBlank(c) && options_.trim_blanks)) {
+    Fail(ColumnPrefix(ends_.size(), "") + "'" + EscapeForMessage(std::string_view(&c, 1)) +
+         "' after the closing quote; expected ',' or the end of the line");
   }
 }
 

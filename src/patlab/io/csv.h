@@ -92,6 +92,10 @@ class CsvParser {
     kAfterQuoted
   };
   void Step(char c);
+  bool AtLineStart(char c);  // true when `c` is consumed there (a comment, a leading blank)
+  void InField(char c);
+  void InQuotes(char c);
+  void AfterQuote(char c);
   void EndField();
   void EndRecord();
   [[noreturn]] void Fail(const std::string& what) const;
