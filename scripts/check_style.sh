@@ -9,6 +9,16 @@ bash scripts/check_layering.sh  # the rooms' includes and links, cycles, no file
 mapfile -t files < <(git ls-files '*.cpp' '*.h')
 echo "clang-format: ${#files[@]} files"
 clang-format --dry-run -Werror "${files[@]}"
+# Numbers as text do not depend on the locale (docs/architecture.md, "Numbers as text"): no
+# printf-family floating-point conversion and no locale-bound number parsing in src/. A line may
+# opt out with a comment "locale-independent: <why>".
+locale_bound=$(git ls-files 'src/*.cpp' 'src/*.h' | /usr/bin/python3 scripts/check_locale_bound.py)
+if [[ -n "$locale_bound" ]]; then
+  echo "$locale_bound"
+  echo "locale-bound number text above: use core/format.h (FormatFixed, StringPrintf...) and" \
+       "std::from_chars / io::ParseDouble"
+  exit 1
+fi
 mapfile -t sources < <(git ls-files 'src/*.cpp')
 echo "clang-tidy: ${#sources[@]} sources"
 run-clang-tidy -quiet -p build -j"$(nproc)" "${sources[@]/#/$PWD/}" > build/clang-tidy.log 2>&1 || {

@@ -10,7 +10,7 @@ packages=(
   libtomlplusplus-dev librandom123-dev nlohmann-json3-dev libpng-dev libjpeg-dev
   libceres-dev libnlopt-dev libgtest-dev libgmock-dev libbenchmark-dev clang-format clang-tidy clang
   python3 python3-numpy python3-scipy python3-matplotlib python3-pytest
-  parallel slurm-wlm munge
+  parallel slurm-wlm munge locales
 )
 if [[ "${1:-}" == "--bench" ]]; then packages+=(libopencv-dev libspng-dev); fi
 
@@ -23,4 +23,13 @@ done
 if [[ ${#missing[@]} -gt 0 ]]; then
   "${sudo_cmd[@]}" apt-get update
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+fi
+
+# The locale tests run patlab under de_DE.UTF-8 (a decimal comma) and expect the bytes of the C
+# locale: generate it once.
+if ! locale -a 2>/dev/null | grep -qi '^de_DE\.utf-\?8$'; then
+  "${sudo_cmd[@]}" sed -i 's/^# *\(de_DE\.UTF-8 UTF-8\)/\1/' /etc/locale.gen
+  grep -q '^de_DE\.UTF-8 UTF-8' /etc/locale.gen ||
+    echo 'de_DE.UTF-8 UTF-8' | "${sudo_cmd[@]}" tee -a /etc/locale.gen > /dev/null
+  "${sudo_cmd[@]}" locale-gen
 fi

@@ -80,14 +80,19 @@ void PrintSummary(const sim::AnalyzeReport& report,
   for (const sim::SubjectAnalysis& a : report.subjects) samples += a.samples;
   std::string stages;
   for (const auto& [stage, s] : timings) stages += StringPrintf(", %s %.3f", stage.c_str(), s);
-  std::fprintf(stderr,
-               "patlab analyze: %zu samples, %zu subject(s), %zu run(s) in %.3f s wall (%s s)\n",
-               samples, report.subjects.size(), report.runs.size(), seconds, stages.c_str() + 2);
-  std::fprintf(
-      stderr, "residual std factor for white errors %.4f (%s), lag-%d white-noise reference %.3f\n",
-      report.residual_factor,
-      report.options.correct_bias ? "divided out: --correct-bias" : "not corrected",
-      report.options.lag, report.white_noise_lag);
+  std::fputs(StringPrintf(
+                 "patlab analyze: %zu samples, %zu subject(s), %zu run(s) in %.3f s wall (%s s)\n",
+                 samples, report.subjects.size(), report.runs.size(), seconds, stages.c_str() + 2)
+                 .c_str(),
+             stderr);
+  std::fputs(
+      StringPrintf(
+          "residual std factor for white errors %.4f (%s), lag-%d white-noise reference %.3f\n",
+          report.residual_factor,
+          report.options.correct_bias ? "divided out: --correct-bias" : "not corrected",
+          report.options.lag, report.white_noise_lag)
+          .c_str(),
+      stderr);
   std::fprintf(stderr, "%-12s %8s %-24s %-24s %-24s %-24s\n", "subject", "n", "sx [95% CI] mm",
                "sy", "true sx", "true sy");
   auto cell = [](const stats::StdWithCi& s) {

@@ -1,10 +1,13 @@
 #include "cli/arguments.h"
 
+#include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::cli {
 
@@ -58,7 +61,12 @@ std::vector<T> ParseList(const std::string& text, const std::string& flag,
 std::vector<double> ParseNumberList(const std::string& text, const std::string& flag,
                                     const std::string& expected) {
   return ParseList<double>(
-      text, flag, expected, [](const std::string& s, size_t* used) { return std::stod(s, used); },
+      text, flag, expected,
+      [](const std::string& s, size_t* used) {
+        const std::optional<double> v = io::ParseDouble(s);  // from_chars: any locale
+        *used = v && (std::isfinite(*v) || s.find_first_of("iInN") != s.npos) ? s.size() : 0;
+        return v.value_or(0.0);
+      },
       [](double) { return true; });
 }
 

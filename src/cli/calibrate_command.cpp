@@ -11,6 +11,7 @@
 #include "patlab/core/format.h"
 #include "patlab/formats/calibration_input.h"
 #include "patlab/io/atomic_file.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::cli {
 
@@ -40,9 +41,11 @@ struct CalibrateCommandOptions {
 std::string ResidualsCsv(const calib::CalibrationFit& fit) {
   std::string out = "kind,name,pixel,source,height_mm,px,mm\n";
   for (const calib::ObservationResidual& r : fit.residuals) {
-    out += r.kind + "," + r.name + "," + std::to_string(r.index + 1) + "," + r.loc.ToString() +
-           "," + FormatRoundTrip(r.height_mm) + "," + FormatSignificant(r.px, 6) + "," +
-           FormatSignificant(r.mm, 6) + "\n";
+    io::CsvWriter(&out)
+        .Cells({r.kind, r.name, std::to_string(r.index + 1), r.loc.ToString(),
+                FormatRoundTrip(r.height_mm), FormatSignificant(r.px, 6),
+                FormatSignificant(r.mm, 6)})
+        .EndRow();
   }
   return out;
 }

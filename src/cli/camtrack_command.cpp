@@ -13,6 +13,7 @@
 #include "patlab/formats/scene_file.h"
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/io/atomic_file.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::cli {
 
@@ -77,7 +78,7 @@ std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
       "label,group,samples,sx_mm,sx_lo,sx_hi,sy_mm,sy_lo,sy_hi,stheta_rad,stheta_lo,stheta_hi,"
       "missed_patches,frames,tau_x,tau_y,tau_theta,detected_frames,wrong_id_frames\n";
   for (const sim::GroupError& g : r.groups) {
-    csv.append(label).append(",").append(g.group).append(",").append(std::to_string(g.samples));
+    io::CsvWriter(&csv).Cells({label, g.group, std::to_string(g.samples)});
     for (double v :
          {g.sx, g.sx_lo, g.sx_hi, g.sy, g.sy_lo, g.sy_hi, g.stheta, g.stheta_lo, g.stheta_hi}) {
       csv.append(",").append(FormatSignificant(v, 6));

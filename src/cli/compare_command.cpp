@@ -12,6 +12,7 @@
 #include "cli/command.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/design/compare.h"
 #include "patlab/formats/pattern_file.h"
 #include "patlab/io/atomic_file.h"
@@ -138,8 +139,10 @@ int RunCompare(const std::vector<std::string>& args) {
     std::cout << text;
   }
   if (!f.quiet) {
-    std::fprintf(stderr, "patlab compare: %zu designs in %.1f s\n", designs.size(),
-                 result.wall_seconds);
+    std::fputs(
+        StringPrintf("patlab compare: %zu designs in %.1f s\n", designs.size(), result.wall_seconds)
+            .c_str(),
+        stderr);
   }
   return kExitOk;
 }

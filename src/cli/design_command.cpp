@@ -11,6 +11,7 @@
 #include "cli/command.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/design/design.h"
 #include "patlab/detect/codebook.h"
 #include "patlab/formats/pattern_file.h"
@@ -208,9 +209,11 @@ int RunDesign(const std::vector<std::string>& args) {
   io::WriteFilesAtomic({{(dir / (o.name + ".toml")).string(), sim::DesignPatternFileText(result)},
                         {(dir / (o.name + ".design.txt")).string(), report}});
   if (!f.quiet) std::cout << report;
-  std::printf("patlab design: %lld layouts evaluated in %.2f s, %.0f evaluations/s\n",
-              static_cast<long long>(result.evaluations), result.seconds,
-              result.evaluations_per_second);
+  std::fputs(StringPrintf("patlab design: %lld layouts evaluated in %.2f s, %.0f evaluations/s\n",
+                          static_cast<long long>(result.evaluations), result.seconds,
+                          result.evaluations_per_second)
+                 .c_str(),
+             stdout);
   return kExitOk;
 }
 

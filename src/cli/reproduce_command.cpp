@@ -13,6 +13,7 @@
 #include "cli/arguments.h"
 #include "cli/command.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/paper/reproduce.h"
 
@@ -62,8 +63,10 @@ int CheckAgainstCommitted(const sim::Reproduction& r, const std::vector<sim::Fig
   for (const sim::PaperNumber& n : r.numbers) {
     if (n.ok) continue;
     ++failures;
-    std::printf("FAILS %s, %s: paper %.6g, patlab %.6g (%s)\n", n.where.c_str(), n.quantity.c_str(),
-                n.paper, n.patlab, n.reason.c_str());
+    std::fputs(StringPrintf("FAILS %s, %s: paper %.6g, patlab %.6g (%s)\n", n.where.c_str(),
+                            n.quantity.c_str(), n.paper, n.patlab, n.reason.c_str())
+                   .c_str(),
+               stdout);
   }
   for (const auto& [name, text] : r.files) {
     const std::string path = (std::filesystem::path(out_dir) / name).string();

@@ -10,6 +10,7 @@
 #include "cli/arguments.h"
 #include "cli/command.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/formats/experiment_file.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/sim/detect_runner.h"
@@ -149,13 +150,15 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
   WriteOutputs(files, sim::DetectResultsCsv(experiment, result),
                sim::DetectManifestJson(experiment, result, {files.csv_path, files.json_path}));
   if (!o.quiet) {
-    std::fprintf(stderr,
-                 "patlab simulate: %lld frames in %.3f s wall (frames %.3f s = %.0f frames/s, "
-                 "statistics %.3f s) on %d threads\nwrote %s and %s\n",
-                 static_cast<long long>(result.total_frames), result.wall_seconds,
-                 result.simulate_seconds, result.total_frames / result.simulate_seconds,
-                 result.statistics_seconds, result.threads, files.csv_path.c_str(),
-                 files.json_path.c_str());
+    std::fputs(
+        StringPrintf("patlab simulate: %lld frames in %.3f s wall (frames %.3f s = %.0f frames/s, "
+                     "statistics %.3f s) on %d threads\nwrote %s and %s\n",
+                     static_cast<long long>(result.total_frames), result.wall_seconds,
+                     result.simulate_seconds, result.total_frames / result.simulate_seconds,
+                     result.statistics_seconds, result.threads, files.csv_path.c_str(),
+                     files.json_path.c_str())
+            .c_str(),
+        stderr);
   }
   return kExitOk;
 }
@@ -204,13 +207,16 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
   WriteOutputs(files, sim::ResultsCsv(experiment, result),
                sim::ManifestJson(experiment, result, {files.csv_path, files.json_path}));
   if (!o.quiet) {
-    std::fprintf(stderr,
-                 "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "
-                 "statistics %.3f s) on %d threads\nwrote %s and %s\n",
-                 static_cast<long long>(result.total_trials), result.wall_seconds,
-                 result.simulate_seconds, result.total_trials / result.simulate_seconds / 1e6,
-                 result.statistics_seconds, result.threads, files.csv_path.c_str(),
-                 files.json_path.c_str());
+    std::fputs(
+        StringPrintf(
+            "patlab simulate: %lld trials in %.3f s wall (simulate %.3f s = %.1f M trials/s, "
+            "statistics %.3f s) on %d threads\nwrote %s and %s\n",
+            static_cast<long long>(result.total_trials), result.wall_seconds,
+            result.simulate_seconds, result.total_trials / result.simulate_seconds / 1e6,
+            result.statistics_seconds, result.threads, files.csv_path.c_str(),
+            files.json_path.c_str())
+            .c_str(),
+        stderr);
   }
   return kExitOk;
 }

@@ -69,21 +69,28 @@ std::pair<int, int> ParseReplay(const sim::TrackOptions& options, const std::str
 int Replay(const sim::TrackOptions& options, const std::string& spec) {
   const auto [run, frame] = ParseReplay(options, spec);
   const sim::RunSetup setup = sim::MakeRunSetup(options, run);
-  std::printf("run %d, frame %d, seed %llu: heading %.6f deg, t = %.4f s\n", run, frame,
-              static_cast<unsigned long long>(options.seed),
-              setup.heading_rad * 180 / std::numbers::pi, frame / options.rate_hz);
+  std::fputs(StringPrintf("run %d, frame %d, seed %llu: heading %.6f deg, t = %.4f s\n", run, frame,
+                          static_cast<unsigned long long>(options.seed),
+                          setup.heading_rad * 180 / std::numbers::pi, frame / options.rate_hz)
+                 .c_str(),
+             stdout);
   for (const sim::ReplayedSubject& s : sim::ReplayFrame(options, run, frame)) {
     if (!s.found) {
-      std::printf("%-10s truth (%.4f, %.4f) mm   not found\n", s.name.c_str(), s.truth.x_mm,
-                  s.truth.y_mm);
+      std::fputs(StringPrintf("%-10s truth (%.4f, %.4f) mm   not found\n", s.name.c_str(),
+                              s.truth.x_mm, s.truth.y_mm)
+                     .c_str(),
+                 stdout);
       continue;
     }
-    std::printf(
-        "%-10s truth (%.4f, %.4f) mm   measured (%.4f, %.4f) mm   true error along %.4f "
-        "across %.4f mm",
-        s.name.c_str(), s.truth.x_mm, s.truth.y_mm, s.measured.x_mm, s.measured.y_mm,
-        s.true_error_mm.x(), s.true_error_mm.y());
-    if (s.has_theta) std::printf("   theta error %.6f rad", s.true_theta_error_rad);
+    std::fputs(StringPrintf(
+                   "%-10s truth (%.4f, %.4f) mm   measured (%.4f, %.4f) mm   true error along %.4f "
+                   "across %.4f mm",
+                   s.name.c_str(), s.truth.x_mm, s.truth.y_mm, s.measured.x_mm, s.measured.y_mm,
+                   s.true_error_mm.x(), s.true_error_mm.y())
+                   .c_str(),
+               stdout);
+    if (s.has_theta)
+      std::fputs(StringPrintf("   theta error %.6f rad", s.true_theta_error_rad).c_str(), stdout);
     std::printf("\n");
   }
   return kExitOk;
@@ -136,9 +143,12 @@ std::optional<std::array<std::string, 4>> WriteOutputs(const TrackCliOptions& o,
 void PrintSummary(const sim::TrackOptions& options, const sim::TrackResult& result,
                   const std::vector<sim::TableRow>& table,
                   const std::array<std::string, 4>& paths) {
-  std::fprintf(stderr, "patlab track: %d runs x %d frames in %.2f s on %d threads (%.3f mm/px)\n",
-               options.runs, options.samples_per_run, result.wall_seconds, result.threads,
-               sim::MmPerPixel(options));
+  std::fputs(
+      StringPrintf("patlab track: %d runs x %d frames in %.2f s on %d threads (%.3f mm/px)\n",
+                   options.runs, options.samples_per_run, result.wall_seconds, result.threads,
+                   sim::MmPerPixel(options))
+          .c_str(),
+      stderr);
   std::fprintf(stderr, "%-10s %-24s %-24s %-24s %-24s\n", "subject", "est sx [95% CI] mm", "est sy",
                "true sx", "true sy");
   auto cell = [](const stats::StdWithCi& s) {

@@ -315,11 +315,13 @@ TEST(Analyze, BadTrackFilesAreInputErrorsWithFileAndLine) {
                      "f.csv:1: no column \"x_mm\" in the header; expected the x column (or name it "
                      "with --x-column)");
   EXPECT_INPUT_ERROR(ParseTrackCsv(h + "1,a,2,3\n2,a,nan,3\n", "f.csv", c),
-                     "f.csv:3: x_mm is \"nan\"; expected a finite number");
+                     "f.csv:3: column 3 ('x_mm'): 'nan' is not a finite number; expected a "
+                     "finite number");
   EXPECT_INPUT_ERROR(ParseTrackCsv(h + "1,a,2,\n", "f.csv", c),
-                     "f.csv:2: y_mm is \"\"; expected a finite number");
+                     "f.csv:2: column 4 ('y_mm'): '' is not a number; expected a finite number");
   EXPECT_INPUT_ERROR(ParseTrackCsv(h + "1.5,a,2,3\n", "f.csv", c),
-                     "f.csv:2: frame is \"1.5\"; expected an integer frame number");
+                     "f.csv:2: column 1 ('frame'): '1.5' is not an integer; expected an integer "
+                     "frame number");
   EXPECT_INPUT_ERROR(ParseTrackCsv(h + "5,a,2,3\n6,b,2,3\n4,a,2,3\n", "f.csv", c),
                      "f.csv:4: frame 4 of subject \"a\" run \"f.csv\" is not after 5 (line 2); "
                      "expected increasing frame numbers within a subject and run");

@@ -76,7 +76,9 @@ TEST(AnalyzeCli, BadInputExitsTwoWithFileLineAndWritesNothing) {
   const std::string track = dir.Write("t.csv", "frame,subject,x_mm,y_mm\n1,a,0,0\n2,a,nan,0\n");
   const auto r = RunCommand(kPatlab + " analyze " + track + " --out " + dir.Path("out"));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err, "patlab analyze: " + track + ":3: x_mm is \"nan\"; expected a finite number\n");
+  EXPECT_EQ(r.err, "patlab analyze: " + track +
+                       ":3: column 3 ('x_mm'): 'nan' is not a finite number; "
+                       "expected a finite number\n");
   EXPECT_FALSE(std::filesystem::exists(dir.Path("out")));
   const auto none = RunCommand(kPatlab + " analyze --out " + dir.Path("out"));
   EXPECT_EQ(none.exit_code, 2);

@@ -13,6 +13,7 @@
 #include "patlab/core/format.h"
 #include "patlab/core/geometry.h"
 #include "patlab/io/atomic_file.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::sim {
 
@@ -292,21 +293,31 @@ std::string AnalyzeTableCsv(const AnalyzeReport& report) {
       lag + "_x,lag" + lag +
       "_y,true_sx_mm,true_sx_lo,true_sx_hi,true_sy_mm,true_sy_lo,true_sy_hi,"
       "true_stheta_rad,true_stheta_lo,true_stheta_hi,true_mean_x_mm,true_mean_y_mm\n";
-  auto ci = [](const stats::StdWithCi& s, bool present, int decimals) {
-    if (!present) return std::string(",,");
-    return Fixed(s.std, decimals) + "," + Fixed(s.lower, decimals) + "," + Fixed(s.upper, decimals);
+  io::CsvWriter w(&csv);
+  auto ci = [&w](const stats::StdWithCi& s, bool present, int decimals) {
+    if (!present) {
+      w.Cells({"", "", ""});
+      return;
+    }
+    w.Cells({Fixed(s.std, decimals), Fixed(s.lower, decimals), Fixed(s.upper, decimals)});
   };
   for (const SubjectAnalysis& a : report.subjects) {
     const ErrorSummary& e = a.est;
     const ErrorSummary& t = a.truth;
     const bool tt = a.has_truth && t.has_theta;
-    csv += a.subject + "," + std::to_string(e.x.n) + "," + std::to_string(a.samples) + "," +
-           std::to_string(a.segments) + "," + std::to_string(a.skipped_segments) + "," +
-           std::to_string(a.skipped_samples) + "," + ci(e.x, true, 4) + "," + ci(e.y, true, 4) +
-           "," + ci(e.theta, e.has_theta, 6) + "," + Fixed(e.lag_x, 3) + "," + Fixed(e.lag_y, 3) +
-           "," + ci(t.x, a.has_truth, 4) + "," + ci(t.y, a.has_truth, 4) + "," +
-           ci(t.theta, tt, 6) + "," + (a.has_truth ? Fixed(t.mean_x, 4) : "") + "," +
-           (a.has_truth ? Fixed(t.mean_y, 4) : "") + "\n";
+    w.Cell(a.subject);
+    w.Cell(static_cast<int64_t>(e.x.n)).Cell(static_cast<int64_t>(a.samples));
+    w.Cell(static_cast<int64_t>(a.segments)).Cell(static_cast<int64_t>(a.skipped_segments));
+    w.Cell(static_cast<int64_t>(a.skipped_samples));
+    ci(e.x, true, 4);
+    ci(e.y, true, 4);
+    ci(e.theta, e.has_theta, 6);
+    w.Cells({Fixed(e.lag_x, 3), Fixed(e.lag_y, 3)});
+    ci(t.x, a.has_truth, 4);
+    ci(t.y, a.has_truth, 4);
+    ci(t.theta, tt, 6);
+    w.Cells({a.has_truth ? Fixed(t.mean_x, 4) : "", a.has_truth ? Fixed(t.mean_y, 4) : ""});
+    w.EndRow();
   }
   return csv;
 }
@@ -382,7 +393,8 @@ void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
   for (const SubjectAnalysis& a : report.subjects) {
     for (size_t g = 0; g < a.est_errors.size(); ++g) {
       const ErrorSegment& e = a.est_errors[g];
-      const std::string prefix = Cat(a.subject, ",", report.runs[static_cast<size_t>(e.run)], ",");
+      std::string prefix;  // the subject and run cells and the comma after them
+      io::CsvWriter(&prefix).Cells({a.subject, report.runs[static_cast<size_t>(e.run)], ""});
       const ErrorSegment* t = truth ? &a.true_errors[g] : nullptr;
       for (size_t i = 0; i < e.frame.size(); ++i) out.Row(prefix, e.frame[i], e, i, t);
     }

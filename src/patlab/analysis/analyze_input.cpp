@@ -1,45 +1,16 @@
 // Reading track CSV files for `patlab analyze` (analyze.h).
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <map>
 
 #include "patlab/analysis/analyze.h"
 #include "patlab/core/error.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::sim {
 
 namespace {
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
-  return s;
-}
-
-// Splits a line into trimmed cells (reusing `cells`).
-void SplitCells(std::string_view line, std::vector<std::string_view>* cells) {
-  cells->clear();
-  size_t start = 0;
-  while (true) {
-    const size_t comma = line.find(',', start);
-    if (comma == std::string_view::npos) {
-      cells->push_back(Trim(line.substr(start)));
-      return;
-    }
-    cells->push_back(Trim(line.substr(start, comma - start)));
-    start = comma + 1;
-  }
-}
-
-bool Skipped(std::string_view line) {
-  const std::string_view t = Trim(line);
-  return t.empty() || t.front() == '#';
-}
 
 // Concatenation by append (GCC 12's -Wrestrict misfires on "literal" + std::string chains).
 template <typename... Parts>
@@ -82,43 +53,24 @@ ColumnIndex FindColumns(const std::vector<std::string_view>& header, const Track
   return idx;
 }
 
-double ParseNumber(std::string_view cell, const std::string& column, const FileLoc& loc) {
-  std::string_view s = cell;
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  double v = 0.0;
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || end != s.data() + s.size() || s.empty() || !std::isfinite(v)) {
-    throw InputError(loc, Cat(column, " is ", Quoted(cell), "; expected a finite number"));
-  }
-  return v;
-}
-
-int64_t ParseFrame(std::string_view cell, const std::string& column, const FileLoc& loc) {
-  std::string_view s = cell;
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  int64_t v = 0;
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) {
-    throw InputError(loc, Cat(column, " is ", Quoted(cell), "; expected an integer frame number"));
-  }
-  return v;
-}
-
 // Adds the samples of the rows to their tracks.
 class TrackBuilder {
  public:
   TrackBuilder(const std::string& source, const TrackColumns& columns, const ColumnIndex& idx)
       : source_(source), columns_(columns), idx_(idx) {}
 
-  void AddRow(const std::vector<std::string_view>& cells, int line) {
-    const FileLoc loc{source_, line};
+  void AddRow(const io::CsvRecord& record) {
+    const std::vector<std::string_view>& cells = record.cells;
+    const int line = record.line;
+    const FileLoc loc = record.Loc();
     if (static_cast<int>(cells.size()) < idx_.needed) {
       throw InputError(loc,
                        Cat("row has ", std::to_string(cells.size()), " cells; expected at least ",
                            std::to_string(idx_.needed), " as the header names them"));
     }
     MeasuredTrack& t = TrackOf(cells, line);
-    const int64_t frame = ParseFrame(cells[idx_.frame], columns_.frame, loc);
+    const int64_t frame =
+        io::CsvInteger(record, idx_.frame, columns_.frame, "an integer frame number");
     if (!t.frame.empty() && frame <= t.frame.back()) {
       throw InputError(
           loc, Cat(columns_.frame, " ", std::to_string(frame), " of subject ", Quoted(t.subject),
@@ -127,9 +79,9 @@ class TrackBuilder {
                    "); expected increasing frame numbers within a subject and run"));
     }
     t.frame.push_back(frame);
-    t.x.push_back(ParseNumber(cells[idx_.x], columns_.x, loc));
-    t.y.push_back(ParseNumber(cells[idx_.y], columns_.y, loc));
-    if (idx_.theta >= 0) t.theta.push_back(ParseNumber(cells[idx_.theta], columns_.theta, loc));
+    t.x.push_back(io::CsvNumber(record, idx_.x, columns_.x));
+    t.y.push_back(io::CsvNumber(record, idx_.y, columns_.y));
+    if (idx_.theta >= 0) t.theta.push_back(io::CsvNumber(record, idx_.theta, columns_.theta));
     last_line_[current_] = line;
   }
 
@@ -185,7 +137,7 @@ std::vector<OptionsProblem> Check(const TrackColumns& c) {
   for (size_t i = 0; i < names.size(); ++i) {
     const std::string& n = *names[i].second;
     const std::string field = Cat(std::string_view(names[i].first), "-column");
-    if (n.empty() || n.find_first_of(",\n\r\"") != std::string::npos || Trim(n) != n) {
+    if (n.empty() || n.find_first_of(",\n\r\"") != std::string::npos || io::CsvNeedsQuotes(n)) {
       check.Fail(field, Cat("--", field, " is ", Quoted(n),
                             "; expected a column name without comma, quote or surrounding blanks"));
     }
@@ -203,27 +155,21 @@ void Validate(const TrackColumns& columns) { ThrowFirstProblem(Check(columns)); 
 
 namespace {
 
-// The lines of one file, in order: the header, then the rows (blank and '#' lines skipped).
-class LineParser {
+// The records of one file, in order: the header, then the rows. A track file may hold blank
+// lines, '#' comment lines and blanks around its cells (docs/file-formats.md).
+class TrackRecords {
  public:
-  LineParser(const std::string& source, const TrackColumns& columns)
-      : source_(source), columns_(columns) {
+  TrackRecords(const std::string& source, const TrackColumns& columns)
+      : source_(source),
+        columns_(columns),
+        parser_(source, Options(), [this](const io::CsvRecord& r) { Record(r); }) {
     Validate(columns);
   }
 
-  void Line(std::string_view line) {
-    ++line_number_;
-    if (Skipped(line)) return;
-    SplitCells(line, &cells_);
-    if (!builder_) {
-      idx_ = FindColumns(cells_, columns_, {source_, line_number_});
-      builder_.emplace(source_, columns_, idx_);
-      return;
-    }
-    builder_->AddRow(cells_, line_number_);
-  }
+  void Feed(std::string_view bytes) { parser_.Feed(bytes); }
 
   std::vector<MeasuredTrack> Take() {
+    parser_.Finish();
     if (!builder_) {
       throw InputError(FileLoc{source_, 0},
                        "no header; expected a header row naming the columns, then one sample a "
@@ -231,34 +177,44 @@ class LineParser {
     }
     std::vector<MeasuredTrack> tracks = builder_->Take();
     if (tracks.empty()) {
-      throw InputError(FileLoc{source_, line_number_},
+      throw InputError(FileLoc{source_, last_line_},
                        "no samples after the header; expected one sample a row");
     }
     return tracks;
   }
 
  private:
+  static io::CsvReadOptions Options() {
+    io::CsvReadOptions o;
+    o.skip_blank_lines = o.skip_comment_lines = o.trim_blanks = true;
+    return o;
+  }
+
+  void Record(const io::CsvRecord& record) {
+    last_line_ = record.line;
+    if (!builder_) {
+      idx_ = FindColumns(record.cells, columns_, record.Loc());
+      builder_.emplace(source_, columns_, idx_);
+      return;
+    }
+    builder_->AddRow(record);
+  }
+
   const std::string& source_;
   const TrackColumns& columns_;
-  std::vector<std::string_view> cells_;
+  io::CsvParser parser_;
   ColumnIndex idx_;
   std::optional<TrackBuilder> builder_;
-  int line_number_ = 0;
+  int last_line_ = 0;
 };
 
 }  // namespace
 
 std::vector<MeasuredTrack> ParseTrackCsv(std::string_view text, const std::string& source_name,
                                          const TrackColumns& columns) {
-  LineParser parser(source_name, columns);
-  size_t pos = 0;
-  while (pos < text.size()) {
-    size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    parser.Line(text.substr(pos, end - pos));
-    pos = end + 1;
-  }
-  return parser.Take();
+  TrackRecords records(source_name, columns);
+  records.Feed(text);
+  return records.Take();
 }
 
 // Read in blocks (no copy of the whole file in memory: 40 MB for a million samples).
@@ -268,33 +224,19 @@ std::vector<MeasuredTrack> ReadTrackCsv(const std::string& path, const TrackColu
     throw InputError(
         Cat(EscapeForMessage(path), ": cannot open; expected a readable track CSV file"));
   }
-  LineParser parser(path, columns);
+  TrackRecords records(path, columns);
   std::vector<char> buffer(size_t{1} << 20);
-  size_t have = 0;  // bytes in buffer not yet parsed
   while (true) {
-    in.read(buffer.data() + have, static_cast<std::streamsize>(buffer.size() - have));
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
     const auto got = static_cast<size_t>(in.gcount());
     if (in.bad()) {
       throw InputError(
           Cat(EscapeForMessage(path), ": cannot read; expected a readable track CSV file"));
     }
-    have += got;
-    const std::string_view block(buffer.data(), have);
-    size_t pos = 0;
-    for (size_t end = block.find('\n'); end != std::string_view::npos;
-         end = block.find('\n', pos)) {
-      parser.Line(block.substr(pos, end - pos));
-      pos = end + 1;
-    }
-    if (got == 0) {
-      if (pos < have) parser.Line(block.substr(pos));
-      break;
-    }
-    std::memmove(buffer.data(), buffer.data() + pos, have - pos);
-    have -= pos;
-    if (have == buffer.size()) buffer.resize(buffer.size() * 2);  // a line longer than the block
+    if (got == 0) break;
+    records.Feed(std::string_view(buffer.data(), got));
   }
-  return parser.Take();
+  return records.Take();
 }
 
 }  // namespace patlab::sim

@@ -8,6 +8,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/io/atomic_file.h"
+#include "patlab/io/csv.h"
 #include "patlab/stats/smoothing.h"
 
 namespace patlab::sim {
@@ -135,20 +136,22 @@ std::string TableCsv(const std::vector<TableRow>& rows) {
       "true_sx_lo,true_sx_hi,true_sy_mm,true_sy_lo,true_sy_hi,est_over_true_x,est_over_true_y,"
       "true_mean_x_mm,true_mean_y_mm,est_lag1_x,est_lag1_y,est_stheta_rad,true_stheta_rad,"
       "missed_frames\n";
-  auto ci = [](const stats::StdWithCi& s) {
-    return FormatFixed(s.std, 4) + "," + FormatFixed(s.lower, 4) + "," + FormatFixed(s.upper, 4);
+  io::CsvWriter w(&csv);
+  auto ci = [&w](const stats::StdWithCi& s) {
+    w.Cells({FormatFixed(s.std, 4), FormatFixed(s.lower, 4), FormatFixed(s.upper, 4)});
   };
   auto theta = [](const TableRow& r, const stats::StdWithCi& s) {
     return r.has_theta ? FormatSignificant(s.std, 4) : std::string();
   };
   for (const TableRow& r : rows) {
-    csv += r.subject + "," + std::to_string(r.est_x.n) + "," + ci(r.est_x) + "," + ci(r.est_y) +
-           "," + ci(r.true_x) + "," + ci(r.true_y) + "," +
-           FormatFixed(r.est_x.std / r.true_x.std, 3) + "," +
-           FormatFixed(r.est_y.std / r.true_y.std, 3) + "," + FormatFixed(r.true_mean_x_mm, 4) +
-           "," + FormatFixed(r.true_mean_y_mm, 4) + "," + FormatFixed(r.est_lag1_x, 3) + "," +
-           FormatFixed(r.est_lag1_y, 3) + "," + theta(r, r.est_theta) + "," +
-           theta(r, r.true_theta) + "," + std::to_string(r.missed_frames) + "\n";
+    w.Cell(r.subject).Cell(static_cast<int64_t>(r.est_x.n));
+    for (const stats::StdWithCi* s : {&r.est_x, &r.est_y, &r.true_x, &r.true_y}) ci(*s);
+    w.Cells({FormatFixed(r.est_x.std / r.true_x.std, 3), FormatFixed(r.est_y.std / r.true_y.std, 3),
+             FormatFixed(r.true_mean_x_mm, 4), FormatFixed(r.true_mean_y_mm, 4),
+             FormatFixed(r.est_lag1_x, 3), FormatFixed(r.est_lag1_y, 3), theta(r, r.est_theta),
+             theta(r, r.true_theta)})
+        .Cell(static_cast<int64_t>(r.missed_frames))
+        .EndRow();
   }
   return csv;
 }
@@ -166,9 +169,10 @@ std::string ErrorsCsv(const TrackOptions& options, const TrackResult& result, in
       for (size_t i = 0; i < r.sample.size(); ++i) {
         // Every decimate-th sample and its successor: adjacent pairs survive for Fig. 6.
         if (i % static_cast<size_t>(decimate) > 1) continue;
-        csv += StringPrintf("%s,%zu,%d,%.4f,%.4f,%.4f,%.4f,%.4f,", result.subjects[k].c_str(), run,
-                            r.sample[i], r.sample[i] / options.rate_hz, r.est_x_mm[i],
-                            r.est_y_mm[i], r.true_x_mm[i], r.true_y_mm[i]);
+        io::AppendCsvCell(result.subjects[k], &csv);
+        csv += StringPrintf(",%zu,%d,%.4f,%.4f,%.4f,%.4f,%.4f,", run, r.sample[i],
+                            r.sample[i] / options.rate_hz, r.est_x_mm[i], r.est_y_mm[i],
+                            r.true_x_mm[i], r.true_y_mm[i]);
         csv += r.est_theta_rad.empty()
                    ? std::string(",")
                    : StringPrintf("%.6f,%.6f", r.est_theta_rad[i], r.true_theta_rad[i]);

@@ -12,6 +12,7 @@
 #include "patlab/detect/detector.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/detector_settings.h"
+#include "patlab/io/csv.h"
 #include "patlab/stats/intervals.h"
 
 namespace patlab::sim {
@@ -443,13 +444,7 @@ std::string CompareCsv(const CompareResult& result) {
     lines.push_back(std::move(cells));
   }
   std::string out;
-  for (const std::vector<std::string>& line : lines) {
-    for (size_t k = 0; k < line.size(); ++k) {
-      if (k > 0) out += ',';
-      out += line[k];
-    }
-    out += '\n';
-  }
+  for (const std::vector<std::string>& line : lines) out += io::CsvRow(line);
   return out;
 }
 

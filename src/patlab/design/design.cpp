@@ -16,6 +16,7 @@
 #include "patlab/detect/codebook.h"
 #include "patlab/estimate/bounds.h"
 #include "patlab/estimate/estimators.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::sim {
 
@@ -204,7 +205,7 @@ std::vector<Vec2> RandomStart(const DesignOptions& o, int start) {
 
 // v rounded to 1e-3 mm as the file writes it (3 decimals) and reads it back; never -0.
 double RoundedMm(double v) {
-  const double r = std::strtod(Mm(v).c_str(), nullptr);
+  const double r = io::ParseDouble(Mm(v)).value();
   return r == 0.0 ? 0.0 : r;
 }
 

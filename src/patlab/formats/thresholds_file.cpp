@@ -1,10 +1,12 @@
 #include "patlab/formats/thresholds_file.h"
 
 #include <cctype>
+#include <charconv>
 #include <cstdlib>
 #include <sstream>
 
 #include "patlab/core/error.h"
+#include "patlab/io/csv.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::vision {
@@ -31,8 +33,18 @@ class LineCursor {
   bool Integer(long* value) {
     return Number([](const char* text, char** end) { return std::strtol(text, end, 10); }, value);
   }
+  // A decimal number at the cursor (std::from_chars: the "C" form whatever the locale; a leading
+  // '+' allowed); false when there is none.
   bool Real(double* value) {
-    return Number([](const char* text, char** end) { return std::strtod(text, end); }, value);
+    SkipSpace();
+    const std::string_view rest = line_.substr(pos_);
+    const size_t sign = !rest.empty() && rest.front() == '+' ? 1 : 0;
+    const auto [end, ec] = std::from_chars(rest.data() + sign, rest.data() + rest.size(), *value);
+    if (ec == std::errc::invalid_argument) return false;
+    const size_t used = static_cast<size_t>(end - rest.data());
+    if (ec == std::errc::result_out_of_range) *value = *io::ParseDouble(rest.substr(0, used));
+    pos_ += used;
+    return true;
   }
   std::string Rest() {
     SkipSpace();

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "patlab/core/format.h"
+#include "patlab/io/csv.h"
 #include "patlab/paper/noise_fit.h"
 
 namespace patlab::sim {
@@ -62,18 +63,21 @@ double WorstButterflyZ(const FitDesign& design, const NoiseFitResult& r) {
 }
 
 std::string ModelsCsv(const FitDesign& design, const NoiseFitOptions& base) {
-  std::string csv = "model,parameters,minus2_log_l,aic,chi2,delta_mm";
-  for (int j = 0; j < kNumMechanisms; ++j) csv.append(",").append(MechName(j));
-  csv.append(",pred_butterfly_x,pred_butterfly_y,pred_butterfly_theta,worst_butterfly_z\n");
+  std::string csv;
+  io::CsvWriter w(&csv);
+  w.Cells({"model", "parameters", "minus2_log_l", "aic", "chi2", "delta_mm"});
+  for (int j = 0; j < kNumMechanisms; ++j) w.Cell(MechName(j));
+  w.Cells({"pred_butterfly_x", "pred_butterfly_y", "pred_butterfly_theta", "worst_butterfly_z"});
+  w.EndRow();
   for (const Candidate& c : Candidates()) {
     const NoiseFitResult r = FitNoise(design, WithFree(base, c.free, 3, 0));
-    csv.append(c.name).append(",").append(std::to_string(r.free_parameters));
+    w.Cell(c.name).Cell(static_cast<int64_t>(r.free_parameters));
     for (double v : {r.minus2_log_l, r.minus2_log_l + 2.0 * r.free_parameters, r.chi2, r.delta})
-      csv.append(",").append(Num(v));
-    for (int j = 0; j < kNumMechanisms; ++j) csv.append(",").append(Num(r.best[j]));
+      w.Cell(Num(v));
+    for (int j = 0; j < kNumMechanisms; ++j) w.Cell(Num(r.best[j]));
     for (size_t i = design.data.size() - 3; i < design.data.size(); ++i)
-      csv.append(",").append(Num(r.predicted[i]));
-    csv.append(",").append(Num(WorstButterflyZ(design, r))).append("\n");
+      w.Cell(Num(r.predicted[i]));
+    w.Cell(Num(WorstButterflyZ(design, r))).EndRow();
   }
   return csv;
 }
@@ -82,9 +86,11 @@ std::string ModelsCsv(const FitDesign& design, const NoiseFitOptions& base) {
 // the independent+common model (no colour excess) does.
 std::string SensitivityCsv(const NoiseFitStudyOptions& o, const std::vector<FitDatum>& data) {
   using M = Mechanism;
-  std::string csv =
-      "id_radius_mm,model,minus2_log_l,chi2,worst_butterfly_z,mechanism,value,lower,upper,"
-      "verdict\n";
+  std::string csv;
+  io::CsvWriter w(&csv);
+  w.Cells({"id_radius_mm", "model", "minus2_log_l", "chi2", "worst_butterfly_z", "mechanism",
+           "value", "lower", "upper", "verdict"})
+      .EndRow();
   for (double radius : o.sensitivity_radii_mm) {
     NoiseFitGeometry g = o.geometry;
     g.id_radius_mm = radius;
@@ -97,12 +103,11 @@ std::string SensitivityCsv(const NoiseFitStudyOptions& o, const std::vector<FitD
       const NoiseFitResult r = FitNoise(design, WithFree(o.fit, c.free, 21, 0));
       for (const MechanismEstimate& e : r.estimates) {
         if (!e.free) continue;
-        csv.append(Num(radius)).append(",").append(c.name);
-        for (double v : {r.minus2_log_l, r.chi2, WorstButterflyZ(design, r)})
-          csv.append(",").append(Num(v));
-        csv.append(",").append(MechName(static_cast<int>(e.mechanism)));
-        for (double v : {e.value, e.lower, e.upper}) csv.append(",").append(Num(v));
-        csv.append(",").append(NameOf(e.verdict, kIdentifiabilityNames)).append("\n");
+        w.Cell(Num(radius)).Cell(c.name);
+        for (double v : {r.minus2_log_l, r.chi2, WorstButterflyZ(design, r)}) w.Cell(Num(v));
+        w.Cell(MechName(static_cast<int>(e.mechanism)));
+        for (double v : {e.value, e.lower, e.upper}) w.Cell(Num(v));
+        w.Cell(NameOf(e.verdict, kIdentifiabilityNames)).EndRow();
       }
     }
   }
@@ -110,59 +115,62 @@ std::string SensitivityCsv(const NoiseFitStudyOptions& o, const std::vector<FitD
 }
 
 std::string FitCsv(const NoiseFitResult& r, double delta) {
-  std::string csv =
-      "mechanism,free,value,lower,upper,boot_lower,boot_upper,verdict,most_correlated,"
-      "correlation\n";
+  std::string csv;
+  io::CsvWriter w(&csv);
+  w.Cells({"mechanism", "free", "value", "lower", "upper", "boot_lower", "boot_upper", "verdict",
+           "most_correlated", "correlation"})
+      .EndRow();
   for (const MechanismEstimate& e : r.estimates) {
-    csv.append(MechName(static_cast<int>(e.mechanism))).append(e.free ? ",1" : ",0");
-    for (double v : {e.value, e.lower, e.upper, e.boot_lower, e.boot_upper})
-      csv.append(",").append(Num(v));
-    csv.append(",").append(NameOf(e.verdict, kIdentifiabilityNames)).append(",");
-    csv.append(e.most_correlated >= 0 ? MechName(e.most_correlated) : "");
-    csv.append(",").append(Num(e.correlation)).append("\n");
+    w.Cell(MechName(static_cast<int>(e.mechanism))).Cell(e.free ? "1" : "0");
+    for (double v : {e.value, e.lower, e.upper, e.boot_lower, e.boot_upper}) w.Cell(Num(v));
+    w.Cell(NameOf(e.verdict, kIdentifiabilityNames));
+    w.Cell(e.most_correlated >= 0 ? MechName(e.most_correlated) : "");
+    w.Cell(Num(e.correlation)).EndRow();
   }
-  csv.append("delta_mm,0,").append(Num(delta)).append(",,,,,,,\n");
+  w.Cells({"delta_mm", "0", Num(delta), "", "", "", "", "", "", ""}).EndRow();
   return csv;
 }
 
 std::string ProfilesCsv(const NoiseFitResult& r) {
-  std::string csv = "mechanism,value,minus2_delta_log_l\n";
+  std::string csv;
+  io::CsvWriter w(&csv);
+  w.Cells({"mechanism", "value", "minus2_delta_log_l"}).EndRow();
   for (const MechanismEstimate& e : r.estimates)
     for (const ProfilePoint& p : e.profile)
-      csv.append(MechName(static_cast<int>(e.mechanism)))
-          .append(",")
-          .append(Num(p.value))
-          .append(",")
-          .append(Num(p.minus2_log_l))
-          .append("\n");
+      w.Cells({MechName(static_cast<int>(e.mechanism)), Num(p.value), Num(p.minus2_log_l)})
+          .EndRow();
   return csv;
 }
 
 std::string CorrelationCsv(const NoiseFitResult& r) {
-  std::string csv = "mechanism";
-  for (int j = 0; j < kNumMechanisms; ++j) csv.append(",").append(MechName(j));
-  csv.append("\n");
+  std::string csv;
+  io::CsvWriter w(&csv);
+  w.Cell("mechanism");
+  for (int j = 0; j < kNumMechanisms; ++j) w.Cell(MechName(j));
+  w.EndRow();
   for (int a = 0; a < kNumMechanisms; ++a) {
-    csv.append(MechName(a));
+    w.Cell(MechName(a));
     for (int b = 0; b < kNumMechanisms; ++b)
-      csv.append(",").append(Num(r.correlation[static_cast<size_t>(a * kNumMechanisms + b)]));
-    csv.append("\n");
+      w.Cell(Num(r.correlation[static_cast<size_t>(a * kNumMechanisms + b)]));
+    w.EndRow();
   }
   return csv;
 }
 
 std::string DataCsv(const FitDesign& design, const NoiseFitResult& r,
                     const std::vector<double>& simulated) {
-  std::string csv = "datum,observed,se,quantisation,predicted,z,simulated\n";
+  std::string csv;
+  io::CsvWriter w(&csv);
+  w.Cells({"datum", "observed", "se", "quantisation", "predicted", "z", "simulated"}).EndRow();
   for (size_t i = 0; i < design.data.size(); ++i) {
     const FitDatum& d = design.data[i];
     const double s = std::sqrt(d.se * d.se + (d.table1 ? r.delta * r.delta : 0.0));
-    csv.append(d.name);
+    w.Cell(d.name);
     for (double v :
          {d.observed, d.se, d.quantisation, r.predicted[i], (d.observed - r.predicted[i]) / s,
           simulated.empty() ? std::nan("") : simulated[i]})
-      csv.append(",").append(Num(v));
-    csv.append("\n");
+      w.Cell(Num(v));
+    w.EndRow();
   }
   return csv;
 }

@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <initializer_list>
 #include <optional>
-#include <sstream>
 #include <vector>
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/io/csv.h"
 #include "patlab/stats/ks.h"
 
 namespace patlab::sim {
@@ -103,36 +102,13 @@ CsvRules RulesForResultFile(const std::string& name) {
   return rules;
 }
 
-std::vector<std::string> SplitCsvCells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
 namespace {
 
 constexpr const char* kKindNames[] = {"text",       "continuous", "count",   "first trial",
                                       "mean count", "KS D",       "KS p",    "Wilcoxon p",
                                       "rank sum",   "Wilcoxon z", "normal p"};
 
-std::vector<std::vector<std::string>> SplitRows(const std::string& text) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) rows.push_back(SplitCsvCells(line));
-  return rows;
-}
-
-std::optional<double> Number(const std::string& cell) {
-  if (cell.empty()) return std::nullopt;
-  char* end = nullptr;
-  const double v = std::strtod(cell.c_str(), &end);
-  if (*end != '\0') return std::nullopt;
-  return v;
-}
+std::optional<double> Number(const std::string& cell) { return io::ParseDouble(cell); }
 
 double Continuous(double x, double y) {
   return kRelativeDrift * std::max(std::abs(x), std::abs(y)) + kAbsoluteNoise;
@@ -346,7 +322,8 @@ Row MakeRow(const CsvRules& rules, const std::vector<std::vector<std::string>>& 
 
 std::string CompareResultCsv(const std::string& regenerated, const std::string& committed,
                              const CsvRules& rules) {
-  const auto a = SplitRows(regenerated), b = SplitRows(committed);
+  const auto a = io::ParseCsvRecords(regenerated, "regenerated"),
+             b = io::ParseCsvRecords(committed, "committed");
   if (a.empty() || b.empty() || a[0] != b[0]) return "line 1: the header differs";
   for (const std::string& column : a[0]) {
     if (!rules.columns.contains(column)) return "line 1: column " + column + " has no rule";

@@ -64,9 +64,6 @@ struct CsvRules {
 // The kinds of the columns of the CSVs `patlab reproduce` writes (fig5.csv, table1.csv,
 // table1_tests.csv, track_errors.csv, also under track_quantisation/); nullopt-like empty rules
 // (no columns) for other files, which are compared by CompareResultText's generic rule.
-// The cells of one CSV line (a trailing comma ends in an empty cell); no quoting: patlab's result
-// files quote nothing.
-std::vector<std::string> SplitCsvCells(const std::string& line);
 
 CsvRules RulesForResultFile(const std::string& name);
 

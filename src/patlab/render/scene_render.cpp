@@ -8,6 +8,7 @@
 #include "patlab/core/format.h"
 #include "patlab/core/gaussian.h"
 #include "patlab/core/rng.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::vision {
 
@@ -207,8 +208,12 @@ Image RenderScene(const FieldScene& scene, const CameraModel& camera) {
 std::string TruthCsv(const FieldScene& scene) {
   std::string csv = "team,id,x_mm,y_mm,theta_rad\n";
   for (const RobotPlacement& r : scene.robots) {
-    csv += r.team + "," + std::to_string(r.id) + "," + FormatRoundTrip(r.pose.x_mm) + "," +
-           FormatRoundTrip(r.pose.y_mm) + "," + FormatRoundTrip(r.pose.theta_rad) + "\n";
+    io::CsvWriter(&csv)
+        .Cell(r.team)
+        .Cell(static_cast<int64_t>(r.id))
+        .Cells({FormatRoundTrip(r.pose.x_mm), FormatRoundTrip(r.pose.y_mm),
+                FormatRoundTrip(r.pose.theta_rad)})
+        .EndRow();
   }
   return csv;
 }

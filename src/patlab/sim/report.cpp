@@ -8,6 +8,7 @@
 
 #include "patlab/core/format.h"
 #include "patlab/io/atomic_file.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::sim {
 
@@ -38,28 +39,26 @@ std::array<std::string, 12> PoseErrorFields(const AxisSummary& x, const AxisSumm
   return fields;
 }
 
-// Appends one CSV row: the head fields, the pose-error fields, the tail fields, comma-joined.
+// Appends one CSV row: the head fields, the pose-error fields, the tail fields.
 void AppendRow(std::span<const std::string> head, std::span<const std::string> middle,
                std::span<const std::string> tail, std::string* csv) {
-  bool first = true;
+  io::CsvWriter w(csv);
   for (std::span<const std::string> part : {head, middle, tail}) {
-    for (const std::string& field : part) {
-      if (!first) *csv += ",";
-      *csv += field;
-      first = false;
-    }
+    for (const std::string& field : part) w.Cell(field);
   }
-  *csv += "\n";
+  w.EndRow();
 }
 
 // The header row: head columns, the pose-error columns, tail columns.
 std::string Header(std::span<const char* const> head, std::span<const char* const> tail) {
   std::string csv;
+  io::CsvWriter w(&csv);
   for (std::span<const char* const> part :
        {head, std::span<const char* const>(kPoseErrorColumns), tail}) {
-    for (const char* column : part) csv += std::string(csv.empty() ? "" : ",") + column;
+    for (const char* column : part) w.Cell(column);
   }
-  return csv + "\n";
+  w.EndRow();
+  return csv;
 }
 
 constexpr const char* kColumnsHead[] = {

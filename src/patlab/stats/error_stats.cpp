@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "patlab/core/format.h"
+#include "patlab/io/csv.h"
 #include "patlab/stats/smoothing.h"
 
 namespace patlab::sim {
@@ -161,10 +162,13 @@ std::string PairedTestsCsv(const std::vector<PairedTest>& tests) {
     const auto& w = t.result;
     // R+ > R-: |a| - |b| tends to be positive, so b has the smaller errors.
     const std::string smaller = w.r_plus > w.r_minus ? t.b : w.r_plus < w.r_minus ? t.a : "";
-    csv += t.error + "," + t.axis + "," + t.a + "," + t.b + "," + std::to_string(w.n) + "," +
-           FormatFixed(t.median_abs_a_mm, 4) + "," + FormatFixed(t.median_abs_b_mm, 4) + "," +
-           FormatSignificant(w.r_plus, 12) + "," + FormatSignificant(w.r_minus, 12) + "," +
-           FormatFixed(w.z, 3) + "," + FormatSignificant(w.p_value, 3) + "," + smaller + "\n";
+    io::CsvWriter(&csv)
+        .Cells({t.error, t.axis, t.a, t.b})
+        .Cell(static_cast<int64_t>(w.n))
+        .Cells({FormatFixed(t.median_abs_a_mm, 4), FormatFixed(t.median_abs_b_mm, 4),
+                FormatSignificant(w.r_plus, 12), FormatSignificant(w.r_minus, 12),
+                FormatFixed(w.z, 3), FormatSignificant(w.p_value, 3), smaller})
+        .EndRow();
   }
   return csv;
 }

@@ -4,6 +4,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/io/csv.h"
 
 namespace patlab::vision {
 
@@ -36,10 +37,12 @@ void FrameResultsWriter::AddBlobs(const FrameResult& frame) {
     const detect::Blob& b = frame.blobs[i];
     const Region& r = frame.blob_regions[i];
     const std::string& colour = thresholds.classes[static_cast<size_t>(b.colour)].name;
-    csv_ += frame.frame + "," + colour + "," + FormatFixed(b.position_mm.x(), 2) + "," +
-            FormatFixed(b.position_mm.y(), 2) + "," + FormatFixed(b.area_mm2, 1) + "," +
-            FormatFixed(r.centroid_px.x(), 3) + "," + FormatFixed(r.centroid_px.y(), 3) + "," +
-            std::to_string(r.area_px) + "\n";
+    io::CsvWriter(&csv_)
+        .Cells({frame.frame, colour, FormatFixed(b.position_mm.x(), 2),
+                FormatFixed(b.position_mm.y(), 2), FormatFixed(b.area_mm2, 1),
+                FormatFixed(r.centroid_px.x(), 3), FormatFixed(r.centroid_px.y(), 3)})
+        .Cell(static_cast<int64_t>(r.area_px))
+        .EndRow();
     list.push_back({{"colour", colour},
                     {"x_mm", b.position_mm.x()},
                     {"y_mm", b.position_mm.y()},
@@ -59,10 +62,13 @@ void FrameResultsWriter::AddDetections(const FrameResult& frame) {
     const std::string team =
         d.team_colour >= 0 ? config.palette[static_cast<size_t>(d.team_colour)] : "";
     const std::string status(NameOf(d.status, detect::kDetectionStatusNames));
-    csv_ += frame.frame + "," + pattern + "," + team + "," + std::to_string(d.id) + "," + status +
-            "," + FormatFixed(d.pose.x_mm, 2) + "," + FormatFixed(d.pose.y_mm, 2) + "," +
-            FormatFixed(d.pose.theta_rad, 4) + "," + FormatFixed(d.residual_mm2, 2) + "," +
-            FormatFixed(d.confidence, 4) + "\n";
+    io::CsvWriter(&csv_)
+        .Cells({frame.frame, pattern, team})
+        .Cell(static_cast<int64_t>(d.id))
+        .Cells({status, FormatFixed(d.pose.x_mm, 2), FormatFixed(d.pose.y_mm, 2),
+                FormatFixed(d.pose.theta_rad, 4), FormatFixed(d.residual_mm2, 2),
+                FormatFixed(d.confidence, 4)})
+        .EndRow();
     list.push_back({{"pattern", pattern},
                     {"team", team},
                     {"id", d.id},
@@ -110,9 +116,11 @@ std::string TrackWriter::Csv() const {
   std::string csv = "frame,subject,x_mm,y_mm,theta_rad\n";
   for (const auto& [subject, track] : tracks_) {
     for (const Sample& s : track) {
-      csv.append(std::to_string(s.frame)).append(",").append(subject).append(",");
-      csv.append(FormatFixed(s.pose.x_mm, 3)).append(",").append(FormatFixed(s.pose.y_mm, 3));
-      csv.append(",").append(FormatFixed(s.pose.theta_rad, 5)).append("\n");
+      io::CsvWriter(&csv)
+          .Cell(s.frame)
+          .Cells({subject, FormatFixed(s.pose.x_mm, 3), FormatFixed(s.pose.y_mm, 3),
+                  FormatFixed(s.pose.theta_rad, 5)})
+          .EndRow();
     }
   }
   return csv;
