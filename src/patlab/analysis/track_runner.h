@@ -86,7 +86,7 @@ struct TrackRunOptions {
   int threads = 0;  // 0 = all cores; results do not depend on it
   // Called after each block of frames is measured: (blocks done, blocks in all). Called from the
   // worker threads one at a time (under a lock), with the count increasing by one each call.
-  std::function<void(int, int)> progress;
+  std::function<void(int, int)> progress = {};
 };
 
 // Runs the whole experiment (TBB over blocks of frames, results in fixed slots). Validates first.
