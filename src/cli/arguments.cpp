@@ -28,7 +28,8 @@ std::string UsageOf(const po::options_description& visible) {
 
 bool ParseArguments(const std::vector<std::string>& args, const po::options_description& visible,
                     const char* positional_name, po::value_semantic* positional, int max_positional,
-                    const char* examples, po::variables_map* vm) {
+                    const char* examples, po::variables_map* vm,
+                    const std::vector<std::pair<std::string, std::string>>& removed) {
   const std::string usage = UsageOf(visible);
   const size_t name_start = usage.find(' ') + 1;
   const std::string command = usage.substr(name_start, usage.find(' ', name_start) - name_start);
@@ -44,6 +45,7 @@ bool ParseArguments(const std::vector<std::string>& args, const po::options_desc
     if (option->long_name() != "help") line.Add("options", option);
   }
   line.Positional(positional_name, positional, max_positional);
+  for (const auto& [flag, replacement] : removed) line.Removed(flag, replacement);
   return line.Parse(args, vm);
 }
 

@@ -1,6 +1,7 @@
 #include "cli/data.h"
 
 #include <cstdlib>
+#include <filesystem>
 
 namespace patlab::cli {
 
@@ -21,6 +22,18 @@ const std::vector<std::string>& DataRoots() {
 
 std::string FindData(const std::string& reference, io::DataKind kind) {
   return io::FindData(reference, kind, DataRoots());
+}
+
+std::string FindPattern(const std::string& reference, const std::string& patterns_dir) {
+  if (!patterns_dir.empty()) {
+    std::error_code ec;
+    const std::filesystem::path candidate =
+        std::filesystem::path(patterns_dir) / (reference + ".toml");
+    if (!std::filesystem::exists(reference, ec) && std::filesystem::is_regular_file(candidate, ec)) {
+      return candidate.string();
+    }
+  }
+  return FindData(reference, io::DataKind::kPattern);
 }
 
 }  // namespace patlab::cli

@@ -15,5 +15,8 @@ void SetBinaryDir(const std::string& dir);
 const std::vector<std::string>& DataRoots();
 // `reference` as an existing file or a name of shipped data (InputError when neither).
 std::string FindData(const std::string& reference, io::DataKind kind);
+// A pattern: `reference` as a file, then <patterns_dir>/<reference>.toml when `patterns_dir` is
+// given (--patterns-dir), then the shipped patterns.
+std::string FindPattern(const std::string& reference, const std::string& patterns_dir);
 
 }  // namespace patlab::cli
