@@ -20,8 +20,17 @@ const std::vector<std::string>& DataRoots() {
   return roots;
 }
 
+// A found file under the working directory is named relative to it, as the user would have
+// typed it ("patterns/butterfly.toml"): report and result files that name their inputs then read
+// the same whether a name or a path was given.
 std::string FindData(const std::string& reference, io::DataKind kind) {
-  return io::FindData(reference, kind, DataRoots());
+  const std::string found = io::FindData(reference, kind, DataRoots());
+  if (found == reference) return found;
+  std::error_code ec;
+  const std::filesystem::path relative =
+      std::filesystem::path(found).lexically_relative(std::filesystem::current_path(ec));
+  if (ec || relative.empty() || *relative.begin() == "..") return found;
+  return relative.string();
 }
 
 std::string FindPattern(const std::string& reference, const std::string& patterns_dir) {

@@ -52,6 +52,9 @@ void Progress::Update(int done, int total) {
   if (!enabled_) return;
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  // A run shorter than a second says nothing; a longer one starts reporting after that second.
+  if (!started_ && elapsed < kQuietSeconds) return;
+  started_ = true;
   if (terminal_) {
     // \033[K clears what a longer previous line left behind.
     std::fprintf(out_, "\r%s\033[K", Line(done, total, elapsed).c_str());

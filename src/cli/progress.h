@@ -1,6 +1,7 @@
 // The one progress reporter of the tool: done/total, rate, elapsed time and ETA on stderr, for
-// every command that can run longer than a second. On a terminal the line is redrawn in place;
-// otherwise (a log file, a pipe, CI) one line is printed per 10% so logs stay short. Off with -q.
+// every command that can run longer than a second; it starts after the first second, so a short
+// run prints nothing. On a terminal the line is redrawn in place; otherwise (a log file, a pipe,
+// CI) one line is printed per 10% so logs stay short. Off with -q.
 // The library knows nothing of it: runners take a std::function<void(int, int)> callback.
 #pragma once
 
@@ -36,6 +37,8 @@ class Progress {
   std::chrono::steady_clock::time_point start_;
   int last_decile_ = -1;
   bool line_open_ = false;
+  bool started_ = false;
+  static constexpr double kQuietSeconds = 1.0;
 };
 
 // Whether stderr is a terminal.

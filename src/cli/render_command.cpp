@@ -122,7 +122,7 @@ int RunRender(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (o.scene.empty()) {
-    throw InputError("missing SCENE; expected 'patlab render SCENE.toml --out FRAME.png'");
+    throw InputError("missing SCENE; expected 'patlab render SCENE -o DIR'");
   }
   if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
   if (o.uyvy && !o.camera) throw InputError("--uyvy without --camera; expected --camera with it");

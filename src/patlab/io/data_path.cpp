@@ -91,18 +91,15 @@ std::vector<std::string> DataNames(DataKind kind, const std::vector<std::string>
 
 std::string FindData(const std::string& reference, DataKind kind,
                      const std::vector<std::string>& roots) {
-  if (IsFile(reference)) return reference;
+  // A path (with a folder) is the caller's to open: its loader says when it is missing.
+  if (IsFile(reference) || reference.find('/') != std::string::npos) return reference;
   const KindInfo info = Info(kind);
   std::string searched;
-  // A name is a name, never a path out of the data folders.
-  const bool is_name = !reference.empty() && fs::path(reference).is_relative() &&
-                       reference.find("..") == std::string::npos;
   for (const std::string& root : roots) {
     for (const char* folder : info.folders) {
       const fs::path dir = fs::path(root) / folder;
       if (!IsDirectory(dir)) continue;
       searched += (searched.empty() ? "" : ", ") + dir.string() + "/";
-      if (!is_name) continue;
       for (const std::string& candidate : {reference, reference + ".toml"}) {
         if (IsFile(dir / candidate)) return (dir / candidate).string();
       }

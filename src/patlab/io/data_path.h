@@ -25,7 +25,8 @@ enum class DataKind { kPattern, kExperiment, kSettings, kField };
 // `binary_dir`/CMakeCache.txt (patlab_SOURCE_DIR) when the binary is in a build tree.
 std::vector<std::string> DataRoots(const std::string& binary_dir, const char* env_value);
 
-// `reference` when it names an existing file; else the first <root>/<folder>/<reference> or
+// `reference` when it names an existing file or has a folder in it (a path: its loader reports
+// a missing file); else the first <root>/<folder>/<reference> or
 // <reference>.toml of the kind's folders. Throws InputError when there is none: "<kind>
 // '<name>' not found; expected a file path or a name in <folders searched>", with the close
 // names of the shipped data of that kind ("did you mean 'butterfly'?").
