@@ -52,20 +52,21 @@ std::string ResidualsCsv(const calib::CalibrationFit& fit) {
 int RunCalibrate(const std::vector<std::string>& args) {
   CalibrateCommandOptions o;
   po::options_description visible("usage: patlab calibrate INPUT -o DIR");
-  visible.add_options()("help,h", "show this help")("out,o", po::value(&o.out),
+  visible.add_options()("help,h", "show this help")(
+      "out,o", po::value(&o.out),
       "output directory: DIR/calibration.toml and DIR/residuals.csv (required)");
   po::variables_map vm;
   if (!ParseArguments(args, visible, "input", po::value(&o.input), 1, kExamples, &vm,
                       {{"--residuals", "-o DIR (DIR/residuals.csv is always written)"}})) {
     return kExitOk;
   }
-  if (o.input.empty())
-    throw InputError("missing INPUT; expected 'patlab calibrate INPUT -o DIR'");
+  if (o.input.empty()) throw InputError("missing INPUT; expected 'patlab calibrate INPUT -o DIR'");
   if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
   o.residuals = (std::filesystem::path(o.out) / "residuals.csv").string();
   o.out = (std::filesystem::path(o.out) / "calibration.toml").string();
 
-  const calib::CalibrationInput input = calib::LoadCalibrationInput(FindData(o.input, io::DataKind::kSettings));
+  const calib::CalibrationInput input =
+      calib::LoadCalibrationInput(FindData(o.input, io::DataKind::kSettings));
   const calib::CalibrationFit fit = calib::FitCamera(input);
   std::vector<std::pair<std::string, std::string>> files = {
       {o.out, calib::CalibrationFileText(input, fit)}};

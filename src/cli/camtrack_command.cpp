@@ -48,8 +48,8 @@ struct Options {
 };
 
 void AddOptions(po::options_description* d, Options* o) {
-  d->add_options()("help,h", "show this help")(
-      "out,o", po::value(&o->out), "output directory: DIR/camtrack.csv (required)")(
+  d->add_options()("help,h", "show this help")("out,o", po::value(&o->out),
+                                               "output directory: DIR/camtrack.csv (required)")(
       "thresholds,t", po::value(&o->thresholds), "colour thresholds TOML (required)")(
       "label", po::value(&o->label), "the label column, default run")(
       "team", po::value(&o->team), "team (key) colour, default blue")(
@@ -95,8 +95,7 @@ std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
 
 int RunCamtrack(const std::vector<std::string>& args) {
   Options o;
-  po::options_description visible(
-      "usage: patlab camtrack SCENE -t THRESHOLDS -o DIR [options]");
+  po::options_description visible("usage: patlab camtrack SCENE -t THRESHOLDS -o DIR [options]");
   AddOptions(&visible, &o);
   po::variables_map vm;
   if (!ParseArguments(args, visible, "scene", po::value(&o.scene), 1, kExamples, &vm)) {
@@ -114,7 +113,8 @@ int RunCamtrack(const std::vector<std::string>& args) {
   io::CheckWritable({o.out});
   vision::SceneFile file = vision::LoadSceneFile(FindData(o.scene, io::DataKind::kSettings));
   if (vm.count("blur-sigma-px")) file.scene.options.blur_sigma_px = o.blur_sigma_px;
-  const vision::Thresholds thresholds = vision::LoadThresholds(FindData(o.thresholds, io::DataKind::kSettings));
+  const vision::Thresholds thresholds =
+      vision::LoadThresholds(FindData(o.thresholds, io::DataKind::kSettings));
   const sim::CameraTrackResult r = sim::RunCameraTrack(file.scene, file.calibration, thresholds,
                                                        o.team, o.id, o.sensor, o.jitter, o.track);
   try {

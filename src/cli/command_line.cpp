@@ -50,7 +50,8 @@ std::pair<std::string, std::string> FlagAndDefault(const po::option_description&
     parameter.resize(open);
   }
   if (parameter == "arg") parameter = "VALUE";
-  const std::string short_name = option.canonical_display_name(po::command_line_style::allow_dash_for_short);
+  const std::string short_name =
+      option.canonical_display_name(po::command_line_style::allow_dash_for_short);
   std::string flag = "  ";
   flag += short_name.size() == 2 && short_name[0] == '-' ? short_name + ", " : "    ";
   flag += "--" + option.long_name();
@@ -158,9 +159,8 @@ bool CommandLine::Parse(const std::vector<std::string>& args, po::variables_map*
   }
   const int style = po::command_line_style::default_style & ~po::command_line_style::allow_guessing;
   try {
-    po::store(
-        po::command_line_parser(args).options(all).positional(positionals).style(style).run(),
-        *vm);
+    po::store(po::command_line_parser(args).options(all).positional(positionals).style(style).run(),
+              *vm);
   } catch (const po::unknown_option& e) {
     const std::string flag = e.get_option_name();
     for (const auto& [old_flag, replacement] : removed_) {

@@ -30,8 +30,7 @@ class CommandLine {
   void Add(const std::string& title,
            const boost::shared_ptr<boost::program_options::option_description>& option);
   // Positional arguments stored into `value` (at most `max_count`; -1 = any number).
-  void Positional(const char* name, boost::program_options::value_semantic* value,
-                  int max_count);
+  void Positional(const char* name, boost::program_options::value_semantic* value, int max_count);
   // A flag that no longer exists: using it is an error that names its replacement.
   void Removed(const std::string& flag, const std::string& replacement);
 

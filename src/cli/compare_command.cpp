@@ -101,8 +101,9 @@ int RunCompare(const std::vector<std::string>& args) {
       ("help,h", "show this help");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "design", po::value(&f.designs), -1, kExamples, &vm,
-                      {{"--json", "--format json"}, {"--csv", "--format csv"}, {"-c", "--colors"}})) {
+  if (!ParseArguments(
+          args, visible, "design", po::value(&f.designs), -1, kExamples, &vm,
+          {{"--json", "--format json"}, {"--csv", "--format csv"}, {"-c", "--colors"}})) {
     return kExitOk;
   }
   Progress progress("patlab compare", "runs", !f.quiet, StderrIsTerminal());

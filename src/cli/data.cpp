@@ -38,7 +38,8 @@ std::string FindPattern(const std::string& reference, const std::string& pattern
     std::error_code ec;
     const std::filesystem::path candidate =
         std::filesystem::path(patterns_dir) / (reference + ".toml");
-    if (!std::filesystem::exists(reference, ec) && std::filesystem::is_regular_file(candidate, ec)) {
+    if (!std::filesystem::exists(reference, ec) &&
+        std::filesystem::is_regular_file(candidate, ec)) {
       return candidate.string();
     }
   }

@@ -113,7 +113,8 @@ int RunIds(const std::vector<std::string>& args) {
       "pattern's rotational symmetry (paper section III: 10 mm)")("list", po::bool_switch(&o.list),
                                                                   "also list every ID's colours")(
       "patterns-dir", po::value(&o.patterns_dir),
-      "a folder searched for pattern names before the shipped patterns")("help,h", "show this help");
+      "a folder searched for pattern names before the shipped patterns")("help,h",
+                                                                         "show this help");
   po::variables_map vm;
   if (!ParseArguments(args, visible, "pattern", po::value(&o.patterns), -1, kExamples, &vm,
                       {{"-c", "--colors"}})) {

@@ -102,11 +102,14 @@ int PrintCompletion(const std::vector<std::string>& args) {
                "_patlab() {\n"
                "  local cur=${COMP_WORDS[COMP_CWORD]} flags=\"\"\n"
                "  if (( COMP_CWORD == 1 )); then\n"
-               "    COMPREPLY=($(compgen -W \"" << commands << "\" -- \"$cur\"))\n"
+               "    COMPREPLY=($(compgen -W \""
+            << commands
+            << "\" -- \"$cur\"))\n"
                "    return\n"
                "  fi\n"
                "  case ${COMP_WORDS[1]} in\n"
-               "    help) COMPREPLY=($(compgen -W \"" << commands << "\" -- \"$cur\")); return ;;\n"
+               "    help) COMPREPLY=($(compgen -W \""
+            << commands << "\" -- \"$cur\")); return ;;\n"
             << cases
             << "  esac\n"
                "  if [[ $cur == -* ]]; then\n"

@@ -36,12 +36,12 @@ std::function<void(int, int)> Progress::Callback() {
 }
 
 std::string Progress::Line(int done, int total, double elapsed_s) const {
-  std::string line = command_ + ": " + std::to_string(done) + "/" + std::to_string(total) + " " +
-                     unit_;
+  std::string line =
+      command_ + ": " + std::to_string(done) + "/" + std::to_string(total) + " " + unit_;
   if (total > 0) line += StringPrintf(" (%d%%)", static_cast<int>(100.0 * done / total));
   const double rate = elapsed_s > 0.0 ? done / elapsed_s : 0.0;
-  line += ", " + FormatSignificant(rate, 3) + " " + unit_ + "/s, " + Duration(elapsed_s) +
-          " elapsed";
+  line +=
+      ", " + FormatSignificant(rate, 3) + " " + unit_ + "/s, " + Duration(elapsed_s) + " elapsed";
   if (done < total) {
     line += ", ETA " + (rate > 0.0 ? Duration((total - done) / rate) : std::string("?"));
   }

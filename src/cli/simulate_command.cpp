@@ -156,7 +156,8 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
 
 // The experiment file with the command line's overrides applied and checked.
 sim::Experiment LoadWithOverrides(const SimulateOptions& o, const po::variables_map& vm) {
-  sim::Experiment experiment = sim::LoadExperimentFile(FindData(o.experiment, io::DataKind::kExperiment));
+  sim::Experiment experiment =
+      sim::LoadExperimentFile(FindData(o.experiment, io::DataKind::kExperiment));
   sim::Overrides overrides;
   if (vm.count("trials")) overrides.trials = o.trials;
   if (!o.seed.empty()) overrides.seed = ParseSeed(o.seed, "--seed");
@@ -235,8 +236,7 @@ int RunSimulate(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (o.experiment.empty()) {
-    throw InputError(
-        "missing EXPERIMENT; expected 'patlab simulate EXPERIMENT' (see --help)");
+    throw InputError("missing EXPERIMENT; expected 'patlab simulate EXPERIMENT' (see --help)");
   }
   CheckThreads(o.threads);
   o.name_given = vm.count("name") > 0;

@@ -224,7 +224,8 @@ int RunStats(const std::vector<std::string>& args) {
   }
   CheckFormat(o.format, "table|json");
   if (words.empty()) {
-    throw InputError("missing TEST; expected 'patlab stats ks|wilcoxon|summary FILE...' (see --help)");
+    throw InputError(
+        "missing TEST; expected 'patlab stats ks|wilcoxon|summary FILE...' (see --help)");
   }
   o.test = words[0];
   o.files.assign(words.begin() + 1, words.end());

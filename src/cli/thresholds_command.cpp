@@ -91,7 +91,8 @@ int RunThresholds(const std::vector<std::string>& args) {
   const vision::Labels labels = vision::LoadLabels(FindData(o.labels, io::DataKind::kSettings));
   if (!o.settings.empty()) {
     vision::CheckClassesKnown(
-        labels, detect::LoadDetectorSettings(FindData(o.settings, io::DataKind::kSettings)).palette);
+        labels,
+        detect::LoadDetectorSettings(FindData(o.settings, io::DataKind::kSettings)).palette);
   }
   const vision::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
   std::optional<vision::Image> mask;

@@ -176,8 +176,7 @@ int RunTrackCommand(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (o.experiment.empty()) {
-    throw InputError(
-        "missing EXPERIMENT; expected 'patlab track EXPERIMENT' (see --help)");
+    throw InputError("missing EXPERIMENT; expected 'patlab track EXPERIMENT' (see --help)");
   }
   CheckThreads(o.threads);
   if (o.decimate < 1) {

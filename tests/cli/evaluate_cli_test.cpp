@@ -199,11 +199,11 @@ TEST(EvaluateCli, BadInputExitsTwoWithMessage) {
     EXPECT_EQ(run.err, message) << args;
   };
   expect("hexagon",
-         "patlab evaluate: pattern 'hexagon' not found; expected an existing file or a name in "
-         PATLAB_SOURCE_DIR "/patterns/\n");
+         "patlab evaluate: pattern 'hexagon' not found; expected an existing file or a name "
+         "in " PATLAB_SOURCE_DIR "/patterns/\n");
   expect("butterfly hexagon --trials 2",
-         "patlab evaluate: pattern 'hexagon' not found; expected an existing file or a name in "
-         PATLAB_SOURCE_DIR "/patterns/\n");
+         "patlab evaluate: pattern 'hexagon' not found; expected an existing file or a name "
+         "in " PATLAB_SOURCE_DIR "/patterns/\n");
   expect("butterfly --sigma -1",
          "patlab evaluate: --sigma is -1; expected a patch std in mm > 0\n");
   expect("butterfly --sigma 0", "patlab evaluate: --sigma is 0; expected a patch std in mm > 0\n");

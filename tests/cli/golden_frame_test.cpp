@@ -214,15 +214,13 @@ TEST(RenderCli, BadInputIsExitTwoWithTheLine) {
   EXPECT_EQ(r.err, "patlab render: missing --out DIR; expected the directory to write to\n");
   r = RunCommand(kBinary + " render --out " + dir.Path("f.png"));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err,
-            "patlab render: missing SCENE; expected 'patlab render SCENE -o DIR'\n");
+  EXPECT_EQ(r.err, "patlab render: missing SCENE; expected 'patlab render SCENE -o DIR'\n");
 }
 
 TEST(RenderCli, HelpShowsAnExample) {
   const CommandResult r = RunCommand(kBinary + " render --help");
   EXPECT_EQ(r.exit_code, 0);
-  EXPECT_NE(r.out.find("patlab render ssl-frame -o frame"), std::string::npos)
-      << r.out;
+  EXPECT_NE(r.out.find("patlab render ssl-frame -o frame"), std::string::npos) << r.out;
 }
 
 }  // namespace

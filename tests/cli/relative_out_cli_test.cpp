@@ -28,8 +28,9 @@ TEST(RelativeOutCli, EveryCommandMakesARelativeOutFolderThatDoesNotExistYet) {
        {"compare.txt", "compare.csv", "compare.json"}},
       {"design --starts 1 --max-evaluations 50 --name d -q", {"d.toml", "d.design.txt"}},
       {"render ssl-frame", {"frame.png", "truth.csv"}},
-      {"detect " + kData + "golden/ssl-frame.png -t ssl-frame.thresholds -c ssl-frame.calibration "
-       "-s ssl-frame.detector",
+      {"detect " + kData +
+           "golden/ssl-frame.png -t ssl-frame.thresholds -c ssl-frame.calibration "
+           "-s ssl-frame.detector",
        {"detections.csv"}},
       {"calibrate ssl-2008.calibration-input", {"calibration.toml", "residuals.csv"}},
       {"thresholds " + kData + "vision/golden-frame.labels.toml", {"thresholds.toml"}},
@@ -45,7 +46,8 @@ TEST(RelativeOutCli, EveryCommandMakesARelativeOutFolderThatDoesNotExistYet) {
   for (const Case& c : cases) {
     testing::TempDir dir;
     dir.Write("track.csv", track);
-    const auto r = RunCommand("cd " + dir.Path() + " && " + kPatlab + " " + c.arguments + " -o a/b");
+    const auto r =
+        RunCommand("cd " + dir.Path() + " && " + kPatlab + " " + c.arguments + " -o a/b");
     EXPECT_EQ(r.exit_code, 0) << c.arguments << "\n" << r.err;
     for (const std::string& file : c.files) {
       EXPECT_TRUE(std::filesystem::is_regular_file(dir.Path("a/b/" + file)))

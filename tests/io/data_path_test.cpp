@@ -24,7 +24,8 @@ TEST(DataPath, FindsNamesByKindInTheRootsInOrder) {
   second.Write("settings/ssl-frame.toml", "f");
   second.Write("experiments/fields/ssl-2009.toml", "g");
   const std::vector<std::string> roots = {first.Path(), second.Path()};
-  EXPECT_EQ(FindData("butterfly", DataKind::kPattern, roots), first.Path("patterns/butterfly.toml"));
+  EXPECT_EQ(FindData("butterfly", DataKind::kPattern, roots),
+            first.Path("patterns/butterfly.toml"));
   EXPECT_EQ(FindData("triangle", DataKind::kPattern, roots), second.Path("patterns/triangle.toml"));
   EXPECT_EQ(FindData("fig5.toml", DataKind::kExperiment, roots),
             second.Path("experiments/fig5.toml"));
@@ -60,17 +61,18 @@ TEST(DataPath, RootsAreTheEnvironmentTheInstalledShareAndTheBuildTreesSource) {
   std::filesystem::create_directories(prefix.Path("bin"));
   std::filesystem::create_directories(prefix.Path("share/patlab"));
   std::filesystem::create_directories(source.Path("patterns"));
-  prefix.Write("bin/CMakeCache.txt", "X:STRING=1\npatlab_SOURCE_DIR:STATIC=" + source.Path() + "\n");
+  prefix.Write("bin/CMakeCache.txt",
+               "X:STRING=1\npatlab_SOURCE_DIR:STATIC=" + source.Path() + "\n");
   const auto canonical = [](const std::string& p) {
     return std::filesystem::weakly_canonical(p).string();
   };
-  EXPECT_EQ(DataRoots(prefix.Path("bin"), source.Path("patterns").c_str()),
-            (std::vector<std::string>{canonical(source.Path("patterns")),
-                                      canonical(prefix.Path("share/patlab")),
-                                      canonical(source.Path())}));
-  EXPECT_EQ(DataRoots(prefix.Path("bin"), ""),
-            (std::vector<std::string>{canonical(prefix.Path("share/patlab")),
-                                      canonical(source.Path())}));
+  EXPECT_EQ(
+      DataRoots(prefix.Path("bin"), source.Path("patterns").c_str()),
+      (std::vector<std::string>{canonical(source.Path("patterns")),
+                                canonical(prefix.Path("share/patlab")), canonical(source.Path())}));
+  EXPECT_EQ(
+      DataRoots(prefix.Path("bin"), ""),
+      (std::vector<std::string>{canonical(prefix.Path("share/patlab")), canonical(source.Path())}));
   EXPECT_TRUE(DataRoots(prefix.Path("nothing"), "/no/such/folder").empty());
 }
 

@@ -169,8 +169,8 @@ struct RawSample {
 using RawSamples = std::vector<std::vector<std::vector<RawSample>>>;
 
 // Stage 1: every frame of every run, TBB over blocks of frames, each sample in its fixed slot.
-RawSamples MeasureAllFrames(const TrackOptions& o, const std::vector<RunSetup>& setups,
-                            int threads, const std::function<void(int, int)>& progress) {
+RawSamples MeasureAllFrames(const TrackOptions& o, const std::vector<RunSetup>& setups, int threads,
+                            const std::function<void(int, int)>& progress) {
   const vision::CameraModel camera = MakeCamera(o);
   const vision::Thresholds thresholds = PatchThresholds(o);
   const estimate::Model model = PatternModel(o);

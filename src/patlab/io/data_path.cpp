@@ -105,9 +105,10 @@ std::string FindData(const std::string& reference, DataKind kind,
       }
     }
   }
-  std::string message = std::string(info.name) + " '" + EscapeForMessage(reference) +
-                        "' not found; expected an existing file or a name in " +
-                        (searched.empty() ? "a data folder (none found: set PATLAB_DATA)" : searched);
+  std::string message =
+      std::string(info.name) + " '" + EscapeForMessage(reference) +
+      "' not found; expected an existing file or a name in " +
+      (searched.empty() ? "a data folder (none found: set PATLAB_DATA)" : searched);
   const std::vector<std::string> close = CloseNames(reference, DataNames(kind, roots));
   if (!close.empty()) message += " (did you mean " + QuotedAlternatives(close) + "?)";
   throw InputError(message);
