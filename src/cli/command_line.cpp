@@ -204,12 +204,19 @@ void AddFormat(po::options_description_easy_init add, std::string* format, const
 }
 
 void CheckFormat(const std::string& format, const char* choices) {
-  std::string list = choices;
-  std::istringstream names(list);
-  for (std::string name; std::getline(names, name, '|');) {
+  std::istringstream list(choices);
+  std::vector<std::string> names;
+  for (std::string name; std::getline(list, name, '|');) {
     if (name == format) return;
+    names.push_back(name);
   }
-  throw InputError("--format is '" + EscapeForMessage(format) + "'; expected one of " + list);
+  // "csv or json", "table, csv or json"
+  std::string expected;
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (k > 0) expected += k + 1 == names.size() ? " or " : ", ";
+    expected += names[k];
+  }
+  throw InputError("--format is '" + EscapeForMessage(format) + "'; expected " + expected);
 }
 
 }  // namespace patlab::cli

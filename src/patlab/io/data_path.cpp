@@ -92,6 +92,9 @@ std::vector<std::string> DataNames(DataKind kind, const std::vector<std::string>
 std::string FindData(const std::string& reference, DataKind kind,
                      const std::vector<std::string>& roots) {
   // A path (with a folder) is the caller's to open: its loader says when it is missing.
+  std::error_code ec;
+  (void)fs::exists(reference, ec);
+  ThrowIfPathUnusable(reference, ec);  // too long, a symbolic link loop: said as such
   if (IsFile(reference) || reference.find('/') != std::string::npos) return reference;
   const KindInfo info = Info(kind);
   std::string searched;
