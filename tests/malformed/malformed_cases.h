@@ -1109,7 +1109,8 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    {},
                    "simulat",
                    2,
-                   "patlab: unknown command 'simulat' (did you mean 'simulate'?); expected one of the commands that 'patlab help' lists"s,
+                   "patlab: unknown command 'simulat' (did you mean 'simulate'?); "
+                   "expected one of the commands that 'patlab help' lists"s,
                    nullptr},
                   {"CliUnknownFlag",
                    {{"e.toml",
