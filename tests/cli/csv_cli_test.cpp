@@ -29,9 +29,9 @@ TEST(CsvCli, FramePathWithCommaAndQuoteKeepsEveryColumnInPlace) {
   const std::string frame = dir.Path("run 1, \"best\" frame.png");
   std::filesystem::copy_file(kGolden + "ssl-frame.png", frame);
   const auto r = RunCommand(kPatlab + " detect '" + frame + "'" + DetectFlags() + " --out " +
-                            dir.Path("d.csv") + " --track " + dir.Path("track.csv"));
+                            dir.Path("d") + " --track " + dir.Path("track.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string text = testing::ReadFile(dir.Path("d.csv"));
+  const std::string text = testing::ReadFile(dir.Path("d/detections.csv"));
   std::string quoted = "\"";  // the path as the writer quotes it (by append: GCC 12 -Wrestrict)
   quoted.append(dir.Path("run 1, \"\"best\"\" frame.png")).append("\",");
   EXPECT_NE(text.find(quoted), std::string::npos) << text;
