@@ -158,9 +158,9 @@ class Harness:
                       self.folders(folder, reference) for n in os.listdir(here)
                       if os.path.isdir(here))
         if now not in (reference, old) and not journal:
-            self.fail(name, round_, "after the kill: a mix of old and new files and no journal: " +
-                      ", ".join(sorted(r for r in now if now.get(r) not in
-                                       (reference.get(r), old.get(r)))))
+            mixed = [r for r in sorted(set(now) | set(reference)) if now.get(r) != reference.get(r)]
+            self.fail(name, round_, "after the kill: a mix of old and new files and no journal; "
+                      "not new: " + ", ".join(mixed))
         self.probe(self.folders(folder, reference))
         now = snapshot(folder, probe_files)
         left = leftovers(folder)
