@@ -102,8 +102,9 @@ TEST(ShardForged, ANewlineInTheHeaderAndASlashInTheNameAreRefused) {
                                     "non-empty line without control characters");
   s.Forge([](json& j) { j["name"] = "../escaped"; });
   EXPECT_INPUT_ERROR(s.Merge(), s.s2 +
-                                    ": name '../escaped'; expected a non-empty file base name "
-                                    "without '/' of at most 200 bytes, without control characters");
+                                    ": name '../escaped' holds '/'; expected a non-empty name of at "
+                                    "most 200 bytes of UTF-8 without '/', '\\', control "
+                                    "characters or NUL");
 }
 
 // Two values wrong in one file are both named.

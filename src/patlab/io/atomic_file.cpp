@@ -13,6 +13,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/io/atomic_file_internal.h"
+#include "patlab/io/name.h"
 
 namespace patlab::io {
 
@@ -238,8 +239,8 @@ class Journals {
 }  // namespace
 
 bool IsFileBaseName(std::string_view name) {
-  return !name.empty() && name.size() <= kMaxBaseNameBytes &&
-         name.find_first_of(std::string_view("/\0", 2)) == std::string_view::npos;
+  static_assert(kMaxBaseNameBytes <= kMaxNameBytes);
+  return name.size() <= kMaxBaseNameBytes && NameProblem(name).empty();
 }
 
 namespace {

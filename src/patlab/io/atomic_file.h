@@ -52,14 +52,15 @@ void WriteFilesAtomic(const std::vector<StreamedFile>& files);
 // searchable directory. Creates nothing. Throws EnvironmentError with the same message shape.
 void CheckWritable(const std::vector<std::string>& paths);
 
-// True when `name` can be the base of an output file inside a chosen directory: non-empty, at
-// most kMaxBaseNameBytes bytes (the temporary's ".<name>.<ext>.patlab-tmp.<pid>" must fit in 255),
-// without '/' or NUL, so `--name ../../x` cannot leave the output directory.
+// True when `name` can be the base of an output file inside a chosen directory: a name by
+// io/name.h's rule (NameProblem), so `--name ../../x` cannot leave the output directory; at most
+// kMaxBaseNameBytes bytes, so the temporary ".<name>.<ext>.patlab-tmp.<pid>" fits in 255.
 inline constexpr size_t kMaxBaseNameBytes = 200;
 bool IsFileBaseName(std::string_view name);
 // The expectation messages quote for a bad base name.
 inline constexpr const char* kFileBaseNameExpected =
-    "a non-empty file base name without '/' of at most 200 bytes";
+    "a non-empty file base name of at most 200 bytes of UTF-8 without '/', '\\', control "
+    "characters or NUL";
 
 // The names of the files of a result set, without their folder, as its manifest lists them: a
 // manifest describes results, so it reads the same wherever they were written.

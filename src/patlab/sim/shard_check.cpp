@@ -6,8 +6,8 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
-#include "patlab/io/atomic_file.h"
 #include "patlab/io/csv.h"
+#include "patlab/io/name.h"
 #include "patlab/sim/experiment.h"
 #include "patlab/sim/shard_internal.h"
 
@@ -135,9 +135,9 @@ void CheckRun(const json& run, std::vector<std::string>* problems) {
 std::vector<std::string> ShardProblems(const json& s) {
   std::vector<std::string> problems;
   const std::string& name = s["name"].get_ref<const std::string&>();
-  if (!io::IsFileBaseName(name) || HasControlByte(name)) {
-    problems.push_back("name '" + EscapeForMessage(name) + "'; expected " +
-                       io::kFileBaseNameExpected + ", without control characters");
+  if (const std::string problem = io::NameProblem(name); !problem.empty()) {
+    problems.push_back("name '" + EscapeForMessage(name) + "' " + problem + "; expected " +
+                       io::kNameExpected);
   }
   const std::string& header = s["csv_header"].get_ref<const std::string&>();
   if (header.empty() || HasControlByte(header)) {
