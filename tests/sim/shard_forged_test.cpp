@@ -101,10 +101,11 @@ TEST(ShardForged, ANewlineInTheHeaderAndASlashInTheNameAreRefused) {
                                     ": csv_header 'pattern,estimator\\x0asigma_mm'; expected one "
                                     "non-empty line without control characters");
   s.Forge([](json& j) { j["name"] = "../escaped"; });
-  EXPECT_INPUT_ERROR(s.Merge(), s.s2 +
-                                    ": name '../escaped' holds '/'; expected a non-empty name of at "
-                                    "most 200 bytes of UTF-8 without '/', '\\', control "
-                                    "characters or NUL");
+  EXPECT_INPUT_ERROR(s.Merge(),
+                     s.s2 +
+                         ": name '../escaped' holds '/'; expected a non-empty name of at "
+                         "most 200 bytes of UTF-8 without '/', '\\', control "
+                         "characters or NUL");
 }
 
 // Two values wrong in one file are both named.
