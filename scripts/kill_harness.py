@@ -76,14 +76,14 @@ def commands(root, work, patlab):
     detect = ["detect", f"{golden}/ssl-frame.png", "--thresholds",
               f"{golden}/ssl-frame.thresholds.toml", "--calibration",
               f"{golden}/ssl-frame.calibration.toml", "--settings",
-              f"{golden}/ssl-frame.detector.toml", "--out", "{out}/detections.csv", "--track",
+              f"{golden}/ssl-frame.detector.toml", "--out", "{out}", "--track",
               "{out}/track.csv"]
     return {
         "simulate": (setup_simulate, ["simulate", f"{work}/small.toml", "--out", "{out}", "-q"]),
         "merge": (setup_merge, ["merge", f"{work}/shards", "--out", "{out}", "-q"]),
         "detect": (None, detect),
         "calibrate": (None, ["calibrate", f"{data}/vision/ssl-2008.calibration-input.toml",
-                             "--out", "{out}/camera.toml", "--residuals", "{out}/residuals.csv"]),
+                             "--out", "{out}"]),
         "analyze": (setup_analyze, ["analyze", f"{work}/track.csv", "--out", "{out}", "-q"]),
         "reproduce": (None, ["reproduce", "--root", root, "--out", "{out}", "--no-figures",
                              "-q"]),
