@@ -332,7 +332,7 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
        nullptr},
       {"AnalyzeSmoothingSigmaHuge",
        {{"t.csv", "frame,x_mm,y_mm\n0,1,2\n1,1,2\n"s}},
-       "analyze {dir}t.csv --out {dir}out -q --sigma 1e300",
+       "analyze {dir}t.csv --out {dir}out -q --smoothing-sigma 1e300",
        2,
        "patlab analyze: sigma_samples is 1e+300; expected at most 100000 samples (the kernel's size is bounded)"s,
        nullptr},
