@@ -111,7 +111,9 @@ TEST(LiveLoop, PacketsLogAndJsonCarryTheFramesDetections) {
     EXPECT_EQ(read.messages[i].type, static_cast<int32_t>(SslMessageType::kVision2010));
     const std::optional<SslPacket> packet = ParsePacket(packets[i]);
     ASSERT_TRUE(packet.has_value());
-    if (i == 0) ASSERT_TRUE(packet->geometry.has_value());  // the geometry goes out first
+    if (i == 0) {
+      ASSERT_TRUE(packet->geometry.has_value());  // the geometry goes out first
+    }
     if (!packet->detection) continue;
     SslDetection got = *packet->detection;
     EXPECT_EQ(lines[detections], DetectionJson(got));

@@ -37,16 +37,16 @@ struct Writer {
     codec = avcodec_alloc_context3(encoder);
     codec->width = width;
     codec->height = height;
-    codec->pix_fmt = AV_PIX_FMT_GBRP;
+    codec->pix_fmt = AV_PIX_FMT_RGB32;
     codec->time_base = AVRational{1, fps};
     stream->time_base = codec->time_base;
     if (format->oformat->flags & AVFMT_GLOBALHEADER) codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     if (avcodec_open2(codec, encoder, nullptr) < 0) return false;
     if (avcodec_parameters_from_context(stream->codecpar, codec) < 0) return false;
     if (avio_open(&format->pb, path.c_str(), AVIO_FLAG_WRITE) < 0) return false;
-    scale = sws_getContext(width, height, AV_PIX_FMT_RGB24, width, height, AV_PIX_FMT_GBRP,
+    scale = sws_getContext(width, height, AV_PIX_FMT_RGB24, width, height, AV_PIX_FMT_RGB32,
                            SWS_POINT, nullptr, nullptr, nullptr);
-    frame->format = AV_PIX_FMT_GBRP;
+    frame->format = AV_PIX_FMT_RGB32;
     frame->width = width;
     frame->height = height;
     return scale && av_frame_get_buffer(frame, 0) >= 0 &&

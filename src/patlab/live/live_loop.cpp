@@ -196,6 +196,17 @@ void Summarise(const std::vector<std::unique_ptr<Mailbox>>& boxes, Shared& share
   }
 }
 
+void CheckCameraIds(const std::vector<LiveCamera>& cameras) {
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      if (cameras[i].camera_id == cameras[j].camera_id) {
+        throw InputError("--camera-id: camera id " + std::to_string(cameras[i].camera_id) +
+                         " is given twice; expected one id per camera");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<OptionsProblem> Check(const LiveOptions& options) {
@@ -219,15 +230,18 @@ double Percentile(std::vector<double>& values, double p) {
 LiveStats RunLive(const std::vector<LiveCamera>& cameras, const LiveOptions& options,
                   LiveOutputs& outputs, const std::atomic<bool>& stop) {
   Validate(options);
+  CheckCameraIds(cameras);
   std::vector<vision::FrameDetector> detectors;
-  std::vector<vision::Calibration> calibrations;
+  SslGeometry geometry;
+  if (outputs.field) geometry = GeometryOf(*outputs.field, {});
   for (const LiveCamera& camera : cameras) {
     detectors.emplace_back(camera.thresholds, camera.calibration, camera.detector, camera.frame);
-    calibrations.push_back(camera.calibration);
+    if (auto c = CameraCalibrationOf(camera.calibration, camera.camera_id)) {
+      geometry.cameras.push_back(*c);
+    }
   }
   Shared shared(options, outputs, stop);
-  if (outputs.field)
-    shared.geometry_bytes = SerializeGeometry(GeometryOf(*outputs.field, calibrations));
+  if (outputs.field) shared.geometry_bytes = SerializeGeometry(geometry);
   std::vector<std::unique_ptr<Mailbox>> boxes;
   for (size_t i = 0; i < cameras.size(); ++i) boxes.push_back(std::make_unique<Mailbox>());
   {
@@ -235,7 +249,7 @@ LiveStats RunLive(const std::vector<LiveCamera>& cameras, const LiveOptions& opt
     for (size_t i = 0; i < cameras.size(); ++i) {
       threads.emplace_back(CaptureThread, std::cref(cameras[i].source), std::ref(*boxes[i]),
                            std::ref(shared));
-      threads.emplace_back(DetectThread, std::ref(detectors[i]), static_cast<uint32_t>(i),
+      threads.emplace_back(DetectThread, std::ref(detectors[i]), cameras[i].camera_id,
                            std::ref(*boxes[i]), std::ref(shared));
     }
   }

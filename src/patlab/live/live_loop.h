@@ -26,10 +26,11 @@ namespace patlab::live {
 class UdpSender;
 class SslLogWriter;
 
-// One camera: its source (a SOURCE argument, frame_source.h) and what its frames are detected
-// with. Its camera id is its position among the cameras.
+// One camera: its source (a SOURCE argument, frame_source.h), its SSL camera id and what its
+// frames are detected with.
 struct LiveCamera {
   std::string source;
+  uint32_t camera_id = 0;
   vision::Thresholds thresholds;
   vision::Calibration calibration;
   std::optional<detect::DetectorConfig> detector;  // nullopt: balls only
@@ -83,6 +84,7 @@ struct LiveStats {
   std::vector<StageLatency> latency;  // kLiveStageNames, in order
 };
 
+// Cameras' ids must differ (InputError "--camera-id: ... twice; expected one id per camera").
 // Runs the loop until every source ends, the frame limit, or `stop`. InputError for a source
 // that cannot be opened or a frame it cannot read (the other cameras stop too); EnvironmentError
 // when an output fails.
