@@ -82,12 +82,14 @@ void Capture(FrameSource& source, Mailbox& box, Shared& shared) {
   for (long n = 0; !shared.Stopping(); ++n) {
     if (shared.options.max_frames > 0 && n >= shared.options.max_frames) break;
     if (!source.Next(&frame)) break;
-    const Clock::time_point delivered = Clock::now();
+    // Under --rate native a file's frame is read ahead of its time and waits for it here: its
+    // end-to-end latency starts when it is due, as a camera's frame would arrive then.
     if (shared.options.rate == LiveRate::kNative) {
       SleepUntil(start + std::chrono::duration_cast<Clock::duration>(
                              std::chrono::duration<double>(frame.media_time_s)),
                  shared);
     }
+    const Clock::time_point delivered = Clock::now();
     std::lock_guard lock(box.mutex);
     if (box.full) ++box.dropped;
     CopyToImage(frame, &box.image);
