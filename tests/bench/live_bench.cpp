@@ -104,7 +104,8 @@ int main(int argc, char** argv) {
   fs::remove(log_path);
   close(receiver);
   std::printf("live_bench: %s, %dx%d, %zu robots per frame, %d frames, one thread\n",
-              fs::path(in.frame).filename().c_str(), image.width_px, image.height_px, robots, frames_to_run);
+              fs::path(in.frame).filename().c_str(), image.width_px, image.height_px, robots,
+              frames_to_run);
   std::printf("  %-12s %9s %9s %9s\n", "stage", "p50 ms", "p99 ms", "max ms");
   const char* names[] = {"2 detect", "3 packet", "4 send+log", "end to end"};
   for (size_t s = 0; s < ms.size(); ++s) {
