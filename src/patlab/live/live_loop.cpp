@@ -187,7 +187,8 @@ void DetectThread(vision::FrameDetector& frames, uint32_t camera_id, Mailbox& bo
 void Summarise(const std::vector<std::unique_ptr<Mailbox>>& boxes, Shared& shared) {
   for (const auto& box : boxes) {
     shared.stats.received += box->received;
-    shared.stats.dropped += box->dropped;
+    // A frame still waiting when a stop request ended the loop was not processed either.
+    shared.stats.dropped += box->dropped + (box->full ? 1 : 0);
   }
   if (shared.outputs.sender) shared.stats.send_failures = shared.outputs.sender->failed();
   for (size_t i = 0; i < kLiveStageNames.size(); ++i) {

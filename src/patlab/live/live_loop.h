@@ -77,7 +77,8 @@ inline constexpr std::array<std::string_view, 5> kLiveStageNames = {
 struct LiveStats {
   long received = 0;   // frames the sources delivered
   long processed = 0;  // frames detected and sent
-  long dropped = 0;    // frames overwritten in a mailbox before detection took them
+  long dropped = 0;    // frames overwritten in a mailbox before detection took them, or left
+                       // there by a stop request: received = processed + dropped
   long packets = 0;    // detection packets handed to the outputs
   long geometry_packets = 0;
   long send_failures = 0;
