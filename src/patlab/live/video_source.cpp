@@ -10,6 +10,7 @@ extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <libavutil/imgutils.h>
+#include <libavutil/log.h>
 #include <libswscale/swscale.h>
 }
 
@@ -70,6 +71,9 @@ class VideoSource : public FrameSource {
   }
 
   void Open() {
+    // FFmpeg's own log lines (its guesses about a broken file) would interleave with patlab's
+    // messages on stderr; every failure is reported by the InputError below instead.
+    av_log_set_level(AV_LOG_QUIET);
     AVFormatContext* format = nullptr;
     int rc = avformat_open_input(&format, name_.c_str(), nullptr, nullptr);
     if (rc < 0) Fail("cannot open", rc);
