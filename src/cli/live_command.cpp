@@ -9,6 +9,8 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
+#include "cli/data.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/formats/calibration_file.h"
@@ -25,21 +27,25 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
-  patlab live /dev/video0 -t colors.toml -c cal.toml -s detector.toml \
-      --field experiments/fields/ssl-div-b.toml              # to 224.5.23.2:10006, as SSL-Vision
-  patlab live tests/data/golden/ssl-frame.png --loop --max-frames 100 --rate max \
-      -t tests/data/golden/ssl-frame.thresholds.toml -c tests/data/golden/ssl-frame.calibration.toml \
-      -s tests/data/golden/ssl-frame.detector.toml --send 127.0.0.1:10006 --stats
-  patlab live left.mp4 right.mp4 -t t.toml -c left.toml -c right.toml -s s.toml \
-      --send 127.0.0.1:10006 --log match.log --jsonl -
-
-SOURCE arguments: a V4L2 device (/dev/videoN; untested here, docs/live.md), a video file (.mp4
-.mkv .avi .mov .webm ...; FFmpeg), or frames as patlab detect reads them (files, a directory, a
-.txt list). Each SOURCE is a camera; -t, -c and -s are given once for all or once per SOURCE in
-order; camera ids are 0, 1, ... unless --camera-id says otherwise. SIGINT or SIGTERM stops the
-loop; the log is then closed whole. Exit status: 0 ok, 1 an output failed, 2 bad input.
-)";
+CommandHelp Help() {
+  return {
+      "patlab live SOURCE... -t FILE -c FILE [-s FILE] [options]",
+      "Runs the detector on camera frames as they come and sends the detections as SSL-Vision "
+      "packets (SSL_WrapperPacket protobuf messages: a detection frame per camera and frame, "
+      "the field geometry once a second) by UDP, to an SSL log and as JSON lines "
+      "(docs/live.md).\n\n"
+      "SOURCE arguments: a V4L2 device (/dev/videoN; untested here, docs/live.md), a video "
+      "file (.mp4 .mkv .avi .mov .webm ...; FFmpeg), or frames as patlab detect reads them "
+      "(files, a directory, a .txt list). Each SOURCE is a camera; -t, -c and -s are given "
+      "once for all or once per SOURCE in order, as files or shipped names; camera ids are "
+      "0, 1, ... unless --camera-id says otherwise. SIGINT or SIGTERM stops the loop; the log "
+      "is then closed whole. Exit status: 0 ok, 1 an output failed, 2 bad input.",
+      "  patlab live /dev/video0 -t colors.toml -c cal.toml -s detector.toml --field ssl-div-b\n"
+      "  patlab live frame.png --loop --max-frames 100 -t ssl-frame.thresholds \\\n"
+      "      -c ssl-frame.calibration -s ssl-frame.detector --send 127.0.0.1:10006 --stats\n"
+      "  patlab live left.mp4 right.mp4 -t t.toml -c left.toml -c right.toml -s s.toml \\\n"
+      "      --send 127.0.0.1:10006 --log match.log --jsonl -\n"};
+}
 
 struct LiveCommandOptions {
   std::vector<std::string> sources, thresholds, calibrations, settings;
@@ -51,33 +57,31 @@ struct LiveCommandOptions {
   bool loop = false, stats = false;
 };
 
-po::options_description Flags(LiveCommandOptions* o) {
-  po::options_description d("patlab live SOURCE... -t FILE -c FILE [-s FILE] [options]");
-  d.add_options()("help,h", "show this help")(
-      "thresholds,t", po::value(&o->thresholds)->composing(),
-      "colour thresholds (required; once, or once per SOURCE)")(
+void AddFlags(CommandLine* line, LiveCommandOptions* o) {
+  line->Group("cameras")("thresholds,t", po::value(&o->thresholds)->composing(),
+                         "colour thresholds (required; once, or once per SOURCE)")(
       "calibration,c", po::value(&o->calibrations)->composing(),
       "camera calibration TOML (required; once, or once per SOURCE)")(
       "settings,s", po::value(&o->settings)->composing(),
       "detector settings TOML (once, or once per SOURCE; without: balls only)")(
       "camera-id", po::value(&o->camera_ids),
       "comma-separated SSL camera ids, one per SOURCE (default 0, 1, ...)")(
-      "send", po::value(&o->send), "ADDRESS:PORT to send packets to (default 224.5.23.2:10006)")(
-      "ttl", po::value(&o->ttl), "multicast TTL, 0..255 (default 1: this network)")(
-      "iface", po::value(&o->iface), "multicast interface: its IPv4 address or name")(
-      "log", po::value(&o->log), "also write every packet to this SSL log file")(
-      "jsonl", po::value(&o->jsonl), "also write one JSON object per frame to FILE or - (stdout)")(
-      "field", po::value(&o->field),
-      "field TOML for the geometry packet, sent once a second (e.g. "
-      "experiments/fields/ssl-div-b.toml; without: no geometry)")(
-      "rate", po::value(&o->rate), "native (each source at its own pace, default) or max")(
+      "raw-size", po::value(&o->raw_size), "WIDTHxHEIGHT of raw UYVY frame files");
+  line->Group("pace")("rate", po::value(&o->rate),
+                      "native (each source at its own pace, default) or max")(
       "list-rate", po::value(&o->list_rate_hz), "frames per second of a frame list (default 60)")(
       "loop", po::bool_switch(&o->loop), "start a frame list again after its last frame")(
-      "max-frames", po::value(&o->max_frames), "stop each source after N frames (default 0: none)")(
-      "raw-size", po::value(&o->raw_size), "WIDTHxHEIGHT of raw UYVY frame files")(
+      "max-frames", po::value(&o->max_frames), "stop each source after N frames (default 0: none)");
+  line->Group("packets")("send", po::value(&o->send),
+                         "ADDRESS:PORT to send packets to (default 224.5.23.2:10006)")(
+      "ttl", po::value(&o->ttl), "multicast TTL, 0..255 (default 1: this network)")(
+      "iface", po::value(&o->iface), "multicast interface: its IPv4 address or name")(
+      "field", po::value(&o->field),
+      "field TOML or shipped name for the geometry packet, once a second (without: none)");
+  line->Group("outputs")("log", po::value(&o->log), "also write every packet to this SSL log file")(
+      "jsonl", po::value(&o->jsonl), "also write one JSON object per frame to FILE or - (stdout)")(
       "stats", po::bool_switch(&o->stats),
       "on stderr at the end: frames received/processed/dropped, latency p50/p99/max per stage");
-  return d;
 }
 
 // A per-camera file flag: once for every camera, or once per camera.
@@ -138,11 +142,13 @@ std::vector<live::LiveCamera> Cameras(const LiveCommandOptions& o) {
     live::LiveCamera camera;
     camera.source = o.sources[i];
     camera.camera_id = ids[i];
-    camera.thresholds = vision::LoadThresholds(PerCamera(o.thresholds, i, n, "--thresholds", true));
-    camera.calibration =
-        vision::LoadCalibration(PerCamera(o.calibrations, i, n, "--calibration", true));
-    const std::string settings = PerCamera(o.settings, i, n, "--settings", false);
+    camera.thresholds = vision::LoadThresholds(
+        FindData(PerCamera(o.thresholds, i, n, "--thresholds", true), io::DataKind::kSettings));
+    camera.calibration = vision::LoadCalibration(
+        FindData(PerCamera(o.calibrations, i, n, "--calibration", true), io::DataKind::kSettings));
+    std::string settings = PerCamera(o.settings, i, n, "--settings", false);
     if (!settings.empty()) {
+      settings = FindData(settings, io::DataKind::kSettings);
       camera.detector = detect::LoadDetectorSettings(settings);
       vision::ApplyFrameSettings(detect::LoadFrameSettings(settings), &camera.frame);
     }
@@ -188,18 +194,18 @@ live::LiveOptions LoopOptions(const LiveCommandOptions& o) {
 
 int RunLiveCommand(const std::vector<std::string>& args) {
   LiveCommandOptions o;
-  const po::options_description visible = Flags(&o);
+  CommandLine line("live", Help());
+  AddFlags(&line, &o);
+  line.Positional("source", po::value(&o.sources), -1);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "source", po::value(&o.sources), -1, kExamples, &vm)) {
-    return kExitOk;
-  }
+  if (!line.Parse(args, &vm)) return kExitOk;
   if (o.sources.empty())
     throw InputError("no SOURCE; expected 'patlab live SOURCE...' (see --help)");
   const live::LiveOptions options = LoopOptions(o);
   const live::UdpAddress address = live::ParseUdpAddress(o.send, "--send");
   const std::vector<live::LiveCamera> cameras = Cameras(o);
   live::LiveOutputs outputs;
-  if (!o.field.empty()) outputs.field = calib::LoadField(o.field);
+  if (!o.field.empty()) outputs.field = calib::LoadField(FindData(o.field, io::DataKind::kField));
   live::UdpSender sender(address, live::UdpSenderOptions{o.ttl, o.iface, true});
   outputs.sender = &sender;
   std::optional<live::SslLogWriter> log;
