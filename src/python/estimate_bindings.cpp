@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "patlab/core/error.h"
@@ -117,6 +118,11 @@ py::dict Predicted(const Pattern& pattern, const std::string& method, double sig
 void BindEstimate(py::module_& m) {
   m.def("_estimate", &Estimate, py::arg("pattern"), py::arg("observed").noconvert(false),
         py::arg("method"), py::arg("max_iterations"));
+  // Where the estimator reads `observed`: the array's own buffer when it is float64, whatever
+  // its strides (tests/python check that no copy is made).
+  m.def("_observed_address", [](const Observed& observed) {
+    return reinterpret_cast<uintptr_t>(observed.data());
+  });
   m.def("_crlb", &Crlb, py::arg("pattern"), py::arg("sigma_mm"), py::arg("noise"));
   m.def("_predicted", &Predicted, py::arg("pattern"), py::arg("method"), py::arg("sigma_mm"));
 }
