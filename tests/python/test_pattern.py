@@ -10,14 +10,15 @@ from conftest import cli_message
 BUTTERFLY_TOML = """
 name = "two"
 [[patch]]
-x_mm = 0.0
-y_mm = 0.0
-radius_mm = 25.0
+x = 0.0
+y = 0.0
+radius = 25.0
 role = "key"
 [[patch]]
-x_mm = 60.0
-y_mm = 0.0
-radius_mm = 20.0
+x = 60.0
+y = 0.0
+radius = 20.0
+role = "id"
 """
 
 
