@@ -65,8 +65,8 @@ sim::NoiseModel NoiseFromDict(const py::dict& noise) {
     if (field == std::end(fields)) {
       std::string expected;
       for (const auto& f : fields) expected += std::string(expected.empty() ? "" : ", ") + f.first;
-      throw InputError("noise has an unknown key '" + EscapeForMessage(name) + "'; expected one of " +
-                       expected);
+      throw InputError("noise has an unknown key '" + EscapeForMessage(name) +
+                       "'; expected one of " + expected);
     }
     *field->second = py::cast<double>(value);
   }

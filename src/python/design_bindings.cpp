@@ -5,9 +5,9 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
-#include "patlab/detect/codebook.h"
 #include "patlab/design/compare.h"
 #include "patlab/design/evaluate.h"
+#include "patlab/detect/codebook.h"
 #include "python/bindings.h"
 
 namespace patlab::python {
@@ -23,8 +23,7 @@ void CheckTolerance(double tolerance_mm) {
 }
 
 // The pattern's symmetry about its key and its codebook for the ID colours `colours` (names).
-py::dict Ids(const Pattern& pattern, const std::vector<std::string>& colours,
-             double tolerance_mm) {
+py::dict Ids(const Pattern& pattern, const std::vector<std::string>& colours, double tolerance_mm) {
   CheckTolerance(tolerance_mm);
   if (colours.empty()) throw InputError("colours is empty; expected at least one colour name");
   const detect::Symmetry symmetry = detect::FindSymmetry(pattern, tolerance_mm);
@@ -57,17 +56,29 @@ sim::EvaluateOptions EvaluateOptionsFrom(const py::dict& kwargs) {
   sim::EvaluateOptions o;
   for (const auto& [key, value] : kwargs) {
     const std::string name = py::str(key);
-    if (name == "sigma_mm") o.sigma_mm = value.cast<double>();
-    else if (name == "trials") o.trials = value.cast<int64_t>();
-    else if (name == "colour_counts") o.colour_counts = value.cast<std::vector<int>>();
-    else if (name == "tolerance_mm") o.tolerance_mm = value.cast<double>();
-    else if (name == "sigmas_mm") o.sigmas_mm = value.cast<std::vector<double>>();
-    else if (name == "frames") o.frames = value.cast<int64_t>();
-    else if (name == "id_colours") {
+    if (name == "sigma_mm") {
+      o.sigma_mm = value.cast<double>();
+    } else if (name == "trials") {
+      o.trials = value.cast<int64_t>();
+    } else if (name == "colour_counts") {
+      o.colour_counts = value.cast<std::vector<int>>();
+    } else if (name == "tolerance_mm") {
+      o.tolerance_mm = value.cast<double>();
+    } else if (name == "sigmas_mm") {
+      o.sigmas_mm = value.cast<std::vector<double>>();
+    } else if (name == "frames") {
+      o.frames = value.cast<int64_t>();
+    } else if (name == "id_colours") {
       if (!value.is_none()) o.id_colours = value.cast<int>();
-    } else if (name == "seed") o.seed = value.cast<uint64_t>();
-    else if (name == "threads") o.threads = value.cast<int>();
-    else throw InputError("unknown option '" + EscapeForMessage(name) + "'; expected sigma_mm, trials, colour_counts, tolerance_mm, sigmas_mm, frames, id_colours, seed or threads");
+    } else if (name == "seed") {
+      o.seed = value.cast<uint64_t>();
+    } else if (name == "threads") {
+      o.threads = value.cast<int>();
+    } else {
+      throw InputError("unknown option '" + EscapeForMessage(name) +
+                       "'; expected sigma_mm, trials, colour_counts, tolerance_mm, sigmas_mm, "
+                       "frames, id_colours, seed or threads");
+    }
   }
   CheckTolerance(o.tolerance_mm);
   o.progress = SignalCheck();

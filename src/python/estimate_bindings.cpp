@@ -54,10 +54,10 @@ Pose2 EstimateOne(const EstimateTask& task, const py::detail::unchecked_referenc
 py::tuple Estimate(const Pattern& pattern, const Observed& observed, const std::string& method,
                    int max_iterations) {
   if (observed.ndim() != 3 || observed.shape(1) != pattern.size() || observed.shape(2) != 2) {
-    throw InputError("observed has shape (" + std::to_string(observed.ndim() > 0 ? observed.shape(0) : 0) +
-                     ", ...) of " + std::to_string(observed.ndim()) +
-                     " dimensions; expected (trials, " + std::to_string(pattern.size()) +
-                     ", 2): the pattern's patches in its order, x and y in mm");
+    throw InputError(
+        "observed has shape (" + std::to_string(observed.ndim() > 0 ? observed.shape(0) : 0) +
+        ", ...) of " + std::to_string(observed.ndim()) + " dimensions; expected (trials, " +
+        std::to_string(pattern.size()) + ", 2): the pattern's patches in its order, x and y in mm");
   }
   const estimate::Model model = estimate::Model::FromPattern(pattern);
   EstimateTask task{&model, ParseName(method, estimate::kEstimatorNames, "method"), {}};
@@ -105,8 +105,9 @@ py::dict Crlb(const Pattern& pattern, double sigma_mm, const py::dict& noise) {
 
 // First-order predicted std of an estimator at patch sigma (mm), independent patch noise.
 py::dict Predicted(const Pattern& pattern, const std::string& method, double sigma_mm) {
-  const estimate::StdPerSigma p = estimate::PredictedStd(
-      estimate::Model::FromPattern(pattern), ParseName(method, estimate::kEstimatorNames, "method"));
+  const estimate::StdPerSigma p =
+      estimate::PredictedStd(estimate::Model::FromPattern(pattern),
+                             ParseName(method, estimate::kEstimatorNames, "method"));
   py::dict out;
   out["position_mm"] = p.position_per_axis * sigma_mm;
   out["theta_rad"] = p.theta * sigma_mm;
@@ -120,9 +121,8 @@ void BindEstimate(py::module_& m) {
         py::arg("method"), py::arg("max_iterations"));
   // Where the estimator reads `observed`: the array's own buffer when it is float64, whatever
   // its strides (tests/python check that no copy is made).
-  m.def("_observed_address", [](const Observed& observed) {
-    return reinterpret_cast<uintptr_t>(observed.data());
-  });
+  m.def("_observed_address",
+        [](const Observed& observed) { return reinterpret_cast<uintptr_t>(observed.data()); });
   m.def("_crlb", &Crlb, py::arg("pattern"), py::arg("sigma_mm"), py::arg("noise"));
   m.def("_predicted", &Predicted, py::arg("pattern"), py::arg("method"), py::arg("sigma_mm"));
 }

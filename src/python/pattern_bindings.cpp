@@ -75,8 +75,10 @@ void BindPattern(py::module_& m) {
       .def_property_readonly("shapes", &Shapes, "per patch: 'disc' or 'rectangle'")
       .def_property_readonly("colours", &Colours, "per patch: its fixed or team colour, or ''")
       .def_property_readonly("orientation_pairs", &Pairs, "(k, 2) patch indices (from, to)")
-      .def_property_readonly(
-          "centroid_mm", [](const Pattern& p) { return ArrayOf({p.Centroid().x(), p.Centroid().y()}, {2}); })
+      .def_property_readonly("centroid_mm",
+                             [](const Pattern& p) {
+                               return ArrayOf({p.Centroid().x(), p.Centroid().y()}, {2});
+                             })
       .def_property_readonly("spread_mm2", &Pattern::Spread,
                              "sum of squared distances of the patches from their centroid");
 }

@@ -82,7 +82,8 @@ py::dict SummaryColumns(const sim::Experiment& experiment, const sim::RunResult&
     for (const sim::EstimatorResult& r : p.estimators) {
       pattern.push_back(p.pattern);
       estimator.emplace_back(estimate::EstimatorName(r.estimator));
-      for (size_t c = 0; c < std::size(kColumns); ++c) numbers[c].push_back(kColumns[c].value(p, r));
+      for (size_t c = 0; c < std::size(kColumns); ++c)
+        numbers[c].push_back(kColumns[c].value(p, r));
     }
   }
   py::dict columns;
@@ -91,7 +92,8 @@ py::dict SummaryColumns(const sim::Experiment& experiment, const sim::RunResult&
   const py::ssize_t rows = static_cast<py::ssize_t>(pattern.size());
   for (size_t c = 0; c < std::size(kColumns); ++c) {
     columns[kColumns[c].name] = ArrayOf(numbers[c], {rows});
-    if (c == 1) columns["noise"] = std::vector<std::string>(pattern.size(), experiment.noise.Describe());
+    if (c == 1)
+      columns["noise"] = std::vector<std::string>(pattern.size(), experiment.noise.Describe());
   }
   return columns;
 }
@@ -113,11 +115,13 @@ py::array_t<double> TrialErrors(const sim::Experiment& experiment) {
     const estimate::Model model = estimate::Model::FromPattern(experiment.patterns[pi]);
     const sim::PointSetup setup = sim::MakePointSetup(experiment, model, pi, si);
     for (int64_t first = 0; first < experiment.trials; first += sim::kBatchSize) {
-      const int count = static_cast<int>(std::min<int64_t>(sim::kBatchSize, experiment.trials - first));
+      const int count =
+          static_cast<int>(std::min<int64_t>(sim::kBatchSize, experiment.trials - first));
       sim::BatchOutput batch;
       for (int e = 0; e < 4; ++e) {
         double* base = columns.data() + static_cast<size_t>(3 * e * sim::kBatchSize);
-        if (setup.run[e]) batch.errors[e] = {base, base + sim::kBatchSize, base + 2 * sim::kBatchSize};
+        if (setup.run[e])
+          batch.errors[e] = {base, base + sim::kBatchSize, base + 2 * sim::kBatchSize};
       }
       batch.ml_iterations = iterations.data();
       batch.ml_termination = termination.data();

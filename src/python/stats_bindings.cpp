@@ -3,10 +3,10 @@
 #include <optional>
 #include <span>
 
+#include "patlab/core/error.h"
 #include "patlab/stats/ks.h"
 #include "patlab/stats/summary.h"
 #include "patlab/stats/wilcoxon.h"
-#include "patlab/core/error.h"
 #include "python/bindings.h"
 
 namespace patlab::python {
