@@ -10,12 +10,12 @@ import os
 
 from . import _data, _patlab, stats
 from ._patlab import Pattern
-from ._results import (CompareResult, CrlbResult, EvaluationResult, IdsResult,
+from ._results import (CompareResult, CrlbResult, DetectResult, EvaluationResult, IdsResult,
                        SimulationResult)
 
 __version__ = _patlab.version
 __all__ = ["Pattern", "simulate", "simulate_experiment", "estimate", "crlb", "predicted_std",
-           "ids", "evaluate", "compare", "stats", "SimulationResult", "ESTIMATORS"]
+           "ids", "evaluate", "compare", "detect", "read_frame", "stats", "SimulationResult", "ESTIMATORS"]
 
 ESTIMATORS = ("fast", "ml", "lsq", "key")
 
@@ -140,6 +140,29 @@ def compare(patterns, sort_by="fast_theta_mrad_per_mm", **options):
     """`patlab compare`: the designs ranked by `sort_by`, one row per design (a DataFrame when
     pandas is installed); the options are evaluate's."""
     return CompareResult(*_patlab._compare(_as_patterns(patterns), sort_by, options))
+
+
+def read_frame(path):
+    """A PNG, JPEG or PPM frame as an (H, W, 3) uint8 RGB array, decoded as `patlab detect`
+    decodes it."""
+    path = os.fspath(path)
+    return _load_checked(_patlab._read_frame, path)
+
+
+def detect(image, thresholds, calibration, settings=None, name="frame", blobs=False):
+    """`patlab detect` on one frame: an (H, W, 3) uint8 RGB array (any strides; numpy makes no
+    copy, the library copies the pixels once into its own image), with the thresholds and
+    calibration files and, for detections, the detector settings (paths or shipped names).
+    Returns the CLI's CSV and JSON (`name` stands for the frame's path in them) and the table of
+    detections (or, with blobs=True or no settings, of the calibrated blobs)."""
+    files = [_data.find(f, "settings") if f is not None else "" for f in
+             (thresholds, calibration, settings)]
+    try:
+        return DetectResult(*_patlab._detect(image, *files, str(name), bool(blobs)))
+    except ValueError as error:
+        if any(f and not os.path.exists(f) for f in files):
+            raise FileNotFoundError(str(error)) from None
+        raise
 
 
 def _iterable(values):

@@ -6,7 +6,8 @@ package, and, for a package in a build tree, the source tree named by the build'
 import os
 import pathlib
 
-_FOLDERS = {"pattern": ("patterns",), "experiment": ("experiments", "experiments/camera-noise")}
+_FOLDERS = {"pattern": ("patterns",), "experiment": ("experiments", "experiments/camera-noise"),
+            "settings": ("settings", "experiments")}
 
 
 def _source_tree(build_dir):

@@ -121,3 +121,20 @@ class CompareResult:
 
     def __repr__(self):
         return f"<patlab.CompareResult: {len(self.json.get('rows', []))} designs>"
+
+
+class DetectResult:
+    """One frame through `patlab detect`: `table` (one row per detection, or per blob), `csv` and
+    `json` (dict) as the CLI writes them, `warnings` (the detector's, as it prints them)."""
+
+    def __init__(self, csv_text, json_text, warnings):
+        self.csv = csv_text
+        self.json = json.loads(json_text)
+        self.warnings = list(warnings)
+        self.table = _table_from_csv(csv_text)
+
+    def __len__(self):
+        return len(next(iter(self.table.values())) if isinstance(self.table, dict) else self.table)
+
+    def __repr__(self):
+        return f"<patlab.DetectResult: {len(self)} rows>"

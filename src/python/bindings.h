@@ -22,6 +22,7 @@ void BindSimulate(py::module_& m);
 void BindEstimate(py::module_& m);
 void BindStats(py::module_& m);
 void BindDesign(py::module_& m);
+void BindDetect(py::module_& m);
 
 // patlab::InputError becomes ValueError and EnvironmentError OSError, each with the message the
 // CLI prints; an interrupted run becomes the KeyboardInterrupt that Python's handler raised.

@@ -10,4 +10,5 @@ PYBIND11_MODULE(_patlab, m) {
   patlab::python::BindEstimate(m);
   patlab::python::BindStats(m);
   patlab::python::BindDesign(m);
+  patlab::python::BindDetect(m);
 }
