@@ -15,7 +15,7 @@ from ._results import (CompareResult, CrlbResult, DetectResult, EvaluationResult
 
 __version__ = _patlab.version
 __all__ = ["Pattern", "simulate", "simulate_experiment", "estimate", "crlb", "predicted_std",
-           "ids", "evaluate", "compare", "detect", "read_frame", "stats", "SimulationResult", "ESTIMATORS"]
+           "ids", "evaluate", "compare", "detect", "read_frame", "render", "stats", "SimulationResult", "ESTIMATORS"]
 
 ESTIMATORS = ("fast", "ml", "lsq", "key")
 
@@ -163,6 +163,13 @@ def detect(image, thresholds, calibration, settings=None, name="frame", blobs=Fa
         if any(f and not os.path.exists(f) for f in files):
             raise FileNotFoundError(str(error)) from None
         raise
+
+
+def render(scene):
+    """`patlab render SCENE` (without --camera): the scene file's frame as an (H, W, 3) uint8
+    array, and its true poses as the CSV `--truth` writes. Returns (image, truth_csv)."""
+    path = _data.find(scene, "settings")
+    return _load_checked(_patlab._render, path)
 
 
 def _iterable(values):

@@ -1,6 +1,6 @@
-// patlab.detect and patlab.read_frame: vision::FrameDetector, the call `patlab detect` makes, on
+// patlab.detect, read_frame and render: vision::FrameDetector, the call `patlab detect` makes, on
 // a numpy (H, W, 3) uint8 image read through the buffer protocol with any strides, and its
-// results as the CLI's CSV and JSON.
+// results as the CLI's CSV and JSON; the scene renderer of `patlab render`.
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -10,7 +10,9 @@
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
+#include "patlab/formats/scene_file.h"
 #include "patlab/formats/thresholds_file.h"
+#include "patlab/render/scene_render.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/frame_results.h"
@@ -74,12 +76,26 @@ py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
   return py::make_tuple(writer.Csv(), writer.Json(), frames.warnings());
 }
 
+py::array_t<uint8_t> ArrayOfImage(const vision::Image& rgb) {
+  py::array_t<uint8_t> out({rgb.height_px, rgb.width_px, 3});
+  std::memcpy(out.mutable_data(), rgb.data.data(), rgb.data.size());
+  return out;
+}
+
 // A PNG, JPEG or PPM frame as an (H, W, 3) uint8 array.
 py::array_t<uint8_t> ReadFrame(const std::string& path) {
-  const vision::Image image = vision::ToRgb(vision::ReadFrame(path));
-  py::array_t<uint8_t> out({image.height_px, image.width_px, 3});
-  std::memcpy(out.mutable_data(), image.data.data(), image.data.size());
-  return out;
+  return ArrayOfImage(vision::ToRgb(vision::ReadFrame(path)));
+}
+
+// `patlab render SCENE` without --camera: the scene file's frame, and its true poses as CSV.
+py::tuple Render(const std::string& path) {
+  const vision::SceneFile file = vision::LoadSceneFile(path);
+  vision::Image frame;
+  {
+    const py::gil_scoped_release nogil;
+    frame = vision::RenderScene(file.scene, file.calibration.camera);
+  }
+  return py::make_tuple(ArrayOfImage(frame), vision::TruthCsv(file.scene));
 }
 
 }  // namespace
@@ -88,6 +104,7 @@ void BindDetect(py::module_& m) {
   m.def("_detect", &Detect, py::arg("image"), py::arg("thresholds"), py::arg("calibration"),
         py::arg("settings"), py::arg("name"), py::arg("blobs"));
   m.def("_read_frame", &ReadFrame, py::arg("path"));
+  m.def("_render", &Render, py::arg("scene"));
   // The address the detector reads an image from: the buffer's own (tests/python check it).
   m.def("_image_address",
         [](const py::buffer& image) { return reinterpret_cast<uintptr_t>(RgbBuffer(image).ptr); });

@@ -70,3 +70,14 @@ def test_missing_thresholds_is_file_not_found(cli, frame, in_root, tmp_path):
     missing = str(tmp_path / "none" / "t.toml")
     with pytest.raises(FileNotFoundError):
         patlab.detect(frame, missing, FILES["calibration"])
+
+
+def test_render_is_the_clis_frame(cli, root, tmp_path, in_root):
+    """The golden scene rendered in Python: the pixels of `patlab render`'s PNG, the truth CSV."""
+    out, truth = tmp_path / "frame.png", tmp_path / "truth.csv"
+    run = cli("render", f"{GOLDEN}.toml", "--out", out, "--truth", truth)
+    assert run.returncode == 0, run.stderr
+    image, truth_csv = patlab.render(f"{GOLDEN}.toml")
+    assert image.dtype == np.uint8 and image.shape[2] == 3
+    np.testing.assert_array_equal(image, patlab.read_frame(out))
+    assert truth_csv == truth.read_text()
