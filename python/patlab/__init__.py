@@ -95,13 +95,16 @@ def simulate_experiment(path_or_name, trials=None, seed=None, sigmas=None, threa
                                                int(threads), bool(keep_errors)), path))
 
 
-def estimate(pattern, observed, method="fast", max_iterations=20, return_converged=False):
+def estimate(pattern, observed, method="fast", max_iterations=20, return_converged=False,
+             threads=0):
     """Poses (trials, 3) = (x mm, y mm, theta rad) from observed patches (trials, patches, 2),
     float64 in the pattern's patch order, any strides (read in place). method: "fast", "ml"
     (Newton from the fast pose, max_iterations steps), "lsq" or "key". Runs in parallel with
-    the GIL released. With return_converged (ml only) also a bool array per trial."""
+    the GIL released on `threads` threads (0: every core; the poses do not depend on it). With
+    return_converged (ml only) also a bool array per trial."""
     pattern, _ = _as_pattern(pattern)
-    poses, converged = _patlab._estimate(pattern, observed, method, int(max_iterations))
+    poses, converged = _patlab._estimate(pattern, observed, method, int(max_iterations),
+                                         int(threads))
     return (poses, converged) if return_converged else poses
 
 

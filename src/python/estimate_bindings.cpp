@@ -2,12 +2,14 @@
 // once, in parallel with the GIL released, and the bounds of estimate/bounds.h.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -51,13 +53,25 @@ Pose2 EstimateOne(const EstimateTask& task, const py::detail::unchecked_referenc
 }
 
 // Poses (trials, 3) and, for ml, whether each trial's Newton iteration converged.
+// "(10, 4, 2)": an array's shape as numpy prints it.
+std::string ShapeText(const py::array& a) {
+  std::string text = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) {
+    text += (d > 0 ? ", " : "") + std::to_string(a.shape(d));
+  }
+  return text + (a.ndim() == 1 ? ",)" : ")");
+}
+
 py::tuple Estimate(const Pattern& pattern, const Observed& observed, const std::string& method,
-                   int max_iterations) {
+                   int max_iterations, int threads) {
   if (observed.ndim() != 3 || observed.shape(1) != pattern.size() || observed.shape(2) != 2) {
-    throw InputError(
-        "observed has shape (" + std::to_string(observed.ndim() > 0 ? observed.shape(0) : 0) +
-        ", ...) of " + std::to_string(observed.ndim()) + " dimensions; expected (trials, " +
-        std::to_string(pattern.size()) + ", 2): the pattern's patches in its order, x and y in mm");
+    throw InputError("observed has shape " + ShapeText(observed) + "; expected (trials, " +
+                     std::to_string(pattern.size()) +
+                     ", 2): the pattern's patches in its order, x and y in mm");
+  }
+  if (threads < 0) {
+    throw InputError("threads is " + std::to_string(threads) +
+                     "; expected an integer >= 0 (0: every core)");
   }
   const estimate::Model model = estimate::Model::FromPattern(pattern);
   EstimateTask task{&model, ParseName(method, estimate::kEstimatorNames, "method"), {}};
@@ -71,16 +85,19 @@ py::tuple Estimate(const Pattern& pattern, const Observed& observed, const std::
   uint8_t* ok = converged.mutable_data();
   {
     const py::gil_scoped_release nogil;
-    tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, trials, 4096),
-                      [&](const tbb::blocked_range<py::ssize_t>& r) {
-                        for (py::ssize_t t = r.begin(); t < r.end(); ++t) {
-                          ok[t] = 1;
-                          const Pose2 p = EstimateOne(task, in, t, &ok[t]);
-                          out[3 * t] = p.x_mm;
-                          out[3 * t + 1] = p.y_mm;
-                          out[3 * t + 2] = p.theta_rad;
-                        }
-                      });
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, trials, 4096),
+                        [&](const tbb::blocked_range<py::ssize_t>& r) {
+                          for (py::ssize_t t = r.begin(); t < r.end(); ++t) {
+                            ok[t] = 1;
+                            const Pose2 p = EstimateOne(task, in, t, &ok[t]);
+                            out[3 * t] = p.x_mm;
+                            out[3 * t + 1] = p.y_mm;
+                            out[3 * t + 2] = p.theta_rad;
+                          }
+                        });
+    });
   }
   if (task.method != estimate::Estimator::kMl) return py::make_tuple(poses, py::none());
   return py::make_tuple(poses, converged.attr("astype")("bool"));
@@ -118,7 +135,7 @@ py::dict Predicted(const Pattern& pattern, const std::string& method, double sig
 
 void BindEstimate(py::module_& m) {
   m.def("_estimate", &Estimate, py::arg("pattern"), py::arg("observed").noconvert(false),
-        py::arg("method"), py::arg("max_iterations"));
+        py::arg("method"), py::arg("max_iterations"), py::arg("threads"));
   // Where the estimator reads `observed`: the array's own buffer when it is float64, whatever
   // its strides (tests/python check that no copy is made).
   m.def("_observed_address",

@@ -92,15 +92,19 @@ def test_threads_do_not_change_the_poses():
     pattern = patlab.Pattern.load("butterfly")
     v = observe(pattern, random_poses(50000), sigma=2.0)
     whole = patlab.estimate(pattern, v, method="ml")
+    np.testing.assert_array_equal(whole, patlab.estimate(pattern, v, method="ml", threads=1))
     pieces = np.concatenate([patlab.estimate(pattern, v[k:k + 7], method="ml")
                              for k in range(0, 50000, 7)])
     np.testing.assert_array_equal(whole, pieces)
 
 
-@pytest.mark.parametrize("shape", [(10, 4, 2), (10, 5, 3), (10, 10)])
-def test_wrong_shape_is_a_value_error(shape):
-    with pytest.raises(ValueError, match=r"expected \(trials, 5, 2\)"):
+@pytest.mark.parametrize("shape, text", [((10, 4, 2), "(10, 4, 2)"), ((10, 5, 3), "(10, 5, 3)"),
+                                         ((10,), "(10,)")])
+def test_wrong_shape_is_a_value_error(shape, text):
+    with pytest.raises(ValueError) as error:
         patlab.estimate("butterfly", np.zeros(shape))
+    assert str(error.value) == (f"observed has shape {text}; expected (trials, 5, 2): the "
+                                "pattern's patches in its order, x and y in mm")
 
 
 def test_unknown_method_is_a_value_error():
