@@ -75,7 +75,7 @@ def simulate(patterns, sigmas, trials=100000, estimators=("fast", "ml"), noise=N
     seed, the pattern's content, the noise model and sigma, so the rows equal `patlab simulate`'s
     for the same seed, whatever the threads. keep_errors: also return every trial's errors as
     result.errors, shape (points, estimators, trials, 3), float64 (x mm, y mm, theta rad):
-    24 bytes per trial and estimator, e.g. 100 MB for 15 points x 2 estimators x 1e5 trials.
+    24 bytes per trial and estimator, e.g. 72 MB for 15 points x 2 estimators x 1e5 trials.
     """
     designs = _as_patterns(patterns)
     raw = _patlab._simulate([p for p, _ in designs], [f for _, f in designs],
