@@ -22,10 +22,15 @@ run() {  # label, then camtrack flags
   for colour in colour white; do
     local extra=()
     [[ $colour == white ]] && extra=(--white)
+    # camtrack writes DIR/camtrack.csv; each run gets its own folder, renamed below.
     "$patlab" camtrack "$scene" --thresholds "$thr" --label "$label" "${extra[@]}" "$@" \
-      --out "$out/$label-$colour.csv" &
+      --out "$out/.$label-$colour" -q &
   done
   wait  # the two schemes side by side (2 cores)
+  for colour in colour white; do
+    mv "$out/.$label-$colour/camtrack.csv" "$out/$label-$colour.csv"
+    rmdir "$out/.$label-$colour"
+  done
 }
 run quantisation "${quiet[@]}" "${three[@]}"
 run colour "${quiet[@]}"

@@ -21,7 +21,12 @@ roll=$(awk -F, '$1 == "roll_mrad" {print $3 / 1000}' "$out/fit.csv")
 scene=experiments/camera-noise/track-scene.toml
 thr=experiments/camera-noise/track.thresholds.toml
 "$patlab" camtrack "$scene" --thresholds "$thr" --label fit-colour --detect \
-  --shift-jitter-mm "$shift" --roll-jitter-rad "$roll" --out "$out/camtrack-colour.csv" &
+  --shift-jitter-mm "$shift" --roll-jitter-rad "$roll" --out "$out/.camtrack-colour" &
 "$patlab" camtrack "$scene" --thresholds "$thr" --label fit-white --white \
-  --shift-jitter-mm "$shift" --roll-jitter-rad "$roll" --out "$out/camtrack-white.csv" &
+  --shift-jitter-mm "$shift" --roll-jitter-rad "$roll" --out "$out/.camtrack-white" &
 wait
+# camtrack writes DIR/camtrack.csv: the two runs' files under their result names.
+for scheme in colour white; do
+  mv "$out/.camtrack-$scheme/camtrack.csv" "$out/camtrack-$scheme.csv"
+  rmdir "$out/.camtrack-$scheme"
+done

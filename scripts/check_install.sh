@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs patlab into build/install and builds the consumer examples against the installed
-# package only, as another project would: examples/detect_blobs (patlab::detect with a settings
+# Installs patlab into build/install, runs README.md's example commands with the installed tool
+# in an empty folder, and builds the consumer examples against the installed package only, as
+# another project would: examples/detect_blobs (patlab::detect with a settings
 # file read by patlab::formats) must report, given the blobs `patlab detect --blobs` finds in the
 # golden frame, the same robots (team and ID) as `patlab detect` itself; examples/detect_in_code
 # links patlab::detect alone (its configure step fails if that reaches toml++, libpng, libjpeg or
@@ -24,12 +25,35 @@ if [[ $(wc -l <<< "$in_code") != 1 || $in_code != "blue "*" ok 0.00 0.00 0.0000"
   exit 1
 fi
 
+# README's examples, as a new user runs them: the installed tool, in an empty folder, shipped
+# data by name, relative -o folders that do not exist yet. The commands are read from README.md's
+# first example block (so they cannot drift from it), each line that starts with "patlab".
+readme_examples=$(awk '/^## One example per command/ {on = 1}
+  on && /^```sh/ {inside = 1; next}
+  inside && /^```/ {exit}
+  inside && /^patlab / {print}' README.md)
+[[ -n $readme_examples ]] || { echo "no examples found in README.md"; exit 1; }
+(
+  cd "$(mktemp -d)"
+  unset PATLAB_DATA
+  while IFS= read -r example; do
+    if ! eval "\"$prefix/bin/\"$example" > example.log 2>&1; then
+      cat example.log
+      echo "README example failed from an installed prefix in an empty folder: $example"
+      exit 1
+    fi
+  done <<< "$readme_examples"
+)
+echo "install ok: README.md's $(wc -l <<< "$readme_examples") example commands ran from the installed prefix"
+[[ -f $prefix/share/bash-completion/completions/patlab ]] ||
+  { echo "no bash completion installed"; exit 1; }
+
 golden=tests/data/golden
 frame_args=("$golden/ssl-frame.png" --thresholds "$golden/ssl-frame.thresholds.toml"
             --calibration "$golden/ssl-frame.calibration.toml")
-"$prefix/bin/patlab" detect "${frame_args[@]}" --blobs --out build/example/blobs.csv
+"$prefix/bin/patlab" detect "${frame_args[@]}" --blobs --out build/example
 "$prefix/bin/patlab" detect "${frame_args[@]}" --settings "$golden/ssl-frame.detector.toml" \
-  --out build/example/detections.csv
+  --out build/example
 build/example/detect_blobs "$golden/ssl-frame.detector.toml" build/example/blobs.csv \
   > build/example/example.txt
 # Columns: pattern team id status (the example prints poses from 2-decimal blobs, so poses are

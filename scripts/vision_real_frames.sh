@@ -22,20 +22,20 @@ trap 'rm -rf "$DBG"' EXIT
 # SSL standard pattern sheet (800x800 PNG, 1 px = 1 mm): 16 robots, IDs 0-15.
 "$PATLAB" detect "$F/ssl-standard-pattern-2010-16ids.png" -t "$D/ssl-standard-sheet.thresholds.toml" \
   -c "$D/ssl-standard-sheet.calibration.toml" -s experiments/detector.toml --debug "$DBG" \
-  --out "$R/ssl-standard-sheet.detections.csv"
+  > "$R/ssl-standard-sheet.detections.csv"
 
 # SSL field 2008 (780x580 JPEG): pre-2010 sector patterns (tests/data/vision/patterns/kiks-sectors.toml).
 "$PATLAB" detect "$F/ssl-field-2008.jpg" -t "$D/ssl-2008.thresholds.toml" \
   -c "$D/ssl-2008.calibration.toml" -s "$D/ssl-2008.detector.toml" --debug "$DBG" \
-  --out "$R/ssl-field-2008.detections.csv" --timing
+  > "$R/ssl-field-2008.detections.csv" --timing
 "$PATLAB" detect "$F/ssl-field-2008.jpg" -t "$D/ssl-2008.thresholds.toml" \
-  -c "$D/ssl-2008.calibration.toml" --blobs --out "$R/ssl-field-2008.blobs.csv"
+  -c "$D/ssl-2008.calibration.toml" --blobs > "$R/ssl-field-2008.blobs.csv"
 
 # VSS test frame (765x613 PNG): two VSS designs (tests/data/vision/patterns/vss-*.toml).
 "$PATLAB" detect "$F/vss-test-frame.png" -t "$D/vss.colors.txt" -c "$D/vss.calibration.toml" \
-  -s "$D/vss.detector.toml" --debug "$DBG" --out "$R/vss-test-frame.detections.csv" --timing
+  -s "$D/vss.detector.toml" --debug "$DBG" > "$R/vss-test-frame.detections.csv" --timing
 "$PATLAB" detect "$F/vss-test-frame.png" -t "$D/vss.colors.txt" -c "$D/vss.calibration.toml" \
-  --blobs --out "$R/vss-test-frame.blobs.csv"
+  --blobs > "$R/vss-test-frame.blobs.csv"
 
 # Settings that travel (docs/detect.md): every frame with the SHIPPED detector numbers -- the
 # [detector] and [frame] tables of experiments/detector.toml, unchanged (frames fit a pattern
@@ -58,7 +58,8 @@ wear() {  # settings file $1 with its [detector] and [frame] tables replaced by 
 }
 reject() { sed 's/^missing_patch = "fit"/missing_patch = "reject"/' "$1"; }
 without_residual() { awk '/^\[\[residual\]\]/{skip=1; next} /^\[/{skip=0} !skip' "$1"; }
-"$PATLAB" calibrate "$D/ssl-2008.calibration-input.toml" --out "$DBG/ssl-2008.fitted.toml" >/dev/null
+"$PATLAB" calibrate "$D/ssl-2008.calibration-input.toml" --out "$DBG/fitted" >/dev/null
+cp "$DBG/fitted/calibration.toml" "$DBG/ssl-2008.fitted.toml"
 wear "$D/ssl-2008.detector.toml" | sed 's|^pattern = "kiks-sectors"|pattern = "kiks-sectors-fitted"|' \
   >"$DBG/ssl-2008.toml"
 wear experiments/detector.toml >"$DBG/sheet.toml"
@@ -89,8 +90,8 @@ echo "frame,note,robots,residual_mm,found_with,id_with,found_without,id_without,
 for row in "${FRAMES[@]}"; do
   IFS='|' read -r frame robots thr cal set note <<<"$row"
   without_residual "$cal" >"$DBG/cal-without.toml"
-  "$PATLAB" detect "$F/$frame" -t "$thr" -c "$cal" -s "$set" --out "$DBG/with.csv"
-  "$PATLAB" detect "$F/$frame" -t "$thr" -c "$DBG/cal-without.toml" -s "$set" --out "$DBG/without.csv"
+  "$PATLAB" detect "$F/$frame" -t "$thr" -c "$cal" -s "$set" > "$DBG/with.csv"
+  "$PATLAB" detect "$F/$frame" -t "$thr" -c "$DBG/cal-without.toml" -s "$set" > "$DBG/without.csv"
   echo "$frame,${note:-shipped},$robots,$(residual_of "$cal"),$(count "$DBG/with.csv"),$(count "$DBG/without.csv"),$(ids "$DBG/with.csv")" \
     >>"$R/settings_travel.csv"
 done

@@ -20,8 +20,8 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab analyze track.csv --out results/analyze          # columns frame,subject,run,x_mm,y_mm,theta_rad
-  patlab analyze run1.csv run2.csv --subject-column robot --x-column x --y-column y --out /tmp/a
+  patlab analyze track.csv -o results/analyze    # columns frame,subject,run,x_mm,y_mm,theta_rad
+  patlab analyze run1.csv run2.csv --subject-column robot --x-column x --y-column y -o a
   patlab detect frames/ -t t.toml -c cal.toml -s det.toml --track track.csv && patlab analyze track.csv
   patlab analyze track.csv --truth truth.csv --correct-bias --along-travel
   /usr/bin/python3 scripts/plot_analyze.py results/analyze   # Figs. 2, 3, 6 as PNGs
@@ -51,7 +51,7 @@ po::options_description Flags(AnalyzeCliOptions* o) {
   // clang-format off
   visible.add_options()
       ("help,h", "show this help")
-      ("out", po::value(&o->out_dir), "output directory (default: results)")
+      ("out,o", po::value(&o->out_dir), "output directory, made if missing (default: results)")
       ("name", po::value(&o->name), "base name of the output files (default: analyze)")
       ("frame-column", po::value(&c.frame), "integer frame number column (default: frame)")
       ("subject-column", po::value(&c.subject), "subject (robot, patch) column (default: subject; absent: one subject)")
@@ -59,7 +59,7 @@ po::options_description Flags(AnalyzeCliOptions* o) {
       ("x-column", po::value(&c.x), "x column, mm (default: x_mm)")
       ("y-column", po::value(&c.y), "y column, mm (default: y_mm)")
       ("theta-column", po::value(&c.theta), "orientation column, rad (default: theta_rad; absent: none)")
-      ("sigma", po::value(&o->analysis.smoothing.sigma_samples), "smoothing kernel std in samples (default: 10, the paper's)")
+      ("smoothing-sigma", po::value(&o->analysis.smoothing.sigma_samples), "smoothing kernel std in samples (default: 10, the paper's)")
       ("lag", po::value(&o->analysis.lag), "lag of the reported autocorrelation (default: 1)")
       ("correct-bias", po::bool_switch(&o->analysis.correct_bias), "divide the estimated stds by the white-noise residual factor (0.974 for sigma 10)")
       ("along-travel", po::bool_switch(&o->analysis.along_travel), "errors along (x) and across (y) each segment's travel, not the file's axes")
@@ -117,7 +117,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
   AnalyzeCliOptions o;
   const po::options_description visible = Flags(&o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "track", po::value(&o.tracks), -1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, "track", po::value(&o.tracks), -1, kExamples, &vm,
+                      {{"--sigma", "--smoothing-sigma (samples)"}})) {
     return kExitOk;
   }
   if (o.tracks.empty()) {

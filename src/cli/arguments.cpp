@@ -5,6 +5,7 @@
 #include <optional>
 #include <sstream>
 
+#include "cli/command_line.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/io/csv.h"
@@ -13,20 +14,42 @@ namespace patlab::cli {
 
 namespace po = boost::program_options;
 
+namespace {
+
+// "patlab simulate EXPERIMENT [options]" from the options' caption, the first line they print
+// ("usage: patlab simulate ...", or "patlab simulate ...:").
+std::string UsageOf(const po::options_description& visible) {
+  std::ostringstream printed;
+  printed << visible;
+  std::string usage = printed.str().substr(0, printed.str().find('\n'));
+  if (usage.starts_with("usage: ")) usage.erase(0, 7);
+  if (usage.ends_with(":")) usage.pop_back();
+  return usage;
+}
+
+}  // namespace
+
 bool ParseArguments(const std::vector<std::string>& args, const po::options_description& visible,
                     const char* positional_name, po::value_semantic* positional, int max_positional,
-                    const char* examples, po::variables_map* vm) {
-  po::options_description all;
-  all.add(visible).add_options()(positional_name, positional);
-  po::positional_options_description positionals;
-  positionals.add(positional_name, max_positional);
-  po::store(po::command_line_parser(args).options(all).positional(positionals).run(), *vm);
-  po::notify(*vm);
-  if (vm->count("help")) {
-    std::cout << visible << "\n" << examples;
-    return false;
+                    const char* examples, po::variables_map* vm,
+                    const std::vector<std::pair<std::string, std::string>>& removed) {
+  const std::string usage = UsageOf(visible);
+  const size_t name_start = usage.find(' ') + 1;
+  const std::string command = usage.substr(name_start, usage.find(' ', name_start) - name_start);
+  // The examples text: "examples:" and the example lines, a blank line, then the description.
+  std::string text = examples;
+  if (text.starts_with("\n")) text.erase(0, 1);
+  if (text.starts_with("examples:\n")) text.erase(0, 10);
+  const size_t blank = text.find("\n\n");
+  CommandHelp help{usage, blank == std::string::npos ? "" : text.substr(blank + 2),
+                   blank == std::string::npos ? text : text.substr(0, blank + 1)};
+  CommandLine line(command, help);
+  for (const auto& option : visible.options()) {
+    if (option->long_name() != "help") line.Add("options", option);
   }
-  return true;
+  line.Positional(positional_name, positional, max_positional);
+  for (const auto& [flag, replacement] : removed) line.Removed(flag, replacement);
+  return line.Parse(args, vm);
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <boost/program_options.hpp>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace patlab::cli {
@@ -18,7 +19,8 @@ bool ParseArguments(const std::vector<std::string>& args,
                     const boost::program_options::options_description& visible,
                     const char* positional_name, boost::program_options::value_semantic* positional,
                     int max_positional, const char* examples,
-                    boost::program_options::variables_map* vm);
+                    boost::program_options::variables_map* vm,
+                    const std::vector<std::pair<std::string, std::string>>& removed = {});
 
 // A comma-separated list of numbers: "--sigmas has 'x'; expected <expected>".
 std::vector<double> ParseNumberList(const std::string& text, const std::string& flag,

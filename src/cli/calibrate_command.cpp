@@ -2,10 +2,12 @@
 // fitted pinhole camera (calib/calibrate.h), written as the calibration file `patlab detect`
 // reads, with the fit's residuals in px and mm on every plane.
 #include <boost/program_options.hpp>
+#include <filesystem>
 #include <iostream>
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
 #include "patlab/calib/calibrate.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -20,8 +22,8 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab calibrate tests/data/vision/ssl-2008.calibration-input.toml --out /tmp/ssl-2008.cal.toml
-  patlab calibrate my-camera.toml -o cal.toml --residuals residuals.csv
+  patlab calibrate ssl-2008.calibration-input -o cal    # -> cal/calibration.toml, cal/residuals.csv
+  patlab calibrate my-camera.toml -o cal
 
 INPUT is a calibration-input TOML file (docs/calibrate.md): the image size, [[point]] tables
 (a pixel and the field point it shows), [[line]] and [[circle]] tables (pixels anywhere on a known
@@ -52,19 +54,22 @@ std::string ResidualsCsv(const calib::CalibrationFit& fit) {
 
 int RunCalibrate(const std::vector<std::string>& args) {
   CalibrateCommandOptions o;
-  po::options_description visible("usage: patlab calibrate INPUT.toml --out CALIBRATION.toml");
-  visible.add_options()("help,h", "show this help")("out,o", po::value(&o.out),
-                                                    "the fitted calibration file, TOML (required)")(
-      "residuals", po::value(&o.residuals), "every pixel's residual, CSV");
+  po::options_description visible("usage: patlab calibrate INPUT -o DIR");
+  visible.add_options()("help,h", "show this help")(
+      "out,o", po::value(&o.out),
+      "output directory: DIR/calibration.toml and DIR/residuals.csv (required)");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "input", po::value(&o.input), 1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, "input", po::value(&o.input), 1, kExamples, &vm,
+                      {{"--residuals", "-o DIR (DIR/residuals.csv is always written)"}})) {
     return kExitOk;
   }
-  if (o.input.empty())
-    throw InputError("missing INPUT; expected 'patlab calibrate INPUT.toml --out CAL.toml'");
-  if (o.out.empty()) throw InputError("missing --out FILE; expected the calibration file to write");
+  if (o.input.empty()) throw InputError("missing INPUT; expected 'patlab calibrate INPUT -o DIR'");
+  if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
+  o.residuals = (std::filesystem::path(o.out) / "residuals.csv").string();
+  o.out = (std::filesystem::path(o.out) / "calibration.toml").string();
 
-  const calib::CalibrationInput input = calib::LoadCalibrationInput(o.input);
+  const calib::CalibrationInput input =
+      calib::LoadCalibrationInput(FindData(o.input, io::DataKind::kSettings));
   const calib::CalibrationFit fit = calib::FitCamera(input);
   std::vector<std::pair<std::string, std::string>> files = {
       {o.out, calib::CalibrationFileText(input, fit)}};

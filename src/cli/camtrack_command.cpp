@@ -3,10 +3,12 @@
 // render/camera_render.h and measured by the real-frame colour segmentation; per colour group the
 // std of the patch errors and the pattern's pose error, with 95% intervals, as CSV.
 #include <boost/program_options.hpp>
+#include <filesystem>
 #include <iostream>
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
 #include "patlab/analysis/camera_track.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -22,11 +24,9 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab camtrack experiments/camera-noise/track-scene.toml \
-      --thresholds experiments/camera-noise/track.thresholds.toml --label full --out /tmp/full.csv
-  patlab camtrack experiments/camera-noise/track-scene.toml \
-      --thresholds experiments/camera-noise/track.thresholds.toml --read-noise-levels 0 \
-      --shot-noise-gain 0 --no-bayer --chroma-444 --white --label quant --out /tmp/q.csv
+  patlab camtrack track-scene -t track.thresholds --label full -o full   # -> full/camtrack.csv
+  patlab camtrack track-scene -t track.thresholds --read-noise-levels 0 \
+      --shot-noise-gain 0 --no-bayer --chroma-444 --white --label quant -o quant
 
 The SCENE file (docs/render.md) gives the pattern, codebook, colours, render options and the
 calibration (the camera); its robots are ignored: one robot (--team, --id) rides the path.
@@ -49,8 +49,9 @@ struct Options {
 };
 
 void AddOptions(po::options_description* d, Options* o) {
-  d->add_options()("help,h", "show this help")("out,o", po::value(&o->out), "the CSV (required)")(
-      "thresholds", po::value(&o->thresholds), "colour thresholds TOML (required)")(
+  d->add_options()("help,h", "show this help")("out,o", po::value(&o->out),
+                                               "output directory: DIR/camtrack.csv (required)")(
+      "thresholds,t", po::value(&o->thresholds), "colour thresholds TOML (required)")(
       "label", po::value(&o->label), "the label column, default run")(
       "team", po::value(&o->team), "team (key) colour, default blue")(
       "id", po::value(&o->id), "the codebook ID worn, default 0")(
@@ -95,8 +96,7 @@ std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
 
 int RunCamtrack(const std::vector<std::string>& args) {
   Options o;
-  po::options_description visible(
-      "usage: patlab camtrack SCENE.toml --thresholds T.toml --out CSV");
+  po::options_description visible("usage: patlab camtrack SCENE -t THRESHOLDS -o DIR [options]");
   AddOptions(&visible, &o);
   po::variables_map vm;
   if (!ParseArguments(args, visible, "scene", po::value(&o.scene), 1, kExamples, &vm)) {
@@ -104,16 +104,18 @@ int RunCamtrack(const std::vector<std::string>& args) {
   }
   if (o.scene.empty()) throw InputError("missing SCENE; expected a scene TOML file");
   if (o.thresholds.empty()) throw InputError("missing --thresholds; expected a thresholds file");
-  if (o.out.empty()) throw InputError("missing --out FILE; expected the CSV to write");
+  if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
+  o.out = (std::filesystem::path(o.out) / "camtrack.csv").string();
   o.sensor.bayer = !o.no_bayer;
   o.sensor.chroma_422 = !o.chroma_444;
   o.sensor.seed = ParseSeed(o.sensor_seed, "--sensor-seed");
   o.jitter.seed = ParseSeed(o.jitter_seed, "--jitter-seed");
   o.track.seed = ParseSeed(o.seed, "--seed");
   io::CheckWritable({o.out});
-  vision::SceneFile file = vision::LoadSceneFile(o.scene);
+  vision::SceneFile file = vision::LoadSceneFile(FindData(o.scene, io::DataKind::kSettings));
   if (vm.count("blur-sigma-px")) file.scene.options.blur_sigma_px = o.blur_sigma_px;
-  const vision::Thresholds thresholds = vision::LoadThresholds(o.thresholds);
+  const vision::Thresholds thresholds =
+      vision::LoadThresholds(FindData(o.thresholds, io::DataKind::kSettings));
   const sim::CameraTrackResult r = sim::RunCameraTrack(file.scene, file.calibration, thresholds,
                                                        o.team, o.id, o.sensor, o.jitter, o.track);
   try {

@@ -10,6 +10,9 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
+#include "cli/data.h"
+#include "cli/progress.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -25,17 +28,17 @@ namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
   patlab compare ssl-standard butterfly triangle              # ranked table on stdout
-  patlab compare simple linear triangle --sort-by ids_2c --csv  # CSV on stdout
-  patlab compare a.toml b.toml --out results/ab               # compare.txt, .csv, .json in a dir
+  patlab compare simple linear triangle --sort-by ids_2c --format csv  # CSV on stdout
+  patlab compare a.toml b.toml -o ab                          # compare.txt, .csv, .json in ab/
   patlab compare ssl-standard butterfly --trials 100000 --frames 10000 --sigmas 2,3,3.5,4
 
-A DESIGN is a pattern file path or a name in --patterns-dir. Every design runs the work of
+A DESIGN is a pattern file or the name of a shipped pattern (or one in --patterns-dir). Every design runs the work of
 patlab evaluate with the same options and seed: first-order and Monte-Carlo accuracy against
 the Cramer-Rao bound, ID capacity (patlab ids), misidentification in whole frames, and the
 KS / Wilcoxon comparison of ML with fast; compare adds size, the smallest gap and how robust
 the rotation fix is, and ranks the designs by --sort-by (best first). docs/compare.md defines
-every column. The numbers are the same for any --threads. A progress bar goes to stderr when it
-is a terminal (not with -q). Figure: scripts/plot_compare.py DIR/compare.csv DIR/compare.png.
+every column. The numbers are the same for any --threads. Progress goes to stderr (not with
+-q). Figure: scripts/plot_compare.py DIR/compare.csv DIR/compare.png.
 Exit status: 0 ok, 1 cannot write --out, 2 bad input (nothing is written).
 )";
 
@@ -45,25 +48,17 @@ struct CompareFlags {
   std::string sigmas = "1,2,3,4";
   std::string seed = "1";
   std::string out_dir;
-  bool csv = false, json = false, quiet = false;
-  std::string patterns_dir = "patterns";
+  std::string format = "table";
+  bool quiet = false;
+  std::string patterns_dir;
 };
 
-void ProgressBar(int done, int total) {
-  const int width = 40;
-  const int filled = total > 0 ? done * width / total : width;
-  std::fprintf(stderr, "\r[%s%s] %d/%d runs", std::string(filled, '#').c_str(),
-               std::string(width - filled, ' ').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-  std::fflush(stderr);
-}
-
 sim::CompareOptions ParseCompareOptions(const CompareFlags& f, const po::variables_map& vm,
-                                        sim::CompareOptions o) {
+                                        sim::CompareOptions o, Progress* progress) {
   if (f.designs.empty()) {
     throw InputError("missing DESIGN; expected 'patlab compare DESIGN... [options]' (see --help)");
   }
-  if (f.csv && f.json) throw InputError("--csv and --json both given; expected at most one");
+  CheckFormat(f.format, "table|csv|json");
   CheckTolerance(o.evaluate.tolerance_mm);
   if (vm.count("id-colors")) o.evaluate.id_colours = vm["id-colors"].as<int>();
   o.evaluate.colour_counts = ParseColourCounts(f.colors);
@@ -71,7 +66,7 @@ sim::CompareOptions ParseCompareOptions(const CompareFlags& f, const po::variabl
       f.sigmas, "--sigmas", "strictly increasing finite numbers >= 0 (mm), e.g. 1,2,3,4");
   o.evaluate.seed = ParseSeed(f.seed, "--seed");
   sim::Validate(o);
-  if (!f.quiet && ::isatty(STDERR_FILENO)) o.progress = ProgressBar;
+  o.progress = progress->Callback();
   return o;
 }
 
@@ -86,7 +81,7 @@ int RunCompare(const std::vector<std::string>& args) {
        "the column that ranks the designs (docs/compare.md lists them)")
       ("sigma", po::value(&e.sigma_mm)->default_value(e.sigma_mm), "Monte-Carlo patch std (mm)")
       ("trials", po::value(&e.trials)->default_value(e.trials), "Monte-Carlo trials per design")
-      ("colors,c", po::value(&f.colors)->default_value(f.colors),
+      ("colors", po::value(&f.colors)->default_value(f.colors),
        "ID palette sizes of the ID capacity columns, comma-separated")
       ("tolerance", po::value(&e.tolerance_mm)->default_value(e.tolerance_mm),
        "symmetry tolerance (mm; patlab ids)")
@@ -97,25 +92,27 @@ int RunCompare(const std::vector<std::string>& args) {
        "file if present, else 2)")
       ("frames", po::value(&e.frames)->default_value(e.frames), "frames per sigma and design")
       ("seed", po::value(&f.seed)->default_value(f.seed), "seed (integer >= 0)")
-      ("threads", po::value(&e.threads)->default_value(e.threads),
+      ("threads,j", po::value(&e.threads)->default_value(e.threads),
        "worker threads (0 = all cores); the output does not depend on it")
-      ("csv", po::bool_switch(&f.csv), "print CSV instead of the table")
-      ("json", po::bool_switch(&f.json), "print JSON instead of the table")
-      ("out", po::value(&f.out_dir), "write compare.txt, compare.csv and compare.json to this directory")
-      ("quiet,q", po::bool_switch(&f.quiet), "no progress bar or timing line on stderr")
-      ("patterns-dir", po::value(&f.patterns_dir)->default_value(f.patterns_dir),
-       "where pattern names are looked up")
+      ("format", po::value(&f.format)->default_value(f.format), "what stdout gets: table, csv or json")
+      ("out,o", po::value(&f.out_dir), "write compare.txt, compare.csv and compare.json to this directory (then stdout gets only --format csv or json)")
+      ("quiet,q", po::bool_switch(&f.quiet), "no progress or timing line on stderr")
+      ("patterns-dir", po::value(&f.patterns_dir),
+       "a folder searched for pattern names before the shipped patterns")
       ("help,h", "show this help");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "design", po::value(&f.designs), -1, kExamples, &vm)) {
+  if (!ParseArguments(
+          args, visible, "design", po::value(&f.designs), -1, kExamples, &vm,
+          {{"--json", "--format json"}, {"--csv", "--format csv"}, {"-c", "--colors"}})) {
     return kExitOk;
   }
-  o = ParseCompareOptions(f, vm, o);
+  Progress progress("patlab compare", "runs", !f.quiet, StderrIsTerminal());
+  o = ParseCompareOptions(f, vm, o, &progress);
   // Every design is read before the first (long) run, so a typo fails at once.
   std::vector<std::pair<Pattern, std::string>> designs;
   for (const std::string& reference : f.designs) {
-    const std::string file = io::ResolvePatternPath(reference, f.patterns_dir);
+    const std::string file = FindPattern(reference, f.patterns_dir);
     designs.emplace_back(io::LoadPatternFile(file), file);
   }
   const sim::CompareResult result = sim::CompareDesigns(designs, o);
@@ -131,9 +128,9 @@ int RunCompare(const std::vector<std::string>& args) {
       return kExitFailure;
     }
   }
-  if (f.csv) {
+  if (f.format == "csv") {
     std::cout << sim::CompareCsv(result);
-  } else if (f.json) {
+  } else if (f.format == "json") {
     std::cout << sim::CompareJson(result);
   } else if (f.out_dir.empty()) {
     std::cout << text;

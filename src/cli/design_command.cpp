@@ -9,6 +9,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -50,13 +51,13 @@ struct DesignFlags {
   std::string seed = "1";
   std::string start;
   std::string out_dir;
-  std::string patterns_dir = "patterns";
+  std::string patterns_dir;
   bool quiet = false;
 };
 
 // The ID patch positions of a pattern file, as the first start.
 std::vector<Vec2> StartLayout(const std::string& reference, const std::string& patterns_dir) {
-  const std::string file = io::ResolvePatternPath(reference, patterns_dir);
+  const std::string file = FindPattern(reference, patterns_dir);
   const Pattern pattern = io::LoadPatternFile(file);
   std::vector<Vec2> layout;
   const Vec2 key = pattern.patches[pattern.key_index].position_mm;
@@ -182,10 +183,10 @@ void AddDesignFlags(po::options_description* d, DesignFlags* f, sim::DesignOptio
        "layouts evaluated per local search at most")
       ("seed", po::value(&f->seed)->default_value(f->seed), "seed of the random starts (integer >= 0)")
       ("start", po::value(&f->start), "a pattern file or name whose ID patches are the first start")
-      ("out", po::value(&f->out_dir), "directory to write <name>.toml and <name>.design.txt to")
-      ("quiet,q", po::bool_switch(&f->quiet), "no report on stdout")
-      ("patterns-dir", po::value(&f->patterns_dir)->default_value(f->patterns_dir),
-       "where pattern names are looked up")
+      ("out,o", po::value(&f->out_dir), "directory to write <name>.toml and <name>.design.txt to")
+      ("quiet,q", po::bool_switch(&f->quiet), "no report on stdout, no summary on stderr")
+      ("patterns-dir", po::value(&f->patterns_dir),
+       "a folder searched for pattern names before the shipped patterns")
       ("help,h", "show this help");
   // clang-format on
 }
@@ -209,11 +210,14 @@ int RunDesign(const std::vector<std::string>& args) {
   io::WriteFilesAtomic({{(dir / (o.name + ".toml")).string(), sim::DesignPatternFileText(result)},
                         {(dir / (o.name + ".design.txt")).string(), report}});
   if (!f.quiet) std::cout << report;
-  std::fputs(StringPrintf("patlab design: %lld layouts evaluated in %.2f s, %.0f evaluations/s\n",
-                          static_cast<long long>(result.evaluations), result.seconds,
-                          result.evaluations_per_second)
-                 .c_str(),
-             stdout);
+  if (!f.quiet) {
+    std::fputs(StringPrintf("patlab design: %lld layouts evaluated in %.2f s, %.0f evaluations/s
+",
+                            static_cast<long long>(result.evaluations), result.seconds,
+                            result.evaluations_per_second)
+                   .c_str(),
+               stderr);
+  }
   return kExitOk;
 }
 

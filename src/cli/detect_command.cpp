@@ -8,6 +8,8 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
+#include "cli/data.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/detect/settings.h"
@@ -27,11 +29,10 @@ namespace po = boost::program_options;
 namespace fs = std::filesystem;
 
 constexpr const char* kExamples = R"(examples:
-  patlab detect frames/ --thresholds tests/data/vision/ssl-2008.thresholds.toml \
-      --calibration tests/data/vision/ssl-2008.calibration.toml \
-      --settings tests/data/vision/ssl-2008.detector.toml --debug /tmp/debug
-  patlab detect cam.yuv --raw-size 780x580 --thresholds colors.txt --calibration cal.toml --blobs
-  patlab detect list.txt --thresholds t.toml --calibration cal.toml --format json --out det.json --timing
+  patlab detect frame/frame.png -t ssl-frame.thresholds -c ssl-frame.calibration \
+      -s ssl-frame.detector --debug debug       # after: patlab render ssl-frame -o frame
+  patlab detect cam.yuv --raw-size 780x580 -t colors.txt -c cal.toml --blobs
+  patlab detect list.txt -t t.toml -c cal.toml --format json -o det --timing   # det/detections.json
 
 FRAME arguments: PNG, JPEG or binary PPM files; raw UYVY files (.yuv .uyvy .raw, with --raw-size);
 directories (their frames, sorted by name); or a .txt/.list file naming one frame per line.
@@ -83,8 +84,10 @@ po::options_description Flags(DetectOptions* o) {
       "settings,s", po::value(&o->settings),
       "detector settings TOML (palette, patterns, options; e.g. experiments/detector.toml)")(
       "raw-size", po::value(&o->raw_size), "WIDTHxHEIGHT of raw UYVY frames (.yuv .uyvy .raw)")(
-      "format", po::value(&o->format), "csv (default) or json")(
-      "out,o", po::value(&o->out), "output file, written atomically (default: stdout)")(
+      "format", po::value(&o->format), "csv (default) or json: what stdout or --out gets")(
+      "out,o", po::value(&o->out),
+      "output directory: DIR/detections.csv (.json; blobs.csv with --blobs), atomically "
+      "(default: stdout)")(
       "track", po::value(&o->track),
       "also write the frames' robots as a track CSV for patlab analyze (needs --settings)")(
       "blobs", po::bool_switch(&o->blobs), "write the calibrated blobs instead of detections")(
@@ -112,8 +115,12 @@ void CheckRequired(DetectOptions* o) {
     throw InputError("missing --thresholds FILE; expected a colors.txt or thresholds TOML file");
   if (o->calibration.empty())
     throw InputError("missing --calibration FILE; expected a calibration TOML file");
-  if (o->format != "csv" && o->format != "json") {
-    throw InputError("--format is '" + o->format + "'; expected csv or json");
+  CheckFormat(o->format, "csv|json");
+  o->thresholds = FindData(o->thresholds, io::DataKind::kSettings);
+  o->calibration = FindData(o->calibration, io::DataKind::kSettings);
+  if (!o->settings.empty()) o->settings = FindData(o->settings, io::DataKind::kSettings);
+  if (!o->out.empty()) {
+    o->out = (fs::path(o->out) / ((o->blobs ? "blobs." : "detections.") + o->format)).string();
   }
   if (!o->raw_size.empty()) {
     ParseRawSize(o->raw_size, &o->frame.raw_width_px, &o->frame.raw_height_px);

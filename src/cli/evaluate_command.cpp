@@ -6,6 +6,9 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
+#include "cli/data.h"
+#include "cli/progress.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
 #include "patlab/design/evaluate.h"
@@ -19,12 +22,12 @@ namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
   patlab evaluate butterfly                          # the whole report, < 1 s on 2 cores
-  patlab evaluate triangle patterns/my-pattern.toml --json > report.json
+  patlab evaluate triangle my-pattern.toml --format json > report.json
   patlab evaluate butterfly --sigma 0.8 --trials 1000000
   patlab evaluate ssl-standard --sigmas 3,3.5,4,4.5 --frames 5000
   patlab evaluate butterfly --id-colors 4 --colors 2,3,4,5
 
-A PATTERN is a pattern file path or a name in --patterns-dir. The report has four parts:
+A PATTERN is a pattern file or the name of a shipped pattern (or one in --patterns-dir). The report has four parts:
  1. accuracy from the geometry: each estimator's first-order std per mm of patch sigma
     (position per axis, angle), the Cramer-Rao bound, efficiency = bound^2 / predicted^2;
  2. the same by Monte-Carlo at --sigma (isotropic Gaussian patch noise, random poses on the
@@ -44,8 +47,9 @@ struct EvaluateFlags {
   std::string colors = "2,3,4";
   std::string sigmas = "1,2,3,4";
   std::string seed = "1";
-  bool json = false;
-  std::string patterns_dir = "patterns";
+  std::string format = "table";
+  bool quiet = false;
+  std::string patterns_dir;
 };
 
 sim::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::variables_map& vm,
@@ -60,6 +64,7 @@ sim::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::vari
   o.sigmas_mm = ParseNumberList(f.sigmas, "--sigmas",
                                 "strictly increasing finite numbers >= 0 (mm), e.g. 1,2,3,4");
   o.seed = ParseSeed(f.seed, "--seed");
+  CheckFormat(f.format, "table|json");
   sim::Validate(o);
   return o;
 }
@@ -72,7 +77,7 @@ int RunEvaluate(const std::vector<std::string>& args) {
   visible.add_options()
       ("sigma", po::value(&o.sigma_mm)->default_value(o.sigma_mm), "Monte-Carlo patch std (mm) of part 2")
       ("trials", po::value(&o.trials)->default_value(o.trials), "Monte-Carlo trials of part 2")
-      ("colors,c", po::value(&f.colors)->default_value(f.colors),
+      ("colors", po::value(&f.colors)->default_value(f.colors),
        "ID palette sizes for the ID capacity of part 3, comma-separated")
       ("tolerance", po::value(&o.tolerance_mm)->default_value(o.tolerance_mm),
        "symmetry tolerance (mm) of parts 3 and 4 (paper section III: 10 mm)")
@@ -83,29 +88,35 @@ int RunEvaluate(const std::vector<std::string>& args) {
        "pattern file if present, else 2)")
       ("frames", po::value(&o.frames)->default_value(o.frames), "frames per sigma of part 4")
       ("seed", po::value(&f.seed)->default_value(f.seed), "seed (integer >= 0)")
-      ("threads", po::value(&o.threads)->default_value(o.threads),
+      ("threads,j", po::value(&o.threads)->default_value(o.threads),
        "worker threads (0 = all cores); the output does not depend on it")
-      ("json", po::bool_switch(&f.json), "print one JSON object instead of text")
-      ("patterns-dir", po::value(&f.patterns_dir)->default_value(f.patterns_dir),
-       "where pattern names are looked up")
+      ("format", po::value(&f.format)->default_value(f.format), "what stdout gets: table (text) or json")
+      ("quiet,q", po::bool_switch(&f.quiet), "no progress on stderr")
+      ("patterns-dir", po::value(&f.patterns_dir),
+       "a folder searched for pattern names before the shipped patterns")
       ("help,h", "show this help");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "pattern", po::value(&f.patterns), -1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, "pattern", po::value(&f.patterns), -1, kExamples, &vm,
+                      {{"--json", "--format json"}, {"-c", "--colors"}})) {
     return kExitOk;
   }
   o = ParseEvaluateOptions(f, vm, o);
   // Resolve every pattern before the first (long) run, so a typo fails at once.
   std::vector<std::pair<std::string, Pattern>> patterns;
   for (const std::string& reference : f.patterns) {
-    const std::string file = io::ResolvePatternPath(reference, f.patterns_dir);
+    const std::string file = FindPattern(reference, f.patterns_dir);
     patterns.emplace_back(file, io::LoadPatternFile(file));
   }
   std::vector<sim::EvaluationReport> reports;
   for (const auto& [file, pattern] : patterns) {
-    reports.push_back(sim::EvaluatePattern(pattern, file, o));
+    Progress progress("patlab evaluate " + pattern.name, "steps", !f.quiet, StderrIsTerminal());
+    sim::EvaluateOptions with_progress = o;
+    with_progress.progress = progress.Callback();
+    reports.push_back(sim::EvaluatePattern(pattern, file, with_progress));
+    reports.back().options.progress = nullptr;
   }
-  if (f.json) {
+  if (f.format == "json") {
     std::cout << sim::EvaluationJson(o, reports);
     return kExitOk;
   }

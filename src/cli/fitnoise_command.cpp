@@ -19,7 +19,7 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab fitnoise --out results/camera-noise/fit
+  patlab fitnoise -o results/camera-noise/fit
   patlab fitnoise --free independent_x_mm,independent_y_mm,common_mm,colour_mm \
       --id-radius-mm 58 --out /tmp/fit58
 

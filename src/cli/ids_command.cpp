@@ -7,6 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -24,9 +25,9 @@ constexpr const char* kExamples = R"(examples:
   patlab ids simple linear triangle butterfly              # Table II (2, 3, 4 colours)
   patlab ids ssl-standard --colors 2 --list                # the 16 colourings, slot by slot
   patlab ids butterfly --colors 2,3 --tolerance 30         # a tolerance past its asymmetry
-  patlab ids patterns/my-pattern.toml --colors 1,2,3,4,5
+  patlab ids my-pattern.toml --colors 1,2,3,4,5
 
-A PATTERN is a pattern file path or a name in --patterns-dir. Counting rule: a rotation about
+A PATTERN is a pattern file or the name of a shipped pattern (or one in --patterns-dir). Counting rule: a rotation about
 the key patch that maps every patch to within --tolerance mm of another cannot be decided by
 geometry, nor can any composition of such rotations (the group they generate); a colouring of
 the ID slots is an ID only if no rotation of that group maps it onto itself, and colourings the
@@ -41,7 +42,7 @@ struct IdsOptions {
   std::string colors = "2,3,4";
   double tolerance_mm = 10.0;
   bool list = false;
-  std::string patterns_dir = "patterns";
+  std::string patterns_dir;
 };
 
 struct Row {
@@ -105,16 +106,18 @@ std::string IdLists(const std::vector<Row>& rows, const std::vector<int>& colour
 int RunIds(const std::vector<std::string>& args) {
   IdsOptions o;
   po::options_description visible("usage: patlab ids PATTERN... [options]\n\noptions");
-  visible.add_options()("colors,c", po::value(&o.colors)->default_value(o.colors),
+  visible.add_options()("colors", po::value(&o.colors)->default_value(o.colors),
                         "ID palette sizes n (key colour excluded), comma-separated")(
       "tolerance", po::value(&o.tolerance_mm)->default_value(o.tolerance_mm),
       "distance (mm) below which two patch positions count as the same when finding the "
       "pattern's rotational symmetry (paper section III: 10 mm)")("list", po::bool_switch(&o.list),
                                                                   "also list every ID's colours")(
-      "patterns-dir", po::value(&o.patterns_dir)->default_value(o.patterns_dir),
-      "where pattern names are looked up")("help,h", "show this help");
+      "patterns-dir", po::value(&o.patterns_dir),
+      "a folder searched for pattern names before the shipped patterns")("help,h",
+                                                                         "show this help");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "pattern", po::value(&o.patterns), -1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, "pattern", po::value(&o.patterns), -1, kExamples, &vm,
+                      {{"-c", "--colors"}})) {
     return kExitOk;
   }
   if (o.patterns.empty()) {
@@ -134,7 +137,7 @@ int RunIds(const std::vector<std::string>& args) {
   std::vector<Row> rows;
   for (const std::string& reference : o.patterns) {
     Row row;
-    row.pattern = io::LoadPatternFile(io::ResolvePatternPath(reference, o.patterns_dir));
+    row.pattern = io::LoadPatternFile(FindPattern(reference, o.patterns_dir));
     row.symmetry = detect::FindSymmetry(row.pattern, o.tolerance_mm);
     rows.push_back(std::move(row));
   }

@@ -66,7 +66,7 @@ int RunImport(const std::vector<std::string>& args) {
   po::options_description visible("usage: patlab import SHEET... [options]\n\noptions");
   // clang-format off
   visible.add_options()
-      ("out", po::value(&f.out_dir)->default_value(f.out_dir), "directory for the pattern files")
+      ("out,o", po::value(&f.out_dir)->default_value(f.out_dir), "directory for the pattern files, made if missing")
       ("name", po::value(&f.name), "pattern name (one SHEET only; default: the file's stem)")
       ("cell-px", po::value(&f.options.cell_px)->default_value(f.options.cell_px), "cell size (px)")
       ("mm-per-px", po::value(&f.options.mm_per_px)->default_value(f.options.mm_per_px), "scale")

@@ -14,7 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "cli/build_info.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
+#include "cli/data.h"
+#include "patlab/core/close_names.h"
 #include "patlab/core/error.h"
 #include "patlab/io/atomic_file.h"
 
@@ -37,13 +41,83 @@ namespace {
 void PrintUsage(std::ostream& os) {
   os << "patlab " PATLAB_VERSION
         " - design, evaluate and detect planar colour-patch fiducial patterns\n\n"
-        "usage: patlab <command> [options]   (patlab <command> --help for details)\n\n"
+        "usage: patlab COMMAND [options]     patlab help COMMAND (= patlab COMMAND --help)\n"
+        "       patlab --version             patlab completion bash\n\n"
         "commands:\n";
   for (const Command& c : Commands()) {
     std::string name = c.name;
     name.resize(std::max<size_t>(name.size() + 2, 12), ' ');
     os << "  " << name << c.summary << "\n";
   }
+  os << "\nShipped patterns, experiments and settings are found by name (patlab simulate fig5);\n"
+        "docs/cli.md describes the options every command shares.\n";
+}
+
+void PrintVersion() {
+  std::cout << "patlab " PATLAB_VERSION "\ncompiler: " PATLAB_BUILD_COMPILER
+               "\nbuild type: " PATLAB_BUILD_TYPE "\nflags: " PATLAB_BUILD_FLAGS "\n";
+}
+
+std::vector<std::string> CommandNames() {
+  std::vector<std::string> names;
+  for (const Command& c : Commands()) names.emplace_back(c.name);
+  return names;
+}
+
+const Command* FindCommand(const std::string& name) {
+  for (const Command& c : Commands()) {
+    if (name == c.name) return &c;
+  }
+  return nullptr;
+}
+
+int UnknownCommand(const std::string& name) {
+  const std::vector<std::string> close = CloseNames(name, CommandNames());
+  std::cerr << "patlab: unknown command '" << patlab::EscapeForMessage(name) << "'"
+            << (close.empty() ? "" : " (did you mean " + QuotedAlternatives(close) + "?)")
+            << "; expected one of the commands that 'patlab help' lists\n";
+  return kExitBadInput;
+}
+
+// patlab completion bash: commands, each command's flags (collected by running each command's
+// CommandLine in collecting mode), and file names for everything else.
+int PrintCompletion(const std::vector<std::string>& args) {
+  if (args.size() != 1 || args[0] != "bash") {
+    std::cerr << "patlab completion: expected 'patlab completion bash'\n";
+    return kExitBadInput;
+  }
+  std::string commands = "help completion --help --version";
+  std::string cases;
+  for (const Command& c : Commands()) {
+    commands += std::string(" ") + c.name;
+    std::vector<std::string> flags;
+    CollectFlagsInto(&flags);
+    c.run({});
+    CollectFlagsInto(nullptr);
+    std::string list;
+    for (const std::string& f : flags) list += (list.empty() ? "" : " ") + f;
+    cases += std::string("    ") + c.name + ") flags=\"" + list + "\" ;;\n";
+  }
+  std::cout << "# bash completion for patlab (made by 'patlab completion bash')\n"
+               "_patlab() {\n"
+               "  local cur=${COMP_WORDS[COMP_CWORD]} flags=\"\"\n"
+               "  if (( COMP_CWORD == 1 )); then\n"
+               "    COMPREPLY=($(compgen -W \""
+            << commands
+            << "\" -- \"$cur\"))\n"
+               "    return\n"
+               "  fi\n"
+               "  case ${COMP_WORDS[1]} in\n"
+               "    help) COMPREPLY=($(compgen -W \""
+            << commands << "\" -- \"$cur\")); return ;;\n"
+            << cases
+            << "  esac\n"
+               "  if [[ $cur == -* ]]; then\n"
+               "    COMPREPLY=($(compgen -W \"$flags\" -- \"$cur\"))\n"
+               "  fi\n"
+               "}\n"
+               "complete -o default -o bashdefault -F _patlab patlab\n";
+  return kExitOk;
 }
 
 // A filesystem error is bad input when the path itself is at fault (too long, a symbolic link
@@ -112,6 +186,14 @@ bool ArgumentsAreUtf8(const std::string& name, int argc, char** argv) {
   return true;
 }
 
+// The folder of the running binary: /proc/self/exe, else argv[0]'s folder.
+std::string BinaryDir(const char* argv0) {
+  std::error_code ec;
+  std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) exe = std::filesystem::absolute(argv0, ec);
+  return exe.parent_path().string();
+}
+
 }  // namespace
 }  // namespace patlab::cli
 
@@ -122,27 +204,33 @@ int main(int argc, char** argv) {
   // Keep freed memory in the heap instead.
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  SetBinaryDir(BinaryDir(argv[0]));
   if (argc < 2) {
     PrintUsage(std::cerr);
     return kExitBadInput;
   }
-  const std::string name = argv[1];
-  if (name == "--help" || name == "-h" || name == "help") {
+  std::string name = argv[1];
+  std::vector<std::string> args(argv + 2, argv + argc);
+  if (name == "--help" || name == "-h" || (name == "help" && args.empty())) {
     PrintUsage(std::cout);
     return kExitOk;
   }
   if (name == "--version") {
-    std::cout << "patlab " PATLAB_VERSION "\n";
+    PrintVersion();
     return kExitOk;
   }
-  for (const Command& c : Commands()) {
-    if (name != c.name) continue;
-    if (!ArgumentsAreUtf8(name, argc, argv)) return kExitBadInput;
-    patlab::io::InstallSignalCleanup();
-    const std::vector<std::string> args(argv + 2, argv + argc);
-    return RunGuarded(c, args);
+  if (name == "completion") return PrintCompletion(args);
+  if (name == "help") {
+    if (args.size() != 1) {
+      std::cerr << "patlab help: expected 'patlab help COMMAND'\n";
+      return kExitBadInput;
+    }
+    name = args[0];
+    args = {"--help"};
   }
-  std::cerr << "patlab: unknown command '" << patlab::EscapeForMessage(name)
-            << "'; expected one of the commands that 'patlab --help' lists\n";
-  return kExitBadInput;
+  const Command* c = FindCommand(name);
+  if (c == nullptr) return UnknownCommand(name);
+  if (!ArgumentsAreUtf8(name, argc, argv)) return kExitBadInput;
+  patlab::io::InstallSignalCleanup();
+  return RunGuarded(*c, args);
 }

@@ -17,9 +17,9 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  for k in 1 2 3 4; do patlab simulate experiments/fig5.toml --shard $k/4 --out shards -q; done
-  patlab merge shards --out results        # -> results/fig5.csv, results/fig5.json
-  patlab merge shards/fig5.shard-*-of-4.json --out /tmp/merged --name fig5-merged
+  for k in 1 2 3 4; do patlab simulate fig5 --shard $k/4 -o shards -q; done
+  patlab merge shards -o results        # -> results/fig5.csv, results/fig5.json
+  patlab merge shards/fig5.shard-*-of-4.json -o merged --name fig5-merged
 
 Each SHARD is a shard file or a directory of them (*.shard-K-of-N.json). The shards must be the
 N shares of one experiment (same file, seed, grid, patterns, patlab version), each present once
@@ -40,7 +40,7 @@ int RunMerge(const std::vector<std::string>& args) {
   // clang-format off
   visible.add_options()
       ("help,h", "show this help")
-      ("out", po::value(&o.out_dir), "output directory (default: results)")
+      ("out,o", po::value(&o.out_dir), "output directory, made if missing (default: results)")
       ("name", po::value(&o.name), "output file base name (default: the one the shards record)")
       ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
   // clang-format on

@@ -1,10 +1,12 @@
 // patlab render: a scene file (robots wearing a pattern at known poses, a ball, a camera) ->
 // a synthetic camera frame (PNG) and its true poses (CSV), through render/scene_render.h.
 #include <boost/program_options.hpp>
+#include <filesystem>
 #include <iostream>
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
 #include "patlab/core/error.h"
 #include "patlab/formats/scene_file.h"
 #include "patlab/io/atomic_file.h"
@@ -19,18 +21,16 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab render tests/data/golden/ssl-frame.toml --out tests/data/golden/ssl-frame.png \
-      --truth /tmp/ssl-frame.truth.csv
-  patlab render my-scene.toml -o /tmp/frame.png && patlab detect /tmp/frame.png \
-      --thresholds t.toml --calibration cal.toml --settings detector.toml
-  patlab render tests/data/golden/ssl-frame.toml --camera --frame 7 -o /tmp/cam.uyvy
-  patlab render tests/data/golden/ssl-frame.toml --camera --read-noise-levels 0 \
-      --shot-noise-gain 0 --roll-jitter-rad 0.001 --window 200,140,120,90 -o /tmp/win.png
+  patlab render ssl-frame -o frame          # -> frame/frame.png, frame/truth.csv
+  patlab render my-scene.toml -o f && patlab detect f/frame.png -t t.toml -c cal.toml -s det.toml
+  patlab render ssl-frame --camera --frame 7 --uyvy -o cam   # -> cam/frame.uyvy
+  patlab render ssl-frame --camera --read-noise-levels 0 \
+      --shot-noise-gain 0 --roll-jitter-rad 0.001 --window 200,140,120,90 -o win
 
 --camera renders through the colour camera (render/camera_render.h, docs/render.md): per-frame
 camera jitter, exposure, RGGB sensor noise, bilinear demosaicing and YUV 4:2:2; frame F is the
-same image in any run. Its frame is written as raw UYVY for .yuv/.uyvy/.raw (what patlab
-detect --raw-size reads), else as PNG (the UYVY frame converted to RGB).
+same image in any run. Its frame is written as raw UYVY with --uyvy (what patlab detect
+--raw-size reads), else as PNG (the UYVY frame converted to RGB).
 
 A SCENE file names a pinhole calibration (its image_size_px is the frame size), a pattern and
 its codebook, the RGB of every colour, the render options (blur, noise, seed), one [[robot]]
@@ -47,7 +47,7 @@ struct RenderCommandOptions {
   uint64_t frame = 0;
   std::string window;  // X0,Y0,WIDTH,HEIGHT
   std::string sensor_seed = "1", jitter_seed = "1";
-  bool no_bayer = false, chroma_444 = false;
+  bool no_bayer = false, chroma_444 = false, uyvy = false;
   vision::CameraSensorOptions sensor;
   vision::CameraJitter jitter;
 };
@@ -100,7 +100,7 @@ std::string RenderCamera(const RenderCommandOptions& o, const vision::SceneFile&
   }
   *shown = vision::RenderCameraWindow(file.scene, file.calibration.camera, sensor, o.frame, window,
                                       jitter);
-  if (vision::IsRawFrameFile(o.out)) {
+  if (o.uyvy) {
     return {shown->data.begin(), shown->data.end()};
   }
   const std::vector<uint8_t> png = vision::EncodePng(vision::ToRgb(*shown));
@@ -109,23 +109,28 @@ std::string RenderCamera(const RenderCommandOptions& o, const vision::SceneFile&
 
 int RunRender(const std::vector<std::string>& args) {
   RenderCommandOptions o;
-  po::options_description visible("usage: patlab render SCENE.toml --out FRAME.png [options]");
-  visible.add_options()("help,h", "show this help")("out,o", po::value(&o.out),
-                                                    "the rendered frame, PNG (required)")(
-      "truth", po::value(&o.truth), "the true poses, CSV (team,id,x_mm,y_mm,theta_rad)");
+  po::options_description visible("usage: patlab render SCENE -o DIR [options]");
+  visible.add_options()("help,h", "show this help")(
+      "out,o", po::value(&o.out),
+      "output directory: DIR/frame.png (or frame.uyvy) and DIR/truth.csv (required)")(
+      "uyvy", po::bool_switch(&o.uyvy),
+      "with --camera: write the raw UYVY frame DIR/frame.uyvy instead of frame.png");
   AddCameraOptions(&visible, &o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "scene", po::value(&o.scene), 1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, "scene", po::value(&o.scene), 1, kExamples, &vm,
+                      {{"--truth", "-o DIR (DIR/truth.csv is always written)"}})) {
     return kExitOk;
   }
   if (o.scene.empty()) {
-    throw InputError("missing SCENE; expected 'patlab render SCENE.toml --out FRAME.png'");
+    throw InputError("missing SCENE; expected 'patlab render SCENE -o DIR'");
   }
-  if (o.out.empty()) throw InputError("missing --out FILE; expected the PNG file to write");
-
-  io::CheckWritable(o.truth.empty() ? std::vector<std::string>{o.out}
-                                    : std::vector<std::string>{o.out, o.truth});
-  const vision::SceneFile file = vision::LoadSceneFile(o.scene);
+  if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
+  if (o.uyvy && !o.camera) throw InputError("--uyvy without --camera; expected --camera with it");
+  const std::filesystem::path dir(o.out);
+  o.out = (dir / (o.uyvy ? "frame.uyvy" : "frame.png")).string();
+  o.truth = (dir / "truth.csv").string();
+  io::CheckWritable({o.out, o.truth});
+  const vision::SceneFile file = vision::LoadSceneFile(FindData(o.scene, io::DataKind::kSettings));
   vision::Image frame;
   std::string bytes;
   if (o.camera) {
@@ -143,8 +148,8 @@ int RunRender(const std::vector<std::string>& args) {
     const std::vector<uint8_t> png = vision::EncodePng(frame);
     bytes.assign(png.begin(), png.end());
   }
-  std::vector<std::pair<std::string, std::string>> files = {{o.out, bytes}};
-  if (!o.truth.empty()) files.emplace_back(o.truth, vision::TruthCsv(file.scene));
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {o.out, bytes}, {o.truth, vision::TruthCsv(file.scene)}};
   try {
     io::WriteFilesAtomic(files);
   } catch (const InputError& e) {
@@ -153,7 +158,7 @@ int RunRender(const std::vector<std::string>& args) {
   }
   std::cout << "wrote " << o.out << " (" << frame.width_px << "x" << frame.height_px << " px, "
             << file.scene.robots.size() << " robots" << (file.scene.ball_mm ? ", a ball" : "")
-            << ")" << (o.truth.empty() ? "" : " and " + o.truth) << "\n";
+            << ") and " << o.truth << "\n";
   return kExitOk;
 }
 

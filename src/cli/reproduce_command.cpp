@@ -136,9 +136,9 @@ int RunReproduce(const std::vector<std::string>& args) {
       ("help,h", "show this help")
       ("check", po::bool_switch(&o.check), "write nothing; fail if a number leaves its tolerance or a file differs from the committed one")
       ("root", po::value(&o.root), "the checkout (experiments/, patterns/; default: .)")
-      ("out", po::value(&o.out_dir), "results directory (default: results)")
+      ("out,o", po::value(&o.out_dir), "results directory, made if missing (default: results)")
       ("no-figures", po::bool_switch(&o.no_figures), "do not draw the PNG figures (no python3 needed)")
-      ("threads", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
+      ("threads,j", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
       ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
   // clang-format on
   po::variables_map vm;

@@ -1,6 +1,4 @@
 // patlab simulate: the Monte-Carlo engine (the main job).
-#include <unistd.h>
-
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +7,8 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
+#include "cli/progress.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/formats/experiment_file.h"
@@ -26,14 +26,16 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab simulate experiments/fig5.toml                  # the paper's Fig. 5 -> results/fig5.*
-  patlab simulate experiments/fig5.toml --trials 10000 --threads 1 --out /tmp/quick
-  patlab simulate experiments/fig5.toml --sigmas 0.5,1,2 --common-sigma-ratio 0.5
-  patlab simulate experiments/fig5.toml --replay 3,41    # re-run trial 41 of data point 3
-  patlab simulate experiments/id_confusion.toml          # whole frames through the detector
-  patlab simulate experiments/id_confusion.toml --replay 7,12  # frame 12 of point 7: blobs, detections
-  patlab simulate experiments/fig5.toml --shard 2/8 --out shards  # share 2 of 8; then patlab merge
+  patlab simulate fig5                           # the paper's Fig. 5 -> results/fig5.*
+  patlab simulate fig5 --trials 10000 -j 1 -o quick
+  patlab simulate fig5 --sigmas 0.5,1,2 --common-sigma-ratio 0.5
+  patlab simulate fig5 --replay 3,41             # re-run trial 41 of data point 3
+  patlab simulate id_confusion                   # whole frames through the detector
+  patlab simulate id_confusion --replay 7,12     # frame 12 of point 7: blobs, detections
+  patlab simulate fig5 --shard 2/8 -o shards     # share 2 of 8; then patlab merge
+  patlab simulate my-experiment.toml -o results/mine
 
+An EXPERIMENT is an experiment file or the name of a shipped one (fig5, id_confusion, table1...).
 Writes <out>/<name>.csv (one row per pattern x estimator x sigma; with correspondence = "detect"
 one row per pattern x false-blob rate x sigma) and <out>/<name>.json (the manifest: inputs,
 seed, version, timings), both atomically. In detect mode --trials sets the frames per point.
@@ -58,15 +60,6 @@ struct SimulateOptions {
          outlier_sigma_ratio = -1;
   bool quiet = false;
 };
-
-void ProgressBar(int done, int total) {
-  const int width = 40;
-  const int filled = total > 0 ? done * width / total : width;
-  std::fprintf(stderr, "\r[%s%s] %d/%d points", std::string(filled, '#').c_str(),
-               std::string(width - filled, ' ').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-  std::fflush(stderr);
-}
 
 // The result files of a run: <out>/<base>.csv and .json, and the command line for a shard's record.
 struct OutputFiles {
@@ -120,12 +113,12 @@ std::vector<std::string> TargetPaths(const sim::Experiment& experiment, const Si
   return {ShardPath(experiment, o, run_options.shard)};
 }
 
-// Threads, and a progress bar on stderr when it is a terminal and -q was not given.
-sim::RunOptions RunOptionsFor(const SimulateOptions& o) {
+// Threads, and progress on stderr unless -q was given.
+sim::RunOptions RunOptionsFor(const SimulateOptions& o, Progress* progress) {
   sim::RunOptions run_options;
   run_options.threads = o.threads;
   if (!o.shard.empty()) run_options.shard = sim::ParseShardSpec(o.shard, "--shard");
-  if (!o.quiet && ::isatty(STDERR_FILENO)) run_options.progress = ProgressBar;
+  run_options.progress = progress->Callback();
   return run_options;
 }
 
@@ -138,7 +131,8 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
     return kExitOk;
   }
   const OutputFiles files = Outputs(experiment, o, args);
-  const sim::RunOptions run_options = RunOptionsFor(o);
+  Progress progress("patlab simulate", "blocks", !o.quiet, StderrIsTerminal());
+  const sim::RunOptions run_options = RunOptionsFor(o, &progress);
   io::CheckWritable(TargetPaths(experiment, o, files, run_options));
   const sim::DetectRunResult result = sim::RunDetectExperiment(experiment, run_options);
   if (!o.shard.empty()) {
@@ -165,7 +159,8 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
 
 // The experiment file with the command line's overrides applied and checked.
 sim::Experiment LoadWithOverrides(const SimulateOptions& o, const po::variables_map& vm) {
-  sim::Experiment experiment = sim::LoadExperimentFile(o.experiment);
+  sim::Experiment experiment =
+      sim::LoadExperimentFile(FindData(o.experiment, io::DataKind::kExperiment));
   sim::Overrides overrides;
   if (vm.count("trials")) overrides.trials = o.trials;
   if (!o.seed.empty()) overrides.seed = ParseSeed(o.seed, "--seed");
@@ -195,7 +190,8 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
   }
 
   const OutputFiles files = Outputs(experiment, o, args);
-  const sim::RunOptions run_options = RunOptionsFor(o);
+  Progress progress("patlab simulate", "blocks", !o.quiet, StderrIsTerminal());
+  const sim::RunOptions run_options = RunOptionsFor(o, &progress);
   io::CheckWritable(TargetPaths(experiment, o, files, run_options));
   const sim::RunResult result = sim::RunExperiment(experiment, run_options);
   if (!o.shard.empty()) {
@@ -223,14 +219,14 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
 
 int RunSimulate(const std::vector<std::string>& args) {
   SimulateOptions o;
-  po::options_description visible("patlab simulate EXPERIMENT.toml [options]");
+  po::options_description visible("patlab simulate EXPERIMENT [options]");
   // clang-format off
   visible.add_options()
       ("help,h", "show this help")
       ("trials", po::value(&o.trials), "trials per data point (overrides the file; >= 2); frames in detect mode")
       ("seed", po::value(&o.seed), "experiment seed (overrides the file; integer >= 0)")
-      ("threads", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
-      ("out", po::value(&o.out_dir), "output directory (default: results)")
+      ("threads,j", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
+      ("out,o", po::value(&o.out_dir), "output directory, made if missing (default: results)")
       ("name", po::value(&o.name), "output file base name (default: the experiment's name)")
       ("sigmas", po::value(&o.sigmas), "patch sigma grid in mm, comma-separated (overrides [sigma])")
       ("sigma-y-ratio", po::value(&o.sigma_y_ratio), "noise: sigma_y / sigma_x (anisotropic)")
@@ -239,15 +235,14 @@ int RunSimulate(const std::vector<std::string>& args) {
       ("outlier-sigma-ratio", po::value(&o.outlier_sigma_ratio), "noise: outlier std / sigma")
       ("replay", po::value(&o.replay), "POINT,TRIAL: re-run one trial and print every estimate (detect mode: POINT,FRAME)")
       ("shard", po::value(&o.shard), "K/N: run only share K of N of the points, write <out>/<name>.shard-K-of-N.json (patlab merge joins them)")
-      ("quiet,q", po::bool_switch(&o.quiet), "no progress bar or summary on stderr");
+      ("quiet,q", po::bool_switch(&o.quiet), "no progress or summary on stderr");
   // clang-format on
   po::variables_map vm;
   if (!ParseArguments(args, visible, "experiment", po::value(&o.experiment), 1, kExamples, &vm)) {
     return kExitOk;
   }
   if (o.experiment.empty()) {
-    throw InputError(
-        "missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see --help)");
+    throw InputError("missing EXPERIMENT; expected 'patlab simulate EXPERIMENT' (see --help)");
   }
   CheckThreads(o.threads);
   o.name_given = vm.count("name") > 0;

@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "patlab/core/enum_names.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -20,9 +22,14 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kUsage = R"(usage: patlab stats <test> FILE... [options]
+constexpr const char* kExamples = R"(examples:
+  patlab stats ks fast_theta.txt ml_theta.txt
+  patlab stats ks fast.csv ml.csv --column theta_err --alternative less --method exact --format json
+  patlab stats wilcoxon abs_err_40mm.txt abs_err_60mm.txt --alternative greater
+  patlab stats wilcoxon a.csv b.csv --column x --zero-method zsplit --correction
+  patlab stats summary errors.txt --level 0.99
 
-tests:
+TEST is one of:
   ks A B          two-sample Kolmogorov-Smirnov test (do A and B come from one distribution?)
   wilcoxon A B    Wilcoxon signed-rank test on the pairs (A[i], B[i]), differences A - B
   summary A       mean and standard deviation with confidence intervals
@@ -30,15 +37,6 @@ tests:
 Each FILE holds one number a line ('#' comments and blank lines are skipped), or is a CSV file
 with a header row when --column NAME is given (the same column is read from every file).
 NaN, infinity, non-numeric cells and empty inputs are errors (file:line), exit status 2.
-)";
-
-constexpr const char* kExamples = R"(
-examples:
-  patlab stats ks fast_theta.txt ml_theta.txt
-  patlab stats ks fast.csv ml.csv --column theta_err --alternative less --method exact --json
-  patlab stats wilcoxon abs_err_40mm.txt abs_err_60mm.txt --alternative greater
-  patlab stats wilcoxon a.csv b.csv --column x --zero-method zsplit --correction
-  patlab stats summary errors.txt --level 0.99
 )";
 
 struct StatsCliOptions {
@@ -50,7 +48,7 @@ struct StatsCliOptions {
   std::string zero_method = "wilcox";
   bool correction = false;
   double level = 0.95;
-  bool json = false;
+  std::string format = "table";
 };
 
 void PrintRows(const std::vector<std::pair<std::string, std::string>>& rows) {
@@ -96,7 +94,7 @@ int RunKs(const StatsCliOptions& o) {
   const std::vector<double> a = Load(o.files[0], o);
   const std::vector<double> b = Load(o.files[1], o);
   const stats::KsResult r = OnFiles(o, [&] { return stats::KsTwoSample(a, b, options); });
-  if (o.json) {
+  if (o.format == "json") {
     nlohmann::json j = {{"test", "ks"},
                         {"alternative", stats::AlternativeName(options.alternative)},
                         {"method", stats::KsMethodName(r.method_used)},
@@ -137,7 +135,7 @@ int RunWilcoxon(const StatsCliOptions& o) {
   }
   const stats::WilcoxonResult r =
       OnFiles(o, [&] { return stats::WilcoxonSignedRank(a, b, options); });
-  if (o.json) {
+  if (o.format == "json") {
     nlohmann::json j = {{"test", "wilcoxon"},
                         {"alternative", stats::AlternativeName(options.alternative)},
                         {"method", stats::WilcoxonMethodName(r.method_used)},
@@ -181,7 +179,7 @@ int RunSummary(const StatsCliOptions& o) {
   const std::vector<double> a = Load(o.files[0], o);
   const stats::StdWithCi s = OnFiles(o, [&] { return stats::StdWithConfidence(a, o.level); });
   const stats::MeanWithCi m = OnFiles(o, [&] { return stats::MeanWithConfidence(a, o.level); });
-  if (o.json) {
+  if (o.format == "json") {
     nlohmann::json j = {{"test", "summary"},     {"n", s.n},
                         {"level", s.level},      {"mean", m.mean},
                         {"mean_lower", m.lower}, {"mean_upper", m.upper},
@@ -201,33 +199,36 @@ int RunSummary(const StatsCliOptions& o) {
 
 int RunStats(const std::vector<std::string>& args) {
   StatsCliOptions o;
-  po::options_description visible("options");
-  visible.add_options()("help,h", "show this help")(
-      "column", po::value(&o.column), "read column NAME of CSV files with a header row")(
-      "alternative", po::value(&o.alternative)->default_value(o.alternative),
-      "two-sided | less | greater (ks: less = CDF of A below B's somewhere; wilcoxon: less = "
-      "A - B tends to be negative)")("method", po::value(&o.method)->default_value(o.method),
-                                     "ks: auto | exact | asymp; wilcoxon: auto | exact | approx")(
-      "zero-method", po::value(&o.zero_method)->default_value(o.zero_method),
-      "wilcoxon: wilcox | pratt | zsplit (treatment of zero differences)")(
-      "correction", po::bool_switch(&o.correction),
-      "wilcoxon: continuity correction of the normal approximation")(
-      "level", po::value(&o.level)->default_value(o.level, "0.95"),
-      "summary: confidence level of the intervals, in (0, 1)")("json", po::bool_switch(&o.json),
-                                                               "print JSON instead of text");
-  po::options_description hidden;
-  hidden.add_options()("test", po::value(&o.test))("files", po::value(&o.files));
-  po::options_description all;
-  all.add(visible).add(hidden);
-  po::positional_options_description positional;
-  positional.add("test", 1).add("files", -1);
+  po::options_description visible("usage: patlab stats TEST FILE... [options]\n\noptions");
+  // clang-format off
+  visible.add_options()
+      ("column", po::value(&o.column), "read column NAME of CSV files with a header row")
+      ("alternative", po::value(&o.alternative)->default_value(o.alternative),
+       "two-sided | less | greater (ks: less = CDF of A below B's somewhere; wilcoxon: less = "
+       "A - B tends to be negative)")
+      ("method", po::value(&o.method)->default_value(o.method),
+       "ks: auto | exact | asymp; wilcoxon: auto | exact | approx")
+      ("zero-method", po::value(&o.zero_method)->default_value(o.zero_method),
+       "wilcoxon: wilcox | pratt | zsplit (treatment of zero differences)")
+      ("correction", po::bool_switch(&o.correction),
+       "wilcoxon: continuity correction of the normal approximation")
+      ("level", po::value(&o.level)->default_value(o.level, "0.95"),
+       "summary: confidence level of the intervals, in (0, 1)")
+      ("format", po::value(&o.format)->default_value(o.format), "what stdout gets: table or json");
+  // clang-format on
+  std::vector<std::string> words;
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help") || args.empty()) {
-    (args.empty() ? std::cerr : std::cout) << kUsage << "\n" << visible << kExamples;
-    return args.empty() ? kExitBadInput : kExitOk;
+  if (!ParseArguments(args, visible, "test", po::value(&words), -1, kExamples, &vm,
+                      {{"--json", "--format json"}})) {
+    return kExitOk;
   }
+  CheckFormat(o.format, "table|json");
+  if (words.empty()) {
+    throw InputError(
+        "missing TEST; expected 'patlab stats ks|wilcoxon|summary FILE...' (see --help)");
+  }
+  o.test = words[0];
+  o.files.assign(words.begin() + 1, words.end());
   if (o.test == "ks") return RunKs(o);
   if (o.test == "wilcoxon") return RunWilcoxon(o);
   if (o.test == "summary") return RunSummary(o);

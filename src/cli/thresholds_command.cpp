@@ -2,10 +2,12 @@
 // mask colours) -> a thresholds file for `patlab detect` (vision/thresholds_fit.h), with a report
 // of each class's catches and the classes that overlap in colour space.
 #include <boost/program_options.hpp>
+#include <filesystem>
 #include <iostream>
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
 #include "patlab/core/enum_names.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -23,8 +25,8 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab thresholds tests/data/vision/ssl-2008.labels.toml --out /tmp/ssl-2008.thresholds.toml
-  patlab thresholds labels.toml -o t.toml --settings experiments/detector.toml --margin 10
+  patlab thresholds ssl-frame.labels -o thresholds      # -> thresholds/thresholds.toml
+  patlab thresholds labels.toml -o t --settings detector --margin 10
 
 LABELS is a labels TOML file (docs/file-formats.md): the image, an optional label mask, and one
 [[class]] per colour with sample points [x, y], rectangles [x0, y0, x1, y1] (pixels, inclusive)
@@ -57,9 +59,9 @@ vision::Image ReadAt(const vision::Labels& labels, const std::string& path, int 
 
 int RunThresholds(const std::vector<std::string>& args) {
   ThresholdsCommandOptions o;
-  po::options_description visible("usage: patlab thresholds LABELS.toml --out THRESHOLDS.toml");
+  po::options_description visible("usage: patlab thresholds LABELS -o DIR [options]");
   visible.add_options()("help,h", "show this help")(
-      "out,o", po::value(&o.out), "the thresholds file to write, TOML (required)")(
+      "out,o", po::value(&o.out), "output directory: DIR/thresholds.toml (required)")(
       "settings,s", po::value(&o.settings),
       "detector settings: every class must be a colour of its palette")(
       "space", po::value(&o.space), "yuv (default, as CMVision) or rgb")(
@@ -75,7 +77,8 @@ int RunThresholds(const std::vector<std::string>& args) {
   }
   if (o.labels.empty())
     throw InputError("missing LABELS; expected 'patlab thresholds LABELS.toml --out FILE'");
-  if (o.out.empty()) throw InputError("missing --out FILE; expected the thresholds file to write");
+  if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
+  o.out = (std::filesystem::path(o.out) / "thresholds.toml").string();
   const auto space = FindName(o.space, vision::kColorSpaceNames);
   if (!space) {
     throw InputError("--space is '" + EscapeForMessage(o.space) + "'; expected " +
@@ -85,9 +88,11 @@ int RunThresholds(const std::vector<std::string>& args) {
   vision::Validate(o.fit);
   io::CheckWritable({o.out});
 
-  const vision::Labels labels = vision::LoadLabels(o.labels);
+  const vision::Labels labels = vision::LoadLabels(FindData(o.labels, io::DataKind::kSettings));
   if (!o.settings.empty()) {
-    vision::CheckClassesKnown(labels, detect::LoadDetectorSettings(o.settings).palette);
+    vision::CheckClassesKnown(
+        labels,
+        detect::LoadDetectorSettings(FindData(o.settings, io::DataKind::kSettings)).palette);
   }
   const vision::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
   std::optional<vision::Image> mask;

@@ -12,6 +12,8 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
+#include "cli/progress.h"
 #include "patlab/analysis/track.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -25,12 +27,12 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab track experiments/table1.toml                     # Table I -> results/table1*.csv
-  patlab track experiments/table1.toml --out /tmp/t1 --threads 1
-  patlab track experiments/table1.toml --seed 7            # another draw of the same experiment
-  patlab track experiments/table1.toml --pixel-sigma 0 --jitter-px 0 --out results/track_quantisation
-                                                           # pixel quantisation alone
-  patlab track experiments/table1.toml --replay 2,100      # re-measure run 2, frame 100 alone
+  patlab track table1                      # Table I -> results/table1*.csv
+  patlab track table1 -o t1 -j 1
+  patlab track table1 --seed 7             # another draw of the same experiment
+  patlab track table1 --pixel-sigma 0 --jitter-px 0 -o results/track_quantisation
+                                           # pixel quantisation alone
+  patlab track table1 --replay 2,100       # re-measure run 2, frame 100 alone
   /usr/bin/python3 scripts/plot_track.py                   # Figs. 2, 3, 6 from the CSV files
 
 Writes to <out>: <name>.csv (Table I: per subject std and 95% CI of the paper's estimated error
@@ -98,7 +100,8 @@ int Replay(const sim::TrackOptions& options, const std::string& spec) {
 
 // The experiment file with the command line's seed and noise overrides, checked again.
 sim::TrackOptions LoadWithOverrides(const TrackCliOptions& o, const po::variables_map& vm) {
-  sim::TrackOptions options = sim::LoadTrackExperiment(o.experiment);
+  sim::TrackOptions options =
+      sim::LoadTrackExperiment(FindData(o.experiment, io::DataKind::kExperiment));
   if (!o.seed.empty()) options.seed = ParseSeed(o.seed, "--seed");
   if (vm.count("pixel-sigma")) options.pixel_sigma = o.pixel_sigma;
   if (vm.count("jitter-px")) options.jitter_sigma_px = o.jitter_px;
@@ -165,26 +168,25 @@ void PrintSummary(const sim::TrackOptions& options, const sim::TrackResult& resu
 
 int RunTrackCommand(const std::vector<std::string>& args) {
   TrackCliOptions o;
-  po::options_description visible("patlab track EXPERIMENT.toml [options]");
+  po::options_description visible("patlab track EXPERIMENT [options]");
   // clang-format off
   visible.add_options()
       ("help,h", "show this help")
-      ("out", po::value(&o.out_dir), "output directory (default: results)")
+      ("out,o", po::value(&o.out_dir), "output directory, made if missing (default: results)")
       ("seed", po::value(&o.seed), "experiment seed (overrides the file; integer >= 0)")
-      ("threads", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
+      ("threads,j", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
       ("pixel-sigma", po::value(&o.pixel_sigma), "noise: intensity noise std, grey levels (overrides [noise] pixel_sigma)")
       ("jitter-px", po::value(&o.jitter_px), "noise: per-frame camera jitter std, px (overrides [noise] jitter_sigma_px)")
       ("decimate", po::value(&o.decimate), "track_errors.csv: only every N-th sample and the next (lag-1 pairs kept); default 1 = all")
       ("replay", po::value(&o.replay), "RUN,FRAME: re-measure every subject in one frame and print it")
-      ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
+      ("quiet,q", po::bool_switch(&o.quiet), "no progress or summary on stderr");
   // clang-format on
   po::variables_map vm;
   if (!ParseArguments(args, visible, "experiment", po::value(&o.experiment), 1, kExamples, &vm)) {
     return kExitOk;
   }
   if (o.experiment.empty()) {
-    throw InputError(
-        "missing EXPERIMENT.toml; expected 'patlab track EXPERIMENT.toml' (see --help)");
+    throw InputError("missing EXPERIMENT; expected 'patlab track EXPERIMENT' (see --help)");
   }
   CheckThreads(o.threads);
   if (o.decimate < 1) {
@@ -195,8 +197,10 @@ int RunTrackCommand(const std::vector<std::string>& args) {
 
   const std::array<std::string, 4> paths = OutputPaths(o, options);
   io::CheckWritable({paths.begin(), paths.end()});
+  Progress progress("patlab track", "blocks of frames", !o.quiet, StderrIsTerminal());
   sim::TrackRunOptions run_options;
   run_options.threads = o.threads;
+  run_options.progress = progress.Callback();
   const sim::TrackResult result = sim::RunTrack(options, run_options);
   const std::vector<sim::TableRow> table = sim::MakeTable(result);
   const auto written = WriteOutputs(o, options, result, table);

@@ -29,9 +29,8 @@ double Number(const std::string& text, const std::string& pattern) {
 
 TEST(CalibrateCli, FitsTheRealSslFrameFromItsFieldLines) {
   testing::TempDir dir;
-  const std::string cal = dir.Path("cal.toml"), res = dir.Path("res.csv");
-  const auto r =
-      RunCommand(kBinary + " calibrate " + kInput + " --out " + cal + " --residuals " + res);
+  const std::string cal = dir.Path("cal/calibration.toml"), res = dir.Path("cal/residuals.csv");
+  const auto r = RunCommand(kBinary + " calibrate " + kInput + " --out " + dir.Path("cal"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // 95 pixels of the white lines' centres and 7 crossings read off by eye: about a pixel RMS
   // (the lines are 2-3 px wide, the crossings good to 2 px), about 1 cm on the floor. The
@@ -67,7 +66,7 @@ TEST(CalibrateCli, BadInputIsExit2WithNothingWritten) {
   const auto missing = RunCommand(kBinary + " calibrate " + in);
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_EQ(missing.err,
-            "patlab calibrate: missing --out FILE; expected the calibration file to write\n");
+            "patlab calibrate: missing --out DIR; expected the directory to write to\n");
 }
 
 }  // namespace

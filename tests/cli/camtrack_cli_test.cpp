@@ -31,12 +31,12 @@ std::vector<std::string> Cells(const std::string& line) {
 // loss in its area test it found 9 of 300), none with a wrong ID.
 TEST(CamtrackCli, EveryRowHasTheHeadersColumns) {
   testing::TempDir dir;
-  const std::string csv = dir.Path("t.csv");
+  const std::string csv = dir.Path("t/camtrack.csv");
   const auto r = RunCommand(kBinary + " camtrack " + kSource +
                             "/experiments/camera-noise/track-scene.toml --thresholds " + kSource +
                             "/experiments/camera-noise/track.thresholds.toml --runs 1 --frames 40 "
                             "--detect --out " +
-                            csv);
+                            dir.Path("t"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream in(csv);
   std::string line;

@@ -38,9 +38,10 @@ TEST(CompareCli, WritesTheThreeFilesAndRanks) {
   EXPECT_EQ(j["rows"][0]["cells"]["ids_2c"], 16);
   EXPECT_TRUE(j["rows"][1]["cells"]["rotation_onset_mm"].is_null());  // colours decide
   // The same numbers on stdout, and for any thread count.
-  const CommandResult csv1 = Compare(std::string("triangle ssl-standard --sort-by ids_2c --csv "
-                                                 "--threads 1") +
-                                     kSmall);
+  const CommandResult csv1 =
+      Compare(std::string("triangle ssl-standard --sort-by ids_2c --format csv "
+                          "--threads 1") +
+              kSmall);
   EXPECT_EQ(csv1.out, csv);
 }
 

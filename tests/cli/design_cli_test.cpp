@@ -24,7 +24,7 @@ TEST(DesignCli, WritesALoadablePatternAndPrintsTheSpeed) {
   const CommandResult run = Design(options + dir.Path("a"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("best (start "), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find(" evaluations/s\n"), std::string::npos) << run.out;
+  EXPECT_NE(run.err.find(" evaluations/s\n"), std::string::npos) << run.err;
   const std::string file = dir.Path("a/d1.toml");
   const Pattern pattern = io::LoadPatternFile(file);
   EXPECT_EQ(pattern.name, "d1");

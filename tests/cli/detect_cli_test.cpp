@@ -353,11 +353,12 @@ TEST(DetectCli, ShippedSettingsTravelToEverySharedFrame) {
   // grey green sector (ID unknown). The yellow robot (258, 82) and the one held in a hand at
   // (40, 445) stay missed (docs/detect.md explains why).
   const CliRun fit = RunPatlab(
-      dir, "calibrate " + data + "ssl-2008.calibration-input.toml --out " + dir + "/fitted.toml");
+      dir, "calibrate " + data + "ssl-2008.calibration-input.toml --out " + dir + "/fitted");
   ASSERT_EQ(fit.status, 0) << fit.err;
-  const SharedFrameRun ssl = DetectWithShippedSettings(
-      frames + "/ssl-field-2008.jpg", data + "ssl-2008.thresholds.toml", dir + "/fitted.toml",
-      data + "ssl-2008.detector.toml", data + "patterns/kiks-sectors-fitted.toml");
+  const SharedFrameRun ssl =
+      DetectWithShippedSettings(frames + "/ssl-field-2008.jpg", data + "ssl-2008.thresholds.toml",
+                                dir + "/fitted/calibration.toml", data + "ssl-2008.detector.toml",
+                                data + "patterns/kiks-sectors-fitted.toml");
   const std::vector<Robot> ssl_robots = {{557, 200, "yellow", 5}, {258, 82, "yellow", -1},
                                          {343, 58, "yellow", -1}, {434, 559, "blue", 6},
                                          {478, 564, "blue", 15},  {40, 445, "", -1}};

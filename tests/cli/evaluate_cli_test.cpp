@@ -30,7 +30,7 @@ const nlohmann::json& Estimator(const nlohmann::json& list, const std::string& n
 }
 
 TEST(EvaluateCli, GeometryEqualsTheClosedForms) {
-  const CommandResult run = Evaluate(std::string("simple butterfly --json") + kSmall);
+  const CommandResult run = Evaluate(std::string("simple butterfly --format json") + kSmall);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
   ASSERT_EQ(j.at("patterns").size(), 2u);
@@ -68,7 +68,7 @@ TEST(EvaluateCli, GeometryEqualsTheClosedForms) {
 
 TEST(EvaluateCli, MonteCarloMatchesThePrediction) {
   const CommandResult run =
-      Evaluate("butterfly --json --sigma 2 --trials 20000 --frames 1 --sigmas 1");
+      Evaluate("butterfly --format json --sigma 2 --trials 20000 --frames 1 --sigmas 1");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json mc = nlohmann::json::parse(run.out)["patterns"][0]["monte_carlo"];
   EXPECT_EQ(mc["trials"], 20000);
@@ -95,7 +95,7 @@ TEST(EvaluateCli, MonteCarloMatchesThePrediction) {
 
 TEST(EvaluateCli, IdCountsAreTableTwo) {
   const CommandResult run =
-      Evaluate("butterfly triangle --json --trials 100 --frames 1 --sigmas 1");
+      Evaluate("butterfly triangle --format json --trials 100 --frames 1 --sigmas 1");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
   const auto counts = [&](int k) {
@@ -113,7 +113,7 @@ TEST(EvaluateCli, IdCountsAreTableTwo) {
 
 TEST(EvaluateCli, JsonHasEveryPart) {
   const CommandResult run =
-      Evaluate("ssl-standard --json --seed 7 --trials 4000 --frames 20 --sigmas 1,3");
+      Evaluate("ssl-standard --format json --seed 7 --trials 4000 --frames 20 --sigmas 1,3");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(run.err, "");
   const nlohmann::json j = nlohmann::json::parse(run.out);
@@ -164,7 +164,7 @@ TEST(EvaluateCli, IdenticalForAnyThreadCount) {
 
 TEST(EvaluateCli, SymmetricTriangleIsNeverMisidentifiedAtSmallSigma) {
   const CommandResult run =
-      Evaluate("triangle --json --trials 100 --id-colors 4 --frames 200 --sigmas 0.5,1,2");
+      Evaluate("triangle --format json --trials 100 --id-colors 4 --frames 200 --sigmas 0.5,1,2");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json m = nlohmann::json::parse(run.out)["patterns"][0]["misidentification"];
   EXPECT_EQ(m["ids"], 20);
@@ -199,11 +199,11 @@ TEST(EvaluateCli, BadInputExitsTwoWithMessage) {
     EXPECT_EQ(run.err, message) << args;
   };
   expect("hexagon",
-         "patlab evaluate: pattern 'hexagon' not found; expected a pattern file path or a name in "
-         "patterns/\n");
+         "patlab evaluate: pattern 'hexagon' not found; expected an existing file or a name "
+         "in " PATLAB_SOURCE_DIR "/patterns/\n");
   expect("butterfly hexagon --trials 2",
-         "patlab evaluate: pattern 'hexagon' not found; expected a pattern file path or a name in "
-         "patterns/\n");
+         "patlab evaluate: pattern 'hexagon' not found; expected an existing file or a name "
+         "in " PATLAB_SOURCE_DIR "/patterns/\n");
   expect("butterfly --sigma -1",
          "patlab evaluate: --sigma is -1; expected a patch std in mm > 0\n");
   expect("butterfly --sigma 0", "patlab evaluate: --sigma is 0; expected a patch std in mm > 0\n");
@@ -238,7 +238,7 @@ TEST(EvaluateCli, HelpListsOptionsAndExamples) {
   EXPECT_EQ(run.exit_code, 0);
   for (const char* text :
        {"--sigma", "--trials", "--colors", "--tolerance", "--sigmas", "--id-colors", "--frames",
-        "--seed", "--threads", "--json", "patlab evaluate butterfly"}) {
+        "--seed", "--threads", "--format", "patlab evaluate butterfly"}) {
     EXPECT_NE(run.out.find(text), std::string::npos) << text;
   }
 }

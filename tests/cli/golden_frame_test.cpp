@@ -86,8 +86,8 @@ CommandResult DetectGolden() {
 // colours, blur, noise or seed) changes most noisy values by several levels.
 TEST(GoldenFrame, RenderReproducesTheCommittedFrameAndTruth) {
   TempDir dir;
-  const CommandResult r = RunCommand(kBinary + " render " + kGolden + "ssl-frame.toml --out " +
-                                     dir.Path("frame.png") + " --truth " + dir.Path("truth.csv"));
+  const CommandResult r =
+      RunCommand(kBinary + " render " + kGolden + "ssl-frame.toml --out " + dir.Path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "wrote " + dir.Path("frame.png") + " (640x480 px, 10 robots, a ball) and " +
                        dir.Path("truth.csv") + "\n");
@@ -211,18 +211,16 @@ TEST(RenderCli, BadInputIsExitTwoWithTheLine) {
   EXPECT_FALSE(std::filesystem::exists(dir.Path("f.png")));
   r = RunCommand(kBinary + " render " + kGolden + "ssl-frame.toml");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err, "patlab render: missing --out FILE; expected the PNG file to write\n");
+  EXPECT_EQ(r.err, "patlab render: missing --out DIR; expected the directory to write to\n");
   r = RunCommand(kBinary + " render --out " + dir.Path("f.png"));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err,
-            "patlab render: missing SCENE; expected 'patlab render SCENE.toml --out FRAME.png'\n");
+  EXPECT_EQ(r.err, "patlab render: missing SCENE; expected 'patlab render SCENE -o DIR'\n");
 }
 
 TEST(RenderCli, HelpShowsAnExample) {
   const CommandResult r = RunCommand(kBinary + " render --help");
   EXPECT_EQ(r.exit_code, 0);
-  EXPECT_NE(r.out.find("patlab render tests/data/golden/ssl-frame.toml --out"), std::string::npos)
-      << r.out;
+  EXPECT_NE(r.out.find("patlab render ssl-frame -o frame"), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -128,8 +128,8 @@ TEST(IdsCli, BadInputExitsTwoWithMessage) {
   run = RunPatlab("ids hexagon");
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(run.out,
-            "patlab ids: pattern 'hexagon' not found; expected a pattern file path or a name in "
-            "patterns/\n");
+            "patlab ids: pattern 'hexagon' not found; expected an existing file or a name "
+            "in " PATLAB_SOURCE_DIR "/patterns/\n");
   run = RunPatlab("ids");
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(run.out,

@@ -94,11 +94,10 @@ TEST(SimulateCli, BadInputExitsTwoWithAMessageAndWritesNothing) {
        "patlab simulate: noise options: outlier_probability is 2; expected a probability in [0, "
        "1)\n"},
       {kPatlab + " simulate" + out,
-       "patlab simulate: missing EXPERIMENT.toml; expected 'patlab simulate EXPERIMENT.toml' (see "
-       "--help)\n"},
+       "patlab simulate: missing EXPERIMENT; expected 'patlab simulate EXPERIMENT' (see --help)\n"},
       {kPatlab + " simulate " + experiment + " --no-such-flag" + out,
-       "patlab simulate: unrecognised option '--no-such-flag'; expected the options and values "
-       "that 'patlab simulate --help' lists\n"},
+       "patlab simulate: unknown option --no-such-flag; expected an option that 'patlab help "
+       "simulate' lists\n"},
   };
   for (const auto& [command, message] : cases) {
     const auto r = RunCommand(command);

@@ -75,7 +75,7 @@ TEST_F(StatsCli, KsTextOutput) {
 TEST_F(StatsCli, KsJsonFromCsvColumn) {
   Write("a.csv", "id,err\n1,1\n2,2\n3,2\n4,3\n5,5\n");
   Write("b.csv", "id,err\n1,2\n2,2\n3,4\n4,6\n5,7\n6,8\n");
-  const RunResult r = Run("ks a.csv b.csv --column err --alternative greater --json");
+  const RunResult r = Run("ks a.csv b.csv --column err --alternative greater --format json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j.at("d").get<double>(), 0.5);
@@ -103,7 +103,7 @@ TEST_F(StatsCli, WilcoxonTextAndJson) {
             "p_value      0.1875\n");
   r =
       Run("wilcoxon x.txt y.txt --method approx --correction --zero-method pratt "
-          "--alternative greater --json");
+          "--alternative greater --format json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j.at("method").get<std::string>(), "approx");
@@ -114,7 +114,7 @@ TEST_F(StatsCli, WilcoxonTextAndJson) {
 
 TEST_F(StatsCli, SummaryPrintsIntervals) {
   Write("a.txt", "1\n2\n3\n4\n");
-  const RunResult r = Run("summary a.txt --json");
+  const RunResult r = Run("summary a.txt --format json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_DOUBLE_EQ(j.at("std").get<double>(), std::sqrt(5.0 / 3.0));

@@ -28,10 +28,10 @@ long CountSubstrings(const std::string& text, const std::string& part) {
 // The golden frame's labels -> thresholds -> the golden frame's robots, with the report.
 TEST(ThresholdsCli, FitsTheGoldenFrameLabelsAndDetectsWithThem) {
   testing::TempDir dir;
-  const std::string t = dir.Path("t.toml");
+  const std::string t = dir.Path("t/thresholds.toml");
   const auto r =
-      RunCommand(kBinary + " thresholds " + kData + "vision/golden-frame.labels.toml -o " + t +
-                 " -s " + kGolden + "detector.toml");
+      RunCommand(kBinary + " thresholds " + kData + "vision/golden-frame.labels.toml -o " +
+                 dir.Path("t") + " -s " + kGolden + "detector.toml");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\npink               40  "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("no overlapping classes"), std::string::npos) << r.out;

@@ -148,6 +148,19 @@ TEST(AtomicFile, CheckWritableCreatesNothingAndFindsBlockers) {
       dir.Path("out/a.csv") + ": cannot write: it is a directory; expected a writable location");
 }
 
+// "results/fig5.csv" in an empty working directory: no component of the folder exists yet, and
+// the folder is made in the working directory.
+TEST(AtomicFile, RelativeFoldersThatDoNotExistYetAreWritable) {
+  TempDir dir;
+  const fs::path before = fs::current_path();
+  fs::current_path(dir.Path());
+  CheckWritable({"results/fig5.csv", "a/b/c.json", "plain.csv"});
+  EXPECT_TRUE(Names(dir.Path("")).empty());
+  WriteFilesAtomic({{"a/b/c.csv", "1"}});
+  EXPECT_EQ(ReadFile(dir.Path("a/b/c.csv")), "1");
+  fs::current_path(before);
+}
+
 // SIGTERM while the temporaries are written: the handler removes them and the signal ends the
 // process. The child makes its second temporary a FIFO first, so WriteFilesAtomic blocks opening
 // it (no reader) after writing the first: the parent kills it there, deterministically.

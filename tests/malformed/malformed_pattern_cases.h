@@ -175,7 +175,7 @@ inline std::vector<MalformedCase> PatternMalformedCases() {
        {},
        "ids {dir}p.toml",
        2,
-       "patlab ids: pattern '{dir}p.toml' not found; expected a pattern file path or a name in patterns/"s,
+       "patlab ids: {dir}p.toml: cannot open file; expected a readable TOML file"s,
        nullptr},
       {"PatternNotUtf8",
        {{"p.toml",

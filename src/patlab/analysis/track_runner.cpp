@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <numbers>
 #include <span>
 
@@ -168,8 +169,8 @@ struct RawSample {
 using RawSamples = std::vector<std::vector<std::vector<RawSample>>>;
 
 // Stage 1: every frame of every run, TBB over blocks of frames, each sample in its fixed slot.
-RawSamples MeasureAllFrames(const TrackOptions& o, const std::vector<RunSetup>& setups,
-                            int threads) {
+RawSamples MeasureAllFrames(const TrackOptions& o, const std::vector<RunSetup>& setups, int threads,
+                            const std::function<void(int, int)>& progress) {
   const vision::CameraModel camera = MakeCamera(o);
   const vision::Thresholds thresholds = PatchThresholds(o);
   const estimate::Model model = PatternModel(o);
@@ -179,6 +180,8 @@ RawSamples MeasureAllFrames(const TrackOptions& o, const std::vector<RunSetup>& 
                  std::vector<std::vector<RawSample>>(o.runs, std::vector<RawSample>(samples)));
   const int blocks_per_run = (samples + kFramesPerBlock - 1) / kFramesPerBlock;
   tbb::task_arena arena(threads);
+  std::mutex progress_mutex;
+  int blocks_done = 0;
   arena.execute([&] {
     tbb::parallel_for(0, o.runs * blocks_per_run, [&](int task) {
       const int run = task / blocks_per_run;
@@ -195,6 +198,10 @@ RawSamples MeasureAllFrames(const TrackOptions& o, const std::vector<RunSetup>& 
           s.position_mm = Vec2(pose.x_mm, pose.y_mm);
           s.theta_rad = pose.theta_rad;
         }
+      }
+      if (progress) {
+        const std::lock_guard<std::mutex> lock(progress_mutex);
+        progress(++blocks_done, o.runs * blocks_per_run);
       }
     });
   });
@@ -339,7 +346,7 @@ TrackResult RunTrack(const TrackOptions& o, const TrackRunOptions& run_options) 
   result.threads =
       run_options.threads > 0 ? run_options.threads : tbb::this_task_arena::max_concurrency();
 
-  const RawSamples raw = MeasureAllFrames(o, result.setups, result.threads);
+  const RawSamples raw = MeasureAllFrames(o, result.setups, result.threads, run_options.progress);
   const auto measured = std::chrono::steady_clock::now();
   result.measure_seconds = SecondsBetween(start, measured);
 

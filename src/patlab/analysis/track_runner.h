@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,9 @@ struct TrackResult {
 
 struct TrackRunOptions {
   int threads = 0;  // 0 = all cores; results do not depend on it
+  // Called after each block of frames is measured: (blocks done, blocks in all). Called from the
+  // worker threads one at a time (under a lock), with the count increasing by one each call.
+  std::function<void(int, int)> progress = {};
 };
 
 // Runs the whole experiment (TBB over blocks of frames, results in fixed slots). Validates first.

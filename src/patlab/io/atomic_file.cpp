@@ -231,6 +231,9 @@ void CheckWritable(const std::vector<std::string>& paths) {
       folder = folder.parent_path();
     }
     if (ec) Fail(path, ec.message());
+    // A relative folder none of whose components exists yet ("results/fig5.csv" in an empty
+    // working directory) is created in the working directory.
+    if (!fs::exists(folder, ec) && folder.is_relative()) folder = ".";
     if (!IsDirectory(folder.string())) Fail(path, folder.string() + " is not a directory");
     if (::access(folder.c_str(), W_OK | X_OK) != 0) Fail(path, std::strerror(errno));
   }
