@@ -169,8 +169,8 @@ def detect(image, thresholds, calibration, settings=None, name="frame", blobs=Fa
 
 
 def render(scene):
-    """`patlab render SCENE` (without --camera): the scene file's frame as an (H, W, 3) uint8
-    array, and its true poses as the CSV `--truth` writes. Returns (image, truth_csv)."""
+    """`patlab render SCENE -o DIR` (without --camera): the scene file's frame as an (H, W, 3)
+    uint8 array, and its true poses as the CSV DIR/truth.csv. Returns (image, truth_csv)."""
     path = _data.find(scene, "settings")
     return _load_checked(_patlab._render, path)
 

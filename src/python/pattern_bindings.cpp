@@ -1,7 +1,12 @@
 // patlab.Pattern: a pattern file's contents, patches as numpy arrays.
 #include "patlab/core/pattern.h"
 
+#include <cstdlib>
+#include <filesystem>
+
+#include "patlab/core/enum_names.h"
 #include "patlab/formats/pattern_file.h"
+#include "patlab/io/data_path.h"
 #include "python/bindings.h"
 
 namespace patlab::python {
@@ -59,9 +64,33 @@ py::array_t<int> Pairs(const Pattern& p) {
   return pairs;
 }
 
+// The kinds of shipped data, as python/patlab/_data.py names them.
+inline constexpr EnumNames<io::DataKind, 4> kDataKindNames{{{
+    {io::DataKind::kPattern, "pattern"},
+    {io::DataKind::kExperiment, "experiment"},
+    {io::DataKind::kSettings, "settings"},
+    {io::DataKind::kField, "field"},
+}}};
+
+// io::FindData over the roots of `binary_dir` (the build tree, or <prefix>/bin of an install)
+// and $PATLAB_DATA, as the CLI finds data; a file found under the working directory is named
+// relative to it, as the CLI names it in its reports.
+std::string FindData(const std::string& reference, const std::string& kind,
+                     const std::string& binary_dir) {
+  const std::vector<std::string> roots = io::DataRoots(binary_dir, std::getenv("PATLAB_DATA"));
+  const std::string found = io::FindData(reference, ParseName(kind, kDataKindNames, "kind"), roots);
+  if (found == reference) return found;
+  std::error_code ec;
+  const std::filesystem::path relative =
+      std::filesystem::path(found).lexically_relative(std::filesystem::current_path(ec));
+  if (ec || relative.empty() || *relative.begin() == "..") return found;
+  return relative.string();
+}
+
 }  // namespace
 
 void BindPattern(py::module_& m) {
+  m.def("_find_data", &FindData, py::arg("reference"), py::arg("kind"), py::arg("binary_dir"));
   py::class_<Pattern>(m, "Pattern", "A planar patch pattern (patterns/README.md)")
       .def_static("_load_file", &io::LoadPatternFile, py::arg("path"))
       .def_static("_parse", &io::ParsePattern, py::arg("text"), py::arg("source_name"))

@@ -37,7 +37,7 @@ def test_ids_counts_are_the_clis(cli):
 def test_evaluate_is_the_clis_json(cli, root, monkeypatch):
     monkeypatch.chdir(root)
     result = patlab.evaluate("patterns/butterfly.toml", **SMALL)
-    run = cli("evaluate", "patterns/butterfly.toml", "--json", *SMALL_FLAGS)
+    run = cli("evaluate", "patterns/butterfly.toml", "--format", "json", *SMALL_FLAGS)
     assert run.returncode == 0, run.stderr
     assert result.json == json.loads(run.stdout)
     assert result.reports[0]["pattern"] == "butterfly" or "butterfly" in json.dumps(result.json)
@@ -47,7 +47,7 @@ def test_compare_is_the_clis_csv(cli, root, monkeypatch):
     monkeypatch.chdir(root)
     designs = ["patterns/butterfly.toml", "patterns/ssl-standard.toml"]
     result = patlab.compare(designs, **SMALL)
-    run = cli("compare", *designs, "--csv", *SMALL_FLAGS)
+    run = cli("compare", *designs, "--format", "csv", *SMALL_FLAGS)
     assert run.returncode == 0, run.stderr
     assert result.csv == run.stdout
     assert len(result.table["design"]) == 2
