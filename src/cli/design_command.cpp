@@ -211,8 +211,7 @@ int RunDesign(const std::vector<std::string>& args) {
                         {(dir / (o.name + ".design.txt")).string(), report}});
   if (!f.quiet) std::cout << report;
   if (!f.quiet) {
-    std::fputs(StringPrintf("patlab design: %lld layouts evaluated in %.2f s, %.0f evaluations/s
-",
+    std::fputs(StringPrintf("patlab design: %lld layouts evaluated in %.2f s, %.0f evaluations/s\n",
                             static_cast<long long>(result.evaluations), result.seconds,
                             result.evaluations_per_second)
                    .c_str(),
