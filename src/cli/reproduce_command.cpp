@@ -12,6 +12,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/data.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/io/atomic_file.h"
@@ -128,6 +129,17 @@ bool DrawFigures(const std::vector<sim::FigureStep>& steps) {
   return true;
 }
 
+// The checkout when run in one (./experiments/fig5.toml), else the shipped data's root
+// (share/patlab of the installation, $PATLAB_DATA).
+std::string DefaultRoot() {
+  std::error_code ec;
+  if (std::filesystem::is_regular_file("experiments/fig5.toml", ec)) return ".";
+  for (const std::string& root : DataRoots()) {
+    if (std::filesystem::is_regular_file(root + "/experiments/fig5.toml", ec)) return root;
+  }
+  return ".";
+}
+
 int RunReproduce(const std::vector<std::string>& args) {
   ReproduceFlags o;
   po::options_description visible("patlab reproduce [options]");
@@ -135,7 +147,7 @@ int RunReproduce(const std::vector<std::string>& args) {
   visible.add_options()
       ("help,h", "show this help")
       ("check", po::bool_switch(&o.check), "write nothing; fail if a number leaves its tolerance or a file differs from the committed one")
-      ("root", po::value(&o.root), "the checkout (experiments/, patterns/; default: .)")
+      ("root", po::value(&o.root), "the checkout (experiments/, patterns/; default: . in a checkout, else the shipped data)")
       ("out,o", po::value(&o.out_dir), "results directory, made if missing (default: results)")
       ("no-figures", po::bool_switch(&o.no_figures), "do not draw the PNG figures (no python3 needed)")
       ("threads,j", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
@@ -146,6 +158,7 @@ int RunReproduce(const std::vector<std::string>& args) {
     return kExitOk;
   }
   CheckThreads(o.threads);
+  if (!vm.count("root")) o.root = DefaultRoot();
   const sim::ReproduceOptions options{.root = o.root, .threads = o.threads, .out_dir = o.out_dir};
   const sim::Reproduction r = sim::Reproduce(options);
   const std::vector<sim::FigureStep> steps = sim::FigureSteps(options);
