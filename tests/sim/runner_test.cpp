@@ -398,7 +398,8 @@ TEST(Replay, NoiseFreeTrialIsRecoveredByEveryEstimator) {
   const TrialReplay r = ReplayTrial(e, ParseReplayIndex("0,42", "TRIAL"));
   EXPECT_EQ(r.pattern->name, e.patterns[0].name);
   EXPECT_EQ(r.observed.size(), static_cast<size_t>(e.patterns[0].size()));
-  for (const Pose2& p : r.estimates) {
+  for (Estimator est : r.estimators) {
+    const Pose2& p = r.estimates[static_cast<size_t>(est)];
     EXPECT_NEAR(p.x_mm, r.truth.x_mm, 1e-9);
     EXPECT_NEAR(p.y_mm, r.truth.y_mm, 1e-9);
     EXPECT_NEAR(WrapAngle(p.theta_rad - r.truth.theta_rad), 0.0, 1e-12);

@@ -22,6 +22,7 @@
 // lanes for any thread count and the results are byte-identical.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -54,7 +55,10 @@ struct ErrorArrays {
 };
 
 struct BatchOutput {
-  ErrorArrays errors[4];              // indexed by estimate::Estimator; null if not run
+  ErrorArrays errors[4];  // indexed by estimate::Estimator; null if not run
+  // The estimates themselves (origin in mm, theta wrapped to (-pi, pi]), written when not null;
+  // errors = estimate - truth with these very values (replay, rule 3).
+  ErrorArrays estimates[4];
   uint8_t* ml_iterations = nullptr;   // Newton steps per trial (ml only)
   uint8_t* ml_termination = nullptr;  // estimate::Termination per trial (ml only)
 };
@@ -78,5 +82,16 @@ void RunBatchWith(KernelIsa isa, const PointSetup& setup, uint64_t first_trial, 
 // Replays one trial (rule 3): its true pose and noisy patch positions, exactly as RunBatch
 // generated them.
 void GenerateTrial(const PointSetup& setup, uint64_t trial, Pose2* truth, Vec2* observed);
+
+// One trial as the runner computed it: the estimates, errors and ML counters RunBatch wrote for
+// it, bit for bit. The runner runs a point's trials in batches of kBatchSize from trial 0, the
+// last one short; `trials` (the point's trial count) gives the length of the trial's batch.
+struct TrialOutcome {
+  std::array<Pose2, 4> estimates{};  // indexed by estimate::Estimator (those setup.run)
+  std::array<Pose2, 4> errors{};     // estimate - truth, theta wrapped
+  int ml_iterations = 0;
+  estimate::Termination ml_termination = estimate::Termination::kConverged;
+};
+TrialOutcome RunTrialAsInBatch(const PointSetup& setup, uint64_t trial, uint64_t trials);
 
 }  // namespace patlab::sim
