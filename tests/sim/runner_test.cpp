@@ -159,7 +159,13 @@ TEST(Runner, NoiseModelsChangeTheStdAsTheirFormulasSay) {
   EXPECT_NEAR(common.position_std_mm, common.predicted_position_mm,
               4 * common.predicted_position_mm / std::sqrt(4.0 * (n - 1)));
   EXPECT_GT(common.predicted_position_mm, 0.1 * 2.0);
-  EXPECT_TRUE(std::isnan(common.crlb_position_mm));  // the bound is for isotropic noise only
+  // The bound: the offset adds (g sigma)^2 to the isotropic bound's position variance, nothing
+  // to the angle's (it lies in the translation columns of the Jacobian).
+  const estimate::StdPerSigma iso =
+      estimate::CramerRaoBound(estimate::Model::FromPattern(e.patterns[0]));
+  EXPECT_NEAR(common.crlb_position_mm, std::hypot(0.1 * iso.position_per_axis, 0.1 * 2.0),
+              1e-9 * common.crlb_position_mm);
+  EXPECT_NEAR(common.crlb_theta_rad, 0.1 * iso.theta, 1e-9 * common.crlb_theta_rad);
   // Outliers: a linear estimator's variance is that of the mixture, per axis
   // sigma^2 ((1 - p) + p k^2). Its std estimate has standard error (s / 2) sqrt((2 + kappa) / n)
   // with kappa the excess kurtosis, at most the mixture's 3 (1 - p + p k^4) / (1 - p + p k^2)^2

@@ -248,6 +248,25 @@ void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays
   }
 }
 
+// "ml" under Gaussian noise that is not least squares (PointSetup::ml_weights): generalised least
+// squares, trial by trial, from the least-squares pose.
+void GeneralisedLeastSquares(const PointSetup& s, int m, const Scratch& w, const ErrorArrays& out,
+                             const ErrorArrays& estimates, uint8_t* iterations_out,
+                             uint8_t* termination_out) {
+  const estimate::Model& model = *s.model;
+  std::array<Vec2, kMaxPatches> observed;
+  for (int k = 0; k < m; ++k) {
+    for (int i = 0; i < model.num_patches; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
+    estimate::Summary summary;
+    const Pose2 pose = estimate::GeneralisedLeastSquares(
+        model, *s.ml_weights, observed.data(), estimate::LeastSquares(model, observed.data()),
+        s.ml_options, &summary);
+    WritePose(pose, k, w, out, estimates);
+    iterations_out[k] = static_cast<uint8_t>(std::min(summary.iterations, 255));
+    termination_out[k] = static_cast<uint8_t>(summary.termination);
+  }
+}
+
 // RunBatch's stages in one function, compiled once per instruction set below.
 inline void RunBatchStages(const PointSetup& setup, uint64_t first_trial, int count,
                            const BatchOutput& out) {
@@ -274,7 +293,10 @@ inline void RunBatchStages(const PointSetup& setup, uint64_t first_trial, int co
   if (setup.run[static_cast<int>(Estimator::kLsq)]) {
     LeastSquares(setup, m, w, errors(Estimator::kLsq), estimates(Estimator::kLsq));
   }
-  if (setup.run[static_cast<int>(Estimator::kMl)]) {
+  if (setup.run[static_cast<int>(Estimator::kMl)] && setup.ml_weights != nullptr) {
+    GeneralisedLeastSquares(setup, m, w, errors(Estimator::kMl), estimates(Estimator::kMl),
+                            out.ml_iterations, out.ml_termination);
+  } else if (setup.run[static_cast<int>(Estimator::kMl)]) {
     MaximumLikelihood(setup, m, w, errors(Estimator::kMl), estimates(Estimator::kMl),
                       out.ml_iterations, out.ml_termination);
   }

@@ -24,11 +24,13 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "patlab/core/geometry.h"
 #include "patlab/estimate/estimators.h"
+#include "patlab/estimate/gls.h"
 #include "patlab/sim/noise.h"
 
 namespace patlab::sim {
@@ -45,6 +47,10 @@ struct PointSetup {
   uint32_t point = 0;                          // the stream word (the runner: kKnownStream)
   bool run[4] = {false, false, false, false};  // indexed by estimate::Estimator
   estimate::Options ml_options;
+  // Set when the noise's Gaussian part is not least squares (noise.GaussianPart()): "ml" is then
+  // generalised least squares with these weights (estimate/gls.h), one trial at a time from the
+  // least-squares pose; null: the batched Newton iteration on the sum of squares.
+  std::shared_ptr<const estimate::GaussianWeights> ml_weights;
 };
 
 // Errors of one estimator, estimate minus truth; theta wrapped to (-pi, pi].

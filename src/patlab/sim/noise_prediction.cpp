@@ -37,4 +37,12 @@ PredictedError PredictError(const estimate::Model& model, estimate::Estimator es
   return {std::sqrt(var_pos), std::sqrt(var_theta)};
 }
 
+std::optional<estimate::StdPerSigma> NoiseCramerRaoBound(const estimate::Model& model,
+                                                         const NoiseModel& noise) {
+  if (noise.IsIsotropicGaussian()) return estimate::CramerRaoBound(model);
+  if (!noise.IsGaussian()) return std::nullopt;
+  return estimate::GaussianCramerRaoBound(
+      model, estimate::GaussianWeights::Make(model, noise.GaussianPart()));
+}
+
 }  // namespace patlab::sim
