@@ -411,7 +411,7 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    "{src}/tests/data/golden/ssl-frame.calibration.toml -s {dir}s.toml --out "
                    "{dir}out/d.csv",
                    2,
-                   "patlab detect: {dir}s.toml:4: estimator is \"fastest\"; expected \"fast\", \"ml\", \"lsq\" or \"key\""s,
+                   "patlab detect: {dir}s.toml:4: estimator is \"fastest\"; expected \"fast\", \"ml\", \"lsq\", \"key\" or \"robust\""s,
                    nullptr},
                   {"SettingsMissingPatchPolicy",
                    {{"s.toml",
@@ -897,7 +897,7 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                      "name = \"e\"\npatterns_dir = \"{src}/patterns\"\npatterns = [\"butterfly\"]\ntrials = 100\nseed = 1\nestimators = [\"fast\", \"best\"]\n[sigma]\nvalues = [1]\n"s}},
                    "simulate {dir}e.toml -q --out {dir}out",
                    2,
-                   "patlab simulate: {dir}e.toml:6: unknown estimator \"best\"; expected \"fast\", \"ml\", \"lsq\" or \"key\""s,
+                   "patlab simulate: {dir}e.toml:6: unknown estimator \"best\"; expected \"fast\", \"ml\", \"lsq\", \"key\" or \"robust\""s,
                    nullptr},
                   {"ExperimentPatternUnknown",
                    {{"e.toml",

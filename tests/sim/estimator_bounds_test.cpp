@@ -86,5 +86,38 @@ TEST(EstimatorBounds, NoBoundWithoutAGaussianModel) {
   EXPECT_FALSE(std::isnan(result.points[0].estimators[1].predicted_theta_rad));
 }
 
+TEST(EstimatorBounds, RobustComesWithinThirtyPercentOfTheMixtureBound) {
+  // Butterfly, sigma 1 mm, 5% outliers of 10 sigma: the mixture's bound is the isotropic one over
+  // sqrt(i(0.05, 10)) = sqrt(0.936); least squares ("ml" here) pays the mixture's whole variance,
+  // sqrt(0.95 + 5) = 2.4 times the isotropic bound.
+  NoiseModel outliers;
+  outliers.outlier_probability = 0.05;
+  outliers.outlier_sigma_ratio = 10.0;
+  Experiment e = Butterfly(outliers, 1.0, 20000);
+  e.estimators = {Estimator::kMl, Estimator::kRobust};
+  const RunResult result = RunExperiment(e, RunOptions{});
+  const EstimatorResult& ml = result.points[0].estimators[0];
+  const EstimatorResult& robust = result.points[0].estimators[1];
+  ASSERT_FALSE(std::isnan(robust.crlb_theta_rad));
+  EXPECT_LT(robust.theta.std / robust.crlb_theta_rad, 1.3);
+  EXPECT_LT(robust.position_std_mm / robust.crlb_position_mm, 1.3);
+  EXPECT_GT(robust.theta.std / robust.crlb_theta_rad, 1.0 - 4.0 / std::sqrt(2.0 * e.trials));
+  EXPECT_GT(ml.theta.std / ml.crlb_theta_rad, 2.0);
+  EXPECT_TRUE(std::isnan(robust.predicted_theta_rad));
+}
+
+TEST(EstimatorBounds, RobustLosesLessThanFivePercentToMlUnderIsotropicNoise) {
+  for (const char* pattern : {"butterfly", "triangle"}) {
+    Experiment e = Butterfly(NoiseModel{}, 1.0, 20000);
+    e.patterns = {testing::ShippedPattern(pattern)};
+    e.estimators = {Estimator::kMl, Estimator::kRobust};
+    const RunResult result = RunExperiment(e, RunOptions{});
+    const EstimatorResult& ml = result.points[0].estimators[0];
+    const EstimatorResult& robust = result.points[0].estimators[1];
+    EXPECT_LT(robust.theta.std / ml.theta.std, 1.05) << pattern;
+    EXPECT_LT(robust.position_std_mm / ml.position_std_mm, 1.05) << pattern;
+  }
+}
+
 }  // namespace
 }  // namespace patlab::sim

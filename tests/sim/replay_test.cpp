@@ -56,7 +56,7 @@ Experiment EveryEstimator(const std::string& pattern, const NoiseModel& noise, d
   e.name = "replay";
   e.patterns = {testing::ShippedPattern(pattern)};
   e.pattern_files = {pattern};
-  e.estimators.assign(estimate::kAllEstimators.begin(), estimate::kAllEstimators.end());
+  e.estimators.assign(estimate::kEveryEstimator.begin(), estimate::kEveryEstimator.end());
   e.sigmas_mm = {sigma_mm};
   e.trials = trials;
   e.seed = 4242;
@@ -68,15 +68,15 @@ uint64_t Bits(double v) { return std::bit_cast<uint64_t>(v); }
 
 // The errors of every trial of point 0 as the runner's RunTrials computes them: batches of
 // kBatchSize from trial 0, the last one short.
-std::vector<std::array<Pose2, 4>> RunnerErrors(const Experiment& e) {
+std::vector<std::array<Pose2, estimate::kNumEstimators>> RunnerErrors(const Experiment& e) {
   const estimate::Model model = estimate::Model::FromPattern(e.patterns[0]);
   const PointSetup setup = MakePointSetup(e, model, 0, 0);
   const size_t n = static_cast<size_t>(e.trials);
-  std::vector<double> arrays(4 * 3 * n);
+  std::vector<double> arrays(estimate::kNumEstimators * 3 * n);
   std::vector<uint8_t> iterations(n), termination(n);
   for (size_t first = 0; first < n; first += kBatchSize) {
     BatchOutput out;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < estimate::kNumEstimators; ++k) {
       double* a = arrays.data() + 3 * n * static_cast<size_t>(k) + first;
       out.errors[k] = {a, a + n, a + 2 * n};
     }
@@ -84,9 +84,9 @@ std::vector<std::array<Pose2, 4>> RunnerErrors(const Experiment& e) {
     out.ml_termination = termination.data() + first;
     RunBatch(setup, first, static_cast<int>(std::min<size_t>(kBatchSize, n - first)), out);
   }
-  std::vector<std::array<Pose2, 4>> errors(n);
+  std::vector<std::array<Pose2, estimate::kNumEstimators>> errors(n);
   for (size_t t = 0; t < n; ++t) {
-    for (size_t k = 0; k < 4; ++k) {
+    for (size_t k = 0; k < estimate::kNumEstimators; ++k) {
       const double* a = arrays.data() + 3 * n * k + t;
       errors[t][k] = {a[0], a[n], a[2 * n]};
     }
@@ -98,7 +98,7 @@ TEST(Replay, SampledTrialsOfEveryEstimatorAndNoiseModelAreTheRunsBits) {
   for (const NoiseCase& c : NoiseCases()) {
     SCOPED_TRACE(c.name);
     const Experiment e = EveryEstimator("butterfly", c.noise, 3.0, 2 * kBatchSize + 300);
-    const std::vector<std::array<Pose2, 4>> run = RunnerErrors(e);
+    const std::vector<std::array<Pose2, estimate::kNumEstimators>> run = RunnerErrors(e);
     for (int64_t t = 0; t < e.trials; t += t < 2 * kBatchSize ? 97 : 13) {
       const TrialReplay r = ReplayTrial(e, {0, t, ""});
       for (Estimator est : e.estimators) {
@@ -181,13 +181,13 @@ TEST(Replay, MlAnglesAreWrappedOnAnOffOriginKeyAtLargeNoise) {
   // The kernel's estimates themselves are in (-pi, pi], every estimator's, every trial.
   const estimate::Model model = estimate::Model::FromPattern(e.patterns[0]);
   PointSetup setup = MakePointSetup(e, model, 0, 0);
-  for (Estimator est : estimate::kAllEstimators) setup.run[static_cast<int>(est)] = true;
-  std::vector<double> arrays(24 * kBatchSize);
+  for (Estimator est : estimate::kEveryEstimator) setup.run[static_cast<int>(est)] = true;
+  std::vector<double> arrays(6 * estimate::kNumEstimators * kBatchSize);
   std::vector<uint8_t> iterations(kBatchSize), termination(kBatchSize);
   int outside = 0;
   for (int64_t first = 0; first < e.trials; first += kBatchSize) {
     BatchOutput out;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < estimate::kNumEstimators; ++k) {
       double* a = arrays.data() + 6 * k * kBatchSize;
       out.errors[k] = {a, a + kBatchSize, a + 2 * kBatchSize};
       out.estimates[k] = {a + 3 * kBatchSize, a + 4 * kBatchSize, a + 5 * kBatchSize};

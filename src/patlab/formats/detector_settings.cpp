@@ -106,8 +106,8 @@ DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReade
   if (auto policy = OptionalMissingPatch(dr)) o.missing_patch = *policy;
   if (auto v = dr.OptionalString("estimator")) {
     if (!estimate::ParseEstimator(*v, &o.estimator)) {
-      dr.Fail("estimator",
-              "estimator is \"" + *v + "\"; expected \"fast\", \"ml\", \"lsq\" or \"key\"");
+      dr.Fail("estimator", "estimator is \"" + *v +
+                               "\"; expected \"fast\", \"ml\", \"lsq\", \"key\" or \"robust\"");
     }
   }
   const std::vector<OptionsProblem> problems = Check(o);

@@ -267,6 +267,17 @@ void GeneralisedLeastSquares(const PointSetup& s, int m, const Scratch& w, const
   }
 }
 
+// "robust" (estimate/robust.h), trial by trial.
+void RobustTrials(const PointSetup& s, int m, const Scratch& w, const ErrorArrays& out,
+                  const ErrorArrays& estimates) {
+  const estimate::Model& model = *s.model;
+  std::array<Vec2, kMaxPatches> observed;
+  for (int k = 0; k < m; ++k) {
+    for (int i = 0; i < model.num_patches; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
+    WritePose(estimate::Robust(model, observed.data(), s.robust, nullptr), k, w, out, estimates);
+  }
+}
+
 // RunBatch's stages in one function, compiled once per instruction set below.
 inline void RunBatchStages(const PointSetup& setup, uint64_t first_trial, int count,
                            const BatchOutput& out) {
@@ -277,7 +288,7 @@ inline void RunBatchStages(const PointSetup& setup, uint64_t first_trial, int co
   using estimate::Estimator;
   const estimate::Model& model = *setup.model;
   // With no estimator to run (sim_bench's floor: the cost of the noisy inputs alone), stop here.
-  if (!setup.run[0] && !setup.run[1] && !setup.run[2] && !setup.run[3]) return;
+  if (std::none_of(std::begin(setup.run), std::end(setup.run), [](bool r) { return r; })) return;
   Fast(setup, m, w);
   const auto errors = [&out](Estimator e) { return out.errors[static_cast<int>(e)]; };
   const auto estimates = [&out](Estimator e) { return out.estimates[static_cast<int>(e)]; };
@@ -299,6 +310,9 @@ inline void RunBatchStages(const PointSetup& setup, uint64_t first_trial, int co
   } else if (setup.run[static_cast<int>(Estimator::kMl)]) {
     MaximumLikelihood(setup, m, w, errors(Estimator::kMl), estimates(Estimator::kMl),
                       out.ml_iterations, out.ml_termination);
+  }
+  if (setup.run[static_cast<int>(Estimator::kRobust)]) {
+    RobustTrials(setup, m, w, errors(Estimator::kRobust), estimates(Estimator::kRobust));
   }
 }
 
@@ -393,10 +407,10 @@ TrialOutcome RunTrialAsInBatch(const PointSetup& setup, uint64_t trial, uint64_t
   const uint64_t first = trial - trial % kBatchSize;
   const int count = static_cast<int>(std::min<uint64_t>(kBatchSize, trials - first));
   const size_t slot = static_cast<size_t>(trial - first);
-  std::vector<double> arrays(static_cast<size_t>(6 * 4 * kBatchSize));
+  std::vector<double> arrays(static_cast<size_t>(6 * estimate::kNumEstimators * kBatchSize));
   std::vector<uint8_t> iterations(kBatchSize), termination(kBatchSize);
   BatchOutput out;
-  for (int e = 0; e < 4; ++e) {
+  for (int e = 0; e < estimate::kNumEstimators; ++e) {
     if (!setup.run[e]) continue;
     double* a = arrays.data() + static_cast<size_t>(6 * e * kBatchSize);
     out.errors[e] = {a, a + kBatchSize, a + 2 * kBatchSize};
@@ -406,7 +420,7 @@ TrialOutcome RunTrialAsInBatch(const PointSetup& setup, uint64_t trial, uint64_t
   out.ml_termination = termination.data();
   RunBatch(setup, first, count, out);
   TrialOutcome outcome;
-  for (int e = 0; e < 4; ++e) {
+  for (int e = 0; e < estimate::kNumEstimators; ++e) {
     if (!setup.run[e]) continue;
     const ErrorArrays& err = out.errors[e];
     const ErrorArrays& est = out.estimates[e];

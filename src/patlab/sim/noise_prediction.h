@@ -39,8 +39,10 @@ PredictedError PredictError(const estimate::Model& model, estimate::Estimator es
 
 // The Cramer-Rao bound per unit sigma under `noise` where patlab has one: the closed form for the
 // isotropic Gaussian (estimate::CramerRaoBound, the paper's model), the Fisher information
-// J^T A^-1 J of every other Gaussian model (estimate::GaussianCramerRaoBound); nullopt for the
-// rest (outliers, camera roll and scale jitter, colour-edge bias).
+// J^T A^-1 J of every other Gaussian model (estimate::GaussianCramerRaoBound), the outlier
+// mixture's exact bound when the inliers are the isotropic Gaussian
+// (estimate::MixtureCramerRaoBound); nullopt for the rest (outliers on top of another model,
+// camera roll and scale jitter, colour-edge bias).
 std::optional<estimate::StdPerSigma> NoiseCramerRaoBound(const estimate::Model& model,
                                                          const NoiseModel& noise);
 

@@ -39,10 +39,11 @@ struct TrialReplay {
   double sigma_mm = 0.0;
   uint64_t seed = 0;
   Pose2 truth;
-  std::vector<Vec2> observed;                   // per pattern patch
-  std::vector<estimate::Estimator> estimators;  // the experiment's, in its order
-  std::array<Pose2, 4> estimates;               // per estimate::Estimator
-  std::array<Pose2, 4> errors;                  // estimate - truth, theta wrapped, as the run
+  std::vector<Vec2> observed;                             // per pattern patch
+  std::vector<estimate::Estimator> estimators;            // the experiment's, in its order
+  std::array<Pose2, estimate::kNumEstimators> estimates;  // per estimate::Estimator
+  std::array<Pose2, estimate::kNumEstimators>
+      errors;  // estimate - truth, theta wrapped, as the run
   estimate::Summary ml_summary;
 };
 // Throws InputError when the point or trial is out of the experiment's range.

@@ -48,8 +48,8 @@ struct Samples {
 void BlockMoments(const Experiment& experiment, const Samples* by_estimator, size_t size,
                   std::span<EstimatorBlock> out,
                   const std::function<void(const stats::PlanarTile&)>* visit = nullptr) {
-  std::array<stats::PlanarSample, 4> samples;
-  std::array<stats::PlanarMoments, 4> moments;
+  std::array<stats::PlanarSample, estimate::kNumEstimators> samples;
+  std::array<stats::PlanarMoments, estimate::kNumEstimators> moments;
   const size_t count = experiment.estimators.size();
   PATLAB_CHECK(count <= samples.size());
   for (size_t k = 0; k < count; ++k) {
@@ -140,8 +140,8 @@ void KsAgainstFast(const Samples& fast, const Samples& other, size_t n, Comparis
 struct Differences {
   size_t fast_index = 0;
   const Samples* fast = nullptr;
-  std::array<Samples*, 4> other{};  // by sample index; null for fast
-  std::array<size_t, 4> nonzero_position{}, nonzero_theta{};
+  std::array<Samples*, estimate::kNumEstimators> other{};  // by sample index; null for fast
+  std::array<size_t, estimate::kNumEstimators> nonzero_position{}, nonzero_theta{};
 
   void operator()(const stats::PlanarTile& tile) {
     const double* rf = tile.radial[fast_index];
@@ -182,6 +182,12 @@ PointSetup MakePointSetup(const Experiment& experiment, const estimate::Model& m
   setup.point = kKnownStream;
   for (Estimator e : experiment.estimators) setup.run[static_cast<int>(e)] = true;
   setup.ml_options = experiment.ml_options;
+  // robust: the inlier per-axis std (averaged over the axes) and the outlier mixture.
+  const NoiseModel& noise = experiment.noise;
+  setup.robust.sigma_mm =
+      setup.sigma_mm * std::sqrt((1.0 + noise.sigma_y_ratio * noise.sigma_y_ratio) / 2.0);
+  setup.robust.outlier_probability = noise.outlier_probability;
+  setup.robust.outlier_sigma_ratio = noise.outlier_sigma_ratio;
   const estimate::GaussianNoise gaussian = experiment.noise.GaussianPart();
   if (!gaussian.IsLeastSquares()) {
     setup.ml_weights = std::make_shared<const estimate::GaussianWeights>(
@@ -203,9 +209,9 @@ struct MlBatch {
 };
 
 struct PointBuffers {
-  Samples samples[4];               // indexed by estimate::Estimator
-  std::vector<MlBatch> ml_batches;  // one per batch of the block
-  BatchOutput output;               // views of the sample arrays (the ML arrays are per batch)
+  Samples samples[estimate::kNumEstimators];  // indexed by estimate::Estimator
+  std::vector<MlBatch> ml_batches;            // one per batch of the block
+  BatchOutput output;  // views of the sample arrays (the ML arrays are per batch)
 
   PointBuffers(const std::vector<Estimator>& estimators, int64_t trials) {
     for (Estimator e : estimators) {
@@ -221,8 +227,9 @@ struct PointBuffers {
 
 // What the statistics of every point of one pattern share.
 struct PatternBounds {
-  std::optional<estimate::StdPerSigma> crlb;         // NoiseCramerRaoBound
-  std::array<estimate::StdPerSigma, 4> predicted{};  // indexed by estimate::Estimator
+  std::optional<estimate::StdPerSigma> crlb;  // NoiseCramerRaoBound
+  std::array<estimate::StdPerSigma, estimate::kNumEstimators>
+      predicted{};  // indexed by estimate::Estimator
 };
 
 PatternBounds BoundsOf(const estimate::Model& model, const std::vector<Estimator>& estimators,
@@ -402,6 +409,10 @@ PointResult PointHeader(const Experiment& experiment, int pattern_index, int sig
                                             experiment.field_length_mm, experiment.field_width_mm);
       r.predicted_position_mm = p.position_mm;
       r.predicted_theta_rad = p.theta_rad;
+    }
+    if (r.estimator == Estimator::kRobust) {
+      // Not linear in the noise (its weights depend on the residuals): no first-order value.
+      r.predicted_position_mm = r.predicted_theta_rad = std::nan("");
     }
     if (r.estimator == Estimator::kMl && MlIsGeneralised(experiment.noise)) {
       // Generalised least squares: first order, its covariance is the inverse information.

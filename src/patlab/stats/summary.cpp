@@ -306,9 +306,9 @@ void AddTile(LaneSums<C>& sums, const double* const* col, std::size_t m) {
 }
 
 struct PlanarColumns {
-  const double* x[4];
-  const double* y[4];
-  const double* theta[4];
+  const double* x[kMaxPlanarSamples];
+  const double* y[kMaxPlanarSamples];
+  const double* theta[kMaxPlanarSamples];
 };
 
 // Pass 1 of K samples: the sums of x, y, theta, x^2 + y^2 and r, in index order. Chains: 4k + 0..3
@@ -435,8 +435,7 @@ namespace {
 template <class Visit>
 void PlanarMomentsWith(std::span<const PlanarSample> samples, std::span<PlanarMoments> out,
                        Visit visit) {
-  constexpr std::size_t kMaxSamples = 4;
-  PATLAB_CHECK(samples.size() <= kMaxSamples && out.size() == samples.size());
+  PATLAB_CHECK(samples.size() <= kMaxPlanarSamples && out.size() == samples.size());
   if (samples.empty()) return;
   const std::size_t n = samples[0].x.size();
   for (const PlanarSample& s : samples) {
@@ -453,8 +452,11 @@ void PlanarMomentsWith(std::span<const PlanarSample> samples, std::span<PlanarMo
     case 3:
       PlanarMomentsInterleaved<3>(samples.data(), n, out.data(), visit);
       break;
-    default:
+    case 4:
       PlanarMomentsInterleaved<4>(samples.data(), n, out.data(), visit);
+      break;
+    default:
+      PlanarMomentsInterleaved<5>(samples.data(), n, out.data(), visit);
       break;
   }
 }
