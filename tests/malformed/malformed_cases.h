@@ -411,7 +411,7 @@ inline const std::vector<MalformedCase>& MalformedCases() {
                    "{src}/tests/data/golden/ssl-frame.calibration.toml -s {dir}s.toml --out "
                    "{dir}out/d.csv",
                    2,
-                   "patlab detect: {dir}s.toml:4: estimator is \"fastest\"; expected \"fast\", \"ml\", \"lsq\", \"key\" or \"robust\""s,
+                   "patlab detect: {dir}s.toml:4: estimator is \"fastest\"; expected \"fast\", \"ml\", \"lsq\" or \"key\""s,
                    nullptr},
                   {"SettingsMissingPatchPolicy",
                    {{"s.toml",
