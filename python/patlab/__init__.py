@@ -110,13 +110,14 @@ def estimate(pattern, observed, method="fast", max_iterations=20, return_converg
 
 def crlb(pattern, sigma, noise=None):
     """The Cramer-Rao bound at patch sigma (mm): per-axis position std (mm) and theta std (rad)
-    of the origin; NaN for noise other than the isotropic Gaussian (as in the CLI's results)."""
+    of the origin under the noise model; NaN where it has none (as in the CLI's results)."""
     pattern, _ = _as_pattern(pattern)
     return CrlbResult(**_patlab._crlb(pattern, float(sigma), dict(noise or {})))
 
 
 def predicted_std(pattern, method, sigma):
-    """An estimator's first-order predicted std at patch sigma (mm), independent patch noise."""
+    """An estimator's first-order predicted std at patch sigma (mm), independent patch noise
+    (NaN for "robust", as in the CLI's results)."""
     pattern, _ = _as_pattern(pattern)
     return CrlbResult(**_patlab._predicted(pattern, method, float(sigma)))
 

@@ -7,14 +7,17 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/estimate/bounds.h"
 #include "patlab/estimate/estimators.h"
+#include "patlab/sim/noise_prediction.h"
 #include "python/bindings.h"
 
 namespace patlab::python {
@@ -22,6 +25,23 @@ namespace patlab::python {
 namespace {
 
 using Observed = py::array_t<double, py::array::forcecast>;
+
+// estimate()'s methods: the estimators that need the pattern alone (estimate::kAllEstimators, the
+// first names of kEstimatorNames). "robust" also needs the noise model's sigma and outlier
+// mixture, which estimate() does not take; simulate() runs it.
+constexpr EnumNames<estimate::Estimator, estimate::kAllEstimators.size()> kMethodNames = [] {
+  EnumNames<estimate::Estimator, estimate::kAllEstimators.size()> names{};
+  for (size_t i = 0; i < names.entries.size(); ++i) {
+    names.entries[i] = estimate::kEstimatorNames.entries[i];
+  }
+  return names;
+}();
+static_assert([] {
+  for (size_t i = 0; i < kMethodNames.entries.size(); ++i) {
+    if (kMethodNames.entries[i].first != estimate::kAllEstimators[i]) return false;
+  }
+  return true;
+}());
 
 struct EstimateTask {
   const estimate::Model* model;
@@ -43,6 +63,9 @@ Pose2 EstimateOne(const EstimateTask& task, const py::detail::unchecked_referenc
       return estimate::KeyPatch(*task.model, v.data());
     case estimate::Estimator::kMl:
       break;
+    case estimate::Estimator::kRobust:  // not one of kMethodNames
+      PATLAB_CHECK(false && "robust is not a method of estimate()");
+      return Pose2{};
   }
   estimate::Summary summary;
   const Pose2 start = estimate::Fast(*task.model, v.data());
@@ -74,7 +97,7 @@ py::tuple Estimate(const Pattern& pattern, const Observed& observed, const std::
                      "; expected an integer >= 0 (0: every core)");
   }
   const estimate::Model model = estimate::Model::FromPattern(pattern);
-  EstimateTask task{&model, ParseName(method, estimate::kEstimatorNames, "method"), {}};
+  EstimateTask task{&model, ParseName(method, kMethodNames, "method"), {}};
   task.options.max_iterations = max_iterations;
   estimate::Validate(task.options);
   const py::ssize_t trials = observed.shape(0);
@@ -103,31 +126,34 @@ py::tuple Estimate(const Pattern& pattern, const Observed& observed, const std::
   return py::make_tuple(poses, converged.attr("astype")("bool"));
 }
 
-// The Cramer-Rao bound at patch sigma (mm): per-axis position std (mm) and theta std (rad); NaN
-// for a noise model other than the isotropic Gaussian, as the runner reports it.
+// The Cramer-Rao bound at patch sigma (mm) under the noise model: per-axis position std (mm) and
+// theta std (rad); NaN where the model has none (sim::NoiseCramerRaoBound), as the runner
+// reports it.
 py::dict Crlb(const Pattern& pattern, double sigma_mm, const py::dict& noise) {
   if (!(std::isfinite(sigma_mm) && sigma_mm >= 0.0)) {
     throw InputError("sigma_mm is " + FormatNumber(sigma_mm) + "; expected a finite number >= 0");
   }
   const sim::NoiseModel model = NoiseFromDict(noise);
-  const estimate::StdPerSigma bound =
-      estimate::CramerRaoBound(estimate::Model::FromPattern(pattern));
+  const std::optional<estimate::StdPerSigma> bound =
+      sim::NoiseCramerRaoBound(estimate::Model::FromPattern(pattern), model);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const bool iid = model.IsIsotropicGaussian();
   py::dict out;
-  out["position_mm"] = iid ? bound.position_per_axis * sigma_mm : nan;
-  out["theta_rad"] = iid ? bound.theta * sigma_mm : nan;
+  out["position_mm"] = bound ? bound->position_per_axis * sigma_mm : nan;
+  out["theta_rad"] = bound ? bound->theta * sigma_mm : nan;
   return out;
 }
 
-// First-order predicted std of an estimator at patch sigma (mm), independent patch noise.
+// First-order predicted std of an estimator at patch sigma (mm), independent patch noise; NaN for
+// robust (not linear in the noise: its weights depend on the residuals), as the runner reports it.
 py::dict Predicted(const Pattern& pattern, const std::string& method, double sigma_mm) {
+  const estimate::Estimator estimator = ParseName(method, estimate::kEstimatorNames, "method");
   const estimate::StdPerSigma p =
-      estimate::PredictedStd(estimate::Model::FromPattern(pattern),
-                             ParseName(method, estimate::kEstimatorNames, "method"));
+      estimate::PredictedStd(estimate::Model::FromPattern(pattern), estimator);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const bool linear = estimator != estimate::Estimator::kRobust;
   py::dict out;
-  out["position_mm"] = p.position_per_axis * sigma_mm;
-  out["theta_rad"] = p.theta * sigma_mm;
+  out["position_mm"] = linear ? p.position_per_axis * sigma_mm : nan;
+  out["theta_rad"] = linear ? p.theta * sigma_mm : nan;
   return out;
 }
 

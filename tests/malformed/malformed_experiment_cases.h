@@ -68,7 +68,7 @@ inline std::vector<MalformedCase> ExperimentMalformedCases() {
          "name = \"e\"\npatterns_dir = \"{src}/patterns\"\npatterns = [\"butterfly\"]\ntrials = 100\nseed = 1\nestimators = [\"fast\", \"best\"]\n[sigma]\nvalues = [1]\n"s}},
        "simulate {dir}e.toml -q --out {dir}out",
        2,
-       "patlab simulate: {dir}e.toml:6: unknown estimator \"best\"; expected \"fast\", \"ml\", \"lsq\" or \"key\""s,
+       "patlab simulate: {dir}e.toml:6: unknown estimator \"best\"; expected \"fast\", \"ml\", \"lsq\", \"key\" or \"robust\""s,
        nullptr},
       {"ExperimentPatternUnknown",
        {{"e.toml",

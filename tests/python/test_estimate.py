@@ -107,9 +107,12 @@ def test_wrong_shape_is_a_value_error(shape, text):
                                 "pattern's patches in its order, x and y in mm")
 
 
-def test_unknown_method_is_a_value_error():
-    with pytest.raises(ValueError, match='method is "best"; expected "fast", "ml", "lsq" or "key"'):
-        patlab.estimate("butterfly", np.zeros((1, 5, 2)), method="best")
+@pytest.mark.parametrize("method", ["best", "robust"])
+def test_unknown_method_is_a_value_error(method):
+    # robust needs the noise model's sigma and outlier mixture: simulate runs it, estimate does not.
+    with pytest.raises(ValueError,
+                       match=f'method is "{method}"; expected "fast", "ml", "lsq" or "key"'):
+        patlab.estimate("butterfly", np.zeros((1, 5, 2)), method=method)
 
 
 def test_crlb_is_the_formula():
@@ -122,7 +125,13 @@ def test_crlb_is_the_formula():
     centroid_sq = (p.mean(axis=0) ** 2).sum()
     expected = sigma * math.sqrt(1 / len(p) + centroid_sq / (2 * spread))
     assert math.isclose(bound.position_mm, expected, rel_tol=1e-12)
-    assert math.isnan(patlab.crlb(pattern, sigma, noise={"common_sigma_ratio": 0.5}).theta_rad)
+    # A common offset adds (g sigma)^2 to the position's variance and nothing to the angle's;
+    # camera roll has no bound.
+    common = patlab.crlb(pattern, sigma, noise={"common_sigma_ratio": 0.5})
+    assert math.isclose(common.theta_rad, bound.theta_rad, rel_tol=1e-9)
+    assert math.isclose(common.position_mm, math.hypot(bound.position_mm, 0.5 * sigma),
+                        rel_tol=1e-9)
+    assert math.isnan(patlab.crlb(pattern, sigma, noise={"rotation_jitter_rad": 0.001}).theta_rad)
 
 
 def test_predicted_std_matches_the_monte_carlo_std():
@@ -130,5 +139,6 @@ def test_predicted_std_matches_the_monte_carlo_std():
     v = observe(pattern, np.zeros((200000, 3)), sigma=0.5, seed=5)
     theta = patlab.estimate(pattern, v)[:, 2]
     predicted = patlab.predicted_std(pattern, "fast", 0.5).theta_rad
+    assert math.isnan(patlab.predicted_std(pattern, "robust", 0.5).theta_rad)
     # The std's own standard error is std / sqrt(2 (n - 1)); 4 of them.
     assert abs(theta.std(ddof=1) - predicted) < 4 * predicted / math.sqrt(2 * len(theta))
