@@ -99,7 +99,7 @@ void CommandLine::Add(const std::string& title,
 
 void CommandLine::Positional(const char* name, po::value_semantic* value, int max_count) {
   positional_name_ = name;
-  positional_ = value;
+  positional_.reset(value);
   positional_max_ = max_count;
 }
 
@@ -154,7 +154,7 @@ bool CommandLine::Parse(const std::vector<std::string>& args, po::variables_map*
   for (const auto& [title, group] : groups_) all.add(*group);
   po::positional_options_description positionals;
   if (positional_ != nullptr) {
-    all.add_options()(positional_name_.c_str(), positional_);
+    all.add_options()(positional_name_.c_str(), positional_.release());
     positionals.add(positional_name_.c_str(), positional_max_);
   }
   const int style = po::command_line_style::default_style & ~po::command_line_style::allow_guessing;

@@ -50,7 +50,8 @@ class CommandLine {
       groups_;
   std::vector<std::pair<std::string, std::string>> removed_;
   std::string positional_name_;
-  boost::program_options::value_semantic* positional_ = nullptr;
+  // Owned until Parse hands it to the options it parses with (which then own it).
+  std::unique_ptr<boost::program_options::value_semantic> positional_;
   int positional_max_ = 0;
 };
 

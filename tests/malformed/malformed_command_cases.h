@@ -19,7 +19,7 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
        "simulat",
        2,
        "patlab: unknown command 'simulat' (did you mean 'simulate'?); "
-                   "expected one of the commands that 'patlab help' lists"s,
+       "expected one of the commands that 'patlab help' lists"s,
        nullptr},
       {"MergeNameLeavesOut",
        {},
