@@ -9,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "patlab/analysis/analyze_internal.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/core/geometry.h"
@@ -19,15 +20,8 @@ namespace patlab::sim {
 
 namespace {
 
-// Concatenation by append (GCC 12's -Wrestrict misfires on "literal" + std::string chains).
-template <typename... Parts>
-std::string Cat(const Parts&... parts) {
-  std::string out;
-  (out.append(parts), ...);
-  return out;
-}
-
-std::string Quoted(std::string_view s) { return Cat("\"", EscapeForMessage(s, 60), "\""); }
+using detail::Cat;
+using detail::Quoted;
 
 // theta continued across the +-pi cut so that smoothing sees no jump of 2 pi.
 std::vector<double> Unwrapped(std::span<const double> theta) {

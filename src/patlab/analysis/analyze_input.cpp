@@ -5,6 +5,7 @@
 #include <map>
 
 #include "patlab/analysis/analyze.h"
+#include "patlab/analysis/analyze_internal.h"
 #include "patlab/core/error.h"
 #include "patlab/io/csv.h"
 
@@ -12,15 +13,8 @@ namespace patlab::sim {
 
 namespace {
 
-// Concatenation by append (GCC 12's -Wrestrict misfires on "literal" + std::string chains).
-template <typename... Parts>
-std::string Cat(const Parts&... parts) {
-  std::string out;
-  (out.append(parts), ...);
-  return out;
-}
-
-std::string Quoted(std::string_view s) { return Cat("\"", EscapeForMessage(s, 60), "\""); }
+using detail::Cat;
+using detail::Quoted;
 
 // Index of each wanted column in the header (-1 for an optional one that is absent).
 struct ColumnIndex {
