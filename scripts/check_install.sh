@@ -67,6 +67,21 @@ fi
 echo "install ok: examples/detect_blobs found $(wc -l < build/example/lib.txt) robots, as patlab detect did;" \
   "examples/detect_in_code links patlab::detect alone and found: $in_code"
 
+# The Python module, when it was built: `import patlab` from the installed prefix alone (its
+# site-packages on PYTHONPATH, run in an empty folder, so neither the source nor the build tree is
+# reachable), running the first example of docs/python.md.
+if module=$(find "$prefix" -name '_patlab*.so' | head -n 1) && [[ -n $module ]]; then
+  site=$(dirname "$(dirname "$module")")
+  empty=$(mktemp -d)
+  awk '/^```python$/ {inside = 1; next} inside && /^```$/ {exit} inside' docs/python.md \
+    > "$empty/example.py"
+  (cd "$empty" && env -u PATLAB_DATA PYTHONPATH="$site" PYTHONDONTWRITEBYTECODE=1 \
+    /usr/bin/python3 example.py > python.txt) || { echo "docs/python.md's example failed"; exit 1; }
+  echo "install ok: import patlab from ${site#"$prefix"/} ran docs/python.md's first example:" \
+    "$(head -n 1 "$empty/python.txt")"
+  rm -rf "$empty"
+fi
+
 # The same example through pkg-config (patlab.pc, relocatable), and a shared-library build of
 # patlab (BUILD_SHARED_LIBS=ON: versioned SONAMEs) installed into its own prefix, with the example
 # linked against it both ways and run from another folder: the installed tool and example must

@@ -10,6 +10,9 @@ packages=(
   libtomlplusplus-dev librandom123-dev nlohmann-json3-dev libpng-dev libjpeg-dev
   libceres-dev libnlopt-dev libgtest-dev libgmock-dev libbenchmark-dev clang-format clang-tidy clang
   python3 python3-numpy python3-scipy python3-matplotlib python3-pytest
+  libprotobuf-dev protobuf-compiler python3-protobuf libavformat-dev libavcodec-dev libswscale-dev
+  libavutil-dev libv4l-dev
+  pybind11-dev python3-pybind11 python3-dev python3-pandas python3-nbconvert python3-ipykernel
   parallel slurm-wlm munge locales
 )
 if [[ "${1:-}" == "--bench" ]]; then packages+=(libopencv-dev libspng-dev); fi

@@ -8,6 +8,7 @@
 #include "cli/command.h"
 #include "patlab/core/error.h"
 #include "patlab/io/atomic_file.h"
+#include "patlab/io/name.h"
 #include "patlab/sim/shard.h"
 
 namespace patlab::cli {
@@ -51,6 +52,7 @@ int RunMerge(const std::vector<std::string>& args) {
   if (o.shards.empty()) {
     throw InputError("missing SHARD; expected 'patlab merge SHARD... --out DIR' (see --help)");
   }
+  if (!o.name.empty()) io::CheckName(o.name, "--name");
   const sim::MergedOutputs merged = sim::MergeShards(o.shards, o.out_dir, o.name);
   try {
     io::WriteFilesAtomic({{merged.csv_path, merged.csv}, {merged.json_path, merged.json}});

@@ -25,7 +25,7 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr const char* kExamples = R"(examples:
-  patlab thresholds ssl-frame.labels -o thresholds      # -> thresholds/thresholds.toml
+  patlab thresholds my-labels.toml -o thresholds       # -> thresholds/thresholds.toml
   patlab thresholds labels.toml -o t --settings detector --margin 10
 
 LABELS is a labels TOML file (docs/file-formats.md): the image, an optional label mask, and one

@@ -162,5 +162,61 @@ TEST(PortableMath, KnownBitsOnEveryMachine) {
   EXPECT_EQ(Atan2(-0.3, -0.8), -0x1.643382c07913ap+1);
 }
 
+// The exact wrap by another road: IEEE remainder (exact by definition, glibc's integer long
+// division), moved from -pi to pi.
+double ReferenceWrap(double x) {
+  constexpr double two_pi = 2.0 * std::numbers::pi;
+  const double r = std::remainder(x, two_pi);
+  return r <= -std::numbers::pi ? r + two_pi : r;
+}
+
+TEST(PortableMath, WrapAngleIsTheExactRemainderForEveryMagnitude) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+  int far = 0;
+  for (int exponent = -40; exponent <= 1023; ++exponent) {
+    for (int j = 0; j < 40; ++j) {
+      const double x = (j % 2 == 0 ? 1.0 : -1.0) * std::ldexp(mantissa(rng), exponent);
+      const double want = ReferenceWrap(x);
+      ASSERT_EQ(WrapAngle(x), want) << std::hexfloat << x;
+      ASSERT_GT(WrapAngle(x), -std::numbers::pi) << std::hexfloat << x;
+      ASSERT_LE(WrapAngle(x), std::numbers::pi) << std::hexfloat << x;
+      ASSERT_EQ(WrapAngleFar(x), want) << std::hexfloat << x;
+      if (std::abs(x) < kWrapNearLimit) {
+        ASSERT_EQ(WrapAngleNear(x), want) << std::hexfloat << x;
+      } else {
+        ++far;
+      }
+    }
+  }
+  EXPECT_GT(far, 30000);
+  // Whole turns away from an angle: 3 turns is 3 x 2pi rounded once, so compare with the
+  // reference, and with the angle itself to rounding.
+  EXPECT_EQ(WrapAngle(0.25 + 6.0 * std::numbers::pi), ReferenceWrap(0.25 + 6.0 * std::numbers::pi));
+  EXPECT_NEAR(WrapAngle(0.25 + 6.0 * std::numbers::pi), 0.25, 1e-14);
+  EXPECT_NEAR(WrapAngle(-1.0 - 2e6 * std::numbers::pi), -1.0, 1e-9);
+}
+
+TEST(PortableMath, WrapAngleKeepsAnglesInRangeAndMovesMinusPiToPi) {
+  const double pi = std::numbers::pi;
+  for (double x : {0.0, 1e-300, -1e-300, 1.0, -1.0, pi, std::nextafter(pi, 0.0),
+                   std::nextafter(-pi, 0.0), 3.0, -3.0}) {
+    EXPECT_EQ(std::bit_cast<uint64_t>(WrapAngle(x)), std::bit_cast<uint64_t>(x)) << x;
+  }
+  EXPECT_EQ(std::bit_cast<uint64_t>(WrapAngle(-0.0)), std::bit_cast<uint64_t>(-0.0));
+  EXPECT_EQ(WrapAngle(-pi), pi);
+  EXPECT_EQ(WrapAngle(3.0 * pi), ReferenceWrap(3.0 * pi));
+  EXPECT_EQ(WrapAngle(std::nextafter(pi, 4.0)), std::nextafter(pi, 4.0) - 2.0 * pi);
+  EXPECT_EQ(WrapAngle(2.0 * pi), 0.0);
+  EXPECT_EQ(WrapAngle(-2.0 * pi), 0.0);
+  EXPECT_EQ(WrapAngle(std::numeric_limits<double>::max()),
+            ReferenceWrap(std::numeric_limits<double>::max()));
+  EXPECT_EQ(WrapAngle(kWrapNearLimit), ReferenceWrap(kWrapNearLimit));
+  EXPECT_EQ(WrapAngle(std::nextafter(kWrapNearLimit, 0.0)),
+            ReferenceWrap(std::nextafter(kWrapNearLimit, 0.0)));
+  EXPECT_TRUE(std::isnan(WrapAngle(std::numeric_limits<double>::infinity())));
+  EXPECT_TRUE(std::isnan(WrapAngle(std::numeric_limits<double>::quiet_NaN())));
+}
+
 }  // namespace
 }  // namespace patlab::pmath

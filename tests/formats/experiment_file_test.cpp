@@ -58,7 +58,8 @@ TEST_F(ExperimentFileTest, BadFilesGiveTheirMessages) {
       {kHead + "trials = 1\n" + kSigma,
        "e.toml:3: trials is 1; expected an integer in [2, 1000000000]"},
       {kHead + "estimators = [\"fast\", \"newton\"]\n" + kSigma,
-       "e.toml:3: unknown estimator \"newton\"; expected \"fast\", \"ml\", \"lsq\" or \"key\""},
+       "e.toml:3: unknown estimator \"newton\"; expected \"fast\", \"ml\", \"lsq\", \"key\" or "
+       "\"robust\""},
       {kHead + "estimators = [\"ml\", \"ml\"]\n" + kSigma,
        "e.toml:3: estimator \"ml\" is listed twice; expected each once"},
       {"name = \"x\"\npatterns = [\"hexagon\"]\n" + kSigma,

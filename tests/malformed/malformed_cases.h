@@ -13,6 +13,7 @@
 #include "malformed_detector_cases.h"
 #include "malformed_experiment_cases.h"
 #include "malformed_image_cases.h"
+#include "malformed_live_cases.h"
 #include "malformed_pattern_cases.h"
 
 namespace patlab::testing {
@@ -23,7 +24,7 @@ inline const std::vector<MalformedCase>& MalformedCases() {
     std::vector<MalformedCase> all;
     for (std::vector<MalformedCase> group :
          {PatternMalformedCases(), DetectorInputMalformedCases(), ImageMalformedCases(),
-          ExperimentMalformedCases(), CommandMalformedCases()}) {
+          ExperimentMalformedCases(), CommandMalformedCases(), LiveMalformedCases()}) {
       all.insert(all.end(), group.begin(), group.end());
     }
     return all;

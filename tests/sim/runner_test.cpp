@@ -159,7 +159,13 @@ TEST(Runner, NoiseModelsChangeTheStdAsTheirFormulasSay) {
   EXPECT_NEAR(common.position_std_mm, common.predicted_position_mm,
               4 * common.predicted_position_mm / std::sqrt(4.0 * (n - 1)));
   EXPECT_GT(common.predicted_position_mm, 0.1 * 2.0);
-  EXPECT_TRUE(std::isnan(common.crlb_position_mm));  // the bound is for isotropic noise only
+  // The bound: the offset adds (g sigma)^2 to the isotropic bound's position variance, nothing
+  // to the angle's (it lies in the translation columns of the Jacobian).
+  const estimate::StdPerSigma iso =
+      estimate::CramerRaoBound(estimate::Model::FromPattern(e.patterns[0]));
+  EXPECT_NEAR(common.crlb_position_mm, std::hypot(0.1 * iso.position_per_axis, 0.1 * 2.0),
+              1e-9 * common.crlb_position_mm);
+  EXPECT_NEAR(common.crlb_theta_rad, 0.1 * iso.theta, 1e-9 * common.crlb_theta_rad);
   // Outliers: a linear estimator's variance is that of the mixture, per axis
   // sigma^2 ((1 - p) + p k^2). Its std estimate has standard error (s / 2) sqrt((2 + kappa) / n)
   // with kappa the excess kurtosis, at most the mixture's 3 (1 - p + p k^4) / (1 - p + p k^2)^2
@@ -398,7 +404,8 @@ TEST(Replay, NoiseFreeTrialIsRecoveredByEveryEstimator) {
   const TrialReplay r = ReplayTrial(e, ParseReplayIndex("0,42", "TRIAL"));
   EXPECT_EQ(r.pattern->name, e.patterns[0].name);
   EXPECT_EQ(r.observed.size(), static_cast<size_t>(e.patterns[0].size()));
-  for (const Pose2& p : r.estimates) {
+  for (Estimator est : r.estimators) {
+    const Pose2& p = r.estimates[static_cast<size_t>(est)];
     EXPECT_NEAR(p.x_mm, r.truth.x_mm, 1e-9);
     EXPECT_NEAR(p.y_mm, r.truth.y_mm, 1e-9);
     EXPECT_NEAR(WrapAngle(p.theta_rad - r.truth.theta_rad), 0.0, 1e-12);

@@ -59,6 +59,15 @@ TEST(Smoothing, ValidatesOptions) {
   SmoothingOptions no_kernel;
   no_kernel.truncate_sigmas = 0.0;
   EXPECT_INPUT_ERROR(Validate(no_kernel), "truncate_sigmas is 0; expected a finite number > 0");
+  SmoothingOptions huge;
+  huge.sigma_samples = 1e300;
+  EXPECT_INPUT_ERROR(Validate(huge),
+                     "sigma_samples is 1e+300; expected at most 100000 samples (the kernel's size "
+                     "is bounded)");
+  huge.sigma_samples = 100000.0;
+  EXPECT_EQ(Check(huge).size(), 0u);
+  huge.truncate_sigmas = 11.0;
+  EXPECT_INPUT_ERROR(Validate(huge), "truncate_sigmas is 11; expected at most 10");
   EXPECT_EQ(Check(SmoothingOptions{}).size(), 0u);
   EXPECT_THROW(GaussianSmooth(std::vector<double>{}), InputError);
 }

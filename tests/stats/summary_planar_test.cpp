@@ -133,10 +133,10 @@ void ExpectPlainBits(const PlanarData& d, const std::string& what) {
 
 TEST(PlanarMoments, HaveTheBitsOfThePlainDefinition) {
   // n = 1, 2, 3, around the 128-value tile (remainders 1 and 127), and a data point's 100,000;
-  // 1 to 4 samples; every kind of data.
+  // 1 to kMaxPlanarSamples samples; every kind of data.
   for (const size_t n : {size_t{1}, size_t{2}, size_t{3}, size_t{127}, size_t{128}, size_t{129},
                          size_t{1000}, size_t{100000}}) {
-    for (size_t count = 1; count <= 4; ++count) {
+    for (size_t count = 1; count <= kMaxPlanarSamples; ++count) {
       for (int kind = 0; kind <= 4; ++kind) {
         if (n == 100000 && (count == 3 || kind == 2)) continue;  // enough of the large ones
         ExpectPlainBits(MakePlanar(count, n, kind, 11 * n + 7 * count + kind),
@@ -154,7 +154,7 @@ TEST(PlanarMoments, ShowEveryTileOfPassTwoWithItsRadialErrorsOnceRead) {
   // changes nothing, so each tile was read before it was shown and never read again.
   for (const size_t n :
        {size_t{1}, size_t{127}, size_t{128}, size_t{129}, size_t{300}, size_t{1000}}) {
-    for (size_t count = 1; count <= 4; ++count) {
+    for (size_t count = 1; count <= kMaxPlanarSamples; ++count) {
       for (const int kind : {0, 5, 6}) {
         const std::string what = "n " + std::to_string(n) + " samples " + std::to_string(count) +
                                  " kind " + std::to_string(kind);
@@ -200,7 +200,7 @@ TEST(PlanarMoments, HaveThePlainBitsAtEveryLengthUpTo300) {
   // remainder, for 1 to 4 samples (5 to 20 chains in pass 1, 4 to 16 in pass 2: every mix of lane
   // groups of 8, 4, 2 and 1).
   for (size_t n = 1; n <= 300; ++n) {
-    for (size_t count = 1; count <= 4; ++count) {
+    for (size_t count = 1; count <= kMaxPlanarSamples; ++count) {
       for (const int kind : {3, 5, 6}) {
         ExpectPlainBits(MakePlanar(count, n, kind, 3 * n + count + 1000 * kind),
                         "n " + std::to_string(n) + " samples " + std::to_string(count) + " kind " +
@@ -227,7 +227,7 @@ TEST(PlanarMoments, KeepEachChainInItsLane) {
   // Every column of every sample a different constant offset plus small noise: a sum that lands
   // in another column's lane, or takes its values in another order, changes the bits.
   for (const size_t n : {size_t{8}, size_t{16}, size_t{37}, size_t{129}}) {
-    for (size_t count = 1; count <= 4; ++count) {
+    for (size_t count = 1; count <= kMaxPlanarSamples; ++count) {
       PlanarData d = MakePlanar(count, n, 0, 77 + n + count);
       for (size_t k = 0; k < count; ++k) {
         for (size_t i = 0; i < n; ++i) {

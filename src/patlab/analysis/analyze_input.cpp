@@ -93,6 +93,13 @@ class TrackBuilder {
     const auto key = std::pair(std::string(subject), std::string(run));
     const auto [it, inserted] = index_.emplace(key, tracks_.size());
     if (inserted) {
+      // Subjects and runs reach the JSON manifest, whose writer throws on invalid UTF-8.
+      for (const auto& [what, text] : {std::pair{"subject", subject}, std::pair{"run", run}}) {
+        if (!IsValidUtf8(text)) {
+          throw InputError(FileLoc{source_, line}, Cat(what, " ", Quoted(text),
+                                                       " is not valid UTF-8; expected UTF-8 text"));
+        }
+      }
       MeasuredTrack t;
       t.subject = key.first;
       t.run = key.second;

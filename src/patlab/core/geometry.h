@@ -26,13 +26,7 @@ struct Pose2 {
   }
 };
 
-// Wraps an angle to (-pi, pi]. Exact for inputs already in range.
-inline double WrapAngle(double angle_rad) {
-  constexpr double kPi = std::numbers::pi;
-  if (angle_rad > -kPi && angle_rad <= kPi) return angle_rad;
-  double wrapped = std::remainder(angle_rad, 2.0 * kPi);  // in [-pi, pi]
-  if (wrapped <= -kPi) wrapped += 2.0 * kPi;
-  return wrapped;
-}
+// Wraps an angle to (-pi, pi], exactly, for any finite angle (pmath::WrapAngle).
+inline double WrapAngle(double angle_rad) { return pmath::WrapAngle(angle_rad); }
 
 }  // namespace patlab

@@ -201,4 +201,61 @@ inline double Atan2(double y, double x) {
   return FromBits(ToBits(angle) | (ToBits(y) & kSign));
 }
 
+// Angle wrapping: x - 2 pi k in (-pi, pi] for the integer k that puts it there, where "pi" is
+// the double nearest pi (so 2 pi is exact) and the result is exact, not rounded: x - 2 pi k is
+// representable for every finite x (it is a multiple of the coarser of ulp(x) and 2^-47, the
+// last bit of 2 pi, and smaller than 4), and both functions below compute it without a rounding
+// error, so any correct implementation gives these bits. An angle already in range is returned
+// unchanged (-0 included); -pi becomes pi.
+
+// |x| below this: WrapAngleNear is exact.
+inline constexpr double kWrapNearLimit = 0x1.0p24;
+
+namespace detail {
+constexpr double kTwoPi = 6.28318530717958647692;     // 0x1.921fb54442d18p+2, 50 significant bits
+constexpr double kHalfTurn = 3.14159265358979323846;  // kTwoPi / 2 exactly
+// kTwoPi in a 26-bit head and the 24-bit rest: k times either is exact for |k| < 2^22.
+constexpr double kTwoPiHead =
+    std::bit_cast<double>(std::bit_cast<uint64_t>(kTwoPi) & ~uint64_t{0x7FFFFFF});
+constexpr double kTwoPiTail = kTwoPi - kTwoPiHead;
+}  // namespace detail
+
+// For |x| < kWrapNearLimit, branch-free (loops over it vectorise). k = round(x / 2 pi) is below
+// 2^22, so k head and k tail are exact; x - k head is exact (both are multiples of ulp(x), and
+// the difference is smaller than x); the second subtraction rounds a representable value, so it
+// is exact too; the rounding of x / 2 pi can leave the result just past +-pi, fixed exactly.
+inline double WrapAngleNear(double x) {
+  using namespace detail;
+  const double k = RoundToInteger(x * (1.0 / kTwoPi));
+  const double r = (x - k * kTwoPiHead) - k * kTwoPiTail;
+  const double below = r > kHalfTurn ? r - kTwoPi : r;
+  return below <= -kHalfTurn ? below + kTwoPi : below;
+}
+
+// Any finite x (NaN for NaN and infinities), by integer long division: |x| = M 2^e with M a
+// 53-bit integer and 2 pi = N 2^-47 with N a 50-bit integer, so |x| mod 2 pi is
+// ((M 2^(e + 47)) mod N) 2^-47, computed 13 bits of shift at a time in 64-bit integers. Slow
+// (up to 80 integer divisions); WrapAngle calls it only beyond kWrapNearLimit.
+inline double WrapAngleFar(double x) {
+  using namespace detail;
+  if (!(x - x == 0.0)) return x - x;  // NaN, infinities
+  if (x < kWrapNearLimit && x > -kWrapNearLimit) return WrapAngleNear(x);
+  const uint64_t bits = ToBits(x);
+  const uint64_t n = ((ToBits(kTwoPi) & ((uint64_t{1} << 52) - 1)) | (uint64_t{1} << 52)) >> 3;
+  const int exponent = static_cast<int>((bits >> 52) & 0x7FF);  // >= 1047 here
+  uint64_t remainder = ((bits & ((uint64_t{1} << 52) - 1)) | (uint64_t{1} << 52)) % n;
+  for (int shift = exponent - 1075 + 47; shift > 0; shift -= 13) {
+    remainder = (remainder << (shift < 13 ? shift : 13)) % n;
+  }
+  const double magnitude = static_cast<double>(remainder) * 0x1.0p-47;  // exact: < 2^50 units
+  if ((bits >> 63) == 0) return magnitude > kHalfTurn ? magnitude - kTwoPi : magnitude;
+  const double negative = 0.0 - magnitude;
+  return negative <= -kHalfTurn ? negative + kTwoPi : negative;
+}
+
+// The one angle wrap of patlab: exact, in (-pi, pi], for every finite x.
+inline double WrapAngle(double x) {
+  return x < kWrapNearLimit && x > -kWrapNearLimit ? WrapAngleNear(x) : WrapAngleFar(x);
+}
+
 }  // namespace patlab::pmath

@@ -10,6 +10,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/design/sheet_import_internal.h"
+#include "patlab/io/name.h"
 #include "patlab/vision/segment.h"
 
 namespace patlab::vision {
@@ -274,6 +275,7 @@ SheetImport ImportSheet(const Image& image, const std::string& file, const Sheet
     sheet.layouts[it->second].cells.push_back(static_cast<int>(c));
   }
   const std::string base = o.name.empty() ? std::filesystem::path(file).stem().string() : o.name;
+  io::CheckName(base, o.name.empty() ? "the sheet's file stem" : "--name");
   for (auto& [slots, index] : layout_of) {
     ImportedLayout& layout = sheet.layouts[index];
     const std::string name =

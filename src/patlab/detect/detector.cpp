@@ -11,6 +11,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/detect/detector_internal.h"
+#include "patlab/estimate/robust.h"
 
 namespace patlab::detect {
 
@@ -270,6 +271,12 @@ void Detector::Impl::EstimatePose(const Candidate& c, std::span<const Blob> blob
                                             estimate::Fast(model, observed.data()),
                                             config.options.ml, nullptr);
       break;
+    case estimate::Estimator::kRobust: {  // Huber at the detector's patch sigma
+      estimate::RobustModel robust;
+      robust.sigma_mm = std::sqrt(EffectiveSigma2Mm2(config.options));
+      d->pose = estimate::Robust(model, observed.data(), robust, nullptr);
+      break;
+    }
   }
   const int dof = missing ? rt.dof_missing : rt.dof_full;
   const double sigma2 = EffectiveSigma2Mm2(config.options);

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "patlab/estimate/robust.h"
+
 namespace patlab::estimate {
 
 StdPerSigma CramerRaoBound(const Model& model) {
@@ -30,6 +32,8 @@ Pose2 Run(const Model& model, Estimator estimator, const Vec2* observed) {
       return LeastSquares(model, observed);
     case Estimator::kKey:
       return KeyPatch(model, observed);
+    case Estimator::kRobust:  // at these small perturbations every Huber weight is 1
+      return Robust(model, observed, RobustModel{}, nullptr);
     case Estimator::kMl: {
       Options options;
       options.max_iterations = 50;

@@ -101,15 +101,21 @@ struct Summary {
 Pose2 MaximumLikelihood(const Model& model, const Vec2* observed, const Pose2& start,
                         const Options& options, Summary* summary);
 
-// Estimator names as they appear in experiment files and results.
-enum class Estimator { kFast, kMl, kLsq, kKey };
+// Estimator names as they appear in experiment files and results. kRobust (robust.h) needs the
+// noise model (its sigma and outlier mixture) besides the pattern; kAllEstimators are the four
+// that need the pattern alone (what `patlab evaluate` and the detector's estimator choice run).
+enum class Estimator { kFast, kMl, kLsq, kKey, kRobust };
+inline constexpr int kNumEstimators = 5;  // arrays indexed by Estimator
 inline constexpr std::array<Estimator, 4> kAllEstimators = {Estimator::kFast, Estimator::kMl,
                                                             Estimator::kLsq, Estimator::kKey};
-inline constexpr EnumNames<Estimator, 4> kEstimatorNames{{{
+inline constexpr std::array<Estimator, kNumEstimators> kEveryEstimator = {
+    Estimator::kFast, Estimator::kMl, Estimator::kLsq, Estimator::kKey, Estimator::kRobust};
+inline constexpr EnumNames<Estimator, kNumEstimators> kEstimatorNames{{{
     {Estimator::kFast, "fast"},
     {Estimator::kMl, "ml"},
     {Estimator::kLsq, "lsq"},
     {Estimator::kKey, "key"},
+    {Estimator::kRobust, "robust"},
 }}};
 inline std::string_view EstimatorName(Estimator estimator) {
   return NameOf(estimator, kEstimatorNames);

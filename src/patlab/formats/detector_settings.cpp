@@ -105,7 +105,10 @@ DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReade
   if (auto v = dr.OptionalInteger("ml_max_iterations")) o.ml.max_iterations = to_int(*v);
   if (auto policy = OptionalMissingPatch(dr)) o.missing_patch = *policy;
   if (auto v = dr.OptionalString("estimator")) {
-    if (!estimate::ParseEstimator(*v, &o.estimator)) {
+    // "robust" needs the noise model's sigma and outlier mixture, which a detector's settings
+    // do not state: the settings offer the other four.
+    if (!estimate::ParseEstimator(*v, &o.estimator) ||
+        o.estimator == estimate::Estimator::kRobust) {
       dr.Fail("estimator",
               "estimator is \"" + *v + "\"; expected \"fast\", \"ml\", \"lsq\" or \"key\"");
     }

@@ -161,7 +161,7 @@ void LoadKnownPatterns(const TomlReader& r, const toml::array& patterns, const f
 // estimators = ["fast", "ml"] (default: fast and ml).
 std::vector<estimate::Estimator> ReadEstimators(const TomlReader& r) {
   if (!r.Has("estimators")) return {estimate::Estimator::kFast, estimate::Estimator::kMl};
-  const std::string names = "\"fast\", \"ml\", \"lsq\" or \"key\"";
+  const std::string names = "\"fast\", \"ml\", \"lsq\", \"key\" or \"robust\"";
   std::vector<estimate::Estimator> estimators;
   for (const toml::node& item : NonEmptyArray(r, "estimators", "a non-empty array of " + names)) {
     const auto* name = item.as_string();

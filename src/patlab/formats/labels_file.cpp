@@ -5,6 +5,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::vision {
@@ -86,6 +87,10 @@ LabelClass ReadLabelClass(const toml::node& node, const std::string& file, size_
   c.line = r.TableLoc().line;
   c.name = r.String("name");
   if (c.name.empty()) r.Fail("name", "empty name in " + context + "; expected a class name");
+  if (const std::string problem = io::NameProblem(c.name); !problem.empty()) {
+    r.Fail("name", "name '" + EscapeForMessage(c.name) + "' " + problem + "; expected " +
+                       io::kNameExpected);
+  }
   for (const LabelClass& b : before) {
     if (b.name == c.name) {
       r.Fail("name",

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "patlab/core/format.h"
+#include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::io {
@@ -257,6 +258,10 @@ Pattern ParseTable(const toml::table& root, const std::string& file) {
   Pattern pattern;
   pattern.name = reader.String("name");
   if (pattern.name.empty()) reader.Fail("name", "name is empty; expected a non-empty string");
+  if (const std::string problem = io::NameProblem(pattern.name); !problem.empty()) {
+    reader.Fail("name", "name '" + EscapeForMessage(pattern.name) + "' " + problem + "; expected " +
+                            io::kNameExpected);
+  }
   pattern.description = reader.OptionalString("description").value_or("");
   std::vector<FileLoc> patch_locs;
   ParsePatches(root, file, &pattern, &patch_locs);

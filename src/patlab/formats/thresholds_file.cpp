@@ -7,6 +7,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/io/csv.h"
+#include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::vision {
@@ -328,6 +329,10 @@ ColorClass ReadClass(const toml::node& node, const std::string& name, size_t ind
   ColorClass cls;
   cls.name = r.String("name");
   if (cls.name.empty()) r.Fail("name", "empty name in " + context + "; expected a class name");
+  if (const std::string problem = io::NameProblem(cls.name); !problem.empty()) {
+    r.Fail("name", "name '" + EscapeForMessage(cls.name) + "' " + problem + "; expected " +
+                       io::kNameExpected);
+  }
   if (t.Find(cls.name) >= 0) {
     r.Fail("name", "duplicate class name \"" + cls.name + "\"; expected unique names");
   }

@@ -12,12 +12,19 @@
 #include <filesystem>
 
 #include "patlab/core/error.h"
+#include "patlab/io/atomic_file_internal.h"
+#include "patlab/io/name.h"
 
 namespace patlab::io {
 
 namespace {
 
 namespace fs = std::filesystem;
+using atomic_detail::JournalPath;
+using atomic_detail::kJournalEnd;
+using atomic_detail::kOldTag;
+using atomic_detail::kTempTag;
+using atomic_detail::Sibling;
 
 // What the signal handler may touch: only lock-free atomics and a null-terminated array of C
 // strings that stays alive while it is published (async-signal-safe: unlink, signal, raise).
@@ -45,15 +52,6 @@ extern "C" void OnTerminatingSignal(int signal_number) {
 [[noreturn]] void Fail(const std::string& path, const std::string& reason) {
   throw EnvironmentError(EscapeForMessage(path, 1024) + ": cannot write: " + reason +
                          "; expected a writable location");
-}
-
-std::string Sibling(const std::string& path, const char* kind) {
-  const fs::path p(path);
-  std::string name = ".";
-  name += p.filename().string();
-  name += kind;
-  name += std::to_string(::getpid());
-  return (p.parent_path() / name).string();
 }
 
 bool IsDirectory(const std::string& path) {
@@ -197,11 +195,52 @@ class CommitGuard {
   CommitGuard& operator=(const CommitGuard&) = delete;
 };
 
+// The commit journals (atomic_file_internal.h): written and synced in every folder of the set
+// before the first rename, removed when the commit is done or rolled back, so a writer killed
+// between the two leaves a commit that the next writer's sweep rolls forward.
+class Journals {
+ public:
+  explicit Journals(const std::vector<Slot>& slots) {
+    std::vector<std::string> targets;
+    std::string text;
+    for (const Slot& s : slots) {
+      targets.push_back(s.target);
+      std::error_code ec;
+      const fs::path absolute = fs::absolute(s.target, ec);
+      text += (ec ? fs::path(s.target) : absolute).lexically_normal().string() + "\n";
+    }
+    text += kJournalEnd;
+    text += "\n";
+    try {
+      for (const std::string& folder : atomic_detail::FoldersOf(targets)) {
+        paths_.push_back(JournalPath(folder, ::getpid()));
+        TempFile file(slots.back().target, paths_.back());
+        file.Write(text);
+        file.Finish();
+      }
+    } catch (...) {
+      Remove();
+      for (const Slot& s : slots) ::unlink(s.temp.c_str());
+      throw;
+    }
+  }
+  ~Journals() { Remove(); }
+  Journals(const Journals&) = delete;
+  Journals& operator=(const Journals&) = delete;
+
+ private:
+  void Remove() {
+    for (const std::string& path : paths_) ::unlink(path.c_str());
+  }
+
+  std::vector<std::string> paths_;
+};
+
 }  // namespace
 
 bool IsFileBaseName(std::string_view name) {
-  return !name.empty() && name.size() <= kMaxBaseNameBytes &&
-         name.find_first_of(std::string_view("/\0", 2)) == std::string_view::npos;
+  static_assert(kMaxBaseNameBytes <= kMaxNameBytes);
+  return name.size() <= kMaxBaseNameBytes && NameProblem(name).empty();
 }
 
 namespace {
@@ -221,6 +260,11 @@ void CheckDistinct(const std::vector<std::string>& paths) {
 
 void CheckWritable(const std::vector<std::string>& paths) {
   CheckDistinct(paths);
+  std::vector<std::string> existing;
+  for (const std::string& folder : atomic_detail::FoldersOf(paths)) {
+    if (IsDirectory(folder)) existing.push_back(folder);
+  }
+  atomic_detail::SweepOnce(existing);
   for (const std::string& path : paths) {
     if (IsDirectory(path)) Fail(path, "it is a directory");
     fs::path folder = fs::path(path).parent_path();
@@ -244,11 +288,12 @@ void WriteFilesAtomic(const std::vector<StreamedFile>& files) {
   std::vector<std::string> paths;
   for (const StreamedFile& file : files) paths.push_back(file.path);
   CheckDistinct(paths);
+  atomic_detail::SweepOnce(atomic_detail::FoldersOf(paths));
   std::vector<Slot> slots;
   for (const StreamedFile& file : files) {
     if (IsDirectory(file.path)) Fail(file.path, "it is a directory");
-    slots.push_back(
-        {file.path, Sibling(file.path, ".patlab-tmp."), Sibling(file.path, ".patlab-old.")});
+    slots.push_back({file.path, Sibling(file.path, kTempTag, ::getpid()),
+                     Sibling(file.path, kOldTag, ::getpid())});
   }
   const PublishedTemps published(slots);
   try {
@@ -263,6 +308,7 @@ void WriteFilesAtomic(const std::vector<StreamedFile>& files) {
     throw;
   }
   const CommitGuard guard;
+  const Journals journals(slots);
   Commit(&slots);
 }
 

@@ -9,6 +9,15 @@
 // back during the renames and delivered after them, and remove the temporary files when they
 // arrive while the files are being written (InstallSignalCleanup); any other failure removes them
 // before the exception leaves WriteFilesAtomic.
+//
+// SIGKILL and power cuts cannot be caught, so the next write into the same folder finishes what
+// a dead writer left (SweepDeadWriters): before its first rename a writer records its targets in
+// a commit journal ".patlab-commit.<pid>" in each folder it writes to, removed once the commit is
+// done. A dead writer's temporaries without a journal were never complete and are removed; with
+// a journal they are complete (written and synced before the journal), so the commit is rolled
+// forward: the new set is placed, manifest last, and the moved-aside old copies are removed.
+// A writer is dead when kill(pid, 0) fails with ESRCH; files of a live process (or of this one)
+// are never touched.
 #pragma once
 
 #include <functional>
@@ -43,18 +52,26 @@ void WriteFilesAtomic(const std::vector<StreamedFile>& files);
 // searchable directory. Creates nothing. Throws EnvironmentError with the same message shape.
 void CheckWritable(const std::vector<std::string>& paths);
 
-// True when `name` can be the base of an output file inside a chosen directory: non-empty, at
-// most kMaxBaseNameBytes bytes (the temporary's ".<name>.<ext>.patlab-tmp.<pid>" must fit in 255),
-// without '/' or NUL, so `--name ../../x` cannot leave the output directory.
+// True when `name` can be the base of an output file inside a chosen directory: a name by
+// io/name.h's rule (NameProblem), so `--name ../../x` cannot leave the output directory; at most
+// kMaxBaseNameBytes bytes, so the temporary ".<name>.<ext>.patlab-tmp.<pid>" fits in 255.
 inline constexpr size_t kMaxBaseNameBytes = 200;
 bool IsFileBaseName(std::string_view name);
 // The expectation messages quote for a bad base name.
 inline constexpr const char* kFileBaseNameExpected =
-    "a non-empty file base name without '/' of at most 200 bytes";
+    "a non-empty file base name of at most 200 bytes of UTF-8 without '/', '\\', control "
+    "characters or NUL";
 
 // The names of the files of a result set, without their folder, as its manifest lists them: a
 // manifest describes results, so it reads the same wherever they were written.
 std::vector<std::string> OutputNames(const std::vector<std::string>& paths);
+
+// Finishes or removes what dead writers left in `folder` (see above): rolls a journalled commit
+// forward and removes the other temporaries and moved-aside copies of processes that no longer
+// exist. Only names of patlab's own form are touched. A missing folder is not an error. Returns
+// the number of files removed or renamed. WriteFilesAtomic and CheckWritable call it for each
+// folder they write to, once per folder and process.
+int SweepDeadWriters(const std::string& folder);
 
 // Installs the SIGINT / SIGTERM / SIGHUP handler that removes WriteFilesAtomic's temporary files
 // when a signal arrives while they are written, and defers a signal that arrives during the

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "patlab/core/format.h"
+#include "patlab/core/options.h"
 #include "patlab/io/csv.h"
 #include "patlab/paper/noise_fit.h"
 
@@ -177,8 +178,19 @@ std::string DataCsv(const FitDesign& design, const NoiseFitResult& r,
 
 }  // namespace
 
+namespace {
+// The blob-level check simulates simulate_runs x simulate_frames frames: bounded so that a typo
+// (--simulate-runs 2000000000) is refused before work instead of running until killed.
+constexpr int64_t kMaxSimulateRuns = 1000;
+constexpr int64_t kMaxSimulateFrames = 1000000;
+}  // namespace
+
 NoiseFitStudy RunNoiseFitStudy(const NoiseFitStudyOptions& o) {
   Validate(o.fit);
+  OptionsChecker check;
+  check.IntegerInRange("simulate_runs", o.simulate_runs, 0, kMaxSimulateRuns)
+      .IntegerInRange("simulate_frames", o.simulate_frames, 1, kMaxSimulateFrames);
+  ThrowFirstProblem(check.Take());
   const std::vector<FitDatum> data = PaperData(o.paper);
   double delta = 0.0;
   const FitDesign design = AddTable1Discrepancy(BuildDesign(data, o.geometry), &delta);

@@ -14,6 +14,7 @@
 #include <numbers>
 #include <vector>
 
+#include "patlab/core/error.h"
 #include "patlab/core/portable_math.h"
 #include "patlab/sim/batch_generate_internal.h"
 
@@ -25,15 +26,25 @@ using namespace batch_internal;
 
 thread_local Scratch scratch;
 
-// Errors of the pose (origin = mean - R(t) centroid-like point `ref`, angle t given by c, s).
+// The estimate (origin = anchor - R(t) ref for a point `ref` of the model, angle t in (-pi, pi]
+// given with its c, s) and its error against the truth, theta wrapped (t and the true angle are
+// both in (-pi, pi], so WrapAngleNear is exact on their difference).
 void WriteErrors(const double* anchor_x, const double* anchor_y, const Vec2& ref, const double* t,
-                 const double* c, const double* s, int m, const Scratch& w,
-                 const ErrorArrays& out) {
+                 const double* c, const double* s, int m, const Scratch& w, const ErrorArrays& out,
+                 const ErrorArrays& estimates) {
   const double rx = ref.x(), ry = ref.y();
   for (int k = 0; k < m; ++k) {
-    out.x_mm[k] = anchor_x[k] - (c[k] * rx - s[k] * ry) - w.true_x[k];
-    out.y_mm[k] = anchor_y[k] - (s[k] * rx + c[k] * ry) - w.true_y[k];
-    out.theta_rad[k] = Wrap(t[k] - w.true_t[k]);
+    const double x = anchor_x[k] - (c[k] * rx - s[k] * ry);
+    const double y = anchor_y[k] - (s[k] * rx + c[k] * ry);
+    out.x_mm[k] = x - w.true_x[k];
+    out.y_mm[k] = y - w.true_y[k];
+    out.theta_rad[k] = pmath::WrapAngleNear(t[k] - w.true_t[k]);
+  }
+  if (estimates.x_mm == nullptr) return;
+  for (int k = 0; k < m; ++k) {
+    estimates.x_mm[k] = anchor_x[k] - (c[k] * rx - s[k] * ry);
+    estimates.y_mm[k] = anchor_y[k] - (s[k] * rx + c[k] * ry);
+    estimates.theta_rad[k] = t[k];
   }
 }
 
@@ -66,12 +77,14 @@ void Fast(const PointSetup& s, int m, Scratch& w) {
       w.sum_b[k] += -sn * dx + c * dy;
     }
   }
-  for (int k = 0; k < m; ++k) w.fast_t[k] = pmath::Atan2(w.sum_b[k], w.sum_a[k]);
+  for (int k = 0; k < m; ++k)
+    w.fast_t[k] = pmath::WrapAngleNear(pmath::Atan2(w.sum_b[k], w.sum_a[k]));
   for (int k = 0; k < m; ++k) pmath::SinCos(w.fast_t[k], &w.fast_s[k], &w.fast_c[k]);
 }
 
 // The closed-form least-squares fit (2-D Procrustes).
-void LeastSquares(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out) {
+void LeastSquares(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out,
+                  const ErrorArrays& estimates) {
   const estimate::Model& model = *s.model;
   for (int k = 0; k < m; ++k) w.sum_a[k] = w.sum_b[k] = 0.0;
   for (int i = 0; i < model.num_patches; ++i) {
@@ -83,9 +96,11 @@ void LeastSquares(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out
       w.sum_b[k] += qx * wy - qy * wx;
     }
   }
-  for (int k = 0; k < m; ++k) w.est_t[k] = pmath::Atan2(w.sum_b[k], w.sum_a[k]);
+  for (int k = 0; k < m; ++k)
+    w.est_t[k] = pmath::WrapAngleNear(pmath::Atan2(w.sum_b[k], w.sum_a[k]));
   for (int k = 0; k < m; ++k) pmath::SinCos(w.est_t[k], &w.est_s[k], &w.est_c[k]);
-  WriteErrors(w.mean_x, w.mean_y, model.centroid_mm, w.est_t, w.est_c, w.est_s, m, w, out);
+  WriteErrors(w.mean_x, w.mean_y, model.centroid_mm, w.est_t, w.est_c, w.est_s, m, w, out,
+              estimates);
 }
 
 // Newton's method on the sum-squared error, every trial of the batch in lock step, from the fast
@@ -172,19 +187,29 @@ void NewtonSteps(const estimate::Model& model, const estimate::Options& o, int m
   }
 }
 
+// One trial's pose written as WriteErrors writes it (the scalar estimators' poses are wrapped).
+void WritePose(const Pose2& pose, int k, const Scratch& w, const ErrorArrays& out,
+               const ErrorArrays& estimates) {
+  out.x_mm[k] = pose.x_mm - w.true_x[k];
+  out.y_mm[k] = pose.y_mm - w.true_y[k];
+  out.theta_rad[k] = pmath::WrapAngleNear(pose.theta_rad - w.true_t[k]);
+  if (estimates.x_mm == nullptr) return;
+  estimates.x_mm[k] = pose.x_mm;
+  estimates.y_mm[k] = pose.y_mm;
+  estimates.theta_rad[k] = pose.theta_rad;
+}
+
 // Rare: the Hessian was indefinite or max_iterations was reached. The reference estimator
 // decides trial k, and its Summary is what the results report.
 void ReferenceTrial(const estimate::Model& model, const estimate::Options& o, int k,
-                    const Scratch& w, const ErrorArrays& out, uint8_t* iterations_out,
-                    uint8_t* termination_out) {
+                    const Scratch& w, const ErrorArrays& out, const ErrorArrays& estimates,
+                    uint8_t* iterations_out, uint8_t* termination_out) {
   std::array<Vec2, kMaxPatches> observed;
   for (int i = 0; i < model.num_patches; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
   const Pose2 start = estimate::Fast(model, observed.data());
   estimate::Summary summary;
   const Pose2 pose = estimate::MaximumLikelihood(model, observed.data(), start, o, &summary);
-  out.x_mm[k] = pose.x_mm - w.true_x[k];
-  out.y_mm[k] = pose.y_mm - w.true_y[k];
-  out.theta_rad[k] = WrapAngle(pose.theta_rad - w.true_t[k]);
+  WritePose(pose, k, w, out, estimates);
   iterations_out[k] = static_cast<uint8_t>(std::min(summary.iterations, 255));
   termination_out[k] = static_cast<uint8_t>(summary.termination);
 }
@@ -199,24 +224,57 @@ void ReferenceTrial(const estimate::Model& model, const estimate::Options& o, in
 // (expand x_i = x + a_i - u_ix, y_i = y + b_i - u_iy and use sum a_i (-b_i) + b_i a_i = 0), so
 // an iteration costs O(1) per trial instead of O(n). Trials that need the Levenberg damping or
 // do not converge are re-run by the reference estimator, whose Summary is then reported.
+// The angle is wrapped before the error is taken: Newton's angle can leave (-pi, pi] by any
+// number of turns (a trial far from the truth), and WrapAngles is exact for all of them.
 void MaximumLikelihood(const PointSetup& s, int m, Scratch& w, const ErrorArrays& out,
-                       uint8_t* iterations_out, uint8_t* termination_out) {
+                       const ErrorArrays& estimates, uint8_t* iterations_out,
+                       uint8_t* termination_out) {
   const estimate::Model& model = *s.model;
   StartNewton(model, m, w);
   NewtonSteps(model, s.ml_options, m, w);
   for (int k = 0; k < m; ++k) {
     w.ml_x[k] += w.mean_x[k];
     w.ml_y[k] += w.mean_y[k];
-    w.est_t[k] = w.ml_t[k];
   }
-  for (int k = 0; k < m; ++k) pmath::SinCos(w.est_t[k], &w.est_s[k], &w.est_c[k]);
+  WrapAngles(w.ml_t, w.est_t, m);
+  // The origin is (ml_x, ml_y) itself: R(t) applied to the point 0 (c, s unused).
   const Vec2 zero = Vec2::Zero();
-  WriteErrors(w.ml_x, w.ml_y, zero, w.est_t, w.est_c, w.est_s, m, w, out);
+  WriteErrors(w.ml_x, w.ml_y, zero, w.est_t, w.est_t, w.est_t, m, w, out, estimates);
   for (int k = 0; k < m; ++k) {
     iterations_out[k] = static_cast<uint8_t>(w.iterations[k]);
     termination_out[k] = static_cast<uint8_t>(estimate::Termination::kConverged);
     if (w.active[k] == 0.0 && w.needs_reference[k] == 0.0) continue;
-    ReferenceTrial(model, s.ml_options, k, w, out, iterations_out, termination_out);
+    ReferenceTrial(model, s.ml_options, k, w, out, estimates, iterations_out, termination_out);
+  }
+}
+
+// "ml" under Gaussian noise that is not least squares (PointSetup::ml_weights): generalised least
+// squares, trial by trial, from the least-squares pose.
+void GeneralisedLeastSquares(const PointSetup& s, int m, const Scratch& w, const ErrorArrays& out,
+                             const ErrorArrays& estimates, uint8_t* iterations_out,
+                             uint8_t* termination_out) {
+  const estimate::Model& model = *s.model;
+  std::array<Vec2, kMaxPatches> observed;
+  for (int k = 0; k < m; ++k) {
+    for (int i = 0; i < model.num_patches; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
+    estimate::Summary summary;
+    const Pose2 pose = estimate::GeneralisedLeastSquares(
+        model, *s.ml_weights, observed.data(), estimate::LeastSquares(model, observed.data()),
+        s.ml_options, &summary);
+    WritePose(pose, k, w, out, estimates);
+    iterations_out[k] = static_cast<uint8_t>(std::min(summary.iterations, 255));
+    termination_out[k] = static_cast<uint8_t>(summary.termination);
+  }
+}
+
+// "robust" (estimate/robust.h), trial by trial.
+void RobustTrials(const PointSetup& s, int m, const Scratch& w, const ErrorArrays& out,
+                  const ErrorArrays& estimates) {
+  const estimate::Model& model = *s.model;
+  std::array<Vec2, kMaxPatches> observed;
+  for (int k = 0; k < m; ++k) {
+    for (int i = 0; i < model.num_patches; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
+    WritePose(estimate::Robust(model, observed.data(), s.robust, nullptr), k, w, out, estimates);
   }
 }
 
@@ -230,23 +288,31 @@ inline void RunBatchStages(const PointSetup& setup, uint64_t first_trial, int co
   using estimate::Estimator;
   const estimate::Model& model = *setup.model;
   // With no estimator to run (sim_bench's floor: the cost of the noisy inputs alone), stop here.
-  if (!setup.run[0] && !setup.run[1] && !setup.run[2] && !setup.run[3]) return;
+  if (std::none_of(std::begin(setup.run), std::end(setup.run), [](bool r) { return r; })) return;
   Fast(setup, m, w);
+  const auto errors = [&out](Estimator e) { return out.errors[static_cast<int>(e)]; };
+  const auto estimates = [&out](Estimator e) { return out.estimates[static_cast<int>(e)]; };
   if (setup.run[static_cast<int>(Estimator::kFast)]) {
     WriteErrors(w.mean_x, w.mean_y, model.centroid_mm, w.fast_t, w.fast_c, w.fast_s, m, w,
-                out.errors[static_cast<int>(Estimator::kFast)]);
+                errors(Estimator::kFast), estimates(Estimator::kFast));
   }
   if (setup.run[static_cast<int>(Estimator::kKey)]) {
     const int key = model.key_index;
     WriteErrors(w.ox[key], w.oy[key], model.model_mm[key], w.fast_t, w.fast_c, w.fast_s, m, w,
-                out.errors[static_cast<int>(Estimator::kKey)]);
+                errors(Estimator::kKey), estimates(Estimator::kKey));
   }
   if (setup.run[static_cast<int>(Estimator::kLsq)]) {
-    LeastSquares(setup, m, w, out.errors[static_cast<int>(Estimator::kLsq)]);
+    LeastSquares(setup, m, w, errors(Estimator::kLsq), estimates(Estimator::kLsq));
   }
-  if (setup.run[static_cast<int>(Estimator::kMl)]) {
-    MaximumLikelihood(setup, m, w, out.errors[static_cast<int>(Estimator::kMl)], out.ml_iterations,
-                      out.ml_termination);
+  if (setup.run[static_cast<int>(Estimator::kMl)] && setup.ml_weights != nullptr) {
+    GeneralisedLeastSquares(setup, m, w, errors(Estimator::kMl), estimates(Estimator::kMl),
+                            out.ml_iterations, out.ml_termination);
+  } else if (setup.run[static_cast<int>(Estimator::kMl)]) {
+    MaximumLikelihood(setup, m, w, errors(Estimator::kMl), estimates(Estimator::kMl),
+                      out.ml_iterations, out.ml_termination);
+  }
+  if (setup.run[static_cast<int>(Estimator::kRobust)]) {
+    RobustTrials(setup, m, w, errors(Estimator::kRobust), estimates(Estimator::kRobust));
   }
 }
 
@@ -334,6 +400,36 @@ void GenerateTrial(const PointSetup& setup, uint64_t trial, Pose2* truth, Vec2* 
   for (int i = 0; i < setup.model->num_patches; ++i) {
     observed[i] = Vec2(w.ox[i][slot], w.oy[i][slot]);
   }
+}
+
+TrialOutcome RunTrialAsInBatch(const PointSetup& setup, uint64_t trial, uint64_t trials) {
+  PATLAB_CHECK(trial < trials);
+  const uint64_t first = trial - trial % kBatchSize;
+  const int count = static_cast<int>(std::min<uint64_t>(kBatchSize, trials - first));
+  const size_t slot = static_cast<size_t>(trial - first);
+  std::vector<double> arrays(static_cast<size_t>(6 * estimate::kNumEstimators * kBatchSize));
+  std::vector<uint8_t> iterations(kBatchSize), termination(kBatchSize);
+  BatchOutput out;
+  for (int e = 0; e < estimate::kNumEstimators; ++e) {
+    if (!setup.run[e]) continue;
+    double* a = arrays.data() + static_cast<size_t>(6 * e * kBatchSize);
+    out.errors[e] = {a, a + kBatchSize, a + 2 * kBatchSize};
+    out.estimates[e] = {a + 3 * kBatchSize, a + 4 * kBatchSize, a + 5 * kBatchSize};
+  }
+  out.ml_iterations = iterations.data();
+  out.ml_termination = termination.data();
+  RunBatch(setup, first, count, out);
+  TrialOutcome outcome;
+  for (int e = 0; e < estimate::kNumEstimators; ++e) {
+    if (!setup.run[e]) continue;
+    const ErrorArrays& err = out.errors[e];
+    const ErrorArrays& est = out.estimates[e];
+    outcome.errors[e] = {err.x_mm[slot], err.y_mm[slot], err.theta_rad[slot]};
+    outcome.estimates[e] = {est.x_mm[slot], est.y_mm[slot], est.theta_rad[slot]};
+  }
+  outcome.ml_iterations = iterations[slot];
+  outcome.ml_termination = static_cast<estimate::Termination>(termination[slot]);
+  return outcome;
 }
 
 }  // namespace patlab::sim

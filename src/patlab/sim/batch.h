@@ -22,12 +22,16 @@
 // lanes for any thread count and the results are byte-identical.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "patlab/core/geometry.h"
 #include "patlab/estimate/estimators.h"
+#include "patlab/estimate/gls.h"
+#include "patlab/estimate/robust.h"
 #include "patlab/sim/noise.h"
 
 namespace patlab::sim {
@@ -40,10 +44,16 @@ struct PointSetup {
   double sigma_mm = 0.0;
   double field_length_mm = 0.0;
   double field_width_mm = 0.0;
-  uint64_t seed = 0;                           // the Philox key (the runner: KnownPointKey)
-  uint32_t point = 0;                          // the stream word (the runner: kKnownStream)
-  bool run[4] = {false, false, false, false};  // indexed by estimate::Estimator
+  uint64_t seed = 0;                        // the Philox key (the runner: KnownPointKey)
+  uint32_t point = 0;                       // the stream word (the runner: kKnownStream)
+  bool run[estimate::kNumEstimators] = {};  // indexed by estimate::Estimator
   estimate::Options ml_options;
+  // Set when the noise's Gaussian part is not least squares (noise.GaussianPart()): "ml" is then
+  // generalised least squares with these weights (estimate/gls.h), one trial at a time from the
+  // least-squares pose; null: the batched Newton iteration on the sum of squares.
+  std::shared_ptr<const estimate::GaussianWeights> ml_weights;
+  // "robust" (estimate/robust.h): the inlier sigma and the outlier mixture of the noise model.
+  estimate::RobustModel robust;
 };
 
 // Errors of one estimator, estimate minus truth; theta wrapped to (-pi, pi].
@@ -54,7 +64,10 @@ struct ErrorArrays {
 };
 
 struct BatchOutput {
-  ErrorArrays errors[4];              // indexed by estimate::Estimator; null if not run
+  ErrorArrays errors[estimate::kNumEstimators];  // indexed by estimate::Estimator; null if not run
+  // The estimates themselves (origin in mm, theta wrapped to (-pi, pi]), written when not null;
+  // errors = estimate - truth with these very values (replay, rule 3).
+  ErrorArrays estimates[estimate::kNumEstimators];
   uint8_t* ml_iterations = nullptr;   // Newton steps per trial (ml only)
   uint8_t* ml_termination = nullptr;  // estimate::Termination per trial (ml only)
 };
@@ -78,5 +91,17 @@ void RunBatchWith(KernelIsa isa, const PointSetup& setup, uint64_t first_trial, 
 // Replays one trial (rule 3): its true pose and noisy patch positions, exactly as RunBatch
 // generated them.
 void GenerateTrial(const PointSetup& setup, uint64_t trial, Pose2* truth, Vec2* observed);
+
+// One trial as the runner computed it: the estimates, errors and ML counters RunBatch wrote for
+// it, bit for bit. The runner runs a point's trials in batches of kBatchSize from trial 0, the
+// last one short; `trials` (the point's trial count) gives the length of the trial's batch.
+struct TrialOutcome {
+  std::array<Pose2, estimate::kNumEstimators>
+      estimates{};  // indexed by estimate::Estimator (those setup.run)
+  std::array<Pose2, estimate::kNumEstimators> errors{};  // estimate - truth, theta wrapped
+  int ml_iterations = 0;
+  estimate::Termination ml_termination = estimate::Termination::kConverged;
+};
+TrialOutcome RunTrialAsInBatch(const PointSetup& setup, uint64_t trial, uint64_t trials);
 
 }  // namespace patlab::sim

@@ -41,9 +41,14 @@ struct Scratch {
   alignas(64) double iterations[kB];       // Newton steps taken (doubles keep the loop vector)
 };
 
-inline double Wrap(double d) {  // for d in (-2 pi, 2 pi)
-  d = d > kPi ? d - 2.0 * kPi : d;
-  return d <= -kPi ? d + 2.0 * kPi : d;
+// out[k] = WrapAngle(in[k]) (core/portable_math.h), exact for any finite angle: the branch-free
+// form in a loop that vectorises, then the rare angles beyond its range (a diverging Newton
+// iteration) one by one. `in` and `out` do not overlap.
+inline void WrapAngles(const double* in, double* out, int m) {
+  for (int k = 0; k < m; ++k) out[k] = pmath::WrapAngleNear(in[k]);
+  for (int k = 0; k < m; ++k) {
+    if (!(std::abs(in[k]) < pmath::kWrapNearLimit)) out[k] = pmath::WrapAngleFar(in[k]);
+  }
 }
 
 // Philox block `block` of the m trials starting at t0 (a batch never crosses a multiple of

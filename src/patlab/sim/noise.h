@@ -44,6 +44,7 @@
 #include "patlab/core/geometry.h"
 #include "patlab/core/options.h"
 #include "patlab/core/rng.h"
+#include "patlab/estimate/gls.h"
 
 namespace patlab::sim {
 
@@ -70,6 +71,18 @@ struct NoiseModel {
   bool IsIsotropicGaussian() const {
     return sigma_y_ratio == 1.0 && common_sigma_ratio == 0.0 && outlier_probability == 0.0 &&
            !HasCameraModels();
+  }
+  // True when the patch errors are jointly Gaussian with a covariance known up to sigma (the
+  // isotropic, anisotropic, common-offset and correlated models): no outliers, no camera roll or
+  // scale jitter, no colour-edge bias.
+  bool IsGaussian() const {
+    return outlier_probability == 0.0 && rotation_jitter_rad == 0.0 && scale_jitter_ppm == 0.0 &&
+           key_shift_x_mm == 0.0 && id_shift_x_mm == 0.0;
+  }
+  // The Gaussian part (anisotropy, correlation, common offset) as estimate/gls.h takes it: the
+  // covariance "ml" weights by whenever it is not least squares (GaussianNoise::IsLeastSquares).
+  estimate::GaussianNoise GaussianPart() const {
+    return {sigma_y_ratio, correlation_length_mm, common_sigma_ratio};
   }
   // The per-axis std, averaged over the two axes, of an independent patch error per unit sigma:
   // sqrt(((1 - p)(1 + r^2) / 2 + p k^2)). Linear estimators' first-order std scale with it.

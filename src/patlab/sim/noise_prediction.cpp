@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 
+#include "patlab/estimate/mixture_bound.h"
+
 namespace patlab::sim {
 
 PredictedError PredictError(const estimate::Model& model, estimate::Estimator estimator,
@@ -35,6 +37,20 @@ PredictedError PredictError(const estimate::Model& model, estimate::Estimator es
     var_theta += bias.std.theta * bias.std.theta;
   }
   return {std::sqrt(var_pos), std::sqrt(var_theta)};
+}
+
+std::optional<estimate::StdPerSigma> NoiseCramerRaoBound(const estimate::Model& model,
+                                                         const NoiseModel& noise) {
+  if (noise.IsIsotropicGaussian()) return estimate::CramerRaoBound(model);
+  NoiseModel inliers = noise;
+  inliers.outlier_probability = 0.0;
+  if (noise.outlier_probability > 0.0 && inliers.IsIsotropicGaussian()) {
+    return estimate::MixtureCramerRaoBound(model, noise.outlier_probability,
+                                           noise.outlier_sigma_ratio);
+  }
+  if (!noise.IsGaussian()) return std::nullopt;
+  return estimate::GaussianCramerRaoBound(
+      model, estimate::GaussianWeights::Make(model, noise.GaussianPart()));
 }
 
 }  // namespace patlab::sim

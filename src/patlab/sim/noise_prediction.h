@@ -17,6 +17,8 @@
 //                             pose error at each heading
 #pragma once
 
+#include <optional>
+
 #include "patlab/estimate/bounds.h"
 #include "patlab/estimate/estimators.h"
 #include "patlab/sim/noise.h"
@@ -34,5 +36,21 @@ struct PredictedError {
 PredictedError PredictError(const estimate::Model& model, estimate::Estimator estimator,
                             const NoiseModel& noise, double sigma_mm, double field_length_mm,
                             double field_width_mm);
+
+// The Cramer-Rao bound per unit sigma under `noise` where patlab has one: the closed form for the
+// isotropic Gaussian (estimate::CramerRaoBound, the paper's model), the Fisher information
+// J^T A^-1 J of every other Gaussian model (estimate::GaussianCramerRaoBound), the outlier
+// mixture's exact bound when the inliers are the isotropic Gaussian
+// (estimate::MixtureCramerRaoBound); nullopt for the rest (outliers on top of another model,
+// camera roll and scale jitter, colour-edge bias).
+std::optional<estimate::StdPerSigma> NoiseCramerRaoBound(const estimate::Model& model,
+                                                         const NoiseModel& noise);
+
+// True when "ml" is generalised least squares under `noise` (estimate/gls.h): its first-order
+// covariance is then the inverse information, the bound itself, when the noise is Gaussian, and
+// patlab makes no first-order prediction for it otherwise (NaN).
+inline bool MlIsGeneralised(const NoiseModel& noise) {
+  return !noise.GaussianPart().IsLeastSquares();
+}
 
 }  // namespace patlab::sim

@@ -52,33 +52,44 @@ TrialReplay ReplayTrial(const Experiment& experiment, const ReplayIndex& index) 
   std::array<Vec2, kMaxPatches> observed;
   GenerateTrial(setup, static_cast<uint64_t>(r.trial), &r.truth, observed.data());
   r.observed.assign(observed.begin(), observed.begin() + r.pattern->size());
-  const Pose2 fast = estimate::Fast(model, observed.data());
-  r.estimates = {fast,
-                 estimate::MaximumLikelihood(model, observed.data(), fast, experiment.ml_options,
-                                             &r.ml_summary),
-                 estimate::LeastSquares(model, observed.data()),
-                 estimate::KeyPatch(model, observed.data())};
+  r.estimators = experiment.estimators;
+  const TrialOutcome outcome = RunTrialAsInBatch(setup, static_cast<uint64_t>(r.trial),
+                                                 static_cast<uint64_t>(experiment.trials));
+  r.estimates = outcome.estimates;
+  r.errors = outcome.errors;
+  r.ml_summary.iterations = outcome.ml_iterations;
+  r.ml_summary.termination = outcome.ml_termination;
+  r.ml_summary.initial_cost =
+      estimate::SumSquaredError(model, observed.data(), estimate::Fast(model, observed.data()));
+  r.ml_summary.final_cost = estimate::SumSquaredError(
+      model, observed.data(), r.estimates[static_cast<size_t>(estimate::Estimator::kMl)]);
   return r;
 }
 
+// Every number of the trial in its shortest round-trip form: what the run computed, bit for bit.
 std::string ReplayText(const TrialReplay& r) {
+  const auto num = [](double v) { return FormatRoundTrip(v); };
   std::string out =
       StringPrintf("point %lld (pattern %s, sigma %.6g mm), trial %lld, seed %llu\n",
                    static_cast<long long>(r.point), r.pattern->name.c_str(), r.sigma_mm,
                    static_cast<long long>(r.trial), static_cast<unsigned long long>(r.seed));
-  out += StringPrintf("truth      x %.9f mm  y %.9f mm  theta %.12f rad\n", r.truth.x_mm,
-                      r.truth.y_mm, r.truth.theta_rad);
+  out += "truth      x " + num(r.truth.x_mm) + " mm  y " + num(r.truth.y_mm) + " mm  theta " +
+         num(r.truth.theta_rad) + " rad\n";
   for (size_t i = 0; i < r.observed.size(); ++i) {
-    out += StringPrintf("patch %-2d   observed (%.9f, %.9f) mm\n", static_cast<int>(i),
-                        r.observed[i].x(), r.observed[i].y());
+    out += StringPrintf("patch %-2d   observed (", static_cast<int>(i)) + num(r.observed[i].x()) +
+           ", " + num(r.observed[i].y()) + ") mm\n";
   }
-  for (estimate::Estimator e : estimate::kAllEstimators) {
+  bool ml = false;
+  for (estimate::Estimator e : r.estimators) {
     const Pose2& p = r.estimates[static_cast<size_t>(e)];
-    out += StringPrintf(
-        "%-5s      x %.9f mm  y %.9f mm  theta %.12f rad  (error %.3e mm, %.3e mm, %.3e rad)\n",
-        std::string(estimate::EstimatorName(e)).c_str(), p.x_mm, p.y_mm, p.theta_rad,
-        p.x_mm - r.truth.x_mm, p.y_mm - r.truth.y_mm, WrapAngle(p.theta_rad - r.truth.theta_rad));
+    const Pose2& d = r.errors[static_cast<size_t>(e)];
+    out += StringPrintf("%-6s     x ", std::string(estimate::EstimatorName(e)).c_str()) +
+           num(p.x_mm) + " mm  y " + num(p.y_mm) + " mm  theta " + num(p.theta_rad) +
+           " rad  (error " + num(d.x_mm) + " mm, " + num(d.y_mm) + " mm, " + num(d.theta_rad) +
+           " rad)\n";
+    ml = ml || e == estimate::Estimator::kMl;
   }
+  if (!ml) return out;
   out += StringPrintf("ml summary %s after %d iterations, cost %.6g -> %.6g mm^2\n",
                       std::string(estimate::TerminationName(r.ml_summary.termination)).c_str(),
                       r.ml_summary.iterations, r.ml_summary.initial_cost, r.ml_summary.final_cost);

@@ -28,16 +28,22 @@ struct ReplayIndex {
 };
 ReplayIndex ParseReplayIndex(std::string_view spec, std::string_view what);
 
-// One trial of a known-correspondence experiment: its true pose, the observed patches, and every
-// estimator's pose from them (in estimate::kAllEstimators order) with the ML summary.
+// One trial of a known-correspondence experiment: its true pose, the observed patches, and the
+// estimate and error of each of the experiment's estimators exactly as the run computed them
+// (the kernel's own outputs for that trial, sim/batch.h RunTrialAsInBatch: the same bits), with
+// the ML summary (its Newton steps and termination as the run counted them, the costs at the
+// fast start and at the estimate).
 struct TrialReplay {
   int64_t point = 0, trial = 0;
   const Pattern* pattern = nullptr;  // into the experiment
   double sigma_mm = 0.0;
   uint64_t seed = 0;
   Pose2 truth;
-  std::vector<Vec2> observed;      // per pattern patch
-  std::array<Pose2, 4> estimates;  // per estimate::Estimator
+  std::vector<Vec2> observed;                             // per pattern patch
+  std::vector<estimate::Estimator> estimators;            // the experiment's, in its order
+  std::array<Pose2, estimate::kNumEstimators> estimates;  // per estimate::Estimator
+  std::array<Pose2, estimate::kNumEstimators>
+      errors;  // estimate - truth, theta wrapped, as the run
   estimate::Summary ml_summary;
 };
 // Throws InputError when the point or trial is out of the experiment's range.

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <span>
 #include <utility>
 
@@ -53,6 +54,17 @@ PointSetup MakePointSetup(const Experiment& experiment, const estimate::Model& m
   setup.point = kKnownStream;
   for (Estimator e : experiment.estimators) setup.run[static_cast<int>(e)] = true;
   setup.ml_options = experiment.ml_options;
+  // robust: the inlier per-axis std (averaged over the axes) and the outlier mixture.
+  const NoiseModel& noise = experiment.noise;
+  setup.robust.sigma_mm =
+      setup.sigma_mm * std::sqrt((1.0 + noise.sigma_y_ratio * noise.sigma_y_ratio) / 2.0);
+  setup.robust.outlier_probability = noise.outlier_probability;
+  setup.robust.outlier_sigma_ratio = noise.outlier_sigma_ratio;
+  const estimate::GaussianNoise gaussian = experiment.noise.GaussianPart();
+  if (!gaussian.IsLeastSquares()) {
+    setup.ml_weights = std::make_shared<const estimate::GaussianWeights>(
+        estimate::GaussianWeights::Make(model, gaussian));
+  }
   return setup;
 }
 
@@ -69,9 +81,9 @@ struct MlBatch {
 };
 
 struct PointBuffers {
-  Samples samples[4];               // indexed by estimate::Estimator
-  std::vector<MlBatch> ml_batches;  // one per batch of the block
-  BatchOutput output;               // views of the sample arrays (the ML arrays are per batch)
+  Samples samples[estimate::kNumEstimators];  // indexed by estimate::Estimator
+  std::vector<MlBatch> ml_batches;            // one per batch of the block
+  BatchOutput output;  // views of the sample arrays (the ML arrays are per batch)
 
   PointBuffers(const std::vector<Estimator>& estimators, int64_t trials) {
     for (Estimator e : estimators) {
@@ -87,13 +99,15 @@ struct PointBuffers {
 
 // What the statistics of every point of one pattern share.
 struct PatternBounds {
-  estimate::StdPerSigma crlb;
-  std::array<estimate::StdPerSigma, 4> predicted{};  // indexed by estimate::Estimator
+  std::optional<estimate::StdPerSigma> crlb;  // NoiseCramerRaoBound
+  std::array<estimate::StdPerSigma, estimate::kNumEstimators>
+      predicted{};  // indexed by estimate::Estimator
 };
 
-PatternBounds BoundsOf(const estimate::Model& model, const std::vector<Estimator>& estimators) {
+PatternBounds BoundsOf(const estimate::Model& model, const std::vector<Estimator>& estimators,
+                       const NoiseModel& noise) {
   PatternBounds bounds;
-  bounds.crlb = estimate::CramerRaoBound(model);
+  bounds.crlb = NoiseCramerRaoBound(model, noise);
   for (Estimator e : estimators) {
     bounds.predicted[static_cast<int>(e)] = estimate::PredictedStd(model, e);
   }
@@ -145,15 +159,15 @@ void RunTrials(const PointSetup& setup, int64_t first_trial, int64_t trials,
       tbb::simple_partitioner());
 }
 
-// The bound (isotropic Gaussian only) and the first-order prediction at the point's sigma. The
-// linearised estimator's std scales with the effective per-axis patch std; the common-mode
-// offset moves the position only (every estimator is translation equivariant), adding its
-// variance per axis.
+// The bound (where the noise model has one) and the first-order prediction at the point's
+// sigma. The linearised estimator's std scales with the effective per-axis patch std; the
+// common-mode offset moves the position only (every estimator is translation equivariant),
+// adding its variance per axis.
 void FillBounds(const NoiseModel& noise, const PatternBounds& bounds, double sigma_mm,
                 EstimatorResult* r) {
-  if (noise.IsIsotropicGaussian()) {
-    r->crlb_position_mm = bounds.crlb.position_per_axis * sigma_mm;
-    r->crlb_theta_rad = bounds.crlb.theta * sigma_mm;
+  if (bounds.crlb) {
+    r->crlb_position_mm = bounds.crlb->position_per_axis * sigma_mm;
+    r->crlb_theta_rad = bounds.crlb->theta * sigma_mm;
   } else {
     r->crlb_position_mm = r->crlb_theta_rad = std::nan("");
   }
@@ -255,7 +269,7 @@ PointResult PointHeader(const Experiment& experiment, int pattern_index, int sig
   point.trials = experiment.trials;
   point.estimators.resize(experiment.estimators.size());
   const estimate::Model model = estimate::Model::FromPattern(experiment.patterns[pattern_index]);
-  const PatternBounds bounds = BoundsOf(model, experiment.estimators);
+  const PatternBounds bounds = BoundsOf(model, experiment.estimators, experiment.noise);
   for (size_t k = 0; k < experiment.estimators.size(); ++k) {
     EstimatorResult& r = point.estimators[k];
     r.estimator = experiment.estimators[k];
@@ -267,6 +281,16 @@ PointResult PointHeader(const Experiment& experiment, int pattern_index, int sig
                                             experiment.field_length_mm, experiment.field_width_mm);
       r.predicted_position_mm = p.position_mm;
       r.predicted_theta_rad = p.theta_rad;
+    }
+    if (r.estimator == Estimator::kRobust) {
+      // Not linear in the noise (its weights depend on the residuals): no first-order value.
+      r.predicted_position_mm = r.predicted_theta_rad = std::nan("");
+    }
+    if (r.estimator == Estimator::kMl && MlIsGeneralised(experiment.noise)) {
+      // Generalised least squares: first order, its covariance is the inverse information.
+      const bool gaussian = experiment.noise.IsGaussian();
+      r.predicted_position_mm = gaussian ? r.crlb_position_mm : std::nan("");
+      r.predicted_theta_rad = gaussian ? r.crlb_theta_rad : std::nan("");
     }
   }
   return point;

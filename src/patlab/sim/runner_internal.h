@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "patlab/estimate/estimators.h"
 #include "patlab/sim/experiment.h"
 #include "patlab/sim/runner.h"
 #include "patlab/stats/summary.h"
@@ -74,8 +75,8 @@ void KsAgainstFast(const Samples& fast, const Samples& other, size_t n, Comparis
 struct Differences {
   size_t fast_index = 0;
   const Samples* fast = nullptr;
-  std::array<Samples*, 4> other{};  // by sample index; null for fast
-  std::array<size_t, 4> nonzero_position{}, nonzero_theta{};
+  std::array<Samples*, estimate::kNumEstimators> other{};  // by sample index; null for fast
+  std::array<size_t, estimate::kNumEstimators> nonzero_position{}, nonzero_theta{};
 
   void operator()(const stats::PlanarTile& tile) {
     const double* rf = tile.radial[fast_index];

@@ -17,8 +17,8 @@ namespace patlab::sim::internal {
 void BlockMoments(const Experiment& experiment, const Samples* by_estimator, size_t size,
                   std::span<EstimatorBlock> out,
                   const std::function<void(const stats::PlanarTile&)>* visit) {
-  std::array<stats::PlanarSample, 4> samples;
-  std::array<stats::PlanarMoments, 4> moments;
+  std::array<stats::PlanarSample, estimate::kNumEstimators> samples;
+  std::array<stats::PlanarMoments, estimate::kNumEstimators> moments;
   const size_t count = experiment.estimators.size();
   PATLAB_CHECK(count <= samples.size());
   for (size_t k = 0; k < count; ++k) {

@@ -43,4 +43,14 @@ void ReadBlockEntry(const json& j, PointResult* header, PointBlock* block);
 json DetectBlockEntry(const DetectPointResult& header, const DetectBlock& b);
 void ReadDetectBlockEntry(const json& j, DetectPointResult* header, DetectBlock* b);
 
+// Every problem of a shard's values, once its fields have their types (shard_check.cpp): the name
+// a file base name, the CSV header one line and each row one record of its cells, every point's
+// count the experiment's per point, counts and ranges within bounds, every number finite, the
+// run's timings within a year. Each problem reads "<what> <value>; expected <what>".
+std::vector<std::string> ShardProblems(const json& shard);
+// The first `shown` items joined by "; ", then "; ... and 99,990 more": a merge of 100,000 bad
+// shards prints a few lines, not megabytes.
+inline constexpr size_t kProblemsShown = 10;
+std::string CappedList(const std::vector<std::string>& items, size_t shown = kProblemsShown);
+
 }  // namespace patlab::sim::shard_detail

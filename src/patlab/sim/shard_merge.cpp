@@ -31,7 +31,7 @@ struct ShardFile {
 };
 
 [[noreturn]] void Fail(const std::string& path, const std::string& message) {
-  throw InputError(path + ": " + message);
+  throw InputError(EscapeForMessage(path, 1024) + ": " + message);
 }
 
 std::string Describe(const json& s) {
@@ -107,6 +107,9 @@ ShardFile ReadShard(const std::string& path) {
                    Checksum(s) + "): the file was edited or truncated" + expected);
   }
   if (!HasShardFields(s)) Fail(path, "a field is missing or has the wrong type" + expected);
+  if (const std::vector<std::string> problems = ShardProblems(s); !problems.empty()) {
+    Fail(path, CappedList(problems));
+  }
   if (s.value("version", "") != PATLAB_VERSION) {
     Fail(path, "written by patlab " + s.value("version", json()).dump() + "; expected " +
                    PATLAB_VERSION + " (this patlab): rerun the shard with this version");
@@ -213,14 +216,16 @@ std::vector<const ShardFile*> ByShare(const std::vector<ShardFile>& files) {
     }
     by_share[k - 1] = &f;
   }
-  std::string missing;
+  std::vector<std::string> missing;
   for (int k = 1; k <= count; ++k) {
     if (by_share[k - 1] == nullptr) {
-      missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(count);
+      missing.push_back(std::to_string(k) + "/" + std::to_string(count));
     }
   }
   if (!missing.empty()) {
-    throw InputError("missing shards " + missing + " of " + Describe(files.front().content) +
+    std::string list = CappedList(missing);
+    std::replace(list.begin(), list.end(), ';', ',');
+    throw InputError("missing shards " + list + " of " + Describe(files.front().content) +
                      "; expected one file for each share 1.." + std::to_string(count) +
                      "; nothing written");
   }
@@ -332,7 +337,19 @@ MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::str
   const std::vector<std::string> paths = ExpandInputs(inputs);
   if (paths.empty()) throw InputError("no shard files given; expected SHARD... (files or dirs)");
   std::vector<ShardFile> files;
-  for (const std::string& path : paths) files.push_back(ReadShard(path));
+  std::vector<std::string> problems;
+  for (const std::string& path : paths) {
+    try {
+      files.push_back(ReadShard(path));
+    } catch (const InputError& e) {
+      problems.push_back(e.what());
+    }
+  }
+  if (problems.size() == 1) throw InputError(problems.front());
+  if (!problems.empty()) {
+    throw InputError(std::to_string(problems.size()) + " of " + std::to_string(paths.size()) +
+                     " shard files are not intact: " + CappedList(problems) + "; nothing written");
+  }
   for (const ShardFile& f : files) {
     CheckSameExperiment(files.front(), f);
     CheckPoints(f);

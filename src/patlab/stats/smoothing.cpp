@@ -11,10 +11,21 @@
 
 namespace patlab::stats {
 
+namespace {
+// The kernel's half holds floor(truncate_sigmas * sigma_samples + 0.5) + 1 weights: with these
+// bounds at most 10^6 + 1 (8 MB), where sigma 1e300 asked for more than a vector can hold.
+constexpr double kMaxSigmaSamples = 100000.0;
+constexpr double kMaxTruncateSigmas = 10.0;
+}  // namespace
+
 std::vector<OptionsProblem> Check(const SmoothingOptions& options) {
   OptionsChecker check;
   check.NonNegative("sigma_samples", options.sigma_samples)
-      .Positive("truncate_sigmas", options.truncate_sigmas);
+      .Require("sigma_samples", options.sigma_samples, !(options.sigma_samples > kMaxSigmaSamples),
+               "at most 100000 samples (the kernel's size is bounded)")
+      .Positive("truncate_sigmas", options.truncate_sigmas)
+      .Require("truncate_sigmas", options.truncate_sigmas,
+               !(options.truncate_sigmas > kMaxTruncateSigmas), "at most 10");
   return check.Take();
 }
 

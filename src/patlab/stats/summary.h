@@ -87,12 +87,14 @@ struct PlanarMoments {
 // the CPU overlaps their addition chains; the squares, roots and deviations are computed for a
 // tile of values at a time in loops the compiler vectorises.
 void PlanarMomentsOfEach(std::span<const PlanarSample> samples, std::span<PlanarMoments> out);
+// At most this many samples at once (one per estimator of a run).
+inline constexpr std::size_t kMaxPlanarSamples = 5;
 // One tile of the second pass of PlanarMomentsOfEach: trials [first, first + count) of every
 // sample, with sample k's radial errors r = sqrt(x^2 + y^2) of those trials in radial[k][0, count),
 // as the moments computed them (x^2 + y^2 by the rule above).
 struct PlanarTile {
   std::size_t first = 0, count = 0;
-  std::array<const double*, 4> radial{};
+  std::array<const double*, kMaxPlanarSamples> radial{};
 };
 // PlanarMomentsOfEach (the same results, bit for bit) that shows each tile of its second pass to
 // `visit`, in index order, once the tile's values of every sample have been read: visit may then

@@ -18,7 +18,7 @@ namespace {
 
 // Pass 2 of the planar moments works on tiles of kTile values: the squared deviations of a tile
 // are computed in loops the compiler vectorises and stored in tile buffers (in L1: at most
-// 4 samples x 4 columns x 128 values = 16 KiB), and a second loop adds the tile's values to the
+// 5 samples x 4 columns x 128 values = 20 KiB), and a second loop adds the tile's values to the
 // running sums, every sum in index order. A product stored in a buffer and added in another loop
 // is rounded before the addition, whatever the compiler's contraction setting. (Pass 1 adds no
 // product and works in blocks of 8 indices; see PlanarSums.)
@@ -173,9 +173,9 @@ void AddTile(LaneSums<C>& sums, const double* const* col, std::size_t m) {
 }
 
 struct PlanarColumns {
-  const double* x[4];
-  const double* y[4];
-  const double* theta[4];
+  const double* x[kMaxPlanarSamples];
+  const double* y[kMaxPlanarSamples];
+  const double* theta[kMaxPlanarSamples];
 };
 
 // Pass 1 of K samples: the sums of x, y, theta, x^2 + y^2 and r, in index order. Chains: 4k + 0..3
@@ -298,8 +298,7 @@ void PlanarMomentsInterleaved(const PlanarSample* samples, std::size_t n, Planar
 template <class Visit>
 void PlanarMomentsWith(std::span<const PlanarSample> samples, std::span<PlanarMoments> out,
                        Visit visit) {
-  constexpr std::size_t kMaxSamples = 4;
-  PATLAB_CHECK(samples.size() <= kMaxSamples && out.size() == samples.size());
+  PATLAB_CHECK(samples.size() <= kMaxPlanarSamples && out.size() == samples.size());
   if (samples.empty()) return;
   const std::size_t n = samples[0].x.size();
   for (const PlanarSample& s : samples) {
@@ -316,8 +315,11 @@ void PlanarMomentsWith(std::span<const PlanarSample> samples, std::span<PlanarMo
     case 3:
       PlanarMomentsInterleaved<3>(samples.data(), n, out.data(), visit);
       break;
-    default:
+    case 4:
       PlanarMomentsInterleaved<4>(samples.data(), n, out.data(), visit);
+      break;
+    default:
+      PlanarMomentsInterleaved<5>(samples.data(), n, out.data(), visit);
       break;
   }
 }

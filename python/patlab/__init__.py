@@ -1,0 +1,183 @@
+"""patlab from Python: colour-patch fiducial patterns (Bruce & Veloso, ICRA 2003).
+
+Every function is the library call the ``patlab`` tool makes, so for the same inputs and seed
+the results are the CLI's, bit for bit. Long calls release the GIL and run on patlab's own
+threads; Ctrl-C interrupts a simulation between blocks of trials (KeyboardInterrupt). Bad input
+raises ValueError (FileNotFoundError for a missing file) with the message the CLI prints.
+See docs/python.md.
+"""
+import os
+
+from . import _data, _patlab, stats
+from ._patlab import Pattern
+from ._results import (CompareResult, CrlbResult, DetectResult, EvaluationResult, IdsResult,
+                       SimulationResult)
+
+__version__ = _patlab.version
+__all__ = ["Pattern", "simulate", "simulate_experiment", "estimate", "crlb", "predicted_std",
+           "ids", "evaluate", "compare", "detect", "read_frame", "render", "stats", "SimulationResult", "ESTIMATORS"]
+
+ESTIMATORS = ("fast", "ml", "lsq", "key")
+
+
+def _load_checked(loader, path):
+    """Runs loader(path); a missing file's ValueError becomes FileNotFoundError (same text)."""
+    try:
+        return loader(path)
+    except ValueError as error:
+        if not os.path.exists(path):
+            raise FileNotFoundError(str(error)) from None
+        raise
+
+
+def _pattern_load(path_or_name):
+    """The pattern file at a path, or a shipped pattern by name ("butterfly")."""
+    path = _data.find(path_or_name, "pattern")
+    return _load_checked(_patlab.Pattern._load_file, path)
+
+
+def _pattern_from_toml(text, source_name="<string>"):
+    """A pattern from the text of a pattern file; `source_name` stands for the file in messages."""
+    return _patlab.Pattern._parse(text, source_name)
+
+
+def _pattern_repr(self):
+    return f"<patlab.Pattern {self.name!r}: {self.size} patches, key {self.key_index}>"
+
+
+Pattern.load = staticmethod(_pattern_load)
+Pattern.from_toml = staticmethod(_pattern_from_toml)
+Pattern.__repr__ = _pattern_repr
+
+
+def _as_pattern(p):
+    """(Pattern, file) from a Pattern, a path or a shipped name."""
+    if isinstance(p, Pattern):
+        return p, ""
+    path = _data.find(p, "pattern")
+    return _load_checked(_patlab.Pattern._load_file, path), path
+
+
+def _as_patterns(patterns):
+    if isinstance(patterns, (Pattern, str, os.PathLike)):
+        patterns = [patterns]
+    return [_as_pattern(p) for p in patterns]
+
+
+def simulate(patterns, sigmas, trials=100000, estimators=("fast", "ml"), noise=None, seed=1,
+             threads=0, keep_errors=False, name="python"):
+    """Monte-Carlo data points: every pattern x patch sigma (mm), `trials` random poses each.
+
+    patterns: a Pattern, a path or shipped name, or a list of them. sigmas: increasing patch
+    sigmas >= 0 (mm). estimators: any of "fast", "ml", "lsq", "key". noise: a dict of the [noise]
+    keys of an experiment file (sigma_y_ratio, common_sigma_ratio, outlier_probability, ...;
+    default isotropic Gaussian). seed: the experiment seed; a point's trials depend only on the
+    seed, the pattern's content, the noise model and sigma, so the rows equal `patlab simulate`'s
+    for the same seed, whatever the threads. keep_errors: also return every trial's errors as
+    result.errors, shape (points, estimators, trials, 3), float64 (x mm, y mm, theta rad):
+    24 bytes per trial and estimator, e.g. 72 MB for 15 points x 2 estimators x 1e5 trials.
+    """
+    designs = _as_patterns(patterns)
+    raw = _patlab._simulate([p for p, _ in designs], [f for _, f in designs],
+                            [float(s) for s in _iterable(sigmas)], int(trials), list(estimators),
+                            dict(noise or {}), int(seed), int(threads), bool(keep_errors), name)
+    return SimulationResult(raw)
+
+
+def simulate_experiment(path_or_name, trials=None, seed=None, sigmas=None, threads=0,
+                        keep_errors=False):
+    """Runs an experiment file (or a shipped experiment by name, "fig5") as `patlab simulate`
+    does, with the same overrides as its --trials, --seed and --sigmas."""
+    path = _data.find(path_or_name, "experiment")
+    return SimulationResult(_load_checked(
+        lambda p: _patlab._simulate_experiment(p, trials, seed,
+                                               [float(s) for s in _iterable(sigmas or [])],
+                                               int(threads), bool(keep_errors)), path))
+
+
+def estimate(pattern, observed, method="fast", max_iterations=20, return_converged=False,
+             threads=0):
+    """Poses (trials, 3) = (x mm, y mm, theta rad) from observed patches (trials, patches, 2),
+    float64 in the pattern's patch order, any strides (read in place). method: "fast", "ml"
+    (Newton from the fast pose, max_iterations steps), "lsq" or "key". Runs in parallel with
+    the GIL released on `threads` threads (0: every core; the poses do not depend on it). With
+    return_converged (ml only) also a bool array per trial."""
+    pattern, _ = _as_pattern(pattern)
+    poses, converged = _patlab._estimate(pattern, observed, method, int(max_iterations),
+                                         int(threads))
+    return (poses, converged) if return_converged else poses
+
+
+def crlb(pattern, sigma, noise=None):
+    """The Cramer-Rao bound at patch sigma (mm): per-axis position std (mm) and theta std (rad)
+    of the origin under the noise model; NaN where it has none (as in the CLI's results)."""
+    pattern, _ = _as_pattern(pattern)
+    return CrlbResult(**_patlab._crlb(pattern, float(sigma), dict(noise or {})))
+
+
+def predicted_std(pattern, method, sigma):
+    """An estimator's first-order predicted std at patch sigma (mm), independent patch noise
+    (NaN for "robust", as in the CLI's results)."""
+    pattern, _ = _as_pattern(pattern)
+    return CrlbResult(**_patlab._predicted(pattern, method, float(sigma)))
+
+
+def ids(pattern, colours, tolerance_mm=10.0):
+    """The IDs of a pattern (paper Table II): its codebook for the ID colours `colours` (names,
+    or a number n for the letters A, B, ... as `patlab ids --list`), with the symmetry about its
+    key that geometry (within tolerance_mm) cannot decide."""
+    pattern, _ = _as_pattern(pattern)
+    if isinstance(colours, int):
+        colours = [chr(ord("A") + c) for c in range(colours)]
+    return IdsResult(_patlab._ids(pattern, list(colours), float(tolerance_mm)))
+
+
+def evaluate(patterns, **options):
+    """`patlab evaluate`: per pattern its accuracy against the bound, Monte-Carlo check, ID
+    capacity and misidentification rate. options: sigma_mm, trials, colour_counts, tolerance_mm,
+    sigmas_mm, frames, id_colours, seed, threads (the fields of sim::EvaluateOptions)."""
+    json_text, text = _patlab._evaluate(_as_patterns(patterns), options)
+    return EvaluationResult(json_text, text)
+
+
+def compare(patterns, sort_by="fast_theta_mrad_per_mm", **options):
+    """`patlab compare`: the designs ranked by `sort_by`, one row per design (a DataFrame when
+    pandas is installed); the options are evaluate's."""
+    return CompareResult(*_patlab._compare(_as_patterns(patterns), sort_by, options))
+
+
+def read_frame(path):
+    """A PNG, JPEG or PPM frame as an (H, W, 3) uint8 RGB array, decoded as `patlab detect`
+    decodes it."""
+    path = os.fspath(path)
+    return _load_checked(_patlab._read_frame, path)
+
+
+def detect(image, thresholds, calibration, settings=None, name="frame", blobs=False):
+    """`patlab detect` on one frame: an (H, W, 3) uint8 RGB array (any strides; numpy makes no
+    copy, the library copies the pixels once into its own image), with the thresholds and
+    calibration files and, for detections, the detector settings (paths or shipped names).
+    Returns the CLI's CSV and JSON (`name` stands for the frame's path in them) and the table of
+    detections (or, with blobs=True or no settings, of the calibrated blobs)."""
+    files = [_data.find(f, "settings") if f is not None else "" for f in
+             (thresholds, calibration, settings)]
+    try:
+        return DetectResult(*_patlab._detect(image, *files, str(name), bool(blobs)))
+    except ValueError as error:
+        if any(f and not os.path.exists(f) for f in files):
+            raise FileNotFoundError(str(error)) from None
+        raise
+
+
+def render(scene):
+    """`patlab render SCENE -o DIR` (without --camera): the scene file's frame as an (H, W, 3)
+    uint8 array, and its true poses as the CSV DIR/truth.csv. Returns (image, truth_csv)."""
+    path = _data.find(scene, "settings")
+    return _load_checked(_patlab._render, path)
+
+
+def _iterable(values):
+    try:
+        return list(values)
+    except TypeError:
+        return [values]

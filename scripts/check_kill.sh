@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Kills patlab's writing commands at random moments (SIGKILL or SIGTERM) and checks that every
+# results folder holds the complete old or the complete new result set, never a mix, and no
+# temporary after the next run into it (scripts/kill_harness.py; docs/hardening.md, "Results all
+# or nothing"). CI (ctest kill_harness) runs COUNT=20 per command, with BUDGET=60 s of runs per
+# command at most (reproduce: 2 rounds); locally, e.g.
+#   COUNT=1000 bash scripts/check_kill.sh
+#   COUNT=200 bash scripts/check_kill.sh --strace    # SIGKILL at each openat, fsync, rename, unlink
+# Extra arguments go to the driver (--commands simulate,merge, --seed S).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+exec /usr/bin/python3 scripts/kill_harness.py --patlab "${PATLAB:-build/patlab}" --root . \
+  --count "${COUNT:-20}" --budget "${BUDGET:-0}" "$@"

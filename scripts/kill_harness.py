@@ -1,0 +1,274 @@
+#!/usr/bin/env python3
+"""Kills patlab's writing commands at random moments and checks that results stay whole.
+
+For each command (simulate, merge, detect, calibrate, analyze, reproduce) a reference run gives
+the bytes of its result set. Each round then plants an "old" result set in the output folder (the
+reference files with a line appended, so old and new differ in every file), starts the command,
+sends it SIGKILL or SIGTERM after a random delay (up to 1.2 times the reference run's duration)
+and checks:
+
+  1. right after the kill: the folder holds the complete old set or the complete new set, or a
+     commit journal of the killed process is there (its commit started, so the next writer rolls
+     it forward);
+  2. after a short run of another command into every folder of the set (which sweeps what the
+     killed writer left): the complete old set or the complete new set, no temporary, no
+     moved-aside copy, no journal.
+
+With --strace the kills are placed instead: strace injects SIGKILL at the N-th rename, fsync,
+unlink or openat of the run, for every N until the run no longer reaches it.
+
+Usage: kill_harness.py --patlab build/patlab --root . [--count N] [--commands a,b] [--seed S]
+                       [--budget SECONDS] [--strace]
+Exit status 0 when every round passed; 1 with the failing rounds listed.
+"""
+
+import argparse
+import os
+import random
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+LEFTOVER = re.compile(r"^\..*\.patlab-(tmp|old)\.\d+$|^\.patlab-commit\.\d+$")
+OLD_MARK = b"\nkill harness: the old result set\n"
+
+
+def tiny_experiment(root, name, trials):
+    return (f'name = "{name}"\npatterns_dir = "{root}/patterns"\npatterns = ["butterfly"]\n'
+            f"trials = {trials}\nseed = 1\n[sigma]\nvalues = [1, 2]\n")
+
+
+def track_csv():
+    """A measured track: 3 robots, 400 frames of a slow arc with small deterministic jitter."""
+    rng = random.Random(7)
+    lines = ["frame,subject,run,x_mm,y_mm,theta_rad"]
+    for subject in range(3):
+        for frame in range(400):
+            x = 100.0 * subject + 2.0 * frame + rng.gauss(0.0, 1.0)
+            y = 50.0 + 0.5 * frame + rng.gauss(0.0, 1.0)
+            lines.append(f"{frame},{subject},1,{x:.3f},{y:.3f},{0.01 * frame:.4f}")
+    return "\n".join(lines) + "\n"
+
+
+def commands(root, work, patlab):
+    """Each command: (setup, arguments with {out} for the output folder)."""
+    data = f"{root}/tests/data"
+    golden = f"{data}/golden"
+
+    def setup_simulate():
+        with open(f"{work}/small.toml", "w") as f:
+            f.write(tiny_experiment(root, "small", 4000))
+
+    def setup_merge():
+        setup_simulate()
+        for k in range(1, 5):
+            subprocess.run([patlab, "simulate", f"{work}/small.toml", "--shard", f"{k}/4",
+                            "--out", f"{work}/shards", "-q"], check=True)
+
+    def setup_analyze():
+        with open(f"{work}/track.csv", "w") as f:
+            f.write(track_csv())
+
+    detect = ["detect", f"{golden}/ssl-frame.png", "--thresholds",
+              f"{golden}/ssl-frame.thresholds.toml", "--calibration",
+              f"{golden}/ssl-frame.calibration.toml", "--settings",
+              f"{golden}/ssl-frame.detector.toml", "--out", "{out}", "--track",
+              "{out}/track.csv"]
+    return {
+        "simulate": (setup_simulate, ["simulate", f"{work}/small.toml", "--out", "{out}", "-q"]),
+        "merge": (setup_merge, ["merge", f"{work}/shards", "--out", "{out}", "-q"]),
+        "detect": (None, detect),
+        "calibrate": (None, ["calibrate", f"{data}/vision/ssl-2008.calibration-input.toml",
+                             "--out", "{out}"]),
+        "analyze": (setup_analyze, ["analyze", f"{work}/track.csv", "--out", "{out}", "-q"]),
+        "reproduce": (None, ["reproduce", "--root", root, "--out", "{out}", "--no-figures",
+                             "-q"]),
+    }
+
+
+def snapshot(folder, skip=()):
+    """Every visible file under folder, by relative path: its bytes."""
+    files = {}
+    for here, dirs, names in os.walk(folder):
+        for name in names:
+            path = os.path.join(here, name)
+            rel = os.path.relpath(path, folder)
+            if name.startswith(".") or rel in skip:
+                continue
+            with open(path, "rb") as f:
+                files[rel] = f.read()
+    return files
+
+
+def leftovers(folder):
+    found = []
+    for here, _, names in os.walk(folder):
+        found += [os.path.join(here, n) for n in names if LEFTOVER.match(n)]
+    return found
+
+
+def plant_old(folder, reference):
+    shutil.rmtree(folder, ignore_errors=True)
+    for rel, content in reference.items():
+        os.makedirs(os.path.dirname(os.path.join(folder, rel)), exist_ok=True)
+        with open(os.path.join(folder, rel), "wb") as f:
+            f.write(content + OLD_MARK)
+
+
+def expand(arguments, folder):
+    return [a.replace("{out}", folder) for a in arguments]
+
+
+class Harness:
+    def __init__(self, args):
+        self.args = args
+        self.patlab = os.path.abspath(args.patlab)
+        self.root = os.path.abspath(args.root)
+        self.work = tempfile.mkdtemp(prefix="patlab-kill.")
+        self.random = random.Random(args.seed)
+        self.failures = []
+        with open(f"{self.work}/probe.toml", "w") as f:
+            f.write(tiny_experiment(self.root, "probe", 100))
+
+    def run(self, arguments, **kw):
+        return subprocess.run([self.patlab] + arguments, cwd=self.root, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.PIPE, **kw)
+
+    def probe(self, folders):
+        """A short run into each folder of the set: its sweep finishes what a dead writer left."""
+        for folder in folders:
+            os.makedirs(folder, exist_ok=True)
+            self.run(["simulate", f"{self.work}/probe.toml", "--out", folder, "-q"], check=True)
+
+    def judge(self, name, round_, folder, reference, old, after_kill_pid):
+        """Checks 1 and 2 of the module's text; returns 'old' or 'new'."""
+        probe_files = set()
+        for here in self.folders(folder, reference):
+            rel = os.path.relpath(here, folder)
+            probe_files |= {os.path.normpath(os.path.join(rel, f"probe.{e}")) for e in
+                            ("csv", "json")}
+        now = snapshot(folder, probe_files)
+        journal_name = re.compile(r"^\.patlab-commit\." + (
+            str(after_kill_pid) if after_kill_pid is not None else r"\d+") + "$")
+        journal = any(journal_name.match(n) for here in
+                      self.folders(folder, reference) for n in os.listdir(here)
+                      if os.path.isdir(here))
+        if now not in (reference, old) and not journal:
+            mixed = [r for r in sorted(set(now) | set(reference)) if now.get(r) != reference.get(r)]
+            self.fail(name, round_, "after the kill: a mix of old and new files and no journal; "
+                      "not new: " + ", ".join(mixed))
+        self.probe(self.folders(folder, reference))
+        now = snapshot(folder, probe_files)
+        left = leftovers(folder)
+        if left:
+            self.fail(name, round_, "left after the next run: " + ", ".join(left))
+        if now == reference:
+            return "new"
+        if now == old:
+            return "old"
+        self.fail(name, round_, "after the next run: neither the old nor the new set: " +
+                  ", ".join(sorted(set(now) ^ set(reference)) or
+                            [r for r in now if now[r] != reference.get(r)]))
+        return "mixed"
+
+    @staticmethod
+    def folders(folder, reference):
+        return sorted({os.path.join(folder, os.path.dirname(r)) for r in reference} | {folder})
+
+    def fail(self, name, round_, what):
+        self.failures.append(f"{name} round {round_}: {what}")
+        print(f"FAIL {name} round {round_}: {what}", file=sys.stderr)
+
+    def reference(self, name, arguments):
+        folder = f"{self.work}/{name}-reference"
+        start = time.monotonic()
+        result = self.run(expand(arguments, folder))
+        seconds = time.monotonic() - start
+        if result.returncode != 0:
+            sys.exit(f"kill_harness: {name}: the reference run failed: "
+                     f"{result.stderr.decode(errors='replace')}")
+        return snapshot(folder), seconds
+
+    def random_round(self, name, arguments, folder, seconds):
+        sig = self.random.choice([signal.SIGKILL, signal.SIGTERM])
+        delay = self.random.uniform(0.0, 1.2 * seconds)
+        process = subprocess.Popen([self.patlab] + expand(arguments, folder), cwd=self.root,
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            process.wait(timeout=delay)
+        except subprocess.TimeoutExpired:
+            process.send_signal(sig)
+            process.wait()
+        return process.pid
+
+    def strace_round(self, name, arguments, folder, call, n):
+        """Runs under strace with SIGKILL injected at the n-th `call`; False when not reached."""
+        command = ["strace", "-f", "-qq", "-o", "/dev/null", "-e",
+                   f"inject={call}:signal=SIGKILL:when={n}", "-e", f"trace={call}", self.patlab]
+        process = subprocess.run(command + expand(arguments, folder), cwd=self.root,
+                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        return process.returncode != 0
+
+    def command(self, name, setup, arguments):
+        if setup:
+            setup()
+        reference, seconds = self.reference(name, arguments)
+        old = {rel: content + OLD_MARK for rel, content in reference.items()}
+        folder = f"{self.work}/{name}-out"
+        outcomes = {"old": 0, "new": 0, "mixed": 0}
+        if self.args.strace:
+            rounds = 0
+            for call in ("openat", "fsync", "rename", "unlink"):
+                for n in range(1, self.args.count + 1):
+                    plant_old(folder, reference)
+                    if not self.strace_round(name, arguments, folder, call, n):
+                        break
+                    rounds += 1
+                    outcomes[self.judge(name, f"{call}#{n}", folder, reference, old, None)] += 1
+        else:
+            rounds = self.args.count
+            if self.args.budget > 0:  # a slow command (reproduce) gets fewer rounds
+                rounds = min(rounds, max(2, int(self.args.budget / max(seconds, 1e-3))))
+            for k in range(rounds):
+                plant_old(folder, reference)
+                pid = self.random_round(name, arguments, folder, seconds)
+                outcomes[self.judge(name, k, folder, reference, old, pid)] += 1
+        print(f"{name}: {rounds} rounds ({seconds:.2f} s a run): {outcomes['old']} old set, "
+              f"{outcomes['new']} new set, {outcomes['mixed']} mixed")
+
+    def main(self):
+        table = commands(self.root, self.work, self.patlab)
+        names = self.args.commands.split(",") if self.args.commands else list(table)
+        try:
+            for name in names:
+                if name not in table:
+                    sys.exit(f"kill_harness: --commands: unknown command '{name}'; expected some "
+                             f"of {','.join(table)}")
+                self.command(name, *table[name])
+        finally:
+            shutil.rmtree(self.work, ignore_errors=True)
+        for failure in self.failures:
+            print("FAIL " + failure, file=sys.stderr)
+        return 1 if self.failures else 0
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--patlab", default="build/patlab")
+    parser.add_argument("--root", default=".")
+    parser.add_argument("--count", type=int, default=20,
+                        help="rounds per command (with --strace: the largest N per call)")
+    parser.add_argument("--commands", default="")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--strace", action="store_true")
+    parser.add_argument("--budget", type=float, default=0,
+                        help="seconds of runs per command at most (0: no limit), at least 2 rounds")
+    return Harness(parser.parse_args()).main()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

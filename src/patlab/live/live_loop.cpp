@@ -1,0 +1,264 @@
+// The live loop (live_loop.h): capture threads, newest-frame-wins mailboxes, detection threads
+// and the outputs they share.
+#include "patlab/live/live_loop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "patlab/core/error.h"
+#include "patlab/live/ssl_log.h"
+#include "patlab/live/udp_sender.h"
+
+namespace patlab::live {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+
+// One camera's hand-off: at most one frame waits; a newer one replaces it (counted as dropped).
+struct Mailbox {
+  std::mutex mutex;
+  std::condition_variable ready;
+  vision::Image image;
+  double capture_time_s = 0.0;
+  int64_t index = 0;
+  Clock::time_point delivered_at, put_at;
+  bool full = false;
+  bool closed = false;
+  long received = 0;
+  long dropped = 0;
+};
+
+// What the threads share: the outputs and the counters under one mutex, the first error.
+struct Shared {
+  Shared(const LiveOptions& o, LiveOutputs& out, const std::atomic<bool>& s)
+      : options(o), outputs(out), stop(s) {}
+  const LiveOptions& options;
+  LiveOutputs& outputs;
+  const std::atomic<bool>& stop;
+  std::atomic<bool> failed{false};
+  std::mutex mutex;
+  std::exception_ptr error;
+  std::string geometry_bytes;
+  bool geometry_sent = false;
+  Clock::time_point last_geometry;
+  LiveStats stats;
+  std::array<std::vector<double>, kLiveStageNames.size()> samples_ms;
+
+  bool Stopping() const { return stop.load() || failed.load(); }
+  void Fail() {
+    std::lock_guard lock(mutex);
+    if (!error) error = std::current_exception();
+    failed = true;
+  }
+};
+
+int64_t WallTimeNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Sleeps until `when` in short steps, so that a stop request is seen within 20 ms.
+void SleepUntil(Clock::time_point when, const Shared& shared) {
+  while (!shared.Stopping()) {
+    const Clock::time_point now = Clock::now();
+    if (now >= when) return;
+    std::this_thread::sleep_for(
+        std::min<Clock::duration>(when - now, std::chrono::milliseconds(20)));
+  }
+}
+
+void Capture(FrameSource& source, Mailbox& box, Shared& shared) {
+  SourceFrame frame;
+  const Clock::time_point start = Clock::now();
+  for (long n = 0; !shared.Stopping(); ++n) {
+    if (shared.options.max_frames > 0 && n >= shared.options.max_frames) break;
+    if (!source.Next(&frame)) break;
+    // Under --rate native a file's frame is read ahead of its time and waits for it here: its
+    // end-to-end latency starts when it is due, as a camera's frame would arrive then.
+    if (shared.options.rate == LiveRate::kNative) {
+      SleepUntil(start + std::chrono::duration_cast<Clock::duration>(
+                             std::chrono::duration<double>(frame.media_time_s)),
+                 shared);
+    }
+    const Clock::time_point delivered = Clock::now();
+    std::lock_guard lock(box.mutex);
+    if (box.full) ++box.dropped;
+    CopyToImage(frame, &box.image);
+    box.capture_time_s = frame.capture_time_s;
+    box.index = frame.index;
+    box.delivered_at = delivered;
+    box.put_at = Clock::now();
+    box.full = true;
+    ++box.received;
+    box.ready.notify_one();
+  }
+}
+
+void CaptureThread(const std::string& spec, Mailbox& box, Shared& shared) {
+  try {
+    std::unique_ptr<FrameSource> source = OpenFrameSource(spec, shared.options.source);
+    Capture(*source, box, shared);
+  } catch (...) {
+    shared.Fail();
+  }
+  std::lock_guard lock(box.mutex);
+  box.closed = true;
+  box.ready.notify_one();
+}
+
+// Under shared.mutex: the geometry when it is due, then the detection packet, to every output.
+void Emit(const SslDetection& detection, const std::string& bytes, Shared& shared) {
+  LiveOutputs& out = shared.outputs;
+  const Clock::time_point now = Clock::now();
+  const bool geometry_due =
+      !shared.geometry_bytes.empty() &&
+      (!shared.geometry_sent || std::chrono::duration<double>(now - shared.last_geometry).count() >=
+                                    shared.options.geometry_period_s);
+  if (geometry_due) {
+    if (out.sender && !out.sender->Send(shared.geometry_bytes)) ++shared.stats.send_failures;
+    if (out.log) out.log->Write(WallTimeNs(), SslMessageType::kVision2010, shared.geometry_bytes);
+    shared.geometry_sent = true;
+    shared.last_geometry = now;
+    ++shared.stats.geometry_packets;
+  }
+  if (out.sender && !out.sender->Send(bytes)) ++shared.stats.send_failures;
+  if (out.log) out.log->Write(WallTimeNs(), SslMessageType::kVision2010, bytes);
+  if (out.jsonl) out.jsonl(DetectionJson(detection));
+  ++shared.stats.packets;
+}
+
+// Takes the waiting frame into `image`; false when the source has ended and nothing waits.
+bool Take(Mailbox& box, vision::Image* image, FrameStamp* stamp, Clock::time_point* delivered,
+          Clock::time_point* put) {
+  std::unique_lock lock(box.mutex);
+  box.ready.wait(lock, [&] { return box.full || box.closed; });
+  if (!box.full) return false;
+  std::swap(*image, box.image);
+  box.full = false;
+  stamp->frame_number = static_cast<uint32_t>(box.index);
+  stamp->t_capture_s = box.capture_time_s;
+  *delivered = box.delivered_at;
+  *put = box.put_at;
+  return true;
+}
+
+void DetectFrames(vision::FrameDetector& frames, uint32_t camera_id, Mailbox& box, Shared& shared) {
+  vision::Image image;
+  FrameStamp stamp;
+  stamp.camera_id = camera_id;
+  Clock::time_point delivered, put;
+  const std::string name = "camera " + std::to_string(camera_id);
+  while (!shared.Stopping() && Take(box, &image, &stamp, &delivered, &put)) {
+    const Clock::time_point taken = Clock::now();
+    const vision::FrameResult& result = frames.Detect(image, name);
+    const Clock::time_point detected = Clock::now();
+    stamp.t_sent_s = WallTimeSeconds();
+    const SslDetection detection = DetectionOfFrame(result, frames, stamp, shared.options.names);
+    const std::string bytes = SerializeDetection(detection);
+    const Clock::time_point packed = Clock::now();
+    std::lock_guard lock(shared.mutex);
+    Emit(detection, bytes, shared);
+    const Clock::time_point sent = Clock::now();
+    const std::array<double, kLiveStageNames.size()> ms = {Ms(taken - put), Ms(detected - taken),
+                                                           Ms(packed - detected), Ms(sent - packed),
+                                                           Ms(sent - delivered)};
+    for (size_t i = 0; i < ms.size(); ++i) shared.samples_ms[i].push_back(ms[i]);
+    ++shared.stats.processed;
+  }
+}
+
+void DetectThread(vision::FrameDetector& frames, uint32_t camera_id, Mailbox& box, Shared& shared) {
+  try {
+    DetectFrames(frames, camera_id, box, shared);
+  } catch (...) {
+    shared.Fail();
+  }
+}
+
+void Summarise(const std::vector<std::unique_ptr<Mailbox>>& boxes, Shared& shared) {
+  for (const auto& box : boxes) {
+    shared.stats.received += box->received;
+    // A frame still waiting when a stop request ended the loop was not processed either.
+    shared.stats.dropped += box->dropped + (box->full ? 1 : 0);
+  }
+  if (shared.outputs.sender) shared.stats.send_failures = shared.outputs.sender->failed();
+  for (size_t i = 0; i < kLiveStageNames.size(); ++i) {
+    std::vector<double>& v = shared.samples_ms[i];
+    const double max_ms = v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+    shared.stats.latency.push_back(
+        {std::string(kLiveStageNames[i]), Percentile(v, 50), Percentile(v, 99), max_ms});
+  }
+}
+
+void CheckCameraIds(const std::vector<LiveCamera>& cameras) {
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      if (cameras[i].camera_id == cameras[j].camera_id) {
+        throw InputError("--camera-id: camera id " + std::to_string(cameras[i].camera_id) +
+                         " is given twice; expected one id per camera");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<OptionsProblem> Check(const LiveOptions& options) {
+  return OptionsChecker()
+      .IntegerInRange("max_frames", options.max_frames, 0, INT64_MAX)
+      .Positive("geometry_period_s", options.geometry_period_s, "s")
+      .Positive("list_rate_hz", options.source.list_rate_hz, "Hz")
+      .Take();
+}
+
+void Validate(const LiveOptions& options) { ThrowFirstProblem(Check(options)); }
+
+double Percentile(std::vector<double>& values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double rank = std::ceil(p / 100.0 * static_cast<double>(values.size()));
+  const size_t index = rank < 1.0 ? 0 : static_cast<size_t>(rank) - 1;
+  return values[std::min(index, values.size() - 1)];
+}
+
+LiveStats RunLive(const std::vector<LiveCamera>& cameras, const LiveOptions& options,
+                  LiveOutputs& outputs, const std::atomic<bool>& stop) {
+  Validate(options);
+  CheckCameraIds(cameras);
+  std::vector<vision::FrameDetector> detectors;
+  SslGeometry geometry;
+  if (outputs.field) geometry = GeometryOf(*outputs.field, {});
+  for (const LiveCamera& camera : cameras) {
+    detectors.emplace_back(camera.thresholds, camera.calibration, camera.detector, camera.frame);
+    if (auto c = CameraCalibrationOf(camera.calibration, camera.camera_id)) {
+      geometry.cameras.push_back(*c);
+    }
+  }
+  Shared shared(options, outputs, stop);
+  if (outputs.field) shared.geometry_bytes = SerializeGeometry(geometry);
+  std::vector<std::unique_ptr<Mailbox>> boxes;
+  for (size_t i = 0; i < cameras.size(); ++i) boxes.push_back(std::make_unique<Mailbox>());
+  {
+    std::vector<std::jthread> threads;
+    for (size_t i = 0; i < cameras.size(); ++i) {
+      threads.emplace_back(CaptureThread, std::cref(cameras[i].source), std::ref(*boxes[i]),
+                           std::ref(shared));
+      threads.emplace_back(DetectThread, std::ref(detectors[i]), cameras[i].camera_id,
+                           std::ref(*boxes[i]), std::ref(shared));
+    }
+  }
+  if (shared.error) std::rethrow_exception(shared.error);
+  Summarise(boxes, shared);
+  return shared.stats;
+}
+
+}  // namespace patlab::live

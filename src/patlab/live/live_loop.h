@@ -1,0 +1,98 @@
+// The live loop of `patlab live`: one capture thread per camera source reading frames at the
+// source's pace (or as fast as it can), handing each to that camera's detection thread through a
+// one-frame mailbox where the newest frame wins -- a slow detector never holds up capture; a
+// frame overwritten before it was taken is counted as dropped -- and the detection thread
+// running vision::FrameDetector, building the SSL detection packet (packet.h) and handing it to
+// the outputs: the UDP sender, the SSL log, JSON lines. The geometry packet goes out at start and
+// then once a period. Stops at the end of every source, after the frame limit, or when `stop`
+// becomes true (a signal handler sets it), always with the outputs whole: every packet sent is in
+// the log as a whole message.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "patlab/calib/field.h"
+#include "patlab/live/frame_source.h"
+#include "patlab/live/packet.h"
+#include "patlab/vision/frame_detector.h"
+
+namespace patlab::live {
+
+class UdpSender;
+class SslLogWriter;
+
+// One camera: its source (a SOURCE argument, frame_source.h), its SSL camera id and what its
+// frames are detected with.
+struct LiveCamera {
+  std::string source;
+  uint32_t camera_id = 0;
+  vision::Thresholds thresholds;
+  vision::Calibration calibration;
+  std::optional<detect::DetectorConfig> detector;  // nullopt: balls only
+  vision::FrameDetectorOptions frame;
+};
+
+enum class LiveRate {
+  kNative,  // each source at its own pace (SourceFrame::media_time_s)
+  kMax,     // as fast as frames can be read
+};
+inline constexpr EnumNames<LiveRate, 2> kLiveRateNames{
+    {{{LiveRate::kNative, "native"}, {LiveRate::kMax, "max"}}}};
+
+struct LiveOptions {
+  LiveRate rate = LiveRate::kNative;
+  // Frames each source delivers before it stops; 0 = no limit. >= 0.
+  long max_frames = 0;
+  // Seconds between geometry packets, > 0 (SSL-Vision sends them about once a second).
+  double geometry_period_s = 1.0;
+  FrameSourceOptions source;
+  SslColourNames names;
+};
+std::vector<OptionsProblem> Check(const LiveOptions& options);
+void Validate(const LiveOptions& options);
+
+// Where packets go; each may be absent. Called from the detection threads, one at a time.
+struct LiveOutputs {
+  UdpSender* sender = nullptr;
+  SslLogWriter* log = nullptr;
+  std::function<void(std::string_view json_line)> jsonl;  // one line, without its newline
+  std::optional<calib::Field> field;  // the geometry's field; nullopt: no geometry packets
+};
+
+// A stage's latency over the frames processed, milliseconds.
+struct StageLatency {
+  std::string stage;
+  double p50_ms = 0.0, p99_ms = 0.0, max_ms = 0.0;
+};
+
+// The stages a frame goes through, as the latency table names them.
+inline constexpr std::array<std::string_view, 5> kLiveStageNames = {
+    "1 hand-off", "2 detect", "3 packet", "4 send", "end to end"};
+
+struct LiveStats {
+  long received = 0;   // frames the sources delivered
+  long processed = 0;  // frames detected and sent
+  long dropped = 0;    // frames overwritten in a mailbox before detection took them, or left
+                       // there by a stop request: received = processed + dropped
+  long packets = 0;    // detection packets handed to the outputs
+  long geometry_packets = 0;
+  long send_failures = 0;
+  std::vector<StageLatency> latency;  // kLiveStageNames, in order
+};
+
+// Cameras' ids must differ (InputError "--camera-id: ... twice; expected one id per camera").
+// Runs the loop until every source ends, the frame limit, or `stop`. InputError for a source
+// that cannot be opened or a frame it cannot read (the other cameras stop too); EnvironmentError
+// when an output fails.
+LiveStats RunLive(const std::vector<LiveCamera>& cameras, const LiveOptions& options,
+                  LiveOutputs& outputs, const std::atomic<bool>& stop);
+
+// p-th percentile (0..100, nearest rank) of `values`, which it sorts; 0 for none.
+double Percentile(std::vector<double>& values, double p);
+
+}  // namespace patlab::live
