@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -85,6 +86,11 @@ struct FitOptions {
   std::optional<double> camera_height_mm;
   double camera_height_sd_mm = 10.0;
   int max_iterations = 200;
+  // Folds of the cross-validated mapping error (CalibrationFit::heldout_rms_mm): every k-th
+  // point, line pixel and circle pixel is held out in turn, the camera refitted without it (from
+  // the full fit) and its back-projection measured against its target. More folds: each refit
+  // closer to the full fit's data, more time (one refit each). 0: not computed.
+  int holdout_folds = 5;
 };
 
 struct CalibrationInput {
@@ -122,6 +128,14 @@ struct PlaneResiduals {
   // deviation along each pixel's worst axis, MappingCovariance): RMS and worst over them; NaN
   // when the data do not determine the camera.
   double mapping_sd_rms_mm = 0.0, mapping_sd_worst_mm = 0.0;
+  // The cross-validated mapping error (FitOptions::holdout_folds): the RMS distance (mm) on this
+  // plane between each held-out pixel's back-projection through the camera fitted without it and
+  // its target (the point; the line or circle, across it). Unlike rms_mm, which the fit itself
+  // has minimised, it measures how far points not used in the fit are mapped from where they are;
+  // it includes the observations' own noise. NaN when not computed (no folds, or no fold of this
+  // plane refitted); heldout_count pixels.
+  double heldout_rms_mm = std::numeric_limits<double>::quiet_NaN();
+  int heldout_count = 0;
 };
 
 // The camera's 12 fitted numbers in the fit's order: f, aspect (fy / fx), cx, cy, k1, k2,
@@ -140,6 +154,10 @@ struct CalibrationFit {
   std::array<double, kCameraParameters * kCameraParameters> covariance{};
   Eigen::Vector3d camera_centre_mm = Eigen::Vector3d::Zero();
   double rms_px = 0.0, worst_px = 0.0;
+  // The cross-validated mapping error over every held-out pixel of every plane (mm, see
+  // PlaneResiduals::heldout_rms_mm); NaN when not computed. heldout_folds: the folds refitted.
+  double heldout_rms_mm = std::numeric_limits<double>::quiet_NaN();
+  int heldout_folds = 0;
   std::vector<PlaneResiduals> planes;  // by increasing height
   // The calibration file's [[residual]] rows, which patlab detect adds to its blob noise: every
   // plane with observations (its measured rms_mm, worst_mm) and every height of [heights] without
@@ -154,8 +172,31 @@ struct CalibrationFit {
   std::vector<std::string> notes;  // how the start was found, warnings
 };
 
-// Validates the input (enough points, not all on a line, ...) and fits. Bad input -> InputError.
+// Validates the input (enough points, not all on a line, ...) and fits. Bad input -> InputError;
+// so is a fit UnphysicalFitReason refuses (the message is its reason).
 CalibrationFit FitCamera(const CalibrationInput& input);
+
+// The bounds a fitted camera must keep (docs/calibrate.md "Refused fits"): a focal length of at
+// least kMinFocalWidths image widths (the fit's own lower bound: a 136 deg field of view) and at
+// most kMaxFocalWidths (a 2.9 deg field of view, which sees less than a robot from a field
+// camera's height), and a pixel aspect fy / fx within [1 / kMaxAspect, kMaxAspect].
+inline constexpr double kMinFocalWidths = 0.2;
+inline constexpr double kMaxFocalWidths = 20.0;
+inline constexpr double kMaxAspect = 2.0;
+
+// The normalised image radius |(pixel - principal point) / f| at which the radial distortion
+// x_d = x (1 + k1 r^2 + k2 r^4) stops increasing with r (its derivative 1 + 3 k1 r^2 + 5 k2 r^4
+// first reaches 0): pixels beyond it are shown twice or not at all. nullopt when it increases
+// for every r (k1, k2 >= 0, or k2 large enough).
+std::optional<double> DistortionFoldRadius(double k1, double k2);
+
+// Why a fitted camera must not be used, with its numbers, or "" when it may: a number of the
+// camera or of its residuals that is not finite; radial distortion that folds inside the image
+// (DistortionFoldRadius below the largest normalised radius of the image's corners); the
+// principal point outside the image; the focal length or the pixel aspect outside the bounds
+// above. FitCamera throws it as an InputError, so `patlab calibrate` writes no file.
+std::string UnphysicalFitReason(const CalibrationFit& fit, int image_width_px,
+                                int image_height_px);
 
 // The covariance (mm^2, row-major 2x2) of where the fitted camera puts `pixel` on the plane at
 // `height_mm`: the camera's covariance propagated to first order (central differences of the

@@ -145,9 +145,8 @@ struct HeightPrior {
   }
 };
 
-// The focal length's lower bound in image widths (a horizontal field of view of 136 deg): a camera
-// fitted to one plane can otherwise shrink towards f -> 0 with its distance.
-constexpr double kMinFocalWidths = 0.2;
+// The focal length's lower bound, kMinFocalWidths image widths (calibrate.h): a camera fitted to
+// one plane can otherwise shrink towards f -> 0 with its distance.
 
 using internal::CheckPixels;
 using internal::CheckStartPoints;
@@ -413,6 +412,12 @@ ceres::Problem::Options ProblemOptions() {
 
 }  // namespace
 
+bool internal::RefitFrom(const CalibrationInput& in, const std::vector<int>& fixed,
+                         ceres::LossFunction* loss, FitState& s) {
+  ceres::Problem problem(ProblemOptions());
+  return FullStage(in, fixed, loss, s, problem).IsSolutionUsable();
+}
+
 CalibrationFit FitCamera(const CalibrationInput& input) {
   const auto t0 = std::chrono::steady_clock::now();
   CheckPixels(input);
@@ -466,6 +471,11 @@ CalibrationFit FitCamera(const CalibrationInput& input) {
   internal::FillMappingUncertainty(fit);
   WarnIfFocalUndetermined(fixed, fit);
   WarnIfBeyondTheFold(fit);
+  // A folded or unphysical camera is refused before anyone spends time on its held-out error.
+  const std::string unphysical =
+      UnphysicalFitReason(fit, input.image_width_px, input.image_height_px);
+  if (!unphysical.empty()) throw InputError(input.loc, unphysical);
+  internal::FillHeldOut(input, fixed, loss.get(), s, fit);
   fit.seconds = SecondsSince(t0);
   return fit;
 }

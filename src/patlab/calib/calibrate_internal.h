@@ -7,6 +7,10 @@
 
 #include "patlab/calib/calibrate.h"
 
+namespace ceres {
+class LossFunction;
+}
+
 namespace patlab::calib::internal {
 
 // The fit's parameter blocks. intrinsics = {f, aspect, cx, cy, k1, k2} (fx = f, fy = f aspect);
@@ -41,6 +45,16 @@ std::vector<FitState> StartCandidates(const CalibrationInput& in);
 
 // Residuals of every pixel, per-plane summaries and totals into `fit`.
 void FillResiduals(const CalibrationInput& input, const FitState& s, CalibrationFit& fit);
+
+// The full model refitted from `s` (its parameters and nuisance unknowns as they stand) to `in`,
+// with `fixed` intrinsics held: false when Ceres finds no usable solution (calibrate_fit.cpp).
+bool RefitFrom(const CalibrationInput& in, const std::vector<int>& fixed, ceres::LossFunction* loss,
+               FitState& s);
+
+// fit.heldout_* and each plane's heldout_*: the cross-validated mapping error
+// (calibrate_holdout.cpp), refitting from the fitted state `s`.
+void FillHeldOut(const CalibrationInput& in, const std::vector<int>& fixed,
+                 ceres::LossFunction* loss, const FitState& s, CalibrationFit& fit);
 
 // Each plane's mapping_sd_* from fit.covariance (calibrate_uncertainty.cpp).
 void FillMappingUncertainty(CalibrationFit& fit);

@@ -159,7 +159,7 @@ void ReadFit(const toml::table& root, const std::string& name, FitOptions& o) {
   if (t == nullptr) return;
   const io::TomlReader r(*t, name, "[fit]");
   r.CheckKeys({"fix", "focal_px", "principal_point_px", "k1", "k2", "huber_px", "max_iterations",
-               "camera_height_mm", "camera_height_sd_mm"});
+               "camera_height_mm", "camera_height_sd_mm", "holdout_folds"});
   if (const toml::node* fix = t->get("fix")) {
     const toml::array* a = fix->as_array();
     if (a == nullptr) r.Fail("fix", "fix in [fit] is not an array; expected names of parameters");
@@ -200,6 +200,11 @@ void ReadFit(const toml::table& root, const std::string& name, FitOptions& o) {
     r.Fail("max_iterations",
            "max_iterations in [fit] is " + std::to_string(it) + "; expected 1 to 100000");
   o.max_iterations = static_cast<int>(it);
+  const int64_t folds = r.OptionalInteger("holdout_folds").value_or(5);
+  if (folds != 0 && (folds < 2 || folds > 1000))
+    r.Fail("holdout_folds", "holdout_folds in [fit] is " + std::to_string(folds) +
+                                "; expected 0 (no held-out error) or 2 to 1000");
+  o.holdout_folds = static_cast<int>(folds);
 }
 
 void ReadHeights(const toml::table& root, const std::string& name, CalibrationInput& input) {
