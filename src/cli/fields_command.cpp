@@ -25,8 +25,8 @@ constexpr const char* kExamples = R"(examples:
 
 Without NAME: the shipped field models (name, size between the lines' centres and the floor
 beyond them, first year of the rules, source) and the families. NAME is a family (ssl, vss: its
-models, newest first), a shipped model's name, or a field file. `--field NAME` and a calibration
-input's `field = ` take the same names. Exit status: 0 ok, 2 bad input.
+models, newest first), a shipped model's name, or a field file; `patlab live --field` takes the
+same names (docs/fields.md). Exit status: 0 ok, 2 bad input.
 )";
 
 std::string FamilyLines(const std::vector<calib::Field>& fields) {

@@ -195,8 +195,7 @@ std::optional<double> DistortionFoldRadius(double k1, double k2);
 // (DistortionFoldRadius below the largest normalised radius of the image's corners); the
 // principal point outside the image; the focal length or the pixel aspect outside the bounds
 // above. FitCamera throws it as an InputError, so `patlab calibrate` writes no file.
-std::string UnphysicalFitReason(const CalibrationFit& fit, int image_width_px,
-                                int image_height_px);
+std::string UnphysicalFitReason(const CalibrationFit& fit, int image_width_px, int image_height_px);
 
 // The covariance (mm^2, row-major 2x2) of where the fitted camera puts `pixel` on the plane at
 // `height_mm`: the camera's covariance propagated to first order (central differences of the

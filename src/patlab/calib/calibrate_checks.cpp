@@ -13,16 +13,20 @@ namespace patlab::calib {
 namespace {
 
 std::string Num(double v) { return FormatSignificant(v, 3); }
+std::string Px(double v) { return FormatFixed(v, 0); }
 
 // The first camera number that is not finite, as "name = value", or "".
 std::string FirstNotFinite(const CalibrationFit& fit) {
   const vision::PinholeCamera& c = fit.camera;
-  const std::pair<const char*, double> numbers[] = {
-      {"fx", c.fx_px},     {"fy", c.fy_px},
-      {"cx", c.cx_px},     {"cy", c.cy_px},
-      {"k1", c.k1},        {"k2", c.k2},
-      {"tx", c.translation_mm.x()}, {"ty", c.translation_mm.y()},
-      {"tz", c.translation_mm.z()}};
+  const std::pair<const char*, double> numbers[] = {{"fx", c.fx_px},
+                                                    {"fy", c.fy_px},
+                                                    {"cx", c.cx_px},
+                                                    {"cy", c.cy_px},
+                                                    {"k1", c.k1},
+                                                    {"k2", c.k2},
+                                                    {"tx", c.translation_mm.x()},
+                                                    {"ty", c.translation_mm.y()},
+                                                    {"tz", c.translation_mm.z()}};
   for (const auto& [name, v] : numbers) {
     if (!std::isfinite(v)) return std::string(name) + " = " + FormatNumber(v);
   }
@@ -91,19 +95,20 @@ std::string UnphysicalFitReason(const CalibrationFit& fit, int image_width_px,
   if (const std::optional<double> fold = DistortionFoldRadius(c.k1, c.k2);
       fold && *fold < image_r) {
     return "the fitted camera is not usable: its distortion folds at r = " + Num(*fold) +
-           " (radius " + Num(*fold * c.fx_px) + " px) inside the image's " + Num(image_r) +
+           " (radius " + Px(*fold * c.fx_px) + " px) inside the image's " + Num(image_r) +
            ": k1 = " + Num(c.k1) + ", k2 = " + Num(c.k2) +
            "; expected a lens that shows every pixel once (observe lines and points near the image "
            "edge, or hold k1 and k2 with [fit] fix = [\"k1\", \"k2\", ...])";
   }
   if (!(c.cx_px >= 0.0 && c.cx_px <= w && c.cy_px >= 0.0 && c.cy_px <= h)) {
-    return "the fitted camera is not usable: its principal point (" + Num(c.cx_px) + ", " +
-           Num(c.cy_px) + ") px lies outside the " + FormatNumber(w) + " x " + FormatNumber(h) +
+    return "the fitted camera is not usable: its principal point (" + FormatFixed(c.cx_px, 1) +
+           ", " + FormatFixed(c.cy_px, 1) + ") px lies outside the " + FormatNumber(w) + " x " +
+           FormatNumber(h) +
            " px image; expected it inside the image (a lens's axis meets its sensor; hold it with "
            "[fit] fix = [\"principal_point\", ...])";
   }
   if (!(c.fx_px >= kMinFocalWidths * w && c.fx_px <= kMaxFocalWidths * w)) {
-    return "the fitted camera is not usable: its focal length " + Num(c.fx_px) + " px is " +
+    return "the fitted camera is not usable: its focal length " + Px(c.fx_px) + " px is " +
            Num(c.fx_px / w) + " image widths; expected " + Num(kMinFocalWidths) + " to " +
            Num(kMaxFocalWidths) +
            " (a field of view between 136 and 2.9 degrees: a camera over a field sees more than a "
@@ -111,9 +116,9 @@ std::string UnphysicalFitReason(const CalibrationFit& fit, int image_width_px,
   }
   const double aspect = c.fy_px / c.fx_px;
   if (!(aspect >= 1.0 / kMaxAspect && aspect <= kMaxAspect)) {
-    return "the fitted camera is not usable: its pixel aspect fy / fx = " + Num(aspect) +
-           " (fx " + Num(c.fx_px) + " px, fy " + Num(c.fy_px) + " px); expected " +
-           Num(1.0 / kMaxAspect) + " to " + Num(kMaxAspect) +
+    return "the fitted camera is not usable: its pixel aspect fy / fx = " + Num(aspect) + " (fx " +
+           Px(c.fx_px) + " px, fy " + Px(c.fy_px) + " px); expected " + Num(1.0 / kMaxAspect) +
+           " to " + Num(kMaxAspect) +
            " (sensor pixels are nearly square; hold it with [fit] fix = [\"aspect\", ...])";
   }
   const std::string residual = FirstResidualNotFinite(fit);

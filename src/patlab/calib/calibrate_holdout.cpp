@@ -136,9 +136,9 @@ void FillHeldOut(const CalibrationInput& in, const std::vector<int>& fixed,
   }
   if (total > 0) fit.heldout_rms_mm = std::sqrt(total2 / total);
   if (failed > 0 || unmappable > 0) {
-    fit.notes.push_back("warning: the held-out mapping error leaves out " +
-                        std::to_string(failed) + " of " + std::to_string(folds) +
-                        " folds whose refit failed and " + std::to_string(unmappable) +
+    fit.notes.push_back("warning: the held-out mapping error leaves out " + std::to_string(failed) +
+                        " of " + std::to_string(folds) + " folds whose refit failed and " +
+                        std::to_string(unmappable) +
                         " held-out pixels the refitted camera cannot map back");
   }
 }
