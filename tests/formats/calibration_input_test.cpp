@@ -68,7 +68,11 @@ TEST(CalibrationInput, BadInputSaysWhereAndWhatWasExpected) {
                      "corner_neg_right, halfway_left, halfway_right, centre_circle_left, "
                      "centre_circle_right, defense_front_left_pos, defense_front_right_pos, "
                      "defense_goal_left_pos, defense_goal_right_pos, defense_front_left_neg, "
-                     "defense_front_right_neg, defense_goal_left_neg, defense_goal_right_neg");
+                     "defense_front_right_neg, defense_goal_left_neg, defense_goal_right_neg, "
+                     "goal_post_left_pos, goal_post_right_pos, goal_back_left_pos, "
+                     "goal_back_right_pos, goal_post_left_neg, goal_post_right_neg, "
+                     "goal_back_left_neg, goal_back_right_neg, penalty_mark_pos, "
+                     "penalty_mark_neg");
   EXPECT_INPUT_ERROR(
       Parse(head + "[[point]]\nfeature = \"centre\"\nworld_mm = [0, 0]\npixel = [1, 2]\n"),
       "in.toml:4: both feature and world_mm in [[point]] 1; expected exactly one: a field "

@@ -235,7 +235,8 @@ TEST(FieldFile, LandmarksLieOnTheLinesAndEveryCrossingIsALandmark) {
       }
       EXPECT_GE(on, 1) << q.name;
       if (q.name.starts_with("corner") || q.name.starts_with("goal_post") ||
-          q.name.starts_with("halfway_") || q.name == "centre" && f.FindLine("midline")) {
+          q.name.starts_with("halfway_") ||
+          (q.name == "centre" && f.FindLine("midline") != nullptr)) {
         EXPECT_GE(on, 2) << q.name;
       }
     }

@@ -134,6 +134,11 @@ TEST(Packet, GeometryOfTheSsl2009Field) {
   EXPECT_EQ(f.field_width(), 4050);
   EXPECT_EQ(f.field_lines_size(), static_cast<int>(field.lines.size()));
   EXPECT_EQ(f.field_arcs_size(), static_cast<int>(field.circles.size()));
+  // The centre circle is whole; the defense arc about (3025, 175) runs from 90 to 180 degrees.
+  EXPECT_EQ(f.field_arcs(0).a2() - f.field_arcs(0).a1(), static_cast<float>(2 * std::numbers::pi));
+  EXPECT_EQ(f.field_arcs(1).name(), "defense_arc_left_pos");
+  EXPECT_EQ(f.field_arcs(1).a1(), static_cast<float>(std::numbers::pi / 2));
+  EXPECT_EQ(f.field_arcs(1).a2(), static_cast<float>(std::numbers::pi));
   const SSL_FieldLineSegment& halfway = f.field_lines(4);
   EXPECT_EQ(halfway.name(), "halfway");
   EXPECT_EQ(halfway.p1().y(), -2025.0f);

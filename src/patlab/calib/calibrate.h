@@ -132,9 +132,13 @@ struct PlaneResiduals {
   // plane between each held-out pixel's back-projection through the camera fitted without it and
   // its target (the point; the line or circle, across it). Unlike rms_mm, which the fit itself
   // has minimised, it measures how far points not used in the fit are mapped from where they are;
-  // it includes the observations' own noise. NaN when not computed (no folds, or no fold of this
-  // plane refitted); heldout_count pixels.
+  // it includes the observations' own noise. heldout_mapping_mm: the mapping error alone, the
+  // held-out distances less that noise (the fit's residual variance per pixel axis, 2 n - p
+  // degrees of freedom, times the plane's mm^2 per px^2 at the pixel; a line or circle pixel
+  // measures one axis of the error, a point two), as the RMS over both axes. NaN when not
+  // computed (no folds, or no fold of this plane refitted); heldout_count pixels.
   double heldout_rms_mm = std::numeric_limits<double>::quiet_NaN();
+  double heldout_mapping_mm = std::numeric_limits<double>::quiet_NaN();
   int heldout_count = 0;
 };
 
@@ -157,6 +161,7 @@ struct CalibrationFit {
   // The cross-validated mapping error over every held-out pixel of every plane (mm, see
   // PlaneResiduals::heldout_rms_mm); NaN when not computed. heldout_folds: the folds refitted.
   double heldout_rms_mm = std::numeric_limits<double>::quiet_NaN();
+  double heldout_mapping_mm = std::numeric_limits<double>::quiet_NaN();
   int heldout_folds = 0;
   std::vector<PlaneResiduals> planes;  // by increasing height
   // The calibration file's [[residual]] rows, which patlab detect adds to its blob noise: every

@@ -144,8 +144,10 @@ SslGeometry GeometryOf(const calib::Field& field, const std::vector<vision::Cali
         {line.name, line.from_mm.x(), line.from_mm.y(), line.to_mm.x(), line.to_mm.y(), 10.0});
   }
   for (const calib::FieldCircle& circle : field.circles) {
+    // The arc's extent (a full circle: 0 to 2 pi), in radians as SSL_FieldCircularArc has it.
+    constexpr double kRad = std::numbers::pi / 180.0;
     g.arcs.push_back({circle.name, circle.centre_mm.x(), circle.centre_mm.y(), circle.radius_mm,
-                      0.0, 2.0 * std::numbers::pi, 10.0});
+                      circle.from_deg * kRad, circle.to_deg * kRad, 10.0});
   }
   for (size_t id = 0; id < cameras.size(); ++id) {
     if (auto c = CameraCalibrationOf(cameras[id], static_cast<uint32_t>(id))) {
