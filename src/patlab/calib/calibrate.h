@@ -128,17 +128,14 @@ struct PlaneResiduals {
   // deviation along each pixel's worst axis, MappingCovariance): RMS and worst over them; NaN
   // when the data do not determine the camera.
   double mapping_sd_rms_mm = 0.0, mapping_sd_worst_mm = 0.0;
-  // The cross-validated mapping error (FitOptions::holdout_folds): the RMS distance (mm) on this
-  // plane between each held-out pixel's back-projection through the camera fitted without it and
-  // its target (the point; the line or circle, across it). Unlike rms_mm, which the fit itself
-  // has minimised, it measures how far points not used in the fit are mapped from where they are;
-  // it includes the observations' own noise. heldout_mapping_mm: the mapping error alone, the
-  // held-out distances less that noise (the fit's residual variance per pixel axis, 2 n - p
-  // degrees of freedom, times the plane's mm^2 per px^2 at the pixel; a line or circle pixel
-  // measures one axis of the error, a point two), as the RMS over both axes. NaN when not
-  // computed (no folds, or no fold of this plane refitted); heldout_count pixels.
+  // The cross-validated mapping error (FitOptions::holdout_folds), RMS in mm: each held-out
+  // pixel back-projected onto this plane through the camera fitted without it and measured to its
+  // target -- a point's distance, or a line's or circle's distance across it counted for both axes
+  // (times sqrt 2: to first order the error is isotropic). Unlike rms_mm, which the fit itself has
+  // minimised, it is the error of a point the fit never saw, as a measured point has it: the
+  // observations' own noise included. NaN when not computed (no folds, or no fold of this plane
+  // refitted); heldout_count pixels.
   double heldout_rms_mm = std::numeric_limits<double>::quiet_NaN();
-  double heldout_mapping_mm = std::numeric_limits<double>::quiet_NaN();
   int heldout_count = 0;
 };
 
@@ -161,7 +158,6 @@ struct CalibrationFit {
   // The cross-validated mapping error over every held-out pixel of every plane (mm, see
   // PlaneResiduals::heldout_rms_mm); NaN when not computed. heldout_folds: the folds refitted.
   double heldout_rms_mm = std::numeric_limits<double>::quiet_NaN();
-  double heldout_mapping_mm = std::numeric_limits<double>::quiet_NaN();
   int heldout_folds = 0;
   std::vector<PlaneResiduals> planes;  // by increasing height
   // The calibration file's [[residual]] rows, which patlab detect adds to its blob noise: every

@@ -99,13 +99,8 @@ void FillHeldOut(const CalibrationInput& in, const std::vector<int>& fixed,
                  ceres::LossFunction* loss, const FitState& s, CalibrationFit& fit) {
   const int folds = in.options.holdout_folds;
   if (folds < 2) return;
-  // The observations' noise per pixel axis (px^2): the residual sum of squares over the degrees
-  // of freedom left, 2 n - p (n pixels, p free parameters with the nuisance ones).
-  const double dof = 2.0 * fit.observations - fit.parameters;
-  const double noise_px2 =
-      dof > 0 ? fit.rms_px * fit.rms_px * static_cast<double>(fit.residuals.size()) / dof : 0.0;
   struct Sums {
-    double d2 = 0.0, mapping2 = 0.0;
+    double d2 = 0.0;
     int count = 0;
   };
   std::map<double, Sums> per_plane;
@@ -127,14 +122,11 @@ void FillHeldOut(const CalibrationInput& in, const std::vector<int>& fixed,
         ++unmappable;
         continue;
       }
+      // A point's distance has both axes of the error; a line's or circle's only the one across
+      // it, counted twice for the error of a point there (isotropic, to first order).
       const double d = DistanceToTarget(in, h, *back);
-      // A point's distance has two axes of noise and of mapping error, a line's or circle's one
-      // (across it): the squared mapping error is E[d^2] less the noise, per axis times two.
-      const double axes = h.kind == 0 ? 2.0 : 1.0;
-      const double noise_mm2 = noise_px2 * cam.AreaScale(h.pixel, h.height_mm);
       Sums& sums = per_plane[h.height_mm];
-      sums.d2 += d * d;
-      sums.mapping2 += (2.0 / axes) * (d * d - axes * noise_mm2);
+      sums.d2 += (h.kind == 0 ? 1.0 : 2.0) * d * d;
       ++sums.count;
     }
     ++fit.heldout_folds;
@@ -145,16 +137,11 @@ void FillHeldOut(const CalibrationInput& in, const std::vector<int>& fixed,
     if (it == per_plane.end() || it->second.count == 0) continue;
     const Sums& sums = it->second;
     p.heldout_rms_mm = std::sqrt(sums.d2 / sums.count);
-    p.heldout_mapping_mm = std::sqrt(std::max(0.0, sums.mapping2 / sums.count));
     p.heldout_count = sums.count;
     total.d2 += sums.d2;
-    total.mapping2 += sums.mapping2;
     total.count += sums.count;
   }
-  if (total.count > 0) {
-    fit.heldout_rms_mm = std::sqrt(total.d2 / total.count);
-    fit.heldout_mapping_mm = std::sqrt(std::max(0.0, total.mapping2 / total.count));
-  }
+  if (total.count > 0) fit.heldout_rms_mm = std::sqrt(total.d2 / total.count);
   if (failed > 0 || unmappable > 0) {
     fit.notes.push_back("warning: the held-out mapping error leaves out " + std::to_string(failed) +
                         " of " + std::to_string(folds) + " folds whose refit failed and " +

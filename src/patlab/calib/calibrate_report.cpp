@@ -147,12 +147,12 @@ double TiltDeg(const vision::PinholeCamera& c) {
 std::string PlaneLines(const CalibrationFit& fit, const std::string& prefix) {
   std::string out;
   for (const PlaneResiduals& p : fit.planes) {
-    out += prefix +
-           StringPrintf(
-               "%-9s %7d %8s %8s %8s %10s %10s %8s\n", FormatNumber(p.height_mm).c_str(), p.count,
-               FormatFixed(p.rms_px, 3).c_str(), FormatFixed(p.worst_px, 3).c_str(),
-               FormatFixed(p.rms_mm, 2).c_str(), FormatFixed(p.heldout_rms_mm, 2).c_str(),
-               FormatFixed(p.heldout_mapping_mm, 2).c_str(), FormatFixed(p.worst_mm, 2).c_str());
+    out +=
+        prefix + StringPrintf("%-9s %7d %8s %8s %8s %10s %8s\n", FormatNumber(p.height_mm).c_str(),
+                              p.count, FormatFixed(p.rms_px, 3).c_str(),
+                              FormatFixed(p.worst_px, 3).c_str(), FormatFixed(p.rms_mm, 2).c_str(),
+                              FormatFixed(p.heldout_rms_mm, 2).c_str(),
+                              FormatFixed(p.worst_mm, 2).c_str());
   }
   return out;
 }
@@ -172,11 +172,11 @@ std::string CalibrationFileText(const CalibrationInput& input, const Calibration
       "# Fitted by `patlab calibrate " + input.loc.file +
       "` (patlab " PATLAB_VERSION "): " + std::to_string(fit.observations) + " pixels, RMS " +
       FormatFixed(fit.rms_px, 3) + " px, worst " + FormatFixed(fit.worst_px, 3) +
-      " px.\n# Held-out (" + std::to_string(fit.heldout_folds) +
-      "-fold cross-validation, pixels not used in the fit): " + FormatFixed(fit.heldout_rms_mm, 2) +
-      " mm RMS, mapping error less noise " + FormatFixed(fit.heldout_mapping_mm, 2) +
-      " mm; rms_mm is in-sample.\n"
-      "# plane_mm  pixels  rms_px  worst_px  rms_mm  heldout_mm  mapping_mm  worst_mm\n";
+      " px.\n# Held-out mapping error " + FormatFixed(fit.heldout_rms_mm, 2) + " mm RMS (" +
+      std::to_string(fit.heldout_folds) +
+      "-fold cross-validation: points not used in the fit, their noise included); rms_mm is "
+      "in-sample.\n"
+      "# plane_mm  pixels  rms_px  worst_px  rms_mm  heldout_mm  worst_mm\n";
   out += PlaneLines(fit, "# ");
   out += "# Camera centre " + Vector3(fit.camera_centre_mm) + " mm, tilt " +
          FormatFixed(TiltDeg(c), 2) + " deg from straight down.\n";
@@ -217,13 +217,11 @@ std::string FitReportText(const CalibrationInput& input, const CalibrationFit& f
   out += "  camera centre " + Vector3(fit.camera_centre_mm) + " mm, tilt " +
          FormatFixed(TiltDeg(c), 2) + " deg\n";
   out += "residuals: RMS " + FormatFixed(fit.rms_px, 3) + " px, worst " +
-         FormatFixed(fit.worst_px, 3) + " px\n  held-out (" + std::to_string(fit.heldout_folds) +
-         "-fold cross-validation: pixels not used in the fit, mapped by the camera fitted without "
-         "them): " +
-         FormatFixed(fit.heldout_rms_mm, 2) +
-         " mm RMS; the mapping error, less the noise: " + FormatFixed(fit.heldout_mapping_mm, 2) +
-         " mm (rms_mm is in-sample)\n"
-         "  plane_mm   pixels   rms_px worst_px   rms_mm heldout_mm mapping_mm worst_mm\n" +
+         FormatFixed(fit.worst_px, 3) + " px; held-out mapping error " +
+         FormatFixed(fit.heldout_rms_mm, 2) + " mm RMS (" + std::to_string(fit.heldout_folds) +
+         "-fold cross-validation: points not used in the fit, mapped by the camera fitted without "
+         "them, their noise included; rms_mm is in-sample)\n"
+         "  plane_mm   pixels   rms_px worst_px   rms_mm heldout_mm worst_mm\n" +
          PlaneLines(fit, "  ");
   out +=
       "mapping uncertainty (1 sd along the worst axis, from the fit's covariance) over the "
