@@ -289,7 +289,7 @@ bool Usable(const Synthetic& s) {
 // those standard errors say, not a fixed number (AMeasuredCameraHeight... pins it down).
 TEST(Calibrate, RecoversRandomCamerasFromFieldAndRobots) {
   int fitted_cameras = 0;
-  for (uint64_t seed = 1; seed <= 10; ++seed) {
+  for (uint64_t seed = 1; seed <= 13; ++seed) {  // some true lenses fold: refused, skipped
     SCOPED_TRACE("seed " + std::to_string(seed));
     const Synthetic s = MakeSynthetic(seed, /*robots=*/true);
     if (!Usable(s)) continue;
