@@ -70,14 +70,16 @@ TEST(CalibrateCli, BadInputIsExit2WithNothingWritten) {
 }
 
 TEST(CalibrateCli, AFoldedFitIsExit2WithItsNumbersAndNothingWritten) {
-  // The real frame's input with k1 held at -1.5: the lens the fit must keep folds at the image
-  // radius sqrt(2/9) (1 - 1.5 * 2/9) = 0.314 (where 1 - 4.5 r^2 = 0), well inside a 780 x 580
-  // frame seen at a focal length below 1500 px.
+  // The real frame's input with the focal length held at 600 px and k1 at -0.6: the lens the fit
+  // must keep folds where 1 - 1.8 r^2 = 0, r = 0.745, at the image radius 0.745 (1 - 0.6 / 1.8)
+  // = 0.497 (298 px at f = 600), inside the 780 x 580 frame (its corners are 0.8 or more away
+  // from any principal point inside the image).
   testing::TempDir dir;
   std::string text = testing::ReadFile(kInput);
   const std::string fix = "fix = [\"aspect\", \"k2\"]";
   ASSERT_NE(text.find(fix), std::string::npos);
-  text.replace(text.find(fix), fix.size(), "fix = [\"aspect\", \"k1\", \"k2\"]\nk1 = -1.5");
+  text.replace(text.find(fix), fix.size(),
+               "fix = [\"focal\", \"aspect\", \"k1\", \"k2\"]\nfocal_px = 600\nk1 = -0.6");
   const std::string field = "../../../experiments/fields/ssl-2009.toml";
   text.replace(text.find(field), field.size(),
                std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
@@ -85,17 +87,15 @@ TEST(CalibrateCli, AFoldedFitIsExit2WithItsNumbersAndNothingWritten) {
   const auto r = RunCommand(kBinary + " calibrate " + in + " --out " + dir.Path("cal"));
   EXPECT_EQ(r.exit_code, 2) << r.out;
   const std::string head = "patlab calibrate: " + in +
-                           ": the fitted camera is not usable: its distortion folds at "
-                           "r = 0.314 (radius ";
+                           ": the fitted camera is not usable: its distortion folds at r = 0.497 "
+                           "(radius 298 px) inside the image's ";
   EXPECT_EQ(r.err.substr(0, head.size()), head) << r.err;
-  EXPECT_NE(r.err.find(": k1 = -1.5, k2 = 0; expected a lens that shows every pixel once"),
+  EXPECT_NE(r.err.find(": k1 = -0.6, k2 = 0; expected a lens that shows every pixel once"),
             std::string::npos)
       << r.err;
-  // The radius in px is r times the fitted focal length, inside the image's own radius.
-  const double px = Number(r.err, R"(\(radius ([0-9]+) px\))");
   const double image_r = Number(r.err, R"(inside the image's ([0-9.]+):)");
-  EXPECT_GT(image_r, 0.314);
-  EXPECT_GT(px, 0.314 * 0.2 * 780);
+  EXPECT_GT(image_r, 0.8);
+  EXPECT_LT(image_r, 1.62);  // hypot(780, 580) / 600: no corner is farther
   EXPECT_TRUE(r.out.empty());
   EXPECT_FALSE(std::filesystem::exists(dir.Path("cal")));
 }
