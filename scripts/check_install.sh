@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 prefix=$PWD/build/install
-rm -rf "$prefix" build/example build/example-in-code
+rm -rf "$prefix" build/example build/example-in-code build/example-live
 cmake --install build --prefix "$prefix" > build/install.log
 cmake -S examples/detect_blobs -B build/example -DCMAKE_PREFIX_PATH="$prefix" > build/example-configure.log
 cmake --build build/example 2>&1 | tail -n 1
@@ -24,6 +24,21 @@ if [[ $(wc -l <<< "$in_code") != 1 || $in_code != "blue "*" ok 0.00 0.00 0.0000"
   echo "examples/detect_in_code printed '$in_code'; expected one blue robot at (0, 0), theta 0"
   exit 1
 fi
+
+# The live room's public headers and the generated SSL-Vision classes from the installed prefix:
+# examples/live_packet builds a detection packet with patlab::live and reads it back.
+cmake -S examples/live_packet -B build/example-live -DCMAKE_PREFIX_PATH="$prefix" \
+  > build/example-live-configure.log || {
+  cat build/example-live-configure.log
+  exit 1
+}
+cmake --build build/example-live 2>&1 | tail -n 1
+live_packet=$(build/example-live/live_packet)
+if [[ $live_packet != "robot 3 blue at 120 -40" ]]; then
+  echo "examples/live_packet printed '$live_packet'; expected 'robot 3 blue at 120 -40'"
+  exit 1
+fi
+echo "install ok: examples/live_packet included the live headers and the generated classes"
 
 # README's examples, as a new user runs them: the installed tool, in an empty folder, shipped
 # data by name, relative -o folders that do not exist yet. The commands are read from README.md's

@@ -39,7 +39,10 @@ CommandHelp Help() {
       "(files, a directory, a .txt list). Each SOURCE is a camera; -t, -c and -s are given "
       "once for all or once per SOURCE in order, as files or shipped names; camera ids are "
       "0, 1, ... unless --camera-id says otherwise. SIGINT or SIGTERM stops the loop; the log "
-      "is then closed whole. Exit status: 0 ok, 1 an output failed, 2 bad input.",
+      "is then closed whole. A corrupt frame is skipped and counted, a camera that fails is "
+      "reopened with a back-off, a packet the system refuses is sent again; each is reported "
+      "on stderr. Exit status: 0 ok (frames skipped included), 1 an output failed, 2 bad "
+      "input.",
       "  patlab live /dev/video0 -t colors.toml -c cal.toml -s detector.toml --field ssl-div-b\n"
       "  patlab live frame.png --loop --max-frames 100 -t ssl-frame.thresholds \\\n"
       "      -c ssl-frame.calibration -s ssl-frame.detector --send 127.0.0.1:10006 --stats\n"
@@ -54,7 +57,7 @@ struct LiveCommandOptions {
   int ttl = 1;
   long max_frames = 0;
   double list_rate_hz = 60.0;
-  bool loop = false, stats = false;
+  bool loop = false, stats = false, hold_ids = false;
 };
 
 void AddFlags(CommandLine* line, LiveCommandOptions* o) {
@@ -77,7 +80,10 @@ void AddFlags(CommandLine* line, LiveCommandOptions* o) {
       "ttl", po::value(&o->ttl), "multicast TTL, 0..255 (default 1: this network)")(
       "iface", po::value(&o->iface), "multicast interface: its IPv4 address or name")(
       "field", po::value(&o->field),
-      "field TOML or shipped name for the geometry packet, once a second (without: none)");
+      "field TOML or shipped name for the geometry packet, once a second (without: none)")(
+      "hold-ids", po::bool_switch(&o->hold_ids),
+      "keep a tracked robot's ID through up to 2 frames read as unknown or another ID (marked "
+      "id_held in --jsonl; docs/live.md)");
   line->Group("outputs")("log", po::value(&o->log), "also write every packet to this SSL log file")(
       "jsonl", po::value(&o->jsonl), "also write one JSON object per frame to FILE or - (stdout)")(
       "stats", po::bool_switch(&o->stats),
@@ -163,8 +169,10 @@ extern "C" void OnStopSignal(int) { g_stop.store(true); }
 
 void PrintStats(const live::LiveStats& s) {
   std::cerr << "patlab live: frames received " << s.received << ", processed " << s.processed
-            << ", dropped " << s.dropped << "; packets " << s.packets << " detection, "
-            << s.geometry_packets << " geometry, " << s.send_failures << " not sent\n";
+            << ", dropped " << s.dropped << ", skipped corrupt " << s.skipped << "; reopens "
+            << s.reopens << "; packets " << s.packets << " detection, " << s.geometry_packets
+            << " geometry, " << s.send_failures << " not sent, " << s.send_retries
+            << " retries; ids held " << s.ids_held << "\n";
   std::cerr << StringPrintf("  %-12s %9s %9s %9s\n", "stage", "p50 ms", "p99 ms", "max ms");
   for (const live::StageLatency& l : s.latency) {
     std::cerr << StringPrintf("  %-12s %9s %9s %9s\n", l.stage.c_str(),
@@ -184,6 +192,7 @@ live::LiveOptions LoopOptions(const LiveCommandOptions& o) {
                      "; expected > 0 frames per second");
   }
   options.max_frames = o.max_frames;
+  options.hold_ids.enabled = o.hold_ids;
   options.source.loop = o.loop;
   options.source.list_rate_hz = o.list_rate_hz;
   if (!o.raw_size.empty()) ParseRawSize(o.raw_size, &options.source);
@@ -220,6 +229,7 @@ int RunLiveCommand(const std::vector<std::string>& args) {
     }
     outputs.jsonl = [out](std::string_view line) { *out << line << '\n' << std::flush; };
   }
+  outputs.message = [](std::string_view text) { std::cerr << "patlab live: " << text << '\n'; };
   std::signal(SIGINT, OnStopSignal);
   std::signal(SIGTERM, OnStopSignal);
   const live::LiveStats stats = live::RunLive(cameras, options, outputs, g_stop);

@@ -141,6 +141,30 @@ TEST(LiveCli, PacketsLogAndJsonMatchDetect) {
   EXPECT_EQ(geometry, 1);
 }
 
+// --hold-ids on a frame whose every robot is read clearly holds nothing: the JSON lines are those
+// of the run without it, line for line (but for the send times), and --stats says "ids held 0".
+TEST(LiveCli, HoldIdsOnClearFramesChangesNothing) {
+  TempDir dir;
+  std::vector<std::string> runs;
+  for (const std::string flag : {"", " --hold-ids"}) {
+    const std::string out = dir.Path("live" + std::to_string(runs.size()) + ".jsonl");
+    const testing::CommandResult r =
+        RunCommand(kBinary + " live " + kGolden + "png --loop --max-frames 5 --rate max" + kFiles +
+                   " --send 127.0.0.1:9 --jsonl " + out + " --stats" + flag);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("; ids held 0\n"), std::string::npos) << r.err;
+    std::string lines;
+    std::istringstream in(testing::ReadFile(out));
+    for (std::string line; std::getline(in, line);) {
+      // The robots and balls: from "balls" on (frame numbers and times differ between runs).
+      lines += line.substr(line.find("\"balls\"")) + "\n";
+    }
+    EXPECT_EQ(lines.find("id_held"), std::string::npos);
+    runs.push_back(lines.substr(0, lines.find('\n')));  // the first frame (others may drop)
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+}
+
 TEST(LiveCli, BadInputNamesTheFlag) {
   const std::string base = kBinary + " live " + kGolden + "png" + kFiles;
   struct Case {

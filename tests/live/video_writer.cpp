@@ -1,9 +1,10 @@
-// FFV1 video writing for the tests (video_writer.h).
+// FFV1 and MJPEG video writing for the tests (video_writer.h).
 #include "video_writer.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
+#include <libavutil/log.h>
 #include <libswscale/swscale.h>
 }
 
@@ -28,25 +29,26 @@ struct Writer {
     av_packet_free(&packet);
   }
 
-  bool Open(const std::string& path, int width, int height, int fps) {
+  bool Open(const std::string& path, int width, int height, int fps, AVCodecID id,
+            AVPixelFormat pixels) {
     if (avformat_alloc_output_context2(&format, nullptr, "matroska", path.c_str()) < 0)
       return false;
-    const AVCodec* encoder = avcodec_find_encoder(AV_CODEC_ID_FFV1);
+    const AVCodec* encoder = avcodec_find_encoder(id);
     if (!encoder) return false;
     stream = avformat_new_stream(format, nullptr);
     codec = avcodec_alloc_context3(encoder);
     codec->width = width;
     codec->height = height;
-    codec->pix_fmt = AV_PIX_FMT_RGB32;
+    codec->pix_fmt = pixels;
     codec->time_base = AVRational{1, fps};
     stream->time_base = codec->time_base;
     if (format->oformat->flags & AVFMT_GLOBALHEADER) codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     if (avcodec_open2(codec, encoder, nullptr) < 0) return false;
     if (avcodec_parameters_from_context(stream->codecpar, codec) < 0) return false;
     if (avio_open(&format->pb, path.c_str(), AVIO_FLAG_WRITE) < 0) return false;
-    scale = sws_getContext(width, height, AV_PIX_FMT_RGB24, width, height, AV_PIX_FMT_RGB32,
-                           SWS_POINT, nullptr, nullptr, nullptr);
-    frame->format = AV_PIX_FMT_RGB32;
+    scale = sws_getContext(width, height, AV_PIX_FMT_RGB24, width, height, pixels, SWS_POINT,
+                           nullptr, nullptr, nullptr);
+    frame->format = pixels;
     frame->width = width;
     frame->height = height;
     return scale && av_frame_get_buffer(frame, 0) >= 0 &&
@@ -80,15 +82,29 @@ struct Writer {
 
 }  // namespace
 
-bool WriteLosslessVideo(const std::string& path, const std::vector<vision::Image>& frames,
-                        int fps) {
+namespace {
+
+bool Write(const std::string& path, const std::vector<vision::Image>& frames, int fps, AVCodecID id,
+           AVPixelFormat pixels) {
   if (frames.empty()) return false;
+  av_log_set_level(AV_LOG_ERROR);  // not swscale's note on the JPEG range of YUVJ420P
   Writer writer;
-  if (!writer.Open(path, frames[0].width_px, frames[0].height_px, fps)) return false;
+  if (!writer.Open(path, frames[0].width_px, frames[0].height_px, fps, id, pixels)) return false;
   for (size_t i = 0; i < frames.size(); ++i) {
     if (!writer.Add(frames[i], static_cast<int64_t>(i))) return false;
   }
   return writer.Finish();
+}
+
+}  // namespace
+
+bool WriteLosslessVideo(const std::string& path, const std::vector<vision::Image>& frames,
+                        int fps) {
+  return Write(path, frames, fps, AV_CODEC_ID_FFV1, AV_PIX_FMT_RGB32);
+}
+
+bool WriteMjpegVideo(const std::string& path, const std::vector<vision::Image>& frames, int fps) {
+  return Write(path, frames, fps, AV_CODEC_ID_MJPEG, AV_PIX_FMT_YUVJ420P);
 }
 
 }  // namespace patlab::live::testing

@@ -433,6 +433,34 @@ TEST(Segmenter, ClassesAreColorLutsForEveryFormatSpaceAndClassCount) {
   }
 }
 
+// The portable row conversion (two passes: planes, then arithmetic) is image.h's RgbToYuv for
+// every RGB colour, in rows of 4099 pixels and of every length from 1 to 100.
+TEST(Segmenter, PortableRowConversionIsRgbToYuv) {
+  constexpr int kLong = 4099;
+  std::vector<uint8_t> in(3 * static_cast<size_t>(kLong)), out(in.size());
+  long mismatches = 0;
+  const auto compare = [&](int n) {
+    uint8_t* o = out.data();
+    internal::RgbRowToYuv(in.data(), n, o, o + n, o + 2 * n);
+    for (int i = 0; i < n; ++i) {
+      int y, u, v;
+      RgbToYuv(in[3 * i], in[3 * i + 1], in[3 * i + 2], &y, &u, &v);
+      mismatches += (o[i] != y) + (o[n + i] != u) + (o[2 * n + i] != v);
+    }
+  };
+  for (int first = 0; first < (1 << 24); first += kLong) {
+    for (int i = 0; i < kLong; ++i) {
+      const int c = (first + i) & 0xffffff;
+      in[3 * static_cast<size_t>(i)] = static_cast<uint8_t>(c >> 16);
+      in[3 * static_cast<size_t>(i) + 1] = static_cast<uint8_t>(c >> 8);
+      in[3 * static_cast<size_t>(i) + 2] = static_cast<uint8_t>(c);
+    }
+    compare(kLong);
+  }
+  for (int n = 1; n <= 100; ++n) compare(n);
+  EXPECT_EQ(mismatches, 0);
+}
+
 // The AVX-512 row conversion gives the portable loop's bytes for every RGB colour, in rows of
 // every length from 1 to 100 (the masked last block) and a long one.
 TEST(Segmenter, Avx512RowConversionIsThePortableOnes) {

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "patlab/camera/image.h"
+#include "patlab/core/error.h"
 
 namespace patlab::live {
 
@@ -48,11 +49,33 @@ struct FrameSourceOptions {
   int device_height_px = 0;
 };
 
+// A frame the source read but could not decode (a corrupt video packet, a frame flagged corrupt
+// by the decoder, a device buffer flagged as an error): the source skips it and goes on; calling
+// Next again gives the next frame. The live loop counts these (LiveStats::skipped).
+class CorruptFrameError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+// The source failed while delivering frames (a V4L2 device gone, a failing read): it cannot go
+// on. `reopenable`: opening the source again may bring it back (a device); false for a file,
+// which would replay from its start, and ends there instead (live_loop.h).
+class SourceError : public EnvironmentError {
+ public:
+  SourceError(const std::string& message, bool reopenable)
+      : EnvironmentError(message), reopenable_(reopenable) {}
+  bool reopenable() const { return reopenable_; }
+
+ private:
+  bool reopenable_;
+};
+
 class FrameSource {
  public:
   virtual ~FrameSource() = default;
-  // The next frame; false at the end of a file source. InputError for a bad frame file or an
-  // undecodable video packet stream; EnvironmentError when a device fails.
+  // The next frame; false at the end of a file source. CorruptFrameError for a frame it skips
+  // (call again for the next), SourceError when it fails (a device gone, a read error); InputError
+  // for a bad frame file.
   virtual bool Next(SourceFrame* frame) = 0;
   // The source as given, for messages.
   virtual const std::string& name() const = 0;

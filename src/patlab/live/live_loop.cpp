@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "patlab/core/error.h"
+#include "patlab/live/live_loop_internal.h"
 #include "patlab/live/ssl_log.h"
 #include "patlab/live/udp_sender.h"
 
@@ -18,47 +19,11 @@ namespace patlab::live {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using internal::Clock;
+using internal::Mailbox;
+using internal::Shared;
 
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
-
-// One camera's hand-off: at most one frame waits; a newer one replaces it (counted as dropped).
-struct Mailbox {
-  std::mutex mutex;
-  std::condition_variable ready;
-  vision::Image image;
-  double capture_time_s = 0.0;
-  int64_t index = 0;
-  Clock::time_point delivered_at, put_at;
-  bool full = false;
-  bool closed = false;
-  long received = 0;
-  long dropped = 0;
-};
-
-// What the threads share: the outputs and the counters under one mutex, the first error.
-struct Shared {
-  Shared(const LiveOptions& o, LiveOutputs& out, const std::atomic<bool>& s)
-      : options(o), outputs(out), stop(s) {}
-  const LiveOptions& options;
-  LiveOutputs& outputs;
-  const std::atomic<bool>& stop;
-  std::atomic<bool> failed{false};
-  std::mutex mutex;
-  std::exception_ptr error;
-  std::string geometry_bytes;
-  bool geometry_sent = false;
-  Clock::time_point last_geometry;
-  LiveStats stats;
-  std::array<std::vector<double>, kLiveStageNames.size()> samples_ms;
-
-  bool Stopping() const { return stop.load() || failed.load(); }
-  void Fail() {
-    std::lock_guard lock(mutex);
-    if (!error) error = std::current_exception();
-    failed = true;
-  }
-};
 
 int64_t WallTimeNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -66,53 +31,30 @@ int64_t WallTimeNs() {
       .count();
 }
 
-// Sleeps until `when` in short steps, so that a stop request is seen within 20 ms.
-void SleepUntil(Clock::time_point when, const Shared& shared) {
-  while (!shared.Stopping()) {
-    const Clock::time_point now = Clock::now();
-    if (now >= when) return;
-    std::this_thread::sleep_for(
-        std::min<Clock::duration>(when - now, std::chrono::milliseconds(20)));
-  }
-}
-
-void Capture(FrameSource& source, Mailbox& box, Shared& shared) {
-  SourceFrame frame;
-  const Clock::time_point start = Clock::now();
-  for (long n = 0; !shared.Stopping(); ++n) {
-    if (shared.options.max_frames > 0 && n >= shared.options.max_frames) break;
-    if (!source.Next(&frame)) break;
-    // Under --rate native a file's frame is read ahead of its time and waits for it here: its
-    // end-to-end latency starts when it is due, as a camera's frame would arrive then.
-    if (shared.options.rate == LiveRate::kNative) {
-      SleepUntil(start + std::chrono::duration_cast<Clock::duration>(
-                             std::chrono::duration<double>(frame.media_time_s)),
-                 shared);
+// Under shared.mutex: one packet through the sender, tried up to send_attempts times; the first
+// packet of a run of failures and the first sent after it are reported.
+void Send(const std::string& bytes, Shared& shared) {
+  UdpSender& sender = *shared.outputs.sender;
+  for (int attempt = 1;; ++attempt) {
+    if (sender.Send(bytes)) {
+      if (shared.send_failing) {
+        shared.Report("sending to " + sender.address().host + ":" +
+                      std::to_string(sender.address().port) + " works again");
+      }
+      shared.send_failing = false;
+      return;
     }
-    const Clock::time_point delivered = Clock::now();
-    std::lock_guard lock(box.mutex);
-    if (box.full) ++box.dropped;
-    CopyToImage(frame, &box.image);
-    box.capture_time_s = frame.capture_time_s;
-    box.index = frame.index;
-    box.delivered_at = delivered;
-    box.put_at = Clock::now();
-    box.full = true;
-    ++box.received;
-    box.ready.notify_one();
+    if (attempt >= shared.options.send_attempts) break;
+    ++shared.stats.send_retries;
   }
-}
-
-void CaptureThread(const std::string& spec, Mailbox& box, Shared& shared) {
-  try {
-    std::unique_ptr<FrameSource> source = OpenFrameSource(spec, shared.options.source);
-    Capture(*source, box, shared);
-  } catch (...) {
-    shared.Fail();
+  ++shared.stats.send_failures;
+  if (!shared.send_failing) {
+    shared.Report("sending to " + sender.address().host + ":" +
+                  std::to_string(sender.address().port) + " failed: " + sender.last_error() +
+                  "; tried " + std::to_string(shared.options.send_attempts) +
+                  " times, the packet is counted as not sent and the next ones are tried");
   }
-  std::lock_guard lock(box.mutex);
-  box.closed = true;
-  box.ready.notify_one();
+  shared.send_failing = true;
 }
 
 // Under shared.mutex: the geometry when it is due, then the detection packet, to every output.
@@ -124,13 +66,13 @@ void Emit(const SslDetection& detection, const std::string& bytes, Shared& share
       (!shared.geometry_sent || std::chrono::duration<double>(now - shared.last_geometry).count() >=
                                     shared.options.geometry_period_s);
   if (geometry_due) {
-    if (out.sender && !out.sender->Send(shared.geometry_bytes)) ++shared.stats.send_failures;
+    if (out.sender) Send(shared.geometry_bytes, shared);
     if (out.log) out.log->Write(WallTimeNs(), SslMessageType::kVision2010, shared.geometry_bytes);
     shared.geometry_sent = true;
     shared.last_geometry = now;
     ++shared.stats.geometry_packets;
   }
-  if (out.sender && !out.sender->Send(bytes)) ++shared.stats.send_failures;
+  if (out.sender) Send(bytes, shared);
   if (out.log) out.log->Write(WallTimeNs(), SslMessageType::kVision2010, bytes);
   if (out.jsonl) out.jsonl(DetectionJson(detection));
   ++shared.stats.packets;
@@ -152,6 +94,7 @@ bool Take(Mailbox& box, vision::Image* image, FrameStamp* stamp, Clock::time_poi
 }
 
 void DetectFrames(vision::FrameDetector& frames, uint32_t camera_id, Mailbox& box, Shared& shared) {
+  IdHolder holder(shared.options.hold_ids);
   vision::Image image;
   FrameStamp stamp;
   stamp.camera_id = camera_id;
@@ -159,13 +102,16 @@ void DetectFrames(vision::FrameDetector& frames, uint32_t camera_id, Mailbox& bo
   const std::string name = "camera " + std::to_string(camera_id);
   while (!shared.Stopping() && Take(box, &image, &stamp, &delivered, &put)) {
     const Clock::time_point taken = Clock::now();
+    if (shared.hooks.before_detect) shared.hooks.before_detect(camera_id, stamp.frame_number);
     const vision::FrameResult& result = frames.Detect(image, name);
     const Clock::time_point detected = Clock::now();
     stamp.t_sent_s = WallTimeSeconds();
-    const SslDetection detection = DetectionOfFrame(result, frames, stamp, shared.options.names);
+    SslDetection detection = DetectionOfFrame(result, frames, stamp, shared.options.names);
+    const int held = holder.Apply(&detection);
     const std::string bytes = SerializeDetection(detection);
     const Clock::time_point packed = Clock::now();
     std::lock_guard lock(shared.mutex);
+    shared.stats.ids_held += held;
     Emit(detection, bytes, shared);
     const Clock::time_point sent = Clock::now();
     const std::array<double, kLiveStageNames.size()> ms = {Ms(taken - put), Ms(detected - taken),
@@ -189,8 +135,9 @@ void Summarise(const std::vector<std::unique_ptr<Mailbox>>& boxes, Shared& share
     shared.stats.received += box->received;
     // A frame still waiting when a stop request ended the loop was not processed either.
     shared.stats.dropped += box->dropped + (box->full ? 1 : 0);
+    shared.stats.skipped += box->skipped;
+    shared.stats.reopens += box->reopens;
   }
-  if (shared.outputs.sender) shared.stats.send_failures = shared.outputs.sender->failed();
   for (size_t i = 0; i < kLiveStageNames.size(); ++i) {
     std::vector<double>& v = shared.samples_ms[i];
     const double max_ms = v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
@@ -217,10 +164,18 @@ std::vector<OptionsProblem> Check(const LiveOptions& options) {
       .IntegerInRange("max_frames", options.max_frames, 0, INT64_MAX)
       .Positive("geometry_period_s", options.geometry_period_s, "s")
       .Positive("list_rate_hz", options.source.list_rate_hz, "Hz")
+      .Positive("reopen_delay_s", options.reopen_delay_s, "s")
+      .Require("reopen_max_delay_s", options.reopen_max_delay_s,
+               options.reopen_max_delay_s >= options.reopen_delay_s, ">= reopen_delay_s")
+      .IntegerInRange("reopen_attempts", options.reopen_attempts, 0, INT64_MAX)
+      .IntegerInRange("send_attempts", options.send_attempts, 1, 1000)
       .Take();
 }
 
-void Validate(const LiveOptions& options) { ThrowFirstProblem(Check(options)); }
+void Validate(const LiveOptions& options) {
+  ThrowFirstProblem(Check(options));
+  live::Validate(options.hold_ids);
+}
 
 double Percentile(std::vector<double>& values, double p) {
   if (values.empty()) return 0.0;
@@ -231,7 +186,7 @@ double Percentile(std::vector<double>& values, double p) {
 }
 
 LiveStats RunLive(const std::vector<LiveCamera>& cameras, const LiveOptions& options,
-                  LiveOutputs& outputs, const std::atomic<bool>& stop) {
+                  LiveOutputs& outputs, const std::atomic<bool>& stop, const LiveHooks& hooks) {
   Validate(options);
   CheckCameraIds(cameras);
   std::vector<vision::FrameDetector> detectors;
@@ -243,15 +198,15 @@ LiveStats RunLive(const std::vector<LiveCamera>& cameras, const LiveOptions& opt
       geometry.cameras.push_back(*c);
     }
   }
-  Shared shared(options, outputs, stop);
+  Shared shared(options, outputs, stop, hooks);
   if (outputs.field) shared.geometry_bytes = SerializeGeometry(geometry);
   std::vector<std::unique_ptr<Mailbox>> boxes;
   for (size_t i = 0; i < cameras.size(); ++i) boxes.push_back(std::make_unique<Mailbox>());
   {
     std::vector<std::jthread> threads;
     for (size_t i = 0; i < cameras.size(); ++i) {
-      threads.emplace_back(CaptureThread, std::cref(cameras[i].source), std::ref(*boxes[i]),
-                           std::ref(shared));
+      threads.emplace_back(internal::CaptureThread, std::cref(cameras[i].source),
+                           cameras[i].camera_id, std::ref(*boxes[i]), std::ref(shared));
       threads.emplace_back(DetectThread, std::ref(detectors[i]), cameras[i].camera_id,
                            std::ref(*boxes[i]), std::ref(shared));
     }

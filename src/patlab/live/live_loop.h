@@ -9,8 +9,10 @@
 // the log as a whole message.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -18,6 +20,7 @@
 
 #include "patlab/calib/field.h"
 #include "patlab/live/frame_source.h"
+#include "patlab/live/id_hold.h"
 #include "patlab/live/packet.h"
 #include "patlab/vision/frame_detector.h"
 
@@ -52,6 +55,20 @@ struct LiveOptions {
   double geometry_period_s = 1.0;
   FrameSourceOptions source;
   SslColourNames names;
+  // A source that fails while delivering frames (SourceError that can be reopened: a V4L2 device
+  // unplugged or failing) is closed and opened again after reopen_delay_s, doubled after each
+  // failed attempt up to reopen_max_delay_s (0.1, 0.2, 0.4, ... 3.2, 5, 5, ... s by default), until
+  // it delivers a frame again. > 0 and >= reopen_delay_s. Short delays find a camera that comes
+  // back sooner; long ones spare a machine whose camera is gone for good.
+  double reopen_delay_s = 0.1;
+  double reopen_max_delay_s = 5.0;
+  // Consecutive failed attempts after which that camera gives up (EnvironmentError, exit status
+  // 1); 0: no limit (a camera at a match comes back whenever it can). >= 0.
+  long reopen_attempts = 0;
+  // Tries per packet and output: a datagram the system refuses (no route, buffer full) is sent
+  // again at once, up to this many times in all, then counted as not sent. >= 1.
+  int send_attempts = 3;
+  IdHoldOptions hold_ids;  // --hold-ids; off by default
 };
 std::vector<OptionsProblem> Check(const LiveOptions& options);
 void Validate(const LiveOptions& options);
@@ -62,6 +79,21 @@ struct LiveOutputs {
   SslLogWriter* log = nullptr;
   std::function<void(std::string_view json_line)> jsonl;  // one line, without its newline
   std::optional<calib::Field> field;  // the geometry's field; nullopt: no geometry packets
+  // What the loop reports as it goes (a source failing and reopened, a frame skipped, sending
+  // failing and working again), one line without its newline; `patlab live` prints it on stderr.
+  // Called from any thread, one call at a time.
+  std::function<void(std::string_view message)> message;
+};
+
+// What a test injects; empty members take the defaults.
+struct LiveHooks {
+  // Opens a camera's source (default OpenFrameSource): a source that fails on purpose.
+  std::function<std::unique_ptr<FrameSource>(const std::string& spec,
+                                             const FrameSourceOptions& options)>
+      open_source;
+  // Called by a camera's detection thread with the frame it took, before detecting it: a slow
+  // detection stage.
+  std::function<void(uint32_t camera_id, int64_t frame_index)> before_detect;
 };
 
 // A stage's latency over the frames processed, milliseconds.
@@ -79,18 +111,29 @@ struct LiveStats {
   long processed = 0;  // frames detected and sent
   long dropped = 0;    // frames overwritten in a mailbox before detection took them, or left
                        // there by a stop request: received = processed + dropped
+  long skipped = 0;    // corrupt frames the sources skipped (CorruptFrameError); not received
+  long reopens = 0;    // times a failed source was opened again (successfully or not)
   long packets = 0;    // detection packets handed to the outputs
   long geometry_packets = 0;
-  long send_failures = 0;
+  long send_failures = 0;  // packets the sender did not send after LiveOptions::send_attempts
+  long send_retries = 0;   // tries that failed and were tried again
+  long ids_held = 0;       // robots sent with an ID carried over (--hold-ids, id_hold.h)
   std::vector<StageLatency> latency;  // kLiveStageNames, in order
 };
 
 // Cameras' ids must differ (InputError "--camera-id: ... twice; expected one id per camera").
 // Runs the loop until every source ends, the frame limit, or `stop`. InputError for a source
-// that cannot be opened or a frame it cannot read (the other cameras stop too); EnvironmentError
-// when an output fails.
+// that cannot be opened at the start or a frame file it cannot read (the other cameras stop too);
+// EnvironmentError when an output fails or a source stays gone for reopen_attempts attempts.
+// Faults that a live source survives do not stop it: a corrupt frame is skipped and counted, a
+// failing source reopened with a back-off, a refused packet sent again (LiveOptions), each
+// reported through LiveOutputs::message. A file source whose read fails ends there (reported).
 LiveStats RunLive(const std::vector<LiveCamera>& cameras, const LiveOptions& options,
-                  LiveOutputs& outputs, const std::atomic<bool>& stop);
+                  LiveOutputs& outputs, const std::atomic<bool>& stop, const LiveHooks& hooks = {});
+
+// Seconds before the `attempt`-th (1, 2, ...) consecutive attempt to reopen a failed source:
+// min(reopen_delay_s * 2^(attempt - 1), reopen_max_delay_s).
+double ReopenDelaySeconds(const LiveOptions& options, long attempt);
 
 // p-th percentile (0..100, nearest rank) of `values`, which it sorts; 0 for none.
 double Percentile(std::vector<double>& values, double p);

@@ -32,6 +32,9 @@ struct SslRobot {
   double orientation_rad = 0.0;
   double pixel_x = 0.0, pixel_y = 0.0;  // where the pose's origin appears in the frame (px)
   double height_mm = 0.0;               // the plane the pattern was mapped on
+  // robot_id was carried over from the robot's earlier frames (id_hold.h), not read in this
+  // frame; not in the packet, written to the JSON line as "id_held":true.
+  bool id_held = false;
 };
 
 struct SslBall {
@@ -131,7 +134,9 @@ struct SslPacket {
 std::optional<SslPacket> ParsePacket(const std::string& bytes);
 
 // One JSON object (one line, no newline) with the detection's fields under the protobuf
-// messages' field names: what `patlab live --jsonl` writes per frame.
+// messages' field names: what `patlab live --jsonl` writes per frame. A robot whose ID was
+// carried over (SslRobot::id_held) has "id_held":true after its robot_id, which no packet field
+// has; other robots have no such key.
 std::string DetectionJson(const SslDetection& detection);
 
 }  // namespace patlab::live

@@ -13,6 +13,7 @@ std::string Float(double v) { return FormatRoundTrip(static_cast<double>(static_
 std::string RobotJson(const SslRobot& r) {
   std::string s = "{\"confidence\":" + Float(r.confidence);
   if (r.robot_id >= 0) s += ",\"robot_id\":" + std::to_string(r.robot_id);
+  if (r.id_held) s += ",\"id_held\":true";
   s += ",\"x\":" + Float(r.x_mm) + ",\"y\":" + Float(r.y_mm) +
        ",\"orientation\":" + Float(r.orientation_rad) + ",\"pixel_x\":" + Float(r.pixel_x) +
        ",\"pixel_y\":" + Float(r.pixel_y) + ",\"height\":" + Float(r.height_mm) + "}";

@@ -120,6 +120,7 @@ bool UdpSender::Send(std::span<const uint8_t> bytes) {
                            reinterpret_cast<const sockaddr*>(&to), sizeof to);
   const bool ok = n == static_cast<ssize_t>(bytes.size());
   ++(ok ? sent_ : failed_);
+  if (!ok) last_error_ = n < 0 ? std::strerror(errno) : "the datagram was cut short";
   return ok;
 }
 

@@ -39,13 +39,14 @@ class UdpSender {
   // Opens the socket and sets it up. InputError for a bad ttl or an unknown interface (naming
   // --ttl / --iface); EnvironmentError when the system refuses the socket.
   UdpSender(const UdpAddress& address, const UdpSenderOptions& options);
-  ~UdpSender();
+  virtual ~UdpSender();
   UdpSender(const UdpSender&) = delete;
   UdpSender& operator=(const UdpSender&) = delete;
 
-  // Sends one datagram. Returns false (and counts it) when the system did not take it (no route,
-  // buffer full); a live loop goes on with the next packet rather than stopping.
-  bool Send(std::span<const uint8_t> bytes);
+  // Sends one datagram. Returns false (and counts it, last_error() says why) when the system did
+  // not take it (no route, buffer full); the live loop tries it again, then goes on with the next
+  // packet rather than stopping. Virtual so that a test's sender can fail on purpose.
+  virtual bool Send(std::span<const uint8_t> bytes);
   bool Send(std::string_view bytes) {
     return Send(
         std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()));
@@ -55,12 +56,18 @@ class UdpSender {
   const UdpAddress& address() const { return address_; }
   long sent() const { return sent_; }
   long failed() const { return failed_; }
+  // Why the last failed Send failed (the system's error text); empty before any failure.
+  const std::string& last_error() const { return last_error_; }
+
+ protected:
+  void SetLastError(std::string text) { last_error_ = std::move(text); }
 
  private:
   int fd_ = -1;
   UdpAddress address_;
   long sent_ = 0;
   long failed_ = 0;
+  std::string last_error_;
 };
 
 // The IPv4 address (host byte order) of an interface named by address or name; InputError

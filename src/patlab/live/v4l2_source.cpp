@@ -39,13 +39,20 @@ class V4l2Source : public FrameSource {
   ~V4l2Source() override { Release(); }
 
   bool Next(SourceFrame* frame) override {
+    // A failure here (ENODEV when the camera is unplugged, EIO) is a SourceError: the live loop
+    // closes the device and opens it again with a back-off.
     if (queued_index_ >= 0) {
       v4l2_buffer back = Buffer(static_cast<uint32_t>(queued_index_));
-      Ioctl(VIDIOC_QBUF, &back, "VIDIOC_QBUF");
+      queued_index_ = -1;
+      Ioctl(VIDIOC_QBUF, &back, "VIDIOC_QBUF", true);
     }
     v4l2_buffer buffer = Buffer(0);
-    Ioctl(VIDIOC_DQBUF, &buffer, "VIDIOC_DQBUF");
+    Ioctl(VIDIOC_DQBUF, &buffer, "VIDIOC_DQBUF", true);
     queued_index_ = static_cast<int>(buffer.index);
+    if (buffer.flags & V4L2_BUF_FLAG_ERROR) {
+      throw CorruptFrameError(name_ + ": the device flagged buffer " +
+                              std::to_string(buffer.index) + " as corrupt");
+    }
     frame->data = static_cast<const uint8_t*>(buffers_[buffer.index].start);
     frame->width_px = width_;
     frame->height_px = height_;
@@ -68,13 +75,16 @@ class V4l2Source : public FrameSource {
     size_t length = 0;
   };
 
-  void Ioctl(unsigned long request, void* arg, const char* what) const {
+  // `streaming`: a failure while frames flow, which a reopen may cure (SourceError).
+  void Ioctl(unsigned long request, void* arg, const char* what, bool streaming = false) const {
     int rc;
     do {
       rc = v4l2_ioctl(fd_, request, arg);
     } while (rc < 0 && errno == EINTR);
     if (rc < 0) {
-      throw EnvironmentError(name_ + ": " + what + " failed: " + std::strerror(errno));
+      const std::string message = name_ + ": " + what + " failed: " + std::strerror(errno);
+      if (streaming) throw SourceError(message, true);
+      throw EnvironmentError(message);
     }
   }
 

@@ -46,6 +46,10 @@ class VideoSource : public FrameSource {
 
   bool Next(SourceFrame* frame) override {
     if (!Decode()) return false;
+    if ((frame_->flags & AV_FRAME_FLAG_CORRUPT) != 0 || frame_->decode_error_flags != 0) {
+      throw CorruptFrameError(name_ + ": frame " + std::to_string(read_ - 1) +
+                              " skipped: the decoder flags it corrupt");
+    }
     Convert();
     const double pts_s = PresentationSeconds();
     if (index_ == 0) {
@@ -84,6 +88,9 @@ class VideoSource : public FrameSource {
     if (stream_ < 0 || codec == nullptr) Fail("no video stream", stream_);
     codec_.reset(avcodec_alloc_context3(codec));
     if (!codec_) throw EnvironmentError(name_ + ": cannot allocate a decoder");
+    // Frames the decoder knows to be damaged come out flagged (AV_FRAME_FLAG_CORRUPT), so that
+    // Next can skip and count them rather than the decoder dropping them unseen.
+    codec_->flags |= AV_CODEC_FLAG_OUTPUT_CORRUPT;
     rc = avcodec_parameters_to_context(codec_.get(), format->streams[stream_]->codecpar);
     if (rc < 0 || (rc = avcodec_open2(codec_.get(), codec, nullptr)) < 0) {
       Fail("cannot open the decoder", rc);
@@ -97,15 +104,25 @@ class VideoSource : public FrameSource {
   }
 
   // The next decoded frame into frame_; false at the end of the stream (decoder drained).
+  // CorruptFrameError for a packet or frame the decoder rejects (the next call goes on after it);
+  // SourceError (not reopenable: a file would replay) when reading the file fails before its end.
   bool Decode() {
     while (true) {
       const int rc = avcodec_receive_frame(codec_.get(), frame_.get());
-      if (rc == 0) return true;
+      if (rc == 0) {
+        ++read_;
+        return true;
+      }
       if (rc == AVERROR_EOF) return false;
-      if (rc != AVERROR(EAGAIN)) Fail("cannot decode a frame", rc);
+      if (rc != AVERROR(EAGAIN)) Skip("cannot decode a frame", rc);
       if (draining_) return false;
       Feed();
     }
+  }
+
+  [[noreturn]] void Skip(const std::string& what, int code) {
+    throw CorruptFrameError(name_ + ": frame " + std::to_string(read_++) + " skipped: " + what +
+                            ": " + AvError(code));
   }
 
   // Sends the next packet of the video stream to the decoder, or the end of the stream.
@@ -115,12 +132,15 @@ class VideoSource : public FrameSource {
       if (rc < 0) {
         draining_ = true;
         avcodec_send_packet(codec_.get(), nullptr);
+        if (rc != AVERROR_EOF) {
+          throw SourceError(name_ + ": reading the file failed: " + AvError(rc), false);
+        }
         return;
       }
       const bool ours = packet_->stream_index == stream_;
       const int sent = ours ? avcodec_send_packet(codec_.get(), packet_.get()) : 0;
       av_packet_unref(packet_.get());
-      if (sent < 0) Fail("cannot decode a packet", sent);
+      if (sent < 0) Skip("cannot decode a packet", sent);
       if (ours) return;
     }
   }
@@ -154,7 +174,8 @@ class VideoSource : public FrameSource {
   int width_ = 0, height_ = 0;
   bool draining_ = false;
   std::vector<uint8_t> rgb_;
-  int64_t index_ = 0;
+  int64_t index_ = 0;  // frames delivered
+  int64_t read_ = 0;   // frames the decoder gave or rejected, for messages
   double first_pts_s_ = 0.0, start_wall_s_ = 0.0;
 };
 

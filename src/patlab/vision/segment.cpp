@@ -75,10 +75,16 @@ void SplitRgb(const uint8_t* __restrict in, int n, uint8_t* __restrict c0, uint8
 //   V the same with X = 128r + 32896, S = 107g + 21b.
 }  // namespace
 
+// Two passes: the row split into r, g, b planes first (into the outputs), then the arithmetic on
+// the planes in place. GCC does not vectorise the arithmetic reading interleaved RGB (stride 3);
+// on contiguous planes it does (SSE2's 16-bit lanes): 0.6 ms of CPU per 780x580 frame instead
+// of 1.9 ms in a build without -march=native, where this function was 70% of live_bench's CPU
+// time (perf). The same arithmetic, so the same bytes (checked on all 2^24 colours).
 void internal::RgbRowToYuv(const uint8_t* __restrict in, int n, uint8_t* __restrict c0,
                            uint8_t* __restrict c1, uint8_t* __restrict c2) {
+  SplitRgb(in, n, c0, c1, c2);
   for (int x = 0; x < n; ++x) {
-    const uint16_t r = in[3 * x], g = in[3 * x + 1], b = in[3 * x + 2];
+    const uint16_t r = c0[x], g = c1[x], b = c2[x];
     const uint16_t y = static_cast<uint16_t>(77 * r + 150 * g + 29 * b + 128);
     const uint16_t su = static_cast<uint16_t>((43 * r + 85 * g + 1) >> 1);
     const uint16_t sv = static_cast<uint16_t>((107 * g + 21 * b + 1) >> 1);
