@@ -183,7 +183,7 @@ int RunThresholds(const std::vector<std::string>& args) {
       "0.7)")("lighting-max-gain", po::value(&o.auto_fit.lighting_max_gain),
               "--auto: brightest light, [1, 4] (default 1.4)");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "labels", po::value(&o.inputs), -1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, "inputs", po::value(&o.inputs), -1, kExamples, &vm)) {
     return kExitOk;
   }
   if (o.automatic) {

@@ -48,6 +48,11 @@ TEST(ColourNames, AMisspeltNameIsCloseToItsColour) {
             "'light-blue'?)");
   // An alias's misspelling names the canonical colour.
   EXPECT_EQ(ResolveColourName(v, "magneta").close, (std::vector<std::string>{"pink"}));
+  EXPECT_TRUE(ResolveColourName(v, "magneta").misspelt);
+  // A mere start of one name is suggested but is no misspelling.
+  const ColourResolution start = ResolveColourName(v, "vi");
+  EXPECT_EQ(start.close, (std::vector<std::string>{"purple"}));
+  EXPECT_FALSE(start.misspelt);
 }
 
 TEST(ColourNames, AFarNameIsCloseToNothing) {

@@ -178,11 +178,13 @@ namespace {
 TEST(Settings, ColourNamesInAnyWordingAreTheVocabularysNames) {
   const DetectorConfig config = ParseDetectorSettings(
       "palette = [\"Blue\", \"MAGENTA\", \"Light Green\", \"dark_blue\"]\n"
-      "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"light-green\", "
-      "\"lightgreen\"]\nkey_colours = [\"darkblue\"]\n",
+      "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"magenta\", \"Light_Green\", "
+      "\"BLUE\"]\nkey_colours = [\"darkblue\"]\n",
       "s.toml", kExperiments);
   EXPECT_EQ(config.palette, (std::vector<std::string>{"blue", "pink", "light-green", "dark-blue"}));
   EXPECT_EQ(config.patterns[0].key_colours, (std::vector<std::string>{"dark-blue"}));
+  EXPECT_EQ(config.patterns[0].codebook.colours,
+            (std::vector<std::string>{"pink", "light-green", "blue"}));
 }
 
 TEST(Settings, UnknownColourNamesAreErrorsWithADidYouMean) {

@@ -50,11 +50,38 @@ TEST(ThresholdsAuto, FindsCarpetAndPaintedPatchesExactly) {
   EXPECT_EQ(classify(235, 215, 45), 1);
   EXPECT_EQ(classify(240, 95, 185), 2);
   EXPECT_EQ(classify(40, 100, 50), -1);
-  // Half and 1.3 times the light: the boxes hold for 0.7 .. 1.4 of it.
+  // Three quarters of the light: the boxes hold for 0.7 .. 1.4 times it.
   EXPECT_EQ(classify(35 * 3 / 4, 75 * 3 / 4, 210 * 3 / 4), 0);
   EXPECT_EQ(classify(240 * 3 / 4, 95 * 3 / 4, 185 * 3 / 4), 2);
   // Flat clusters: every class is far from every other in units of spread.
   for (const AutoClassFit& c : fit.classes) EXPECT_GT(c.separability, 10.0) << c.name;
+}
+
+// Labels seed their class: an amber patch labelled "yellow" (between the vocabulary's yellow and
+// orange) becomes yellow's cluster, with its labelled pixels counted, and yellow's box holds it.
+TEST(ThresholdsAuto, LabelledPixelsSeedTheirClass) {
+  Image image = Image::Rgb(60, 40);
+  for (int y = 0; y < 40; ++y) {
+    for (int x = 0; x < 60; ++x) {
+      const bool patch = x >= 20 && x < 25 && y >= 10 && y < 15;
+      const std::array<uint8_t, 3> rgb =
+          patch ? std::array<uint8_t, 3>{240, 170, 30} : std::array<uint8_t, 3>{40, 100, 50};
+      std::copy(rgb.begin(), rgb.end(), image.Row(y) + 3 * x);
+    }
+  }
+  LabelledFrame labelled;
+  labelled.image = &image;
+  labelled.labels.assign(60 * 40, -1);
+  for (int x = 20; x < 25; ++x) labelled.labels[12 * 60 + x] = 0;  // a row of it, as "Yellow"
+  labelled.class_names = {"Yellow"};
+  const AutoThresholdsFit fit =
+      FitThresholdsAuto({}, {"orange", "yellow"}, io::DefaultColourVocabulary(), {}, {labelled});
+  EXPECT_EQ(fit.classes[1].labelled, 5);
+  EXPECT_EQ(fit.classes[1].pixels, 25);
+  EXPECT_EQ(fit.classes[0].pixels, 0);
+  int y, u, v;
+  RgbToYuv(240, 170, 30, &y, &u, &v);
+  EXPECT_EQ(ColorLut(fit.thresholds).Classify(y, u, v), 1);
 }
 
 TEST(ThresholdsAuto, BadInputIsAnInputError) {
@@ -90,7 +117,8 @@ TEST(ThresholdsAuto, FittedOnOneFrameFindEveryRobotOfOtherFramesAndExposures) {
     sensor.seed = 99;
     const Image frame = RenderCameraFrame(holdout.scene, holdout.calibration.camera, sensor, 3);
     const FrameResult& result = frames.Detect(frame, "holdout");
-    EXPECT_EQ(result.detections.size(), holdout.scene.robots.size()) << exposure;
+    EXPECT_EQ(result.detections.size(), holdout.scene.robots.size()) << exposure << "\n"
+                                                                     << AutoThresholdsReport(fit);
     const auto& palette = frames.detector().config().palette;
     for (const RobotPlacement& robot : holdout.scene.robots) {
       const bool found = std::any_of(

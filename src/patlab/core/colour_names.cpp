@@ -46,7 +46,12 @@ ColourResolution ResolveColourName(const ColourVocabulary& vocabulary, std::stri
       owners.push_back(&e);
     }
   }
-  for (const std::string& close_key : CloseNames(ColourKey(name), keys)) {
+  const std::string key = ColourKey(name);
+  for (const std::string& k : keys) {
+    const int d = EditDistance(key, k);
+    if (d <= 2 && d < static_cast<int>(key.size())) r.misspelt = true;
+  }
+  for (const std::string& close_key : CloseNames(key, keys)) {
     const size_t k =
         static_cast<size_t>(std::find(keys.begin(), keys.end(), close_key) - keys.begin());
     const std::string& canonical = owners[k]->name;

@@ -44,6 +44,9 @@ struct ColourResolution {
   // When not known: the canonical names it was probably meant to be (CloseNames on the keys of
   // every name and alias, core/close_names.h), best first; empty when it is close to none.
   std::vector<std::string> close;
+  // `close` came from the edit distance (at most 2 edits), not only from `name` being the start
+  // of one colour's name ("a" for "aqua"): a misspelling rather than another word.
+  bool misspelt = false;
 };
 
 ColourResolution ResolveColourName(const ColourVocabulary& vocabulary, std::string_view name);

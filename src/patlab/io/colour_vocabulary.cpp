@@ -124,7 +124,7 @@ std::string CanonicalColour(std::string_view name, const FileLoc& loc) {
 std::string CanonicalClassName(std::string_view name, const FileLoc& loc) {
   const ColourVocabulary& v = DefaultColourVocabulary();
   const ColourResolution r = ResolveColourName(v, name);
-  if (!r.known && !r.close.empty()) throw InputError(loc, UnknownColourMessage(v, r));
+  if (!r.known && r.misspelt) throw InputError(loc, UnknownColourMessage(v, r));
   return r.name;
 }
 

@@ -27,8 +27,8 @@ std::string CanonicalColour(std::string_view name, const FileLoc& loc);
 
 // A colour class name (thresholds files, CMVision's colors.txt, labels files), which may name a
 // class that is no colour ("Ball", "field lines"): the canonical name when it is a colour, the
-// name as written when it is close to none, and InputError at `loc` with a did-you-mean when it
-// is one or two letters from a colour ("magneta").
+// name as written when it is no misspelling of one, and InputError at `loc` with a did-you-mean
+// when it is one or two edits from a colour ("magneta"; not "a", a mere start of "aqua").
 std::string CanonicalClassName(std::string_view name, const FileLoc& loc);
 
 }  // namespace patlab::io

@@ -26,7 +26,9 @@ std::vector<OptionsProblem> Check(const AutoThresholdsOptions& o) {
                o.lighting_min_gain > 0.0 && o.lighting_min_gain <= 1.0, "in (0, 1]")
       .Require("lighting_max_gain", o.lighting_max_gain,
                o.lighting_max_gain >= 1.0 && o.lighting_max_gain <= 4.0, "in [1, 4]")
-      .IntegerInRange("margin_levels", o.margin_levels, 0, 128);
+      .IntegerInRange("margin_levels", o.margin_levels, 0, 128)
+      .Require("max_patch_fraction", o.max_patch_fraction,
+               o.max_patch_fraction > 0.0 && o.max_patch_fraction <= 1.0, "in (0, 1]");
   return check.Take();
 }
 
@@ -157,6 +159,49 @@ void FindCarpet(std::vector<Pixel>* pixels, double gate) {
   }
 }
 
+// A frame's pixels within `pixels`: [offset, offset + width * height), row-major.
+struct FrameSpan {
+  size_t offset = 0;
+  int width = 0, height = 0;
+};
+
+// Patches are small: a 4-connected region of one class larger than max_area pixels (a field line,
+// a lit patch of carpet, a wall) is taken out of the class (label -1), so that it neither moves
+// the class's centre nor widens its box. Hand-labelled pixels stay.
+void DropLargeRegions(const std::vector<FrameSpan>& spans, double max_fraction,
+                      std::vector<Pixel>* pixels) {
+  std::vector<int> stack;
+  std::vector<int> region;
+  for (const FrameSpan& f : spans) {
+    const int count = f.width * f.height;
+    const auto max_area = static_cast<size_t>(max_fraction * count);
+    std::vector<bool> seen(static_cast<size_t>(count), false);
+    Pixel* base = pixels->data() + f.offset;
+    for (int start = 0; start < count; ++start) {
+      const int label = base[start].label;
+      if (seen[start] || label < 0) continue;
+      region.clear();
+      stack.assign(1, start);
+      seen[start] = true;
+      while (!stack.empty()) {
+        const int i = stack.back();
+        stack.pop_back();
+        region.push_back(i);
+        const int x = i % f.width, y = i / f.width;
+        const int next[4] = {x > 0 ? i - 1 : -1, x + 1 < f.width ? i + 1 : -1,
+                             y > 0 ? i - f.width : -1, y + 1 < f.height ? i + f.width : -1};
+        for (const int j : next) {
+          if (j >= 0 && !seen[j] && base[j].label == label) seen[j] = true, stack.push_back(j);
+        }
+      }
+      if (region.size() <= max_area) continue;
+      for (const int i : region) {
+        if (base[i].hand < 0) base[i].label = -1;
+      }
+    }
+  }
+}
+
 // Pixel count, mean, spread and box of the pixels labelled k.
 AutoClassFit Summarise(const std::vector<Pixel>& pixels, int k, const AutoThresholdsOptions& o) {
   AutoClassFit f;
@@ -208,6 +253,63 @@ AutoClassFit Summarise(const std::vector<Pixel>& pixels, int k, const AutoThresh
     f.range[ch].hi = std::clamp(static_cast<int>(std::ceil(b)) + o.margin_levels, 0, 255);
   }
   return f;
+}
+
+// The carpet's core, mean +- 2.5 sd per channel (at least 3 levels) under every light from
+// lighting_min_gain to lighting_max_gain: the box of a class whose hue the carpet shares (green on
+// a green carpet) and that the lighting stretch widened would catch the whole field. Each such box
+// is cut, on the one channel and side that keeps most of the class's pixels, to end where the core
+// begins.
+void CarveOutCarpet(const std::vector<Pixel>& pixels, int k, const AutoThresholdsOptions& o,
+                    std::array<ChannelRange, 3>* range) {
+  std::array<double, 3> s{}, s2{};
+  double n = 0;
+  std::array<std::array<long, 256>, 3> hist{};
+  for (const Pixel& p : pixels) {
+    const int v[3] = {p.y, p.u, p.v};
+    if (p.label == -2) {
+      for (int ch = 0; ch < 3; ++ch) s[ch] += v[ch], s2[ch] += 1.0 * v[ch] * v[ch];
+      n += 1;
+    } else if (p.label == k) {
+      for (int ch = 0; ch < 3; ++ch) ++hist[ch][v[ch]];
+    }
+  }
+  if (n < 1) return;
+  std::array<int, 3> core_lo{}, core_hi{};
+  for (int ch = 0; ch < 3; ++ch) {
+    const double mean = s[ch] / n;
+    const double half = std::max(3.0, 2.5 * std::sqrt(std::max(0.0, s2[ch] / n - mean * mean)));
+    // The core under every light of the range, as the boxes are stretched (Summarise).
+    const double offset = ch == 0 ? 0.0 : 128.0;
+    double lo = 255, hi = 0;
+    for (const double gain : {o.lighting_min_gain, o.lighting_max_gain}) {
+      for (const double v : {mean - half, mean + half}) {
+        lo = std::min(lo, offset + gain * (v - offset)),
+        hi = std::max(hi, offset + gain * (v - offset));
+      }
+    }
+    core_lo[ch] = static_cast<int>(std::floor(lo));
+    core_hi[ch] = static_cast<int>(std::ceil(hi));
+  }
+  for (int ch = 0; ch < 3; ++ch) {
+    const ChannelRange& r = (*range)[ch];
+    if (r.hi < core_lo[ch] || r.lo > core_hi[ch]) return;  // already apart on this channel
+  }
+  int best_ch = -1;
+  ChannelRange best{};
+  long best_kept = -1;
+  for (int ch = 0; ch < 3; ++ch) {
+    const ChannelRange r = (*range)[ch];
+    const ChannelRange cuts[2] = {{r.lo, std::min(r.hi, core_lo[ch] - 1)},
+                                  {std::max(r.lo, core_hi[ch] + 1), r.hi}};
+    for (const ChannelRange& c : cuts) {
+      if (c.lo > c.hi) continue;
+      long kept = 0;
+      for (int v = c.lo; v <= c.hi; ++v) kept += hist[ch][v];
+      if (kept > best_kept) best_kept = kept, best_ch = ch, best = c;
+    }
+  }
+  if (best_ch >= 0) (*range)[best_ch] = best;
 }
 
 void Separability(AutoThresholdsFit* fit) {
@@ -262,7 +364,11 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
   }();
 
   std::vector<Pixel> pixels;
-  for (const Image* frame : frames) AppendPixels(*frame, nullptr, &pixels);
+  std::vector<FrameSpan> spans;
+  for (const Image* frame : frames) {
+    spans.push_back({pixels.size(), frame->width_px, frame->height_px});
+    AppendPixels(*frame, nullptr, &pixels);
+  }
   for (const LabelledFrame& lf : labels) {
     std::vector<int> mapped(lf.labels.size(), -1);
     std::vector<int> index;
@@ -278,6 +384,7 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
     for (size_t i = 0; i < lf.labels.size(); ++i) {
       if (lf.labels[i] >= 0) mapped[i] = index[static_cast<size_t>(lf.labels[i])];
     }
+    spans.push_back({pixels.size(), lf.image->width_px, lf.image->height_px});
     AppendPixels(*lf.image, &mapped, &pixels);
   }
 
@@ -318,6 +425,7 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
       }
       p.label = best;
     }
+    DropLargeRegions(spans, options.max_patch_fraction, &pixels);
     if (round == options.iterations) break;
     for (int k = 0; k < n; ++k) {
       if (k != carpet_class) Update(pixels, k, &centres[k]);
@@ -329,6 +437,7 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
   fit.carpet.name = "carpet";
   for (int k = 0; k < n; ++k) {
     AutoClassFit c = k == carpet_class ? fit.carpet : Summarise(pixels, k, options);
+    if (k != carpet_class && c.pixels > 0) CarveOutCarpet(pixels, k, options, &c.range);
     c.name = entries[k]->name;
     ColorClass cls;
     cls.name = c.name;
@@ -356,7 +465,8 @@ std::string AutoThresholdsReport(const AutoThresholdsFit& fit) {
         "%-12s %9ld %7ld %-16s %7s %-10s %-10s %-10s %8s %s\n", c.name.c_str(), c.pixels,
         c.labelled, mean.c_str(), FormatFixed(c.spread_levels, 1).c_str(),
         range(c.range[0]).c_str(), range(c.range[1]).c_str(), range(c.range[2]).c_str(),
-        c.pixels == 0 ? "-" : FormatFixed(c.separability, 1).c_str(), c.nearest.c_str());
+        c.pixels == 0 || c.nearest.empty() ? "-" : FormatFixed(c.separability, 1).c_str(),
+        c.nearest.c_str());
   };
   row(fit.carpet);
   for (const AutoClassFit& c : fit.classes) row(c);

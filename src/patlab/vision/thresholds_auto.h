@@ -8,12 +8,16 @@
 //    (hue angle in the UV plane, chroma over luma, log luma; a gain on RGB leaves the first two
 //    alone), assigned to the nearest class seed, the vocabulary's typical colour (or the mean of
 //    a class's labelled pixels, when labels are given), and only within gate_sigmas of it, so
-//    the clutter around a field (walls, people, goals) joins no class. A few k-means rounds move
+//    clutter far from every seed joins no class (clutter of a class's hue does: see
+//    docs/thresholds.md for what that does on real frames); a connected region of one
+//    class larger than a patch can be (max_patch_fraction) leaves it. A few k-means rounds move
 //    each seed to its cluster. Achromatic classes (white, black) ignore the hue.
 // 3. Boxes: per YUV channel the percentiles of the class's pixels, stretched for light
 //    intensities from lighting_min_gain to lighting_max_gain times the frames' (luma scaled, the
 //    chroma's offset from neutral scaled), plus margin_levels: boxes fitted on one exposure hold
-//    on another.
+//    on another. A box that would catch the carpet's core (its mean +- 2.5 sd per channel,
+//    stretched for the same lights) is cut on the one channel and side that keeps most of the
+//    class's pixels.
 // Per class the result reports its pixel count, spread and a separability: the distance of its
 // mean to the nearest other class's (or the carpet's) mean in YUV over the root sum of the two
 // spreads (below 2 the two overlap, above 4 they are well apart).
@@ -48,14 +52,19 @@ struct AutoThresholdsOptions {
   double lighting_min_gain = 0.7;
   double lighting_max_gain = 1.4;
   int margin_levels = 4;  // levels added on each side of every bound, in [0, 128]
+  // Patches are small: after each assignment a 4-connected region of one class larger than this
+  // fraction of its frame's pixels (a field line, a lit stretch of carpet, a wall) leaves the
+  // class. Smaller: big patches (close cameras) are lost; larger: lines and glare widen boxes.
+  // In (0, 1].
+  double max_patch_fraction = 0.004;
 };
 
 std::vector<OptionsProblem> Check(const AutoThresholdsOptions& options);
 void Validate(const AutoThresholdsOptions& options);
 
 // Pixels of one frame labelled by hand (a labels file's points, rectangles or mask, LabelPixels):
-// labels[i] = -1 or an index into class_names. Labelled pixels always belong to their class and
-// their mean is its seed; labels of several frames are pooled.
+// labels[i] = -1 or an index into class_names. Labelled pixels always belong to their class and,
+// when there are at least 5, their mean is its seed; labels of several frames are pooled.
 struct LabelledFrame {
   const Image* image = nullptr;
   std::vector<int> labels;
