@@ -162,12 +162,13 @@ int RunThresholds(const std::vector<std::string>& args) {
   visible.add_options()("help,h", "show this help")(
       "out,o", po::value(&o.out), "output directory: DIR/thresholds.toml (required)")(
       "settings,s", po::value(&o.settings),
-      "detector settings: every class must be a colour of its palette")(
-      "space", po::value(&o.space), "yuv (default, as CMVision) or rgb")(
+      "detector settings: every class must be a colour of its palette (--auto: the "
+      "classes are its palette)")("space", po::value(&o.space),
+                                  "yuv (default, as CMVision) or rgb")(
       "lower-percentile", po::value(&o.fit.lower_percentile),
-      "lower bound percentile of each channel, in [0, 50) (default 1)")(
+      "lower bound percentile of each channel, in [0, 50) (default 1; 2 with --auto)")(
       "upper-percentile", po::value(&o.fit.upper_percentile),
-      "upper bound percentile of each channel, in (50, 100] (default 99)")(
+      "upper bound percentile of each channel, in (50, 100] (default 99; 98 with --auto)")(
       "margin", po::value(&o.fit.margin_levels),
       "levels added on each side of every bound, 0..128 (default 6; 4 with --auto)")(
       "auto", po::bool_switch(&o.automatic),

@@ -60,9 +60,9 @@ TEST(ThresholdsAuto, FindsCarpetAndPaintedPatchesExactly) {
 // Labels seed their class: an amber patch labelled "yellow" (between the vocabulary's yellow and
 // orange) becomes yellow's cluster, with its labelled pixels counted, and yellow's box holds it.
 TEST(ThresholdsAuto, LabelledPixelsSeedTheirClass) {
-  Image image = Image::Rgb(60, 40);
-  for (int y = 0; y < 40; ++y) {
-    for (int x = 0; x < 60; ++x) {
+  Image image = Image::Rgb(200, 150);  // 0.4% of it (max_patch_fraction) is 120 px > 25
+  for (int y = 0; y < 150; ++y) {
+    for (int x = 0; x < 200; ++x) {
       const bool patch = x >= 20 && x < 25 && y >= 10 && y < 15;
       const std::array<uint8_t, 3> rgb =
           patch ? std::array<uint8_t, 3>{240, 170, 30} : std::array<uint8_t, 3>{40, 100, 50};
@@ -71,8 +71,8 @@ TEST(ThresholdsAuto, LabelledPixelsSeedTheirClass) {
   }
   LabelledFrame labelled;
   labelled.image = &image;
-  labelled.labels.assign(60 * 40, -1);
-  for (int x = 20; x < 25; ++x) labelled.labels[12 * 60 + x] = 0;  // a row of it, as "Yellow"
+  labelled.labels.assign(200 * 150, -1);
+  for (int x = 20; x < 25; ++x) labelled.labels[12 * 200 + x] = 0;  // a row of it, as "Yellow"
   labelled.class_names = {"Yellow"};
   const AutoThresholdsFit fit =
       FitThresholdsAuto({}, {"orange", "yellow"}, io::DefaultColourVocabulary(), {}, {labelled});
