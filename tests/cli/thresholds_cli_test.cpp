@@ -101,6 +101,19 @@ TEST(ThresholdsCli, AutoFitsAFrameWithNoLabels) {
   EXPECT_EQ(CountSubstrings(d.out, ",ok,"), 10) << d.out;
 }
 
+// --labels seeds the classes with the labelled pixels of another file's frame: every labelled
+// pixel is counted in its class (10 blue, 40 pink, golden-frame.labels.toml).
+TEST(ThresholdsCli, AutoWithLabelsCountsTheLabelledPixels) {
+  testing::TempDir dir;
+  const auto r = RunCommand(kBinary + " thresholds --auto " + kGolden + "png -s " + kGolden +
+                            "detector.toml --labels " + kData +
+                            "vision/golden-frame.labels.toml -o " + dir.Path("t"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\nblue   "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("      10 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("      40 "), std::string::npos) << r.out;
+}
+
 TEST(ThresholdsCli, AutoBadInputIsExit2) {
   testing::TempDir dir;
   const auto r = RunCommand(kBinary + " thresholds --auto " + kGolden +
