@@ -377,12 +377,12 @@ TEST(DetectCli, ShippedSettingsTravelToEverySharedFrame) {
       DetectWithShippedSettings(frames + "/vss-test-frame.png", data + "vss.colors.txt",
                                 data + "vss.calibration.toml", data + "vss.detector.toml");
   std::vector<Robot> vss_robots;
-  for (const auto& [x, y, team, id] :
-       std::vector<std::tuple<double, double, std::string, int>>{{375.64, -634.29, "lime", 2},
-                                                                 {-470.30, 597.65, "blue", 1},
-                                                                 {-489.50, -231.36, "lime", 0},
-                                                                 {-186.23, -206.61, "lime", 1},
-                                                                 {-327.28, -393.77, "lime", 2}}) {
+  for (const auto& [x, y, team, id] : std::vector<std::tuple<double, double, std::string, int>>{
+           {375.64, -634.29, "light-green", 2},
+           {-470.30, 597.65, "blue", 1},
+           {-489.50, -231.36, "light-green", 0},
+           {-186.23, -206.61, "light-green", 1},
+           {-327.28, -393.77, "light-green", 2}}) {
     const auto centre =
         vss.calibration.camera.WorldToPixel(Vec2(x, y), vss.calibration.default_height_mm);
     ASSERT_TRUE(centre.has_value());

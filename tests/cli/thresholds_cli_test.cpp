@@ -43,19 +43,28 @@ TEST(ThresholdsCli, FitsTheGoldenFrameLabelsAndDetectsWithThem) {
   EXPECT_EQ(CountSubstrings(d.err, ": detected, id "), 10) << d.err;
 }
 
-// A silent mismatch: "magenta" for the palette's "pink" warns on stderr, and --explain
-// says why each robot with a pink dot is missed (too few neighbours).
+// A silent mismatch: "rosa" (no colour of the vocabulary, close to none) for the palette's "pink"
+// warns on stderr, and --explain says why each robot with a pink dot is missed (too few
+// neighbours). "magenta" is pink (settings/colours.toml): no warning, all ten robots found.
 TEST(ThresholdsCli, DetectWarnsAboutNamesAndExplainsTheMisses) {
   testing::TempDir dir;
   std::string text = testing::ReadFile(kGolden + "thresholds.toml");
-  text.replace(text.find("name = \"pink\""), 13, "name = \"magenta\"");
+  std::string magenta = text;
+  magenta.replace(magenta.find("name = \"pink\""), 13, "name = \"Magenta\"");
+  const std::string m = dir.Write("m.toml", magenta);
+  const auto ok = RunCommand(kBinary + " detect " + kGolden + "png -t " + m + " -c " + kGolden +
+                             "calibration.toml -s " + kGolden + "detector.toml");
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(ok.err, "");
+  EXPECT_EQ(std::count(ok.out.begin(), ok.out.end(), '\n'), 11);  // header + 10 robots
+  text.replace(text.find("name = \"pink\""), 13, "name = \"rosa\"");
   const std::string t = dir.Write("t.toml", text);
   const auto d = RunCommand(kBinary + " detect " + kGolden + "png -t " + t + " -c " + kGolden +
                             "calibration.toml -s " + kGolden + "detector.toml --explain --debug " +
                             dir.Path("debug"));
   ASSERT_EQ(d.exit_code, 0) << d.err;
   EXPECT_NE(d.err.find("patlab detect: warning: " + t +
-                       ": class \"magenta\" is no colour of the detector's palette; its blobs "
+                       ": class \"rosa\" is no colour of the detector's palette; its blobs "
                        "are not shown to the detector\n"),
             std::string::npos)
       << d.err;
@@ -67,6 +76,58 @@ TEST(ThresholdsCli, DetectWarnsAboutNamesAndExplainsTheMisses) {
   EXPECT_EQ(CountSubstrings(d.err, ": detected, id 8 (ok)"), 1) << d.err;
   EXPECT_EQ(CountSubstrings(d.err, ": few_neighbours: "), 9) << d.err;
   EXPECT_TRUE(std::filesystem::exists(dir.Path("debug/ssl-frame.6_detect.png")));
+}
+
+// --auto on one colour-camera frame of the golden scene, classes from the detector settings:
+// the report, then every robot of the golden frame found with the written thresholds.
+TEST(ThresholdsCli, AutoFitsAFrameWithNoLabels) {
+  testing::TempDir dir;
+  const auto f = RunCommand(kBinary + " render " + kGolden + "toml --camera -o " + dir.Path("f"));
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  const auto r = RunCommand(kBinary + " thresholds --auto " + dir.Path("f/frame.png") + " -s " +
+                            kGolden + "detector.toml -o " + dir.Path("t"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("class ", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("\ncarpet "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\norange "), std::string::npos) << r.out;
+  const vision::Thresholds t = vision::LoadThresholds(dir.Path("t/thresholds.toml"));
+  ASSERT_EQ(t.classes.size(), 5u);
+  EXPECT_EQ(t.classes[0].name, "blue");
+  const auto d =
+      RunCommand(kBinary + " detect " + kGolden + "png -t " + dir.Path("t/thresholds.toml") +
+                 " -c " + kGolden + "calibration.toml -s " + kGolden + "detector.toml");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_EQ(std::count(d.out.begin(), d.out.end(), '\n'), 11);  // header + 10 robots
+  EXPECT_EQ(CountSubstrings(d.out, ",ok,"), 10) << d.out;
+}
+
+// --labels seeds the classes with the labelled pixels of another file's frame: every labelled
+// pixel is counted in its class (10 blue, 40 pink, golden-frame.labels.toml).
+TEST(ThresholdsCli, AutoWithLabelsCountsTheLabelledPixels) {
+  testing::TempDir dir;
+  const auto r = RunCommand(kBinary + " thresholds --auto " + kGolden + "png -s " + kGolden +
+                            "detector.toml --labels " + kData +
+                            "vision/golden-frame.labels.toml -o " + dir.Path("t"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\nblue   "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("      10 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("      40 "), std::string::npos) << r.out;
+}
+
+TEST(ThresholdsCli, AutoBadInputIsExit2) {
+  testing::TempDir dir;
+  const auto r = RunCommand(kBinary + " thresholds --auto " + kGolden +
+                            "png --classes blue,pnik -o " + dir.Path("t"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err,
+            "patlab thresholds: --classes: unknown colour 'pnik'; expected a colour of "
+            "settings/colours.toml (did you mean 'pink'?)\n");
+  const auto n = RunCommand(kBinary + " thresholds --auto " + kGolden + "png -o " + dir.Path("t"));
+  EXPECT_EQ(n.exit_code, 2);
+  EXPECT_EQ(n.err,
+            "patlab thresholds: --auto without --classes or --settings; expected the "
+            "colour classes\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("t/thresholds.toml")));
 }
 
 TEST(ThresholdsCli, BadLabelsAreExit2WithNothingWritten) {

@@ -169,3 +169,33 @@ TEST(Settings, PaperPatternsFileLoadsWithTableTwoCounts) {
 
 }  // namespace
 }  // namespace patlab::detect
+
+namespace patlab::detect {
+namespace {
+
+// Colour names that differ only in wording are one colour (core/colour_names.h): the palette,
+// the key and the ID colours are read as the vocabulary's canonical names.
+TEST(Settings, ColourNamesInAnyWordingAreTheVocabularysNames) {
+  const DetectorConfig config = ParseDetectorSettings(
+      "palette = [\"Blue\", \"MAGENTA\", \"Light Green\", \"dark_blue\"]\n"
+      "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"magenta\", \"Light_Green\", "
+      "\"BLUE\"]\nkey_colours = [\"darkblue\"]\n",
+      "s.toml", kExperiments);
+  EXPECT_EQ(config.palette, (std::vector<std::string>{"blue", "pink", "light-green", "dark-blue"}));
+  EXPECT_EQ(config.patterns[0].key_colours, (std::vector<std::string>{"dark-blue"}));
+  EXPECT_EQ(config.patterns[0].codebook.colours,
+            (std::vector<std::string>{"pink", "light-green", "blue"}));
+}
+
+TEST(Settings, UnknownColourNamesAreErrorsWithADidYouMean) {
+  ExpectSettingsError("palette = [\"blue\", \"yelow\"]\n" + kPattern,
+                      "bad.toml:1: unknown colour 'yelow'; expected a colour of "
+                      "settings/colours.toml (did you mean 'yellow'?)");
+  // Two wordings of one colour are that colour twice.
+  ExpectSettingsError(
+      "palette = [\"pink\", \"Magenta\"]\n" + kPattern,
+      "bad.toml:1: palette lists \"Magenta\" twice; expected distinct colour names");
+}
+
+}  // namespace
+}  // namespace patlab::detect

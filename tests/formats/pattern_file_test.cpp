@@ -4,6 +4,7 @@
 
 #include <numbers>
 
+#include "../expect_error.h"
 #include "../test_util.h"
 #include "patlab/core/error.h"
 
@@ -195,3 +196,24 @@ TEST(PatternFile, NameTheFileSystemRefusesIsAnInputError) {
                          ": File name too long; expected a path whose every component is at "
                          "most 255 bytes");
 }
+
+namespace patlab::io {
+namespace {
+
+// A fixed patch's colour is read as the vocabulary's name (core/colour_names.h); a misspelt one
+// is an error with a did-you-mean.
+TEST(PatternFile, FixedColourNamesResolveThroughTheVocabulary) {
+  const std::string fixed = "[[patch]]\nrole = \"fixed\"\nx = 65.0\ny = 0.0\nradius = 20.0\n";
+  const Pattern p = ParsePattern(std::string("name = \"t\"\n") + kKey + fixed +
+                                     "colour = \"Light_Blue\"\n" + Patch("-65", "0"),
+                                 "p.toml");
+  EXPECT_EQ(p.patches[1].colour, "light-blue");
+  EXPECT_INPUT_ERROR(ParsePattern(std::string("name = \"t\"\n") + kKey + fixed +
+                                      "colour = \"oragne\"\n" + Patch("-65", "0"),
+                                  "p.toml"),
+                     "p.toml:12: unknown colour 'oragne'; expected a colour of "
+                     "settings/colours.toml (did you mean 'orange'?)");
+}
+
+}  // namespace
+}  // namespace patlab::io

@@ -387,12 +387,12 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
       {"ThresholdsUnknownClass",
        {{"l.toml",
          "image = \"{src}/tests/data/golden/ssl-frame.png\"\n[[class]]\nname = "
-         "\"magenta\"\n"
+         "\"purple\"\n"
          "points = [[1, 1]]\n"s}},
        "thresholds {dir}l.toml --out {dir}out/t.toml -s "
        "{src}/tests/data/golden/ssl-frame.detector.toml",
        2,
-       "patlab thresholds: {dir}l.toml:2: unknown class \"magenta\"; expected one of the detector palette: blue, yellow, pink, green, orange"s,
+       "patlab thresholds: {dir}l.toml:2: unknown class \"purple\"; expected one of the detector palette: blue, yellow, pink, green, orange"s,
        nullptr},
       {"ThresholdsMissingImage",
        {{"l.toml", "image = \"nope.png\"\n[[class]]\nname = \"blue\"\npoints = [[1, 1]]\n"s}},

@@ -136,13 +136,14 @@ TEST(RealFrames, VssTestFrameFindsAllFiveRobots) {
   if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   const FrameRun run = DetectFrame("vss-test-frame.png", "vss.colors.txt", "vss.calibration.toml",
                                    "vss.detector.toml");
-  ExpectDetections(run, {
-                            {"vss-rect-squares", "lime", 2, kOk, -1, 375.64, -634.29, 1.9270},
-                            {"vss-rect-squares", "blue", 1, kOk, -1, -470.30, 597.65, 2.4197},
-                            {"vss-two-circles", "lime", 0, kOk, -1, -489.50, -231.36, 0.6163},
-                            {"vss-two-circles", "lime", 1, kOk, -1, -186.23, -206.61, 1.5032},
-                            {"vss-two-circles", "lime", 2, kOk, -1, -327.28, -393.77, -0.0275},
-                        });
+  ExpectDetections(run,
+                   {
+                       {"vss-rect-squares", "light-green", 2, kOk, -1, 375.64, -634.29, 1.9270},
+                       {"vss-rect-squares", "blue", 1, kOk, -1, -470.30, 597.65, 2.4197},
+                       {"vss-two-circles", "light-green", 0, kOk, -1, -489.50, -231.36, 0.6163},
+                       {"vss-two-circles", "light-green", 1, kOk, -1, -186.23, -206.61, 1.5032},
+                       {"vss-two-circles", "light-green", 2, kOk, -1, -327.28, -393.77, -0.0275},
+                   });
 }
 
 // The CSV results committed in results/vision are what the detector gives now

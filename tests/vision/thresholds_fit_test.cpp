@@ -210,10 +210,14 @@ TEST(ThresholdsFit, LabelErrorsNameFileAndLine) {
       "rects, mask, min_area_px, max_area_px");
   EXPECT_INPUT_ERROR(ParseLabels("image = \"x.png\"\n", "l.toml", ""),
                      "l.toml: no classes; expected at least one [[class]] table");
+  // "magenta" is pink (settings/colours.toml); "orange" is a colour but not of this palette.
   const Labels magenta = ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"magenta\"\npoints = [[1, 1]]\n", "l.toml", "");
-  EXPECT_INPUT_ERROR(CheckClassesKnown(magenta, {"blue", "pink"}),
-                     "l.toml:2: unknown class \"magenta\"; expected one of the detector palette: "
+  CheckClassesKnown(magenta, {"blue", "pink"});
+  const Labels orange = ParseLabels(
+      "image = \"x.png\"\n[[class]]\nname = \"Orange\"\npoints = [[1, 1]]\n", "l.toml", "");
+  EXPECT_INPUT_ERROR(CheckClassesKnown(orange, {"blue", "pink"}),
+                     "l.toml:2: unknown class \"orange\"; expected one of the detector palette: "
                      "blue, pink");
 }
 

@@ -4,6 +4,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/options.h"
+#include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::detect {
@@ -31,11 +32,12 @@ std::vector<std::string> ReadColours(const toml::table& root, const io::TomlRead
       throw InputError(io::LocOf(source_name, c),
                        "colours holds " + io::TypeName(c) + "; expected colour names (strings)");
     }
-    if (std::find(names.begin(), names.end(), s->get()) != names.end()) {
+    const std::string name = io::CanonicalColour(s->get(), io::LocOf(source_name, c));
+    if (std::find(names.begin(), names.end(), name) != names.end()) {
       throw InputError(io::LocOf(source_name, c),
                        "colour \"" + s->get() + "\" is listed twice; expected distinct colours");
     }
-    names.push_back(s->get());
+    names.push_back(name);
   }
   return names;
 }
@@ -90,8 +92,9 @@ std::vector<int> ReadEntryColours(const io::TomlReader& er, int id, const EntryC
   std::vector<int> colour;
   for (const toml::node& c : *slot_colours) {
     const auto* s = c.as_string();
-    const auto it =
-        s == nullptr ? colours.end() : std::find(colours.begin(), colours.end(), s->get());
+    const std::string name =
+        s == nullptr ? std::string() : io::CanonicalColour(s->get(), io::LocOf(er.file(), c));
+    const auto it = s == nullptr ? colours.end() : std::find(colours.begin(), colours.end(), name);
     if (it == colours.end()) {
       er.Fail("slots", "ID " + std::to_string(id) + " has colour " +
                            (s == nullptr ? io::TypeName(c) : "\"" + s->get() + "\"") +

@@ -8,6 +8,7 @@
 #include "patlab/core/format.h"
 #include "patlab/formats/codebook_file.h"
 #include "patlab/formats/pattern_file.h"
+#include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::detect {
@@ -21,7 +22,8 @@ std::string Resolve(const std::string& base_dir, const std::string& path) {
   return (fs::path(base_dir) / path).lexically_normal().string();
 }
 
-// An array of distinct, non-empty strings.
+// An array of distinct colour names, each resolved to its canonical name (io/colour_vocabulary.h):
+// "magenta" and "Pink" are "pink", and so two of them are the same colour listed twice.
 std::vector<std::string> StringList(const toml::table& table, std::string_view key,
                                     const std::string& file, const std::string& what) {
   const toml::node* node = table.get(key);
@@ -43,11 +45,12 @@ std::vector<std::string> StringList(const toml::table& table, std::string_view k
                            (s == nullptr ? io::TypeName(item) : std::string("an empty string")) +
                            "; expected " + what);
     }
-    if (std::find(out.begin(), out.end(), s->get()) != out.end()) {
+    const std::string name = io::CanonicalColour(s->get(), io::LocOf(file, item));
+    if (std::find(out.begin(), out.end(), name) != out.end()) {
       throw InputError(io::LocOf(file, item), std::string(key) + " lists \"" + s->get() +
                                                   "\" twice; expected distinct " + what);
     }
-    out.push_back(s->get());
+    out.push_back(name);
   }
   return out;
 }

@@ -5,6 +5,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
 
@@ -91,6 +92,7 @@ LabelClass ReadLabelClass(const toml::node& node, const std::string& file, size_
     r.Fail("name", "name '" + EscapeForMessage(c.name) + "' " + problem + "; expected " +
                        io::kNameExpected);
   }
+  c.name = io::CanonicalClassName(c.name, r.Loc("name"));
   for (const LabelClass& b : before) {
     if (b.name == c.name) {
       r.Fail("name",

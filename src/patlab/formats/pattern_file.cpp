@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "patlab/core/format.h"
+#include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
 
@@ -115,6 +116,7 @@ Patch ParsePatch(const toml::table& t, const std::string& file, size_t i, int ke
                         "); expected exactly one patch with role = \"key\"");
   }
   patch.colour = pr.OptionalString("colour").value_or("");
+  if (!patch.colour.empty()) patch.colour = io::CanonicalColour(patch.colour, pr.Loc("colour"));
   if (patch.role == PatchRole::kFixed && patch.colour.empty()) {
     pr.Fail("role", "[[patch]] " + std::to_string(i) +
                         " has role \"fixed\" but no colour; expected colour = \"<name>\"");

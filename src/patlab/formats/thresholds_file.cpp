@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "patlab/core/error.h"
+#include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/csv.h"
 #include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
@@ -154,7 +155,7 @@ ColorClass ParseColorsLine(const FileLoc& loc, const std::string& line, size_t n
                               std::to_string(kMaxColorClasses) + " colour classes");
   }
   ColorClass cls;
-  cls.name = class_name;
+  cls.name = io::CanonicalClassName(class_name, loc);
   cls.display_rgb = {static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)};
   cls.merge = merge;
   cls.expected_num = static_cast<int>(expected);
@@ -224,7 +225,14 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
       throw InputError(loc, "line outside a section; expected [Colors] or [Thresholds] first");
     }
     if (section == Section::kColors) {
-      t.classes.push_back(ParseColorsLine(loc, line, t.classes.size()));
+      ColorClass cls = ParseColorsLine(loc, line, t.classes.size());
+      if (t.Find(cls.name) >= 0) {
+        throw InputError(loc, "colour '" + EscapeForMessage(cls.name) +
+                                  "' listed twice (names that differ only in case, spaces, "
+                                  "hyphens or underscores, or are aliases, are one colour); "
+                                  "expected distinct colours");
+      }
+      t.classes.push_back(std::move(cls));
     } else {
       ParseThresholdsLine(loc, line, num_thresholds, &t.classes);
       ++num_thresholds;
@@ -333,6 +341,7 @@ ColorClass ReadClass(const toml::node& node, const std::string& name, size_t ind
     r.Fail("name", "name '" + EscapeForMessage(cls.name) + "' " + problem + "; expected " +
                        io::kNameExpected);
   }
+  cls.name = io::CanonicalClassName(cls.name, r.Loc("name"));
   if (t.Find(cls.name) >= 0) {
     r.Fail("name", "duplicate class name \"" + cls.name + "\"; expected unique names");
   }

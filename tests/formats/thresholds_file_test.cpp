@@ -1,0 +1,70 @@
+// Colour class names in thresholds files, CMVision's colors.txt and labels files resolve through
+// the colour vocabulary (core/colour_names.h): wordings of one colour are that colour, names close
+// to a colour are errors with a did-you-mean, other names are kept as written.
+#include "patlab/formats/thresholds_file.h"
+
+#include <gtest/gtest.h>
+
+#include "../expect_error.h"
+#include "patlab/formats/labels_file.h"
+
+namespace patlab::vision {
+namespace {
+
+TEST(ThresholdsFile, TomlClassNamesResolveThroughTheVocabulary) {
+  const Thresholds t = ParseThresholdsToml(
+      "[[class]]\nname = \"Light Blue\"\n[[class]]\nname = \"magenta\"\n[[class]]\n"
+      "name = \"field lines\"\n[[class]]\nname = \"carpet_green\"\n",
+      "t.toml");
+  ASSERT_EQ(t.classes.size(), 4u);
+  EXPECT_EQ(t.classes[0].name, "light-blue");
+  EXPECT_EQ(t.classes[1].name, "pink");
+  EXPECT_EQ(t.classes[2].name, "field lines");  // no colour, close to none: kept
+  EXPECT_EQ(t.classes[3].name, "carpet");
+  EXPECT_INPUT_ERROR(ParseThresholdsToml("[[class]]\nname = \"pink\"\n[[class]]\nname = "
+                                         "\"Magenta\"\n",
+                                         "t.toml"),
+                     "t.toml:4: duplicate class name \"pink\"; expected unique names");
+  EXPECT_INPUT_ERROR(ParseThresholdsToml("[[class]]\nname = \"geen\"\n", "t.toml"),
+                     "t.toml:2: unknown colour 'geen'; expected a colour of settings/colours.toml "
+                     "(did you mean 'green'?)");
+}
+
+TEST(ThresholdsFile, CmvisionClassNamesResolveThroughTheVocabulary) {
+  const Thresholds t = ParseCmvisionColors(
+      "[Colors]\n(255,0,255) 0.5 1 Magenta\n(0,0,255) 0.5 1 Dark_Blue\n(255,128,0) 0.5 1 Ball\n"
+      "[Thresholds]\n(0:255,0:255,0:255)\n(0:255,0:255,0:255)\n(0:255,0:255,0:255)\n",
+      "colors.txt");
+  EXPECT_EQ(t.classes[0].name, "pink");
+  EXPECT_EQ(t.classes[1].name, "dark-blue");
+  EXPECT_EQ(t.classes[2].name, "Ball");
+  EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(255,0,255) 0.5 1 pink\n(255,0,255) 0.5 1 "
+                                         "Fuchsia\n[Thresholds]\n(0:255,0:255,0:255)\n"
+                                         "(0:255,0:255,0:255)\n",
+                                         "colors.txt"),
+                     "colors.txt:3: colour 'pink' listed twice (names that differ only in case, "
+                     "spaces, hyphens or underscores, or are aliases, are one colour); expected "
+                     "distinct colours");
+  EXPECT_INPUT_ERROR(ParseCmvisionColors("[Colors]\n(255,0,255) 0.5 1 Yelow\n[Thresholds]\n"
+                                         "(0:255,0:255,0:255)\n",
+                                         "colors.txt"),
+                     "colors.txt:2: unknown colour 'Yelow'; expected a colour of "
+                     "settings/colours.toml (did you mean 'yellow'?)");
+}
+
+TEST(LabelsFile, ClassNamesResolveThroughTheVocabulary) {
+  const Labels l = ParseLabels(
+      "image = \"f.png\"\n[[class]]\nname = \"Sky Blue\"\npoints = [[1, 1]]\n[[class]]\n"
+      "name = \"violet\"\npoints = [[2, 2]]\n",
+      "l.toml", ".");
+  EXPECT_EQ(l.classes[0].name, "light-blue");
+  EXPECT_EQ(l.classes[1].name, "purple");
+  EXPECT_INPUT_ERROR(ParseLabels("image = \"f.png\"\n[[class]]\nname = \"purpel\"\npoints = "
+                                 "[[1, 1]]\n",
+                                 "l.toml", "."),
+                     "l.toml:3: unknown colour 'purpel'; expected a colour of "
+                     "settings/colours.toml (did you mean 'purple'?)");
+}
+
+}  // namespace
+}  // namespace patlab::vision
