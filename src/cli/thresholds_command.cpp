@@ -7,6 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
 #include "patlab/core/enum_names.h"
 #include "patlab/core/error.h"
@@ -57,6 +58,10 @@ vision::Image ReadAt(const vision::Labels& labels, const std::string& path, int 
 
 }  // namespace
 
+// The help's option groups (command_line.h).
+const OptionGroups kThresholdsGroups = {
+    {"input", {"settings"}}, {"fit", {"space", "lower-percentile", "upper-percentile", "margin"}}};
+
 int RunThresholds(const std::vector<std::string>& args) {
   ThresholdsCommandOptions o;
   po::options_description visible("usage: patlab thresholds LABELS -o DIR [options]");
@@ -72,11 +77,12 @@ int RunThresholds(const std::vector<std::string>& args) {
       "margin", po::value(&o.fit.margin_levels),
       "levels added on each side of every bound, 0..128 (default 6)");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "labels", po::value(&o.labels), 1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kThresholdsGroups, "labels", po::value(&o.labels), 1,
+                      kExamples, &vm)) {
     return kExitOk;
   }
   if (o.labels.empty())
-    throw InputError("missing LABELS; expected 'patlab thresholds LABELS.toml --out FILE'");
+    throw InputError("missing LABELS; expected 'patlab thresholds LABELS.toml --out DIR'");
   if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
   o.out = (std::filesystem::path(o.out) / "thresholds.toml").string();
   const auto space = FindName(o.space, vision::kColorSpaceNames);
