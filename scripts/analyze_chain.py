@@ -101,9 +101,10 @@ def main():
             scene = os.path.join(work, f"scene{frame:04d}.toml")
             with open(scene, "w") as f:
                 f.write(scene_text(frame, cal))
-            png = os.path.join(work, f"frame{frame:04d}.png")
-            subprocess.run([patlab, "render", scene, "--out", png], check=True,
+            rendered = os.path.join(work, f"frame{frame:04d}")  # frame.png, truth.csv
+            subprocess.run([patlab, "render", scene, "--out", rendered], check=True,
                            stdout=subprocess.DEVNULL)
+            png = os.path.join(rendered, "frame.png")
             pngs.append(png)
             for robot in ROBOTS:
                 x, y, theta = pose(robot, frame)

@@ -43,7 +43,7 @@ TEST(CsvCli, FramePathWithCommaAndQuoteKeepsEveryColumnInPlace) {
     EXPECT_EQ(row.cells[table.Require("pattern", "")], "ssl-standard");
     EXPECT_TRUE(io::ParseDouble(row.cells[x]).has_value()) << row.cells[x];
   }
-  const io::CsvTable track = io::ParseCsv(testing::ReadFile(dir.Path("track.csv")), "t.csv", {});
+  const io::CsvTable track = io::ParseCsv(testing::ReadFile(dir.Path("d/track.csv")), "t.csv", {});
   EXPECT_EQ(track.rows.size(), 10u);
 }
 
