@@ -11,7 +11,8 @@ usage: /usr/bin/python3 scripts/analyze_chain.py [PATLAB [OUT_DIR [FRAMES]]]
    camera translated by N(0, 1 mm) in x and y (about 0.2 px), while detection maps pixels back
    with the unjittered calibration, as a shaking camera would be seen.
 2. `patlab render` each frame (PNG) and writes the true poses as a track CSV (truth.csv).
-3. `patlab detect FRAMES... --track track.csv` (the frame's position in the list is its index).
+3. `patlab detect FRAMES... --out DIR --track`, which writes DIR/track.csv (the frame's position in
+   the list is its index).
 4. `patlab analyze track.csv --truth truth.csv --correct-bias --out OUT_DIR --name chain`:
    the paper's estimate (sample minus the sigma = 10 smoothed track) beside the true error
    (detected minus true pose) per robot and axis, each with its 95% interval.
@@ -100,9 +101,10 @@ def main():
             scene = os.path.join(work, f"scene{frame:04d}.toml")
             with open(scene, "w") as f:
                 f.write(scene_text(frame, cal))
-            png = os.path.join(work, f"frame{frame:04d}.png")
-            subprocess.run([patlab, "render", scene, "--out", png], check=True,
+            rendered = os.path.join(work, f"frame{frame:04d}")  # frame.png, truth.csv
+            subprocess.run([patlab, "render", scene, "--out", rendered], check=True,
                            stdout=subprocess.DEVNULL)
+            png = os.path.join(rendered, "frame.png")
             pngs.append(png)
             for robot in ROBOTS:
                 x, y, theta = pose(robot, frame)
@@ -118,8 +120,8 @@ def main():
                         "--thresholds", os.path.join(GOLDEN, "ssl-frame.thresholds.toml"),
                         "--calibration", os.path.join(GOLDEN, "ssl-frame.calibration.toml"),
                         "--settings", os.path.join(GOLDEN, "ssl-frame.detector.toml"),
-                        "--track", track_csv, "--out", os.path.join(work, "detections.csv")],
-                       check=True)
+                        "--out", work, "--track"], check=True)
+        shutil.copyfile(os.path.join(work, "track.csv"), track_csv)
         subprocess.run([patlab, "analyze", track_csv, "--truth", truth_csv, "--correct-bias",
                         "--out", out_dir, "--name", "chain", "-q"], check=True)
     finally:

@@ -76,8 +76,7 @@ def commands(root, work, patlab):
     detect = ["detect", f"{golden}/ssl-frame.png", "--thresholds",
               f"{golden}/ssl-frame.thresholds.toml", "--calibration",
               f"{golden}/ssl-frame.calibration.toml", "--settings",
-              f"{golden}/ssl-frame.detector.toml", "--out", "{out}", "--track",
-              "{out}/track.csv"]
+              f"{golden}/ssl-frame.detector.toml", "--out", "{out}", "--track"]
     return {
         "simulate": (setup_simulate, ["simulate", f"{work}/small.toml", "--out", "{out}", "-q"]),
         "merge": (setup_merge, ["merge", f"{work}/shards", "--out", "{out}", "-q"]),

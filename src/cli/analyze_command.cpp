@@ -8,6 +8,8 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
+#include "cli/progress.h"
 #include "patlab/analysis/analyze.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -64,7 +66,7 @@ po::options_description Flags(AnalyzeCliOptions* o) {
       ("correct-bias", po::bool_switch(&o->analysis.correct_bias), "divide the estimated stds by the white-noise residual factor (0.974 for sigma 10)")
       ("along-travel", po::bool_switch(&o->analysis.along_travel), "errors along (x) and across (y) each segment's travel, not the file's axes")
       ("truth", po::value(&o->truth), "true poses, same columns: adds the true errors (sample - truth)")
-      ("quiet,q", po::bool_switch(&o->quiet), "no summary on stderr");
+      ("quiet,q", po::bool_switch(&o->quiet), "no progress or summary on stderr");
   // clang-format on
   return visible;
 }
@@ -113,12 +115,20 @@ void PrintSummary(const sim::AnalyzeReport& report,
   std::fprintf(stderr, "%s\n", wrote.c_str());
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kAnalyzeGroups = {
+    {"input",
+     {"frame-column", "subject-column", "run-column", "x-column", "y-column", "theta-column",
+      "truth"}},
+    {"analysis", {"smoothing-sigma", "lag", "correct-bias", "along-travel"}},
+    {"output", {"out", "name"}}};
+
 int RunAnalyze(const std::vector<std::string>& args) {
   AnalyzeCliOptions o;
   const po::options_description visible = Flags(&o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "track", po::value(&o.tracks), -1, kExamples, &vm,
-                      {{"--sigma", "--smoothing-sigma (samples)"}})) {
+  if (!ParseArguments(args, visible, kAnalyzeGroups, "track", po::value(&o.tracks), -1, kExamples,
+                      &vm, {{"--sigma", "--smoothing-sigma (samples)"}})) {
     return kExitOk;
   }
   if (o.tracks.empty()) {
@@ -147,6 +157,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
   }
   if (!o.truth.empty()) truth = sim::ReadTrackCsv(o.truth, o.columns);
   const auto read = std::chrono::steady_clock::now();
+  Progress progress("patlab analyze", "subjects", !o.quiet, StderrIsTerminal());
+  o.analysis.progress = progress.Callback();
   const sim::AnalyzeReport report =
       sim::AnalyzeTracks(std::move(tracks), o.analysis, o.truth.empty() ? nullptr : &truth);
   const auto analysed = std::chrono::steady_clock::now();

@@ -30,8 +30,9 @@ std::string UsageOf(const po::options_description& visible) {
 }  // namespace
 
 bool ParseArguments(const std::vector<std::string>& args, const po::options_description& visible,
-                    const char* positional_name, po::value_semantic* positional, int max_positional,
-                    const char* examples, po::variables_map* vm,
+                    const OptionGroups& groups, const char* positional_name,
+                    po::value_semantic* positional, int max_positional, const char* examples,
+                    po::variables_map* vm,
                     const std::vector<std::pair<std::string, std::string>>& removed) {
   const std::string usage = UsageOf(visible);
   const size_t name_start = usage.find(' ') + 1;
@@ -44,9 +45,7 @@ bool ParseArguments(const std::vector<std::string>& args, const po::options_desc
   CommandHelp help{usage, blank == std::string::npos ? "" : text.substr(blank + 2),
                    blank == std::string::npos ? text : text.substr(0, blank + 1)};
   CommandLine line(command, help);
-  for (const auto& option : visible.options()) {
-    if (option->long_name() != "help") line.Add("options", option);
-  }
+  line.AddGrouped(visible, groups);
   line.Positional(positional_name, positional, max_positional);
   for (const auto& [flag, replacement] : removed) line.Removed(flag, replacement);
   return line.Parse(args, vm);

@@ -9,17 +9,20 @@
 #include <utility>
 #include <vector>
 
+#include "cli/command_line.h"
+
 namespace patlab::cli {
 
-// Parses `args` against the `visible` options plus positional arguments stored through
-// `positional` under the hidden option `positional_name` (at most `max_positional`; -1 = any
-// number). With --help (which `visible` must define), prints the options and `examples` on stdout
-// and returns false: the command then exits 0. Throws boost::program_options::error on bad flags.
+// Parses `args` against the `visible` options, printed in the named `groups` (command_line.h), plus
+// positional arguments stored through `positional` under the hidden option `positional_name` (at
+// most `max_positional`; -1 = any number). With --help (which `visible` must define), prints the
+// options and `examples` on stdout and returns false: the command then exits 0. Throws
+// boost::program_options::error on bad flags.
 bool ParseArguments(const std::vector<std::string>& args,
                     const boost::program_options::options_description& visible,
-                    const char* positional_name, boost::program_options::value_semantic* positional,
-                    int max_positional, const char* examples,
-                    boost::program_options::variables_map* vm,
+                    const OptionGroups& groups, const char* positional_name,
+                    boost::program_options::value_semantic* positional, int max_positional,
+                    const char* examples, boost::program_options::variables_map* vm,
                     const std::vector<std::pair<std::string, std::string>>& removed = {});
 
 // A comma-separated list of numbers: "--sigmas has 'x'; expected <expected>".

@@ -7,6 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
 #include "patlab/calib/calibrate.h"
 #include "patlab/core/error.h"
@@ -52,6 +53,9 @@ std::string ResidualsCsv(const calib::CalibrationFit& fit) {
   return out;
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kCalibrateGroups = {};
+
 int RunCalibrate(const std::vector<std::string>& args) {
   CalibrateCommandOptions o;
   po::options_description visible("usage: patlab calibrate INPUT -o DIR");
@@ -59,8 +63,8 @@ int RunCalibrate(const std::vector<std::string>& args) {
       "out,o", po::value(&o.out),
       "output directory: DIR/calibration.toml and DIR/residuals.csv (required)");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "input", po::value(&o.input), 1, kExamples, &vm,
-                      {{"--residuals", "-o DIR (DIR/residuals.csv is always written)"}})) {
+  if (!ParseArguments(args, visible, kCalibrateGroups, "input", po::value(&o.input), 1, kExamples,
+                      &vm, {{"--residuals", "-o DIR (DIR/residuals.csv is always written)"}})) {
     return kExitOk;
   }
   if (o.input.empty()) throw InputError("missing INPUT; expected 'patlab calibrate INPUT -o DIR'");

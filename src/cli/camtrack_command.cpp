@@ -8,7 +8,9 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
+#include "cli/progress.h"
 #include "patlab/analysis/camera_track.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -46,6 +48,7 @@ struct Options {
   vision::CameraJitter jitter;
   sim::CameraTrackOptions track;
   double blur_sigma_px = -1.0;
+  bool quiet = false;
 };
 
 void AddOptions(po::options_description* d, Options* o) {
@@ -72,6 +75,7 @@ void AddOptions(po::options_description* d, Options* o) {
       "height-jitter-mm", po::value(&o->jitter.height_sigma_mm), "[0, 1000], default 0")(
       "shift-jitter-mm", po::value(&o->jitter.shift_sigma_mm), "[0, 1000], default 0")(
       "jitter-seed", po::value(&o->jitter_seed), "default 1");
+  AddQuiet(d->add_options(), &o->quiet);
 }
 
 std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
@@ -94,12 +98,23 @@ std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
   return csv;
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kCamtrackGroups = {
+    {"input", {"thresholds"}},
+    {"robot and path", {"team", "id", "white", "runs", "frames", "seed", "detect"}},
+    {"camera",
+     {"blur-sigma-px", "exposure-gain", "read-noise-levels", "shot-noise-gain", "no-bayer",
+      "chroma-444", "sensor-seed"}},
+    {"camera jitter", {"roll-jitter-rad", "height-jitter-mm", "shift-jitter-mm", "jitter-seed"}},
+    {"output", {"out", "label"}}};
+
 int RunCamtrack(const std::vector<std::string>& args) {
   Options o;
   po::options_description visible("usage: patlab camtrack SCENE -t THRESHOLDS -o DIR [options]");
   AddOptions(&visible, &o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "scene", po::value(&o.scene), 1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kCamtrackGroups, "scene", po::value(&o.scene), 1, kExamples,
+                      &vm)) {
     return kExitOk;
   }
   if (o.scene.empty()) throw InputError("missing SCENE; expected a scene TOML file");
@@ -112,6 +127,8 @@ int RunCamtrack(const std::vector<std::string>& args) {
   o.jitter.seed = ParseSeed(o.jitter_seed, "--jitter-seed");
   o.track.seed = ParseSeed(o.seed, "--seed");
   io::CheckWritable({o.out});
+  Progress progress("patlab camtrack", "frames", !o.quiet, StderrIsTerminal());
+  o.track.progress = progress.Callback();
   vision::SceneFile file = vision::LoadSceneFile(FindData(o.scene, io::DataKind::kSettings));
   if (vm.count("blur-sigma-px")) file.scene.options.blur_sigma_px = o.blur_sigma_px;
   const vision::Thresholds thresholds =
@@ -124,6 +141,7 @@ int RunCamtrack(const std::vector<std::string>& args) {
     std::cerr << "patlab camtrack: " << e.what() << "\n";
     return kExitFailure;
   }
+  if (o.quiet) return kExitOk;
   std::cerr << "camtrack " << o.label << ": " << r.frames << " complete frames, "
             << r.missed_patches << " missed patches, ";
   if (o.track.detect) {

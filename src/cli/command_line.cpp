@@ -1,7 +1,9 @@
 #include "cli/command_line.h"
 
+#include <algorithm>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
 #include "patlab/core/close_names.h"
 #include "patlab/core/error.h"
@@ -94,6 +96,51 @@ void CommandLine::Add(const std::string& title,
   Group(title);
   for (auto& [name, group] : groups_) {
     if (name == title) group->add(option);
+  }
+}
+
+namespace {
+
+// The group of a tool-wide option that the command's groups do not list, or "".
+std::string SharedGroup(const std::string& long_name) {
+  if (long_name == "out" || long_name == "format") return "output";
+  if (long_name == "quiet" || long_name == "threads" || long_name == "seed") return "run";
+  return "";
+}
+
+}  // namespace
+
+void CommandLine::AddGrouped(const po::options_description& options, const OptionGroups& groups) {
+  std::vector<std::pair<std::string, std::string>> placed;  // long name, group title
+  std::vector<std::string> titles;
+  for (const auto& [title, names] : groups) titles.push_back(title);
+  for (const auto& option : options.options()) {
+    const std::string& name = option->long_name();
+    if (name == "help") continue;
+    std::string title;
+    for (const auto& [group, names] : groups) {
+      if (std::find(names.begin(), names.end(), name) != names.end()) title = group;
+    }
+    if (title.empty()) title = SharedGroup(name);
+    if (title.empty()) {
+      throw std::logic_error("patlab " + command_ + ": option --" + name + " is in no group");
+    }
+    placed.emplace_back(name, title);
+  }
+  // The shared groups after the command's own, output before run.
+  for (const char* shared : {"output", "run"}) {
+    const bool used = std::any_of(placed.begin(), placed.end(),
+                                  [&](const auto& p) { return p.second == shared; });
+    if (used && std::find(titles.begin(), titles.end(), shared) == titles.end()) {
+      titles.emplace_back(shared);
+    }
+  }
+  for (const std::string& title : titles) {
+    for (const auto& option : options.options()) {
+      for (const auto& [name, group] : placed) {
+        if (name == option->long_name() && group == title) Add(title, option);
+      }
+    }
   }
 }
 

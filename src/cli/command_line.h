@@ -12,6 +12,11 @@
 
 namespace patlab::cli {
 
+// A command's option groups, in print order: a title ("input", "noise model") and the long names
+// of its options. The tool-wide options need not be listed: --out and --format go to "output",
+// --quiet, --threads and --seed to "run" (after the listed groups, unless listed themselves).
+using OptionGroups = std::vector<std::pair<std::string, std::vector<std::string>>>;
+
 struct CommandHelp {
   std::string usage;        // after "usage: ", e.g. "patlab simulate EXPERIMENT [options]"
   std::string description;  // paragraphs, each wrapped at 100 columns
@@ -29,6 +34,10 @@ class CommandLine {
   // Adds an option made elsewhere to the group `title`.
   void Add(const std::string& title,
            const boost::shared_ptr<boost::program_options::option_description>& option);
+  // Adds every option of `options` (but --help) to its group in `groups`. An option in no group
+  // is a programming error (std::logic_error), so every command's help has only named groups.
+  void AddGrouped(const boost::program_options::options_description& options,
+                  const OptionGroups& groups);
   // Positional arguments stored into `value` (at most `max_count`; -1 = any number).
   void Positional(const char* name, boost::program_options::value_semantic* value, int max_count);
   // A flag that no longer exists: using it is an error that names its replacement.

@@ -70,6 +70,13 @@ sim::CompareOptions ParseCompareOptions(const CompareFlags& f, const po::variabl
   return o;
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kCompareGroups = {{"input", {"patterns-dir"}},
+                                     {"estimators", {"sigma", "trials"}},
+                                     {"ID capacity", {"colors", "tolerance"}},
+                                     {"misidentification", {"sigmas", "id-colors", "frames"}},
+                                     {"output", {"out", "format", "sort-by"}}};
+
 int RunCompare(const std::vector<std::string>& args) {
   CompareFlags f;
   sim::CompareOptions o;
@@ -103,7 +110,7 @@ int RunCompare(const std::vector<std::string>& args) {
   // clang-format on
   po::variables_map vm;
   if (!ParseArguments(
-          args, visible, "design", po::value(&f.designs), -1, kExamples, &vm,
+          args, visible, kCompareGroups, "design", po::value(&f.designs), -1, kExamples, &vm,
           {{"--json", "--format json"}, {"--csv", "--format csv"}, {"-c", "--colors"}})) {
     return kExitOk;
   }

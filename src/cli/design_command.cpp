@@ -9,7 +9,9 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
+#include "cli/progress.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
@@ -184,12 +186,24 @@ void AddDesignFlags(po::options_description* d, DesignFlags* f, sim::DesignOptio
       ("seed", po::value(&f->seed)->default_value(f->seed), "seed of the random starts (integer >= 0)")
       ("start", po::value(&f->start), "a pattern file or name whose ID patches are the first start")
       ("out,o", po::value(&f->out_dir), "directory to write <name>.toml and <name>.design.txt to")
-      ("quiet,q", po::bool_switch(&f->quiet), "no report on stdout, no summary on stderr")
+      ("quiet,q", po::bool_switch(&f->quiet), "no report on stdout, no progress or summary on stderr")
       ("patterns-dir", po::value(&f->patterns_dir),
        "a folder searched for pattern names before the shipped patterns")
       ("help,h", "show this help");
   // clang-format on
 }
+
+// The help's option groups (command_line.h).
+const OptionGroups kDesignGroups = {
+    {"robot top",
+     {"constraints", "outer-diameter-mm", "rim-gap-mm", "key-radius-mm", "id-patches",
+      "id-radii-mm", "min-gap-mm"}},
+    {"IDs", {"palette", "tolerance-mm", "min-ids"}},
+    {"objective and limits",
+     {"objective", "symmetry", "min-rotation-onset-mm", "max-angle-crlb-mrad-per-mm",
+      "max-position-crlb-per-mm"}},
+    {"search", {"starts", "max-evaluations", "seed", "start", "patterns-dir"}},
+    {"output", {"out", "name"}}};
 
 int RunDesign(const std::vector<std::string>& args) {
   DesignFlags f;
@@ -198,12 +212,15 @@ int RunDesign(const std::vector<std::string>& args) {
   AddDesignFlags(&visible, &f, &o);
   po::variables_map vm;
   std::vector<std::string> none;
-  if (!ParseArguments(args, visible, "positional", po::value(&none), 0, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kDesignGroups, "positional", po::value(&none), 0, kExamples,
+                      &vm)) {
     return kExitOk;
   }
   o = ParseDesignOptions(f, o, vm);
   const std::filesystem::path dir(f.out_dir);
   io::CheckWritable({(dir / (o.name + ".toml")).string()});
+  Progress progress("patlab design", "starts", !f.quiet, StderrIsTerminal());
+  o.progress = progress.Callback();
   const sim::DesignResult result = sim::RunDesign(o);
   const std::string report = TrimLineEnds(sim::DesignReportText(result));
   // A failure to write is an EnvironmentError: main() reports it, exit 1, nothing written.

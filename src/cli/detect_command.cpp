@@ -10,6 +10,7 @@
 #include "cli/command.h"
 #include "cli/command_line.h"
 #include "cli/data.h"
+#include "cli/progress.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/detect/settings.h"
@@ -33,6 +34,7 @@ constexpr const char* kExamples = R"(examples:
       -s ssl-frame.detector --debug debug       # after: patlab render ssl-frame -o frame
   patlab detect cam.yuv --raw-size 780x580 -t colors.txt -c cal.toml --blobs
   patlab detect list.txt -t t.toml -c cal.toml --format json -o det --timing   # det/detections.json
+  patlab detect frames/ -t t.toml -c cal.toml -s det.toml -o run --track   # + run/track.csv
 
 FRAME arguments: PNG, JPEG or binary PPM files; raw UYVY files (.yuv .uyvy .raw, with --raw-size);
 directories (their frames, sorted by name); or a .txt/.list file naming one frame per line.
@@ -52,7 +54,9 @@ struct DetectOptions {
   std::string raw_size;
   std::string format = "csv";
   std::string out;
-  std::string track;
+  bool track = false;
+  std::string track_path;  // DIR/track.csv with --track
+  bool quiet = false;
   bool blobs = false;
   bool keep_going = false;
   double edge_loss_px = 0.0;  // --edge-loss-px, when given (it overrides the settings' [frame])
@@ -88,9 +92,10 @@ po::options_description Flags(DetectOptions* o) {
       "out,o", po::value(&o->out),
       "output directory: DIR/detections.csv (.json; blobs.csv with --blobs), atomically "
       "(default: stdout)")(
-      "track", po::value(&o->track),
-      "also write the frames' robots as a track CSV for patlab analyze (needs --settings)")(
-      "blobs", po::bool_switch(&o->blobs), "write the calibrated blobs instead of detections")(
+      "track", po::bool_switch(&o->track),
+      "also write DIR/track.csv: the frames' robots as a track for patlab analyze (needs --out "
+      "and --settings)")("blobs", po::bool_switch(&o->blobs),
+                         "write the calibrated blobs instead of detections")(
       "debug", po::value(&o->frame.debug_dir),
       "write each frame's numbered per-stage debug PNGs into this directory")(
       "explain", po::bool_switch(&o->frame.explain),
@@ -105,7 +110,25 @@ po::options_description Flags(DetectOptions* o) {
       "edge-loss-px", po::value(&o->edge_loss_px),
       "pixels a region loses around its patch, for the area test (default: the settings' [frame] "
       "edge_loss_px, else 1)");
+  AddQuiet(visible.add_options(), &o->quiet);
   return visible;
+}
+
+// --track writes DIR/track.csv (docs/cli.md: outputs go into --out); it takes no file name, so
+// a .csv among the frames is the old form `--track FILE`.
+void CheckTrack(const DetectOptions& o) {
+  for (const std::string& frame : o.frames) {
+    if (fs::path(frame).extension() == ".csv") {
+      throw InputError("--track takes no file name ('" + EscapeForMessage(frame) +
+                       "' is not a frame); expected --track --out DIR, which writes DIR/track.csv");
+    }
+  }
+  if (o.out.empty()) {
+    throw InputError("--track needs --out; expected --out DIR, where track.csv is written");
+  }
+  if (o.settings.empty()) {
+    throw InputError("--track needs --settings; expected detector settings naming the patterns");
+  }
 }
 
 void CheckRequired(DetectOptions* o) {
@@ -119,7 +142,9 @@ void CheckRequired(DetectOptions* o) {
   o->thresholds = FindData(o->thresholds, io::DataKind::kSettings);
   o->calibration = FindData(o->calibration, io::DataKind::kSettings);
   if (!o->settings.empty()) o->settings = FindData(o->settings, io::DataKind::kSettings);
+  if (o->track) CheckTrack(*o);
   if (!o->out.empty()) {
+    o->track_path = o->track ? (fs::path(o->out) / "track.csv").string() : "";
     o->out = (fs::path(o->out) / ((o->blobs ? "blobs." : "detections.") + o->format)).string();
   }
   if (!o->raw_size.empty()) {
@@ -225,20 +250,26 @@ void PrintTiming(const Totals& t) {
 
 }  // namespace
 
+// The help's option groups (command_line.h).
+const OptionGroups kDetectGroups = {
+    {"input", {"thresholds", "calibration", "settings", "raw-size"}},
+    {"detector", {"min-area-px", "min-fill", "edge-loss-px"}},
+    {"output", {"out", "format", "blobs", "track"}},
+    {"diagnostics", {"debug", "explain", "timing"}},
+    {"run", {"keep-going", "quiet"}}};
+
 int RunDetect(const std::vector<std::string>& args) {
   DetectOptions o;
   const po::options_description visible = Flags(&o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "frame", po::value(&o.frames), -1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kDetectGroups, "frame", po::value(&o.frames), -1, kExamples,
+                      &vm)) {
     return kExitOk;
   }
   CheckRequired(&o);
   if (vm.count("edge-loss-px") > 0) CheckEdgeLoss(o.edge_loss_px);
-  if (!o.track.empty() && o.settings.empty()) {
-    throw InputError("--track needs --settings; expected detector settings naming the patterns");
-  }
   if (!o.out.empty()) io::CheckWritable({o.out});
-  if (!o.track.empty()) io::CheckWritable({o.track});
+  if (o.track) io::CheckWritable({o.track_path});
   std::optional<detect::DetectorConfig> settings;
   if (!o.settings.empty()) {
     settings = detect::LoadDetectorSettings(o.settings);
@@ -253,11 +284,13 @@ int RunDetect(const std::vector<std::string>& args) {
   }
   vision::FrameResultsWriter writer(frames, o.blobs);
   std::optional<vision::TrackWriter> track;
-  if (!o.track.empty()) track.emplace(frames);
+  if (o.track) track.emplace(frames);
   const std::vector<std::string> paths = vision::ExpandFrameList(o.frames);
   if (!o.frame.debug_dir.empty()) CheckDistinctStems(paths);
   Totals totals;
   int failed = 0;
+  Progress progress("patlab detect", "frames", !o.quiet, StderrIsTerminal());
+  const int total = static_cast<int>(paths.size());
   for (size_t index = 0; index < paths.size(); ++index) {
     const std::string& path = paths[index];
     try {
@@ -271,12 +304,13 @@ int RunDetect(const std::vector<std::string>& args) {
       ++failed;
       std::cerr << "patlab detect: " << e.what() << " (skipped: --keep-going)\n";
     }
+    progress.Update(static_cast<int>(index) + 1, total);
   }
   const std::string output = o.format == "csv" ? writer.Csv() : writer.Json();
   if (!o.out.empty() || track) {
     try {
       std::vector<std::pair<std::string, std::string>> files;
-      if (track) files.emplace_back(o.track, track->Csv());
+      if (track) files.emplace_back(o.track_path, track->Csv());
       if (!o.out.empty()) files.emplace_back(o.out, output);
       io::WriteFilesAtomic(files);
     } catch (const std::exception& e) {

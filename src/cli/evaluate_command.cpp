@@ -69,6 +69,12 @@ sim::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::vari
   return o;
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kEvaluateGroups = {{"input", {"patterns-dir"}},
+                                      {"estimators", {"sigma", "trials"}},
+                                      {"ID capacity", {"colors", "tolerance"}},
+                                      {"misidentification", {"sigmas", "id-colors", "frames"}}};
+
 int RunEvaluate(const std::vector<std::string>& args) {
   EvaluateFlags f;
   sim::EvaluateOptions o;
@@ -97,8 +103,8 @@ int RunEvaluate(const std::vector<std::string>& args) {
       ("help,h", "show this help");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "pattern", po::value(&f.patterns), -1, kExamples, &vm,
-                      {{"--json", "--format json"}, {"-c", "--colors"}})) {
+  if (!ParseArguments(args, visible, kEvaluateGroups, "pattern", po::value(&f.patterns), -1,
+                      kExamples, &vm, {{"--json", "--format json"}, {"-c", "--colors"}})) {
     return kExitOk;
   }
   o = ParseEvaluateOptions(f, vm, o);

@@ -40,7 +40,9 @@ int RunFields(const std::vector<std::string>& args) {
   po::options_description visible("usage: patlab fields [NAME|FAMILY]");
   visible.add_options()("help,h", "show this help");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "name", po::value(&name), 1, kExamples, &vm)) return kExitOk;
+  if (!ParseArguments(args, visible, OptionGroups{}, "name", po::value(&name), 1, kExamples, &vm)) {
+    return kExitOk;
+  }
   const std::vector<std::string>& roots = DataRoots();
   if (name.empty()) {
     const std::vector<calib::Field> fields = calib::ShippedFields(roots);

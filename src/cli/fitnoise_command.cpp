@@ -7,6 +7,8 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
+#include "cli/progress.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/io/atomic_file.h"
@@ -33,6 +35,7 @@ Exit status: 0 ok, 1 cannot write the files, 2 bad input.
 struct Options {
   std::string out, free = "all", seed = "14", radii = "45,50,55,60,65,70,80";
   sim::NoiseFitStudyOptions study;
+  bool quiet = false;
 };
 
 void AddOptions(po::options_description* d, Options* o) {
@@ -55,6 +58,7 @@ void AddOptions(po::options_description* d, Options* o) {
       "sensitivity-radii", po::value(&o->radii), "id radii (mm) refitted, default 45,...,80")(
       "simulate-runs", po::value(&s.simulate_runs), "blob-level check runs (0: none), default 5")(
       "seed", po::value(&o->seed), "default 14");
+  AddQuiet(d->add_options(), &o->quiet);
 }
 
 std::array<bool, sim::kNumMechanisms> ParseFree(const std::string& text) {
@@ -73,12 +77,22 @@ std::array<bool, sim::kNumMechanisms> ParseFree(const std::string& text) {
   return free;
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kFitnoiseGroups = {
+    {"model",
+     {"free", "id-radius-mm", "lateral-mm", "travel-mm", "correlation-length-mm",
+      "smoothing-sigma"}},
+    {"data", {"table1-tau", "butterfly-tau"}},
+    {"intervals and checks",
+     {"bootstrap", "profile-points", "sensitivity-radii", "simulate-runs", "seed"}}};
+
 int RunFitnoise(const std::vector<std::string>& args) {
   Options o;
   po::options_description visible("usage: patlab fitnoise --out DIR");
   AddOptions(&visible, &o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "unused", po::value<std::string>(), 0, kExamples, &vm))
+  if (!ParseArguments(args, visible, kFitnoiseGroups, "unused", po::value<std::string>(), 0,
+                      kExamples, &vm))
     return kExitOk;
   if (o.out.empty()) throw InputError("missing --out DIR; expected the output directory");
   o.study.fit.free = ParseFree(o.free);
@@ -92,6 +106,8 @@ int RunFitnoise(const std::vector<std::string>& args) {
     paths.push_back(o.out + "/" + name);
   }
   io::CheckWritable(paths);
+  Progress progress("patlab fitnoise", "steps", !o.quiet, StderrIsTerminal());
+  o.study.progress = progress.Callback();
   sim::NoiseFitStudy study = sim::RunNoiseFitStudy(o.study);
   for (auto& [name, text] : study.files) name = o.out + "/" + name;
   try {

@@ -7,6 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
 #include "cli/text_output.h"
 #include "patlab/core/error.h"
@@ -103,6 +104,10 @@ std::string IdLists(const std::vector<Row>& rows, const std::vector<int>& colour
   return out.str();
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kIdsGroups = {
+    {"input", {"patterns-dir"}}, {"IDs", {"colors", "tolerance"}}, {"output", {"list"}}};
+
 int RunIds(const std::vector<std::string>& args) {
   IdsOptions o;
   po::options_description visible("usage: patlab ids PATTERN... [options]\n\noptions");
@@ -116,8 +121,8 @@ int RunIds(const std::vector<std::string>& args) {
       "a folder searched for pattern names before the shipped patterns")("help,h",
                                                                          "show this help");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "pattern", po::value(&o.patterns), -1, kExamples, &vm,
-                      {{"-c", "--colors"}})) {
+  if (!ParseArguments(args, visible, kIdsGroups, "pattern", po::value(&o.patterns), -1, kExamples,
+                      &vm, {{"-c", "--colors"}})) {
     return kExitOk;
   }
   if (o.patterns.empty()) {

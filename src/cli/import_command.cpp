@@ -7,6 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/design/sheet_import.h"
@@ -61,6 +62,11 @@ std::string Summary(const vision::SheetImport& sheet) {
   return out;
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kImportGroups = {{"sheet", {"cell-px", "mm-per-px", "slot-tolerance"}},
+                                    {"IDs", {"tolerance"}},
+                                    {"output", {"out", "name"}}};
+
 int RunImport(const std::vector<std::string>& args) {
   ImportFlags f;
   po::options_description visible("usage: patlab import SHEET... [options]\n\noptions");
@@ -77,7 +83,8 @@ int RunImport(const std::vector<std::string>& args) {
       ("help,h", "show this help");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "sheet", po::value(&f.sheets), -1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kImportGroups, "sheet", po::value(&f.sheets), -1, kExamples,
+                      &vm)) {
     return kExitOk;
   }
   if (f.sheets.empty()) {

@@ -6,6 +6,8 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
+#include "cli/progress.h"
 #include "patlab/core/error.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/io/name.h"
@@ -35,6 +37,9 @@ struct MergeOptions {
   bool quiet = false;
 };
 
+// The help's option groups (command_line.h).
+const OptionGroups kMergeGroups = {{"output", {"out", "name"}}};
+
 int RunMerge(const std::vector<std::string>& args) {
   MergeOptions o;
   po::options_description visible("patlab merge SHARD... [options]");
@@ -43,17 +48,20 @@ int RunMerge(const std::vector<std::string>& args) {
       ("help,h", "show this help")
       ("out,o", po::value(&o.out_dir), "output directory, made if missing (default: results)")
       ("name", po::value(&o.name), "output file base name (default: the one the shards record)")
-      ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
+      ("quiet,q", po::bool_switch(&o.quiet), "no progress or summary on stderr");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "shard", po::value(&o.shards), -1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kMergeGroups, "shard", po::value(&o.shards), -1, kExamples,
+                      &vm)) {
     return kExitOk;
   }
   if (o.shards.empty()) {
     throw InputError("missing SHARD; expected 'patlab merge SHARD... --out DIR' (see --help)");
   }
   if (!o.name.empty()) io::CheckName(o.name, "--name");
-  const sim::MergedOutputs merged = sim::MergeShards(o.shards, o.out_dir, o.name);
+  Progress progress("patlab merge", "shard files", !o.quiet, StderrIsTerminal());
+  const sim::MergedOutputs merged =
+      sim::MergeShards(o.shards, o.out_dir, o.name, progress.Callback());
   try {
     io::WriteFilesAtomic({{merged.csv_path, merged.csv}, {merged.json_path, merged.json}});
   } catch (const InputError& e) {

@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
+#include <cstring>
+
 #include "patlab/core/format.h"
 
 namespace patlab::cli {
@@ -28,7 +31,10 @@ Progress::Progress(std::string command, std::string unit, bool enabled, bool ter
       enabled_(enabled),
       terminal_(terminal),
       out_(out),
-      start_(std::chrono::steady_clock::now()) {}
+      start_(std::chrono::steady_clock::now()) {
+  const char* mode = std::getenv("PATLAB_PROGRESS");
+  always_ = mode != nullptr && std::strcmp(mode, "always") == 0;
+}
 
 std::function<void(int, int)> Progress::Callback() {
   if (!enabled_) return {};
@@ -53,7 +59,7 @@ void Progress::Update(int done, int total) {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   // A run shorter than a second says nothing; a longer one starts reporting after that second.
-  if (!started_ && elapsed < kQuietSeconds) return;
+  if (!started_ && elapsed < kQuietSeconds && !always_) return;
   started_ = true;
   if (terminal_) {
     // \033[K clears what a longer previous line left behind.

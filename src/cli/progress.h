@@ -1,7 +1,8 @@
 // The one progress reporter of the tool: done/total, rate, elapsed time and ETA on stderr, for
 // every command that can run longer than a second; it starts after the first second, so a short
 // run prints nothing. On a terminal the line is redrawn in place; otherwise (a log file, a pipe,
-// CI) one line is printed per 10% so logs stay short. Off with -q.
+// CI) one line is printed per 10% so logs stay short. Off with -q. PATLAB_PROGRESS=always in the
+// environment skips the quiet first second, so that short runs (tests, logs) report too.
 // The library knows nothing of it: runners take a std::function<void(int, int)> callback.
 #pragma once
 
@@ -38,6 +39,7 @@ class Progress {
   int last_decile_ = -1;
   bool line_open_ = false;
   bool started_ = false;
+  bool always_ = false;  // PATLAB_PROGRESS=always: no quiet first second
   static constexpr double kQuietSeconds = 1.0;
 };
 

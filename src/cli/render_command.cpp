@@ -6,6 +6,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
 #include "patlab/core/error.h"
 #include "patlab/formats/scene_file.h"
@@ -107,6 +108,14 @@ std::string RenderCamera(const RenderCommandOptions& o, const vision::SceneFile&
   return {png.begin(), png.end()};
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kRenderGroups = {
+    {"camera",
+     {"camera", "frame", "exposure-gain", "read-noise-levels", "shot-noise-gain", "no-bayer",
+      "chroma-444", "sensor-seed", "window"}},
+    {"camera jitter", {"roll-jitter-rad", "height-jitter-mm", "shift-jitter-mm", "jitter-seed"}},
+    {"output", {"out", "uyvy"}}};
+
 int RunRender(const std::vector<std::string>& args) {
   RenderCommandOptions o;
   po::options_description visible("usage: patlab render SCENE -o DIR [options]");
@@ -117,7 +126,7 @@ int RunRender(const std::vector<std::string>& args) {
       "with --camera: write the raw UYVY frame DIR/frame.uyvy instead of frame.png");
   AddCameraOptions(&visible, &o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "scene", po::value(&o.scene), 1, kExamples, &vm,
+  if (!ParseArguments(args, visible, kRenderGroups, "scene", po::value(&o.scene), 1, kExamples, &vm,
                       {{"--truth", "-o DIR (DIR/truth.csv is always written)"}})) {
     return kExitOk;
   }

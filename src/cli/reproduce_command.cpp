@@ -12,7 +12,9 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
+#include "cli/progress.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/io/atomic_file.h"
@@ -140,6 +142,10 @@ std::string DefaultRoot() {
   return ".";
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kReproduceGroups = {{"input", {"root"}},
+                                       {"output", {"out", "no-figures", "check"}}};
+
 int RunReproduce(const std::vector<std::string>& args) {
   ReproduceFlags o;
   po::options_description visible("patlab reproduce [options]");
@@ -151,15 +157,18 @@ int RunReproduce(const std::vector<std::string>& args) {
       ("out,o", po::value(&o.out_dir), "results directory, made if missing (default: results)")
       ("no-figures", po::bool_switch(&o.no_figures), "do not draw the PNG figures (no python3 needed)")
       ("threads,j", po::value(&o.threads), "worker threads (default: all cores); results do not depend on it")
-      ("quiet,q", po::bool_switch(&o.quiet), "no summary on stderr");
+      ("quiet,q", po::bool_switch(&o.quiet), "no progress or summary on stderr");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "unused", po::value<std::string>(), 0, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kReproduceGroups, "unused", po::value<std::string>(), 0,
+                      kExamples, &vm)) {
     return kExitOk;
   }
   CheckThreads(o.threads);
   if (!vm.count("root")) o.root = DefaultRoot();
-  const sim::ReproduceOptions options{.root = o.root, .threads = o.threads, .out_dir = o.out_dir};
+  Progress progress("patlab reproduce", "steps", !o.quiet, StderrIsTerminal());
+  const sim::ReproduceOptions options{
+      .root = o.root, .threads = o.threads, .out_dir = o.out_dir, .progress = progress.Callback()};
   const sim::Reproduction r = sim::Reproduce(options);
   const std::vector<sim::FigureStep> steps = sim::FigureSteps(options);
   int ok = 0;

@@ -7,6 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
 #include "cli/progress.h"
 #include "patlab/core/error.h"
@@ -217,6 +218,14 @@ int RunKnownMode(const sim::Experiment& experiment, const SimulateOptions& o,
   return kExitOk;
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kSimulateGroups = {
+    {"experiment", {"trials", "sigmas", "seed"}},
+    {"noise model",
+     {"sigma-y-ratio", "common-sigma-ratio", "outlier-probability", "outlier-sigma-ratio"}},
+    {"output", {"out", "name"}},
+    {"run", {"threads", "shard", "replay", "quiet"}}};
+
 int RunSimulate(const std::vector<std::string>& args) {
   SimulateOptions o;
   po::options_description visible("patlab simulate EXPERIMENT [options]");
@@ -238,7 +247,8 @@ int RunSimulate(const std::vector<std::string>& args) {
       ("quiet,q", po::bool_switch(&o.quiet), "no progress or summary on stderr");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "experiment", po::value(&o.experiment), 1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kSimulateGroups, "experiment", po::value(&o.experiment), 1,
+                      kExamples, &vm)) {
     return kExitOk;
   }
   if (o.experiment.empty()) {

@@ -197,6 +197,11 @@ int RunSummary(const StatsCliOptions& o) {
   return kExitOk;
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kStatsGroups = {
+    {"input", {"column"}},
+    {"test", {"alternative", "method", "zero-method", "correction", "level"}}};
+
 int RunStats(const std::vector<std::string>& args) {
   StatsCliOptions o;
   po::options_description visible("usage: patlab stats TEST FILE... [options]\n\noptions");
@@ -218,7 +223,7 @@ int RunStats(const std::vector<std::string>& args) {
   // clang-format on
   std::vector<std::string> words;
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "test", po::value(&words), -1, kExamples, &vm,
+  if (!ParseArguments(args, visible, kStatsGroups, "test", po::value(&words), -1, kExamples, &vm,
                       {{"--json", "--format json"}})) {
     return kExitOk;
   }

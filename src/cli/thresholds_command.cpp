@@ -9,6 +9,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
 #include "patlab/core/enum_names.h"
 #include "patlab/core/error.h"
@@ -154,6 +155,13 @@ int RunAuto(const ThresholdsCommandOptions& o) {
 
 }  // namespace
 
+// The help's option groups (command_line.h).
+const OptionGroups kThresholdsGroups = {
+    {"input", {"settings"}},
+    {"fit", {"space", "lower-percentile", "upper-percentile", "margin"}},
+    {"automatic fit",
+     {"auto", "classes", "labels", "colours", "lighting-min-gain", "lighting-max-gain"}}};
+
 int RunThresholds(const std::vector<std::string>& args) {
   ThresholdsCommandOptions o;
   po::options_description visible(
@@ -184,7 +192,8 @@ int RunThresholds(const std::vector<std::string>& args) {
       "0.7)")("lighting-max-gain", po::value(&o.auto_fit.lighting_max_gain),
               "--auto: brightest light, [1, 4] (default 1.4)");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "inputs", po::value(&o.inputs), -1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kThresholdsGroups, "inputs", po::value(&o.inputs), -1,
+                      kExamples, &vm)) {
     return kExitOk;
   }
   if (o.automatic) {
@@ -209,7 +218,7 @@ int RunThresholds(const std::vector<std::string>& args) {
   }
   if (!o.inputs.empty()) o.labels = o.inputs.front();
   if (o.labels.empty())
-    throw InputError("missing LABELS; expected 'patlab thresholds LABELS.toml --out FILE'");
+    throw InputError("missing LABELS; expected 'patlab thresholds LABELS.toml --out DIR'");
   if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
   o.out = (std::filesystem::path(o.out) / "thresholds.toml").string();
   const auto space = FindName(o.space, vision::kColorSpaceNames);

@@ -12,6 +12,7 @@
 
 #include "cli/arguments.h"
 #include "cli/command.h"
+#include "cli/command_line.h"
 #include "cli/data.h"
 #include "cli/progress.h"
 #include "patlab/analysis/track.h"
@@ -166,6 +167,11 @@ void PrintSummary(const sim::TrackOptions& options, const sim::TrackResult& resu
                paths[2].c_str(), paths[3].c_str());
 }
 
+// The help's option groups (command_line.h).
+const OptionGroups kTrackGroups = {{"noise model", {"pixel-sigma", "jitter-px"}},
+                                   {"output", {"out", "decimate"}},
+                                   {"run", {"seed", "threads", "replay", "quiet"}}};
+
 int RunTrackCommand(const std::vector<std::string>& args) {
   TrackCliOptions o;
   po::options_description visible("patlab track EXPERIMENT [options]");
@@ -182,7 +188,8 @@ int RunTrackCommand(const std::vector<std::string>& args) {
       ("quiet,q", po::bool_switch(&o.quiet), "no progress or summary on stderr");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, "experiment", po::value(&o.experiment), 1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, kTrackGroups, "experiment", po::value(&o.experiment), 1,
+                      kExamples, &vm)) {
     return kExitOk;
   }
   if (o.experiment.empty()) {

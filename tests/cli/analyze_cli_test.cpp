@@ -95,11 +95,11 @@ TEST(AnalyzeCli, DetectWritesATrackCsvThatAnalyzeReads) {
   const auto r = RunCommand(kPatlab + " detect " + png + " " + png + " --thresholds " + kGolden +
                             "ssl-frame.thresholds.toml --calibration " + kGolden +
                             "ssl-frame.calibration.toml --settings " + kGolden +
-                            "ssl-frame.detector.toml --out " + dir.Path("d.csv") + " --track " +
-                            dir.Path("track.csv"));
+                            "ssl-frame.detector.toml --out " + dir.Path("d") + " --track");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir.Path("d/detections.csv")));
   const std::vector<sim::MeasuredTrack> tracks =
-      sim::ReadTrackCsv(dir.Path("track.csv"), sim::TrackColumns{});
+      sim::ReadTrackCsv(dir.Path("d/track.csv"), sim::TrackColumns{});
   ASSERT_EQ(tracks.size(), 10u);
   EXPECT_EQ(tracks[0].subject, "blue-0");
   EXPECT_EQ(tracks[0].frame, (std::vector<int64_t>{0, 1}));
@@ -108,11 +108,35 @@ TEST(AnalyzeCli, DetectWritesATrackCsvThatAnalyzeReads) {
   EXPECT_NEAR(tracks[0].theta[0], 0.3, 0.05);
   const auto missing = RunCommand(kPatlab + " detect " + png + " --thresholds " + kGolden +
                                   "ssl-frame.thresholds.toml --calibration " + kGolden +
-                                  "ssl-frame.calibration.toml --track " + dir.Path("t2.csv"));
+                                  "ssl-frame.calibration.toml --track --out " + dir.Path("t2"));
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_EQ(missing.err,
             "patlab detect: --track needs --settings; expected detector settings naming the "
             "patterns\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("t2")));
+}
+
+// --track writes into --out (docs/cli.md), so it needs --out, and the old form --track FILE is
+// answered with the new one.
+TEST(AnalyzeCli, DetectTrackNeedsOutAndTakesNoFileName) {
+  testing::TempDir dir;
+  const std::string flags =
+      " --thresholds " + kGolden + "ssl-frame.thresholds.toml --calibration " + kGolden +
+      "ssl-frame.calibration.toml --settings " + kGolden + "ssl-frame.detector.toml";
+  const std::string png = kGolden + "ssl-frame.png";
+  const auto no_out = RunCommand(kPatlab + " detect " + png + flags + " --track");
+  EXPECT_EQ(no_out.exit_code, 2);
+  EXPECT_EQ(no_out.err,
+            "patlab detect: --track needs --out; expected --out DIR, where track.csv is written\n");
+  EXPECT_TRUE(no_out.out.empty());
+  const auto old_form = RunCommand(kPatlab + " detect " + png + flags + " --track " +
+                                   dir.Path("t.csv") + " --out " + dir.Path("d"));
+  EXPECT_EQ(old_form.exit_code, 2);
+  EXPECT_EQ(old_form.err, "patlab detect: --track takes no file name ('" + dir.Path("t.csv") +
+                              "' is not a frame); expected --track --out DIR, which writes "
+                              "DIR/track.csv\n");
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("d")));
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("t.csv")));
 }
 
 // The golden scene's camera with its translation moved by (dx, dy) mm: a shaking camera.

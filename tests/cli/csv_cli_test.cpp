@@ -29,7 +29,7 @@ TEST(CsvCli, FramePathWithCommaAndQuoteKeepsEveryColumnInPlace) {
   const std::string frame = dir.Path("run 1, \"best\" frame.png");
   std::filesystem::copy_file(kGolden + "ssl-frame.png", frame);
   const auto r = RunCommand(kPatlab + " detect '" + frame + "'" + DetectFlags() + " --out " +
-                            dir.Path("d") + " --track " + dir.Path("track.csv"));
+                            dir.Path("d") + " --track");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string text = testing::ReadFile(dir.Path("d/detections.csv"));
   std::string quoted = "\"";  // the path as the writer quotes it (by append: GCC 12 -Wrestrict)
@@ -43,7 +43,7 @@ TEST(CsvCli, FramePathWithCommaAndQuoteKeepsEveryColumnInPlace) {
     EXPECT_EQ(row.cells[table.Require("pattern", "")], "ssl-standard");
     EXPECT_TRUE(io::ParseDouble(row.cells[x]).has_value()) << row.cells[x];
   }
-  const io::CsvTable track = io::ParseCsv(testing::ReadFile(dir.Path("track.csv")), "t.csv", {});
+  const io::CsvTable track = io::ParseCsv(testing::ReadFile(dir.Path("d/track.csv")), "t.csv", {});
   EXPECT_EQ(track.rows.size(), 10u);
 }
 

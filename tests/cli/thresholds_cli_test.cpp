@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "../test_util.h"
 #include "patlab/formats/thresholds_file.h"
@@ -141,6 +143,49 @@ TEST(ThresholdsCli, BadLabelsAreExit2WithNothingWritten) {
                        ":4: rectangle corner [5, 480] of class \"blue\" lies outside the 640x480 "
                        "image; expected 0 <= x < 640 and 0 <= y < 480\n");
   EXPECT_FALSE(std::filesystem::exists(dir.Path("t.toml")));
+}
+
+// The shipped labels (settings/ssl-frame.labels.toml), by name, as README.md's example runs them:
+// the frame they label is the one `patlab render ssl-frame` draws, and the thresholds fitted
+// from four of its robots find all ten robots of that frame with their true team and ID.
+TEST(ThresholdsCli, ShippedLabelsByNameMakeThresholdsThatFindTheRenderedFramesRobots) {
+  testing::TempDir dir;
+  const std::string in_dir = "cd " + dir.Path() + " && " + kBinary;
+  const auto render = RunCommand(in_dir + " render ssl-frame -o frame");
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_EQ(testing::ReadFile(dir.Path("frame/frame.png")),
+            testing::ReadFile(std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-frame.png"));
+  const auto fit =
+      RunCommand(in_dir + " thresholds ssl-frame.labels -s ssl-frame.detector -o thresholds");
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  EXPECT_NE(fit.out.find("no overlapping classes"), std::string::npos) << fit.out;
+  const auto d = RunCommand(in_dir +
+                            " detect frame/frame.png -t thresholds/thresholds.toml -c "
+                            "ssl-frame.calibration -s ssl-frame.detector -o detections");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  // Every robot of the truth (team,id,...) is detected as such, status ok, and nothing else.
+  std::vector<std::string> truth, found;
+  std::istringstream truth_lines(testing::ReadFile(dir.Path("frame/truth.csv")));
+  std::string line;
+  std::getline(truth_lines, line);  // header
+  while (std::getline(truth_lines, line)) {
+    const size_t second = line.find(',', line.find(',') + 1);
+    if (line.rfind("ball", 0) != 0) truth.push_back(line.substr(0, second));
+  }
+  std::istringstream detections(testing::ReadFile(dir.Path("detections/detections.csv")));
+  std::getline(detections, line);  // frame,pattern,team,id,status,...
+  while (std::getline(detections, line)) {
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 5u) << line;
+    EXPECT_EQ(cells[4], "ok") << line;
+    found.push_back(cells[2] + "," + cells[3]);
+  }
+  std::sort(truth.begin(), truth.end());
+  std::sort(found.begin(), found.end());
+  EXPECT_EQ(truth.size(), 10u);
+  EXPECT_EQ(found, truth);
 }
 
 }  // namespace

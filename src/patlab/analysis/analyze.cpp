@@ -241,6 +241,10 @@ AnalyzeReport Analyze(const std::vector<MeasuredTrack>& tracks, const AnalyzeOpt
     by_subject[s->second].emplace_back(r->second, k);
   }
   for (auto& runs_and_tracks : by_subject) {
+    if (options.progress && !report.subjects.empty()) {
+      options.progress(static_cast<int>(report.subjects.size()),
+                       static_cast<int>(by_subject.size()));
+    }
     std::sort(runs_and_tracks.begin(), runs_and_tracks.end());
     for (size_t i = 1; i < runs_and_tracks.size(); ++i) {
       if (runs_and_tracks[i].first != runs_and_tracks[i - 1].first) continue;
@@ -251,6 +255,9 @@ AnalyzeReport Analyze(const std::vector<MeasuredTrack>& tracks, const AnalyzeOpt
                            "; expected each subject and run in one file"));
     }
     report.subjects.push_back(AnalyseSubject(tracks, runs_and_tracks, report, truth, release));
+  }
+  if (options.progress) {
+    options.progress(static_cast<int>(report.subjects.size()), static_cast<int>(by_subject.size()));
   }
   std::vector<std::string> names;
   std::vector<const std::vector<ErrorSegment>*> est, true_errors;

@@ -72,6 +72,8 @@ struct AnalyzeOptions {
   // the last smoothed position of the kept samples, y across it: the paper's convention) instead
   // of the file's axes.
   bool along_travel = false;
+  // Called after each subject is analysed (subjects done, subjects in all); empty = no reports.
+  std::function<void(int, int)> progress;
 };
 std::vector<OptionsProblem> Check(const AnalyzeOptions& options);
 void Validate(const AnalyzeOptions& options);

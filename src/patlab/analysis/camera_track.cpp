@@ -279,6 +279,8 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
                             static_cast<int>(thresholds.classes.size()), id, truth, &detected,
                             &result);
       }
+      if (options.progress)
+        options.progress(run * options.frames + f + 1, options.runs * options.frames);
       if (!complete) continue;
       const Pose2 p = estimate::Fast(model, measured.data());
       pose.x.Add(p.x_mm - truth.x_mm);

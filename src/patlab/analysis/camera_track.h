@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,8 @@ struct CameraTrackOptions {
   bool all_white = false;
   // Also measure the pattern through the detector (group "detect").
   bool detect = false;
+  // Called after each frame (frames done, runs x frames); empty = no reports.
+  std::function<void(int, int)> progress;
 };
 std::vector<OptionsProblem> Check(const CameraTrackOptions& options);
 void Validate(const CameraTrackOptions& options);

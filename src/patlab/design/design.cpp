@@ -365,6 +365,7 @@ DesignResult RunDesign(const DesignOptions& options) {
       best_layout = layout;
     }
     r.starts.push_back(std::move(s));
+    if (options.progress) options.progress(k + 1, options.starts);
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.evaluations_per_second = r.seconds > 0 ? static_cast<double>(r.evaluations) / r.seconds : 0;

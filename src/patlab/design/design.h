@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -89,6 +90,8 @@ struct DesignOptions {
   // than xtol_mm. More starts find the global optimum more surely and cost linearly more.
   int starts = 32;
   int max_evaluations = 4000;
+  // Called after each start (starts done, starts); empty = no reports.
+  std::function<void(int, int)> progress;
   double xtol_mm = 1e-5;
   uint64_t seed = 1;
   // Optional first start: one position (mm) per ID patch (e.g. a known design's), or empty.

@@ -254,7 +254,7 @@ void ProfileInterval(const FitDesign& design, const NoiseFitOptions& o, const No
 }
 
 void Bootstrap(const FitDesign& design, const NoiseFitOptions& o, NoiseFitResult* r,
-               const std::vector<double>& best_x) {
+               const std::vector<double>& best_x, const std::function<void()>& step) {
   const int nf = kNumMechanisms;
   r->correlation.assign(static_cast<size_t>(nf * nf), std::nan(""));
   if (o.bootstrap < 2) return;
@@ -271,6 +271,7 @@ void Bootstrap(const FitDesign& design, const NoiseFitOptions& o, NoiseFitResult
     const Minimum m = Minimise(&p, o, 2, 10000 + static_cast<uint64_t>(b), best_x);
     double delta = 0.0;
     draws.push_back(p.Unpack(m.x.data(), &delta));
+    if (step) step();
   }
   const double n = static_cast<double>(draws.size());
   Magnitudes mean{}, sd{};
@@ -305,7 +306,8 @@ void Bootstrap(const FitDesign& design, const NoiseFitOptions& o, NoiseFitResult
 
 }  // namespace
 
-NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& o) {
+NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& o,
+                        const std::function<void()>& step) {
   Validate(o);
   std::vector<double> observed;
   for (const FitDatum& d : design.data) {
@@ -319,6 +321,7 @@ NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& o) {
   r.best = p.Unpack(m.x.data(), &r.delta);
   r.minus2_log_l = m.value;
   r.free_parameters = p.Size();
+  if (step) step();
   r.predicted = Predict(design, r.best);
   for (size_t i = 0; i < design.data.size(); ++i) {
     const FitDatum& d = design.data[i];
@@ -330,10 +333,13 @@ NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& o) {
     e.mechanism = static_cast<Mechanism>(j);
     e.free = o.free[j];
     e.value = e.lower = e.upper = r.best[j];
-    if (e.free) ProfileInterval(design, o, r, m.x, &e);
+    if (e.free) {
+      ProfileInterval(design, o, r, m.x, &e);
+      if (step) step();
+    }
     r.estimates.push_back(std::move(e));
   }
-  Bootstrap(design, o, &r, m.x);
+  Bootstrap(design, o, &r, m.x, step);
   return r;
 }
 

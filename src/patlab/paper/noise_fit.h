@@ -40,6 +40,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -175,7 +176,11 @@ struct NoiseFitResult {
   std::vector<double> correlation;
 };
 
-NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& options);
+// `step` (optional) is called after each unit of work: the fit, each profiled magnitude's
+// interval and each bootstrap replicate (1 + free magnitudes + bootstrap steps in all, the last
+// when bootstrap >= 2).
+NoiseFitResult FitNoise(const FitDesign& design, const NoiseFitOptions& options,
+                        const std::function<void()>& step = {});
 
 // The blob-level check of the first-order model: the section-II track simulated frame by frame
 // (runs x frames, 30 frames/s at 23 mm/s, per run a lateral offset and a heading from the seed),
@@ -207,6 +212,9 @@ struct NoiseFitStudyOptions {
   std::vector<double> sensitivity_radii_mm{45, 50, 55, 60, 65, 70, 80};
   int simulate_runs = 5;  // blob-level check (SimulateTrack), 0: none
   int simulate_frames = 2570;
+  // Called as the study goes (steps done, steps in all): the main fit's steps (FitNoise), each
+  // model's and each sensitivity fit, and the blob-level check; empty = no reports.
+  std::function<void(int, int)> progress;
 };
 struct NoiseFitStudy {
   NoiseFitResult fit;

@@ -1,7 +1,9 @@
 // RunNoiseFitStudy (noise_fit.h): the fit, candidate models, the geometry sensitivity and the
 // blob-level check, as CSV text.
 #include <cmath>
+#include <functional>
 #include <string>
+#include <utility>
 
 #include "patlab/core/format.h"
 #include "patlab/core/options.h"
@@ -63,7 +65,38 @@ double WorstButterflyZ(const FitDesign& design, const NoiseFitResult& r) {
   return worst;
 }
 
-std::string ModelsCsv(const FitDesign& design, const NoiseFitOptions& base) {
+// The study's steps (NoiseFitStudyOptions::progress): counted as they are done.
+class Steps {
+ public:
+  Steps(std::function<void(int, int)> progress, int total)
+      : progress_(std::move(progress)), total_(total) {}
+  void operator()() {
+    if (progress_) progress_(++done_, total_);
+  }
+  std::function<void()> Callback() {
+    if (!progress_) return {};
+    return [this] { (*this)(); };
+  }
+
+ private:
+  std::function<void(int, int)> progress_;
+  int total_ = 0, done_ = 0;
+};
+
+constexpr int kSensitivityModels = 2;  // the models SensitivityCsv fits per radius
+
+// The study's steps in all: the main fit's (FitNoise), the models', the sensitivity fits and
+// the blob-level check.
+int StudySteps(const NoiseFitStudyOptions& o) {
+  int free = 0;
+  for (bool f : o.fit.free) free += f ? 1 : 0;
+  return 1 + free + (o.fit.bootstrap >= 2 ? o.fit.bootstrap : 0) +
+         static_cast<int>(Candidates().size()) +
+         kSensitivityModels * static_cast<int>(o.sensitivity_radii_mm.size()) +
+         (o.simulate_runs > 0 ? 1 : 0);
+}
+
+std::string ModelsCsv(const FitDesign& design, const NoiseFitOptions& base, Steps* steps) {
   std::string csv;
   io::CsvWriter w(&csv);
   w.Cells({"model", "parameters", "minus2_log_l", "aic", "chi2", "delta_mm"});
@@ -79,13 +112,15 @@ std::string ModelsCsv(const FitDesign& design, const NoiseFitOptions& base) {
     for (size_t i = design.data.size() - 3; i < design.data.size(); ++i)
       w.Cell(Num(r.predicted[i]));
     w.Cell(Num(WorstButterflyZ(design, r))).EndRow();
+    (*steps)();
   }
   return csv;
 }
 
 // Per assumed Butterfly size: the colour model's magnitudes with profile intervals, and how well
 // the independent+common model (no colour excess) does.
-std::string SensitivityCsv(const NoiseFitStudyOptions& o, const std::vector<FitDatum>& data) {
+std::string SensitivityCsv(const NoiseFitStudyOptions& o, const std::vector<FitDatum>& data,
+                           Steps* steps) {
   using M = Mechanism;
   std::string csv;
   io::CsvWriter w(&csv);
@@ -110,6 +145,7 @@ std::string SensitivityCsv(const NoiseFitStudyOptions& o, const std::vector<FitD
         for (double v : {e.value, e.lower, e.upper}) w.Cell(Num(v));
         w.Cell(NameOf(e.verdict, kIdentifiabilityNames)).EndRow();
       }
+      (*steps)();
     }
   }
   return csv;
@@ -195,15 +231,20 @@ NoiseFitStudy RunNoiseFitStudy(const NoiseFitStudyOptions& o) {
   double delta = 0.0;
   const FitDesign design = AddTable1Discrepancy(BuildDesign(data, o.geometry), &delta);
   NoiseFitStudy study;
-  study.fit = FitNoise(design, o.fit);
-  const std::vector<double> simulated =
-      o.simulate_runs > 0 ? SimulateTrack(data, o.geometry, study.fit.best, o.simulate_runs,
-                                          o.simulate_frames, o.fit.seed)
-                          : std::vector<double>{};
-  study.files = {
-      {"fit.csv", FitCsv(study.fit, delta)},    {"data.csv", DataCsv(design, study.fit, simulated)},
-      {"profiles.csv", ProfilesCsv(study.fit)}, {"correlation.csv", CorrelationCsv(study.fit)},
-      {"models.csv", ModelsCsv(design, o.fit)}, {"sensitivity.csv", SensitivityCsv(o, data)}};
+  Steps steps(o.progress, StudySteps(o));
+  study.fit = FitNoise(design, o.fit, steps.Callback());
+  std::vector<double> simulated;
+  if (o.simulate_runs > 0) {
+    simulated = SimulateTrack(data, o.geometry, study.fit.best, o.simulate_runs, o.simulate_frames,
+                              o.fit.seed);
+    steps();
+  }
+  study.files = {{"fit.csv", FitCsv(study.fit, delta)},
+                 {"data.csv", DataCsv(design, study.fit, simulated)},
+                 {"profiles.csv", ProfilesCsv(study.fit)},
+                 {"correlation.csv", CorrelationCsv(study.fit)},
+                 {"models.csv", ModelsCsv(design, o.fit, &steps)},
+                 {"sensitivity.csv", SensitivityCsv(o, data, &steps)}};
   study.summary = "-2 log L " + FormatFixed(study.fit.minus2_log_l, 2) + ", chi2 " +
                   FormatFixed(study.fit.chi2, 2) + " (9 data), Table I discrepancy delta " +
                   FormatFixed(delta, 4) + " mm\n";

@@ -80,12 +80,24 @@ std::map<std::string, RankAllowance> SizeTestAllowances(const TrackResult& resul
   return out;
 }
 
+// The progress of run `index` of the three as a callback for its runner, or empty.
+std::function<void(int, int)> RunProgress(const ReproduceOptions& o, int index) {
+  if (!o.progress) return {};
+  return [&o, index](int done, int total) {
+    const int per_run = ReproduceOptions::kProgressPerRun;
+    const int part = total > 0 ? static_cast<int>(static_cast<int64_t>(per_run) * done / total) : 0;
+    o.progress(index * per_run + part, 3 * per_run);
+  };
+}
+
 // The four files of a track run under `dir` ("" or "track_quantisation/"), as `patlab track`
 // writes them; returns Table I and its tests.
 std::pair<std::string, std::string> AddTrackFiles(const ReproduceOptions& o,
                                                   const TrackOptions& track, int decimate,
-                                                  const std::string& dir, Reproduction* r) {
-  const TrackResult result = RunTrack(track, {.threads = o.threads});
+                                                  const std::string& dir, int run_index,
+                                                  Reproduction* r) {
+  const TrackResult result =
+      RunTrack(track, {.threads = o.threads, .progress = RunProgress(o, run_index)});
   const std::vector<TableRow> table = MakeTable(result);
   const std::string names[] = {dir + track.name + ".csv", dir + track.name + "_tests.csv",
                                dir + "track_errors.csv", dir + track.name + ".json"};
@@ -108,6 +120,7 @@ Reproduction Reproduce(const ReproduceOptions& options) {
   Reproduction r;
   RunOptions run;
   run.threads = options.threads;
+  run.progress = RunProgress(options, 0);
   const Experiment fig5 = LoadExperimentFile(Input(options, "experiments/fig5.toml"));
   const RunResult fig5_result = RunExperiment(fig5, run);
   const std::string fig5_csv = ResultsCsv(fig5, fig5_result);
@@ -117,13 +130,13 @@ Reproduction Reproduce(const ReproduceOptions& options) {
                                  {Output(options, "fig5.csv"), Output(options, "fig5.json")})}};
   r.rules["fig5.csv"] = RulesForResultFile("fig5.csv");
   const TrackOptions table1 = LoadTrackExperiment(Input(options, "experiments/table1.toml"));
-  const auto [table1_csv, tests_csv] = AddTrackFiles(options, table1, 1, "", &r);
+  const auto [table1_csv, tests_csv] = AddTrackFiles(options, table1, 1, "", 1, &r);
   // Fig. 6's left panels: the same runs with quantisation only (no intensity noise or jitter).
   TrackOptions quantisation = table1;
   quantisation.pixel_sigma = 0.0;
   quantisation.jitter_sigma_px = 0.0;
   Validate(quantisation);
-  AddTrackFiles(options, quantisation, 4, "track_quantisation/", &r);
+  AddTrackFiles(options, quantisation, 4, "track_quantisation/", 2, &r);
 
   AddPaperNumbers(options, fig5, table1, {fig5_csv, table1_csv, tests_csv}, &r.numbers);
   r.files.emplace_back("paper.md", PaperMarkdown(r));

@@ -7,6 +7,7 @@
 // file differs from the committed one.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -51,6 +52,10 @@ struct ReproduceOptions {
   std::string root = ".";           // the checkout: experiments/ and patterns/ are read from here
   int threads = 0;                  // 0 = all cores; results do not depend on it
   std::string out_dir = "results";  // where the files go
+  // Called as the runs go (done, total), from the runners' own progress: the three runs (Fig. 5,
+  // Table I, Table I without noise) count kProgressPerRun steps each; empty = no reports.
+  std::function<void(int, int)> progress;
+  static constexpr int kProgressPerRun = 100;
 };
 
 // Runs experiments/fig5.toml and experiments/table1.toml (twice: as calibrated, and without

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -58,8 +59,10 @@ struct MergedOutputs {
 // and merges them. Throws InputError, before anything is written, naming the file and what was
 // expected when a file is not an intact shard, comes from another experiment, seed or patlab
 // version, repeats a share, or when shares are missing (all of them named). `name` overrides
-// the base name recorded in the shards.
+// the base name recorded in the shards. `progress` (optional) is called after each shard file
+// is read and checked: (files read, files in all).
 MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::string& out_dir,
-                          const std::string& name);
+                          const std::string& name,
+                          const std::function<void(int, int)>& progress = {});
 
 }  // namespace patlab::sim

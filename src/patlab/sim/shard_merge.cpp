@@ -333,7 +333,7 @@ json FinishBlockPoints(const std::vector<const ShardFile*>& shards) {
 }  // namespace
 
 MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::string& out_dir,
-                          const std::string& name) {
+                          const std::string& name, const std::function<void(int, int)>& progress) {
   const std::vector<std::string> paths = ExpandInputs(inputs);
   if (paths.empty()) throw InputError("no shard files given; expected SHARD... (files or dirs)");
   std::vector<ShardFile> files;
@@ -344,6 +344,8 @@ MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::str
     } catch (const InputError& e) {
       problems.push_back(e.what());
     }
+    if (progress)
+      progress(static_cast<int>(files.size() + problems.size()), static_cast<int>(paths.size()));
   }
   if (problems.size() == 1) throw InputError(problems.front());
   if (!problems.empty()) {
