@@ -18,6 +18,33 @@ void Validate(const IdHoldOptions& options) { ThrowFirstProblem(Check(options));
 
 IdHolder::IdHolder(const IdHoldOptions& options) : options_(options) { Validate(options); }
 
+namespace {
+
+// Each robot's track (index into `tracks`, or -1): nearest pairs within `radius_mm` first, ties by
+// index, so the result does not depend on the sort.
+std::vector<int> NearestMatches(const std::vector<SslRobot>& robots,
+                                const std::vector<Vec2>& tracks, double radius_mm) {
+  std::vector<std::tuple<double, size_t, size_t>> pairs;
+  for (size_t i = 0; i < robots.size(); ++i) {
+    const Vec2 p(robots[i].x_mm, robots[i].y_mm);
+    for (size_t j = 0; j < tracks.size(); ++j) {
+      const double d = (p - tracks[j]).norm();
+      if (d <= radius_mm) pairs.emplace_back(d, i, j);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<int> track_of(robots.size(), -1);
+  std::vector<bool> matched(tracks.size(), false);
+  for (const auto& [d, i, j] : pairs) {
+    if (track_of[i] >= 0 || matched[j]) continue;
+    track_of[i] = static_cast<int>(j);
+    matched[j] = true;
+  }
+  return track_of;
+}
+
+}  // namespace
+
 int IdHolder::Apply(SslDetection* detection) {
   if (!options_.enabled) return 0;
   return ApplyTeam(&detection->robots_yellow, &yellow_) +
@@ -25,22 +52,12 @@ int IdHolder::Apply(SslDetection* detection) {
 }
 
 int IdHolder::ApplyTeam(std::vector<SslRobot>* robots, std::vector<Track>* tracks) const {
-  // Matches, nearest pairs first (ties by index, so the result does not depend on the sort).
-  std::vector<std::tuple<double, size_t, size_t>> pairs;
-  for (size_t i = 0; i < robots->size(); ++i) {
-    const Vec2 p((*robots)[i].x_mm, (*robots)[i].y_mm);
-    for (size_t j = 0; j < tracks->size(); ++j) {
-      const double d = (p - (*tracks)[j].position_mm).norm();
-      if (d <= options_.radius_mm) pairs.emplace_back(d, i, j);
-    }
-  }
-  std::sort(pairs.begin(), pairs.end());
-  std::vector<int> track_of(robots->size(), -1);
+  std::vector<Vec2> positions;
+  for (const Track& t : *tracks) positions.push_back(t.position_mm);
+  const std::vector<int> track_of = NearestMatches(*robots, positions, options_.radius_mm);
   std::vector<bool> matched(tracks->size(), false);
-  for (const auto& [d, i, j] : pairs) {
-    if (track_of[i] >= 0 || matched[j]) continue;
-    track_of[i] = static_cast<int>(j);
-    matched[j] = true;
+  for (const int j : track_of) {
+    if (j >= 0) matched[static_cast<size_t>(j)] = true;
   }
   // IDs this frame reads or has given: a held ID never duplicates one of them.
   std::vector<int> taken;

@@ -165,6 +165,27 @@ struct FrameSpan {
   int width = 0, height = 0;
 };
 
+// The 4-connected region of `start`'s label in one frame (`base`, width x height), marking it
+// seen.
+void CollectRegion(const Pixel* base, const FrameSpan& f, int start, std::vector<bool>* seen,
+                   std::vector<int>* stack, std::vector<int>* region) {
+  const int label = base[start].label;
+  region->clear();
+  stack->assign(1, start);
+  (*seen)[start] = true;
+  while (!stack->empty()) {
+    const int i = stack->back();
+    stack->pop_back();
+    region->push_back(i);
+    const int x = i % f.width, y = i / f.width;
+    const int next[4] = {x > 0 ? i - 1 : -1, x + 1 < f.width ? i + 1 : -1, y > 0 ? i - f.width : -1,
+                         y + 1 < f.height ? i + f.width : -1};
+    for (const int j : next) {
+      if (j >= 0 && !(*seen)[j] && base[j].label == label) (*seen)[j] = true, stack->push_back(j);
+    }
+  }
+}
+
 // Patches are small: a 4-connected region of one class larger than max_area pixels (a field line,
 // a lit patch of carpet, a wall) is taken out of the class (label -1), so that it neither moves
 // the class's centre nor widens its box. Hand-labelled pixels stay.
@@ -178,22 +199,8 @@ void DropLargeRegions(const std::vector<FrameSpan>& spans, double max_fraction,
     std::vector<bool> seen(static_cast<size_t>(count), false);
     Pixel* base = pixels->data() + f.offset;
     for (int start = 0; start < count; ++start) {
-      const int label = base[start].label;
-      if (seen[start] || label < 0) continue;
-      region.clear();
-      stack.assign(1, start);
-      seen[start] = true;
-      while (!stack.empty()) {
-        const int i = stack.back();
-        stack.pop_back();
-        region.push_back(i);
-        const int x = i % f.width, y = i / f.width;
-        const int next[4] = {x > 0 ? i - 1 : -1, x + 1 < f.width ? i + 1 : -1,
-                             y > 0 ? i - f.width : -1, y + 1 < f.height ? i + f.width : -1};
-        for (const int j : next) {
-          if (j >= 0 && !seen[j] && base[j].label == label) seen[j] = true, stack.push_back(j);
-        }
-      }
+      if (seen[start] || base[start].label < 0) continue;
+      CollectRegion(base, f, start, &seen, &stack, &region);
       if (region.size() <= max_area) continue;
       for (const int i : region) {
         if (base[i].hand < 0) base[i].label = -1;
@@ -333,13 +340,11 @@ void Separability(AutoThresholdsFit* fit) {
 
 }  // namespace
 
-AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
-                                    const std::vector<std::string>& class_names,
-                                    const ColourVocabulary& vocabulary,
-                                    const AutoThresholdsOptions& options,
-                                    const std::vector<LabelledFrame>& labels) {
-  Validate(options);
-  if (frames.empty() && labels.empty()) throw InputError("no frames; expected at least one frame");
+namespace {
+
+// The vocabulary's entries of the classes asked for, in their order.
+std::vector<const ColourEntry*> ClassEntries(const std::vector<std::string>& class_names,
+                                             const ColourVocabulary& vocabulary) {
   if (class_names.empty() || class_names.size() > static_cast<size_t>(kMaxColorClasses)) {
     throw InputError(std::to_string(class_names.size()) + " colour classes; expected 1 to " +
                      std::to_string(kMaxColorClasses));
@@ -355,19 +360,18 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
     }
     entries.push_back(vocabulary.Find(r.name));
   }
-  const int carpet_class = [&] {
-    const ColourEntry* carpet = vocabulary.Find("carpet");
-    for (size_t k = 0; k < entries.size(); ++k) {
-      if (entries[k] == carpet) return static_cast<int>(k);
-    }
-    return -1;
-  }();
+  return entries;
+}
 
-  std::vector<Pixel> pixels;
-  std::vector<FrameSpan> spans;
+// Every frame's pixels, then every labelled frame's with its hand labels mapped to the classes.
+void CollectPixels(const std::vector<const Image*>& frames,
+                   const std::vector<LabelledFrame>& labels,
+                   const std::vector<const ColourEntry*>& entries,
+                   const ColourVocabulary& vocabulary, std::vector<Pixel>* pixels,
+                   std::vector<FrameSpan>* spans) {
   for (const Image* frame : frames) {
-    spans.push_back({pixels.size(), frame->width_px, frame->height_px});
-    AppendPixels(*frame, nullptr, &pixels);
+    spans->push_back({pixels->size(), frame->width_px, frame->height_px});
+    AppendPixels(*frame, nullptr, pixels);
   }
   for (const LabelledFrame& lf : labels) {
     std::vector<int> mapped(lf.labels.size(), -1);
@@ -384,47 +388,78 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
     for (size_t i = 0; i < lf.labels.size(); ++i) {
       if (lf.labels[i] >= 0) mapped[i] = index[static_cast<size_t>(lf.labels[i])];
     }
-    spans.push_back({pixels.size(), lf.image->width_px, lf.image->height_px});
-    AppendPixels(*lf.image, &mapped, &pixels);
+    spans->push_back({pixels->size(), lf.image->width_px, lf.image->height_px});
+    AppendPixels(*lf.image, &mapped, pixels);
   }
+}
 
-  AutoThresholdsFit fit;
-  fit.frame_pixels = static_cast<long>(pixels.size());
-  FindCarpet(&pixels, options.gate_sigmas);
-
-  // Seeds: the vocabulary's typical colour, or the mean of the class's labelled pixels.
-  const int n = static_cast<int>(entries.size());
-  std::vector<Centre> centres(static_cast<size_t>(n));
-  std::vector<bool> has_hand(static_cast<size_t>(n), false);
-  for (int k = 0; k < n; ++k) {
+// Seeds: the vocabulary's typical colour, or the mean of the class's labelled pixels.
+std::vector<Centre> SeedCentres(const std::vector<const ColourEntry*>& entries,
+                                std::vector<Pixel>* pixels) {
+  const size_t n = entries.size();
+  std::vector<Centre> centres(n);
+  std::vector<bool> has_hand(n, false);
+  for (size_t k = 0; k < n; ++k) {
     int y, u, v;
     RgbToYuv(entries[k]->rgb[0], entries[k]->rgb[1], entries[k]->rgb[2], &y, &u, &v);
     centres[k] = SeedOf(y, u, v);
   }
-  for (Pixel& p : pixels) {
+  for (Pixel& p : *pixels) {
     if (p.hand >= 0) p.label = p.hand, has_hand[static_cast<size_t>(p.hand)] = true;
   }
-  for (int k = 0; k < n; ++k) {
-    if (has_hand[k]) {
-      const bool chromatic = centres[k].chromatic;
-      Update(pixels, k, &centres[k]);
-      centres[k].chromatic = chromatic;
-    }
+  for (size_t k = 0; k < n; ++k) {
+    if (!has_hand[k]) continue;
+    const bool chromatic = centres[k].chromatic;
+    Update(*pixels, static_cast<int>(k), &centres[k]);
+    centres[k].chromatic = chromatic;
   }
+  return centres;
+}
+
+// The nearest centre within the gate, or -1; hand-labelled and carpet pixels keep their label.
+void AssignPixels(const std::vector<Centre>& centres, int carpet_class,
+                  const AutoThresholdsOptions& options, std::vector<Pixel>* pixels) {
   const double gate2 = options.gate_sigmas * options.gate_sigmas;
-  for (int round = 0; round <= options.iterations; ++round) {
-    for (Pixel& p : pixels) {
-      if (p.hand >= 0 || p.label == -2) continue;
-      int best = -1;
-      double best_d2 = gate2;
-      for (int k = 0; k < n; ++k) {
-        if (k == carpet_class) continue;
-        if (centres[k].chromatic && p.chroma < options.min_chroma_levels) continue;
-        const double d2 = Distance2(p, centres[k]);
-        if (d2 <= best_d2) best = k, best_d2 = d2;
-      }
-      p.label = best;
+  const int n = static_cast<int>(centres.size());
+  for (Pixel& p : *pixels) {
+    if (p.hand >= 0 || p.label == -2) continue;
+    int best = -1;
+    double best_d2 = gate2;
+    for (int k = 0; k < n; ++k) {
+      if (k == carpet_class) continue;
+      if (centres[k].chromatic && p.chroma < options.min_chroma_levels) continue;
+      const double d2 = Distance2(p, centres[k]);
+      if (d2 <= best_d2) best = k, best_d2 = d2;
     }
+    p.label = best;
+  }
+}
+
+}  // namespace
+
+AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
+                                    const std::vector<std::string>& class_names,
+                                    const ColourVocabulary& vocabulary,
+                                    const AutoThresholdsOptions& options,
+                                    const std::vector<LabelledFrame>& labels) {
+  Validate(options);
+  if (frames.empty() && labels.empty()) throw InputError("no frames; expected at least one frame");
+  const std::vector<const ColourEntry*> entries = ClassEntries(class_names, vocabulary);
+  const auto carpet_entry = std::find(entries.begin(), entries.end(), vocabulary.Find("carpet"));
+  const int carpet_class =
+      carpet_entry == entries.end() ? -1 : static_cast<int>(carpet_entry - entries.begin());
+
+  std::vector<Pixel> pixels;
+  std::vector<FrameSpan> spans;
+  CollectPixels(frames, labels, entries, vocabulary, &pixels, &spans);
+  AutoThresholdsFit fit;
+  fit.frame_pixels = static_cast<long>(pixels.size());
+  FindCarpet(&pixels, options.gate_sigmas);
+
+  const int n = static_cast<int>(entries.size());
+  std::vector<Centre> centres = SeedCentres(entries, &pixels);
+  for (int round = 0; round <= options.iterations; ++round) {
+    AssignPixels(centres, carpet_class, options, &pixels);
     DropLargeRegions(spans, options.max_patch_fraction, &pixels);
     if (round == options.iterations) break;
     for (int k = 0; k < n; ++k) {
@@ -449,33 +484,6 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
   }
   Separability(&fit);
   return fit;
-}
-
-std::string AutoThresholdsReport(const AutoThresholdsFit& fit) {
-  std::string out =
-      StringPrintf("%-12s %9s %7s %-16s %7s %-10s %-10s %-10s %8s %s\n", "class", "pixels",
-                   "labels", "mean Y,U,V", "spread", "Y", "U", "V", "separab.", "nearest");
-  const auto row = [&](const AutoClassFit& c) {
-    const auto range = [](const ChannelRange& r) {
-      return std::to_string(r.lo) + ":" + std::to_string(r.hi);
-    };
-    const std::string mean = FormatFixed(c.mean_yuv[0], 0) + "," + FormatFixed(c.mean_yuv[1], 0) +
-                             "," + FormatFixed(c.mean_yuv[2], 0);
-    out += StringPrintf(
-        "%-12s %9ld %7ld %-16s %7s %-10s %-10s %-10s %8s %s\n", c.name.c_str(), c.pixels,
-        c.labelled, mean.c_str(), FormatFixed(c.spread_levels, 1).c_str(),
-        range(c.range[0]).c_str(), range(c.range[1]).c_str(), range(c.range[2]).c_str(),
-        c.pixels == 0 || c.nearest.empty() ? "-" : FormatFixed(c.separability, 1).c_str(),
-        c.nearest.c_str());
-  };
-  row(fit.carpet);
-  for (const AutoClassFit& c : fit.classes) row(c);
-  out += "pixels looked at " + std::to_string(fit.frame_pixels) +
-         "; separability = distance to the nearest class's mean / root sum of the two spreads\n";
-  for (const AutoClassFit& c : fit.classes) {
-    if (c.pixels == 0) out += "warning: no pixel of " + c.name + " found; its box is empty\n";
-  }
-  return out;
 }
 
 }  // namespace patlab::vision
