@@ -155,6 +155,58 @@ int RunAuto(const ThresholdsCommandOptions& o) {
 
 }  // namespace
 
+namespace {
+
+// LABELS -> thresholds (the labelled fit, thresholds_fit.h).
+int RunLabelled(ThresholdsCommandOptions* o) {
+  if (o->inputs.size() > 1) {
+    throw InputError("more than one LABELS file; expected one (several frames: --auto)");
+  }
+  if (!o->inputs.empty()) o->labels = o->inputs.front();
+  if (o->labels.empty())
+    throw InputError("missing LABELS; expected 'patlab thresholds LABELS.toml --out DIR'");
+  if (o->out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
+  o->out = (std::filesystem::path(o->out) / "thresholds.toml").string();
+  const auto space = FindName(o->space, vision::kColorSpaceNames);
+  if (!space) {
+    throw InputError("--space is '" + EscapeForMessage(o->space) + "'; expected " +
+                     NameList(vision::kColorSpaceNames));
+  }
+  o->fit.space = *space;
+  vision::Validate(o->fit);
+  io::CheckWritable({o->out});
+
+  const vision::Labels labels = vision::LoadLabels(FindData(o->labels, io::DataKind::kSettings));
+  if (!o->settings.empty()) {
+    vision::CheckClassesKnown(
+        labels,
+        detect::LoadDetectorSettings(FindData(o->settings, io::DataKind::kSettings)).palette);
+  }
+  const vision::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
+  std::optional<vision::Image> mask;
+  if (!labels.mask_path.empty()) {
+    mask = ReadAt(labels, labels.mask_path, labels.mask_line, "mask");
+  }
+  const std::vector<int> pixel_labels =
+      vision::LabelPixels(labels, image.width_px, image.height_px, mask ? &*mask : nullptr);
+  const vision::ThresholdsFit fit = vision::FitThresholds(image, pixel_labels, labels, o->fit);
+  const std::string text = vision::ThresholdsToml(
+      fit.thresholds, "Made by patlab thresholds from " + labels.source + " (lower percentile " +
+                          FormatNumber(o->fit.lower_percentile) + ", upper percentile " +
+                          FormatNumber(o->fit.upper_percentile) + ", margin " +
+                          std::to_string(o->fit.margin_levels) + " levels).");
+  try {
+    io::WriteFilesAtomic({{o->out, text}});
+  } catch (const std::exception& e) {
+    std::cerr << "patlab thresholds: " << e.what() << "\n";
+    return kExitFailure;
+  }
+  std::cout << vision::ThresholdsFitReport(fit) << "wrote " << o->out << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
 // The help's option groups (command_line.h).
 const OptionGroups kThresholdsGroups = {
     {"input", {"settings"}},
@@ -213,50 +265,7 @@ int RunThresholds(const std::vector<std::string>& args) {
       throw InputError(std::string("--") + flag + " without --auto; expected it with --auto");
     }
   }
-  if (o.inputs.size() > 1) {
-    throw InputError("more than one LABELS file; expected one (several frames: --auto)");
-  }
-  if (!o.inputs.empty()) o.labels = o.inputs.front();
-  if (o.labels.empty())
-    throw InputError("missing LABELS; expected 'patlab thresholds LABELS.toml --out DIR'");
-  if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
-  o.out = (std::filesystem::path(o.out) / "thresholds.toml").string();
-  const auto space = FindName(o.space, vision::kColorSpaceNames);
-  if (!space) {
-    throw InputError("--space is '" + EscapeForMessage(o.space) + "'; expected " +
-                     NameList(vision::kColorSpaceNames));
-  }
-  o.fit.space = *space;
-  vision::Validate(o.fit);
-  io::CheckWritable({o.out});
-
-  const vision::Labels labels = vision::LoadLabels(FindData(o.labels, io::DataKind::kSettings));
-  if (!o.settings.empty()) {
-    vision::CheckClassesKnown(
-        labels,
-        detect::LoadDetectorSettings(FindData(o.settings, io::DataKind::kSettings)).palette);
-  }
-  const vision::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
-  std::optional<vision::Image> mask;
-  if (!labels.mask_path.empty()) {
-    mask = ReadAt(labels, labels.mask_path, labels.mask_line, "mask");
-  }
-  const std::vector<int> pixel_labels =
-      vision::LabelPixels(labels, image.width_px, image.height_px, mask ? &*mask : nullptr);
-  const vision::ThresholdsFit fit = vision::FitThresholds(image, pixel_labels, labels, o.fit);
-  const std::string text = vision::ThresholdsToml(
-      fit.thresholds, "Made by patlab thresholds from " + labels.source + " (lower percentile " +
-                          FormatNumber(o.fit.lower_percentile) + ", upper percentile " +
-                          FormatNumber(o.fit.upper_percentile) + ", margin " +
-                          std::to_string(o.fit.margin_levels) + " levels).");
-  try {
-    io::WriteFilesAtomic({{o.out, text}});
-  } catch (const std::exception& e) {
-    std::cerr << "patlab thresholds: " << e.what() << "\n";
-    return kExitFailure;
-  }
-  std::cout << vision::ThresholdsFitReport(fit) << "wrote " << o.out << "\n";
-  return kExitOk;
+  return RunLabelled(&o);
 }
 
 PATLAB_REGISTER_COMMAND("thresholds", "fit colour thresholds to labelled sample pixels",
