@@ -116,7 +116,7 @@ TEST(CalibrateHoldout, HeldOutErrorAgreesWithTheTrueMappingError) {
   const Field field = Ssl2009();
   int compared = 0;
   double worst_ratio = 1.0, in_sample_ratio = 0.0;
-  for (uint64_t seed = 1; seed <= 8; ++seed) {
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     RandomStream rng(seed, 7, 0);
     const vision::CameraModel truth = vision::CameraModel::Pinhole(RandomCamera(rng));
@@ -126,7 +126,16 @@ TEST(CalibrateHoldout, HeldOutErrorAgreesWithTheTrueMappingError) {
     const auto fold = DistortionFoldRadius(t.k1, t.k2);
     if (in.points.size() < 6 || (fold && *fold < std::hypot(400 / t.fx_px, 300 / t.fy_px)))
       continue;  // too few points, or a true lens that folds inside the image
-    const CalibrationFit fit = FitCamera(in);
+    CalibrationFit fit;
+    try {
+      fit = FitCamera(in);
+    } catch (const InputError& e) {
+      // A draw whose visible points give no start (fewer than four in general position at the
+      // start's tolerance, a knife edge that another compiler's last bits can tip) says nothing
+      // about the held-out error: the next seed is drawn, as for too few points above.
+      if (std::string(e.what()).find("three on a line") == std::string::npos) throw;
+      continue;
+    }
     ASSERT_EQ(fit.heldout_folds, 5);
     ASSERT_EQ(fit.planes.size(), 1u);
     EXPECT_EQ(fit.planes[0].heldout_count, fit.planes[0].count);
