@@ -85,6 +85,9 @@ struct FitOptions {
   std::optional<double> camera_height_mm;
   double camera_height_sd_mm = 10.0;
   int max_iterations = 200;
+  // A start camera of the caller's own (the automatic field calibration's, auto_calibrate.h):
+  // when set, the fit starts from it alone and needs no known points.
+  std::optional<vision::PinholeCamera> start_camera;
 };
 
 struct CalibrationInput {
