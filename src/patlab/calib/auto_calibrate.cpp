@@ -1,7 +1,10 @@
 // The automatic field calibration's search for the camera (auto_calibrate.h steps 1-3).
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <cstdio>
+#include <cstdlib>
 
 #include "patlab/calib/auto_calibrate_internal.h"
 #include "patlab/core/error.h"
@@ -11,6 +14,7 @@ namespace patlab::calib::internal {
 namespace {
 
 constexpr double kTauPx = 6.0;       // a mark within this of a line pixel is explained
+constexpr double kCoarseTauPx = 16.0;  // the same for the unrefined hypotheses
 constexpr double kPenalty = 0.5;     // per unexplained length, of an explained one
 constexpr double kSampleStepPx = 6.0;  // the spacing of the scored points along the marks
 constexpr double kAxisTolerance = 0.2;  // |sin| of a pixel's angle to an image axis
@@ -34,25 +38,25 @@ Vec2 Apply(const NadirView& v, const Vec2& p, double width) {
 // The score of points `world` through `project` (px of line length).
 template <typename Project>
 double Score(const std::vector<Vec2>& world, double spacing_px, const LineDistance& dt,
-             Project project) {
+             Project project, double tau = kTauPx) {
   double sum = 0.0;
   for (const Vec2& p : world) {
     const auto q = project(p);
     if (!q || q->x() < 0 || q->y() < 0 || q->x() > dt.width() - 1 || q->y() > dt.height() - 1)
       continue;
     const double d = dt.At(*q);
-    sum += d <= kTauPx ? 1.0 - (d * d) / (kTauPx * kTauPx) : -kPenalty;
+    sum += d <= tau ? 1.0 - (d * d) / (tau * tau) : -kPenalty;
   }
   return sum * spacing_px;
 }
 
 double ViewScore(const NadirView& v, const FieldMarks& marks, const LineDistance& dt,
-                 double step_px) {
+                 double step_px, double tau = kTauPx) {
   const std::vector<Vec2> world = SampleMarks(marks, step_px / v.scale, nullptr);
   const Vec2 c(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
   return Score(world, step_px, dt, [&](const Vec2& p) -> std::optional<Vec2> {
     return c + Apply(v, p, dt.width());
-  });
+  }, tau);
 }
 
 // Peaks of a histogram of positions across one image axis: (position px, weight).
@@ -82,7 +86,7 @@ std::vector<double> Peaks(const std::vector<double>& positions, double extent) {
   return out;
 }
 
-void Refine(ScoredView& sv, const FieldMarks& marks, const LineDistance& dt) {
+void Refine(ScoredView& sv, const FieldMarks& marks, const LineDistance& dt, double tau) {
   double steps[5] = {0.02, 0.01, 4.0 / sv.view.scale, 4.0 / sv.view.scale, 0.04};
   auto with = [&](int i, double d) {
     NadirView v = sv.view;
@@ -100,8 +104,46 @@ void Refine(ScoredView& sv, const FieldMarks& marks, const LineDistance& dt) {
       for (int i = 0; i < 5; ++i) {
         for (double sign : {1.0, -1.0}) {
           const NadirView v = with(i, sign * steps[i]);
-          const double score = ViewScore(v, marks, dt, 4.0);
+          const double score = ViewScore(v, marks, dt, 4.0, tau);
           if (score > sv.score) sv = {v, score}, improved = true;
+        }
+      }
+    }
+    for (double& s : steps) s *= 0.5;
+  }
+}
+
+// The camera refined by coordinate descent on the score: rotation about its own axes, centre,
+// height and k1 (the focal length stays: the floor alone hardly separates it from the height).
+void RefineCamera(ScoredView& sv, const FieldMarks& marks, const LineDistance& dt, double tau) {
+  const double height = (-sv.camera.rotation.transpose() * sv.camera.translation_mm).z();
+  const double mm_per_px = height / sv.camera.fx_px;
+  double steps[7] = {0.02, 0.02, 0.02, 6 * mm_per_px, 6 * mm_per_px, 0.03, 0.04};
+  auto with = [&](int i, double d) {
+    vision::PinholeCamera c = sv.camera;
+    Eigen::Vector3d centre = -c.rotation.transpose() * c.translation_mm;
+    if (i < 3) {
+      c.rotation = Eigen::AngleAxisd(d, Eigen::Vector3d::Unit(i)).matrix() * c.rotation;
+    } else if (i < 5) {
+      centre(i - 3) += d;
+    } else if (i == 5) {
+      centre.z() *= std::exp(d);
+    } else {
+      c.k1 = std::clamp(c.k1 + d, -0.8, 0.4);
+    }
+    c.translation_mm = -c.rotation * centre;
+    return c;
+  };
+  sv.score = CameraScore(sv.camera, marks, dt, tau);
+  for (int round = 0; round < 5; ++round) {
+    bool improved = true;
+    for (int pass = 0; pass < 6 && improved; ++pass) {
+      improved = false;
+      for (int i = 0; i < 7; ++i) {
+        for (double sign : {1.0, -1.0}) {
+          const vision::PinholeCamera c = with(i, sign * steps[i]);
+          const double score = CameraScore(c, marks, dt, tau);
+          if (score > sv.score) sv.camera = c, sv.score = score, improved = true;
         }
       }
     }
@@ -149,14 +191,15 @@ double LineDistance::At(const Vec2& q) const {
 }
 
 double CameraScore(const vision::PinholeCamera& camera, const FieldMarks& marks,
-                   const LineDistance& dt) {
+                   const LineDistance& dt, double tau_px) {
   const vision::CameraModel model = vision::CameraModel::Pinhole(camera);
   // Points about 2 px apart where the camera sees them: the step from the mm per px at the
   // image centre.
   const Vec2 c(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
   const double scale = std::sqrt(std::max(1e-9, model.AreaScale(c, 0.0)));
   const std::vector<Vec2> world = SampleMarks(marks, 2.0 * scale, nullptr);
-  return Score(world, 2.0, dt, [&](const Vec2& p) { return model.WorldToPixel(p, 0.0); });
+  return Score(world, 2.0, dt, [&](const Vec2& p) { return model.WorldToPixel(p, 0.0); },
+               tau_px);
 }
 
 vision::PinholeCamera PinholeOf(const NadirView& v, int width, int height) {
@@ -273,7 +316,7 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
               if (s >= s_min && s <= s_max) scales.push_back(s);
             }
     }
-    for (double s = s_min; s <= s_max; s *= 1.04) scales.push_back(s);
+    for (double s = s_min; s <= s_max; s *= 1.03) scales.push_back(s);
     for (double s : scales) {
       // Candidate centres along each axis: a peak matched to a field line; none: the middle.
       auto centres = [&](const std::vector<double>& pk, const std::vector<double>& w,
@@ -289,7 +332,7 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
       for (double a : ca)
         for (double b : cb) {
           NadirView v{k, psi, s, a_is_x ? Vec2(a, b) : Vec2(b, a), 0.0};
-          all.push_back({v, ViewScore(v, marks, dt, 12.0)});
+          all.push_back({v, ViewScore(v, marks, dt, 12.0, kCoarseTauPx)});
         }
     }
   }
@@ -314,8 +357,22 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
                      "least two crossing field lines of the field");
   }
   for (ScoredView& b : best) {
-    b.score = ViewScore(b.view, marks, dt, 4.0);
-    Refine(b, marks, dt);
+    b.score = ViewScore(b.view, marks, dt, 4.0, kCoarseTauPx);
+    Refine(b, marks, dt, kCoarseTauPx);
+    b.camera = PinholeOf(b.view, width, height);
+    RefineCamera(b, marks, dt, kCoarseTauPx);
+    RefineCamera(b, marks, dt, kTauPx);
+    if (std::getenv("PATLAB_AUTO_DEBUG"))
+      std::fprintf(stderr, "view k=%d psi=%.3f s=%.4f c=(%.0f,%.0f) kd=%.3f score=%.0f\n", b.view.k,
+                   b.view.psi, b.view.scale, b.view.centre_mm.x(), b.view.centre_mm.y(), b.view.kd,
+                   b.score);
+  }
+  if (std::getenv("PATLAB_AUTO_DEBUG")) {
+    std::fprintf(stderr, "peaks a:");
+    for (double p : peaks_a) std::fprintf(stderr, " %.0f", p);
+    std::fprintf(stderr, "; b:");
+    for (double p : peaks_b) std::fprintf(stderr, " %.0f", p);
+    std::fprintf(stderr, "; psi %.3f; %zu hypotheses\n", psi, all.size());
   }
   std::sort(best.begin(), best.end(),
             [](const ScoredView& x, const ScoredView& y) { return x.score > y.score; });

@@ -49,7 +49,7 @@ struct LinePixel {
 
 struct AutoOptions {
   double huber_px = 1.0;  // the fit's Huber scale, > 0
-  int max_fit_pixels = 500;  // the line pixels the fit uses at most (evenly along each mark)
+  int max_fit_pixels = 300;  // the line pixels the fit uses at most (evenly along each mark)
   // Held fixed in the fit (calibrate.h FitOptions::fixed).
   std::vector<FitParameter> fixed = {FitParameter::kAspect, FitParameter::kK2};
   // The camera's height above the floor, if measured: separates focal length from height,
@@ -67,7 +67,15 @@ struct AutoCalibration {
   double runner_up_px = 0.0;  // the best non-equivalent other one's
   bool point_symmetric = false;  // the field is the same rotated by 180 deg
   bool turned = false;           // the search's camera was turned by 180 deg to the kept one
+  // The held-out pixels' floor distances to their marks (mm): RMS and worst; they hold the line
+  // finder's noise as well as the camera's error. Their means over each run of 8 along a mark
+  // average the noise away: held_out_mapping_mm = sqrt(mean of the squared run means - the
+  // noise's share of them), the estimated RMS floor error of the camera. (The runs measure one
+  // axis of the error, across the line: 1 / sqrt 2 of the 2-D error; a fold's camera is fitted to
+  // half the pixels: sqrt 2 times the whole fit's error; the two cancel.) held_out_noise_mm is
+  // the within-run spread (the finder's noise).
   double held_out_rms_mm = 0.0, held_out_worst_mm = 0.0;
+  double held_out_mapping_mm = 0.0, held_out_noise_mm = 0.0;
   int held_out_count = 0;
   double seconds = 0.0;
   std::vector<std::string> notes;

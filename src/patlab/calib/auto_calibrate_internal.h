@@ -31,6 +31,7 @@ vision::PinholeCamera Turned(const vision::PinholeCamera& camera);
 struct ScoredView {
   NadirView view;
   double score = 0.0;
+  vision::PinholeCamera camera;  // the view refined as a pinhole camera (tilt, distortion)
 };
 std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int width, int height,
                                     const Field& field, const FieldMarks& marks, bool symmetric,
@@ -50,7 +51,7 @@ class LineDistance {
   std::vector<float> d_;
 };
 double CameraScore(const vision::PinholeCamera& camera, const FieldMarks& marks,
-                   const LineDistance& distance);
+                   const LineDistance& distance, double tau_px = 6.0);
 
 bool PointSymmetric(const Field& field);
 
