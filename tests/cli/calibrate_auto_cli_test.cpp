@@ -76,8 +76,7 @@ TEST(CalibrateAutoCli, AFrameWithoutLinesIsExit2WithNothingWritten) {
   const auto r = RunCommand(kBinary + " calibrate " + dir.Path("carpet.png") +
                             " --auto --field ssl-2009 -o " + dir.Path("cal"));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("carpet.png: found 0 line pixels; expected at least 100"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("carpet.png: found 0 line pixels; expected at least 100"), std::string::npos)
       << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir.Path("cal/calibration.toml")));
 }

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <cstdio>
-#include <cstdlib>
 
 #include "patlab/calib/auto_calibrate_internal.h"
 #include "patlab/core/error.h"
@@ -13,10 +11,10 @@
 namespace patlab::calib::internal {
 namespace {
 
-constexpr double kTauPx = 6.0;       // a mark within this of a line pixel is explained
-constexpr double kCoarseTauPx = 16.0;  // the same for the unrefined hypotheses
-constexpr double kPenalty = 0.5;     // per unexplained length, of an explained one
-constexpr double kSampleStepPx = 6.0;  // the spacing of the scored points along the marks
+constexpr double kTauPx = 6.0;          // a mark within this of a line pixel is explained
+constexpr double kCoarseTauPx = 16.0;   // the same for the unrefined hypotheses
+constexpr double kPenalty = 0.5;        // per unexplained length, of an explained one
+constexpr double kSampleStepPx = 6.0;   // the spacing of the scored points along the marks
 constexpr double kAxisTolerance = 0.2;  // |sin| of a pixel's angle to an image axis
 constexpr double kBinPx = 3.0;
 
@@ -24,10 +22,18 @@ Vec2 Apply(const NadirView& v, const Vec2& p, double width) {
   const Vec2 d = p - v.centre_mm;
   Vec2 ab;
   switch (v.k & 3) {
-    case 0: ab = Vec2(d.x(), -d.y()); break;
-    case 1: ab = Vec2(d.y(), d.x()); break;
-    case 2: ab = Vec2(-d.x(), d.y()); break;
-    default: ab = Vec2(-d.y(), -d.x()); break;
+    case 0:
+      ab = Vec2(d.x(), -d.y());
+      break;
+    case 1:
+      ab = Vec2(d.y(), d.x());
+      break;
+    case 2:
+      ab = Vec2(-d.x(), d.y());
+      break;
+    default:
+      ab = Vec2(-d.y(), -d.x());
+      break;
   }
   ab *= v.scale;
   const double c = std::cos(v.psi), s = std::sin(v.psi);
@@ -54,9 +60,9 @@ double ViewScore(const NadirView& v, const FieldMarks& marks, const LineDistance
                  double step_px, double tau = kTauPx) {
   const std::vector<Vec2> world = SampleMarks(marks, step_px / v.scale, nullptr);
   const Vec2 c(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
-  return Score(world, step_px, dt, [&](const Vec2& p) -> std::optional<Vec2> {
-    return c + Apply(v, p, dt.width());
-  }, tau);
+  return Score(
+      world, step_px, dt,
+      [&](const Vec2& p) -> std::optional<Vec2> { return c + Apply(v, p, dt.width()); }, tau);
 }
 
 // Peaks of a histogram of positions across one image axis: (position px, weight).
@@ -105,7 +111,7 @@ void Refine(ScoredView& sv, const FieldMarks& marks, const LineDistance& dt, dou
         for (double sign : {1.0, -1.0}) {
           const NadirView v = with(i, sign * steps[i]);
           const double score = ViewScore(v, marks, dt, 4.0, tau);
-          if (score > sv.score) sv = {v, score}, improved = true;
+          if (score > sv.score) sv.view = v, sv.score = score, improved = true;
         }
       }
     }
@@ -123,7 +129,15 @@ void RefineCamera(ScoredView& sv, const FieldMarks& marks, const LineDistance& d
     vision::PinholeCamera c = sv.camera;
     Eigen::Vector3d centre = -c.rotation.transpose() * c.translation_mm;
     if (i < 3) {
-      c.rotation = Eigen::AngleAxisd(d, Eigen::Vector3d::Unit(i)).matrix() * c.rotation;
+      // About the camera's own axes, orbiting the floor point the optical axis meets (a tilt
+      // keeps the image centre where it was).
+      const Eigen::Vector3d axis = c.rotation.transpose().col(2);
+      const double along = axis.z() < -1e-6 ? -centre.z() / axis.z() : 0.0;
+      const Eigen::Vector3d look = centre + along * axis;
+      const Eigen::Matrix3d turned =
+          Eigen::AngleAxisd(d, Eigen::Vector3d::Unit(i)).matrix() * c.rotation;
+      centre = look + turned.transpose() * (c.rotation * (centre - look));
+      c.rotation = turned;
     } else if (i < 5) {
       centre(i - 3) += d;
     } else if (i == 5) {
@@ -156,7 +170,8 @@ void RefineCamera(ScoredView& sv, const FieldMarks& marks, const LineDistance& d
 LineDistance::LineDistance(const std::vector<LinePixel>& pixels, int width, int height)
     : w_(width), h_(height), d_(static_cast<size_t>(width) * height, 1e6f) {
   for (const LinePixel& p : pixels) {
-    const int x = static_cast<int>(std::lround(p.pixel.x())), y = static_cast<int>(std::lround(p.pixel.y()));
+    const int x = static_cast<int>(std::lround(p.pixel.x())),
+              y = static_cast<int>(std::lround(p.pixel.y()));
     if (x >= 0 && y >= 0 && x < w_ && y < h_) d_[static_cast<size_t>(y) * w_ + x] = 0.0f;
   }
   // Two-pass chamfer distance (1, sqrt 2).
@@ -193,13 +208,13 @@ double LineDistance::At(const Vec2& q) const {
 double CameraScore(const vision::PinholeCamera& camera, const FieldMarks& marks,
                    const LineDistance& dt, double tau_px) {
   const vision::CameraModel model = vision::CameraModel::Pinhole(camera);
-  // Points about 2 px apart where the camera sees them: the step from the mm per px at the
+  // Points about 3 px apart where the camera sees them: the step from the mm per px at the
   // image centre.
   const Vec2 c(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
   const double scale = std::sqrt(std::max(1e-9, model.AreaScale(c, 0.0)));
-  const std::vector<Vec2> world = SampleMarks(marks, 2.0 * scale, nullptr);
-  return Score(world, 2.0, dt, [&](const Vec2& p) { return model.WorldToPixel(p, 0.0); },
-               tau_px);
+  const std::vector<Vec2> world = SampleMarks(marks, 3.0 * scale, nullptr);
+  return Score(
+      world, 3.0, dt, [&](const Vec2& p) { return model.WorldToPixel(p, 0.0); }, tau_px);
 }
 
 vision::PinholeCamera PinholeOf(const NadirView& v, int width, int height) {
@@ -210,10 +225,18 @@ vision::PinholeCamera PinholeOf(const NadirView& v, int width, int height) {
   cam.k1 = v.kd;
   Eigen::Matrix2d a;
   switch (v.k & 3) {
-    case 0: a << 1, 0, 0, -1; break;
-    case 1: a << 0, 1, 1, 0; break;
-    case 2: a << -1, 0, 0, 1; break;
-    default: a << 0, -1, -1, 0; break;
+    case 0:
+      a << 1, 0, 0, -1;
+      break;
+    case 1:
+      a << 0, 1, 1, 0;
+      break;
+    case 2:
+      a << -1, 0, 0, 1;
+      break;
+    default:
+      a << 0, -1, -1, 0;
+      break;
   }
   Eigen::Matrix2d rot;
   rot << std::cos(v.psi), -std::sin(v.psi), std::sin(v.psi), std::cos(v.psi);
@@ -319,8 +342,7 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
     for (double s = s_min; s <= s_max; s *= 1.03) scales.push_back(s);
     for (double s : scales) {
       // Candidate centres along each axis: a peak matched to a field line; none: the middle.
-      auto centres = [&](const std::vector<double>& pk, const std::vector<double>& w,
-                         double sign) {
+      auto centres = [&](const std::vector<double>& pk, const std::vector<double>& w, double sign) {
         std::vector<double> out;
         for (double p : pk)
           for (double v : w) out.push_back(v - p / (sign * s));
@@ -332,7 +354,7 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
       for (double a : ca)
         for (double b : cb) {
           NadirView v{k, psi, s, a_is_x ? Vec2(a, b) : Vec2(b, a), 0.0};
-          all.push_back({v, ViewScore(v, marks, dt, 12.0, kCoarseTauPx)});
+          all.push_back(ScoredView{v, ViewScore(v, marks, dt, 12.0, kCoarseTauPx), {}});
         }
     }
   }
@@ -342,11 +364,12 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
   // The best distinct ones, refined.
   std::vector<ScoredView> best;
   for (const ScoredView& h : all) {
-    if (best.size() >= 8) break;
+    if (best.size() >= 6) break;
     bool same = false;
     for (const ScoredView& b : best)
-      same = same || (b.view.k == h.view.k && std::abs(std::log(b.view.scale / h.view.scale)) < 0.05 &&
-                      (b.view.centre_mm - h.view.centre_mm).norm() * h.view.scale < 15.0);
+      same =
+          same || (b.view.k == h.view.k && std::abs(std::log(b.view.scale / h.view.scale)) < 0.05 &&
+                   (b.view.centre_mm - h.view.centre_mm).norm() * h.view.scale < 15.0);
     if (!same) best.push_back(h);
   }
   if (best.empty() || best.front().score <= 0.0) {
@@ -362,17 +385,6 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
     b.camera = PinholeOf(b.view, width, height);
     RefineCamera(b, marks, dt, kCoarseTauPx);
     RefineCamera(b, marks, dt, kTauPx);
-    if (std::getenv("PATLAB_AUTO_DEBUG"))
-      std::fprintf(stderr, "view k=%d psi=%.3f s=%.4f c=(%.0f,%.0f) kd=%.3f score=%.0f\n", b.view.k,
-                   b.view.psi, b.view.scale, b.view.centre_mm.x(), b.view.centre_mm.y(), b.view.kd,
-                   b.score);
-  }
-  if (std::getenv("PATLAB_AUTO_DEBUG")) {
-    std::fprintf(stderr, "peaks a:");
-    for (double p : peaks_a) std::fprintf(stderr, " %.0f", p);
-    std::fprintf(stderr, "; b:");
-    for (double p : peaks_b) std::fprintf(stderr, " %.0f", p);
-    std::fprintf(stderr, "; psi %.3f; %zu hypotheses\n", psi, all.size());
   }
   std::sort(best.begin(), best.end(),
             [](const ScoredView& x, const ScoredView& y) { return x.score > y.score; });

@@ -13,16 +13,22 @@
 //  2. Scoring. Each hypothesis projects points along the field's painted marks (field_marks.h)
 //     into the image and is scored by the line length it explains (marks within a few px of a
 //     line pixel, by a distance transform of the line pixels) minus half the length it puts
-//     where there is no line. The best are refined (scale, rotation, position and a radial
-//     distortion, by coordinate descent on a truncated chamfer cost).
+//     where there is no line. The six best distinct ones are refined by coordinate descent on
+//     the same score: first as similarities (scale, rotation, position, a radial distortion),
+//     then as pinhole cameras (tilts orbiting the floor point at the image centre, position,
+//     height, k1).
 //  3. Symmetry. A field that is the same rotated by 180 deg about its centre (mirrored about
 //     both axes) gives two equivalent cameras for every view; the one whose image centre looks
 //     at x >= 0 (at the pos half; on the halfway line, at y >= 0) is kept, and the report says
 //     whether the search's camera was turned to it.
-//  4. Fit. From the best hypothesis as a nadir pinhole camera, each line pixel is given to the
-//     painted mark nearest its back-projection on the floor (within a gate that shrinks from 12
-//     to 3 px), and calib::FitCamera fits every free parameter to the line and circle
-//     observations with a Huber loss, three rounds.
+//  4. Fit. From each of the two best cameras (the second only when it scores at least 80% of
+//     the first), each line pixel is given to the painted mark nearest its back-projection on
+//     the floor (within a gate of 12, then 5, then 3 px, and within 25 deg of its direction),
+//     and calib::FitCamera fits every free parameter to the line and circle observations with a
+//     Huber loss, three rounds; a fit that leaves the camera model's range (the floor alone
+//     hardly separates focal length from height) is redone with the focal length held. The
+//     better final score wins; a different camera (not the equivalent one) scoring 90% of it
+//     makes the frame ambiguous.
 //  5. Held-out error. The pixels of every observation, in runs of 8 along it, are split into
 //     two folds; the camera fitted to one fold back-projects the other's pixels, and their
 //     distance on the floor to their mark, in mm, is the held-out mapping error.
@@ -48,7 +54,7 @@ struct LinePixel {
 };
 
 struct AutoOptions {
-  double huber_px = 1.0;  // the fit's Huber scale, > 0
+  double huber_px = 1.0;     // the fit's Huber scale, > 0
   int max_fit_pixels = 300;  // the line pixels the fit uses at most (evenly along each mark)
   // Held fixed in the fit (calibrate.h FitOptions::fixed).
   std::vector<FitParameter> fixed = {FitParameter::kAspect, FitParameter::kK2};
@@ -58,13 +64,13 @@ struct AutoOptions {
 };
 
 struct AutoCalibration {
-  CalibrationInput input;  // the observations found (lines and circles), for the file
-  CalibrationFit fit;      // the fit on every observation
-  int line_pixels = 0;     // found
-  int assigned_pixels = 0;  // within the final gate of a mark
-  int hypotheses = 0;       // scored
-  double score_px = 0.0;    // the best hypothesis' explained length minus penalty (px)
-  double runner_up_px = 0.0;  // the best non-equivalent other one's
+  CalibrationInput input;        // the observations found (lines and circles), for the file
+  CalibrationFit fit;            // the fit on every observation
+  int line_pixels = 0;           // found
+  int assigned_pixels = 0;       // within the final gate of a mark
+  int hypotheses = 0;            // scored
+  double score_px = 0.0;         // the best hypothesis' explained length minus penalty (px)
+  double runner_up_px = 0.0;     // the best non-equivalent other one's
   bool point_symmetric = false;  // the field is the same rotated by 180 deg
   bool turned = false;           // the search's camera was turned by 180 deg to the kept one
   // The held-out pixels' floor distances to their marks (mm): RMS and worst; they hold the line

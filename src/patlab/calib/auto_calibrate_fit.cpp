@@ -15,9 +15,10 @@ namespace {
 using internal::PinholeOf;
 using internal::Turned;
 
-constexpr double kMaxAngle = 0.42;  // |sin| between a pixel's direction and its mark's, on the floor
-constexpr int kMinPixels = 8;       // an observation's pixels at least
-constexpr int kRun = 8;             // the held-out folds' run length along a mark
+constexpr double kMaxAngle =
+    0.42;                      // |sin| between a pixel's direction and its mark's, on the floor
+constexpr int kMinPixels = 8;  // an observation's pixels at least
+constexpr int kRun = 8;        // the held-out folds' run length along a mark
 
 struct Assigned {
   CalibrationInput input;
@@ -170,8 +171,13 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
   }
   const FieldMarks marks = PaintedMarks(field);
   out.point_symmetric = internal::PointSymmetric(field);
-  const auto views = internal::SearchViews(pixels, width_px, height_px, field, marks,
-                                           out.point_symmetric, &out.hypotheses);
+  std::vector<internal::ScoredView> views;
+  try {
+    views = internal::SearchViews(pixels, width_px, height_px, field, marks, out.point_symmetric,
+                                  &out.hypotheses);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
   const internal::LineDistance dt(pixels, width_px, height_px);
   // The base input: the frame and the fit's options.
   CalibrationInput base;
@@ -210,6 +216,16 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
         if (!missing.empty()) throw InputError(missing);
         c.assigned.input.options.start_camera = cam;
         c.fit = FitCamera(c.assigned.input);
+        if (!vision::Check(c.fit.camera).empty()) {
+          // The floor alone hardly separates the focal length from the height, and the fit
+          // wandered along that valley out of the camera model's range: the focal length is held
+          // at the start's instead (the floor's mapping is the same along the valley).
+          base.options.fixed.push_back(FitParameter::kFocal);
+          c.assigned.input.options.fixed = base.options.fixed;
+          c.fit = FitCamera(c.assigned.input);
+          out.notes.push_back("the focal length was held at " + FormatSignificant(cam.fx_px, 4) +
+                              " px: fitted freely it left the camera model's range");
+        }
         cam = c.fit.camera;
       }
       c.score = internal::CameraScore(cam, marks, dt);
@@ -227,20 +243,24 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
                      best.failure + "); expected a frame whose lines cross");
   }
   out.score_px = best.score;
-  out.runner_up_px = candidates.size() > 1 && std::isfinite(candidates[1].score)
-                         ? candidates[1].score
-                         : 0.0;
+  out.runner_up_px =
+      candidates.size() > 1 && std::isfinite(candidates[1].score) ? candidates[1].score : 0.0;
   if (candidates.size() > 1 && std::isfinite(candidates[1].score)) {
     // A second camera that maps the frame differently yet explains it nearly as well.
     const vision::CameraModel a = vision::CameraModel::Pinhole(best.fit.camera);
-    const vision::CameraModel b = vision::CameraModel::Pinhole(candidates[1].fit.camera);
-    double differ = 0.0;
-    for (double fx : {0.25, 0.5, 0.75})
-      for (double fy : {0.25, 0.5, 0.75}) {
-        const Vec2 px(fx * width_px, fy * height_px);
-        const auto qa = a.PixelToWorld(px, 0.0), qb = b.PixelToWorld(px, 0.0);
-        if (qa && qb) differ = std::max(differ, (*qa - *qb).norm());
-      }
+    double differ = INFINITY;
+    for (int turn = 0; turn < (out.point_symmetric ? 2 : 1); ++turn) {  // equivalents are equal
+      const vision::CameraModel b = vision::CameraModel::Pinhole(
+          turn == 0 ? candidates[1].fit.camera : Turned(candidates[1].fit.camera));
+      double d = 0.0;
+      for (double fx : {0.25, 0.5, 0.75})
+        for (double fy : {0.25, 0.5, 0.75}) {
+          const Vec2 px(fx * width_px, fy * height_px);
+          const auto qa = a.PixelToWorld(px, 0.0), qb = b.PixelToWorld(px, 0.0);
+          if (qa && qb) d = std::max(d, (*qa - *qb).norm());
+        }
+      differ = std::min(differ, d);
+    }
     const double mm_per_px = std::sqrt(a.AreaScale(Vec2(0.5 * width_px, 0.5 * height_px), 0.0));
     if (differ > 20.0 * mm_per_px && candidates[1].score > 0.9 * best.score) {
       throw InputError(source + ": the line pixels do not decide the camera: two cameras " +
@@ -289,7 +309,8 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
     for (const CircleObservation& c : test.circles) runs_of(c.pixels, nullptr, &c);
   }
   out.held_out_count = count;
-  out.held_out_rms_mm = count > 0 ? std::sqrt(sum / count) : std::numeric_limits<double>::quiet_NaN();
+  out.held_out_rms_mm =
+      count > 0 ? std::sqrt(sum / count) : std::numeric_limits<double>::quiet_NaN();
   out.held_out_worst_mm = worst;
   const double noise_var = within_dof > 0 ? within / within_dof : 0.0;
   out.held_out_noise_mm = std::sqrt(noise_var);
@@ -302,11 +323,10 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
 
 std::string AutoReportText(const AutoCalibration& a) {
   std::string s = "# automatic field calibration\n";
-  s += "line pixels found: " + std::to_string(a.line_pixels) + "; assigned to the field's marks: " +
-       std::to_string(a.assigned_pixels) + "\n";
+  s += "line pixels found: " + std::to_string(a.line_pixels) +
+       "; assigned to the field's marks: " + std::to_string(a.assigned_pixels) + "\n";
   s += "observations: " + std::to_string(a.input.lines.size()) + " lines (";
-  for (size_t i = 0; i < a.input.lines.size(); ++i)
-    s += (i ? ", " : "") + a.input.lines[i].name;
+  for (size_t i = 0; i < a.input.lines.size(); ++i) s += (i ? ", " : "") + a.input.lines[i].name;
   s += "), " + std::to_string(a.input.circles.size()) + " circles (";
   for (size_t i = 0; i < a.input.circles.size(); ++i)
     s += (i ? ", " : "") + a.input.circles[i].name;
@@ -315,20 +335,23 @@ std::string AutoReportText(const AutoCalibration& a) {
        FormatSignificant(a.score_px, 5) + " px of line, the other refined one " +
        FormatSignificant(a.runner_up_px, 5) + " px\n";
   if (a.point_symmetric) {
-    s += std::string("symmetry: the field is the same rotated by 180 deg (mirrored about both "
-                     "axes); of the two equivalent cameras the one whose image centre looks at "
-                     "x >= 0 is kept") +
+    s += std::string(
+             "symmetry: the field is the same rotated by 180 deg (mirrored about both "
+             "axes); of the two equivalent cameras the one whose image centre looks at "
+             "x >= 0 is kept") +
          (a.turned ? " (the search's camera was turned to it)" : "") + "\n";
   } else {
     s += "symmetry: none (the field is not the same rotated by 180 deg)\n";
   }
   s += "held-out mapping error: " + FormatSignificant(a.held_out_mapping_mm, 3) +
        " mm RMS on the floor (estimated from the run means of the held-out pixels, the line "
-       "finder's noise of " + FormatSignificant(a.held_out_noise_mm, 3) + " mm removed)\n";
+       "finder's noise of " +
+       FormatSignificant(a.held_out_noise_mm, 3) + " mm removed)\n";
   s += "held-out pixels: RMS " + FormatSignificant(a.held_out_rms_mm, 3) + " mm, worst " +
        FormatSignificant(a.held_out_worst_mm, 3) + " mm over " + std::to_string(a.held_out_count) +
        " line pixels (two folds of alternating runs of 8 along each mark; each pixel's floor "
        "distance to its mark through the camera fitted to the other fold)\n";
+  for (const std::string& n : a.notes) s += "note: " + n + "\n";
   s += "seconds: " + FormatSignificant(a.seconds, 3) + "\n\n";
   return s + FitReportText(a.input, a.fit);
 }

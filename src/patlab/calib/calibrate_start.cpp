@@ -252,7 +252,11 @@ std::vector<FitState> StartCandidates(const CalibrationInput& in) {
     s.intrinsics = {cam.fx_px, cam.fy_px / cam.fx_px, cam.cx_px, cam.cy_px, cam.k1, cam.k2};
     const Eigen::AngleAxisd aa(cam.rotation);
     const Eigen::Vector3d rv = aa.angle() * aa.axis();
-    s.pose = {rv.x(), rv.y(), rv.z(), cam.translation_mm.x(), cam.translation_mm.y(),
+    s.pose = {rv.x(),
+              rv.y(),
+              rv.z(),
+              cam.translation_mm.x(),
+              cam.translation_mm.y(),
               cam.translation_mm.z()};
     std::vector<std::string> notes;
     StartNuisance(in, s, notes);

@@ -12,13 +12,15 @@ namespace patlab::vision {
 Image RenderFieldLines(const calib::Field& field, const CameraModel& camera, int width_px,
                        int height_px, const FieldLineStyle& style) {
   if (!camera.is_pinhole()) {
-    throw InputError("camera: a homography camera cannot render field lines; expected a pinhole "
-                     "camera");
+    throw InputError(
+        "camera: a homography camera cannot render field lines; expected a pinhole "
+        "camera");
   }
   if (!(style.line_width_mm > 0.0) || style.supersample < 1 || style.supersample > 8 ||
       width_px <= 0 || height_px <= 0) {
-    throw InputError("field line style: line_width_mm must be > 0, supersample in [1, 8] and the "
-                     "image size positive");
+    throw InputError(
+        "field line style: line_width_mm must be > 0, supersample in [1, 8] and the "
+        "image size positive");
   }
   const calib::FieldMarks marks = calib::PaintedMarks(field);
   const double half = 0.5 * style.line_width_mm;

@@ -28,7 +28,8 @@ Plane Smooth(const Plane& in, double sigma) {
   const int r = std::max(1, static_cast<int>(std::ceil(3.0 * sigma)));
   std::vector<float> k(2 * r + 1);
   double sum = 0.0;
-  for (int i = -r; i <= r; ++i) sum += k[i + r] = static_cast<float>(std::exp(-0.5 * i * i / (sigma * sigma)));
+  for (int i = -r; i <= r; ++i)
+    sum += k[i + r] = static_cast<float>(std::exp(-0.5 * i * i / (sigma * sigma)));
   for (float& x : k) x = static_cast<float>(x / sum);
   Plane tmp = Blank(in.w, in.h), out = Blank(in.w, in.h);
   for (int y = 0; y < in.h; ++y)
@@ -51,7 +52,8 @@ Plane BoxMean(const Plane& in, int r) {
   std::vector<double> sat(static_cast<size_t>(in.w + 1) * (in.h + 1), 0.0);
   auto s = [&](int x, int y) -> double& { return sat[static_cast<size_t>(y) * (in.w + 1) + x]; };
   for (int y = 0; y < in.h; ++y)
-    for (int x = 0; x < in.w; ++x) s(x + 1, y + 1) = in.at(x, y) + s(x, y + 1) + s(x + 1, y) - s(x, y);
+    for (int x = 0; x < in.w; ++x)
+      s(x + 1, y + 1) = in.at(x, y) + s(x, y + 1) + s(x + 1, y) - s(x, y);
   Plane out = Blank(in.w, in.h);
   for (int y = 0; y < in.h; ++y)
     for (int x = 0; x < in.w; ++x) {
@@ -114,7 +116,8 @@ std::vector<calib::LinePixel> FindLinePixels(const Image& frame, const LineFinde
       const double mean = 0.5 * (gxx + gyy), diff = std::hypot(0.5 * (gxx - gyy), gxy);
       const double lambda = mean - diff, other = mean + diff;
       if (-lambda < min_curvature || std::abs(other) > 0.5 * std::abs(lambda)) continue;
-      Vec2 n = std::abs(gxy) > 1e-12 ? Vec2(gxy, lambda - gxx) : (gxx < gyy ? Vec2(1, 0) : Vec2(0, 1));
+      Vec2 n =
+          std::abs(gxy) > 1e-12 ? Vec2(gxy, lambda - gxx) : (gxx < gyy ? Vec2(1, 0) : Vec2(0, 1));
       n.normalize();
       const double gx = 0.5 * (g.at(x + 1, y) - g.at(x - 1, y));
       const double gy = 0.5 * (g.at(x, y + 1) - g.at(x, y - 1));
@@ -140,8 +143,9 @@ Image DrawLinePixels(const Image& frame, const std::vector<calib::LinePixel>& pi
     std::vector<int> mark;
     for (const Vec2& q : calib::SampleMarks(marks, 5.0, &mark)) {
       const auto px = cam.WorldToPixel(q, 0.0);
-      if (px) PutPixel(&out, static_cast<int>(std::lround(px->x())),
-                       static_cast<int>(std::lround(px->y())), {0, 255, 255});
+      if (px)
+        PutPixel(&out, static_cast<int>(std::lround(px->x())),
+                 static_cast<int>(std::lround(px->y())), {0, 255, 255});
     }
   }
   for (const calib::LinePixel& p : pixels)
@@ -156,8 +160,7 @@ FrameCalibration AutoCalibrateFrame(const Image& frame, const std::string& sourc
   FrameCalibration out;
   const auto t0 = std::chrono::steady_clock::now();
   out.pixels = FindLinePixels(frame, finder);
-  out.find_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.find_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.calibration =
       calib::AutoCalibrate(out.pixels, frame.width_px, frame.height_px, source, field, options);
   return out;

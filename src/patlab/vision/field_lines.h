@@ -21,9 +21,9 @@
 namespace patlab::vision {
 
 struct LineFinderOptions {
-  double line_width_px = 4.0;   // the lines' expected width in the image, in [1, 30]
-  double min_contrast = 20.0;   // luminance above the local carpet (8-bit levels), in (0, 255]
-  double max_chroma = 60.0;     // |U - 128| + |V - 128| of a line pixel, in (0, 255]
+  double line_width_px = 4.0;     // the lines' expected width in the image, in [1, 30]
+  double min_contrast = 20.0;     // luminance above the local carpet (8-bit levels), in (0, 255]
+  double max_chroma = 60.0;       // |U - 128| + |V - 128| of a line pixel, in (0, 255]
   int background_window_px = 31;  // odd, in [5, 255]: the local carpet's window
 };
 
@@ -44,8 +44,7 @@ struct FrameCalibration {
   double find_seconds = 0.0;
 };
 FrameCalibration AutoCalibrateFrame(const Image& frame, const std::string& source,
-                                    const calib::Field& field,
-                                    const LineFinderOptions& finder = {},
+                                    const calib::Field& field, const LineFinderOptions& finder = {},
                                     const calib::AutoOptions& options = {});
 
 }  // namespace patlab::vision
