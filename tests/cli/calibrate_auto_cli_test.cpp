@@ -56,7 +56,7 @@ TEST(CalibrateAutoCli, RealSslFrameAgreesWithTheHandMeasuredCalibration) {
   const auto r = RunCommand(kBinary + " calibrate " + frame + " --auto --field ssl-2009 -o " +
                             dir.Path("auto") + " --debug");
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
-  EXPECT_NE(r.out.find("held-out mapping error: RMS "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("held-out mapping error: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("symmetry: the field is the same rotated by 180 deg"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir.Path("auto/lines.png")));
   EXPECT_EQ(testing::ReadFile(dir.Path("auto/report.txt")).substr(0, 31),
@@ -65,7 +65,10 @@ TEST(CalibrateAutoCli, RealSslFrameAgreesWithTheHandMeasuredCalibration) {
   const vision::Calibration b = vision::LoadCalibration(dir.Path("auto/calibration.toml"));
   const auto [rms, worst] = FloorDifferenceMm(a.camera, b.camera, 780, 580, 3025, 2025);
   std::printf("real SSL frame: auto vs hand-measured: RMS %.1f mm, worst %.1f mm\n", rms, worst);
-  EXPECT_LT(rms, 30.0);
+  // Measured: 27.4 mm RMS, worst 126 mm (at the field's far corners, where the hand-measured
+  // input has no pixels); the hand fit's own residual is 9 mm RMS, the automatic one's held-out
+  // error about 9 mm. A wrong match of the field (a line taken for its neighbour) is metres off.
+  EXPECT_LT(rms, 35.0);
 }
 
 TEST(CalibrateAutoCli, AFrameWithoutLinesIsExit2WithNothingWritten) {
