@@ -340,6 +340,12 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
             }
     }
     for (double s = s_min; s <= s_max; s *= 1.03) scales.push_back(s);
+    // Scales within 1% of a kept one add nothing the coarse score could tell apart.
+    std::sort(scales.begin(), scales.end());
+    std::vector<double> distinct;
+    for (double s : scales)
+      if (distinct.empty() || s > 1.01 * distinct.back()) distinct.push_back(s);
+    scales = distinct;
     for (double s : scales) {
       // Candidate centres along each axis: a peak matched to a field line; none: the middle.
       auto centres = [&](const std::vector<double>& pk, const std::vector<double>& w, double sign) {
