@@ -103,7 +103,7 @@ TEST(FieldLines, BadOptionsAreInputErrors) {
   LineFinderOptions o;
   o.line_width_px = 0.5;
   EXPECT_INPUT_ERROR(FindLinePixels(Image::Rgb(10, 10), o),
-                     "--line-width: 0.500000 px is out of range; expected 1 to 30");
+                     "--line-width: 0.5 px is out of range; expected 1 to 30");
 }
 
 TEST(FieldLines, AnEmptyCarpetDoesNotDecideTheCamera) {

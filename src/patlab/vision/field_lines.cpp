@@ -8,6 +8,7 @@
 
 #include "patlab/calib/field_marks.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/render/draw.h"
 
 namespace patlab::vision {
@@ -67,7 +68,7 @@ Plane BoxMean(const Plane& in, int r) {
 
 void Check(const LineFinderOptions& o) {
   if (!(o.line_width_px >= 1.0 && o.line_width_px <= 30.0))
-    throw InputError("--line-width: " + std::to_string(o.line_width_px) +
+    throw InputError("--line-width: " + FormatNumber(o.line_width_px) +
                      " px is out of range; expected 1 to 30");
   if (!(o.min_contrast > 0.0 && o.min_contrast <= 255.0))
     throw InputError("line finder: min_contrast must be in (0, 255]");
