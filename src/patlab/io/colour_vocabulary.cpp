@@ -86,8 +86,12 @@ ColourVocabulary ParseColourVocabulary(std::string_view text, const std::string&
     wordings.insert(wordings.begin(), e.name);
     for (const std::string& w : wordings) {
       if (const ColourEntry* other = v.Find(w)) {
-        r.Fail("name", "'" + EscapeForMessage(w) + "' of [[colour]] " + std::to_string(i + 1) +
-                           " is already '" + other->name +
+        // Built by appends: GCC 12's -Wrestrict misfires on "literal" + std::string&&.
+        std::string message = "'";
+        message += EscapeForMessage(w);
+        message += "' of [[colour]] ";
+        message += std::to_string(i + 1);
+        r.Fail("name", message + " is already '" + other->name +
                            "'; expected every name and alias once (case, spaces, hyphens and "
                            "underscores do not count)");
       }
