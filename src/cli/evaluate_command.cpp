@@ -52,8 +52,8 @@ struct EvaluateFlags {
   std::string patterns_dir;
 };
 
-sim::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::variables_map& vm,
-                                          sim::EvaluateOptions o) {
+design::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::variables_map& vm,
+                                             design::EvaluateOptions o) {
   if (f.patterns.empty()) {
     throw InputError(
         "missing PATTERN; expected 'patlab evaluate PATTERN... [options]' (see --help)");
@@ -71,7 +71,7 @@ sim::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::vari
 
 int RunEvaluate(const std::vector<std::string>& args) {
   EvaluateFlags f;
-  sim::EvaluateOptions o;
+  design::EvaluateOptions o;
   po::options_description visible("usage: patlab evaluate PATTERN... [options]\n\noptions");
   // clang-format off
   visible.add_options()
@@ -106,24 +106,24 @@ int RunEvaluate(const std::vector<std::string>& args) {
   std::vector<std::pair<std::string, Pattern>> patterns;
   for (const std::string& reference : f.patterns) {
     const std::string file = FindPattern(reference, f.patterns_dir);
-    patterns.emplace_back(file, io::LoadPatternFile(file));
+    patterns.emplace_back(file, formats::LoadPatternFile(file));
   }
-  std::vector<sim::EvaluationReport> reports;
+  std::vector<design::EvaluationReport> reports;
   for (const auto& [file, pattern] : patterns) {
     Progress progress("patlab evaluate " + pattern.name, "steps", !f.quiet, StderrIsTerminal());
-    sim::EvaluateOptions with_progress = o;
+    design::EvaluateOptions with_progress = o;
     with_progress.progress = progress.Callback();
-    reports.push_back(sim::EvaluatePattern(pattern, file, with_progress));
+    reports.push_back(design::EvaluatePattern(pattern, file, with_progress));
     reports.back().options.progress = nullptr;
   }
   if (f.format == "json") {
-    std::cout << sim::EvaluationJson(o, reports);
+    std::cout << design::EvaluationJson(o, reports);
     return kExitOk;
   }
   std::string text;
   for (size_t k = 0; k < reports.size(); ++k) {
     if (k > 0) text += "\n";
-    text += sim::EvaluationText(reports[k]);
+    text += design::EvaluationText(reports[k]);
   }
   std::cout << TrimLineEnds(text);
   return kExitOk;

@@ -46,7 +46,7 @@ struct ThresholdsCommandOptions {
 };
 
 // A frame the labels file names, its errors put at the line that names it.
-vision::Image ReadAt(const vision::Labels& labels, const std::string& path, int line,
+camera::Image ReadAt(const vision::Labels& labels, const std::string& path, int line,
                      const char* key) {
   try {
     return vision::ReadFrame(path);
@@ -88,14 +88,14 @@ int RunThresholds(const std::vector<std::string>& args) {
   vision::Validate(o.fit);
   io::CheckWritable({o.out});
 
-  const vision::Labels labels = vision::LoadLabels(FindData(o.labels, io::DataKind::kSettings));
+  const vision::Labels labels = formats::LoadLabels(FindData(o.labels, io::DataKind::kSettings));
   if (!o.settings.empty()) {
     vision::CheckClassesKnown(
         labels,
-        detect::LoadDetectorSettings(FindData(o.settings, io::DataKind::kSettings)).palette);
+        formats::LoadDetectorSettings(FindData(o.settings, io::DataKind::kSettings)).palette);
   }
-  const vision::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
-  std::optional<vision::Image> mask;
+  const camera::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
+  std::optional<camera::Image> mask;
   if (!labels.mask_path.empty()) {
     mask = ReadAt(labels, labels.mask_path, labels.mask_line, "mask");
   }

@@ -64,7 +64,7 @@ struct Writer {
     }
   }
 
-  bool Add(const vision::Image& image, int64_t pts) {
+  bool Add(const camera::Image& image, int64_t pts) {
     if (av_frame_make_writable(frame) < 0) return false;
     const uint8_t* source[1] = {image.data.data()};
     const int stride[1] = {image.RowBytes()};
@@ -80,7 +80,7 @@ struct Writer {
 
 }  // namespace
 
-bool WriteLosslessVideo(const std::string& path, const std::vector<vision::Image>& frames,
+bool WriteLosslessVideo(const std::string& path, const std::vector<camera::Image>& frames,
                         int fps) {
   if (frames.empty()) return false;
   Writer writer;

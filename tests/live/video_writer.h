@@ -10,6 +10,6 @@
 namespace patlab::live::testing {
 
 // Writes `frames` (RGB, one size) at `fps` frames per second; false when FFmpeg refuses.
-bool WriteLosslessVideo(const std::string& path, const std::vector<vision::Image>& frames, int fps);
+bool WriteLosslessVideo(const std::string& path, const std::vector<camera::Image>& frames, int fps);
 
 }  // namespace patlab::live::testing

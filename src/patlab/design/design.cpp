@@ -18,7 +18,7 @@
 #include "patlab/estimate/estimators.h"
 #include "patlab/io/csv.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 using internal::EvaluateLayout;
 using internal::IdRadius;
@@ -375,4 +375,4 @@ DesignResult RunDesign(const DesignOptions& options) {
   return r;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -8,7 +8,7 @@
 #include "patlab/formats/toml_values_internal.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::calib {
+namespace patlab::formats {
 
 namespace {
 
@@ -21,15 +21,15 @@ std::string UniqueName(const io::TomlReader& r, std::set<std::string>& seen) {
   return name;
 }
 
-void ReadFeatures(const toml::table& root, const std::string& file, Field& field) {
+void ReadFeatures(const toml::table& root, const std::string& file, calib::Field& field) {
   namespace in = internal;
   std::set<std::string> seen;
   const auto lines = in::TableArray(root, "line", file);
   for (size_t i = 0; i < lines.size(); ++i) {
     const io::TomlReader r(*lines[i], file, "[[line]] " + std::to_string(i + 1));
     r.CheckKeys({"name", "from_mm", "to_mm"});
-    FieldLine l{UniqueName(r, seen), in::ReadPair(r, "from_mm", "[x, y] in mm"),
-                in::ReadPair(r, "to_mm", "[x, y] in mm")};
+    calib::FieldLine l{UniqueName(r, seen), in::ReadPair(r, "from_mm", "[x, y] in mm"),
+                       in::ReadPair(r, "to_mm", "[x, y] in mm")};
     if ((l.to_mm - l.from_mm).norm() < 1.0)
       r.Fail("to_mm", r.Describe("to_mm") +
                           " is within 1 mm of from_mm; expected two distinct points of the line");
@@ -39,8 +39,8 @@ void ReadFeatures(const toml::table& root, const std::string& file, Field& field
   for (size_t i = 0; i < circles.size(); ++i) {
     const io::TomlReader r(*circles[i], file, "[[circle]] " + std::to_string(i + 1));
     r.CheckKeys({"name", "centre_mm", "radius_mm"});
-    FieldCircle c{UniqueName(r, seen), in::ReadPair(r, "centre_mm", "[x, y] in mm"),
-                  r.Number("radius_mm")};
+    calib::FieldCircle c{UniqueName(r, seen), in::ReadPair(r, "centre_mm", "[x, y] in mm"),
+                         r.Number("radius_mm")};
     if (!(c.radius_mm >= 1.0))
       r.Fail("radius_mm", r.Describe("radius_mm") + " is " + FormatNumber(c.radius_mm) +
                               "; expected a radius of at least 1 mm");
@@ -56,11 +56,11 @@ void ReadFeatures(const toml::table& root, const std::string& file, Field& field
 
 }  // namespace
 
-Field ParseField(std::string_view text, const std::string& source_name) {
+calib::Field ParseField(std::string_view text, const std::string& source_name) {
   const toml::table root = io::ParseTomlText(text, source_name);
   const io::TomlReader top(root, source_name);
   top.CheckKeys({"name", "source", "line", "circle", "point"});
-  Field field;
+  calib::Field field;
   field.name = top.String("name");
   field.source = top.OptionalString("source").value_or("");
   ReadFeatures(root, source_name, field);
@@ -72,8 +72,8 @@ Field ParseField(std::string_view text, const std::string& source_name) {
   return field;
 }
 
-Field LoadField(const std::string& path) {
+calib::Field LoadField(const std::string& path) {
   return ParseField(io::ReadTextFile(path, "field geometry TOML file"), path);
 }
 
-}  // namespace patlab::calib
+}  // namespace patlab::formats

@@ -7,11 +7,11 @@
 
 #include "patlab/calib/field.h"
 
-namespace patlab::calib {
+namespace patlab::formats {
 
 // Reads a field file. Throws InputError "file:line: what is wrong; expected what" for the first
 // problem.
-Field LoadField(const std::string& path);
-Field ParseField(std::string_view text, const std::string& source_name);
+calib::Field LoadField(const std::string& path);
+calib::Field ParseField(std::string_view text, const std::string& source_name);
 
-}  // namespace patlab::calib
+}  // namespace patlab::formats

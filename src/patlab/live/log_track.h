@@ -14,7 +14,7 @@
 namespace patlab::live {
 
 struct LogTracks {
-  std::vector<sim::MeasuredTrack> tracks;  // in order of first appearance
+  std::vector<analysis::MeasuredTrack> tracks;  // in order of first appearance
   long skipped_frames = 0;
   int truncated = 0;  // the log's last message was cut (SslLog::truncated)
 };

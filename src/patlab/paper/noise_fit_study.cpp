@@ -8,7 +8,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/paper/noise_fit.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 namespace {
 
@@ -216,4 +216,4 @@ NoiseFitStudy RunNoiseFitStudy(const NoiseFitStudyOptions& o) {
   return study;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

@@ -13,7 +13,7 @@
 
 #include "patlab/paper/reproduce_compare.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 // How a paper number is judged.
 enum class Rule {
@@ -87,4 +87,4 @@ std::string PaperMarkdown(const Reproduction& reproduction);
 // The CSVs are compared by CompareResultCsv with Reproduction::rules.
 std::string CompareResultText(const std::string& regenerated, const std::string& committed);
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper
