@@ -131,8 +131,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
   o.columns.require_subject = vm.count("subject-column") > 0;
   o.columns.require_run = vm.count("run-column") > 0;
   o.columns.require_theta = vm.count("theta-column") > 0;
-  sim::Validate(o.columns);
-  sim::Validate(o.analysis);
+  analysis::Validate(o.columns);
+  analysis::Validate(o.analysis);
   const std::string base = o.out_dir + "/" + o.name;
   const std::vector<std::string> paths = {base + ".csv", base + "_tests.csv", base + "_errors.csv",
                                           base + ".json"};

@@ -65,7 +65,7 @@ design::CompareOptions ParseCompareOptions(const CompareFlags& f, const po::vari
   o.evaluate.sigmas_mm = ParseNumberList(
       f.sigmas, "--sigmas", "strictly increasing finite numbers >= 0 (mm), e.g. 1,2,3,4");
   o.evaluate.seed = ParseSeed(f.seed, "--seed");
-  sim::Validate(o);
+  design::Validate(o);
   o.progress = progress->Callback();
   return o;
 }

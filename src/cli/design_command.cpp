@@ -146,7 +146,7 @@ design::DesignOptions ParseDesignOptions(const DesignFlags& f, design::DesignOpt
                        std::to_string(o.id_patches) + ") ID patches");
     }
   }
-  sim::Validate(o);
+  design::Validate(o);
   return o;
 }
 

@@ -65,7 +65,7 @@ design::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::v
                                 "strictly increasing finite numbers >= 0 (mm), e.g. 1,2,3,4");
   o.seed = ParseSeed(f.seed, "--seed");
   CheckFormat(f.format, "table|json");
-  sim::Validate(o);
+  design::Validate(o);
   return o;
 }
 

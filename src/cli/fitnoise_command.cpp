@@ -85,7 +85,7 @@ int RunFitnoise(const std::vector<std::string>& args) {
   o.study.fit.seed = ParseSeed(o.seed, "--seed");
   o.study.sensitivity_radii_mm =
       ParseNumberList(o.radii, "--sensitivity-radii", "numbers in (10, 200] (mm)");
-  sim::Validate(o.study.geometry);
+  paper::Validate(o.study.geometry);
   std::vector<std::string> paths;
   for (const char* name : {"fit.csv", "data.csv", "profiles.csv", "correlation.csv", "models.csv",
                            "sensitivity.csv"}) {

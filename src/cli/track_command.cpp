@@ -106,7 +106,7 @@ analysis::TrackOptions LoadWithOverrides(const TrackCliOptions& o, const po::var
   if (vm.count("pixel-sigma")) options.pixel_sigma = o.pixel_sigma;
   if (vm.count("jitter-px")) options.jitter_sigma_px = o.jitter_px;
   if (vm.count("pixel-sigma") || vm.count("jitter-px")) {
-    const auto problems = sim::Check(options);
+    const auto problems = analysis::Check(options);
     if (!problems.empty()) {
       throw InputError("after the command-line overrides: " + problems.front().message);
     }

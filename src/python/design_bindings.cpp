@@ -89,7 +89,7 @@ design::EvaluateOptions EvaluateOptionsFrom(const py::dict& kwargs) {
 py::tuple Evaluate(const std::vector<std::pair<Pattern, std::string>>& designs,
                    const py::dict& kwargs) {
   const design::EvaluateOptions o = EvaluateOptionsFrom(kwargs);
-  sim::Validate(o);
+  design::Validate(o);
   std::vector<design::EvaluationReport> reports;
   std::string text;
   {
@@ -110,7 +110,7 @@ py::tuple Compare(const std::vector<std::pair<Pattern, std::string>>& designs,
   o.evaluate.progress = nullptr;
   o.sort_by = sort_by;
   o.progress = SignalCheck();
-  sim::Validate(o);
+  design::Validate(o);
   design::CompareResult result;
   {
     const py::gil_scoped_release nogil;
