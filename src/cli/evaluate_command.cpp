@@ -41,7 +41,7 @@ A PATTERN is a pattern file or the name of a shipped pattern (or one in --patter
 Output is the same for any --threads. Exit status: 0 ok, 2 bad input.
 )";
 
-// The flags as given; the lists and the seed are parsed into sim::EvaluateOptions.
+// The flags as given; the lists and the seed are parsed into design::EvaluateOptions.
 struct EvaluateFlags {
   std::vector<std::string> patterns;
   std::string colors = "2,3,4";

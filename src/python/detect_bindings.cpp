@@ -33,7 +33,7 @@ py::buffer_info RgbBuffer(const py::buffer& image) {
   return info;
 }
 
-// vision::Image owns its pixels (packed rows), so the frame is copied into one, row by row and
+// camera::Image owns its pixels (packed rows), so the frame is copied into one, row by row and
 // pixel by pixel when the buffer's strides are not packed; numpy makes no copy before.
 camera::Image ToImage(const py::buffer_info& info) {
   camera::Image image =

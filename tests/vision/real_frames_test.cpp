@@ -38,7 +38,7 @@ struct FrameRun {
 };
 
 // Stages 2-6 as patlab detect runs them (FrameDetector: blob classes matched to the palette by
-// name). `uyvy`: the frame converted to UYVY 4:2:2 first (vision::ToUyvy), as a camera would
+// name). `uyvy`: the frame converted to UYVY 4:2:2 first (camera::ToUyvy), as a camera would
 // send it.
 FrameRun DetectFrame(const std::string& frame, const std::string& thresholds,
                      const std::string& calibration, const std::string& settings,

@@ -1,7 +1,7 @@
-// An SSL log as measured tracks (analysis/analyze.h sim::MeasuredTrack), so that `patlab analyze`
-// can read what `patlab live --log` (or SSL-Vision) recorded: one track per robot seen, subject
-// "<team> <id>" (team yellow or blue), run "camera <id>", frame the detection frame's number,
-// x, y and theta as the packets carry them. Detections without an ID and packets without a
+// An SSL log as measured tracks (analysis/analyze.h analysis::MeasuredTrack), so that `patlab
+// analyze` can read what `patlab live --log` (or SSL-Vision) recorded: one track per robot seen,
+// subject "<team> <id>" (team yellow or blue), run "camera <id>", frame the detection frame's
+// number, x, y and theta as the packets carry them. Detections without an ID and packets without a
 // detection (geometry) are skipped; a frame number not after the last of its track (a camera
 // restarted) starts no new track but is skipped, counted in `skipped_frames`.
 #pragma once

@@ -6,9 +6,9 @@
 // vision stack can call it the same way:
 //
 //   vision::FrameDetectorOptions options;
-//   vision::ApplyFrameSettings(detect::LoadFrameSettings(s), &options);  // the file's [frame]
+//   vision::ApplyFrameSettings(formats::LoadFrameSettings(s), &options);  // the file's [frame]
 //   vision::FrameDetector frames(LoadThresholds(t), LoadCalibration(c),
-//                                detect::LoadDetectorSettings(s), options);
+//                                formats::LoadDetectorSettings(s), options);
 //   const vision::FrameResult& result = frames.DetectFile("frame.png");
 //   for (const detect::Detection& d : result.detections) ...
 //
@@ -68,7 +68,7 @@ struct FrameDetectorOptions {
 std::vector<OptionsProblem> Check(const FrameDetectorOptions& options);
 void Validate(const FrameDetectorOptions& options);
 
-// The set fields of a settings file's [frame] table (detect::LoadFrameSettings) into `options`.
+// The set fields of a settings file's [frame] table (formats::LoadFrameSettings) into `options`.
 void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOptions* options);
 
 // What FrameDetector does to a detector configuration for frames of `calibration`: the
