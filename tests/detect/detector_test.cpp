@@ -56,7 +56,7 @@ TEST(Detector, EveryPatternAndIdFromExactBlobsAtRandomPoses) {
   for (const Case& c : cases) {
     DetectorPattern dp = c.id_colours.empty()
                              ? SslDetectorPattern()
-                             : formats::MakeDetectorPattern(LoadPattern(c.pattern), c.id_colours);
+                             : MakeDetectorPattern(LoadPattern(c.pattern), c.id_colours);
     ASSERT_EQ(dp.codebook.entries.size(), c.expected_ids) << c.pattern;
     Detector detector(MakeConfig({dp}));
     const Pattern& pattern = dp.pattern;
@@ -87,7 +87,7 @@ TEST(Detector, EveryPatternAndIdFromExactBlobsAtRandomPoses) {
 
 TEST(Detector, SymmetricPatternWithoutColourCuesIsAmbiguous) {
   for (const char* name : {"linear", "triangle"}) {
-    DetectorPattern dp = formats::MakeDetectorPattern(LoadPattern(name), {"pink", "green"});
+    DetectorPattern dp = MakeDetectorPattern(LoadPattern(name), {"pink", "green"});
     Detector detector(MakeConfig({dp}));
     std::vector<Blob> blobs;
     const Pose2 pose{100.0, -50.0, 0.3};
@@ -137,7 +137,7 @@ TEST(Detector, ButterflyWrongRotationsFailTheDefaultTolerance) {
 // 4 + 36 gives 605 mm^2 and the robot is found with its ID.
 TEST(Detector, CalibrationResidualWidensTheGeometricTolerance) {
   const DetectorPattern dp =
-      formats::MakeDetectorPattern(LoadPattern("vss-two-rectangles"), {"pink", "green"});
+      MakeDetectorPattern(LoadPattern("vss-two-rectangles"), {"pink", "green"});
   const Pose2 pose{300.0, -200.0, 0.7};
   const std::vector<Blob> blobs = {
       {pose.Apply(dp.pattern.patches[0].position_mm + Vec2(0.0, 6.0)), kBlue, 2240.0},
@@ -296,7 +296,7 @@ TEST(Detector, TwoPatternsShareAKeyColourAndTheLargerFitWins) {
   // Simple and ssl-standard both keyed by blue: a noisy SSL robot also holds four Simple
   // patterns (key + one dot each), whose E is smaller, but the SSL fit explains all five blobs.
   // A lone Simple robot elsewhere is still found as Simple.
-  DetectorPattern simple = formats::MakeDetectorPattern(LoadPattern("simple"), {"pink", "green"});
+  DetectorPattern simple = MakeDetectorPattern(LoadPattern("simple"), {"pink", "green"});
   Detector detector(MakeConfig({SslDetectorPattern(), simple}));
   const DetectorPattern dp = SslDetectorPattern();
   RandomStream rng(5, 0, 0);
