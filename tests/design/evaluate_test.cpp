@@ -78,7 +78,7 @@ TEST(EvaluateOptions, CheckNamesTheFlags) {
   EXPECT_EQ(problems[1].message, "--frames is 0; expected an integer in [1, 100000000]");
 }
 
-TEST(sim::NoiseModel, CheckReportsEveryBrokenField) {
+TEST(NoiseModel, CheckReportsEveryBrokenField) {
   sim::NoiseModel noise;
   noise.sigma_y_ratio = 0.0;
   noise.outlier_probability = 1.0;
@@ -89,7 +89,7 @@ TEST(sim::NoiseModel, CheckReportsEveryBrokenField) {
   EXPECT_TRUE(Check(sim::NoiseModel{}).empty());
 }
 
-TEST(sim::RunOptions, ThreadsMustNotBeNegative) {
+TEST(RunOptions, ThreadsMustNotBeNegative) {
   sim::RunOptions options;
   options.threads = -1;
   EXPECT_INPUT_ERROR(Validate(options), "threads is -1; expected an integer >= 0 (0 = all cores)");

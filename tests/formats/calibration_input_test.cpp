@@ -16,7 +16,7 @@ calib::CalibrationInput Parse(const std::string& text) {
   return ParseCalibrationInput(text, "in.toml", std::string(PATLAB_SOURCE_DIR) + "/experiments");
 }
 
-TEST(calib::CalibrationInput, ReadsFeaturesByNameAndCoordinates) {
+TEST(CalibrationInput, ReadsFeaturesByNameAndCoordinates) {
   const calib::CalibrationInput in = Parse(R"(
 image_size_px = [780, 580]
 field = "fields/ssl-2009.toml"
@@ -60,7 +60,7 @@ pixels = [[1, 1], "missing", [2, 2], [3, 3], [4, 4]]
   EXPECT_EQ(in.class_height_mm.at("orange"), 21.5);
 }
 
-TEST(calib::CalibrationInput, BadInputSaysWhereAndWhatWasExpected) {
+TEST(CalibrationInput, BadInputSaysWhereAndWhatWasExpected) {
   const std::string head = "image_size_px = [780, 580]\nfield = \"fields/ssl-2009.toml\"\n";
   EXPECT_INPUT_ERROR(Parse(head + "[[point]]\nfeature = \"middle\"\npixel = [1, 2]\n"),
                      "in.toml:4: point feature 'middle' is not in field 'ssl-2009'; expected one "
