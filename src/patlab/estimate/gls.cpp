@@ -7,6 +7,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/portable_math.h"
+#include "patlab/estimate/newton_internal.h"
 
 namespace patlab::estimate {
 
@@ -160,16 +161,7 @@ Pose2 GeneralisedLeastSquares(const Model& model, const GaussianWeights& weights
       sum.termination = Termination::kNumericalFailure;
       break;
     }
-    r.x_mm += step.x();
-    r.y_mm += step.y();
-    r.theta_rad += step.z();
-    ++sum.iterations;
-    if (std::abs(step.x()) <= options.step_tolerance_mm &&
-        std::abs(step.y()) <= options.step_tolerance_mm &&
-        std::abs(step.z()) <= options.step_tolerance_rad) {
-      sum.termination = Termination::kConverged;
-      break;
-    }
+    if (internal::TakeNewtonStep(step, options, &r, &sum)) break;
   }
   r.theta_rad = WrapAngle(r.theta_rad);
   sum.final_cost = MahalanobisCost(model, weights, observed, r);
