@@ -37,6 +37,34 @@ double DistanceToTarget(const CalibrationInput& in, const HeldPixel& h, const Ve
   return std::abs((q - c.centre_mm).norm() - c.radius_mm);
 }
 
+// The pixels of line or circle observations (`kind` 1 or 2) with their nuisance parameters (a
+// line's position, a circle's angle): those `is_held` picks into `held`, the others into `train`
+// and `train_params`; an observation left without pixels is dropped. Returns the pixels kept.
+template <typename Observation, typename IsHeld>
+int SplitPixels(const std::vector<Observation>& all, const std::vector<std::vector<double>>& params,
+                int kind, IsHeld& is_held, std::vector<Observation>& train,
+                std::vector<std::vector<double>>& train_params, std::vector<HeldPixel>& held) {
+  int kept = 0;
+  for (size_t i = 0; i < all.size(); ++i) {
+    Observation o = all[i];
+    o.pixels.clear();
+    std::vector<double> p;
+    for (size_t j = 0; j < all[i].pixels.size(); ++j) {
+      if (is_held()) {
+        held.push_back({all[i].pixels[j], o.height_mm, kind, i});
+      } else {
+        o.pixels.push_back(all[i].pixels[j]);
+        p.push_back(params[i][j]);
+      }
+    }
+    if (o.pixels.empty()) continue;
+    kept += static_cast<int>(o.pixels.size());
+    train.push_back(std::move(o));
+    train_params.push_back(std::move(p));
+  }
+  return kept;
+}
+
 // The training data and start of fold `fold`: every unit (point, line pixel, circle pixel,
 // numbered in that order) whose number is not fold modulo `folds`; the others into `held`.
 int SplitFold(const CalibrationInput& in, const FitState& s, int folds, int fold,
@@ -56,40 +84,8 @@ int SplitFold(const CalibrationInput& in, const FitState& s, int folds, int fold
       ++kept;
     }
   }
-  for (size_t i = 0; i < in.lines.size(); ++i) {
-    LineObservation l = in.lines[i];
-    l.pixels.clear();
-    std::vector<double> t;
-    for (size_t j = 0; j < in.lines[i].pixels.size(); ++j) {
-      if (is_held()) {
-        held.push_back({in.lines[i].pixels[j], l.height_mm, 1, i});
-      } else {
-        l.pixels.push_back(in.lines[i].pixels[j]);
-        t.push_back(s.line_t[i][j]);
-      }
-    }
-    if (l.pixels.empty()) continue;
-    kept += static_cast<int>(l.pixels.size());
-    train.lines.push_back(std::move(l));
-    start.line_t.push_back(std::move(t));
-  }
-  for (size_t i = 0; i < in.circles.size(); ++i) {
-    CircleObservation c = in.circles[i];
-    c.pixels.clear();
-    std::vector<double> phi;
-    for (size_t j = 0; j < in.circles[i].pixels.size(); ++j) {
-      if (is_held()) {
-        held.push_back({in.circles[i].pixels[j], c.height_mm, 2, i});
-      } else {
-        c.pixels.push_back(in.circles[i].pixels[j]);
-        phi.push_back(s.circle_phi[i][j]);
-      }
-    }
-    if (c.pixels.empty()) continue;
-    kept += static_cast<int>(c.pixels.size());
-    train.circles.push_back(std::move(c));
-    start.circle_phi.push_back(std::move(phi));
-  }
+  kept += SplitPixels(in.lines, s.line_t, 1, is_held, train.lines, start.line_t, held);
+  kept += SplitPixels(in.circles, s.circle_phi, 2, is_held, train.circles, start.circle_phi, held);
   return kept;
 }
 
