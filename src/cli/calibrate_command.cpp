@@ -73,7 +73,7 @@ int RunCalibrate(const std::vector<std::string>& args) {
   o.out = (std::filesystem::path(o.out) / "calibration.toml").string();
 
   const calib::CalibrationInput input =
-      calib::LoadCalibrationInput(FindData(o.input, io::DataKind::kSettings));
+      formats::LoadCalibrationInput(FindData(o.input, io::DataKind::kSettings));
   const calib::CalibrationFit fit = calib::FitCamera(input);
   std::vector<std::pair<std::string, std::string>> files = {
       {o.out, calib::CalibrationFileText(input, fit)}};

@@ -272,12 +272,12 @@ int RunDetect(const std::vector<std::string>& args) {
   if (o.track) io::CheckWritable({o.track_path});
   std::optional<detect::DetectorConfig> settings;
   if (!o.settings.empty()) {
-    settings = detect::LoadDetectorSettings(o.settings);
-    vision::ApplyFrameSettings(detect::LoadFrameSettings(o.settings), &o.frame);
+    settings = formats::LoadDetectorSettings(o.settings);
+    vision::ApplyFrameSettings(formats::LoadFrameSettings(o.settings), &o.frame);
   }
   if (vm.count("edge-loss-px") > 0) o.frame.edge_loss_px = o.edge_loss_px;
-  vision::FrameDetector frames(vision::LoadThresholds(o.thresholds),
-                               vision::LoadCalibration(o.calibration), std::move(settings),
+  vision::FrameDetector frames(formats::LoadThresholds(o.thresholds),
+                               formats::LoadCalibration(o.calibration), std::move(settings),
                                o.frame);
   for (const std::string& warning : frames.warnings()) {
     std::cerr << "patlab detect: warning: " << warning << "\n";

@@ -33,11 +33,11 @@ py::buffer_info RgbBuffer(const py::buffer& image) {
   return info;
 }
 
-// vision::Image owns its pixels (packed rows), so the frame is copied into one, row by row and
+// camera::Image owns its pixels (packed rows), so the frame is copied into one, row by row and
 // pixel by pixel when the buffer's strides are not packed; numpy makes no copy before.
-vision::Image ToImage(const py::buffer_info& info) {
-  vision::Image image =
-      vision::Image::Rgb(static_cast<int>(info.shape[1]), static_cast<int>(info.shape[0]));
+camera::Image ToImage(const py::buffer_info& info) {
+  camera::Image image =
+      camera::Image::Rgb(static_cast<int>(info.shape[1]), static_cast<int>(info.shape[0]));
   const auto* base = static_cast<const uint8_t*>(info.ptr);
   const py::ssize_t sy = info.strides[0], sx = info.strides[1], sc = info.strides[2];
   for (int y = 0; y < image.height_px; ++y) {
@@ -63,11 +63,11 @@ py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
   vision::FrameDetectorOptions options;
   std::optional<detect::DetectorConfig> config;
   if (!settings.empty()) {
-    config = detect::LoadDetectorSettings(settings);
-    vision::ApplyFrameSettings(detect::LoadFrameSettings(settings), &options);
+    config = formats::LoadDetectorSettings(settings);
+    vision::ApplyFrameSettings(formats::LoadFrameSettings(settings), &options);
   }
-  vision::FrameDetector frames(vision::LoadThresholds(thresholds),
-                               vision::LoadCalibration(calibration), std::move(config), options);
+  vision::FrameDetector frames(formats::LoadThresholds(thresholds),
+                               formats::LoadCalibration(calibration), std::move(config), options);
   vision::FrameResultsWriter writer(frames, blobs);
   {
     const py::gil_scoped_release nogil;
@@ -76,7 +76,7 @@ py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
   return py::make_tuple(writer.Csv(), writer.Json(), frames.warnings());
 }
 
-py::array_t<uint8_t> ArrayOfImage(const vision::Image& rgb) {
+py::array_t<uint8_t> ArrayOfImage(const camera::Image& rgb) {
   py::array_t<uint8_t> out({rgb.height_px, rgb.width_px, 3});
   std::memcpy(out.mutable_data(), rgb.data.data(), rgb.data.size());
   return out;
@@ -84,18 +84,18 @@ py::array_t<uint8_t> ArrayOfImage(const vision::Image& rgb) {
 
 // A PNG, JPEG or PPM frame as an (H, W, 3) uint8 array.
 py::array_t<uint8_t> ReadFrame(const std::string& path) {
-  return ArrayOfImage(vision::ToRgb(vision::ReadFrame(path)));
+  return ArrayOfImage(camera::ToRgb(vision::ReadFrame(path)));
 }
 
 // `patlab render SCENE` without --camera: the scene file's frame, and its true poses as CSV.
 py::tuple Render(const std::string& path) {
-  const vision::SceneFile file = vision::LoadSceneFile(path);
-  vision::Image frame;
+  const formats::SceneFile file = formats::LoadSceneFile(path);
+  camera::Image frame;
   {
     const py::gil_scoped_release nogil;
-    frame = vision::RenderScene(file.scene, file.calibration.camera);
+    frame = render::RenderScene(file.scene, file.calibration.camera);
   }
-  return py::make_tuple(ArrayOfImage(frame), vision::TruthCsv(file.scene));
+  return py::make_tuple(ArrayOfImage(frame), render::TruthCsv(file.scene));
 }
 
 }  // namespace

@@ -16,7 +16,7 @@
 #include "patlab/io/atomic_file.h"
 #include "patlab/io/csv.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 namespace {
 
@@ -36,15 +36,15 @@ struct SegmentFrame {
   double cos_h = 1.0, sin_h = 0.0;
 };
 
-void AppendRotated(const SegmentFrame& f, double ex, double ey, ErrorSegment* s) {
+void AppendRotated(const SegmentFrame& f, double ex, double ey, stats::ErrorSegment* s) {
   // The error in the frame rotated by the heading h: R(-h) (ex, ey).
   s->x.push_back(f.cos_h * ex + f.sin_h * ey);
   s->y.push_back(-f.sin_h * ex + f.cos_h * ey);
 }
 
 // The residuals of samples [lo, hi) of a track (one gap-free segment), kept part only.
-ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int run,
-                              const AnalyzeOptions& o, int radius, SegmentFrame* f) {
+stats::ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int run,
+                                     const AnalyzeOptions& o, int radius, SegmentFrame* f) {
   const auto span = [&](const std::vector<double>& v) {
     return std::span<const double>(v.data() + lo, hi - lo);
   };
@@ -60,7 +60,7 @@ ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int 
     f->cos_h = std::cos(h);
     f->sin_h = std::sin(h);
   }
-  ErrorSegment s;
+  stats::ErrorSegment s;
   s.run = run;
   s.frame.reserve(f->end - f->begin);
   s.x.reserve(f->end - f->begin);
@@ -75,9 +75,9 @@ ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int 
 }
 
 // The true errors of the kept samples of a segment: sample - truth, rotated like the residuals.
-ErrorSegment SegmentTruth(const MeasuredTrack& t, const MeasuredTrack& truth, const SegmentFrame& f,
-                          int run) {
-  ErrorSegment s;
+stats::ErrorSegment SegmentTruth(const MeasuredTrack& t, const MeasuredTrack& truth,
+                                 const SegmentFrame& f, int run) {
+  stats::ErrorSegment s;
   s.run = run;
   for (size_t i = f.begin; i < f.end; ++i) {
     const auto it = std::lower_bound(truth.frame.begin(), truth.frame.end(), t.frame[i]);
@@ -172,7 +172,7 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
             std::to_string(report.radius), " + 1 for smoothing with sigma = ",
             FormatSignificant(report.options.smoothing.sigma_samples, 6), " samples"));
   }
-  a.est = SummariseErrors(a.est_errors, report.options.lag);
+  a.est = stats::SummariseErrors(a.est_errors, report.options.lag);
   if (report.options.correct_bias) {
     ScaleStd(&a.est.x, report.residual_factor);
     ScaleStd(&a.est.y, report.residual_factor);
@@ -180,7 +180,7 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
   }
   if (truth) {
     a.has_truth = true;
-    a.truth = SummariseErrors(a.true_errors, report.options.lag);
+    a.truth = stats::SummariseErrors(a.true_errors, report.options.lag);
   }
   return a;
 }
@@ -195,7 +195,7 @@ nlohmann::json StdJson(const stats::StdWithCi& s) {
   return {{"std", s.std}, {"lower", s.lower}, {"upper", s.upper}, {"n", s.n}};
 }
 
-nlohmann::json SummaryJson(const ErrorSummary& s) {
+nlohmann::json SummaryJson(const stats::ErrorSummary& s) {
   nlohmann::json j = {{"x", StdJson(s.x)},  {"y", StdJson(s.y)}, {"mean_x", s.mean_x},
                       {"mean_y", s.mean_y}, {"lag_x", s.lag_x},  {"lag_y", s.lag_y}};
   if (s.has_theta) j["theta"] = StdJson(s.theta);
@@ -260,15 +260,15 @@ AnalyzeReport Analyze(const std::vector<MeasuredTrack>& tracks, const AnalyzeOpt
     options.progress(static_cast<int>(report.subjects.size()), static_cast<int>(by_subject.size()));
   }
   std::vector<std::string> names;
-  std::vector<const std::vector<ErrorSegment>*> est, true_errors;
+  std::vector<const std::vector<stats::ErrorSegment>*> est, true_errors;
   for (const SubjectAnalysis& a : report.subjects) {
     names.push_back(a.subject);
     est.push_back(&a.est_errors);
     true_errors.push_back(&a.true_errors);
   }
-  report.tests = PairedAbsErrorTests("est", names, est);
+  report.tests = stats::PairedAbsErrorTests("est", names, est);
   if (truth) {
-    const std::vector<PairedTest> t = PairedAbsErrorTests("true", names, true_errors);
+    const std::vector<stats::PairedTest> t = stats::PairedAbsErrorTests("true", names, true_errors);
     report.tests.insert(report.tests.end(), t.begin(), t.end());
   }
   return report;
@@ -303,8 +303,8 @@ std::string AnalyzeTableCsv(const AnalyzeReport& report) {
     w.Cells({Fixed(s.std, decimals), Fixed(s.lower, decimals), Fixed(s.upper, decimals)});
   };
   for (const SubjectAnalysis& a : report.subjects) {
-    const ErrorSummary& e = a.est;
-    const ErrorSummary& t = a.truth;
+    const stats::ErrorSummary& e = a.est;
+    const stats::ErrorSummary& t = a.truth;
     const bool tt = a.has_truth && t.has_theta;
     w.Cell(a.subject);
     w.Cell(static_cast<int64_t>(e.x.n)).Cell(static_cast<int64_t>(a.samples));
@@ -343,8 +343,8 @@ class ErrorsWriter {
     used_ += text.size();
   }
   // One row: prefix, frame, the estimated errors and (when given) the true ones.
-  void Row(std::string_view prefix, int64_t frame, const ErrorSegment& est, size_t i,
-           const ErrorSegment* truth) {
+  void Row(std::string_view prefix, int64_t frame, const stats::ErrorSegment& est, size_t i,
+           const stats::ErrorSegment* truth) {
     Room(prefix.size() + kMaxNumbers);
     char* p = buffer_.data() + used_;
     std::memcpy(p, prefix.data(), prefix.size());
@@ -370,7 +370,7 @@ class ErrorsWriter {
     if (size > buffer_.size()) buffer_.resize(size);
   }
   // ",x,y,theta" of sample i with 4, 4 and 6 decimals, a cell empty when its column is absent.
-  static char* Errors(char* p, char* end, const ErrorSegment& e, size_t i) {
+  static char* Errors(char* p, char* end, const stats::ErrorSegment& e, size_t i) {
     for (const auto& [v, d] : {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
       *p++ = ',';
       if (!v->empty()) p = std::to_chars(p, end, (*v)[i], std::chars_format::fixed, d).ptr;
@@ -393,10 +393,10 @@ void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
   out.Text(truth ? ",true_x_mm,true_y_mm,true_theta_rad\n" : "\n");
   for (const SubjectAnalysis& a : report.subjects) {
     for (size_t g = 0; g < a.est_errors.size(); ++g) {
-      const ErrorSegment& e = a.est_errors[g];
+      const stats::ErrorSegment& e = a.est_errors[g];
       std::string prefix;  // the subject and run cells and the comma after them
       io::CsvWriter(&prefix).Cells({a.subject, report.runs[static_cast<size_t>(e.run)], ""});
-      const ErrorSegment* t = truth ? &a.true_errors[g] : nullptr;
+      const stats::ErrorSegment* t = truth ? &a.true_errors[g] : nullptr;
       for (size_t i = 0; i < e.frame.size(); ++i) out.Row(prefix, e.frame[i], e, i, t);
     }
   }
@@ -442,4 +442,4 @@ std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::vector<s
   return j.dump(2) + "\n";
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

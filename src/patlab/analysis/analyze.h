@@ -27,7 +27,7 @@
 #include "patlab/stats/error_stats.h"
 #include "patlab/stats/smoothing.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 // Column names of a track CSV (header row, then one sample a row; docs/file-formats.md).
 struct TrackColumns {
@@ -80,25 +80,25 @@ void Validate(const AnalyzeOptions& options);
 
 struct SubjectAnalysis {
   std::string subject;
-  ErrorSummary est;  // smoothing residuals (bias-corrected with correct_bias)
+  stats::ErrorSummary est;  // smoothing residuals (bias-corrected with correct_bias)
   bool has_truth = false;
-  ErrorSummary truth;  // sample - truth over the same samples (with a truth file)
-  size_t samples = 0;  // read
-  int segments = 0;    // gap-free segments analysed
+  stats::ErrorSummary truth;  // sample - truth over the same samples (with a truth file)
+  size_t samples = 0;         // read
+  int segments = 0;           // gap-free segments analysed
   int skipped_segments = 0;
-  size_t skipped_samples = 0;                         // in the skipped segments
-  std::vector<ErrorSegment> est_errors, true_errors;  // sorted by run, then frame
+  size_t skipped_samples = 0;                                // in the skipped segments
+  std::vector<stats::ErrorSegment> est_errors, true_errors;  // sorted by run, then frame
 };
 
 struct AnalyzeReport {
   AnalyzeOptions options;
   std::vector<std::string> runs;  // names; ErrorSegment::run indexes them
   std::vector<SubjectAnalysis> subjects;
-  std::vector<PairedTest> tests;  // "est" and, with a truth file, "true"
-  int radius = 0;                 // kernel radius: samples dropped per segment end
-  int min_segment = 0;            // 2 radius + 1
-  double residual_factor = 0.0;   // stats::ResidualStdFactor
-  double white_noise_lag = 0.0;   // lag-k autocorrelation of the residuals of white noise
+  std::vector<stats::PairedTest> tests;  // "est" and, with a truth file, "true"
+  int radius = 0;                        // kernel radius: samples dropped per segment end
+  int min_segment = 0;                   // 2 radius + 1
+  double residual_factor = 0.0;          // stats::ResidualStdFactor
+  double white_noise_lag = 0.0;          // lag-k autocorrelation of the residuals of white noise
 };
 
 // Analyses `tracks` (several subjects and runs). `truth` (optional, same subjects and runs, every
@@ -125,4 +125,4 @@ void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
 std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::vector<std::string>& inputs,
                                 const std::vector<std::string>& outputs);
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

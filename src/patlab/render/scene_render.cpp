@@ -10,7 +10,7 @@
 #include "patlab/core/rng.h"
 #include "patlab/io/csv.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 namespace {
 
@@ -39,18 +39,18 @@ struct PlaneTransfer {
 };
 
 // The camera centre C = -R^T t in world coordinates (mm).
-Eigen::Vector3d CameraCentre(const PinholeCamera& c) {
+Eigen::Vector3d CameraCentre(const camera::PinholeCamera& c) {
   return -c.rotation.transpose() * c.translation_mm;
 }
 
-PlaneTransfer TransferBetweenPlanes(const PinholeCamera& c, double from_mm, double to_mm) {
+PlaneTransfer TransferBetweenPlanes(const camera::PinholeCamera& c, double from_mm, double to_mm) {
   const Eigen::Vector3d centre = CameraCentre(c);
   return {Vec2(centre.x(), centre.y()), (centre.z() - to_mm) / (centre.z() - from_mm)};
 }
 
 // Every disc of the scene on the plane of the pattern tops, in paint order: the ball (lowest),
 // then per robot its top cover and its patches.
-std::vector<Disc> SceneDiscs(const FieldScene& scene, const CameraModel& camera) {
+std::vector<Disc> SceneDiscs(const FieldScene& scene, const camera::CameraModel& camera) {
   const RenderOptions& o = scene.options;
   std::vector<Disc> discs;
   if (scene.ball_mm) {
@@ -119,7 +119,7 @@ void BlurPass(const std::vector<double>& in, int width, int height,
 }
 
 // Stages 2 and 3: blur, noise keyed by (seed, pixel), rounding to 8 bits.
-void BlurAndNoise(const RenderOptions& o, Image* image) {
+void BlurAndNoise(const RenderOptions& o, camera::Image* image) {
   thread_local std::vector<double> level, across;
   level.assign(image->data.begin(), image->data.end());
   if (o.blur_sigma_px > 0.0) {
@@ -186,7 +186,7 @@ std::vector<std::string> PatchColours(const Pattern& pattern, const detect::Code
   return names;
 }
 
-Image RenderScene(const FieldScene& scene, const CameraModel& camera) {
+camera::Image RenderScene(const FieldScene& scene, const camera::CameraModel& camera) {
   const RenderOptions& o = scene.options;
   Validate(o);
   if (!camera.is_pinhole()) {
@@ -199,8 +199,8 @@ Image RenderScene(const FieldScene& scene, const CameraModel& camera) {
   }
   const std::vector<Disc> discs = SceneDiscs(scene, camera);
   // Stage 1: geometry, every disc tested on the plane of the pattern tops.
-  Image image = RenderWorldDiscs(o.width_px, o.height_px, camera, o.robot_height_mm,
-                                 ColourOf(scene, "field"), discs, o.supersampling);
+  camera::Image image = RenderWorldDiscs(o.width_px, o.height_px, camera, o.robot_height_mm,
+                                         ColourOf(scene, "field"), discs, o.supersampling);
   BlurAndNoise(o, &image);  // stages 2 and 3
   return image;
 }
@@ -221,4 +221,4 @@ std::string TruthCsv(const FieldScene& scene) {
 // ---------------------------------------------------------------------------------------------
 // Scene files.
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

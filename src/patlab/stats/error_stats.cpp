@@ -10,7 +10,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/stats/smoothing.h"
 
-namespace patlab::sim {
+namespace patlab::stats {
 
 namespace {
 
@@ -173,4 +173,4 @@ std::string PairedTestsCsv(const std::vector<PairedTest>& tests) {
   return csv;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::stats

@@ -244,7 +244,7 @@ void internal::RgbRowToYuvAvx512(const uint8_t* __restrict in, int n, uint8_t* _
 #endif
 }
 
-void Segmenter::Classify(const Image& image) {
+void Segmenter::Classify(const camera::Image& image) {
   PATLAB_CHECK(image.width_px > 0 && image.height_px > 0);
   width_ = image.width_px;
   height_ = image.height_px;
@@ -255,7 +255,7 @@ void Segmenter::Classify(const Image& image) {
   uint8_t* c1 = c0 + w;
   uint8_t* c2 = c1 + w;
   const bool yuv_lut = lut_.space() == ColorSpace::kYuv;
-  const bool rgb = image.format == PixelFormat::kRgb8;
+  const bool rgb = image.format == camera::PixelFormat::kRgb8;
   if (!rgb && w % 2 != 0) {
     // UYVY frames have even widths (frame_io checks); a last lone pixel would have no U, V.
     c0[w - 1] = c1[w - 1] = c2[w - 1] = 0;

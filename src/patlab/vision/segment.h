@@ -69,14 +69,14 @@ class Segmenter {
   // Stage 2. Fills class_image(): 0 = no class, k + 1 = class k, exactly lut().Classify of the
   // pixel + 1. Frames in either pixel format work with thresholds in either colour space (the
   // pixel is converted with image.h's BT.601 RgbToYuv / YuvToRgb when the spaces differ).
-  void Classify(const Image& image);
+  void Classify(const camera::Image& image);
   // Stage 3. Run-length encodes class_image() and joins runs into regions (union-find).
   void EncodeRuns();
   // Stage 4. Region statistics and filters.
   void ExtractRegions();
 
   // Stages 2-4 in order.
-  void Process(const Image& image) {
+  void Process(const camera::Image& image) {
     Classify(image);
     EncodeRuns();
     ExtractRegions();
