@@ -8,8 +8,8 @@
 
 namespace patlab::stats {
 
-EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> segments,
-                                    int max_lag) {
+EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> segments, int max_lag,
+                                    int min_lags) {
   if (max_lag < 1) {
     throw InputError("effective sample size: max_lag is " + std::to_string(max_lag) +
                      "; expected an integer >= 1");
@@ -41,6 +41,7 @@ EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> seg
   const int cap =
       static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(max_lag), shortest - 1));
   double sum = 0.0;
+  bool inside_band = false;
   for (int k = 1; k <= cap; ++k) {
     double c = 0.0;
     for (const std::vector<double>& d : dev) {
@@ -50,7 +51,8 @@ EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> seg
     }
     const double r = c / m2;
     if (k == 1) out.lag1 = r;
-    if (std::abs(r) < band) break;
+    inside_band = inside_band || std::abs(r) < band;
+    if (inside_band && k > min_lags) break;
     sum += r * r;
     out.lags = k;
   }
