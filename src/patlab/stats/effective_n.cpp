@@ -1,5 +1,6 @@
 #include "patlab/stats/effective_n.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -53,10 +54,12 @@ EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> seg
     if (k == 1) out.lag1 = r;
     inside_band = inside_band || std::abs(r) < band;
     if (inside_band && k > min_lags) break;
-    sum += r * r;
+    // A lag summed only because of min_lags is mostly noise: its r_k^2 carries about 1 / n of
+    // it, which is taken off (else 2R lags of a short series would inflate tau by 4R / n).
+    sum += inside_band ? r * r - 1.0 / out.n : r * r;
     out.lags = k;
   }
-  out.tau = 1.0 + 2.0 * sum;
+  out.tau = std::max(1.0, 1.0 + 2.0 * sum);
   out.dof_eff = out.dof / out.tau;
   return out;
 }
