@@ -118,9 +118,12 @@ struct EstimatorResult {
   double crlb_theta_rad = 0.0;
   double predicted_position_mm = 0.0;  // first-order predicted std of this estimator
   double predicted_theta_rad = 0.0;
-  int64_t nonconverged = 0;               // ml: trials whose Newton iteration did not converge
-  int64_t first_nonconverged_trial = -1;  // ml: replay it with this trial index (-1: none)
-  double mean_iterations = 0.0;           // ml: mean Newton steps
+  // ml and robust: trials whose iteration did not converge (Newton; robust's IRLS / EM: 200
+  // steps without a step below 1e-9 mm and 1e-11 rad), the first of them to replay (-1: none),
+  // and the mean steps.
+  int64_t nonconverged = 0;
+  int64_t first_nonconverged_trial = -1;
+  double mean_iterations = 0.0;
   Comparison vs_fast;
 };
 
