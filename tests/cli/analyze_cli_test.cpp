@@ -91,16 +91,16 @@ TEST(AnalyzeCli, DetrendLinearAndTheAutocorrelationWarning) {
     csv += StringPrintf("%d,%.4f,%.4f\n", f, 5.0 * f + ex, ey);
   }
   const std::string track = dir.Write("ar1.csv", csv);
-  const auto r = RunCommand(kPatlab + " analyze " + track + " --detrend linear -q --out " +
-                            dir.Path("out"));
+  const auto r =
+      RunCommand(kPatlab + " analyze " + track + " --detrend linear -q --out " + dir.Path("out"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("warning: subject \"track\", est x: lag-1 autocorrelation 0."),
             std::string::npos)
       << r.err;
   const std::string table = testing::ReadFile(dir.Path("out/analyze.csv"));
   EXPECT_NE(table.find("\ntrack,1000,1000,1,0,0,"), std::string::npos) << table;
-  const auto bad = RunCommand(kPatlab + " analyze " + track + " --detrend spline --out " +
-                              dir.Path("bad"));
+  const auto bad =
+      RunCommand(kPatlab + " analyze " + track + " --detrend spline --out " + dir.Path("bad"));
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--detrend"), std::string::npos) << bad.err;
 }
