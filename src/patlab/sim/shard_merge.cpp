@@ -250,12 +250,11 @@ void CheckBlockSums(const std::vector<const ShardFile*>& shards) {
     for (const auto& [block, entry] : blocks) {
       const json& b = *entry.first;
       if (b["first"].get<int64_t>() != next) {
-        Fail(entry.second->path, "block " + std::to_string(block) + " of point " +
-                                     std::to_string(index) + " starts at trial " +
-                                     b["first"].dump() + "; expected " + std::to_string(next) +
-                                     (block == 0 ? " (a point's first trial)"
-                                                 : ", where block " + std::to_string(block - 1) +
-                                                       " ends"));
+        Fail(entry.second->path,
+             "block " + std::to_string(block) + " of point " + std::to_string(index) +
+                 " starts at trial " + b["first"].dump() + "; expected " + std::to_string(next) +
+                 (block == 0 ? " (a point's first trial)"
+                             : ", where block " + std::to_string(block - 1) + " ends"));
       }
       next += b["count"].get<int64_t>();
     }
