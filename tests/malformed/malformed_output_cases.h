@@ -329,6 +329,17 @@ inline std::vector<MalformedCase> OutputAndValueMalformedCases() {
        2,
        "patlab detect: {dir}f.jpg: byte 0: corrupt or truncated JPEG (libjpeg: image size 16384x16384 cannot be coded in 543 bytes, at most 2048 pixels a byte); expected a complete JPEG image"s,
        [](const std::string& dir) { WriteBytes(dir + "f.jpg", JpegClaiming(16384, 16384)); }},
+      {"RenderRobotOutsideField",
+       {{"s.toml",
+         "calibration = \"{src}/settings/ssl-frame.calibration.toml\"\npattern = "
+         "\"{src}/patterns/ssl-standard.toml\"\ncodebook = "
+         "\"{src}/patterns/ssl-standard.codebook.toml\"\n[colours]\nfield = [40, 100, 50]\nbody = "
+         "[30, 30, 34]\nblue = [35, 75, 210]\npink = [240, 95, 185]\ngreen = [70, 215, "
+         "95]\n[[robot]]\nteam = \"blue\"\nid = 0\nx_mm = 4000.0\ny_mm = 0.0\ntheta_rad = 0.3\n"s}},
+       "render {dir}s.toml -o {dir}out",
+       2,
+       "patlab render: {dir}s.toml:13: robot at (4000, 0) mm is outside the field the camera sees (pixel (973, 262), the frame is 640x480); expected a robot whose centre is inside the rendered frame"s,
+       nullptr},
   };
 }
 
