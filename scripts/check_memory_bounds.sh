@@ -5,7 +5,7 @@
 # the largest frame is a clean "out of memory" (exit 1). ctest memory_bounds runs it.
 #   LIMIT_MB (default 2048): the documented bound; PATLAB (default build/patlab).
 set -uo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.." || exit 1
 patlab=$(realpath "${PATLAB:-build/patlab}")
 limit_kb=$((${LIMIT_MB:-2048} * 1024))
 work=$(mktemp -d /tmp/patlab-memory.XXXXXX)
