@@ -19,9 +19,9 @@
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/vision/frame_detector.h"
-#include "patlab/vision/segment.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/frame_results.h"
+#include "patlab/vision/segment.h"
 
 namespace patlab::cli {
 

@@ -43,8 +43,9 @@ void AppendListedFrames(const fs::path& path, const std::string& argument,
     ++listed;
   }
   if (listed == 0) {
-    throw InputError(argument + ": names no frame (empty, or only comments and blank lines); "
-                                "expected one frame file a line");
+    throw InputError(argument +
+                     ": names no frame (empty, or only comments and blank lines); "
+                     "expected one frame file a line");
   }
 }
 
