@@ -204,8 +204,10 @@ void CheckDebugDir(const std::string& debug_dir, const std::vector<std::string>&
     }
   }
   if (fs::exists(debug_dir, ec) && !fs::is_directory(debug_dir, ec)) {
-    throw InputError("--debug " + EscapeForMessage(debug_dir) +
-                     " is a file; expected a directory for the debug images");
+    // As an output file whose path is a directory: an unusable output location, exit 1.
+    throw EnvironmentError(EscapeForMessage(debug_dir, 1024) +
+                           ": cannot write: it is a file; expected a directory for the debug "
+                           "images");
   }
 }
 

@@ -143,8 +143,8 @@ inline std::vector<MalformedCase> OutputAndValueMalformedCases() {
        "detect {src}/tests/data/golden/ssl-frame.png -t "
        "{src}/tests/data/golden/ssl-frame.thresholds.toml -c "
        "{src}/tests/data/golden/ssl-frame.calibration.toml --out {dir}out -q --debug {dir}dbg",
-       2,
-       "patlab detect: --debug {dir}dbg is a file; expected a directory for the debug images"s,
+       1,
+       "patlab detect: {dir}dbg: cannot write: it is a file; expected a directory for the debug images"s,
        nullptr},
       {"CliDetectEmptyFrameList",
        {{"l.txt", ""s}},
