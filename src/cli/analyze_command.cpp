@@ -139,6 +139,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
   if (o.tracks.empty()) {
     throw InputError("no track files; expected 'patlab analyze TRACK.csv...' (see --help)");
   }
+  ThrowFlagProblem(sim::Check(o.analysis), vm,
+                   {{"sigma_samples", "--smoothing-sigma"}, {"lag", "--lag"}});
   if (!io::IsFileBaseName(o.name)) {
     throw InputError("--name is '" + EscapeForMessage(o.name) + "'; expected " +
                      io::kFileBaseNameExpected);

@@ -21,6 +21,7 @@
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/frame_results.h"
+#include "patlab/vision/segment.h"
 
 namespace patlab::cli {
 
@@ -65,16 +66,25 @@ struct DetectOptions {
 
 void ParseRawSize(const std::string& text, int* width, int* height) {
   const size_t x = text.find('x');
+  bool parsed = false;
   try {
     size_t used_w = 0, used_h = 0;
     if (x != std::string::npos) {
       *width = std::stoi(text.substr(0, x), &used_w);
       *height = std::stoi(text.substr(x + 1), &used_h);
-      if (used_w == x && used_h == text.size() - x - 1 && *width > 0 && *height > 0) return;
+      parsed = used_w == x && used_h == text.size() - x - 1 && *width > 0 && *height > 0;
     }
   } catch (const std::exception&) {
   }
-  throw InputError("--raw-size is '" + text + "'; expected WIDTHxHEIGHT, e.g. 780x580");
+  if (!parsed) {
+    throw InputError("--raw-size is '" + text + "'; expected WIDTHxHEIGHT, e.g. 780x580");
+  }
+  const int64_t pixels = int64_t{*width} * *height;
+  if (pixels > vision::kMaxFramePixels) {
+    throw InputError("--raw-size is '" + text + "', " + std::to_string(pixels) +
+                     " pixels; expected at most " + std::to_string(vision::kMaxFramePixels) +
+                     " pixels (the frame budget)");
+  }
 }
 
 po::options_description Flags(DetectOptions* o) {
@@ -180,6 +190,27 @@ void CheckDistinctStems(const std::vector<std::string>& paths) {
   }
 }
 
+// The debug directory is checked before any work: not one of the output files (its images would
+// be written and the results then refused) and not an existing file.
+void CheckDebugDir(const std::string& debug_dir, const std::vector<std::string>& outputs) {
+  std::error_code ec;
+  const fs::path debug = fs::weakly_canonical(fs::absolute(debug_dir, ec), ec);
+  for (const std::string& out : outputs) {
+    std::error_code out_ec;
+    if (!out.empty() && fs::weakly_canonical(fs::absolute(out, out_ec), out_ec) == debug) {
+      throw InputError("--debug " + EscapeForMessage(debug_dir) + " is the output file " +
+                       EscapeForMessage(out) +
+                       "; expected a debug directory apart from the output files");
+    }
+  }
+  if (fs::exists(debug_dir, ec) && !fs::is_directory(debug_dir, ec)) {
+    // As an output file whose path is a directory: an unusable output location, exit 1.
+    throw EnvironmentError(EscapeForMessage(debug_dir, 1024) +
+                           ": cannot write: it is a file; expected a directory for the debug "
+                           "images");
+  }
+}
+
 // Sums of the frames' counters and stage times, for --timing.
 struct Totals {
   int frames = 0;
@@ -266,10 +297,13 @@ int RunDetect(const std::vector<std::string>& args) {
                       &vm)) {
     return kExitOk;
   }
+  ThrowFlagProblem(vision::Check(o.frame.segmenter), vm,
+                   {{"min_area_px", "--min-area-px"}, {"min_fill", "--min-fill"}});
   CheckRequired(&o);
   if (vm.count("edge-loss-px") > 0) CheckEdgeLoss(o.edge_loss_px);
   if (!o.out.empty()) io::CheckWritable({o.out});
   if (o.track) io::CheckWritable({o.track_path});
+  if (!o.frame.debug_dir.empty()) CheckDebugDir(o.frame.debug_dir, {o.out, o.track_path});
   std::optional<detect::DetectorConfig> settings;
   if (!o.settings.empty()) {
     settings = detect::LoadDetectorSettings(o.settings);

@@ -60,7 +60,7 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
          "name = \"e\"\npatterns_dir = \"{src}/patterns\"\npatterns = [\"butterfly\"]\ntrials = 100\nseed = 1\n[sigma]\nvalues = [1]\n"s}},
        "simulate {dir}e.toml -q --out {dir}out --threads -1",
        2,
-       "patlab simulate: --threads is -1; expected >= 0"s,
+       "patlab simulate: --threads is -1; expected 0 (all cores) to 4096"s,
        nullptr},
       {"CliSigmasNotNumbers",
        {{"e.toml",
@@ -334,7 +334,7 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
        {{"t.csv", "frame,x_mm,y_mm\n0,1,2\n1,1,2\n"s}},
        "analyze {dir}t.csv --out {dir}out -q --smoothing-sigma 1e300",
        2,
-       "patlab analyze: sigma_samples is 1e+300; expected at most 100000 samples (the kernel's size is bounded)"s,
+       "patlab analyze: --smoothing-sigma is 1e+300; expected at most 100000 samples (the kernel's size is bounded)"s,
        nullptr},
       {"AnalyzeSubjectNotUtf8",
        {{"t.csv", "frame,subject,x_mm,y_mm\n0,r\xff,1,2\n"s}},
@@ -404,7 +404,7 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
        {{"l.toml", "image = \"x.png\"\n"s}},
        "thresholds {dir}l.toml --out {dir}out/t.toml --margin 300",
        2,
-       "patlab thresholds: margin_levels is 300; expected an integer in [0, 128]"s,
+       "patlab thresholds: --margin is 300; expected an integer in [0, 128]"s,
        nullptr},
   };
 }

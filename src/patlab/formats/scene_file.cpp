@@ -1,5 +1,6 @@
 #include "patlab/formats/scene_file.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -92,6 +93,32 @@ Calibration ReadCalibration(const io::TomlReader& top, const std::string& base_d
   return calibration;
 }
 
+// A robot whose top the camera cannot see (outside the frame, behind the camera, beyond the
+// distortion's fold) would render as nothing: refused at its x_mm.
+void CheckRobotInView(const io::TomlReader& r, const RobotPlacement& robot,
+                      const Calibration& calibration, const FieldScene& scene) {
+  const auto& options = scene.options;
+  const Vec2 at(robot.pose.x_mm, robot.pose.y_mm);
+  std::optional<Vec2> pixel;
+  if (calibration.camera.SupportsHeight(options.robot_height_mm)) {
+    pixel = calibration.camera.WorldToPixel(at, options.robot_height_mm);
+  }
+  if (pixel && pixel->x() >= 0 && pixel->y() >= 0 && pixel->x() <= options.width_px &&
+      pixel->y() <= options.height_px) {
+    return;
+  }
+  std::string message =
+      "robot at (" + FormatNumber(robot.pose.x_mm) + ", " + FormatNumber(robot.pose.y_mm) + ") mm";
+  message.append(" is outside the field the camera sees (")
+      .append(pixel ? "pixel (" + std::to_string(std::lround(pixel->x())) + ", " +
+                          std::to_string(std::lround(pixel->y())) + ")"
+                    : std::string("not in front of the camera"))
+      .append(", the frame is " + std::to_string(options.width_px) + "x" +
+              std::to_string(options.height_px) + ")")
+      .append("; expected a robot whose centre is inside the rendered frame");
+  r.Fail("x_mm", message);
+}
+
 RobotPlacement ReadRobot(const io::TomlReader& r, const FieldScene& scene) {
   r.CheckKeys({"team", "id", "x_mm", "y_mm", "theta_rad"});
   RobotPlacement robot;
@@ -174,6 +201,7 @@ SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
       const io::TomlReader r(*list->get(i)->as_table(), source_name,
                              "[[robot]] " + std::to_string(i + 1));
       scene.robots.push_back(ReadRobot(r, scene));
+      CheckRobotInView(r, scene.robots.back(), file.calibration, scene);
     }
   }
   if (top.Has("ball")) {

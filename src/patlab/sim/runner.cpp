@@ -442,8 +442,8 @@ double Efficiency(double bound, double achieved) {
 
 std::vector<OptionsProblem> Check(const RunOptions& options) {
   OptionsChecker check;
-  check.Require("threads", options.threads, options.threads >= 0,
-                "an integer >= 0 (0 = all cores)");
+  check.Require("threads", options.threads, options.threads >= 0 && options.threads <= kMaxThreads,
+                "an integer in [0, " + std::to_string(kMaxThreads) + "] (0 = all cores)");
   check.Require("shard.count", options.shard.count,
                 options.shard.count >= 1 && options.shard.count <= kMaxShards,
                 "an integer in [1, " + std::to_string(kMaxShards) + "]");

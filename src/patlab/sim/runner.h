@@ -32,6 +32,8 @@ struct ShardSpec {
   bool Holds(int64_t point) const { return point % count == index - 1; }
 };
 inline constexpr int kMaxShards = 100000;
+// The most worker threads a run takes: more is a typo, and each thread costs its buffers.
+inline constexpr int kMaxThreads = 4096;
 
 // Bounded memory (docs/hardening.md): a data point is run in blocks of at most this many trials
 // (or frames, in detect mode), and only one block's samples are held per estimator, so memory
