@@ -54,7 +54,7 @@ struct SetupCommandOptions {
 const OptionGroups kSetupGroups = {
     {"input", {"field", "settings", "robot-height", "line-width", "landmark"}},
     {"output", {"out"}},
-    {"help", {"list-landmarks"}}};
+    {"field models", {"list-landmarks"}}};
 
 std::vector<calib::Field> FieldsOf(const std::string& name) {
   std::vector<calib::Field> family = calib::FieldFamily(name, DataRoots());

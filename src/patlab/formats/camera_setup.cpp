@@ -108,13 +108,13 @@ void CalibrateFromLandmarks(const Image& frame, const std::string& name, const S
   r->tried.push_back({field.name, 0.0, r->mapping_error_mm, ""});
 }
 
-// The settings' text with relative pattern and codebook paths made absolute (the settings are
-// written into another folder) and its [detector] table replaced by `detector`.
+// The settings' text with relative pattern, codebook and patterns_dir paths made absolute (the
+// settings are written into another folder) and its [detector] table replaced by `detector`.
 std::string SettingsText(const std::string& path, const detect::DetectorOptions& t,
                          const std::string& comment) {
   const std::string text = io::ReadTextFile(path, "detector settings");
   const fs::path base = fs::absolute(fs::path(path)).parent_path();
-  static const std::regex kPath(R"(^(\s*(pattern|codebook)\s*=\s*")([^"]+)(".*)$)");
+  static const std::regex kPath(R"(^(\s*(pattern|codebook|patterns_dir)\s*=\s*")([^"]+)(".*)$)");
   static const std::regex kTable(R"(^\s*\[.*)");
   std::istringstream in(text);
   std::string out = comment, line;
@@ -123,7 +123,12 @@ std::string SettingsText(const std::string& path, const detect::DetectorOptions&
     if (std::regex_match(line, kTable)) in_detector = line.find("[detector]") != std::string::npos;
     if (in_detector) continue;
     std::smatch m;
-    if (std::regex_match(line, m, kPath) && !fs::path(m[3].str()).is_absolute()) {
+    // A pattern or codebook named without a folder or ".toml" is looked up in patterns_dir.
+    const bool is_path =
+        std::regex_match(line, m, kPath) &&
+        (m[2].str() == "patterns_dir" || m[3].str().find('/') != std::string::npos ||
+         m[3].str().ends_with(".toml"));
+    if (is_path && !fs::path(m[3].str()).is_absolute()) {
       line = m[1].str() + (base / m[3].str()).lexically_normal().string() + m[4].str();
     }
     out += line + "\n";
