@@ -9,6 +9,9 @@
 
 #include "../expect_error.h"
 #include "../test_util.h"
+#include "patlab/formats/field_file.h"
+#include "patlab/formats/scene_file.h"
+#include "patlab/render/scene_render.h"
 
 namespace patlab::vision {
 namespace {
@@ -61,6 +64,42 @@ TEST(SetupFolder, NamesItsFilesRelativeToTheFolder) {
   EXPECT_INPUT_ERROR(LoadSetupFiles(dir.Path("nowhere")),
                      "--setup " + dir.Path("nowhere") +
                          ": no setup.toml in it; expected a folder written by patlab setup");
+}
+
+// The --landmark fallback on the rendered half-field frame: six landmarks projected through the
+// known camera (the field's own lines not used) give a calibration within 5 mm of it; an unknown
+// landmark is an InputError naming the model's.
+TEST(SetupCamera, LandmarksReplaceTheLines) {
+  const std::string data = PATLAB_SOURCE_DIR "/tests/data/setup/";
+  const SceneFile scene = LoadSceneFile(data + "half-field.toml");
+  const Image frame = RenderScene(scene.scene, scene.calibration.camera);
+  SetupOptions o;
+  o.fields = {calib::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml")};
+  o.settings_path = PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml";
+  for (const char* name : {"centre", "halfway_left", "centre_circle_right", "corner_pos_left",
+                           "defense_front_left_pos", "defense_front_right_pos"}) {
+    const auto px = scene.calibration.camera.WorldToPixel(o.fields[0].FindPoint(name)->at_mm, 0.0);
+    ASSERT_TRUE(px) << name;
+    o.landmarks.push_back({name, *px});
+  }
+  const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
+  EXPECT_TRUE(r.from_landmarks);
+  const CameraModel fitted = CameraModel::Pinhole(r.calibration_fit.camera);
+  double sum = 0.0;
+  int n = 0;
+  for (int y = 5; y < frame.height_px; y += 10)
+    for (int x = 5; x < frame.width_px; x += 10) {
+      const auto a = scene.calibration.camera.PixelToWorld(Vec2(x, y), 0.0);
+      const auto b = fitted.PixelToWorld(Vec2(x, y), 0.0);
+      ASSERT_TRUE(a && b);
+      sum += (*a - *b).squaredNorm(), ++n;
+    }
+  EXPECT_LT(std::sqrt(sum / n), 5.0);
+  EXPECT_EQ(r.files.size(), 4u);
+  o.landmarks[0].name = "middle";
+  EXPECT_INPUT_ERROR(
+      SetupCamera({&frame}, {"frame.png"}, o),
+      "--landmark middle: not a landmark of ssl-2009; expected one of " + o.fields[0].PointNames());
 }
 
 }  // namespace
