@@ -17,7 +17,8 @@ constexpr double kPenalty = 0.5;        // per unexplained length, of an explain
 constexpr double kAxisTolerance = 0.2;  // |sin| of a pixel's angle to an image axis
 constexpr double kBinPx = 3.0;
 
-Vec2 Apply(const NadirView& v, const Vec2& p, double width) {
+// The view's map with cos and sin of its psi given (computed once per view, not per point).
+Vec2 Apply(const NadirView& v, const Vec2& p, double width, double c, double s) {
   const Vec2 d = p - v.centre_mm;
   Vec2 ab;
   switch (v.k & 3) {
@@ -35,7 +36,6 @@ Vec2 Apply(const NadirView& v, const Vec2& p, double width) {
       break;
   }
   ab *= v.scale;
-  const double c = std::cos(v.psi), s = std::sin(v.psi);
   const Vec2 q(c * ab.x() - s * ab.y(), s * ab.x() + c * ab.y());
   return q * (1.0 + v.kd * q.squaredNorm() / (width * width));
 }
@@ -55,13 +55,20 @@ double Score(const std::vector<Vec2>& world, double spacing_px, const LineDistan
   return sum * spacing_px;
 }
 
-double ViewScore(const NadirView& v, const FieldMarks& marks, const LineDistance& dt,
-                 double step_px, double tau = kTauPx) {
-  const std::vector<Vec2> world = SampleMarks(marks, step_px / v.scale, nullptr);
+// The score of a view of the marks sampled at step_px / v.scale mm (`world`).
+double ViewScoreOf(const NadirView& v, const std::vector<Vec2>& world, const LineDistance& dt,
+                   double step_px, double tau) {
   const Vec2 c(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
+  const double cp = std::cos(v.psi), sp = std::sin(v.psi);
   return Score(
       world, step_px, dt,
-      [&](const Vec2& p) -> std::optional<Vec2> { return c + Apply(v, p, dt.width()); }, tau);
+      [&](const Vec2& p) -> std::optional<Vec2> { return c + Apply(v, p, dt.width(), cp, sp); },
+      tau);
+}
+
+double ViewScore(const NadirView& v, const FieldMarks& marks, const LineDistance& dt,
+                 double step_px, double tau = kTauPx) {
+  return ViewScoreOf(v, SampleMarks(marks, step_px / v.scale, nullptr), dt, step_px, tau);
 }
 
 // Peaks of a histogram of positions across one image axis: (position px, weight).
@@ -390,13 +397,16 @@ std::vector<double> Centres(const std::vector<double>& pk, const std::vector<dou
 void CoarseViews(const AxisPeaks& peaks, const Orientation& o, double psi, double s_min,
                  double s_max, const FieldMarks& marks, const LineDistance& dt,
                  std::vector<ScoredView>* all) {
+  constexpr double kCoarseStepPx = 12.0;
   for (double s : CandidateScales(peaks, o, s_min, s_max)) {
+    // The marks sampled once per scale: every view of this scale projects the same points.
+    const std::vector<Vec2> world = SampleMarks(marks, kCoarseStepPx / s, nullptr);
     const std::vector<double> ca = Centres(peaks.a, *o.wa, o.sign_a, s);
     const std::vector<double> cb = Centres(peaks.b, *o.wb, o.sign_b, s);
     for (double a : ca)
       for (double b : cb) {
         NadirView v{o.k, psi, s, o.a_is_x ? Vec2(a, b) : Vec2(b, a), 0.0};
-        all->push_back(ScoredView{v, ViewScore(v, marks, dt, 12.0, kCoarseTauPx), {}});
+        all->push_back(ScoredView{v, ViewScoreOf(v, world, dt, kCoarseStepPx, kCoarseTauPx), {}});
       }
   }
 }
