@@ -15,6 +15,7 @@
 #include "patlab/core/format.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
+#include "patlab/formats/camera_setup.h"
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/io/atomic_file.h"
@@ -52,6 +53,7 @@ struct DetectOptions {
   std::string thresholds;
   std::string calibration;
   std::string settings;
+  std::string setup;  // --setup DIR: the three files of a patlab setup folder
   std::string raw_size;
   std::string format = "csv";
   std::string out;
@@ -95,6 +97,9 @@ po::options_description Flags(DetectOptions* o) {
       "colour thresholds: CMVision colors.txt or our TOML form (required)")(
       "calibration,c", po::value(&o->calibration),
       "camera calibration TOML: pinhole or homography, plane heights (required)")(
+      "setup", po::value(&o->setup),
+      "a folder written by patlab setup: its calibration, thresholds and settings (instead of "
+      "-t, -c and -s)")(
       "settings,s", po::value(&o->settings),
       "detector settings TOML (palette, patterns, options; e.g. experiments/detector.toml)")(
       "raw-size", po::value(&o->raw_size), "WIDTHxHEIGHT of raw UYVY frames (.yuv .uyvy .raw)")(
@@ -144,6 +149,15 @@ void CheckTrack(const DetectOptions& o) {
 void CheckRequired(DetectOptions* o) {
   if (o->frames.empty())
     throw InputError("no frames; expected 'patlab detect FRAME...' (see --help)");
+  if (!o->setup.empty()) {
+    if (!o->thresholds.empty() || !o->calibration.empty() || !o->settings.empty()) {
+      throw InputError("--setup with -t, -c or -s; expected either --setup DIR or the three files");
+    }
+    const vision::SetupFiles f = vision::LoadSetupFiles(o->setup);
+    o->thresholds = f.thresholds;
+    o->calibration = f.calibration;
+    o->settings = f.settings;
+  }
   if (o->thresholds.empty())
     throw InputError("missing --thresholds FILE; expected a colors.txt or thresholds TOML file");
   if (o->calibration.empty())
@@ -283,7 +297,7 @@ void PrintTiming(const Totals& t) {
 
 // The help's option groups (command_line.h).
 const OptionGroups kDetectGroups = {
-    {"input", {"thresholds", "calibration", "settings", "raw-size"}},
+    {"input", {"setup", "thresholds", "calibration", "settings", "raw-size"}},
     {"detector", {"min-area-px", "min-fill", "edge-loss-px"}},
     {"output", {"out", "format", "blobs", "track"}},
     {"diagnostics", {"debug", "explain", "timing"}},

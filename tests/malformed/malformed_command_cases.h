@@ -406,6 +406,36 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
        2,
        "patlab thresholds: --margin is 300; expected an integer in [0, 128]"s,
        nullptr},
+      {"SetupTooFewLandmarks",
+       {},
+       "setup {src}/settings/ssl-frame.png --field ssl-2009 --settings ssl-frame.detector "
+       "--landmark centre=1,2 --landmark halfway_left=3,4 -o {dir}cam",
+       2,
+       "patlab setup: --landmark given 2 times; expected at least 4 landmarks (or none: the lines "
+       "decide)"s,
+       nullptr},
+      {"SetupUnknownLandmark",
+       {},
+       "setup {src}/settings/ssl-frame.png --field ssl-2009 --settings ssl-frame.detector "
+       "--landmark centre=1,2 --landmark halfway_left=3,4 --landmark corner_pos_left=5,6 "
+       "--landmark middle=7,8 -o {dir}cam",
+       2,
+       "patlab setup: --landmark middle: not a landmark of ssl-2009; expected one of centre, "
+       "corner_pos_left, corner_pos_right, corner_neg_left, corner_neg_right, halfway_left, "
+       "halfway_right, centre_circle_left, centre_circle_right, defense_front_left_pos, "
+       "defense_front_right_pos, defense_goal_left_pos, defense_goal_right_pos, "
+       "defense_front_left_neg, defense_front_right_neg, defense_goal_left_neg, "
+       "defense_goal_right_neg, goal_post_left_pos, goal_post_right_pos, goal_back_left_pos, "
+       "goal_back_right_pos, goal_post_left_neg, goal_post_right_neg, goal_back_left_neg, "
+       "goal_back_right_neg, penalty_mark_pos, penalty_mark_neg"s,
+       nullptr},
+      {"DetectSetupWithoutSetupToml",
+       {},
+       "detect {src}/settings/ssl-frame.png --setup {dir}nowhere",
+       2,
+       "patlab detect: --setup {dir}nowhere: no setup.toml in it; expected a folder written by "
+       "patlab setup"s,
+       nullptr},
   };
 }
 

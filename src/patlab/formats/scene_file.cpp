@@ -8,6 +8,7 @@
 #include "patlab/core/format.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
+#include "patlab/formats/field_file.h"
 #include "patlab/formats/pattern_file.h"
 #include "patlab/io/toml_util.h"
 
@@ -177,7 +178,8 @@ SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
                          const std::string& base_dir) {
   const toml::table root = io::ParseTomlText(text, source_name);
   const io::TomlReader top(root, source_name);
-  top.CheckKeys({"calibration", "pattern", "codebook", "render", "colours", "robot", "ball"});
+  top.CheckKeys(
+      {"calibration", "pattern", "codebook", "field", "render", "colours", "robot", "ball"});
   SceneFile file;
   file.calibration = ReadCalibration(top, base_dir);
   FieldScene& scene = file.scene;
@@ -192,6 +194,7 @@ SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
   scene.pattern = std::move(worn.pattern);
   scene.codebook = std::move(worn.codebook);
   ReadColours(top, &scene);
+  if (root.contains("field")) scene.field = calib::LoadField(ExistingFile(top, "field", base_dir));
   if (const toml::node* robots = root.get("robot")) {
     const toml::array* list = robots->as_array();
     if (list == nullptr || !list->is_array_of_tables()) {
