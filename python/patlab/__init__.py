@@ -87,7 +87,9 @@ def simulate(patterns, sigmas, trials=100000, estimators=("fast", "ml"), noise=N
 def simulate_experiment(path_or_name, trials=None, seed=None, sigmas=None, threads=0,
                         keep_errors=False):
     """Runs an experiment file (or a shipped experiment by name, "fig5") as `patlab simulate`
-    does, with the same overrides as its --trials, --seed and --sigmas."""
+    does, with the same overrides as its --trials, --seed and --sigmas. A detect-mode experiment
+    (correspondence = "detect", e.g. "id_confusion") runs whole frames through the detector;
+    `trials` is then the frames per point, and the table has the CLI's detect-mode columns."""
     path = _data.find(path_or_name, "experiment")
     return SimulationResult(_load_checked(
         lambda p: _patlab._simulate_experiment(p, trials, seed,
