@@ -1,6 +1,8 @@
 // patlab.detect, read_frame and render: vision::FrameDetector, the call `patlab detect` makes, on
-// a numpy (H, W, 3) uint8 image read through the buffer protocol with any strides, and its
-// results as the CLI's CSV and JSON; the scene renderer of `patlab render`.
+// a numpy (H, W, 3) uint8 image read in place through the buffer protocol with any strides (a
+// vision::ImageView of the array's memory: no copy), and its results as the CLI's CSV and JSON;
+// the scene renderer of `patlab render`.
+#include <climits>
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -33,25 +35,24 @@ py::buffer_info RgbBuffer(const py::buffer& image) {
   return info;
 }
 
-// vision::Image owns its pixels (packed rows), so the frame is copied into one, row by row and
-// pixel by pixel when the buffer's strides are not packed; numpy makes no copy before.
-vision::Image ToImage(const py::buffer_info& info) {
-  vision::Image image =
-      vision::Image::Rgb(static_cast<int>(info.shape[1]), static_cast<int>(info.shape[0]));
-  const auto* base = static_cast<const uint8_t*>(info.ptr);
-  const py::ssize_t sy = info.strides[0], sx = info.strides[1], sc = info.strides[2];
-  for (int y = 0; y < image.height_px; ++y) {
-    uint8_t* row = image.Row(y);
-    const uint8_t* in = base + y * sy;
-    if (sx == 3 && sc == 1) {
-      std::memcpy(row, in, static_cast<size_t>(image.RowBytes()));
-      continue;
-    }
-    for (int x = 0; x < image.width_px; ++x) {
-      for (int c = 0; c < 3; ++c) row[3 * x + c] = in[x * sx + c * sc];
-    }
+// The buffer as the view the detector reads: its own memory, its strides (numpy's, in bytes, of
+// any sign), no copy.
+vision::ImageView ViewOf(const py::buffer_info& info) {
+  if (info.shape[0] < 1 || info.shape[1] < 1 || info.shape[0] > INT_MAX ||
+      info.shape[1] > INT_MAX) {
+    throw InputError("image is " + std::to_string(info.shape[0]) + " x " +
+                     std::to_string(info.shape[1]) +
+                     " pixels; expected at least one row and one column");
   }
-  return image;
+  vision::ImageView view;
+  view.data = static_cast<const uint8_t*>(info.ptr);
+  view.width_px = static_cast<int>(info.shape[1]);
+  view.height_px = static_cast<int>(info.shape[0]);
+  view.format = vision::PixelFormat::kRgb8;
+  view.row_stride = info.strides[0];
+  view.pixel_stride = info.strides[1];
+  view.channel_stride = info.strides[2];
+  return view;
 }
 
 // One frame through the detector with the thresholds, calibration and (optional) detector
@@ -69,9 +70,10 @@ py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
   vision::FrameDetector frames(vision::LoadThresholds(thresholds),
                                vision::LoadCalibration(calibration), std::move(config), options);
   vision::FrameResultsWriter writer(frames, blobs);
+  const vision::ImageView view = ViewOf(info);
   {
     const py::gil_scoped_release nogil;
-    writer.Add(frames.Detect(ToImage(info), name));
+    writer.Add(frames.Detect(view, name));
   }
   return py::make_tuple(writer.Csv(), writer.Json(), frames.warnings());
 }
@@ -105,9 +107,14 @@ void BindDetect(py::module_& m) {
         py::arg("settings"), py::arg("name"), py::arg("blobs"));
   m.def("_read_frame", &ReadFrame, py::arg("path"));
   m.def("_render", &Render, py::arg("scene"));
-  // The address the detector reads an image from: the buffer's own (tests/python check it).
-  m.def("_image_address",
-        [](const py::buffer& image) { return reinterpret_cast<uintptr_t>(RgbBuffer(image).ptr); });
+  // The view detect() hands the detector for an image (the same ViewOf): its data address and
+  // (height, width, row, pixel and channel strides); tests/python check that it is the array's
+  // own memory and strides, i.e. that no copy is made.
+  m.def("_image_view", [](const py::buffer& image) {
+    const vision::ImageView view = ViewOf(RgbBuffer(image));
+    return py::make_tuple(reinterpret_cast<uintptr_t>(view.data), view.height_px, view.width_px,
+                          view.row_stride, view.pixel_stride, view.channel_stride);
+  });
 }
 
 }  // namespace patlab::python
