@@ -15,7 +15,8 @@ from ._results import (CompareResult, CrlbResult, DetectResult, EvaluationResult
 
 __version__ = _patlab.version
 __all__ = ["Pattern", "simulate", "simulate_experiment", "estimate", "crlb", "predicted_std",
-           "ids", "evaluate", "compare", "detect", "read_frame", "render", "stats", "SimulationResult", "ESTIMATORS"]
+           "ids", "evaluate", "compare", "detect", "Detector", "read_frame", "render", "stats",
+           "SimulationResult", "ESTIMATORS"]
 
 ESTIMATORS = ("fast", "ml", "lsq", "key")
 
@@ -169,6 +170,32 @@ def detect(image, thresholds, calibration, settings=None, name="frame", blobs=Fa
         if any(f and not os.path.exists(f) for f in files):
             raise FileNotFoundError(str(error)) from None
         raise
+
+
+class Detector:
+    """The front end of `patlab detect` built once from its files (thresholds, calibration,
+    detector settings: paths or shipped names), for frame after frame in memory, e.g. a camera
+    loop: ``detect(image, name="frame")`` reads the (H, W, 3) uint8 RGB array in place (any
+    strides, no copy) and returns the detections as a dict of numpy columns -- pattern (index
+    into ``patterns``), team_colour (index into ``palette``), id (-1: unknown), x_mm, y_mm,
+    theta_rad, confidence -- and cpp_seconds, the time of the C++ call alone. The detections
+    are those `patlab detect` prints for the frame. ``warnings``: the palette mismatches."""
+
+    def __init__(self, thresholds, calibration, settings):
+        files = [_data.find(f, "settings") for f in (thresholds, calibration, settings)]
+        try:
+            self._detector = _patlab._Detector(*files)
+        except ValueError as error:
+            if any(not os.path.exists(f) for f in files):
+                raise FileNotFoundError(str(error)) from None
+            raise
+        self.patterns = self._detector.patterns
+        self.palette = self._detector.palette
+        self.warnings = list(self._detector.warnings)
+        self.detect = self._detector.detect  # the C++ method itself: no Python frame per call
+
+    def __repr__(self):
+        return f"<patlab.Detector: patterns {self.patterns}, palette {self.palette}>"
 
 
 def render(scene):

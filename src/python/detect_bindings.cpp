@@ -2,6 +2,7 @@
 // a numpy (H, W, 3) uint8 image read in place through the buffer protocol with any strides (a
 // vision::ImageView of the array's memory: no copy), and its results as the CLI's CSV and JSON;
 // the scene renderer of `patlab render`.
+#include <chrono>
 #include <climits>
 #include <cstdint>
 #include <cstring>
@@ -57,18 +58,25 @@ vision::ImageView ViewOf(const py::buffer_info& info) {
 
 // One frame through the detector with the thresholds, calibration and (optional) detector
 // settings files: (CSV, JSON) as `patlab detect` writes them; with `blobs` the calibrated blobs.
-py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
-                 const std::string& calibration, const std::string& settings,
-                 const std::string& name, bool blobs) {
-  const py::buffer_info info = RgbBuffer(frame);
+// The front end `patlab detect -t -c [-s]` builds from its files.
+vision::FrameDetector LoadFrameDetector(const std::string& thresholds,
+                                        const std::string& calibration,
+                                        const std::string& settings) {
   vision::FrameDetectorOptions options;
   std::optional<detect::DetectorConfig> config;
   if (!settings.empty()) {
     config = detect::LoadDetectorSettings(settings);
     vision::ApplyFrameSettings(detect::LoadFrameSettings(settings), &options);
   }
-  vision::FrameDetector frames(vision::LoadThresholds(thresholds),
+  return vision::FrameDetector(vision::LoadThresholds(thresholds),
                                vision::LoadCalibration(calibration), std::move(config), options);
+}
+
+py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
+                 const std::string& calibration, const std::string& settings,
+                 const std::string& name, bool blobs) {
+  const py::buffer_info info = RgbBuffer(frame);
+  vision::FrameDetector frames = LoadFrameDetector(thresholds, calibration, settings);
   vision::FrameResultsWriter writer(frames, blobs);
   const vision::ImageView view = ViewOf(info);
   {
@@ -77,6 +85,70 @@ py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
   }
   return py::make_tuple(writer.Csv(), writer.Json(), frames.warnings());
 }
+
+// patlab.Detector: the front end built once from its files, then frame after frame in memory
+// (a camera loop in Python) with the detections as numpy columns and no text in between; the
+// seconds the C++ call took come back too, so the Python overhead can be measured
+// (scripts/bench_python.py).
+class Detector {
+ public:
+  Detector(const std::string& thresholds, const std::string& calibration,
+           const std::string& settings)
+      : frames_(LoadFrameDetector(thresholds, calibration, settings)) {
+    if (!frames_.has_detector()) {
+      throw InputError(
+          "settings is empty; expected a detector settings file (patterns to "
+          "detect), e.g. experiments/detector.toml");
+    }
+  }
+
+  py::dict Detect(const py::buffer& image, const std::string& name) {
+    const vision::ImageView view = ViewOf(RgbBuffer(image));
+    const vision::FrameResult* result = nullptr;
+    double seconds = 0.0;
+    {
+      const py::gil_scoped_release nogil;
+      const auto start = std::chrono::steady_clock::now();
+      result = &frames_.Detect(view, name);
+      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    const std::vector<detect::Detection>& d = result->detections;
+    const py::ssize_t n = static_cast<py::ssize_t>(d.size());
+    py::array_t<int32_t> pattern(n), team(n), id(n);
+    py::array_t<double> x(n), y(n), theta(n), confidence(n);
+    for (py::ssize_t k = 0; k < n; ++k) {
+      const detect::Detection& e = d[static_cast<size_t>(k)];
+      pattern.mutable_at(k) = e.pattern;
+      team.mutable_at(k) = e.team_colour;
+      id.mutable_at(k) = e.id;
+      x.mutable_at(k) = e.pose.x_mm;
+      y.mutable_at(k) = e.pose.y_mm;
+      theta.mutable_at(k) = e.pose.theta_rad;
+      confidence.mutable_at(k) = e.confidence;
+    }
+    py::dict out;
+    out["pattern"] = pattern;
+    out["team_colour"] = team;
+    out["id"] = id;
+    out["x_mm"] = x;
+    out["y_mm"] = y;
+    out["theta_rad"] = theta;
+    out["confidence"] = confidence;
+    out["cpp_seconds"] = seconds;
+    return out;
+  }
+
+  std::vector<std::string> Patterns() const {
+    std::vector<std::string> names;
+    for (const auto& p : frames_.detector().config().patterns) names.push_back(p.pattern.name);
+    return names;
+  }
+  std::vector<std::string> Palette() const { return frames_.detector().config().palette; }
+  const std::vector<std::string>& Warnings() const { return frames_.warnings(); }
+
+ private:
+  vision::FrameDetector frames_;
+};
 
 py::array_t<uint8_t> ArrayOfImage(const vision::Image& rgb) {
   py::array_t<uint8_t> out({rgb.height_px, rgb.width_px, 3});
@@ -103,6 +175,13 @@ py::tuple Render(const std::string& path) {
 }  // namespace
 
 void BindDetect(py::module_& m) {
+  py::class_<Detector>(m, "_Detector")
+      .def(py::init<const std::string&, const std::string&, const std::string&>(),
+           py::arg("thresholds"), py::arg("calibration"), py::arg("settings"))
+      .def("detect", &Detector::Detect, py::arg("image"), py::arg("name") = "frame")
+      .def_property_readonly("patterns", &Detector::Patterns)
+      .def_property_readonly("palette", &Detector::Palette)
+      .def_property_readonly("warnings", &Detector::Warnings);
   m.def("_detect", &Detect, py::arg("image"), py::arg("thresholds"), py::arg("calibration"),
         py::arg("settings"), py::arg("name"), py::arg("blobs"));
   m.def("_read_frame", &ReadFrame, py::arg("path"));

@@ -94,6 +94,29 @@ def test_the_detector_reads_the_arrays_memory(frame, in_root):
     assert patlab.detect(view, **FILES).csv == before.csv
 
 
+def test_detector_object_gives_the_clis_detections(frame, in_root):
+    """patlab.Detector, built once, frame after frame: the detections `patlab detect` prints
+    (the CSV's rounded numbers), as numpy columns; the frame read in place."""
+    table = patlab.detect(frame, **FILES).table
+    detector = patlab.Detector(**FILES)
+    for image in (frame, np.ascontiguousarray(frame[:, :, ::-1])[:, :, ::-1], frame):
+        found = detector.detect(image)
+        assert len(found["x_mm"]) == len(table["x_mm"]) > 0
+        assert [detector.patterns[p] for p in found["pattern"]] == list(table["pattern"])
+        assert [detector.palette[t] for t in found["team_colour"]] == list(table["team"])
+        np.testing.assert_array_equal(found["id"], np.asarray(table["id"]))
+        np.testing.assert_allclose(found["x_mm"], table["x_mm"], rtol=0, atol=0.005)
+        np.testing.assert_allclose(found["y_mm"], table["y_mm"], rtol=0, atol=0.005)
+        np.testing.assert_allclose(found["theta_rad"], table["theta_rad"], rtol=0, atol=5e-5)
+        assert 0 < found["cpp_seconds"] < 10
+    assert len(detector.detect(np.zeros_like(frame))["id"]) == 0
+
+
+def test_detector_needs_its_files(in_root, tmp_path):
+    with pytest.raises(FileNotFoundError):
+        patlab.Detector(str(tmp_path / "no.toml"), FILES["calibration"], FILES["settings"])
+
+
 def test_empty_image_is_a_value_error(in_root):
     with pytest.raises(ValueError, match=r"expected at least one row and one column"):
         patlab.detect(np.zeros((0, 5, 3), np.uint8), **FILES)
