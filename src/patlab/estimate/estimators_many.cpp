@@ -56,6 +56,16 @@ void Mean(const Model& model, int m, Columns& w) {
     }
   }
   const double n = static_cast<double>(model.num_patches);
+  if ((model.num_patches & (model.num_patches - 1)) == 0) {
+    // n a power of two: x / n and x * (1 / n) are the same correctly rounded number (1 / n is
+    // exact), and a multiplication costs a fraction of a division.
+    const double inv_n = 1.0 / n;
+    for (int k = 0; k < m; ++k) {
+      w.mean_x[k] *= inv_n;
+      w.mean_y[k] *= inv_n;
+    }
+    return;
+  }
   for (int k = 0; k < m; ++k) {
     w.mean_x[k] /= n;
     w.mean_y[k] /= n;
