@@ -102,9 +102,11 @@ def estimate(pattern, observed, method="fast", max_iterations=20, return_converg
              threads=0):
     """Poses (trials, 3) = (x mm, y mm, theta rad) from observed patches (trials, patches, 2),
     float64 in the pattern's patch order, any strides (read in place). method: "fast", "ml"
-    (Newton from the fast pose, max_iterations steps), "lsq" or "key". Runs in parallel with
-    the GIL released on `threads` threads (0: every core; the poses do not depend on it). With
-    return_converged (ml only) also a bool array per trial."""
+    (Newton from the fast pose, max_iterations steps), "lsq" or "key"; fast, lsq and key run
+    vectorised over blocks of trials (estimate::EstimateMany), each pose the one-trial
+    estimator's to the last bit. Runs in parallel with the GIL released on `threads` threads
+    (0: every core; the poses do not depend on it). With return_converged (ml only) also a bool
+    array per trial."""
     pattern, _ = _as_pattern(pattern)
     poses, converged = _patlab._estimate(pattern, observed, method, int(max_iterations),
                                          int(threads))
@@ -157,8 +159,8 @@ def read_frame(path):
 
 
 def detect(image, thresholds, calibration, settings=None, name="frame", blobs=False):
-    """`patlab detect` on one frame: an (H, W, 3) uint8 RGB array (any strides; numpy makes no
-    copy, the library copies the pixels once into its own image), with the thresholds and
+    """`patlab detect` on one frame: an (H, W, 3) uint8 RGB array (any strides, read in place:
+    the detector reads the array's own memory, no copy), with the thresholds and
     calibration files and, for detections, the detector settings (paths or shipped names).
     Returns the CLI's CSV and JSON (`name` stands for the frame's path in them) and the table of
     detections (or, with blobs=True or no settings, of the calibrated blobs)."""
