@@ -16,7 +16,8 @@ Image DrawClasses(const Segmenter& segmenter, const Thresholds& thresholds) {
   return out;
 }
 
-Image DrawRegions(const Image& frame, const Segmenter& segmenter, const Thresholds& thresholds) {
+Image DrawRegions(const ImageView& frame, const Segmenter& segmenter,
+                  const Thresholds& thresholds) {
   Image out = ToRgb(frame);
   for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);  // dim, so the marks stand out
   const int w = segmenter.width_px(), h = segmenter.height_px();

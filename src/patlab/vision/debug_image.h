@@ -12,7 +12,7 @@
 namespace patlab::vision {
 
 // The annotated RGB image of the segmenter's last frame (`frame` must be that frame).
-Image DrawRegions(const Image& frame, const Segmenter& segmenter, const Thresholds& thresholds);
+Image DrawRegions(const ImageView& frame, const Segmenter& segmenter, const Thresholds& thresholds);
 
 // The segmenter's class image in RGB: each classified pixel in its class's display colour, the
 // rest black.

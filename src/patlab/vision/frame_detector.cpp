@@ -191,13 +191,13 @@ const FrameResult& FrameDetector::DetectFile(const std::string& path) {
   return result_;
 }
 
-const FrameResult& FrameDetector::Detect(const Image& image, const std::string& name) {
+const FrameResult& FrameDetector::Detect(const ImageView& image, const std::string& name) {
   result_.profile.Clear();
   Process(image, name);
   return result_;
 }
 
-void FrameDetector::Process(const Image& image, const std::string& name) {
+void FrameDetector::Process(const ImageView& image, const std::string& name) {
   result_.frame = name;
   pipeline_.CheckFrameSize(image, name);
   RunStages(image);
@@ -206,7 +206,7 @@ void FrameDetector::Process(const Image& image, const std::string& name) {
 
 // Stages 2-5 (the pipeline) and 6: the blobs whose class is in the detector's palette, relabelled
 // with their palette label, through the detector.
-void FrameDetector::RunStages(const Image& image) {
+void FrameDetector::RunStages(const ImageView& image) {
   FrameResult& r = result_;
   r.detect_profile.Clear();
   pipeline_.Process(image, &r.blobs, &r.vision_stats, &r.profile);
@@ -365,7 +365,7 @@ void DrawMisses(const FrameResult& r, Image* debug) {
 
 // The blobs the next stage sees: with a detector, those in its palette; discs of the region's
 // area at its centroid, in the class colour, on the dimmed frame.
-Image DrawBlobs(const Image& frame, const FrameResult& r, const Thresholds& thresholds,
+Image DrawBlobs(const ImageView& frame, const FrameResult& r, const Thresholds& thresholds,
                 bool detector_blobs_only) {
   Image out = ToRgb(frame);
   for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);
@@ -381,7 +381,7 @@ Image DrawBlobs(const Image& frame, const FrameResult& r, const Thresholds& thre
 
 }  // namespace
 
-void FrameDetector::WriteDebugImages(const Image& image) const {
+void FrameDetector::WriteDebugImages(const ImageView& image) const {
   const Thresholds& thresholds = pipeline_.thresholds();
   const std::vector<std::string> names =
       DebugImageNames(fs::path(result_.frame).stem().string(), has_detector());

@@ -38,7 +38,7 @@ VisionPipeline::VisionPipeline(Thresholds thresholds, Calibration calibration,
   }
 }
 
-void VisionPipeline::CheckFrameSize(const Image& image, const std::string& frame_name) const {
+void VisionPipeline::CheckFrameSize(const ImageView& image, const std::string& frame_name) const {
   if (calibration_.image_width_px == 0) return;
   if (image.width_px != calibration_.image_width_px ||
       image.height_px != calibration_.image_height_px) {
@@ -50,7 +50,7 @@ void VisionPipeline::CheckFrameSize(const Image& image, const std::string& frame
   }
 }
 
-void VisionPipeline::Process(const Image& image, std::vector<detect::Blob>* blobs,
+void VisionPipeline::Process(const ImageView& image, std::vector<detect::Blob>* blobs,
                              VisionStats* stats, TimeProfile* profile) {
   TimeProfile untimed;
   TimeProfile& time = profile != nullptr ? *profile : untimed;

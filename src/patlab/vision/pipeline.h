@@ -49,14 +49,14 @@ class VisionPipeline {
 
   // InputError "frame: image is WxH; expected WxH as in calibration" when the calibration
   // names an image size and the frame differs.
-  void CheckFrameSize(const Image& image, const std::string& frame_name) const;
+  void CheckFrameSize(const ImageView& image, const std::string& frame_name) const;
 
   // Stages 2-5. `blobs` is cleared and filled in region order (class, then area); blob i
   // came from segmenter().regions()[blob_region()[i]]. Blob colours are class indices. `stats`
   // (optional) is overwritten; an enabled `profile` gets the time of stages 2-5 added under
   // their names (no clock is read otherwise).
-  void Process(const Image& image, std::vector<detect::Blob>* blobs, VisionStats* stats = nullptr,
-               TimeProfile* profile = nullptr);
+  void Process(const ImageView& image, std::vector<detect::Blob>* blobs,
+               VisionStats* stats = nullptr, TimeProfile* profile = nullptr);
 
   const Segmenter& segmenter() const { return segmenter_; }
   const Thresholds& thresholds() const { return thresholds_; }
