@@ -31,7 +31,7 @@ class ExperimentFixture : public ::testing::Test {
     const std::string path = Write(text);
     const std::string full =
         message.starts_with("/") ? message : dir_.Path("experiments/") + message;
-    EXPECT_INPUT_ERROR(LoadExperimentFile(path), full);
+    EXPECT_INPUT_ERROR(formats::LoadExperimentFile(path), full);
   }
   patlab::testing::TempDir dir_;
 };

@@ -23,7 +23,7 @@ inline const std::vector<std::string>& ShippedPatternNames() {
 }
 
 inline Pattern ShippedPattern(const std::string& name) {
-  return io::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml");
+  return formats::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml");
 }
 
 // A fresh empty directory under the system temp dir, removed by the destructor.

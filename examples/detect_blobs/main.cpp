@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    patlab::detect::Detector detector(patlab::detect::LoadDetectorSettings(argv[1]));
+    patlab::detect::Detector detector(patlab::formats::LoadDetectorSettings(argv[1]));
     const std::vector<patlab::detect::Blob> blobs = ReadBlobs(argv[2], detector);
     std::vector<patlab::detect::Detection> detections;
     detector.Detect(blobs, &detections);

@@ -140,7 +140,7 @@ def ids(pattern, colours, tolerance_mm=10.0):
 def evaluate(patterns, **options):
     """`patlab evaluate`: per pattern its accuracy against the bound, Monte-Carlo check, ID
     capacity and misidentification rate. options: sigma_mm, trials, colour_counts, tolerance_mm,
-    sigmas_mm, frames, id_colours, seed, threads (the fields of sim::EvaluateOptions)."""
+    sigmas_mm, frames, id_colours, seed, threads (the fields of design::EvaluateOptions)."""
     json_text, text = _patlab._evaluate(_as_patterns(patterns), options)
     return EvaluationResult(json_text, text)
 

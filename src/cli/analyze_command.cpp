@@ -45,15 +45,15 @@ struct AnalyzeCliOptions {
   std::string truth;
   std::string out_dir = "results";
   std::string name = "analyze";
-  sim::TrackColumns columns;
-  sim::AnalyzeOptions analysis;
+  analysis::TrackColumns columns;
+  analysis::AnalyzeOptions analysis;
   std::string detrend = "smooth";
   bool quiet = false;
 };
 
 po::options_description Flags(AnalyzeCliOptions* o) {
   po::options_description visible("patlab analyze TRACK.csv... [options]");
-  sim::TrackColumns& c = o->columns;
+  analysis::TrackColumns& c = o->columns;
   // clang-format off
   visible.add_options()
       ("help,h", "show this help")
@@ -80,11 +80,11 @@ double Seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_cloc
   return std::chrono::duration<double>(b - a).count();
 }
 
-void PrintSummary(const sim::AnalyzeReport& report,
+void PrintSummary(const analysis::AnalyzeReport& report,
                   const std::vector<std::pair<std::string, double>>& timings, double seconds,
                   const std::vector<std::string>& paths) {
   size_t samples = 0;
-  for (const sim::SubjectAnalysis& a : report.subjects) samples += a.samples;
+  for (const analysis::SubjectAnalysis& a : report.subjects) samples += a.samples;
   std::string stages;
   for (const auto& [stage, s] : timings) stages += StringPrintf(", %s %.3f", stage.c_str(), s);
   std::fputs(StringPrintf(
@@ -105,7 +105,7 @@ void PrintSummary(const sim::AnalyzeReport& report,
   auto cell = [](const stats::StdWithCi& s) {
     return StringPrintf("%.3f [%.3f-%.3f]", s.std, s.lower, s.upper);
   };
-  for (const sim::SubjectAnalysis& a : report.subjects) {
+  for (const analysis::SubjectAnalysis& a : report.subjects) {
     std::fprintf(stderr, "%-12s %8zu %-24s %-24s %-24s %-24s\n", a.subject.c_str(), a.est.x.n,
                  cell(a.est.x).c_str(), cell(a.est.y).c_str(),
                  a.has_truth ? cell(a.truth.x).c_str() : "",
@@ -139,7 +139,7 @@ int RunAnalyze(const std::vector<std::string>& args) {
   if (o.tracks.empty()) {
     throw InputError("no track files; expected 'patlab analyze TRACK.csv...' (see --help)");
   }
-  ThrowFlagProblem(sim::Check(o.analysis), vm,
+  ThrowFlagProblem(analysis::Check(o.analysis), vm,
                    {{"sigma_samples", "--smoothing-sigma"}, {"lag", "--lag"}});
   if (!io::IsFileBaseName(o.name)) {
     throw InputError("--name is '" + EscapeForMessage(o.name) + "'; expected " +
@@ -148,27 +148,27 @@ int RunAnalyze(const std::vector<std::string>& args) {
   o.columns.require_subject = vm.count("subject-column") > 0;
   o.columns.require_run = vm.count("run-column") > 0;
   o.columns.require_theta = vm.count("theta-column") > 0;
-  o.analysis.detrend = ParseName(o.detrend, sim::kDetrendNames, "--detrend");
-  sim::Validate(o.columns);
-  sim::Validate(o.analysis);
+  o.analysis.detrend = ParseName(o.detrend, analysis::kDetrendNames, "--detrend");
+  analysis::Validate(o.columns);
+  analysis::Validate(o.analysis);
   const std::string base = o.out_dir + "/" + o.name;
   const std::vector<std::string> paths = {base + ".csv", base + "_tests.csv", base + "_errors.csv",
                                           base + ".json"};
   io::CheckWritable(paths);
 
   const auto start = std::chrono::steady_clock::now();
-  std::vector<sim::MeasuredTrack> tracks, truth;
+  std::vector<analysis::MeasuredTrack> tracks, truth;
   for (const std::string& path : o.tracks) {
-    std::vector<sim::MeasuredTrack> some = sim::ReadTrackCsv(path, o.columns);
+    std::vector<analysis::MeasuredTrack> some = analysis::ReadTrackCsv(path, o.columns);
     tracks.insert(tracks.end(), std::make_move_iterator(some.begin()),
                   std::make_move_iterator(some.end()));
   }
-  if (!o.truth.empty()) truth = sim::ReadTrackCsv(o.truth, o.columns);
+  if (!o.truth.empty()) truth = analysis::ReadTrackCsv(o.truth, o.columns);
   const auto read = std::chrono::steady_clock::now();
   Progress progress("patlab analyze", "subjects", !o.quiet, StderrIsTerminal());
   o.analysis.progress = progress.Callback();
-  const sim::AnalyzeReport report =
-      sim::AnalyzeTracks(std::move(tracks), o.analysis, o.truth.empty() ? nullptr : &truth);
+  const analysis::AnalyzeReport report =
+      analysis::AnalyzeTracks(std::move(tracks), o.analysis, o.truth.empty() ? nullptr : &truth);
   const auto analysed = std::chrono::steady_clock::now();
   std::vector<std::string> inputs = o.tracks;
   if (!o.truth.empty()) inputs.push_back(o.truth);
@@ -176,11 +176,12 @@ int RunAnalyze(const std::vector<std::string>& args) {
   std::vector<std::pair<std::string, double>> timings = {{"read", Seconds(start, read)},
                                                          {"analyse", Seconds(read, analysed)}};
   const std::vector<io::StreamedFile> files = {
-      {paths[0], [&](const io::TextSink& sink) { sink(sim::AnalyzeTableCsv(report)); }},
-      {paths[1], [&](const io::TextSink& sink) { sink(sim::PairedTestsCsv(report.tests)); }},
-      {paths[2], [&](const io::TextSink& sink) { sim::WriteAnalyzeErrorsCsv(report, sink); }},
-      {paths[3],
-       [&](const io::TextSink& sink) { sink(sim::AnalyzeManifestJson(report, inputs, paths)); }}};
+      {paths[0], [&](const io::TextSink& sink) { sink(analysis::AnalyzeTableCsv(report)); }},
+      {paths[1], [&](const io::TextSink& sink) { sink(stats::PairedTestsCsv(report.tests)); }},
+      {paths[2], [&](const io::TextSink& sink) { analysis::WriteAnalyzeErrorsCsv(report, sink); }},
+      {paths[3], [&](const io::TextSink& sink) {
+         sink(analysis::AnalyzeManifestJson(report, inputs, paths));
+       }}};
   try {
     io::WriteFilesAtomic(files);
   } catch (const EnvironmentError& e) {

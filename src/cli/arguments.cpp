@@ -133,13 +133,13 @@ void ThrowFlagProblem(const std::vector<OptionsProblem>& problems, const po::var
   }
 }
 
-void ThrowCameraFlagProblem(const vision::CameraSensorOptions& sensor,
-                            const vision::CameraJitter& jitter, const po::variables_map& vm) {
-  ThrowFlagProblem(vision::Check(sensor), vm,
+void ThrowCameraFlagProblem(const render::CameraSensorOptions& sensor,
+                            const render::CameraJitter& jitter, const po::variables_map& vm) {
+  ThrowFlagProblem(render::Check(sensor), vm,
                    {{"exposure_gain", "--exposure-gain"},
                     {"read_noise_levels", "--read-noise-levels"},
                     {"shot_noise_gain", "--shot-noise-gain"}});
-  ThrowFlagProblem(vision::Check(jitter), vm,
+  ThrowFlagProblem(render::Check(jitter), vm,
                    {{"roll_sigma_rad", "--roll-jitter-rad"},
                     {"height_sigma_mm", "--height-jitter-mm"},
                     {"shift_sigma_mm", "--shift-jitter-mm"}});

@@ -48,8 +48,8 @@ void ThrowFlagProblem(const std::vector<OptionsProblem>& problems,
                       const std::vector<std::pair<std::string, std::string>>& names);
 // The colour camera's flags of `patlab render` and `patlab camtrack` (sensor and jitter), each
 // problem naming its flag (ThrowFlagProblem).
-void ThrowCameraFlagProblem(const vision::CameraSensorOptions& sensor,
-                            const vision::CameraJitter& jitter,
+void ThrowCameraFlagProblem(const render::CameraSensorOptions& sensor,
+                            const render::CameraJitter& jitter,
                             const boost::program_options::variables_map& vm);
 // The ID palette sizes of `patlab ids` and `patlab evaluate` (--colors): integers 1..16.
 std::vector<int> ParseColourCounts(const std::string& text);

@@ -79,8 +79,8 @@ int RunAuto(const CalibrateCommandOptions& o) {
   if (o.field.empty()) throw InputError("--auto: missing --field; expected a field name or file");
   if (o.camera_height_mm < 0.0)
     throw InputError("--camera-height: negative; expected mm above the floor, or 0 for unknown");
-  const calib::Field field = calib::LoadField(FindData(o.field, io::DataKind::kField));
-  const vision::Image frame = vision::ReadFrame(o.input);
+  const calib::Field field = formats::LoadField(FindData(o.field, io::DataKind::kField));
+  const camera::Image frame = vision::ReadFrame(o.input);
   vision::LineFinderOptions finder;
   finder.line_width_px = o.line_width_px;
   calib::AutoOptions options;
@@ -139,7 +139,7 @@ int RunCalibrate(const std::vector<std::string>& args) {
   o.out = (std::filesystem::path(o.out) / "calibration.toml").string();
 
   const calib::CalibrationInput input =
-      calib::LoadCalibrationInput(FindData(o.input, io::DataKind::kSettings));
+      formats::LoadCalibrationInput(FindData(o.input, io::DataKind::kSettings));
   const calib::CalibrationFit fit = calib::FitCamera(input);
   std::vector<std::pair<std::string, std::string>> files = {
       {o.out, calib::CalibrationFileText(input, fit)}};

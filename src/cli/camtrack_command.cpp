@@ -44,9 +44,9 @@ struct Options {
   int id = 0;
   std::string seed = "14", sensor_seed = "1", jitter_seed = "1";
   bool no_bayer = false, chroma_444 = false;
-  vision::CameraSensorOptions sensor;
-  vision::CameraJitter jitter;
-  sim::CameraTrackOptions track;
+  render::CameraSensorOptions sensor;
+  render::CameraJitter jitter;
+  analysis::CameraTrackOptions track;
   double blur_sigma_px = -1.0;
   bool quiet = false;
 };
@@ -78,11 +78,11 @@ void AddOptions(po::options_description* d, Options* o) {
   AddQuiet(d->add_options(), &o->quiet);
 }
 
-std::string Csv(const std::string& label, const sim::CameraTrackResult& r) {
+std::string Csv(const std::string& label, const analysis::CameraTrackResult& r) {
   std::string csv =
       "label,group,samples,sx_mm,sx_lo,sx_hi,sy_mm,sy_lo,sy_hi,stheta_rad,stheta_lo,stheta_hi,"
       "missed_patches,frames,tau_x,tau_y,tau_theta,detected_frames,wrong_id_frames\n";
-  for (const sim::GroupError& g : r.groups) {
+  for (const analysis::GroupError& g : r.groups) {
     io::CsvWriter(&csv).Cells({label, g.group, std::to_string(g.samples)});
     for (double v :
          {g.sx, g.sx_lo, g.sx_hi, g.sy, g.sy_lo, g.sy_hi, g.stheta, g.stheta_lo, g.stheta_hi}) {
@@ -119,7 +119,7 @@ int RunCamtrack(const std::vector<std::string>& args) {
   }
   if (o.scene.empty()) throw InputError("missing SCENE; expected a scene TOML file");
   ThrowCameraFlagProblem(o.sensor, o.jitter, vm);
-  ThrowFlagProblem(sim::Check(o.track), vm, {{"runs", "--runs"}, {"frames", "--frames"}});
+  ThrowFlagProblem(analysis::Check(o.track), vm, {{"runs", "--runs"}, {"frames", "--frames"}});
   if (o.thresholds.empty()) throw InputError("missing --thresholds; expected a thresholds file");
   if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
   o.out = (std::filesystem::path(o.out) / "camtrack.csv").string();
@@ -131,12 +131,12 @@ int RunCamtrack(const std::vector<std::string>& args) {
   io::CheckWritable({o.out});
   Progress progress("patlab camtrack", "frames", !o.quiet, StderrIsTerminal());
   o.track.progress = progress.Callback();
-  vision::SceneFile file = vision::LoadSceneFile(FindData(o.scene, io::DataKind::kSettings));
+  formats::SceneFile file = formats::LoadSceneFile(FindData(o.scene, io::DataKind::kSettings));
   if (vm.count("blur-sigma-px")) file.scene.options.blur_sigma_px = o.blur_sigma_px;
   const vision::Thresholds thresholds =
-      vision::LoadThresholds(FindData(o.thresholds, io::DataKind::kSettings));
-  const sim::CameraTrackResult r = sim::RunCameraTrack(file.scene, file.calibration, thresholds,
-                                                       o.team, o.id, o.sensor, o.jitter, o.track);
+      formats::LoadThresholds(FindData(o.thresholds, io::DataKind::kSettings));
+  const analysis::CameraTrackResult r = analysis::RunCameraTrack(
+      file.scene, file.calibration, thresholds, o.team, o.id, o.sensor, o.jitter, o.track);
   try {
     io::WriteFilesAtomic({{o.out, Csv(o.label, r)}});
   } catch (const InputError& e) {

@@ -53,8 +53,8 @@ struct CompareFlags {
   std::string patterns_dir;
 };
 
-sim::CompareOptions ParseCompareOptions(const CompareFlags& f, const po::variables_map& vm,
-                                        sim::CompareOptions o, Progress* progress) {
+design::CompareOptions ParseCompareOptions(const CompareFlags& f, const po::variables_map& vm,
+                                           design::CompareOptions o, Progress* progress) {
   if (f.designs.empty()) {
     throw InputError("missing DESIGN; expected 'patlab compare DESIGN... [options]' (see --help)");
   }
@@ -65,7 +65,7 @@ sim::CompareOptions ParseCompareOptions(const CompareFlags& f, const po::variabl
   o.evaluate.sigmas_mm = ParseNumberList(
       f.sigmas, "--sigmas", "strictly increasing finite numbers >= 0 (mm), e.g. 1,2,3,4");
   o.evaluate.seed = ParseSeed(f.seed, "--seed");
-  sim::Validate(o);
+  design::Validate(o);
   o.progress = progress->Callback();
   return o;
 }
@@ -79,8 +79,8 @@ const OptionGroups kCompareGroups = {{"input", {"patterns-dir"}},
 
 int RunCompare(const std::vector<std::string>& args) {
   CompareFlags f;
-  sim::CompareOptions o;
-  sim::EvaluateOptions& e = o.evaluate;
+  design::CompareOptions o;
+  design::EvaluateOptions& e = o.evaluate;
   po::options_description visible("usage: patlab compare DESIGN... [options]\n\noptions");
   // clang-format off
   visible.add_options()
@@ -120,25 +120,25 @@ int RunCompare(const std::vector<std::string>& args) {
   std::vector<std::pair<Pattern, std::string>> designs;
   for (const std::string& reference : f.designs) {
     const std::string file = FindPattern(reference, f.patterns_dir);
-    designs.emplace_back(io::LoadPatternFile(file), file);
+    designs.emplace_back(formats::LoadPatternFile(file), file);
   }
-  const sim::CompareResult result = sim::CompareDesigns(designs, o);
-  const std::string text = TrimLineEnds(sim::CompareText(result));
+  const design::CompareResult result = design::CompareDesigns(designs, o);
+  const std::string text = TrimLineEnds(design::CompareText(result));
   if (!f.out_dir.empty()) {
     const std::filesystem::path dir(f.out_dir);
     try {
       io::WriteFilesAtomic({{(dir / "compare.txt").string(), text},
-                            {(dir / "compare.csv").string(), sim::CompareCsv(result)},
-                            {(dir / "compare.json").string(), sim::CompareJson(result)}});
+                            {(dir / "compare.csv").string(), design::CompareCsv(result)},
+                            {(dir / "compare.json").string(), design::CompareJson(result)}});
     } catch (const InputError& error) {
       std::cerr << "patlab compare: " << error.what() << "\n";
       return kExitFailure;
     }
   }
   if (f.format == "csv") {
-    std::cout << sim::CompareCsv(result);
+    std::cout << design::CompareCsv(result);
   } else if (f.format == "json") {
-    std::cout << sim::CompareJson(result);
+    std::cout << design::CompareJson(result);
   } else if (f.out_dir.empty()) {
     std::cout << text;
   }

@@ -60,7 +60,7 @@ struct DesignFlags {
 // The ID patch positions of a pattern file, as the first start.
 std::vector<Vec2> StartLayout(const std::string& reference, const std::string& patterns_dir) {
   const std::string file = FindPattern(reference, patterns_dir);
-  const Pattern pattern = io::LoadPatternFile(file);
+  const Pattern pattern = formats::LoadPatternFile(file);
   std::vector<Vec2> layout;
   const Vec2 key = pattern.patches[pattern.key_index].position_mm;
   for (int slot : detect::IdSlots(pattern)) {
@@ -71,55 +71,58 @@ std::vector<Vec2> StartLayout(const std::string& reference, const std::string& p
 
 // The options a flag sets, copied from the flags' values onto the constraints file's (or the
 // defaults) when the flag is given: flags override the file.
-using Copy = void (*)(const sim::DesignOptions& from, sim::DesignOptions* to);
+using Copy = void (*)(const design::DesignOptions& from, design::DesignOptions* to);
 struct FlagField {
   const char* flag;
   Copy copy;
 };
 constexpr FlagField kFlagFields[] = {
-    {"name", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->name = f.name; }},
+    {"name", [](const design::DesignOptions& f, design::DesignOptions* t) { t->name = f.name; }},
     {"outer-diameter-mm",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) {
+     [](const design::DesignOptions& f, design::DesignOptions* t) {
        t->outer_diameter_mm = f.outer_diameter_mm;
      }},
-    {"rim-gap-mm",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->rim_gap_mm = f.rim_gap_mm; }},
-    {"key-radius-mm", [](const sim::DesignOptions& f,
-                         sim::DesignOptions* t) { t->key_radius_mm = f.key_radius_mm; }},
-    {"id-patches",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->id_patches = f.id_patches; }},
-    {"id-radii-mm",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->id_radii_mm = f.id_radii_mm; }},
-    {"min-gap-mm",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->min_gap_mm = f.min_gap_mm; }},
-    {"palette", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->palette = f.palette; }},
-    {"tolerance-mm",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->tolerance_mm = f.tolerance_mm; }},
+    {"rim-gap-mm", [](const design::DesignOptions& f,
+                      design::DesignOptions* t) { t->rim_gap_mm = f.rim_gap_mm; }},
+    {"key-radius-mm", [](const design::DesignOptions& f,
+                         design::DesignOptions* t) { t->key_radius_mm = f.key_radius_mm; }},
+    {"id-patches", [](const design::DesignOptions& f,
+                      design::DesignOptions* t) { t->id_patches = f.id_patches; }},
+    {"id-radii-mm", [](const design::DesignOptions& f,
+                       design::DesignOptions* t) { t->id_radii_mm = f.id_radii_mm; }},
+    {"min-gap-mm", [](const design::DesignOptions& f,
+                      design::DesignOptions* t) { t->min_gap_mm = f.min_gap_mm; }},
+    {"palette",
+     [](const design::DesignOptions& f, design::DesignOptions* t) { t->palette = f.palette; }},
+    {"tolerance-mm", [](const design::DesignOptions& f,
+                        design::DesignOptions* t) { t->tolerance_mm = f.tolerance_mm; }},
     {"objective",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->objective = f.objective; }},
+     [](const design::DesignOptions& f, design::DesignOptions* t) { t->objective = f.objective; }},
     {"symmetry",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->symmetry = f.symmetry; }},
-    {"min-ids", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->min_ids = f.min_ids; }},
+     [](const design::DesignOptions& f, design::DesignOptions* t) { t->symmetry = f.symmetry; }},
+    {"min-ids",
+     [](const design::DesignOptions& f, design::DesignOptions* t) { t->min_ids = f.min_ids; }},
     {"min-rotation-onset-mm",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) {
+     [](const design::DesignOptions& f, design::DesignOptions* t) {
        t->min_rotation_onset_mm = f.min_rotation_onset_mm;
      }},
     {"max-angle-crlb-mrad-per-mm",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) {
+     [](const design::DesignOptions& f, design::DesignOptions* t) {
        t->max_angle_crlb_mrad_per_mm = f.max_angle_crlb_mrad_per_mm;
      }},
     {"max-position-crlb-per-mm",
-     [](const sim::DesignOptions& f, sim::DesignOptions* t) {
+     [](const design::DesignOptions& f, design::DesignOptions* t) {
        t->max_position_crlb_per_mm = f.max_position_crlb_per_mm;
      }},
-    {"starts", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->starts = f.starts; }},
-    {"max-evaluations", [](const sim::DesignOptions& f,
-                           sim::DesignOptions* t) { t->max_evaluations = f.max_evaluations; }},
-    {"seed", [](const sim::DesignOptions& f, sim::DesignOptions* t) { t->seed = f.seed; }},
+    {"starts",
+     [](const design::DesignOptions& f, design::DesignOptions* t) { t->starts = f.starts; }},
+    {"max-evaluations", [](const design::DesignOptions& f,
+                           design::DesignOptions* t) { t->max_evaluations = f.max_evaluations; }},
+    {"seed", [](const design::DesignOptions& f, design::DesignOptions* t) { t->seed = f.seed; }},
 };
 
-sim::DesignOptions ParseDesignOptions(const DesignFlags& f, sim::DesignOptions flags,
-                                      const po::variables_map& vm) {
+design::DesignOptions ParseDesignOptions(const DesignFlags& f, design::DesignOptions flags,
+                                         const po::variables_map& vm) {
   if (f.out_dir.empty()) throw InputError("missing --out DIR; expected the directory to write");
   const auto given = [&vm](const char* flag) { return vm.count(flag) && !vm[flag].defaulted(); };
   if (given("id-radii-mm")) {
@@ -127,12 +130,13 @@ sim::DesignOptions ParseDesignOptions(const DesignFlags& f, sim::DesignOptions f
                                         "radii in mm, one for every ID patch or one per ID patch");
   }
   if (given("objective"))
-    flags.objective = ParseName(f.objective, sim::kDesignObjectiveNames, "--objective");
+    flags.objective = ParseName(f.objective, design::kDesignObjectiveNames, "--objective");
   if (given("symmetry"))
-    flags.symmetry = ParseName(f.symmetry, sim::kDesignSymmetryNames, "--symmetry");
+    flags.symmetry = ParseName(f.symmetry, design::kDesignSymmetryNames, "--symmetry");
   if (given("seed")) flags.seed = ParseSeed(f.seed, "--seed");
-  sim::DesignOptions o =
-      f.constraints.empty() ? sim::DesignOptions{} : sim::LoadDesignConstraints(f.constraints, {});
+  design::DesignOptions o = f.constraints.empty()
+                                ? design::DesignOptions{}
+                                : design::LoadDesignConstraints(f.constraints, {});
   for (const FlagField& field : kFlagFields) {
     if (given(field.flag)) field.copy(flags, &o);
   }
@@ -144,11 +148,11 @@ sim::DesignOptions ParseDesignOptions(const DesignFlags& f, sim::DesignOptions f
                        std::to_string(o.id_patches) + ") ID patches");
     }
   }
-  sim::Validate(o);
+  design::Validate(o);
   return o;
 }
 
-void AddDesignFlags(po::options_description* d, DesignFlags* f, sim::DesignOptions* o) {
+void AddDesignFlags(po::options_description* d, DesignFlags* f, design::DesignOptions* o) {
   // clang-format off
   d->add_options()
       ("constraints", po::value(&f->constraints),
@@ -207,7 +211,7 @@ const OptionGroups kDesignGroups = {
 
 int RunDesign(const std::vector<std::string>& args) {
   DesignFlags f;
-  sim::DesignOptions o;
+  design::DesignOptions o;
   po::options_description visible("usage: patlab design [options] --out DIR\n\noptions");
   AddDesignFlags(&visible, &f, &o);
   po::variables_map vm;
@@ -221,11 +225,12 @@ int RunDesign(const std::vector<std::string>& args) {
   io::CheckWritable({(dir / (o.name + ".toml")).string()});
   Progress progress("patlab design", "starts", !f.quiet, StderrIsTerminal());
   o.progress = progress.Callback();
-  const sim::DesignResult result = sim::RunDesign(o);
-  const std::string report = TrimLineEnds(sim::DesignReportText(result));
+  const design::DesignResult result = design::RunDesign(o);
+  const std::string report = TrimLineEnds(design::DesignReportText(result));
   // A failure to write is an EnvironmentError: main() reports it, exit 1, nothing written.
-  io::WriteFilesAtomic({{(dir / (o.name + ".toml")).string(), sim::DesignPatternFileText(result)},
-                        {(dir / (o.name + ".design.txt")).string(), report}});
+  io::WriteFilesAtomic(
+      {{(dir / (o.name + ".toml")).string(), design::DesignPatternFileText(result)},
+       {(dir / (o.name + ".design.txt")).string(), report}});
   if (!f.quiet) std::cout << report;
   if (!f.quiet) {
     std::fputs(StringPrintf("patlab design: %lld layouts evaluated in %.2f s, %.0f evaluations/s\n",

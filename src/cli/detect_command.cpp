@@ -153,7 +153,7 @@ void CheckRequired(DetectOptions* o) {
     if (!o->thresholds.empty() || !o->calibration.empty() || !o->settings.empty()) {
       throw InputError("--setup with -t, -c or -s; expected either --setup DIR or the three files");
     }
-    const vision::SetupFiles f = vision::LoadSetupFiles(o->setup);
+    const formats::SetupFiles f = formats::LoadSetupFiles(o->setup);
     o->thresholds = f.thresholds;
     o->calibration = f.calibration;
     o->settings = f.settings;
@@ -320,12 +320,12 @@ int RunDetect(const std::vector<std::string>& args) {
   if (!o.frame.debug_dir.empty()) CheckDebugDir(o.frame.debug_dir, {o.out, o.track_path});
   std::optional<detect::DetectorConfig> settings;
   if (!o.settings.empty()) {
-    settings = detect::LoadDetectorSettings(o.settings);
-    vision::ApplyFrameSettings(detect::LoadFrameSettings(o.settings), &o.frame);
+    settings = formats::LoadDetectorSettings(o.settings);
+    vision::ApplyFrameSettings(formats::LoadFrameSettings(o.settings), &o.frame);
   }
   if (vm.count("edge-loss-px") > 0) o.frame.edge_loss_px = o.edge_loss_px;
-  vision::FrameDetector frames(vision::LoadThresholds(o.thresholds),
-                               vision::LoadCalibration(o.calibration), std::move(settings),
+  vision::FrameDetector frames(formats::LoadThresholds(o.thresholds),
+                               formats::LoadCalibration(o.calibration), std::move(settings),
                                o.frame);
   for (const std::string& warning : frames.warnings()) {
     std::cerr << "patlab detect: warning: " << warning << "\n";

@@ -41,7 +41,7 @@ A PATTERN is a pattern file or the name of a shipped pattern (or one in --patter
 Output is the same for any --threads. Exit status: 0 ok, 2 bad input.
 )";
 
-// The flags as given; the lists and the seed are parsed into sim::EvaluateOptions.
+// The flags as given; the lists and the seed are parsed into design::EvaluateOptions.
 struct EvaluateFlags {
   std::vector<std::string> patterns;
   std::string colors = "2,3,4";
@@ -52,8 +52,8 @@ struct EvaluateFlags {
   std::string patterns_dir;
 };
 
-sim::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::variables_map& vm,
-                                          sim::EvaluateOptions o) {
+design::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::variables_map& vm,
+                                             design::EvaluateOptions o) {
   if (f.patterns.empty()) {
     throw InputError(
         "missing PATTERN; expected 'patlab evaluate PATTERN... [options]' (see --help)");
@@ -65,7 +65,7 @@ sim::EvaluateOptions ParseEvaluateOptions(const EvaluateFlags& f, const po::vari
                                 "strictly increasing finite numbers >= 0 (mm), e.g. 1,2,3,4");
   o.seed = ParseSeed(f.seed, "--seed");
   CheckFormat(f.format, "table|json");
-  sim::Validate(o);
+  design::Validate(o);
   return o;
 }
 
@@ -77,7 +77,7 @@ const OptionGroups kEvaluateGroups = {{"input", {"patterns-dir"}},
 
 int RunEvaluate(const std::vector<std::string>& args) {
   EvaluateFlags f;
-  sim::EvaluateOptions o;
+  design::EvaluateOptions o;
   po::options_description visible("usage: patlab evaluate PATTERN... [options]\n\noptions");
   // clang-format off
   visible.add_options()
@@ -112,24 +112,24 @@ int RunEvaluate(const std::vector<std::string>& args) {
   std::vector<std::pair<std::string, Pattern>> patterns;
   for (const std::string& reference : f.patterns) {
     const std::string file = FindPattern(reference, f.patterns_dir);
-    patterns.emplace_back(file, io::LoadPatternFile(file));
+    patterns.emplace_back(file, formats::LoadPatternFile(file));
   }
-  std::vector<sim::EvaluationReport> reports;
+  std::vector<design::EvaluationReport> reports;
   for (const auto& [file, pattern] : patterns) {
     Progress progress("patlab evaluate " + pattern.name, "steps", !f.quiet, StderrIsTerminal());
-    sim::EvaluateOptions with_progress = o;
+    design::EvaluateOptions with_progress = o;
     with_progress.progress = progress.Callback();
-    reports.push_back(sim::EvaluatePattern(pattern, file, with_progress));
+    reports.push_back(design::EvaluatePattern(pattern, file, with_progress));
     reports.back().options.progress = nullptr;
   }
   if (f.format == "json") {
-    std::cout << sim::EvaluationJson(o, reports);
+    std::cout << design::EvaluationJson(o, reports);
     return kExitOk;
   }
   std::string text;
   for (size_t k = 0; k < reports.size(); ++k) {
     if (k > 0) text += "\n";
-    text += sim::EvaluationText(reports[k]);
+    text += design::EvaluationText(reports[k]);
   }
   std::cout << TrimLineEnds(text);
   return kExitOk;

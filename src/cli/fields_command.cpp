@@ -45,22 +45,23 @@ int RunFields(const std::vector<std::string>& args) {
   }
   const std::vector<std::string>& roots = DataRoots();
   if (name.empty()) {
-    const std::vector<calib::Field> fields = calib::ShippedFields(roots);
+    const std::vector<calib::Field> fields = formats::ShippedFields(roots);
     std::cout << "field models (name, size, first year of the rules, source):\n"
               << FamilyLines(fields) << "\nfamilies (models newest first):\n";
-    for (const std::string& family : calib::FieldFamilies(roots)) {
+    for (const std::string& family : formats::FieldFamilies(roots)) {
       std::string names;
-      for (const calib::Field& f : calib::FieldFamily(family, roots))
+      for (const calib::Field& f : formats::FieldFamily(family, roots))
         names += (names.empty() ? "" : ", ") + f.name;
       std::cout << "  " << family << ": " << names << "\n";
     }
     return kExitOk;
   }
-  if (const std::vector<calib::Field> family = calib::FieldFamily(name, roots); !family.empty()) {
+  if (const std::vector<calib::Field> family = formats::FieldFamily(name, roots); !family.empty()) {
     std::cout << "family " << name << " (newest first):\n" << FamilyLines(family);
     return kExitOk;
   }
-  std::cout << calib::FieldDescriptionText(calib::LoadField(FindData(name, io::DataKind::kField)));
+  std::cout << calib::FieldDescriptionText(
+      formats::LoadField(FindData(name, io::DataKind::kField)));
   return kExitOk;
 }
 

@@ -34,12 +34,12 @@ Exit status: 0 ok, 1 cannot write the files, 2 bad input.
 
 struct Options {
   std::string out, free = "all", seed = "14", radii = "45,50,55,60,65,70,80";
-  sim::NoiseFitStudyOptions study;
+  paper::NoiseFitStudyOptions study;
   bool quiet = false;
 };
 
 void AddOptions(po::options_description* d, Options* o) {
-  sim::NoiseFitStudyOptions& s = o->study;
+  paper::NoiseFitStudyOptions& s = o->study;
   d->add_options()("help,h", "show this help")("out,o", po::value(&o->out),
                                                "output directory (required)")(
       "free", po::value(&o->free), "mechanisms fitted (comma list of names, or all), default all")(
@@ -61,8 +61,8 @@ void AddOptions(po::options_description* d, Options* o) {
   AddQuiet(d->add_options(), &o->quiet);
 }
 
-std::array<bool, sim::kNumMechanisms> ParseFree(const std::string& text) {
-  std::array<bool, sim::kNumMechanisms> free{};
+std::array<bool, paper::kNumMechanisms> ParseFree(const std::string& text) {
+  std::array<bool, paper::kNumMechanisms> free{};
   if (text == "all") {
     free.fill(true);
     return free;
@@ -71,7 +71,7 @@ std::array<bool, sim::kNumMechanisms> ParseFree(const std::string& text) {
   while (start <= text.size()) {
     const size_t comma = std::min(text.find(',', start), text.size());
     const std::string name = text.substr(start, comma - start);
-    free[static_cast<size_t>(ParseName(name, sim::kMechanismNames, "--free"))] = true;
+    free[static_cast<size_t>(ParseName(name, paper::kMechanismNames, "--free"))] = true;
     start = comma + 1;
   }
   return free;
@@ -99,7 +99,7 @@ int RunFitnoise(const std::vector<std::string>& args) {
   o.study.fit.seed = ParseSeed(o.seed, "--seed");
   o.study.sensitivity_radii_mm =
       ParseNumberList(o.radii, "--sensitivity-radii", "numbers in (10, 200] (mm)");
-  sim::Validate(o.study.geometry);
+  paper::Validate(o.study.geometry);
   std::vector<std::string> paths;
   for (const char* name : {"fit.csv", "data.csv", "profiles.csv", "correlation.csv", "models.csv",
                            "sensitivity.csv"}) {
@@ -108,7 +108,7 @@ int RunFitnoise(const std::vector<std::string>& args) {
   io::CheckWritable(paths);
   Progress progress("patlab fitnoise", "steps", !o.quiet, StderrIsTerminal());
   o.study.progress = progress.Callback();
-  sim::NoiseFitStudy study = sim::RunNoiseFitStudy(o.study);
+  paper::NoiseFitStudy study = paper::RunNoiseFitStudy(o.study);
   for (auto& [name, text] : study.files) name = o.out + "/" + name;
   try {
     io::WriteFilesAtomic(study.files);

@@ -142,7 +142,7 @@ int RunIds(const std::vector<std::string>& args) {
   std::vector<Row> rows;
   for (const std::string& reference : o.patterns) {
     Row row;
-    row.pattern = io::LoadPatternFile(FindPattern(reference, o.patterns_dir));
+    row.pattern = formats::LoadPatternFile(FindPattern(reference, o.patterns_dir));
     row.symmetry = detect::FindSymmetry(row.pattern, o.tolerance_mm);
     rows.push_back(std::move(row));
   }

@@ -38,10 +38,10 @@ struct ImportFlags {
   std::vector<std::string> sheets;
   std::string out_dir = ".";
   std::string name;
-  vision::SheetImportOptions options;
+  design::SheetImportOptions options;
 };
 
-std::string Summary(const vision::SheetImport& sheet) {
+std::string Summary(const design::SheetImport& sheet) {
   const bool sectors = !sheet.sector_bounds_deg.empty();
   std::string out = sheet.file + ": " + std::to_string(sheet.cells.size()) + " cells of " +
                     std::to_string(sheet.columns * sheet.rows) + ", " +
@@ -49,7 +49,7 @@ std::string Summary(const vision::SheetImport& sheet) {
                     (sectors ? " ring sectors (as disc patches), " : " dot positions, ") +
                     std::to_string(sheet.layouts.size()) +
                     (sheet.layouts.size() == 1 ? " layout\n" : " layouts\n");
-  for (const vision::ImportedLayout& l : sheet.layouts) {
+  for (const design::ImportedLayout& l : sheet.layouts) {
     out += "  " + l.pattern.name + ": " + std::to_string(l.pattern.size() - 1) +
            (sectors ? " sectors, " : " dots, ") + std::to_string(l.codebook.entries.size()) +
            " IDs";
@@ -99,16 +99,16 @@ int RunImport(const std::vector<std::string>& args) {
   std::vector<std::pair<std::string, std::string>> files;
   std::string summary;
   for (const std::string& path : f.sheets) {
-    const vision::SheetImport sheet = vision::ImportSheet(vision::ReadFrame(path), path, f.options);
+    const design::SheetImport sheet = design::ImportSheet(vision::ReadFrame(path), path, f.options);
     summary += Summary(sheet);
-    for (const vision::ImportedLayout& l : sheet.layouts) {
+    for (const design::ImportedLayout& l : sheet.layouts) {
       const std::filesystem::path dir(f.out_dir);
       files.emplace_back((dir / (l.pattern.name + ".toml")).string(),
-                         vision::PatternFileText(l, sheet));
+                         design::PatternFileText(l, sheet));
       // A layout whose every colouring the symmetry rule rejects has no codebook to write.
       if (!l.codebook.entries.empty()) {
         files.emplace_back((dir / (l.pattern.name + ".codebook.toml")).string(),
-                           vision::CodebookFileText(l, sheet));
+                           design::CodebookFileText(l, sheet));
       }
     }
   }

@@ -148,15 +148,15 @@ std::vector<live::LiveCamera> Cameras(const LiveCommandOptions& o) {
     live::LiveCamera camera;
     camera.source = o.sources[i];
     camera.camera_id = ids[i];
-    camera.thresholds = vision::LoadThresholds(
+    camera.thresholds = formats::LoadThresholds(
         FindData(PerCamera(o.thresholds, i, n, "--thresholds", true), io::DataKind::kSettings));
-    camera.calibration = vision::LoadCalibration(
+    camera.calibration = formats::LoadCalibration(
         FindData(PerCamera(o.calibrations, i, n, "--calibration", true), io::DataKind::kSettings));
     std::string settings = PerCamera(o.settings, i, n, "--settings", false);
     if (!settings.empty()) {
       settings = FindData(settings, io::DataKind::kSettings);
-      camera.detector = detect::LoadDetectorSettings(settings);
-      vision::ApplyFrameSettings(detect::LoadFrameSettings(settings), &camera.frame);
+      camera.detector = formats::LoadDetectorSettings(settings);
+      vision::ApplyFrameSettings(formats::LoadFrameSettings(settings), &camera.frame);
     }
     camera.frame.raw_width_px = 0;  // raw frames are read by the source, not the detector
     cameras.push_back(std::move(camera));
@@ -214,7 +214,7 @@ int RunLiveCommand(const std::vector<std::string>& args) {
   const live::UdpAddress address = live::ParseUdpAddress(o.send, "--send");
   const std::vector<live::LiveCamera> cameras = Cameras(o);
   live::LiveOutputs outputs;
-  if (!o.field.empty()) outputs.field = calib::LoadField(FindData(o.field, io::DataKind::kField));
+  if (!o.field.empty()) outputs.field = formats::LoadField(FindData(o.field, io::DataKind::kField));
   live::UdpSender sender(address, live::UdpSenderOptions{o.ttl, o.iface, true});
   outputs.sender = &sender;
   std::optional<live::SslLogWriter> log;

@@ -49,8 +49,8 @@ struct RenderCommandOptions {
   std::string window;  // X0,Y0,WIDTH,HEIGHT
   std::string sensor_seed = "1", jitter_seed = "1";
   bool no_bayer = false, chroma_444 = false, uyvy = false;
-  vision::CameraSensorOptions sensor;
-  vision::CameraJitter jitter;
+  render::CameraSensorOptions sensor;
+  render::CameraJitter jitter;
 };
 
 void AddCameraOptions(po::options_description* d, RenderCommandOptions* o) {
@@ -78,15 +78,15 @@ void AddCameraOptions(po::options_description* d, RenderCommandOptions* o) {
 }
 
 // The camera frame the options ask for, as the file's bytes.
-std::string RenderCamera(const RenderCommandOptions& o, const vision::SceneFile& file,
-                         vision::Image* shown) {
-  vision::CameraSensorOptions sensor = o.sensor;
+std::string RenderCamera(const RenderCommandOptions& o, const formats::SceneFile& file,
+                         camera::Image* shown) {
+  render::CameraSensorOptions sensor = o.sensor;
   sensor.bayer = !o.no_bayer;
   sensor.chroma_422 = !o.chroma_444;
   sensor.seed = ParseSeed(o.sensor_seed, "--sensor-seed");
-  vision::CameraJitter jitter = o.jitter;
+  render::CameraJitter jitter = o.jitter;
   jitter.seed = ParseSeed(o.jitter_seed, "--jitter-seed");
-  vision::PixelWindow window{0, 0, file.scene.options.width_px, file.scene.options.height_px};
+  render::PixelWindow window{0, 0, file.scene.options.width_px, file.scene.options.height_px};
   if (!o.window.empty()) {
     const std::vector<int> w =
         ParseIntegerList(o.window, "--window", 0, 8192, "X0,Y0,WIDTH,HEIGHT in pixels");
@@ -99,12 +99,12 @@ std::string RenderCamera(const RenderCommandOptions& o, const vision::SceneFile&
   if (o.frame >= (uint64_t{1} << 32)) {
     throw InputError("--frame is " + std::to_string(o.frame) + "; expected an integer < 2^32");
   }
-  *shown = vision::RenderCameraWindow(file.scene, file.calibration.camera, sensor, o.frame, window,
+  *shown = render::RenderCameraWindow(file.scene, file.calibration.camera, sensor, o.frame, window,
                                       jitter);
   if (o.uyvy) {
     return {shown->data.begin(), shown->data.end()};
   }
-  const std::vector<uint8_t> png = vision::EncodePng(vision::ToRgb(*shown));
+  const std::vector<uint8_t> png = vision::EncodePng(camera::ToRgb(*shown));
   return {png.begin(), png.end()};
 }
 
@@ -140,8 +140,9 @@ int RunRender(const std::vector<std::string>& args) {
   o.out = (dir / (o.uyvy ? "frame.uyvy" : "frame.png")).string();
   o.truth = (dir / "truth.csv").string();
   io::CheckWritable({o.out, o.truth});
-  const vision::SceneFile file = vision::LoadSceneFile(FindData(o.scene, io::DataKind::kSettings));
-  vision::Image frame;
+  const formats::SceneFile file =
+      formats::LoadSceneFile(FindData(o.scene, io::DataKind::kSettings));
+  camera::Image frame;
   std::string bytes;
   if (o.camera) {
     bytes = RenderCamera(o, file, &frame);
@@ -154,12 +155,12 @@ int RunRender(const std::vector<std::string>& args) {
         0) {
       throw InputError("camera options are given without --camera; expected --camera with them");
     }
-    frame = vision::RenderScene(file.scene, file.calibration.camera);
+    frame = render::RenderScene(file.scene, file.calibration.camera);
     const std::vector<uint8_t> png = vision::EncodePng(frame);
     bytes.assign(png.begin(), png.end());
   }
   const std::vector<std::pair<std::string, std::string>> files = {
-      {o.out, bytes}, {o.truth, vision::TruthCsv(file.scene)}};
+      {o.out, bytes}, {o.truth, render::TruthCsv(file.scene)}};
   try {
     io::WriteFilesAtomic(files);
   } catch (const InputError& e) {

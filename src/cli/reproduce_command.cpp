@@ -60,10 +60,10 @@ std::string ReadFile(const std::string& path) {
 }
 
 // --check: every failing number and every differing file on stdout; the count of failures.
-int CheckAgainstCommitted(const sim::Reproduction& r, const std::vector<sim::FigureStep>& steps,
+int CheckAgainstCommitted(const paper::Reproduction& r, const std::vector<paper::FigureStep>& steps,
                           const std::string& out_dir) {
   int failures = 0;
-  for (const sim::PaperNumber& n : r.numbers) {
+  for (const paper::PaperNumber& n : r.numbers) {
     if (n.ok) continue;
     ++failures;
     std::fputs(StringPrintf("FAILS %s, %s: paper %.6g, patlab %.6g (%s)\n", n.where.c_str(),
@@ -80,9 +80,9 @@ int CheckAgainstCommitted(const sim::Reproduction& r, const std::vector<sim::Fig
     }
     const auto rules = r.rules.find(name);
     const std::string difference =
-        name.ends_with(".json")  ? sim::CompareManifestText(text, ReadFile(path))
-        : rules != r.rules.end() ? sim::CompareResultCsv(text, ReadFile(path), rules->second)
-                                 : sim::CompareResultText(text, ReadFile(path));
+        name.ends_with(".json")  ? paper::CompareManifestText(text, ReadFile(path))
+        : rules != r.rules.end() ? paper::CompareResultCsv(text, ReadFile(path), rules->second)
+                                 : paper::CompareResultText(text, ReadFile(path));
     if (!difference.empty()) {
       ++failures;
       std::printf("DIFFERS %s: %s\n", path.c_str(), difference.c_str());
@@ -90,7 +90,7 @@ int CheckAgainstCommitted(const sim::Reproduction& r, const std::vector<sim::Fig
   }
   // The figures are pictures of the CSVs checked above, drawn by matplotlib, whose bytes depend
   // on its version and fonts (docs/reproduce.md): only their presence is checked.
-  for (const sim::FigureStep& step : steps) {
+  for (const paper::FigureStep& step : steps) {
     for (const std::string& png : step.outputs) {
       if (std::filesystem::exists(png)) continue;
       ++failures;
@@ -103,7 +103,7 @@ int CheckAgainstCommitted(const sim::Reproduction& r, const std::vector<sim::Fig
 
 // Runs one figure script (no shell: the arguments are passed as they are); its exit status, or
 // -1 when it could not be started.
-int RunFigureStep(const sim::FigureStep& step) {
+int RunFigureStep(const paper::FigureStep& step) {
   std::vector<char*> argv;
   for (const std::string& a : step.argv) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -115,8 +115,8 @@ int RunFigureStep(const sim::FigureStep& step) {
 }
 
 // Draws the figures; false (after a message naming the step) when a script fails.
-bool DrawFigures(const std::vector<sim::FigureStep>& steps) {
-  for (const sim::FigureStep& step : steps) {
+bool DrawFigures(const std::vector<paper::FigureStep>& steps) {
+  for (const paper::FigureStep& step : steps) {
     const int status = RunFigureStep(step);
     if (status == 0) continue;
     std::string command;
@@ -169,15 +169,15 @@ int RunReproduce(const std::vector<std::string>& args) {
   // The results folder is checked before the work (minutes of it), not when the files are written.
   if (!o.check) io::CheckWritable({(std::filesystem::path(o.out_dir) / "fig5.csv").string()});
   Progress progress("patlab reproduce", "steps", !o.quiet, StderrIsTerminal());
-  const sim::ReproduceOptions options{
+  const paper::ReproduceOptions options{
       .root = o.root, .threads = o.threads, .out_dir = o.out_dir, .progress = progress.Callback()};
-  const sim::Reproduction r = sim::Reproduce(options);
-  const std::vector<sim::FigureStep> steps = sim::FigureSteps(options);
+  const paper::Reproduction r = paper::Reproduce(options);
+  const std::vector<paper::FigureStep> steps = paper::FigureSteps(options);
   int ok = 0;
-  for (const sim::PaperNumber& n : r.numbers) ok += n.ok ? 1 : 0;
+  for (const paper::PaperNumber& n : r.numbers) ok += n.ok ? 1 : 0;
   if (o.check) {
-    const int failures =
-        CheckAgainstCommitted(r, o.no_figures ? std::vector<sim::FigureStep>{} : steps, o.out_dir);
+    const int failures = CheckAgainstCommitted(
+        r, o.no_figures ? std::vector<paper::FigureStep>{} : steps, o.out_dir);
     if (!o.quiet) {
       std::fprintf(stderr, "patlab reproduce --check: %zu numbers, %d ok; %zu files; %d failures\n",
                    r.numbers.size(), ok, r.files.size(), failures);
@@ -197,7 +197,7 @@ int RunReproduce(const std::vector<std::string>& args) {
   const bool drawn = o.no_figures || DrawFigures(steps);
   if (!o.quiet) {
     size_t figures = 0;
-    for (const sim::FigureStep& step : steps) figures += step.outputs.size();
+    for (const paper::FigureStep& step : steps) figures += step.outputs.size();
     std::fprintf(stderr,
                  "patlab reproduce: %zu numbers, %d ok; wrote %zu files and %zu figures in %s\n",
                  r.numbers.size(), ok, files.size(), drawn && !o.no_figures ? figures : size_t{0},

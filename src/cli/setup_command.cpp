@@ -57,20 +57,20 @@ const OptionGroups kSetupGroups = {
     {"field models", {"list-landmarks"}}};
 
 std::vector<calib::Field> FieldsOf(const std::string& name) {
-  std::vector<calib::Field> family = calib::FieldFamily(name, DataRoots());
+  std::vector<calib::Field> family = formats::FieldFamily(name, DataRoots());
   if (!family.empty()) return family;
-  return {calib::LoadField(FindData(name, io::DataKind::kField))};
+  return {formats::LoadField(FindData(name, io::DataKind::kField))};
 }
 
 // The robots each frame shows, through the files just written (read back as detect reads them).
-void PrintDetections(const fs::path& dir, const std::vector<vision::Image>& frames,
+void PrintDetections(const fs::path& dir, const std::vector<camera::Image>& frames,
                      const std::vector<std::string>& names) {
-  const vision::SetupFiles f = vision::LoadSetupFiles(dir.string());
+  const formats::SetupFiles f = formats::LoadSetupFiles(dir.string());
   vision::FrameDetectorOptions options;
-  vision::ApplyFrameSettings(detect::LoadFrameSettings(f.settings), &options);
-  vision::FrameDetector detector(vision::LoadThresholds(f.thresholds),
-                                 vision::LoadCalibration(f.calibration),
-                                 detect::LoadDetectorSettings(f.settings), options);
+  vision::ApplyFrameSettings(formats::LoadFrameSettings(f.settings), &options);
+  vision::FrameDetector detector(formats::LoadThresholds(f.thresholds),
+                                 formats::LoadCalibration(f.calibration),
+                                 formats::LoadDetectorSettings(f.settings), options);
   for (const std::string& w : detector.warnings()) std::cout << "warning: " << w << "\n";
   const std::vector<std::string>& palette = detector.detector().config().palette;
   for (size_t i = 0; i < frames.size(); ++i) {
@@ -110,8 +110,8 @@ int RunSetup(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (!o.list_landmarks.empty()) {
-    std::cout << vision::LandmarkListText(
-        calib::LoadField(FindData(o.list_landmarks, io::DataKind::kField)));
+    std::cout << formats::LandmarkListText(
+        formats::LoadField(FindData(o.list_landmarks, io::DataKind::kField)));
     return kExitOk;
   }
   if (o.frames.empty()) throw InputError("no frames; expected 'patlab setup FRAME...'");
@@ -119,24 +119,24 @@ int RunSetup(const std::vector<std::string>& args) {
   if (o.settings.empty())
     throw InputError("missing --settings; expected detector settings naming the patterns");
   if (o.out.empty()) throw InputError("missing --out DIR; expected the folder to write to");
-  vision::SetupOptions options;
+  formats::SetupOptions options;
   options.fields = FieldsOf(o.field);
   options.settings_path = FindData(o.settings, io::DataKind::kSettings);
   options.robot_height_mm = o.robot_height_mm;
   options.line_width_px = o.line_width_px;
-  for (const std::string& l : o.landmarks) options.landmarks.push_back(vision::ParseLandmark(l));
+  for (const std::string& l : o.landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
   const fs::path dir(o.out);
   io::CheckWritable({(dir / "setup.toml").string()});
   const std::vector<std::string> paths = vision::ExpandFrameList(o.frames);
-  std::vector<vision::Image> frames;
+  std::vector<camera::Image> frames;
   std::vector<std::string> names;
   for (const std::string& p : paths) {
     frames.push_back(vision::ReadFrame(p));
     names.push_back(fs::path(p).filename().string());
   }
-  std::vector<const vision::Image*> pointers;
-  for (const vision::Image& f : frames) pointers.push_back(&f);
-  const vision::SetupResult r = vision::SetupCamera(pointers, names, options);
+  std::vector<const camera::Image*> pointers;
+  for (const camera::Image& f : frames) pointers.push_back(&f);
+  const formats::SetupResult r = formats::SetupCamera(pointers, names, options);
   std::vector<std::pair<std::string, std::string>> files;
   for (const auto& [name, text] : r.files) files.emplace_back((dir / name).string(), text);
   try {
@@ -145,7 +145,7 @@ int RunSetup(const std::vector<std::string>& args) {
     std::cerr << "patlab setup: " << e.what() << "\n";
     return kExitFailure;
   }
-  std::cout << vision::SetupReportText(r);
+  std::cout << formats::SetupReportText(r);
   PrintDetections(dir, frames, names);
   std::cout << "wrote " << (dir / "setup.toml").string()
             << " (calibration.toml, thresholds.toml, settings.toml)\n";

@@ -161,7 +161,7 @@ int RunDetectMode(const sim::Experiment& experiment, const SimulateOptions& o,
 // The experiment file with the command line's overrides applied and checked.
 sim::Experiment LoadWithOverrides(const SimulateOptions& o, const po::variables_map& vm) {
   sim::Experiment experiment =
-      sim::LoadExperimentFile(FindData(o.experiment, io::DataKind::kExperiment));
+      formats::LoadExperimentFile(FindData(o.experiment, io::DataKind::kExperiment));
   sim::Overrides overrides;
   if (vm.count("trials")) overrides.trials = o.trials;
   if (vm.count("seed") > 0) overrides.seed = ParseSeed(o.seed, "--seed");

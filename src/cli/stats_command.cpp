@@ -60,9 +60,9 @@ void PrintRows(const std::vector<std::pair<std::string, std::string>>& rows) {
 }
 
 std::vector<double> Load(const std::string& path, const StatsCliOptions& options) {
-  io::NumericColumnOptions column;
+  formats::NumericColumnOptions column;
   column.column = options.column;
-  return io::ReadNumericColumn(path, column);
+  return formats::ReadNumericColumn(path, column);
 }
 
 // The statistics library names no file: its messages about the samples get the files they came

@@ -69,7 +69,7 @@ struct ThresholdsCommandOptions {
 };
 
 // A frame the labels file names, its errors put at the line that names it.
-vision::Image ReadAt(const vision::Labels& labels, const std::string& path, int line,
+camera::Image ReadAt(const vision::Labels& labels, const std::string& path, int line,
                      const char* key) {
   try {
     return vision::ReadFrame(path);
@@ -84,7 +84,7 @@ std::vector<std::string> AutoClasses(const ThresholdsCommandOptions& o) {
     throw InputError("--classes and --settings both given; expected one of them with --auto");
   }
   if (!o.settings.empty()) {
-    return detect::LoadDetectorSettings(FindData(o.settings, io::DataKind::kSettings)).palette;
+    return formats::LoadDetectorSettings(FindData(o.settings, io::DataKind::kSettings)).palette;
   }
   if (o.classes.empty()) {
     throw InputError("--auto without --classes or --settings; expected the colour classes");
@@ -110,21 +110,21 @@ int RunAuto(const ThresholdsCommandOptions& o) {
     name = r.name;
   }
   const std::vector<std::string> paths = vision::ExpandFrameList(o.inputs);
-  std::vector<vision::Image> frames;
+  std::vector<camera::Image> frames;
   for (const std::string& path : paths) frames.push_back(vision::ReadFrame(path));
-  std::vector<const vision::Image*> frame_pointers;
-  for (const vision::Image& f : frames) frame_pointers.push_back(&f);
+  std::vector<const camera::Image*> frame_pointers;
+  for (const camera::Image& f : frames) frame_pointers.push_back(&f);
   // Labels files, pooled: each names its own frame.
-  std::vector<vision::Image> labelled_images;
+  std::vector<camera::Image> labelled_images;
   std::vector<vision::Labels> labels_read;
   labelled_images.reserve(o.labels_files.size());
   std::vector<vision::LabelledFrame> labelled;
   for (const std::string& file : o.labels_files) {
-    labels_read.push_back(vision::LoadLabels(FindData(file, io::DataKind::kSettings)));
+    labels_read.push_back(formats::LoadLabels(FindData(file, io::DataKind::kSettings)));
     const vision::Labels& l = labels_read.back();
     labelled_images.push_back(ReadAt(l, l.image_path, l.image_line, "image"));
-    const vision::Image& image = labelled_images.back();
-    std::optional<vision::Image> mask;
+    const camera::Image& image = labelled_images.back();
+    std::optional<camera::Image> mask;
     if (!l.mask_path.empty()) mask = ReadAt(l, l.mask_path, l.mask_line, "mask");
     vision::LabelledFrame lf;
     lf.image = &image;
@@ -176,14 +176,14 @@ int RunLabelled(ThresholdsCommandOptions* o) {
   vision::Validate(o->fit);
   io::CheckWritable({o->out});
 
-  const vision::Labels labels = vision::LoadLabels(FindData(o->labels, io::DataKind::kSettings));
+  const vision::Labels labels = formats::LoadLabels(FindData(o->labels, io::DataKind::kSettings));
   if (!o->settings.empty()) {
     vision::CheckClassesKnown(
         labels,
-        detect::LoadDetectorSettings(FindData(o->settings, io::DataKind::kSettings)).palette);
+        formats::LoadDetectorSettings(FindData(o->settings, io::DataKind::kSettings)).palette);
   }
-  const vision::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
-  std::optional<vision::Image> mask;
+  const camera::Image image = ReadAt(labels, labels.image_path, labels.image_line, "image");
+  std::optional<camera::Image> mask;
   if (!labels.mask_path.empty()) {
     mask = ReadAt(labels, labels.mask_path, labels.mask_line, "mask");
   }

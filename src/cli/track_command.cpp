@@ -54,7 +54,7 @@ struct TrackCliOptions {
 };
 
 // Parses --replay RUN,FRAME and checks it against the experiment.
-std::pair<int, int> ParseReplay(const sim::TrackOptions& options, const std::string& spec) {
+std::pair<int, int> ParseReplay(const analysis::TrackOptions& options, const std::string& spec) {
   long long run = -1, frame = -1;
   char comma = 0;
   std::istringstream is(spec);
@@ -69,15 +69,15 @@ std::pair<int, int> ParseReplay(const sim::TrackOptions& options, const std::str
   return {static_cast<int>(run), static_cast<int>(frame)};
 }
 
-int Replay(const sim::TrackOptions& options, const std::string& spec) {
+int Replay(const analysis::TrackOptions& options, const std::string& spec) {
   const auto [run, frame] = ParseReplay(options, spec);
-  const sim::RunSetup setup = sim::MakeRunSetup(options, run);
+  const analysis::RunSetup setup = analysis::MakeRunSetup(options, run);
   std::fputs(StringPrintf("run %d, frame %d, seed %llu: heading %.6f deg, t = %.4f s\n", run, frame,
                           static_cast<unsigned long long>(options.seed),
                           setup.heading_rad * 180 / std::numbers::pi, frame / options.rate_hz)
                  .c_str(),
              stdout);
-  for (const sim::ReplayedSubject& s : sim::ReplayFrame(options, run, frame)) {
+  for (const analysis::ReplayedSubject& s : analysis::ReplayFrame(options, run, frame)) {
     if (!s.found) {
       std::fputs(StringPrintf("%-10s truth (%.4f, %.4f) mm   not found\n", s.name.c_str(),
                               s.truth.x_mm, s.truth.y_mm)
@@ -100,14 +100,14 @@ int Replay(const sim::TrackOptions& options, const std::string& spec) {
 }
 
 // The experiment file with the command line's seed and noise overrides, checked again.
-sim::TrackOptions LoadWithOverrides(const TrackCliOptions& o, const po::variables_map& vm) {
-  sim::TrackOptions options =
-      sim::LoadTrackExperiment(FindData(o.experiment, io::DataKind::kExperiment));
+analysis::TrackOptions LoadWithOverrides(const TrackCliOptions& o, const po::variables_map& vm) {
+  analysis::TrackOptions options =
+      formats::LoadTrackExperiment(FindData(o.experiment, io::DataKind::kExperiment));
   if (!o.seed.empty()) options.seed = ParseSeed(o.seed, "--seed");
   if (vm.count("pixel-sigma")) options.pixel_sigma = o.pixel_sigma;
   if (vm.count("jitter-px")) options.jitter_sigma_px = o.jitter_px;
   if (vm.count("pixel-sigma") || vm.count("jitter-px")) {
-    const auto problems = sim::Check(options);
+    const auto problems = analysis::Check(options);
     if (!problems.empty()) {
       throw InputError("after the command-line overrides: " + problems.front().message);
     }
@@ -118,7 +118,8 @@ sim::TrackOptions LoadWithOverrides(const TrackCliOptions& o, const po::variable
 // Writes the four output files atomically; their paths, or nullopt (after a message on stderr)
 // when they cannot be written.
 // The four output files, the manifest last.
-std::array<std::string, 4> OutputPaths(const TrackCliOptions& o, const sim::TrackOptions& options) {
+std::array<std::string, 4> OutputPaths(const TrackCliOptions& o,
+                                       const analysis::TrackOptions& options) {
   namespace fs = std::filesystem;
   return {(fs::path(o.out_dir) / (options.name + ".csv")).string(),
           (fs::path(o.out_dir) / (options.name + "_tests.csv")).string(),
@@ -126,17 +127,16 @@ std::array<std::string, 4> OutputPaths(const TrackCliOptions& o, const sim::Trac
           (fs::path(o.out_dir) / (options.name + ".json")).string()};
 }
 
-std::optional<std::array<std::string, 4>> WriteOutputs(const TrackCliOptions& o,
-                                                       const sim::TrackOptions& options,
-                                                       const sim::TrackResult& result,
-                                                       const std::vector<sim::TableRow>& table) {
+std::optional<std::array<std::string, 4>> WriteOutputs(
+    const TrackCliOptions& o, const analysis::TrackOptions& options,
+    const analysis::TrackResult& result, const std::vector<analysis::TableRow>& table) {
   const std::array<std::string, 4> paths = OutputPaths(o, options);
   try {
-    io::WriteFilesAtomic(
-        {{paths[0], sim::TableCsv(table)},
-         {paths[1], sim::SizeTestsCsv(sim::MakeSizeTests(result))},
-         {paths[2], sim::ErrorsCsv(options, result, o.decimate)},
-         {paths[3], sim::TrackManifestJson(options, result, table, {paths.begin(), paths.end()})}});
+    io::WriteFilesAtomic({{paths[0], analysis::TableCsv(table)},
+                          {paths[1], analysis::SizeTestsCsv(analysis::MakeSizeTests(result))},
+                          {paths[2], analysis::ErrorsCsv(options, result, o.decimate)},
+                          {paths[3], analysis::TrackManifestJson(options, result, table,
+                                                                 {paths.begin(), paths.end()})}});
   } catch (const InputError& e) {
     std::cerr << "patlab track: " << e.what() << "\n";
     return std::nullopt;
@@ -144,13 +144,13 @@ std::optional<std::array<std::string, 4>> WriteOutputs(const TrackCliOptions& o,
   return paths;
 }
 
-void PrintSummary(const sim::TrackOptions& options, const sim::TrackResult& result,
-                  const std::vector<sim::TableRow>& table,
+void PrintSummary(const analysis::TrackOptions& options, const analysis::TrackResult& result,
+                  const std::vector<analysis::TableRow>& table,
                   const std::array<std::string, 4>& paths) {
   std::fputs(
       StringPrintf("patlab track: %d runs x %d frames in %.2f s on %d threads (%.3f mm/px)\n",
                    options.runs, options.samples_per_run, result.wall_seconds, result.threads,
-                   sim::MmPerPixel(options))
+                   analysis::MmPerPixel(options))
           .c_str(),
       stderr);
   std::fprintf(stderr, "%-10s %-24s %-24s %-24s %-24s\n", "subject", "est sx [95% CI] mm", "est sy",
@@ -158,7 +158,7 @@ void PrintSummary(const sim::TrackOptions& options, const sim::TrackResult& resu
   auto cell = [](const stats::StdWithCi& s) {
     return StringPrintf("%.3f [%.3f-%.3f]", s.std, s.lower, s.upper);
   };
-  for (const sim::TableRow& r : table) {
+  for (const analysis::TableRow& r : table) {
     std::fprintf(stderr, "%-10s %-24s %-24s %-24s %-24s\n", r.subject.c_str(),
                  cell(r.est_x).c_str(), cell(r.est_y).c_str(), cell(r.true_x).c_str(),
                  cell(r.true_y).c_str());
@@ -199,17 +199,17 @@ int RunTrackCommand(const std::vector<std::string>& args) {
   if (o.decimate < 1) {
     throw InputError("--decimate is " + std::to_string(o.decimate) + "; expected an integer >= 1");
   }
-  const sim::TrackOptions options = LoadWithOverrides(o, vm);
+  const analysis::TrackOptions options = LoadWithOverrides(o, vm);
   if (!o.replay.empty()) return Replay(options, o.replay);
 
   const std::array<std::string, 4> paths = OutputPaths(o, options);
   io::CheckWritable({paths.begin(), paths.end()});
   Progress progress("patlab track", "blocks of frames", !o.quiet, StderrIsTerminal());
-  sim::TrackRunOptions run_options;
+  analysis::TrackRunOptions run_options;
   run_options.threads = o.threads;
   run_options.progress = progress.Callback();
-  const sim::TrackResult result = sim::RunTrack(options, run_options);
-  const std::vector<sim::TableRow> table = sim::MakeTable(result);
+  const analysis::TrackResult result = analysis::RunTrack(options, run_options);
+  const std::vector<analysis::TableRow> table = analysis::MakeTable(result);
   const auto written = WriteOutputs(o, options, result, table);
   if (!written) return kExitFailure;
   if (!o.quiet) PrintSummary(options, result, table, *written);

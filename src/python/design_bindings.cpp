@@ -52,8 +52,8 @@ py::dict Ids(const Pattern& pattern, const std::vector<std::string>& colours, do
 }
 
 // EvaluateOptions from the keyword arguments of patlab.evaluate (same names as its fields).
-sim::EvaluateOptions EvaluateOptionsFrom(const py::dict& kwargs) {
-  sim::EvaluateOptions o;
+design::EvaluateOptions EvaluateOptionsFrom(const py::dict& kwargs) {
+  design::EvaluateOptions o;
   for (const auto& [key, value] : kwargs) {
     const std::string name = py::str(key);
     if (name == "sigma_mm") {
@@ -88,36 +88,36 @@ sim::EvaluateOptions EvaluateOptionsFrom(const py::dict& kwargs) {
 // Each (pattern, file): its report as `patlab evaluate --json` writes it, and as text.
 py::tuple Evaluate(const std::vector<std::pair<Pattern, std::string>>& designs,
                    const py::dict& kwargs) {
-  const sim::EvaluateOptions o = EvaluateOptionsFrom(kwargs);
-  sim::Validate(o);
-  std::vector<sim::EvaluationReport> reports;
+  const design::EvaluateOptions o = EvaluateOptionsFrom(kwargs);
+  design::Validate(o);
+  std::vector<design::EvaluationReport> reports;
   std::string text;
   {
     const py::gil_scoped_release nogil;
     for (const auto& [pattern, file] : designs) {
-      reports.push_back(sim::EvaluatePattern(pattern, file, o));
-      text += (text.empty() ? "" : "\n") + sim::EvaluationText(reports.back());
+      reports.push_back(design::EvaluatePattern(pattern, file, o));
+      text += (text.empty() ? "" : "\n") + design::EvaluationText(reports.back());
     }
   }
-  return py::make_tuple(sim::EvaluationJson(o, reports), text);
+  return py::make_tuple(design::EvaluationJson(o, reports), text);
 }
 
 // The ranked comparison as `patlab compare` writes it: CSV, JSON and text.
 py::tuple Compare(const std::vector<std::pair<Pattern, std::string>>& designs,
                   const std::string& sort_by, const py::dict& kwargs) {
-  sim::CompareOptions o;
+  design::CompareOptions o;
   o.evaluate = EvaluateOptionsFrom(kwargs);
   o.evaluate.progress = nullptr;
   o.sort_by = sort_by;
   o.progress = SignalCheck();
-  sim::Validate(o);
-  sim::CompareResult result;
+  design::Validate(o);
+  design::CompareResult result;
   {
     const py::gil_scoped_release nogil;
-    result = sim::CompareDesigns(designs, o);
+    result = design::CompareDesigns(designs, o);
   }
-  return py::make_tuple(sim::CompareCsv(result), sim::CompareJson(result),
-                        sim::CompareText(result));
+  return py::make_tuple(design::CompareCsv(result), design::CompareJson(result),
+                        design::CompareText(result));
 }
 
 }  // namespace

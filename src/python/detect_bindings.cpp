@@ -1,6 +1,6 @@
 // patlab.detect, read_frame and render: vision::FrameDetector, the call `patlab detect` makes, on
 // a numpy (H, W, 3) uint8 image read in place through the buffer protocol with any strides (a
-// vision::ImageView of the array's memory: no copy), and its results as the CLI's CSV and JSON;
+// camera::ImageView of the array's memory: no copy), and its results as the CLI's CSV and JSON;
 // the scene renderer of `patlab render`.
 #include <chrono>
 #include <climits>
@@ -38,18 +38,18 @@ py::buffer_info RgbBuffer(const py::buffer& image) {
 
 // The buffer as the view the detector reads: its own memory, its strides (numpy's, in bytes, of
 // any sign), no copy.
-vision::ImageView ViewOf(const py::buffer_info& info) {
+camera::ImageView ViewOf(const py::buffer_info& info) {
   if (info.shape[0] < 1 || info.shape[1] < 1 || info.shape[0] > INT_MAX ||
       info.shape[1] > INT_MAX) {
     throw InputError("image is " + std::to_string(info.shape[0]) + " x " +
                      std::to_string(info.shape[1]) +
                      " pixels; expected at least one row and one column");
   }
-  vision::ImageView view;
+  camera::ImageView view;
   view.data = static_cast<const uint8_t*>(info.ptr);
   view.width_px = static_cast<int>(info.shape[1]);
   view.height_px = static_cast<int>(info.shape[0]);
-  view.format = vision::PixelFormat::kRgb8;
+  view.format = camera::PixelFormat::kRgb8;
   view.row_stride = info.strides[0];
   view.pixel_stride = info.strides[1];
   view.channel_stride = info.strides[2];
@@ -65,11 +65,11 @@ vision::FrameDetector LoadFrameDetector(const std::string& thresholds,
   vision::FrameDetectorOptions options;
   std::optional<detect::DetectorConfig> config;
   if (!settings.empty()) {
-    config = detect::LoadDetectorSettings(settings);
-    vision::ApplyFrameSettings(detect::LoadFrameSettings(settings), &options);
+    config = formats::LoadDetectorSettings(settings);
+    vision::ApplyFrameSettings(formats::LoadFrameSettings(settings), &options);
   }
-  return vision::FrameDetector(vision::LoadThresholds(thresholds),
-                               vision::LoadCalibration(calibration), std::move(config), options);
+  return vision::FrameDetector(formats::LoadThresholds(thresholds),
+                               formats::LoadCalibration(calibration), std::move(config), options);
 }
 
 py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
@@ -78,7 +78,7 @@ py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
   const py::buffer_info info = RgbBuffer(frame);
   vision::FrameDetector frames = LoadFrameDetector(thresholds, calibration, settings);
   vision::FrameResultsWriter writer(frames, blobs);
-  const vision::ImageView view = ViewOf(info);
+  const camera::ImageView view = ViewOf(info);
   {
     const py::gil_scoped_release nogil;
     writer.Add(frames.Detect(view, name));
@@ -103,7 +103,7 @@ class Detector {
   }
 
   py::dict Detect(const py::buffer& image, const std::string& name) {
-    const vision::ImageView view = ViewOf(RgbBuffer(image));
+    const camera::ImageView view = ViewOf(RgbBuffer(image));
     const vision::FrameResult* result = nullptr;
     double seconds = 0.0;
     {
@@ -150,7 +150,7 @@ class Detector {
   vision::FrameDetector frames_;
 };
 
-py::array_t<uint8_t> ArrayOfImage(const vision::Image& rgb) {
+py::array_t<uint8_t> ArrayOfImage(const camera::Image& rgb) {
   py::array_t<uint8_t> out({rgb.height_px, rgb.width_px, 3});
   std::memcpy(out.mutable_data(), rgb.data.data(), rgb.data.size());
   return out;
@@ -158,18 +158,18 @@ py::array_t<uint8_t> ArrayOfImage(const vision::Image& rgb) {
 
 // A PNG, JPEG or PPM frame as an (H, W, 3) uint8 array.
 py::array_t<uint8_t> ReadFrame(const std::string& path) {
-  return ArrayOfImage(vision::ToRgb(vision::ReadFrame(path)));
+  return ArrayOfImage(camera::ToRgb(vision::ReadFrame(path)));
 }
 
 // `patlab render SCENE` without --camera: the scene file's frame, and its true poses as CSV.
 py::tuple Render(const std::string& path) {
-  const vision::SceneFile file = vision::LoadSceneFile(path);
-  vision::Image frame;
+  const formats::SceneFile file = formats::LoadSceneFile(path);
+  camera::Image frame;
   {
     const py::gil_scoped_release nogil;
-    frame = vision::RenderScene(file.scene, file.calibration.camera);
+    frame = render::RenderScene(file.scene, file.calibration.camera);
   }
-  return py::make_tuple(ArrayOfImage(frame), vision::TruthCsv(file.scene));
+  return py::make_tuple(ArrayOfImage(frame), render::TruthCsv(file.scene));
 }
 
 }  // namespace
@@ -190,7 +190,7 @@ void BindDetect(py::module_& m) {
   // (height, width, row, pixel and channel strides); tests/python check that it is the array's
   // own memory and strides, i.e. that no copy is made.
   m.def("_image_view", [](const py::buffer& image) {
-    const vision::ImageView view = ViewOf(RgbBuffer(image));
+    const camera::ImageView view = ViewOf(RgbBuffer(image));
     return py::make_tuple(reinterpret_cast<uintptr_t>(view.data), view.height_px, view.width_px,
                           view.row_stride, view.pixel_stride, view.channel_stride);
   });

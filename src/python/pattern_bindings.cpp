@@ -92,8 +92,8 @@ std::string FindData(const std::string& reference, const std::string& kind,
 void BindPattern(py::module_& m) {
   m.def("_find_data", &FindData, py::arg("reference"), py::arg("kind"), py::arg("binary_dir"));
   py::class_<Pattern>(m, "Pattern", "A planar patch pattern (patterns/README.md)")
-      .def_static("_load_file", &io::LoadPatternFile, py::arg("path"))
-      .def_static("_parse", &io::ParsePattern, py::arg("text"), py::arg("source_name"))
+      .def_static("_load_file", &formats::LoadPatternFile, py::arg("path"))
+      .def_static("_parse", &formats::ParsePattern, py::arg("text"), py::arg("source_name"))
       .def_readonly("name", &Pattern::name)
       .def_readonly("description", &Pattern::description)
       .def_readonly("key_index", &Pattern::key_index, "index of the key patch")

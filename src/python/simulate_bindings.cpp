@@ -217,7 +217,7 @@ py::dict Simulate(const std::vector<Pattern>& patterns, const std::vector<std::s
 py::dict SimulateExperiment(const std::string& path, std::optional<int64_t> trials,
                             std::optional<uint64_t> seed, const std::vector<double>& sigmas_mm,
                             int threads, bool keep_errors) {
-  sim::Experiment experiment = sim::LoadExperimentFile(path);
+  sim::Experiment experiment = formats::LoadExperimentFile(path);
   sim::Overrides overrides;
   overrides.trials = trials;
   overrides.seed = seed;

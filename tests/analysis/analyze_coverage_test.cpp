@@ -14,7 +14,7 @@
 #include "patlab/core/rng.h"
 #include "patlab/stats/smoothing.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 namespace {
 
 constexpr int kReplicates = 200;
@@ -78,7 +78,7 @@ Coverage Measure(double phi, Detrend detrend) {
     // detrend none: a subject at rest; the others: moving at 7 mm per frame.
     const double speed = detrend == Detrend::kNone ? 0.0 : 7.0;
     const AnalyzeReport report = AnalyzeTracks({Ar1Track(phi, static_cast<uint64_t>(r), speed)}, o);
-    const ErrorSummary& e = report.subjects.at(0).est;
+    const stats::ErrorSummary& e = report.subjects.at(0).est;
     for (const auto& [ci, iid] : {std::pair(e.x, e.x_iid), std::pair(e.y, e.y_iid)}) {
       covered += ci.lower <= truth && truth <= ci.upper;
       covered_iid += iid.lower <= truth && truth <= iid.upper;
@@ -110,7 +110,7 @@ TEST(AnalyzeCoverage, WhiteErrorsKeepNearlyTheIidInterval) {
   AnalyzeOptions o;
   o.detrend = Detrend::kNone;
   const AnalyzeReport report = AnalyzeTracks({Ar1Track(0.0, 7, 0.0)}, o);
-  const ErrorSummary& e = report.subjects.at(0).est;
+  const stats::ErrorSummary& e = report.subjects.at(0).est;
   EXPECT_LT(e.size_x.tau, 1.02);
   EXPECT_NEAR(e.x.upper - e.x.lower, e.x_iid.upper - e.x_iid.lower,
               0.02 * (e.x_iid.upper - e.x_iid.lower));
@@ -141,4 +141,4 @@ TEST(AnalyzeCoverage, AlongTravelNeedsATrend) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -16,7 +16,7 @@
 #include "../expect_error.h"
 #include "patlab/core/geometry.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 namespace {
 
 // A straight track at `speed` mm/frame along `heading`, with iid N(0, s^2) noise on x and y, for
@@ -191,7 +191,7 @@ TEST(Analyze, WilcoxonPairsSubjectsByRunAndFrame) {
   const MeasuredTrack c = Line("c", Range(200, 500), 0.5, 13);
   const AnalyzeReport r = AnalyzeTracks({a, b, c}, AnalyzeOptions{});
   ASSERT_EQ(r.tests.size(), 9u);  // 3 pairs x (x, y, xy)
-  const PairedTest& ab = r.tests[0];
+  const stats::PairedTest& ab = r.tests[0];
   EXPECT_EQ(ab.axis, "x");
   EXPECT_EQ(ab.a, "a");
   EXPECT_EQ(ab.b, "b");
@@ -241,7 +241,7 @@ TEST(Analyze, StreamedErrorsCsvIsTheRowsAndMovedTracksGiveTheSameReport) {
   const AnalyzeReport kept = AnalyzeTracks(tracks, AnalyzeOptions{});
   std::string expected = "subject,run,frame,est_x_mm,est_y_mm,est_theta_rad\n";
   for (const SubjectAnalysis& s : kept.subjects) {
-    const ErrorSegment& e = s.est_errors[0];
+    const stats::ErrorSegment& e = s.est_errors[0];
     for (size_t i = 0; i < e.frame.size(); ++i) {
       char cells[128];
       std::snprintf(cells, sizeof cells, "%lld,%.4f,%.4f,\n", static_cast<long long>(e.frame[i]),
@@ -260,7 +260,7 @@ TEST(Analyze, StreamedErrorsCsvIsTheRowsAndMovedTracksGiveTheSameReport) {
   EXPECT_GT(pieces.size(), 2u);
   const AnalyzeReport moved = AnalyzeTracks(std::move(tracks), AnalyzeOptions{});
   EXPECT_TRUE(AnalyzeErrorsCsv(moved) == expected);
-  EXPECT_EQ(PairedTestsCsv(moved.tests), PairedTestsCsv(kept.tests));
+  EXPECT_EQ(stats::PairedTestsCsv(moved.tests), stats::PairedTestsCsv(kept.tests));
   EXPECT_EQ(AnalyzeTableCsv(moved), AnalyzeTableCsv(kept));
   EXPECT_TRUE(tracks[0].x.empty());  // NOLINT(bugprone-use-after-move): released as documented
   EXPECT_EQ(tracks[1].subject, long_name);
@@ -366,4 +366,4 @@ TEST(Analyze, OptionsAreChecked) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -11,15 +11,15 @@
 
 #include "../expect_error.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 namespace {
 
 const std::string kDir = std::string(PATLAB_SOURCE_DIR) + "/experiments/camera-noise/";
 
 CameraTrackResult RunTrack(bool still_and_quiet, int frames) {
-  const vision::SceneFile file = vision::LoadSceneFile(kDir + "track-scene.toml");
-  vision::CameraSensorOptions sensor;
-  vision::CameraJitter jitter;
+  const formats::SceneFile file = formats::LoadSceneFile(kDir + "track-scene.toml");
+  render::CameraSensorOptions sensor;
+  render::CameraJitter jitter;
   if (still_and_quiet) {
     sensor.read_noise_levels = sensor.shot_noise_gain = 0.0;
     sensor.bayer = sensor.chroma_422 = false;
@@ -30,7 +30,7 @@ CameraTrackResult RunTrack(bool still_and_quiet, int frames) {
   options.runs = 2;
   options.frames = frames;
   return RunCameraTrack(file.scene, file.calibration,
-                        vision::LoadThresholds(kDir + "track.thresholds.toml"), "blue", 3, sensor,
+                        formats::LoadThresholds(kDir + "track.thresholds.toml"), "blue", 3, sensor,
                         jitter, options);
 }
 
@@ -67,4 +67,4 @@ TEST(CameraTrack, OptionsAreChecked) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -14,7 +14,7 @@
 #include "patlab/stats/smoothing.h"
 #include "patlab/stats/summary.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 namespace {
 
 // A small, fast experiment: 2 runs of 160 frames, three discs.
@@ -32,7 +32,7 @@ TrackOptions NoisyWithButterfly() {
   o.pixel_sigma = 12.0;
   o.jitter_sigma_px = 0.1;
   o.pattern_file = std::string(PATLAB_SOURCE_DIR) + "/patterns/butterfly.toml";
-  o.pattern = io::LoadPatternFile(o.pattern_file);
+  o.pattern = formats::LoadPatternFile(o.pattern_file);
   return o;
 }
 
@@ -272,10 +272,12 @@ TEST(TrackOptions, CheckNamesEveryBrokenFieldAndTheGeometryOnlyOfValidFields) {
                      "a darker floor, above background_level)");
 }
 
-TrackOptions Parse(const std::string& text) { return ParseTrackExperiment(text, "t.toml"); }
+TrackOptions Parse(const std::string& text) {
+  return formats::ParseTrackExperiment(text, "t.toml");
+}
 
 TEST(TrackExperiment, ParsesEveryKey) {
-  const TrackOptions o = ParseTrackExperiment(
+  const TrackOptions o = formats::ParseTrackExperiment(
       "name = \"x\"\nseed = 9\nruns = 3\ndiameters_mm = [30, 45.5]\n"
       "[platform]\nsamples_per_run = 500\nrate_hz = 25\nspeed_mm_per_s = 10\nheading_max_deg = 1\n"
       "lateral_range_mm = 100\nstart_jitter_mm = 5\nspacing_mm = 120\nplane_height_mm = 50\n"
@@ -312,7 +314,7 @@ TEST(TrackExperiment, ParsesEveryKey) {
 
 TEST(TrackExperiment, ShippedTable1FileLoads) {
   const TrackOptions o =
-      LoadTrackExperiment(std::string(PATLAB_SOURCE_DIR) + "/experiments/table1.toml");
+      formats::LoadTrackExperiment(std::string(PATLAB_SOURCE_DIR) + "/experiments/table1.toml");
   EXPECT_EQ(o.diameters_mm, (std::vector<double>{40, 50, 60}));
   EXPECT_EQ(o.runs, 5);
   EXPECT_EQ(o.samples_per_run, 2570);
@@ -379,4 +381,4 @@ TEST(TrackExperiment, ValidateNamesTheField) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

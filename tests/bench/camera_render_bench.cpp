@@ -16,10 +16,10 @@ namespace {
 using namespace patlab;
 using namespace patlab::vision;
 
-const SceneFile& Scene() {
-  static const SceneFile file = [] {
-    SceneFile f =
-        LoadSceneFile(std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.toml");
+const patlab::formats::SceneFile& Scene() {
+  static const patlab::formats::SceneFile file = [] {
+    patlab::formats::SceneFile f = patlab::formats::LoadSceneFile(
+        std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.toml");
     f.scene.options.width_px = 780;
     f.scene.options.height_px = 580;
     return f;
@@ -28,20 +28,24 @@ const SceneFile& Scene() {
 }
 
 void BM_Scene(benchmark::State& state) {
-  FieldScene scene = Scene().scene;
+  patlab::render::FieldScene scene = Scene().scene;
   scene.options.noise_sigma_levels = 0.0;
   for (auto _ : state)
-    benchmark::DoNotOptimize(RenderScene(scene, Scene().calibration.camera).data.data());
+    benchmark::DoNotOptimize(
+        patlab::render::RenderScene(scene, Scene().calibration.camera).data.data());
   state.SetItemsProcessed(state.iterations());
 }
 
 void BM_Sensor(benchmark::State& state) {
-  FieldScene scene = Scene().scene;
+  patlab::render::FieldScene scene = Scene().scene;
   scene.options.noise_sigma_levels = 0.0;
-  const Image radiance = RenderScene(scene, Scene().calibration.camera);
+  const patlab::camera::Image radiance =
+      patlab::render::RenderScene(scene, Scene().calibration.camera);
   uint64_t frame = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(SimulateSensor(radiance, CameraSensorOptions{}, frame++).data.data());
+    benchmark::DoNotOptimize(
+        patlab::render::SimulateSensor(radiance, patlab::render::CameraSensorOptions{}, frame++)
+            .data.data());
   }
   state.SetItemsProcessed(state.iterations());
 }
@@ -50,7 +54,8 @@ void BM_CameraFrame(benchmark::State& state) {
   uint64_t frame = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(
-        RenderCameraFrame(Scene().scene, Scene().calibration.camera, CameraSensorOptions{}, frame++)
+        patlab::render::RenderCameraFrame(Scene().scene, Scene().calibration.camera,
+                                          patlab::render::CameraSensorOptions{}, frame++)
             .data.data());
   }
   state.SetItemsProcessed(state.iterations());
@@ -58,11 +63,12 @@ void BM_CameraFrame(benchmark::State& state) {
 
 void BM_CameraWindow(benchmark::State& state) {
   uint64_t frame = 0;
-  const PixelWindow window{100, 60, 64, 64};  // the golden scene's first robot
+  const patlab::render::PixelWindow window{100, 60, 64, 64};  // the golden scene's first robot
   for (auto _ : state) {
-    benchmark::DoNotOptimize(RenderCameraWindow(Scene().scene, Scene().calibration.camera,
-                                                CameraSensorOptions{}, frame++, window)
-                                 .data.data());
+    benchmark::DoNotOptimize(
+        patlab::render::RenderCameraWindow(Scene().scene, Scene().calibration.camera,
+                                           patlab::render::CameraSensorOptions{}, frame++, window)
+            .data.data());
   }
   state.SetItemsProcessed(state.iterations());
 }

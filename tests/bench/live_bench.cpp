@@ -73,12 +73,12 @@ int main(int argc, char** argv) {
   const int frames_to_run = argc > 1 ? std::stoi(argv[1]) : 2000;
   const Inputs in = Choose(argc > 2 ? argv[2] : "");
   vision::FrameDetectorOptions options;
-  vision::ApplyFrameSettings(detect::LoadFrameSettings(in.settings), &options);
+  vision::ApplyFrameSettings(formats::LoadFrameSettings(in.settings), &options);
   options.collect_timing = true;  // per stage: a clock read per stage, tens of ns
-  vision::FrameDetector frames(vision::LoadThresholds(in.thresholds),
-                               vision::LoadCalibration(in.calibration),
-                               detect::LoadDetectorSettings(in.settings), options);
-  const vision::Image image = vision::ReadFrame(in.frame);
+  vision::FrameDetector frames(formats::LoadThresholds(in.thresholds),
+                               formats::LoadCalibration(in.calibration),
+                               formats::LoadDetectorSettings(in.settings), options);
+  const camera::Image image = vision::ReadFrame(in.frame);
   uint16_t port = 0;
   const int receiver = BoundSocket(&port);
   live::UdpSender sender(live::ParseUdpAddress("127.0.0.1:" + std::to_string(port), "--send"), {});

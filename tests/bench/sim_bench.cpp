@@ -18,7 +18,7 @@ namespace estimate = patlab::estimate;
 
 const estimate::Model& Butterfly() {
   static const estimate::Model model = estimate::Model::FromPattern(
-      patlab::io::LoadPatternFile(PATLAB_SOURCE_DIR "/patterns/butterfly.toml"));
+      patlab::formats::LoadPatternFile(PATLAB_SOURCE_DIR "/patterns/butterfly.toml"));
   return model;
 }
 

@@ -19,8 +19,8 @@ namespace {
 using namespace patlab;
 using namespace patlab::vision;
 
-Image Field(int width, int height) {
-  std::vector<Disc> discs;
+patlab::camera::Image Field(int width, int height) {
+  std::vector<patlab::render::Disc> discs;
   for (int i = 0; i < 10; ++i) {
     const Vec2 c(width * (0.1 + 0.08 * i), height * (0.2 + 0.06 * ((i * 7) % 10)));
     discs.push_back({c, 18, {20, 20, 25}});
@@ -28,11 +28,11 @@ Image Field(int width, int height) {
     for (int k = 0; k < 4; ++k)
       discs.push_back({c + 13.0 * Vec2(std::cos(1.6 * k), std::sin(1.6 * k)), 4, {248, 140, 135}});
   }
-  return RenderDiscs(width, height, {40, 66, 21}, discs, 4);
+  return patlab::render::RenderDiscs(width, height, {40, 66, 21}, discs, 4);
 }
 
 const Thresholds& Classes() {
-  static const Thresholds t = ParseCmvisionColors(
+  static const Thresholds t = patlab::formats::ParseCmvisionColors(
       "[Colors]\n(255,128,0) 0.5 1 orange\n(255,255,0) 0.6 5 yellow\n(0,0,255) 0.6 5 blue\n"
       "(255,0,255) 0.6 10 pink\n(0,255,128) 0.6 10 green\n[Thresholds]\n"
       "(60:160,60:115,160:200)\n(100:255,0:95,135:175)\n(30:160,150:255,60:125)\n"
@@ -42,10 +42,10 @@ const Thresholds& Classes() {
 }
 
 void BM_Stages2To4(benchmark::State& state) {
-  const Image frame =
-      state.range(2)
-          ? ToUyvy(Field(static_cast<int>(state.range(0)), static_cast<int>(state.range(1))))
-          : Field(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const patlab::camera::Image frame =
+      state.range(2) ? patlab::camera::ToUyvy(Field(static_cast<int>(state.range(0)),
+                                                    static_cast<int>(state.range(1))))
+                     : Field(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   Segmenter segmenter(Classes(), SegmenterOptions{});
   for (auto _ : state) {
     segmenter.Process(frame);
@@ -74,16 +74,18 @@ void BM_RealFrameStages2To6(benchmark::State& state) {
   }
   const bool vss = state.range(0) == 2;
   VisionPipeline pipeline(
-      LoadThresholds(data + (vss ? "vss.colors.txt" : "ssl-2008.thresholds.toml")),
-      LoadCalibration(data + (vss ? "vss.calibration.toml" : "ssl-2008.calibration.toml")),
+      patlab::formats::LoadThresholds(data + (vss ? "vss.colors.txt" : "ssl-2008.thresholds.toml")),
+      patlab::formats::LoadCalibration(
+          data + (vss ? "vss.calibration.toml" : "ssl-2008.calibration.toml")),
       SegmenterOptions{});
   detect::Detector detector(
-      detect::LoadDetectorSettings(data + (vss ? "vss.detector.toml" : "ssl-2008.detector.toml")));
+      formats::LoadDetectorSettings(data + (vss ? "vss.detector.toml" : "ssl-2008.detector.toml")));
   std::vector<int> palette_label;
   for (const ColorClass& c : pipeline.thresholds().classes)
     palette_label.push_back(detector.ColourLabel(c.name));
-  Image image = ReadFrame(frames + (vss ? "vss-test-frame.png" : "ssl-field-2008.jpg"));
-  if (state.range(0) == 1) image = ToUyvy(image);
+  patlab::camera::Image image =
+      ReadFrame(frames + (vss ? "vss-test-frame.png" : "ssl-field-2008.jpg"));
+  if (state.range(0) == 1) image = patlab::camera::ToUyvy(image);
   std::vector<detect::Blob> blobs, palette_blobs;
   std::vector<detect::Detection> detections;
   for (auto _ : state) {

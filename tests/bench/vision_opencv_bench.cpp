@@ -68,10 +68,11 @@ const char* kColors =
 
 // A synthetic field: green carpet with mild texture and 10 robots (SSL standard patterns) plus a
 // ball, at the scale of the 2008 frame (about 5 mm per pixel).
-Image SyntheticField(int width, int height) {
-  std::vector<Disc> discs;
-  const Rgb blue{50, 75, 160}, yellow{255, 250, 120}, pink{248, 140, 135}, green{30, 125, 75};
-  const Rgb black{20, 20, 25};
+patlab::camera::Image SyntheticField(int width, int height) {
+  std::vector<patlab::render::Disc> discs;
+  const patlab::render::Rgb blue{50, 75, 160}, yellow{255, 250, 120}, pink{248, 140, 135},
+      green{30, 125, 75};
+  const patlab::render::Rgb black{20, 20, 25};
   for (int i = 0; i < 10; ++i) {
     const Vec2 c(width * (0.1 + 0.08 * i), height * (0.2 + 0.06 * ((i * 7) % 10)));
     discs.push_back({c, 18, black});
@@ -84,7 +85,7 @@ Image SyntheticField(int width, int height) {
     }
   }
   discs.push_back({Vec2(width * 0.6, height * 0.77), 2.5, {200, 113, 90}});
-  Image image = RenderDiscs(width, height, {40, 66, 21}, discs, 4);
+  patlab::camera::Image image = patlab::render::RenderDiscs(width, height, {40, 66, 21}, discs, 4);
   uint32_t state = 12345;  // texture: +-6 levels of deterministic noise
   for (uint8_t& v : image.data) {
     state = state * 1664525u + 1013904223u;
@@ -99,7 +100,7 @@ struct Result {
   long ours_regions, opencv_regions;
 };
 
-Result Compare(const Image& frame, const Thresholds& thresholds) {
+Result Compare(const patlab::camera::Image& frame, const Thresholds& thresholds) {
   SegmenterOptions options;
   options.min_area_px = 1;
   Segmenter segmenter(thresholds, options);
@@ -130,8 +131,8 @@ Result Compare(const Image& frame, const Thresholds& thresholds) {
 
 // OpenCV's way to the same regions: YUV once (from RGB, or from UYVY through RGB), then per
 // class inRange + connectedComponentsWithStats.
-double OpenCvMs(const Image& frame, const Thresholds& thresholds) {
-  const bool uyvy = frame.format == PixelFormat::kUyvy;
+double OpenCvMs(const patlab::camera::Image& frame, const Thresholds& thresholds) {
+  const bool uyvy = frame.format == patlab::camera::PixelFormat::kUyvy;
   const cv::Mat in(frame.height_px, frame.width_px, uyvy ? CV_8UC2 : CV_8UC3,
                    const_cast<uint8_t*>(frame.data.data()));
   cv::Mat rgb, yuv, mask, labels, stats, centroids;
@@ -156,7 +157,7 @@ double OpenCvMs(const Image& frame, const Thresholds& thresholds) {
 const char* kSpngNote = " beside libspng 0.7 (file read + decode to RGB)";
 // libspng's time for a PNG at `path` (read and decoded to 8-bit RGB, alpha dropped: the frames
 // here are opaque) and whether its pixels equal ReadFrame's `expected`.
-std::string SpngColumn(const std::string& path, const Image& expected) {
+std::string SpngColumn(const std::string& path, const patlab::camera::Image& expected) {
   if (path.size() < 4 || path.substr(path.size() - 4) != ".png") return "-";
   std::vector<uint8_t> pixels;
   const double ms = MedianMs(
@@ -182,7 +183,7 @@ std::string SpngColumn(const std::string& path, const Image& expected) {
 }
 #else
 const char* kSpngNote = "";
-std::string SpngColumn(const std::string& /*path*/, const Image& /*expected*/) {
+std::string SpngColumn(const std::string& /*path*/, const patlab::camera::Image& /*expected*/) {
   return "(not built)";
 }
 #endif
@@ -192,14 +193,15 @@ std::string SpngColumn(const std::string& /*path*/, const Image& /*expected*/) {
 // alone on the same frame and classes; then the decode time of each shared frame file.
 void RealFrames(const std::string& dir) {
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
-  VisionPipeline pipeline(LoadThresholds(data + "ssl-2008.thresholds.toml"),
-                          LoadCalibration(data + "ssl-2008.calibration.toml"), SegmenterOptions{});
-  detect::Detector detector(detect::LoadDetectorSettings(data + "ssl-2008.detector.toml"));
+  VisionPipeline pipeline(patlab::formats::LoadThresholds(data + "ssl-2008.thresholds.toml"),
+                          patlab::formats::LoadCalibration(data + "ssl-2008.calibration.toml"),
+                          SegmenterOptions{});
+  detect::Detector detector(formats::LoadDetectorSettings(data + "ssl-2008.detector.toml"));
   std::vector<int> palette_label;
   for (const ColorClass& c : pipeline.thresholds().classes) {
     palette_label.push_back(detector.ColourLabel(c.name));
   }
-  const Image rgb = ReadFrame(dir + "/ssl-field-2008.jpg");
+  const patlab::camera::Image rgb = ReadFrame(dir + "/ssl-field-2008.jpg");
   std::vector<detect::Blob> blobs, palette_blobs;
   std::vector<detect::Detection> detections;
   std::printf(
@@ -207,7 +209,7 @@ void RealFrames(const std::string& dir) {
       "core, CPU ms: median of 200 (fastest run)\n%-6s %20s %28s %8s %11s\n",
       pipeline.thresholds().classes.size(), "pixels", "patlab", "OpenCV (stages 2-4 only)", "ratio",
       "detections");
-  for (const Image& frame : {rgb, ToUyvy(rgb)}) {
+  for (const patlab::camera::Image& frame : {rgb, patlab::camera::ToUyvy(rgb)}) {
     const double ours = MedianMs(
         [&] {
           pipeline.Process(frame, &blobs);
@@ -223,8 +225,8 @@ void RealFrames(const std::string& dir) {
     const double cv_ms = OpenCvMs(frame, pipeline.thresholds());
     const double cv_min = last_min_ms;
     std::printf("%-6s %11.3f (%6.3f) %19.3f (%6.3f) %7.1fx %11zu\n",
-                frame.format == PixelFormat::kUyvy ? "UYVY" : "RGB", ours, ours_min, cv_ms, cv_min,
-                cv_ms / ours, detections.size());
+                frame.format == patlab::camera::PixelFormat::kUyvy ? "UYVY" : "RGB", ours, ours_min,
+                cv_ms, cv_min, cv_ms / ours, detections.size());
   }
   std::printf(
       "\ndecode: patlab::vision::ReadFrame (file read + libjpeg-turbo / libpng)%s, CPU ms, median "
@@ -232,7 +234,7 @@ void RealFrames(const std::string& dir) {
       kSpngNote, "file", "size", "ReadFrame", "libspng");
   for (const char* name :
        {"ssl-field-2008.jpg", "vss-test-frame.png", "ssl-standard-pattern-2010-16ids.png"}) {
-    Image image;
+    patlab::camera::Image image;
     const std::string path = dir + "/" + name;
     const double ms = MedianMs([&] { image = ReadFrame(path); }, 20);
     char size[32];
@@ -245,16 +247,17 @@ void RealFrames(const std::string& dir) {
 
 int main(int argc, char** argv) {
   cv::setNumThreads(1);  // one core, like ours
-  const Thresholds thresholds = ParseCmvisionColors(kColors, "ssl-2008.colors.txt");
-  std::vector<std::pair<std::string, Image>> frames;
+  const Thresholds thresholds =
+      patlab::formats::ParseCmvisionColors(kColors, "ssl-2008.colors.txt");
+  std::vector<std::pair<std::string, patlab::camera::Image>> frames;
   frames.emplace_back("synthetic 640x480", SyntheticField(640, 480));
   frames.emplace_back("synthetic 780x580", SyntheticField(780, 580));
   const std::string dir = argc > 1 ? argv[1] : std::string(PATLAB_SOURCE_DIR) + "/../shared/frames";
   if (std::filesystem::exists(dir + "/ssl-field-2008.jpg")) {
     frames.emplace_back("ssl-field-2008.jpg 780x580", ReadFrame(dir + "/ssl-field-2008.jpg"));
     // The same real frame cropped to 640x480.
-    Image crop = Image::Rgb(640, 480);
-    const Image& full = frames.back().second;
+    patlab::camera::Image crop = patlab::camera::Image::Rgb(640, 480);
+    const patlab::camera::Image& full = frames.back().second;
     for (int y = 0; y < 480; ++y) std::copy_n(full.Row(y + 50), 640 * 3, crop.Row(y));
     frames.emplace_back("ssl-field-2008.jpg crop 640x480", crop);
   }
@@ -270,7 +273,7 @@ int main(int argc, char** argv) {
                 r.opencv_ms / r.ours_ms, r.ours_regions, r.opencv_regions);
   }
   // Also from camera-native UYVY (no colour conversion needed).
-  const Image uyvy = ToUyvy(frames[1].second);
+  const patlab::camera::Image uyvy = patlab::camera::ToUyvy(frames[1].second);
   Segmenter segmenter(thresholds, SegmenterOptions{1, 0.0});
   std::printf("\nours on UYVY 780x580 (camera-native, no conversion): %.3f ms\n",
               MedianMs([&] { segmenter.Process(uyvy); }, 200));

@@ -16,7 +16,7 @@ constexpr int kWidth = 780, kHeight = 580;
 // distortion, 4 m over the field looking down.
 CalibrationFit PhysicalFit() {
   CalibrationFit fit;
-  vision::PinholeCamera& c = fit.camera;
+  camera::PinholeCamera& c = fit.camera;
   c.fx_px = c.fy_px = 600.0;
   c.cx_px = 390.0;
   c.cy_px = 290.0;

@@ -21,12 +21,12 @@ namespace {
 constexpr int kWidth = 780, kHeight = 580;
 
 Field Ssl2009() {
-  return LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
+  return formats::LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
 }
 
 // A camera over one half of the field, 3-4.5 m up, looking down within 12 deg, barrel distortion.
-vision::PinholeCamera RandomCamera(RandomStream& rng) {
-  vision::PinholeCamera c;
+camera::PinholeCamera RandomCamera(RandomStream& rng) {
+  camera::PinholeCamera c;
   const double height = rng.Uniform(3000.0, 4500.0);
   c.fx_px = c.fy_px = height * rng.Uniform(0.16, 0.2);
   c.cx_px = 389.5 + rng.Uniform(-15.0, 15.0);
@@ -50,7 +50,7 @@ vision::PinholeCamera RandomCamera(RandomStream& rng) {
   return c;
 }
 
-std::optional<Vec2> Observe(const vision::CameraModel& cam, const Vec2& world, double noise_px,
+std::optional<Vec2> Observe(const camera::CameraModel& cam, const Vec2& world, double noise_px,
                             RandomStream& rng) {
   const auto px = cam.WorldToPixel(world, 0.0);
   if (!px || px->x() < 2 || px->y() < 2 || px->x() > kWidth - 3 || px->y() > kHeight - 3)
@@ -60,7 +60,7 @@ std::optional<Vec2> Observe(const vision::CameraModel& cam, const Vec2& world, d
   return noisy;
 }
 
-CalibrationInput Observations(const Field& field, const vision::CameraModel& cam, double noise_px,
+CalibrationInput Observations(const Field& field, const camera::CameraModel& cam, double noise_px,
                               RandomStream& rng) {
   CalibrationInput in;
   in.image_width_px = kWidth;
@@ -92,7 +92,7 @@ CalibrationInput Observations(const Field& field, const vision::CameraModel& cam
 // the pixels that show the field and its 250 mm boundary, the RMS distance (mm) on the floor
 // between where the fitted camera puts the pixel measured with `noise_px` of Gaussian noise and
 // where the true camera puts the pixel itself. `noise_px` = 0: the cameras' mappings compared.
-double TrueError(const vision::CameraModel& fitted, const vision::CameraModel& truth,
+double TrueError(const camera::CameraModel& fitted, const camera::CameraModel& truth,
                  const Field& field, double noise_px, RandomStream& rng) {
   double sum2 = 0.0;
   int n = 0;
@@ -119,10 +119,10 @@ TEST(CalibrateHoldout, HeldOutErrorAgreesWithTheTrueMappingError) {
   for (uint64_t seed = 1; seed <= 10; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     RandomStream rng(seed, 7, 0);
-    const vision::CameraModel truth = vision::CameraModel::Pinhole(RandomCamera(rng));
+    const camera::CameraModel truth = camera::CameraModel::Pinhole(RandomCamera(rng));
     const double noise_px = 0.5;
     CalibrationInput in = Observations(field, truth, noise_px, rng);
-    const vision::PinholeCamera& t = truth.pinhole();
+    const camera::PinholeCamera& t = truth.pinhole();
     const auto fold = DistortionFoldRadius(t.k1, t.k2);
     if (in.points.size() < 6 || (fold && *fold < std::hypot(400 / t.fx_px, 300 / t.fy_px)))
       continue;  // too few points, or a true lens that folds inside the image
@@ -139,7 +139,7 @@ TEST(CalibrateHoldout, HeldOutErrorAgreesWithTheTrueMappingError) {
     ASSERT_EQ(fit.heldout_folds, 5);
     ASSERT_EQ(fit.planes.size(), 1u);
     EXPECT_EQ(fit.planes[0].heldout_count, fit.planes[0].count);
-    const vision::CameraModel fitted = vision::CameraModel::Pinhole(fit.camera);
+    const camera::CameraModel fitted = camera::CameraModel::Pinhole(fit.camera);
     const double truth_mm = TrueError(fitted, truth, field, noise_px, rng);
     const double mapping_mm = TrueError(fitted, truth, field, 0.0, rng);
     const double ratio = fit.heldout_rms_mm / truth_mm;

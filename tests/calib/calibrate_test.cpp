@@ -27,7 +27,8 @@ constexpr int kWidth = 780, kHeight = 580;
 // The 2009 field as the seeds and bounds below were chosen on: the shipped model less the goal
 // walls, goal posts and penalty marks it has since gained, in the same order.
 Field Ssl2009() {
-  Field f = LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
+  Field f =
+      formats::LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
   std::erase_if(f.lines, [](const FieldLine& l) {
     return l.name.starts_with("goal_s") || l.name.starts_with("goal_back");
   });
@@ -38,8 +39,8 @@ Field Ssl2009() {
 }
 
 // Whether the true lens folds inside the image: a fit of it is refused (UnphysicalFitReason).
-bool TruthFolds(const vision::CameraModel& truth) {
-  const vision::PinholeCamera& c = truth.pinhole();
+bool TruthFolds(const camera::CameraModel& truth) {
+  const camera::PinholeCamera& c = truth.pinhole();
   const auto fold = DistortionFoldRadius(c.k1, c.k2);  // the corners are the farthest pixels
   const double corner = std::hypot(std::max(c.cx_px, kWidth - c.cx_px) / c.fx_px,
                                    std::max(c.cy_px, kHeight - c.cy_px) / c.fy_px);
@@ -51,8 +52,8 @@ bool TruthFolds(const vision::CameraModel& truth) {
 // 12 deg of that), tilted up to 15 deg about a random horizontal axis, a focal length that frames
 // the half field (0.16-0.2 px per mm of floor), the principal point off centre by up to 15 px,
 // and barrel distortion up to k1 = -0.35.
-vision::PinholeCamera RandomCamera(RandomStream& rng) {
-  vision::PinholeCamera c;
+camera::PinholeCamera RandomCamera(RandomStream& rng) {
+  camera::PinholeCamera c;
   const double height = rng.Uniform(2800.0, 4500.0);
   c.fx_px = c.fy_px = height * rng.Uniform(0.16, 0.2);
   c.cx_px = 389.5 + rng.Uniform(-15.0, 15.0);
@@ -78,10 +79,10 @@ vision::PinholeCamera RandomCamera(RandomStream& rng) {
 
 struct Synthetic {
   CalibrationInput input;
-  vision::CameraModel truth = vision::CameraModel::Pinhole({});
+  camera::CameraModel truth = camera::CameraModel::Pinhole({});
 };
 
-std::optional<Vec2> Observe(const vision::CameraModel& cam, const Vec2& world, double h,
+std::optional<Vec2> Observe(const camera::CameraModel& cam, const Vec2& world, double h,
                             RandomStream& rng) {
   const auto px = cam.WorldToPixel(world, h);
   if (!px || px->x() < 2 || px->y() < 2 || px->x() > kWidth - 3 || px->y() > kHeight - 3)
@@ -93,7 +94,7 @@ std::optional<Vec2> Observe(const vision::CameraModel& cam, const Vec2& world, d
   return noisy;
 }
 
-void ObserveField(const Field& field, const vision::CameraModel& cam, RandomStream& rng,
+void ObserveField(const Field& field, const camera::CameraModel& cam, RandomStream& rng,
                   CalibrationInput& in) {
   for (const FieldPoint& p : field.points)
     if (const auto px = Observe(cam, p.at_mm, 0.0, rng))
@@ -118,7 +119,7 @@ void ObserveField(const Field& field, const vision::CameraModel& cam, RandomStre
 }
 
 // Robots of the SSL standard pattern on 150 mm tops, wherever the camera sees the floor.
-void ObserveRobots(const vision::CameraModel& cam, RandomStream& rng, CalibrationInput& in) {
+void ObserveRobots(const camera::CameraModel& cam, RandomStream& rng, CalibrationInput& in) {
   const Pattern pattern = testing::ShippedPattern("ssl-standard");
   for (int attempt = 0; attempt < 60 && in.patterns.size() < 4; ++attempt) {
     const Vec2 px(rng.Uniform(60, kWidth - 60), rng.Uniform(60, kHeight - 60));
@@ -139,7 +140,7 @@ void ObserveRobots(const vision::CameraModel& cam, RandomStream& rng, Calibratio
 Synthetic MakeSynthetic(uint64_t seed, bool robots, int realisation = -1) {
   RandomStream rng(seed, 0, 0);
   Synthetic s;
-  s.truth = vision::CameraModel::Pinhole(RandomCamera(rng));
+  s.truth = camera::CameraModel::Pinhole(RandomCamera(rng));
   if (realisation >= 0) rng = RandomStream(seed, 1, static_cast<uint64_t>(realisation));
   s.input.image_width_px = kWidth;
   s.input.image_height_px = kHeight;
@@ -155,7 +156,7 @@ Synthetic MakeSynthetic(uint64_t seed, bool robots, int realisation = -1) {
 // (within 100 mm of its lines) on the plane at `height`, with that point. Outside it the fit
 // extrapolates the lens beyond anything it observed.
 template <typename F>
-void ForEachFieldPixel(const vision::CameraModel& truth, double height, F f) {
+void ForEachFieldPixel(const camera::CameraModel& truth, double height, F f) {
   for (int v = 10; v < kHeight; v += 20) {
     for (int u = 10; u < kWidth; u += 20) {
       const auto b = truth.PixelToWorld(Vec2(u, v), height);
@@ -166,8 +167,8 @@ void ForEachFieldPixel(const vision::CameraModel& truth, double height, F f) {
 
 // The distances (mm) between where the fitted and the true camera put the field's pixels
 // (ForEachFieldPixel) on the plane at `height`: RMS and worst.
-std::pair<double, double> MappingError(const vision::CameraModel& fitted,
-                                       const vision::CameraModel& truth, double height) {
+std::pair<double, double> MappingError(const camera::CameraModel& fitted,
+                                       const camera::CameraModel& truth, double height) {
   double worst = 0.0, sum2 = 0.0;
   int n = 0;
   ForEachFieldPixel(truth, height, [&](const Vec2& pixel, const Vec2& at) {
@@ -190,7 +191,7 @@ double Mahalanobis2(const std::array<double, 4>& c, const Vec2& e) {
 // The error of one observation on the floor: the pixel noise over the truth camera's scale
 // (px per mm at the image centre). Fitted to a hundred or more pixels, a camera seen from above
 // with its focal length determined maps the observed floor to within twice that on average.
-double NoiseMm(const vision::CameraModel& truth, double height) {
+double NoiseMm(const camera::CameraModel& truth, double height) {
   return kNoisePx * std::sqrt(truth.AreaScale(Vec2(kWidth / 2.0, kHeight / 2.0), height));
 }
 
@@ -205,8 +206,8 @@ void ExpectNoiseResiduals(const CalibrationFit& fit) {
 
 // The pixels where the input saw something on the plane at `height`, mapped by both cameras:
 // RMS distance (mm). Only the observed heights' mapping is what the data determine.
-double ObservedError(const CalibrationInput& in, const vision::CameraModel& fitted,
-                     const vision::CameraModel& truth, double height) {
+double ObservedError(const CalibrationInput& in, const camera::CameraModel& fitted,
+                     const camera::CameraModel& truth, double height) {
   double sum2 = 0.0;
   int n = 0;
   auto add = [&](const Vec2& px, double h) {
@@ -232,9 +233,9 @@ double ObservedError(const CalibrationInput& in, const vision::CameraModel& fitt
 // (MappingCovariance). To first order the errors at all pixels are one linear image of the camera
 // parameters' error d, so each is at most d' C^-1 d, chi-square with as many degrees of freedom as
 // free camera parameters (Cauchy-Schwarz).
-double WorstMahalanobis2(const CalibrationFit& fit, const vision::CameraModel& truth,
+double WorstMahalanobis2(const CalibrationFit& fit, const camera::CameraModel& truth,
                          double height) {
-  const vision::CameraModel fitted = vision::CameraModel::Pinhole(fit.camera);
+  const camera::CameraModel fitted = camera::CameraModel::Pinhole(fit.camera);
   double worst = 0.0;
   ForEachFieldPixel(truth, height, [&](const Vec2& pixel, const Vec2& at) {
     const auto a = fitted.PixelToWorld(pixel, height);
@@ -295,8 +296,8 @@ TEST(Calibrate, RecoversRandomCamerasFromFieldAndRobots) {
     if (!Usable(s)) continue;
     ++fitted_cameras;
     const CalibrationFit fit = FitCamera(s.input);
-    const vision::CameraModel fitted = vision::CameraModel::Pinhole(fit.camera);
-    const vision::PinholeCamera& t = s.truth.pinhole();
+    const camera::CameraModel fitted = camera::CameraModel::Pinhole(fit.camera);
+    const camera::PinholeCamera& t = s.truth.pinhole();
     ExpectNoiseResiduals(fit);
     ASSERT_EQ(fit.parameters - FittedNuisance(s.input), 10);  // f, cx, cy, k1 and the pose
     EXPECT_LT(WorstMahalanobis2(fit, s.truth, 0.0), kChi2TenDof9999);
@@ -318,7 +319,7 @@ TEST(Calibrate, TheMappingCovarianceIsTheSpreadOfRefits) {
   // MappingCovariance is chi-square with 2 degrees of freedom if the covariance is right, so the
   // mean of 50 lies within [1.198, 3.063] (scipy: chi2.ppf(0.0005 and 0.9995, 100) / 50). A
   // covariance twice too large or too small fails.
-  const vision::CameraModel truth = MakeSynthetic(1, true).truth;
+  const camera::CameraModel truth = MakeSynthetic(1, true).truth;
   const CalibrationFit first = FitCamera(MakeSynthetic(1, true, 0).input);
   Vec2 pixel = Vec2::Zero();
   double widest = 0.0;
@@ -333,7 +334,7 @@ TEST(Calibrate, TheMappingCovarianceIsTheSpreadOfRefits) {
   for (int k = 0; k < kFits; ++k) {
     const CalibrationFit fit = FitCamera(MakeSynthetic(1, true, k).input);
     const auto c = MappingCovariance(fit, pixel, 0.0);
-    const auto mapped = vision::CameraModel::Pinhole(fit.camera).PixelToWorld(pixel, 0.0);
+    const auto mapped = camera::CameraModel::Pinhole(fit.camera).PixelToWorld(pixel, 0.0);
     ASSERT_TRUE(c && mapped);
     sum += Mahalanobis2(*c, *mapped - at);
   }
@@ -356,7 +357,7 @@ TEST(Calibrate, TheFloorAloneMapsTheFloorAndSaysWhatItCannotKnow) {
     // says the fitted lens folds over observed pixels (one of these floor-only fits does).
     const std::string report = FitReportText(s.input, fit);
     if (report.find("lie beyond the fold") == std::string::npos) {
-      EXPECT_LT(ObservedError(s.input, vision::CameraModel::Pinhole(fit.camera), s.truth, 0.0),
+      EXPECT_LT(ObservedError(s.input, camera::CameraModel::Pinhole(fit.camera), s.truth, 0.0),
                 2.0 * NoiseMm(s.truth, 0.0));
     }
     const bool warned =
@@ -373,7 +374,7 @@ TEST(Calibrate, AMeasuredCameraHeightDeterminesTheFocalLength) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     Synthetic s = MakeSynthetic(seed, /*robots=*/false);
     if (!Usable(s)) continue;
-    const vision::PinholeCamera& t = s.truth.pinhole();
+    const camera::PinholeCamera& t = s.truth.pinhole();
     const double true_height = (-t.rotation.transpose() * t.translation_mm).z();
     s.input.options.camera_height_mm = true_height + 5.0;  // measured with a tape
     s.input.options.camera_height_sd_mm = 10.0;
@@ -381,7 +382,7 @@ TEST(Calibrate, AMeasuredCameraHeightDeterminesTheFocalLength) {
     ExpectNoiseResiduals(fit);
     // On average over the field (some of these cameras see few lines, and extrapolate the
     // lens to a far corner by 10 mm or more).
-    EXPECT_LT(MappingError(vision::CameraModel::Pinhole(fit.camera), s.truth, 0.0).first,
+    EXPECT_LT(MappingError(camera::CameraModel::Pinhole(fit.camera), s.truth, 0.0).first,
               2.0 * NoiseMm(s.truth, 0.0));
     EXPECT_NEAR(fit.camera_centre_mm.z(), true_height, 30.0);
     EXPECT_NEAR(fit.camera.fx_px, t.fx_px, 4 * fit.standard_error[0]);
@@ -395,11 +396,11 @@ TEST(Calibrate, TheWrittenFileIsTheFittedCamera) {
   in.default_height_mm = 150;
   in.class_height_mm["orange"] = 21.5;
   const CalibrationFit fit = FitCamera(in);
-  const vision::Calibration cal = vision::ParseCalibration(CalibrationFileText(in, fit), "fit");
+  const camera::Calibration cal = formats::ParseCalibration(CalibrationFileText(in, fit), "fit");
   EXPECT_EQ(cal.image_width_px, kWidth);
   EXPECT_EQ(cal.default_height_mm, 150.0);
   EXPECT_EQ(cal.HeightOf("orange"), 21.5);
-  EXPECT_LT(MappingError(cal.camera, vision::CameraModel::Pinhole(fit.camera), 150.0).second, 1e-6);
+  EXPECT_LT(MappingError(cal.camera, camera::CameraModel::Pinhole(fit.camera), 150.0).second, 1e-6);
   // The residual rows: every observed plane (0 and 150 mm) with its measured residual, and the
   // class height 21.5 mm, where nothing was observed, converted from the pixel residuals.
   ASSERT_EQ(fit.planes.size(), 2u);
@@ -449,18 +450,19 @@ TEST(Calibrate, AnOutlierIsTamedByTheHuberLoss) {
   px += 40.0 * (Vec2(390, 290) - px).normalized();
   double plain = std::numeric_limits<double>::infinity();  // refused: bent past a fold
   try {
-    plain = MappingError(vision::CameraModel::Pinhole(FitCamera(s.input).camera), s.truth, 0).first;
+    plain = MappingError(camera::CameraModel::Pinhole(FitCamera(s.input).camera), s.truth, 0).first;
   } catch (const InputError&) {
   }
   s.input.options.huber_px = 1.0;
   const double robust =
-      MappingError(vision::CameraModel::Pinhole(FitCamera(s.input).camera), s.truth, 0.0).first;
+      MappingError(camera::CameraModel::Pinhole(FitCamera(s.input).camera), s.truth, 0.0).first;
   EXPECT_LT(robust, 0.5 * plain);
   EXPECT_LT(robust, 1.5);
 }
 
 CalibrationInput Parse(const std::string& text) {
-  return ParseCalibrationInput(text, "in.toml", std::string(PATLAB_SOURCE_DIR) + "/experiments");
+  return formats::ParseCalibrationInput(text, "in.toml",
+                                        std::string(PATLAB_SOURCE_DIR) + "/experiments");
 }
 
 std::string Points(const std::vector<std::pair<Vec2, Vec2>>& pts) {

@@ -14,7 +14,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 TEST(FieldMarks, Ssl2009DefenseArcsAreQuartersContinuingTheFrontLine) {
-  const Field f = LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
+  const Field f = formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
   const FieldMarks m = PaintedMarks(f);
   // The painted lines: the field's 7, not the goal walls' 6 faces.
   ASSERT_EQ(f.lines.size(), 13u);
@@ -39,7 +39,7 @@ TEST(FieldMarks, Ssl2009DefenseArcsAreQuartersContinuingTheFrontLine) {
 }
 
 TEST(FieldMarks, SamplesCoverEveryMarkAtTheStep) {
-  const Field f = LoadField(PATLAB_SOURCE_DIR "/experiments/fields/vss.toml");
+  const Field f = formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/vss.toml");
   const FieldMarks m = PaintedMarks(f);
   std::vector<int> mark;
   const std::vector<Vec2> pts = SampleMarks(m, 10.0, &mark);

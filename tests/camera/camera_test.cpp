@@ -7,7 +7,7 @@
 
 #include "../frame_test_util.h"
 
-namespace patlab::vision {
+namespace patlab::camera {
 namespace {
 
 constexpr double kTol = 1e-9;
@@ -15,7 +15,7 @@ constexpr double kTol = 1e-9;
 // A camera 4000 mm above the floor looking straight down, f = 500 px, no distortion: the plane
 // at height h is seen at 500 / (4000 - h) px per mm.
 PinholeCamera Overhead(double k1 = 0.0, double k2 = 0.0) {
-  const Calibration cal = ParseCalibration(
+  const Calibration cal = formats::ParseCalibration(
       "model = \"pinhole\"\n[pinhole]\nfx_px = 500\nfy_px = 500\ncx_px = 320\ncy_px = 240\n"
       "k1 = " +
           std::to_string(k1) + "\nk2 = " + std::to_string(k2) +
@@ -76,7 +76,7 @@ TEST(Camera, NothingBeyondTheFoldOfTheDistortionIsProjected) {
 
 TEST(Camera, OpenCvExtrinsicsAgreeWithOverheadForm) {
   // Camera looking down: rotation of pi about x maps world (x, y, z) to camera (x, -y, -z).
-  const Calibration cal = ParseCalibration(
+  const Calibration cal = formats::ParseCalibration(
       "model = \"pinhole\"\n[pinhole]\nfx_px = 500\nfy_px = 500\ncx_px = 320\ncy_px = 240\n"
       "rotation_rodrigues = [3.141592653589793, 0, 0]\ntranslation_mm = [-100, 200, 4000]\n",
       "c.toml");
@@ -90,7 +90,7 @@ TEST(Camera, OpenCvExtrinsicsAgreeWithOverheadForm) {
 
 TEST(Camera, HomographyForAPlaneHeight) {
   // The pattern sheet: 1 px = 1 mm, y up, origin at the bottom-left of an 800 px image.
-  const Calibration cal = ParseCalibration(
+  const Calibration cal = formats::ParseCalibration(
       "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
       "matrix = [[1, 0, 0], [0, -1, 800], [0, 0, 1]]\n[heights]\ndefault_mm = 0\n",
       "h.toml");
@@ -119,8 +119,8 @@ TEST(Camera, RecordedResidualsAreReadAndLookedUpByHeight) {
       "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
       "matrix = [[1, 0, 0], [0, -1, 800], [0, 0, 1]]\n[heights]\ndefault_mm = 0\n";
   // An old file: no rows, residual 0.
-  EXPECT_EQ(ParseCalibration(head, "c.toml").ResidualRmsMm(0.0), 0.0);
-  const Calibration cal = ParseCalibration(
+  EXPECT_EQ(formats::ParseCalibration(head, "c.toml").ResidualRmsMm(0.0), 0.0);
+  const Calibration cal = formats::ParseCalibration(
       head +
           "[[residual]]\nheight_mm = 140\nrms_mm = 8.5\nworst_mm = 30\nmeasured = false\n"
           "[[residual]]\nheight_mm = 0\nrms_mm = 3.25\n",
@@ -134,62 +134,63 @@ TEST(Camera, RecordedResidualsAreReadAndLookedUpByHeight) {
   EXPECT_EQ(cal.ResidualRmsMm(140.3), 8.5);
   EXPECT_EQ(cal.ResidualRmsMm(100.0), 8.5);  // the nearest height
   EXPECT_INPUT_ERROR(
-      ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = -1\n", "c.toml"),
+      formats::ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = -1\n", "c.toml"),
       "c.toml:9: rms_mm is -1 in [[residual]] 1; expected a residual >= 0 (mm)");
   EXPECT_INPUT_ERROR(
-      ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = 2\nworst_mm = 1\n", "c.toml"),
+      formats::ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = 2\nworst_mm = 1\n",
+                                "c.toml"),
       "c.toml:10: worst_mm is 1 in [[residual]] 1; expected at least rms_mm (2)");
   EXPECT_INPUT_ERROR(
-      ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = 2\n[[residual]]\n"
-                              "height_mm = 0.2\nrms_mm = 2\n",
-                       "c.toml"),
+      formats::ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms_mm = 2\n[[residual]]\n"
+                                       "height_mm = 0.2\nrms_mm = 2\n",
+                                "c.toml"),
       "c.toml:11: height_mm 0.2 in [[residual]] 2 repeats an earlier residual; expected one per "
       "height");
   EXPECT_INPUT_ERROR(
-      ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms = 2\n", "c.toml"),
+      formats::ParseCalibration(head + "[[residual]]\nheight_mm = 0\nrms = 2\n", "c.toml"),
       "c.toml:9: unknown key 'rms' in [[residual]] 1; expected one of: height_mm, rms_mm, "
       "worst_mm, measured");
 }
 
 TEST(Camera, CalibrationErrorsNameFileAndLine) {
-  EXPECT_INPUT_ERROR(ParseCalibration("model = \"fisheye\"\n", "c.toml"),
+  EXPECT_INPUT_ERROR(formats::ParseCalibration("model = \"fisheye\"\n", "c.toml"),
                      "c.toml:1: model is \"fisheye\"; expected \"pinhole\" or \"homography\"");
   EXPECT_INPUT_ERROR(
-      ParseCalibration(
+      formats::ParseCalibration(
           "model = \"pinhole\"\n[pinhole]\nfx_px = -5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
           "camera_position_mm = [0, 0, 1]\n",
           "c.toml"),
       "c.toml:3: fx_px in [pinhole] is -5; expected > 0");
   EXPECT_INPUT_ERROR(
-      ParseCalibration(
+      formats::ParseCalibration(
           "model = \"pinhole\"\n[pinhole]\nfx_px = 5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n", "c.toml"),
       "c.toml:3: [pinhole] needs exactly one form of extrinsics; expected rotation_rodrigues and "
       "translation_mm, or camera_position_mm and yaw_deg");
   EXPECT_INPUT_ERROR(
-      ParseCalibration(
+      formats::ParseCalibration(
           "model = \"pinhole\"\n[pinhole]\nfx_px = 5\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
           "camera_position_mm = [0, 0]\n",
           "c.toml"),
       "c.toml:7: camera_position_mm in [pinhole] is malformed; expected [x, y, z] in mm");
   EXPECT_INPUT_ERROR(
-      ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
-                       "matrix = [[1, 2, 3], [2, 4, 6], [0, 0, 1]]\n",
-                       "h.toml"),
+      formats::ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+                                "matrix = [[1, 2, 3], [2, 4, 6], [0, 0, 1]]\n",
+                                "h.toml"),
       "h.toml:4: matrix in [[homography]] 1 is singular; expected an invertible homography");
   EXPECT_INPUT_ERROR(
-      ParseCalibration(
+      formats::ParseCalibration(
           "model = \"homography\"\n[[homography]]\nheight_mm = 0\nmatrix = [[1, 0], [0, 1]]\n",
           "h.toml"),
       "h.toml:4: matrix in [[homography]] 1 is malformed; expected 3 rows of 3 numbers");
-  EXPECT_INPUT_ERROR(ParseCalibration("model = \"homography\"\n", "h.toml"),
+  EXPECT_INPUT_ERROR(formats::ParseCalibration("model = \"homography\"\n", "h.toml"),
                      "h.toml:1: model = \"homography\" needs [[homography]] tables; expected "
                      "height_mm and matrix");
-  EXPECT_INPUT_ERROR(
-      ParseCalibration("model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
-                       "matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n[heights]\nball = \"low\"\n",
-                       "h.toml"),
-      "h.toml:6: ball in [heights] is a string; expected a number");
+  EXPECT_INPUT_ERROR(formats::ParseCalibration(
+                         "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+                         "matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n[heights]\nball = \"low\"\n",
+                         "h.toml"),
+                     "h.toml:6: ball in [heights] is a string; expected a number");
 }
 
 }  // namespace
-}  // namespace patlab::vision
+}  // namespace patlab::camera

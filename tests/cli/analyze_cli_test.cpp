@@ -132,8 +132,8 @@ TEST(AnalyzeCli, DetectWritesATrackCsvThatAnalyzeReads) {
                             "ssl-frame.detector.toml --out " + dir.Path("d") + " --track");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir.Path("d/detections.csv")));
-  const std::vector<sim::MeasuredTrack> tracks =
-      sim::ReadTrackCsv(dir.Path("d/track.csv"), sim::TrackColumns{});
+  const std::vector<analysis::MeasuredTrack> tracks =
+      analysis::ReadTrackCsv(dir.Path("d/track.csv"), analysis::TrackColumns{});
   ASSERT_EQ(tracks.size(), 10u);
   EXPECT_EQ(tracks[0].subject, "blue-0");
   EXPECT_EQ(tracks[0].frame, (std::vector<int64_t>{0, 1}));
@@ -174,11 +174,11 @@ TEST(AnalyzeCli, DetectTrackNeedsOutAndTakesNoFileName) {
 }
 
 // The golden scene's camera with its translation moved by (dx, dy) mm: a shaking camera.
-vision::CameraModel Jittered(const vision::CameraModel& camera, double dx, double dy) {
-  vision::PinholeCamera p = camera.pinhole();
+camera::CameraModel Jittered(const camera::CameraModel& camera, double dx, double dy) {
+  camera::PinholeCamera p = camera.pinhole();
   p.translation_mm.x() += dx;
   p.translation_mm.y() += dy;
-  return vision::CameraModel::Pinhole(p);
+  return camera::CameraModel::Pinhole(p);
 }
 
 // Frames -> detect -> track -> analyze: 3 robots driving and turning over 40 frames, sensor noise
@@ -188,13 +188,13 @@ vision::CameraModel Jittered(const vision::CameraModel& camera, double dx, doubl
 // minus true pose), and the two agree within a factor 2 (with 16 samples the intervals are about
 // -25%/+55% wide).
 TEST(AnalyzeCli, FramesToTracksToAnalysisAgreesWithTheTruth) {
-  vision::SceneFile file = vision::LoadSceneFile(kGolden + "ssl-frame.toml");
-  vision::FrameDetector frames(vision::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),
-                               vision::LoadCalibration(kGolden + "ssl-frame.calibration.toml"),
-                               detect::LoadDetectorSettings(kGolden + "ssl-frame.detector.toml"),
+  formats::SceneFile file = formats::LoadSceneFile(kGolden + "ssl-frame.toml");
+  vision::FrameDetector frames(formats::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),
+                               formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml"),
+                               formats::LoadDetectorSettings(kGolden + "ssl-frame.detector.toml"),
                                {});
   vision::TrackWriter writer(frames);
-  const std::vector<vision::RobotPlacement> start(file.scene.robots.begin(),
+  const std::vector<render::RobotPlacement> start(file.scene.robots.begin(),
                                                   file.scene.robots.begin() + 3);
   file.scene.ball_mm.reset();
   file.scene.options.supersampling = 1;  // 16x faster than the scene's 4 (the test runs in seconds)
@@ -203,7 +203,7 @@ TEST(AnalyzeCli, FramesToTracksToAnalysisAgreesWithTheTruth) {
   std::string truth = "frame,subject,x_mm,y_mm,theta_rad\n";
   for (int f = 0; f < 40; ++f) {
     file.scene.robots = start;
-    for (vision::RobotPlacement& robot : file.scene.robots) {
+    for (render::RobotPlacement& robot : file.scene.robots) {
       robot.pose.x_mm += 7.0 * f;
       robot.pose.y_mm -= 2.0 * f;
       robot.pose.theta_rad = WrapAngle(robot.pose.theta_rad + 0.02 * f);
@@ -212,18 +212,18 @@ TEST(AnalyzeCli, FramesToTracksToAnalysisAgreesWithTheTruth) {
     }
     file.scene.options.seed = 100 + static_cast<uint64_t>(f);
     const double dx = jitter(rng), dy = jitter(rng);
-    const vision::Image image =
-        vision::RenderScene(file.scene, Jittered(file.calibration.camera, dx, dy));
+    const camera::Image image =
+        render::RenderScene(file.scene, Jittered(file.calibration.camera, dx, dy));
     writer.Add(f, frames.Detect(image, "frame" + std::to_string(f)));
   }
-  const auto tracks = sim::ParseTrackCsv(writer.Csv(), "track.csv", sim::TrackColumns{});
-  const auto truths = sim::ParseTrackCsv(truth, "truth.csv", sim::TrackColumns{});
+  const auto tracks = analysis::ParseTrackCsv(writer.Csv(), "track.csv", analysis::TrackColumns{});
+  const auto truths = analysis::ParseTrackCsv(truth, "truth.csv", analysis::TrackColumns{});
   ASSERT_EQ(tracks.size(), 3u);
-  sim::AnalyzeOptions options;
+  analysis::AnalyzeOptions options;
   options.smoothing.sigma_samples = 3.0;
   options.correct_bias = true;
-  const sim::AnalyzeReport report = sim::AnalyzeTracks(tracks, options, &truths);
-  for (const sim::SubjectAnalysis& a : report.subjects) {
+  const analysis::AnalyzeReport report = analysis::AnalyzeTracks(tracks, options, &truths);
+  for (const analysis::SubjectAnalysis& a : report.subjects) {
     ASSERT_EQ(a.est.x.n, 16u) << a.subject;
     for (const auto& [est, tru] : {std::pair(a.est.x, a.truth.x), std::pair(a.est.y, a.truth.y),
                                    std::pair(a.est.theta, a.truth.theta)}) {

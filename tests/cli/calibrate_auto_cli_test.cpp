@@ -23,8 +23,8 @@ const std::string kFrames = std::string(PATLAB_SOURCE_DIR) + "/../shared/frames/
 // RMS and worst distance (mm) between two calibrations' floor points over the pixels (8 px grid)
 // where `a` shows the field's area (`half_x`, `half_y` mm about the centre), with `b` turned by
 // 180 deg when that matches better (the field's equivalent views).
-std::pair<double, double> FloorDifferenceMm(const vision::CameraModel& a,
-                                            const vision::CameraModel& b, int w, int h,
+std::pair<double, double> FloorDifferenceMm(const camera::CameraModel& a,
+                                            const camera::CameraModel& b, int w, int h,
                                             double half_x, double half_y) {
   std::pair<double, double> best{INFINITY, INFINITY};
   for (int turn = 0; turn < 2; ++turn) {
@@ -61,8 +61,8 @@ TEST(CalibrateAutoCli, RealSslFrameAgreesWithTheHandMeasuredCalibration) {
   EXPECT_TRUE(std::filesystem::exists(dir.Path("auto/lines.png")));
   EXPECT_EQ(testing::ReadFile(dir.Path("auto/report.txt")).substr(0, 31),
             "# automatic field calibration\nl");
-  const vision::Calibration a = vision::LoadCalibration(dir.Path("hand/calibration.toml"));
-  const vision::Calibration b = vision::LoadCalibration(dir.Path("auto/calibration.toml"));
+  const camera::Calibration a = formats::LoadCalibration(dir.Path("hand/calibration.toml"));
+  const camera::Calibration b = formats::LoadCalibration(dir.Path("auto/calibration.toml"));
   const auto [rms, worst] = FloorDifferenceMm(a.camera, b.camera, 780, 580, 3025, 2025);
   std::printf("real SSL frame: auto vs hand-measured: RMS %.1f mm, worst %.1f mm\n", rms, worst);
   // Measured: 27.4 mm RMS, worst 126 mm (at the field's far corners, where the hand-measured
@@ -73,7 +73,7 @@ TEST(CalibrateAutoCli, RealSslFrameAgreesWithTheHandMeasuredCalibration) {
 
 TEST(CalibrateAutoCli, AFrameWithoutLinesIsExit2WithNothingWritten) {
   testing::TempDir dir;
-  vision::Image carpet = vision::Image::Rgb(320, 240);
+  camera::Image carpet = camera::Image::Rgb(320, 240);
   for (size_t i = 0; i < carpet.data.size(); i += 3) carpet.data[i + 1] = 120;
   vision::WritePng(carpet, dir.Path("carpet.png"));
   const auto r = RunCommand(kBinary + " calibrate " + dir.Path("carpet.png") +

@@ -39,7 +39,7 @@ TEST(CalibrateCli, FitsTheRealSslFrameFromItsFieldLines) {
   EXPECT_LT(Number(r.out, R"(\n  0 +95 +[0-9.]+ +[0-9.]+ +([0-9.]+))"), 12.0);
   EXPECT_NE(r.out.find("warning: the focal length is not determined"), std::string::npos);
   // The file is a calibration patlab detect reads, with the input's plane heights.
-  const vision::Calibration c = vision::LoadCalibration(cal);
+  const camera::Calibration c = formats::LoadCalibration(cal);
   EXPECT_EQ(c.image_width_px, 780);
   EXPECT_EQ(c.default_height_mm, 140.0);
   EXPECT_EQ(c.HeightOf("orange"), 21.5);

@@ -26,7 +26,7 @@ TEST(DesignCli, WritesALoadablePatternAndPrintsTheSpeed) {
   EXPECT_NE(run.out.find("best (start "), std::string::npos) << run.out;
   EXPECT_NE(run.err.find(" evaluations/s\n"), std::string::npos) << run.err;
   const std::string file = dir.Path("a/d1.toml");
-  const Pattern pattern = io::LoadPatternFile(file);
+  const Pattern pattern = formats::LoadPatternFile(file);
   EXPECT_EQ(pattern.name, "d1");
   EXPECT_EQ(pattern.size(), 5);
   // Ready for the other commands.
@@ -65,9 +65,9 @@ TEST(DesignCli, ConstraintsFileWithFlagsOverridingIt) {
   const CommandResult run =
       Design("--constraints " + file + " --id-patches 5 --out " + dir.Path("out") + " -q");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const Pattern p = io::LoadPatternFile(dir.Path("out/fromfile.toml"));  // name from the file
-  EXPECT_EQ(p.size(), 6);                                                // --id-patches 5 wins
-  EXPECT_EQ(p.patches[1].radius_mm, 18.0);                               // radius from the file
+  const Pattern p = formats::LoadPatternFile(dir.Path("out/fromfile.toml"));  // name from the file
+  EXPECT_EQ(p.size(), 6);                                                     // --id-patches 5 wins
+  EXPECT_EQ(p.patches[1].radius_mm, 18.0);  // radius from the file
   const std::string report = testing::ReadFile(dir.Path("out/fromfile.design.txt"));
   EXPECT_NE(report.find("from 2 seeded starts"), std::string::npos) << report;
   EXPECT_NE(report.find(", symmetry mirror"), std::string::npos) << report;

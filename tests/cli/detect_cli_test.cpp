@@ -60,8 +60,8 @@ CliRun Detect(const std::string& dir, const std::string& args) {
 
 // One blue disc of radius 10 px at (30.5, 20.25) on grey; calibration 2 mm per px, y up.
 void WriteScene(const std::string& dir) {
-  const std::vector<Disc> discs = {{Vec2(30.5, 20.25), 10, {20, 40, 230}}};
-  WritePng(RenderDiscs(64, 48, {90, 90, 90}, discs, 8), dir + "/a.png");
+  const std::vector<render::Disc> discs = {{Vec2(30.5, 20.25), 10, {20, 40, 230}}};
+  WritePng(render::RenderDiscs(64, 48, {90, 90, 90}, discs, 8), dir + "/a.png");
   std::ofstream(dir + "/t.toml") << "[[class]]\nname = \"blue\"\nu = [160, 255]\nv = [0, 120]\n";
   std::ofstream(dir + "/c.toml") << "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
                                     "matrix = [[2, 0, 0], [0, -2, 96], [0, 0, 1]]\n";
@@ -214,10 +214,10 @@ TEST(DetectCli, DetectsTheSharedStandardPatternSheet) {
 TEST(DetectCli, EdgeLossFromTheSettingsAndTheFlag) {
   const std::string dir = Dir();
   const std::string shipped = std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml";
-  const detect::DetectorConfig config = detect::LoadDetectorSettings(shipped);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(shipped);
   const detect::DetectorPattern& dp = config.patterns[0];
   const std::vector<int> slots = detect::IdSlots(dp.pattern);
-  std::vector<Disc> discs;
+  std::vector<render::Disc> discs;
   for (int i = 0; i < dp.pattern.size(); ++i) {
     const Patch& patch = dp.pattern.patches[i];
     if (patch.role != PatchRole::kId) {
@@ -226,16 +226,17 @@ TEST(DetectCli, EdgeLossFromTheSettingsAndTheFlag) {
     }
     const int slot = static_cast<int>(std::find(slots.begin(), slots.end(), i) - slots.begin());
     const std::string& colour = dp.codebook.colours[dp.codebook.entries[0].colour[slot]];
-    discs.push_back(
-        {patch.position_mm, 11.0, colour == "pink" ? Rgb{250, 60, 220} : Rgb{40, 230, 60}});
+    discs.push_back({patch.position_mm, 11.0,
+                     colour == "pink" ? render::Rgb{250, 60, 220} : render::Rgb{40, 230, 60}});
   }
   const std::string calibration =
       "model = \"homography\"\nimage_size_px = [200, 150]\n[[homography]]\nheight_mm = 0\n"
       "matrix = [[2, 0, -200], [0, -2, 150], [0, 0, 1]]\n";
   std::ofstream(dir + "/c.toml") << calibration;
-  WritePng(RenderWorldDiscs(200, 150, ParseCalibration(calibration, "c.toml").camera, 0.0,
-                            {70, 70, 70}, discs),
-           dir + "/robot.png");
+  WritePng(
+      render::RenderWorldDiscs(200, 150, formats::ParseCalibration(calibration, "c.toml").camera,
+                               0.0, {70, 70, 70}, discs),
+      dir + "/robot.png");
   std::ofstream(dir + "/t.toml")
       << "space = \"rgb\"\n"
          "[[class]]\nname = \"blue\"\nr = [0, 80]\ng = [0, 100]\nb = [180, 255]\n"
@@ -269,7 +270,7 @@ TEST(DetectCli, EdgeLossFromTheSettingsAndTheFlag) {
 // frame by eye, docs/paper-reproduction.md), no robot twice, with the ID its sector colours show.
 struct SharedFrameRun {
   std::vector<detect::Detection> detections;
-  Calibration calibration;
+  camera::Calibration calibration;
 };
 
 SharedFrameRun DetectWithShippedSettings(const std::string& frame, const std::string& thresholds,
@@ -277,17 +278,18 @@ SharedFrameRun DetectWithShippedSettings(const std::string& frame, const std::st
                                          const std::string& settings,
                                          const std::string& pattern_file = "") {
   const std::string shipped = std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml";
-  detect::DetectorConfig config = detect::LoadDetectorSettings(settings);
-  config.options = detect::LoadDetectorSettings(shipped).options;
+  detect::DetectorConfig config = formats::LoadDetectorSettings(settings);
+  config.options = formats::LoadDetectorSettings(shipped).options;
   if (!pattern_file.empty()) {
     const detect::DetectorPattern& p = config.patterns[0];
-    config.patterns[0] = detect::MakeDetectorPattern(io::LoadPatternFile(pattern_file),
-                                                     p.key_colours, "", p.codebook.colours);
+    config.patterns[0] = formats::MakeDetectorPattern(formats::LoadPatternFile(pattern_file),
+                                                      p.key_colours, "", p.codebook.colours);
   }
   FrameDetectorOptions options;
-  ApplyFrameSettings(detect::LoadFrameSettings(shipped), &options);
-  FrameDetector frames(LoadThresholds(thresholds), LoadCalibration(calibration), config, options);
-  return {frames.DetectFile(frame).detections, LoadCalibration(calibration)};
+  ApplyFrameSettings(formats::LoadFrameSettings(shipped), &options);
+  FrameDetector frames(formats::LoadThresholds(thresholds), formats::LoadCalibration(calibration),
+                       config, options);
+  return {frames.DetectFile(frame).detections, formats::LoadCalibration(calibration)};
 }
 
 struct Robot {
@@ -344,7 +346,7 @@ TEST(DetectCli, ShippedSettingsTravelToEverySharedFrame) {
     cells.push_back({centre->x(), centre->y(), "blue", id});
   }
   EXPECT_EQ(
-      MatchRobots(sheet, cells, detect::LoadDetectorSettings(palette_of_sheet).palette).size(),
+      MatchRobots(sheet, cells, formats::LoadDetectorSettings(palette_of_sheet).palette).size(),
       16u);
 
   // SSL 2008 through the fitted calibration: the yellow robot (557, 200) with all sectors, the two
@@ -363,7 +365,7 @@ TEST(DetectCli, ShippedSettingsTravelToEverySharedFrame) {
                                          {343, 58, "yellow", -1}, {434, 559, "blue", 6},
                                          {478, 564, "blue", 15},  {40, 445, "", -1}};
   const std::vector<std::string> ssl_palette =
-      detect::LoadDetectorSettings(data + "ssl-2008.detector.toml").palette;
+      formats::LoadDetectorSettings(data + "ssl-2008.detector.toml").palette;
   EXPECT_EQ(MatchRobots(ssl, ssl_robots, ssl_palette), (std::vector<int>{0, 2, 3, 4}));
   int fitted_on_fewer = 0;
   for (const detect::Detection& d : ssl.detections) {
@@ -388,10 +390,10 @@ TEST(DetectCli, ShippedSettingsTravelToEverySharedFrame) {
     ASSERT_TRUE(centre.has_value());
     vss_robots.push_back({centre->x(), centre->y(), team, id});
   }
-  EXPECT_EQ(
-      MatchRobots(vss, vss_robots, detect::LoadDetectorSettings(data + "vss.detector.toml").palette)
-          .size(),
-      5u);
+  EXPECT_EQ(MatchRobots(vss, vss_robots,
+                        formats::LoadDetectorSettings(data + "vss.detector.toml").palette)
+                .size(),
+            5u);
 }
 
 }  // namespace

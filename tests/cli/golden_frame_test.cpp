@@ -92,8 +92,8 @@ TEST(GoldenFrame, RenderReproducesTheCommittedFrameAndTruth) {
   EXPECT_EQ(r.out, "wrote " + dir.Path("frame.png") + " (640x480 px, 10 robots, a ball) and " +
                        dir.Path("truth.csv") + "\n");
   EXPECT_EQ(ReadFile(dir.Path("truth.csv")), ReadFile(kGolden + "ssl-frame.truth.csv"));
-  const vision::Image rendered = vision::ReadFrame(dir.Path("frame.png"));
-  const vision::Image committed = vision::ReadFrame(kGolden + "ssl-frame.png");
+  const camera::Image rendered = vision::ReadFrame(dir.Path("frame.png"));
+  const camera::Image committed = vision::ReadFrame(kGolden + "ssl-frame.png");
   ASSERT_EQ(rendered.width_px, committed.width_px);
   ASSERT_EQ(rendered.height_px, committed.height_px);
   ASSERT_EQ(rendered.data.size(), committed.data.size());

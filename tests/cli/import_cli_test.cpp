@@ -23,7 +23,7 @@ CommandResult Import(const std::string& args) {
 TEST(ImportCli, BadSheetsExitTwoAndWriteNothing) {
   const testing::TempDir dir;
   const std::string blank = dir.Path("blank.png");
-  vision::WritePng(vision::Image::Rgb(400, 200), blank);
+  vision::WritePng(camera::Image::Rgb(400, 200), blank);
   const std::string out = dir.Path("out");
   const CommandResult run = Import(blank + " --out " + out);
   EXPECT_EQ(run.exit_code, 2);
@@ -42,7 +42,7 @@ TEST(ImportCli, BadSheetsExitTwoAndWriteNothing) {
 // monochrome colouring cannot: the layout has no ID, so no codebook file is written.
 TEST(ImportCli, LayoutWithoutIdsGetsNoCodebook) {
   const testing::TempDir dir;
-  vision::Image image = vision::Image::Rgb(200, 200);
+  camera::Image image = camera::Image::Rgb(200, 200);
   auto disc = [&image](double cx, double cy, double r, std::array<uint8_t, 3> rgb) {
     for (int y = 0; y < 200; ++y) {
       for (int x = 0; x < 200; ++x) {

@@ -23,7 +23,7 @@ const std::string kScene = std::string(PATLAB_SOURCE_DIR) + "/tests/data/setup/h
 
 // RMS (mm) between two cameras' floor points over the pixels (5 px grid) where the true camera
 // sees the field within its lines.
-double FloorRmsMm(const vision::CameraModel& truth, const vision::CameraModel& fitted, int w,
+double FloorRmsMm(const camera::CameraModel& truth, const camera::CameraModel& fitted, int w,
                   int h) {
   double sum = 0.0;
   int n = 0;
@@ -70,9 +70,10 @@ TEST(SetupCli, RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm) {
   for (const char* f : {"setup.toml", "calibration.toml", "thresholds.toml", "settings.toml"})
     EXPECT_TRUE(std::filesystem::exists(dir.Path("cam") + "/" + f)) << f;
   // The calibration against the known camera.
-  const vision::Calibration truth = vision::LoadCalibration(
+  const camera::Calibration truth = formats::LoadCalibration(
       std::string(PATLAB_SOURCE_DIR) + "/tests/data/setup/half-field.calibration.toml");
-  const vision::Calibration fitted = vision::LoadCalibration(dir.Path("cam") + "/calibration.toml");
+  const camera::Calibration fitted =
+      formats::LoadCalibration(dir.Path("cam") + "/calibration.toml");
   const double rms = FloorRmsMm(truth.camera, fitted.camera, 780, 580);
   std::printf("setup's calibration: %.2f mm RMS from the true camera over the visible field\n",
               rms);

@@ -37,7 +37,7 @@ TEST(ThresholdsCli, FitsTheGoldenFrameLabelsAndDetectsWithThem) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\npink               40  "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("no overlapping classes"), std::string::npos) << r.out;
-  EXPECT_EQ(vision::LoadThresholds(t).classes.size(), 5u);
+  EXPECT_EQ(formats::LoadThresholds(t).classes.size(), 5u);
   const auto d = RunCommand(kBinary + " detect " + kGolden + "png -t " + t + " -c " + kGolden +
                             "calibration.toml -s " + kGolden + "detector.toml --explain");
   ASSERT_EQ(d.exit_code, 0) << d.err;
@@ -92,7 +92,7 @@ TEST(ThresholdsCli, AutoFitsAFrameWithNoLabels) {
   EXPECT_EQ(r.out.rfind("class ", 0), 0u) << r.out;
   EXPECT_NE(r.out.find("\ncarpet "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\norange "), std::string::npos) << r.out;
-  const vision::Thresholds t = vision::LoadThresholds(dir.Path("t/thresholds.toml"));
+  const vision::Thresholds t = formats::LoadThresholds(dir.Path("t/thresholds.toml"));
   ASSERT_EQ(t.classes.size(), 5u);
   EXPECT_EQ(t.classes[0].name, "blue");
   const auto d =

@@ -8,12 +8,12 @@
 #include "patlab/detect/codebook.h"
 #include "patlab/formats/pattern_file.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 namespace {
 
 std::pair<Pattern, std::string> Design(const std::string& name) {
   const std::string file = std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml";
-  return {io::LoadPatternFile(file), file};
+  return {formats::LoadPatternFile(file), file};
 }
 
 CompareOptions Small() {
@@ -143,4 +143,4 @@ TEST(CompareDesigns, BadInputNamesWhatAndWhere) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::design

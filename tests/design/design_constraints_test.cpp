@@ -5,7 +5,7 @@
 #include "../expect_error.h"
 #include "patlab/design/design.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 namespace {
 
 TEST(DesignConstraints, EveryKeyIsRead) {
@@ -79,4 +79,4 @@ TEST(DesignConstraints, BadValuesNameTheLine) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -14,7 +14,7 @@
 #include "patlab/design/compare.h"
 #include "patlab/detect/codebook.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 namespace {
 
 // The file's precision: the geometric constraints hold to within it (docs/design.md).
@@ -175,7 +175,7 @@ TEST(Design, EveryOutputMeetsItsConstraintsAndCriteriaMatchRecomputation) {
     EXPECT_GT(r.evaluations, 0);
     EXPECT_EQ(r.starts.size(), static_cast<size_t>(o.starts));
     // The pattern file reads back as the same pattern.
-    const Pattern back = io::ParsePattern(DesignPatternFileText(r), "design.toml");
+    const Pattern back = formats::ParsePattern(DesignPatternFileText(r), "design.toml");
     ASSERT_EQ(back.size(), p.size());
     for (int i = 0; i < p.size(); ++i) {
       EXPECT_EQ(back.patches[i].position_mm, p.patches[i].position_mm) << i;
@@ -326,4 +326,4 @@ TEST(Design, SymmetryVariablesRoundTrip) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -7,7 +7,7 @@
 
 #include "../test_util.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 namespace {
 
 EvaluateOptions Small() {
@@ -44,7 +44,7 @@ TEST(EvaluatePattern, AcceptsPatternsOfMoreThanNinePatches) {
     text += "[[patch]]\nrole = \"id\"\nx = " + std::to_string(r * std::cos(angle)) +
             "\ny = " + std::to_string(r * std::sin(angle)) + "\nradius = 10\n";
   }
-  const Pattern pattern = io::ParsePattern(text, "eleven.toml");
+  const Pattern pattern = formats::ParsePattern(text, "eleven.toml");
   ASSERT_EQ(pattern.size(), 11);
   EvaluateOptions o = Small();
   o.sigmas_mm = {1.0};
@@ -79,22 +79,22 @@ TEST(EvaluateOptions, CheckNamesTheFlags) {
 }
 
 TEST(NoiseModel, CheckReportsEveryBrokenField) {
-  NoiseModel noise;
+  sim::NoiseModel noise;
   noise.sigma_y_ratio = 0.0;
   noise.outlier_probability = 1.0;
   const std::vector<OptionsProblem> problems = Check(noise);
   ASSERT_EQ(problems.size(), 2u);
   EXPECT_EQ(problems[0].message, "sigma_y_ratio is 0; expected a finite number > 0");
   EXPECT_EQ(problems[1].message, "outlier_probability is 1; expected a probability in [0, 1)");
-  EXPECT_TRUE(Check(NoiseModel{}).empty());
+  EXPECT_TRUE(Check(sim::NoiseModel{}).empty());
 }
 
 TEST(RunOptions, ThreadsMustNotBeNegative) {
-  RunOptions options;
+  sim::RunOptions options;
   options.threads = -1;
   EXPECT_INPUT_ERROR(Validate(options),
                      "threads is -1; expected an integer in [0, 4096] (0 = all cores)");
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -13,11 +13,11 @@
 #include "patlab/formats/pattern_file.h"
 #include "patlab/vision/frame_io.h"
 
-namespace patlab::vision {
+namespace patlab::design {
 namespace {
 
 // A filled disc of colour rgb centred at (cx, cy) px.
-void Disc(Image* image, double cx, double cy, double r, std::array<uint8_t, 3> rgb) {
+void Disc(camera::Image* image, double cx, double cy, double r, std::array<uint8_t, 3> rgb) {
   for (int y = 0; y < image->height_px; ++y) {
     for (int x = 0; x < image->width_px; ++x) {
       if ((x - cx) * (x - cx) + (y - cy) * (y - cy) > r * r) continue;
@@ -30,8 +30,8 @@ constexpr std::array<uint8_t, 3> kBlue = {0, 0, 255}, kPink = {255, 0, 255}, kGr
 
 // Two cells: cell 0 a key with dots front-left (pink), front-right (green), back (green); cell 1
 // the same without the back dot, so a different layout; cell 2 empty.
-Image TwoLayoutSheet() {
-  Image image = Image::Rgb(600, 200);
+camera::Image TwoLayoutSheet() {
+  camera::Image image = camera::Image::Rgb(600, 200);
   for (int x0 : {0, 200}) {
     Disc(&image, x0 + 100, 100, 25, kBlue);
     Disc(&image, x0 + 60, 40, 20, kPink);    // front-left: x = 60, y = 40 mm
@@ -55,9 +55,9 @@ TEST(SheetImport, AbsentDotMakesAnotherLayout) {
   ASSERT_EQ(sheet.layouts.size(), 2u);
   for (const ImportedLayout& l : sheet.layouts) {
     // The files read back through the project's own readers.
-    const Pattern p = io::ParsePattern(PatternFileText(l, sheet), l.pattern.name + ".toml");
-    const detect::Codebook book = detect::ParseCodebook(CodebookFileText(l, sheet), "codebook", p,
-                                                        detect::FindSymmetry(p, 10.0));
+    const Pattern p = formats::ParsePattern(PatternFileText(l, sheet), l.pattern.name + ".toml");
+    const detect::Codebook book = formats::ParseCodebook(CodebookFileText(l, sheet), "codebook", p,
+                                                         detect::FindSymmetry(p, 10.0));
     ASSERT_EQ(book.entries.size(), 1u);
     if (p.size() == 4) {
       EXPECT_EQ(p.name, "two-1");
@@ -73,18 +73,18 @@ TEST(SheetImport, AbsentDotMakesAnotherLayout) {
 TEST(SheetImport, BadOptionsNameTheFlag) {
   SheetImportOptions o;
   o.cell_px = 0;
-  EXPECT_INPUT_ERROR(ImportSheet(Image::Rgb(400, 200), "x.png", o),
+  EXPECT_INPUT_ERROR(ImportSheet(camera::Image::Rgb(400, 200), "x.png", o),
                      "--cell-px is 0; expected an integer in [20, 10000]");
   o = {};
   o.slot_tolerance_mm = -1.0;
-  EXPECT_INPUT_ERROR(ImportSheet(Image::Rgb(400, 200), "x.png", o),
+  EXPECT_INPUT_ERROR(ImportSheet(camera::Image::Rgb(400, 200), "x.png", o),
                      "--slot-tolerance is -1; expected a finite number > 0 (mm)");
 }
 
 TEST(SheetImport, BadSheetsNameTheFile) {
-  EXPECT_INPUT_ERROR(ImportSheet(Image::Rgb(300, 200), "odd.png", {}),
+  EXPECT_INPUT_ERROR(ImportSheet(camera::Image::Rgb(300, 200), "odd.png", {}),
                      "odd.png: the sheet is 300x200 px; expected a grid of 200 px cells");
-  EXPECT_INPUT_ERROR(ImportSheet(Image::Rgb(400, 200), "blank.png", {}),
+  EXPECT_INPUT_ERROR(ImportSheet(camera::Image::Rgb(400, 200), "blank.png", {}),
                      "blank.png: no recognisable cells; expected 200 px cells each with a blue "
                      "key patch and coloured dots");
 }
@@ -94,7 +94,8 @@ constexpr std::array<uint8_t, 3> kWhite = {255, 255, 255};
 // A KIKS-like robot top centred at (cx, cy) px: a blue key of radius 25, a ring to radius 90 with
 // the front quarter black (model angles -45..45 degrees) and three 90-degree sectors coloured
 // left (45..135), back (135..225) and right (225..315).
-void RingTop(Image* image, double cx, double cy, const std::array<std::array<uint8_t, 3>, 3>& rgb) {
+void RingTop(camera::Image* image, double cx, double cy,
+             const std::array<std::array<uint8_t, 3>, 3>& rgb) {
   for (int y = 0; y < image->height_px; ++y) {
     for (int x = 0; x < image->width_px; ++x) {
       const double dx = x - cx, dy = y - cy, r = std::hypot(dx, dy);
@@ -116,7 +117,7 @@ void RingTop(Image* image, double cx, double cy, const std::array<std::array<uin
 // (r = 25, R = 90, alpha = 90 deg); the largest disc about it inside the sector reaches the
 // nearer of key and rim: min(90 - 57.28, 57.28 - 25) - 0.5 = 31.78 mm.
 TEST(SheetImport, RingSectorsAreSplitByAngle) {
-  Image image = Image::Rgb(400, 200);
+  camera::Image image = camera::Image::Rgb(400, 200);
   RingTop(&image, 100, 100, {kGreen, kGreen, kWhite});  // left and back merge
   RingTop(&image, 300, 100, {kWhite, kGreen, kGreen});  // back and right merge
   SheetImportOptions o;
@@ -135,7 +136,7 @@ TEST(SheetImport, RingSectorsAreSplitByAngle) {
   EXPECT_NEAR(sheet.slots[0].x(), 0.0, 0.5);
   ASSERT_EQ(sheet.layouts.size(), 1u);
   const ImportedLayout& l = sheet.layouts[0];
-  const Pattern p = io::ParsePattern(PatternFileText(l, sheet), "ring.toml");
+  const Pattern p = formats::ParsePattern(PatternFileText(l, sheet), "ring.toml");
   ASSERT_EQ(p.size(), 4);
   for (int i = 1; i < 4; ++i) {
     EXPECT_NEAR(p.patches[i].radius_mm, std::min(90.0 - d, d - 25.0) - 0.5, 1.0) << i;
@@ -144,7 +145,7 @@ TEST(SheetImport, RingSectorsAreSplitByAngle) {
   const detect::Symmetry symmetry = detect::FindSymmetry(p, 10.0);
   EXPECT_EQ(symmetry.order(), 1);
   const detect::Codebook book =
-      detect::ParseCodebook(CodebookFileText(l, sheet), "ring", p, symmetry);
+      formats::ParseCodebook(CodebookFileText(l, sheet), "ring", p, symmetry);
   ASSERT_EQ(book.entries.size(), 2u);
   const auto colours = [&](int e) {
     std::vector<std::string> c;
@@ -156,7 +157,7 @@ TEST(SheetImport, RingSectorsAreSplitByAngle) {
 }
 
 TEST(SheetImport, RingOfOneColourAllRoundHasNoSectors) {
-  Image image = Image::Rgb(200, 200);
+  camera::Image image = camera::Image::Rgb(200, 200);
   Disc(&image, 100, 100, 90, kGreen);
   Disc(&image, 100, 100, 25, kBlue);
   EXPECT_INPUT_ERROR(ImportSheet(image, "ring.png", {}),
@@ -166,38 +167,38 @@ TEST(SheetImport, RingOfOneColourAllRoundHasNoSectors) {
 
 // The KIKS sheet: sectors, not dots; 12 cells, 8 distinct colourings of 3 sectors.
 TEST(SheetImport, KiksSheetIsThreeSectors) {
-  const std::string path = testing::SharedFrames() + "/team-patterns/kiks.png";
+  const std::string path = vision::testing::SharedFrames() + "/team-patterns/kiks.png";
   if (!std::filesystem::exists(path)) {
     GTEST_SKIP() << "no shared sheet at " << path
                  << " (real sheets live in ../shared/frames, outside the repository)";
   }
-  const SheetImport sheet = ImportSheet(ReadFrame(path), path, {});
+  const SheetImport sheet = ImportSheet(vision::ReadFrame(path), path, {});
   EXPECT_EQ(sheet.cells.size(), 12u);
   EXPECT_EQ(sheet.slots.size(), 3u);
   ASSERT_EQ(sheet.layouts.size(), 1u);
   const ImportedLayout& l = sheet.layouts[0];
   EXPECT_EQ(l.codebook.entries.size(), 8u);  // 2^3 colourings, every one on the sheet
   EXPECT_EQ(l.dropped.size(), 4u);           // cells 8-11 repeat earlier cells
-  const Pattern p = io::ParsePattern(PatternFileText(l, sheet), "kiks.toml");
+  const Pattern p = formats::ParsePattern(PatternFileText(l, sheet), "kiks.toml");
   EXPECT_EQ(detect::FindSymmetry(p, 10.0).order(), 1);
 }
 
 // The SSL standard sheet must come back as the shipped ssl-standard pattern and codebook.
 TEST(SheetImport, StandardSheetIsTheShippedPattern) {
-  const std::string path = testing::SharedFrames() + "/ssl-standard-pattern-2010-16ids.png";
+  const std::string path = vision::testing::SharedFrames() + "/ssl-standard-pattern-2010-16ids.png";
   if (!std::filesystem::exists(path)) {
     GTEST_SKIP() << "no shared sheet at " << path
                  << " (real sheets live in ../shared/frames, outside the repository)";
   }
   SheetImportOptions o;
   o.name = "ssl-standard";
-  const SheetImport sheet = ImportSheet(ReadFrame(path), path, o);
+  const SheetImport sheet = ImportSheet(vision::ReadFrame(path), path, o);
   EXPECT_EQ(sheet.cells.size(), 16u);
   ASSERT_EQ(sheet.layouts.size(), 1u);
   const ImportedLayout& l = sheet.layouts[0];
   const std::string root = PATLAB_SOURCE_DIR;
-  const Pattern shipped = io::LoadPatternFile(root + "/patterns/ssl-standard.toml");
-  const Pattern imported = io::ParsePattern(PatternFileText(l, sheet), "imported.toml");
+  const Pattern shipped = formats::LoadPatternFile(root + "/patterns/ssl-standard.toml");
+  const Pattern imported = formats::ParsePattern(PatternFileText(l, sheet), "imported.toml");
   ASSERT_EQ(imported.size(), shipped.size());
   for (int i = 0; i < shipped.size(); ++i) {
     EXPECT_EQ(imported.patches[i].role, shipped.patches[i].role) << i;
@@ -207,9 +208,9 @@ TEST(SheetImport, StandardSheetIsTheShippedPattern) {
   }
   const detect::Symmetry symmetry = detect::FindSymmetry(shipped, 10.0);
   const detect::Codebook want =
-      detect::LoadCodebookFile(root + "/patterns/ssl-standard.codebook.toml", shipped, symmetry);
+      formats::LoadCodebookFile(root + "/patterns/ssl-standard.codebook.toml", shipped, symmetry);
   const detect::Codebook got =
-      detect::ParseCodebook(CodebookFileText(l, sheet), "imported", shipped, symmetry);
+      formats::ParseCodebook(CodebookFileText(l, sheet), "imported", shipped, symmetry);
   EXPECT_TRUE(l.dropped.empty());
   ASSERT_EQ(got.entries.size(), 16u);
   for (size_t e = 0; e < 16; ++e) {
@@ -222,4 +223,4 @@ TEST(SheetImport, StandardSheetIsTheShippedPattern) {
 }
 
 }  // namespace
-}  // namespace patlab::vision
+}  // namespace patlab::design

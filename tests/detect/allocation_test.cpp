@@ -13,7 +13,7 @@ namespace {
 
 TEST(DetectorAllocation, SecondDetectOfAFrameDoesNotAllocate) {
   Detector detector(
-      LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
+      formats::LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
   sim::SceneOptions options;
   options.false_blob_rate_per_m2 = 1.0;
   RandomStream rng(8, 0, 0);
@@ -33,7 +33,7 @@ TEST(DetectorAllocation, SecondDetectOfAFrameDoesNotAllocate) {
 TEST(DetectorAllocation, SecondTimedDetectDoesNotAllocate) {
   // A TimeProfile gets its stage entries on the first frame; later frames only add to them.
   Detector detector(
-      LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
+      formats::LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
   sim::SceneOptions options;
   RandomStream rng(8, 0, 0);
   const sim::Scene scene = sim::GenerateScene(detector, options, sim::PatchNoise{0.5, {}}, rng);

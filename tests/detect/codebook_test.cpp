@@ -145,9 +145,9 @@ TEST(Symmetry, FixedColourBreaksTheSymmetryForIdentification) {
 
 TEST(CodebookFile, SslStandardHasTheSixteenReadmeIds) {
   const Pattern ssl = LoadPattern("ssl-standard");
-  const Codebook book =
-      LoadCodebookFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/ssl-standard.codebook.toml", ssl,
-                       FindSymmetry(ssl, 10.0));
+  const Codebook book = formats::LoadCodebookFile(
+      std::string(PATLAB_SOURCE_DIR) + "/patterns/ssl-standard.codebook.toml", ssl,
+      FindSymmetry(ssl, 10.0));
   ASSERT_EQ(book.entries.size(), 16u);
   EXPECT_THAT(book.colours, ::testing::ElementsAre("pink", "green"));
   // frames/README.md: 0 PPGP, 8 GGGG, 9 PPPP, 13 GPPP (P = 0, G = 1).
@@ -166,8 +166,8 @@ TEST(CodebookFile, SslStandardHasTheSixteenReadmeIds) {
 void ExpectCodebookError(const std::string& pattern_name, const std::string& text,
                          const std::string& message) {
   const Pattern pattern = LoadPattern(pattern_name);
-  EXPECT_INPUT_ERROR(ParseCodebook(text, "book.toml", pattern, FindSymmetry(pattern, 10.0)),
-                     message);
+  EXPECT_INPUT_ERROR(
+      formats::ParseCodebook(text, "book.toml", pattern, FindSymmetry(pattern, 10.0)), message);
 }
 
 TEST(CodebookFile, BadFilesGiveTheirMessages) {

@@ -22,8 +22,9 @@ using namespace testing;  // NOLINT: test helpers
 // The exact SSL codebook of frames/README.md (order FL, FR, BL, BR; P = 0, G = 1).
 Codebook SslCodebook() {
   const Pattern ssl = LoadPattern("ssl-standard");
-  return LoadCodebookFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/ssl-standard.codebook.toml",
-                          ssl, FindSymmetry(ssl, 10.0));
+  return formats::LoadCodebookFile(
+      std::string(PATLAB_SOURCE_DIR) + "/patterns/ssl-standard.codebook.toml", ssl,
+      FindSymmetry(ssl, 10.0));
 }
 
 DetectorPattern SslDetectorPattern() {

@@ -15,9 +15,9 @@ using namespace testing;  // NOLINT: test helpers
 DetectorPattern SslWithHalfTheIds() {
   DetectorPattern dp;
   dp.pattern = LoadPattern("ssl-standard");
-  dp.codebook =
-      LoadCodebookFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/ssl-standard.codebook.toml",
-                       dp.pattern, FindSymmetry(dp.pattern, 10.0));
+  dp.codebook = formats::LoadCodebookFile(
+      std::string(PATLAB_SOURCE_DIR) + "/patterns/ssl-standard.codebook.toml", dp.pattern,
+      FindSymmetry(dp.pattern, 10.0));
   dp.key_colours = {"blue", "yellow"};
   return dp;
 }

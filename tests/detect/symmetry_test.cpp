@@ -282,8 +282,8 @@ TEST(SymmetryBruteForce, ExactCyclicSymmetriesAndASubgroup) {
 // The irregular pentagon: geometry accepts the fifth-turns by shifts 2 and 3 only (residuals 9.93
 // mm against 10.17 mm for shifts 1 and 4); the group they generate is all of Z5.
 TEST(SymmetryBruteForce, IrregularPentagonsAcceptedShiftsGenerateAllOfZ5) {
-  const Pattern pentagon = io::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) +
-                                               "/tests/data/detect/pentagon-irregular.toml");
+  const Pattern pentagon = formats::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) +
+                                                    "/tests/data/detect/pentagon-irregular.toml");
   const Symmetry symmetry = FindSymmetry(pentagon, kTolerance);
   EXPECT_THAT(symmetry.shifts, ::testing::ElementsAre(0, 2, 3));
   EXPECT_THAT(symmetry.group_shifts, ::testing::ElementsAre(0, 1, 2, 3, 4));
@@ -304,8 +304,8 @@ TEST(SymmetryBruteForce, IrregularPentagonsAcceptedShiftsGenerateAllOfZ5) {
 // cannot tell from a rotated other ID.
 TEST(SymmetryBruteForce, DetectorFindsEveryIdOfThePentagonCodebook) {
   using testing::AddRobot;
-  const Pattern pentagon = io::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) +
-                                               "/tests/data/detect/pentagon-irregular.toml");
+  const Pattern pentagon = formats::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) +
+                                                    "/tests/data/detect/pentagon-irregular.toml");
   DetectorOptions options;
   options.patch_sigma_mm = 3.0;  // e_max = 9 chi2_9(0.9999) = 303 mm^2 > E of every shift (266)
   auto detected_ok = [&](const Codebook& book) {

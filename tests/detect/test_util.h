@@ -19,7 +19,7 @@ inline constexpr int kBlue = 0, kYellow = 1, kPink = 2, kGreen = 3, kOrange = 4,
                      kRed = 6;
 
 inline Pattern LoadPattern(const std::string& name) {
-  return io::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml");
+  return formats::LoadPatternFile(std::string(PATLAB_SOURCE_DIR) + "/patterns/" + name + ".toml");
 }
 
 // A detector for one pattern with every ID of `id_colours` (or the given codebook).

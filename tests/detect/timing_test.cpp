@@ -23,7 +23,7 @@ struct Frame {
 // Ten robots and a ball with false blobs, as the allocation test and detect_bench use.
 Frame ShippedFrame() {
   Detector detector(
-      LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
+      formats::LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
   sim::SceneOptions options;
   options.false_blob_rate_per_m2 = 1.0;
   RandomStream rng(8, 0, 0);

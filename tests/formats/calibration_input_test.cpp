@@ -9,15 +9,15 @@
 #include "../expect_error.h"
 #include "patlab/core/error.h"
 
-namespace patlab::calib {
+namespace patlab::formats {
 namespace {
 
-CalibrationInput Parse(const std::string& text) {
+calib::CalibrationInput Parse(const std::string& text) {
   return ParseCalibrationInput(text, "in.toml", std::string(PATLAB_SOURCE_DIR) + "/experiments");
 }
 
 TEST(CalibrationInput, ReadsFeaturesByNameAndCoordinates) {
-  const CalibrationInput in = Parse(R"(
+  const calib::CalibrationInput in = Parse(R"(
 image_size_px = [780, 580]
 field = "fields/ssl-2009.toml"
 [fit]
@@ -93,4 +93,4 @@ TEST(CalibrationInput, BadInputSaysWhereAndWhatWasExpected) {
 }
 
 }  // namespace
-}  // namespace patlab::calib
+}  // namespace patlab::formats

@@ -13,7 +13,7 @@
 #include "patlab/formats/scene_file.h"
 #include "patlab/render/scene_render.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 namespace {
 
 TEST(SetupTolerances, FollowTheScaleTheMappingErrorAndThePatchSize) {
@@ -72,9 +72,9 @@ TEST(SetupFolder, NamesItsFilesRelativeToTheFolder) {
 TEST(SetupCamera, LandmarksReplaceTheLines) {
   const std::string data = PATLAB_SOURCE_DIR "/tests/data/setup/";
   const SceneFile scene = LoadSceneFile(data + "half-field.toml");
-  const Image frame = RenderScene(scene.scene, scene.calibration.camera);
+  const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
   SetupOptions o;
-  o.fields = {calib::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml")};
+  o.fields = {formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml")};
   o.settings_path = PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml";
   for (const char* name : {"centre", "halfway_left", "centre_circle_right", "corner_pos_left",
                            "defense_front_left_pos", "defense_front_right_pos"}) {
@@ -84,7 +84,7 @@ TEST(SetupCamera, LandmarksReplaceTheLines) {
   }
   const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
   EXPECT_TRUE(r.from_landmarks);
-  const CameraModel fitted = CameraModel::Pinhole(r.calibration_fit.camera);
+  const camera::CameraModel fitted = camera::CameraModel::Pinhole(r.calibration_fit.camera);
   double sum = 0.0;
   int n = 0;
   for (int y = 5; y < frame.height_px; y += 10)
@@ -103,4 +103,4 @@ TEST(SetupCamera, LandmarksReplaceTheLines) {
 }
 
 }  // namespace
-}  // namespace patlab::vision
+}  // namespace patlab::formats

@@ -8,14 +8,14 @@
 #include "patlab/core/error.h"
 #include "patlab/formats/detector_settings.h"
 
-namespace patlab::detect {
+namespace patlab::formats {
 namespace {
 
 const std::string kExperiments = std::string(PATLAB_SOURCE_DIR) + "/experiments";
 
 TEST(Settings, ShippedFileLoadsWithDocumentedDefaults) {
-  const DetectorConfig config = LoadDetectorSettings(kExperiments + "/detector.toml");
-  const DetectorOptions defaults;
+  const detect::DetectorConfig config = LoadDetectorSettings(kExperiments + "/detector.toml");
+  const detect::DetectorOptions defaults;
   EXPECT_EQ(config.palette.size(), 8u);
   EXPECT_EQ(config.options.patch_sigma_mm, defaults.patch_sigma_mm);
   EXPECT_EQ(config.options.geometry_confidence, defaults.geometry_confidence);
@@ -32,13 +32,13 @@ TEST(Settings, ShippedFileLoadsWithDocumentedDefaults) {
 }
 
 TEST(Settings, MinimalFileGeneratesTheCodebook) {
-  const DetectorConfig config = ParseDetectorSettings(
+  const detect::DetectorConfig config = ParseDetectorSettings(
       "palette = [\"blue\", \"pink\", \"green\", \"cyan\"]\n"
       "[detector]\nmissing_patch = \"fit\"\nestimator = \"ml\"\n"
       "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"green\", \"cyan\"]\n"
       "key_colours = [\"blue\"]\n",
       "s.toml", kExperiments);
-  EXPECT_EQ(config.options.missing_patch, MissingPatchPolicy::kFit);
+  EXPECT_EQ(config.options.missing_patch, detect::MissingPatchPolicy::kFit);
   EXPECT_EQ(config.options.estimator, estimate::Estimator::kMl);
   EXPECT_EQ(config.patterns[0].codebook.entries.size(), 8u);
 }
@@ -112,19 +112,19 @@ TEST(Settings, BadFilesGiveTheirMessages) {
 TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
   const std::string text = kHead + "[detector]\nmissing_patch = \"reject\"\n" +
                            "[frame]\nedge_loss_px = 0.5\nmissing_patch = \"fit\"\n" + kPattern;
-  const FrameSettings frame = ParseFrameSettings(text, "s.toml");
+  const detect::FrameSettings frame = ParseFrameSettings(text, "s.toml");
   ASSERT_TRUE(frame.edge_loss_px.has_value());
   EXPECT_EQ(*frame.edge_loss_px, 0.5);
   ASSERT_TRUE(frame.missing_patch.has_value());
-  EXPECT_EQ(*frame.missing_patch, MissingPatchPolicy::kFit);
+  EXPECT_EQ(*frame.missing_patch, detect::MissingPatchPolicy::kFit);
   EXPECT_EQ(ParseDetectorSettings(text, "s.toml", kExperiments).options.missing_patch,
-            MissingPatchPolicy::kReject);
-  const FrameSettings none = ParseFrameSettings(kHead + kPattern, "s.toml");
+            detect::MissingPatchPolicy::kReject);
+  const detect::FrameSettings none = ParseFrameSettings(kHead + kPattern, "s.toml");
   EXPECT_FALSE(none.edge_loss_px.has_value());
   EXPECT_FALSE(none.missing_patch.has_value());
   // The shipped file: simulations keep "reject", camera frames fit (docs/detect.md).
   EXPECT_EQ(LoadFrameSettings(kExperiments + "/detector.toml").missing_patch,
-            MissingPatchPolicy::kFit);
+            detect::MissingPatchPolicy::kFit);
 }
 
 TEST(Settings, BadFrameTablesGiveTheirMessages) {
@@ -146,37 +146,37 @@ TEST(Settings, BadFrameTablesGiveTheirMessages) {
               "missing_patch");
   ExpectSettingsError(kHead + "frame = 1\n" + kPattern,
                       "bad.toml:2: frame is an integer; expected a table");
-  FrameSettings ok;
+  detect::FrameSettings ok;
   ok.edge_loss_px = 0.0;
-  EXPECT_TRUE(Check(ok).empty());
+  EXPECT_TRUE(detect::Check(ok).empty());
   ok.edge_loss_px = std::numeric_limits<double>::infinity();
-  ASSERT_EQ(Check(ok).size(), 1u);
-  EXPECT_EQ(Check(ok)[0].message, "edge_loss_px is inf; expected a number in [0, 10] (px)");
+  ASSERT_EQ(detect::Check(ok).size(), 1u);
+  EXPECT_EQ(detect::Check(ok)[0].message, "edge_loss_px is inf; expected a number in [0, 10] (px)");
 }
 
 }  // namespace
-}  // namespace patlab::detect
+}  // namespace patlab::formats
 
-namespace patlab::detect {
+namespace patlab::formats {
 namespace {
 
 TEST(Settings, PaperPatternsFileLoadsWithTableTwoCounts) {
-  const DetectorConfig config = LoadDetectorSettings(kExperiments + "/detector-paper.toml");
+  const detect::DetectorConfig config = LoadDetectorSettings(kExperiments + "/detector-paper.toml");
   ASSERT_EQ(config.patterns.size(), 4u);
   const size_t expected[4] = {4, 6, 20, 256};  // Table II, 4 colours (our counting rule)
   for (int p = 0; p < 4; ++p) EXPECT_EQ(config.patterns[p].codebook.entries.size(), expected[p]);
 }
 
 }  // namespace
-}  // namespace patlab::detect
+}  // namespace patlab::formats
 
-namespace patlab::detect {
+namespace patlab::formats {
 namespace {
 
 // Colour names that differ only in wording are one colour (core/colour_names.h): the palette,
 // the key and the ID colours are read as the vocabulary's canonical names.
 TEST(Settings, ColourNamesInAnyWordingAreTheVocabularysNames) {
-  const DetectorConfig config = ParseDetectorSettings(
+  const detect::DetectorConfig config = ParseDetectorSettings(
       "palette = [\"Blue\", \"MAGENTA\", \"Light Green\", \"dark_blue\"]\n"
       "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"magenta\", \"Light_Green\", "
       "\"BLUE\"]\nkey_colours = [\"darkblue\"]\n",
@@ -198,4 +198,4 @@ TEST(Settings, UnknownColourNamesAreErrorsWithADidYouMean) {
 }
 
 }  // namespace
-}  // namespace patlab::detect
+}  // namespace patlab::formats

@@ -8,12 +8,12 @@
 #include "patlab/formats/experiment_file.h"
 #include "patlab/sim/experiment.h"
 
-namespace patlab::sim {
+namespace patlab::formats {
 namespace {
 
 // <dir>/patterns/ holds copies of shipped patterns, <dir>/experiments/ the detector settings
 // (det.toml) and the experiment (e.toml), as in the repository.
-class DetectExperimentTest : public testing_support::ExperimentFixture {
+class DetectExperimentTest : public sim::testing_support::ExperimentFixture {
  protected:
   void SetUp() override {
     CopyPatterns({"simple", "butterfly", "triangle"});
@@ -39,8 +39,8 @@ const std::string kSigma = "[sigma]\nvalues = [0, 1]\n";
 const std::string kDetect = "[detect]\nsettings = \"det.toml\"\n";
 
 TEST_F(DetectExperimentTest, DefaultsAndPatternsFromTheSettings) {
-  const Experiment e = LoadExperimentFile(Write(kHead + kSigma + kDetect));
-  EXPECT_EQ(e.correspondence, Correspondence::kDetect);
+  const sim::Experiment e = LoadExperimentFile(Write(kHead + kSigma + kDetect));
+  EXPECT_EQ(e.correspondence, sim::Correspondence::kDetect);
   ASSERT_EQ(e.patterns.size(), 2u);
   EXPECT_EQ(e.patterns[0].name, "butterfly");
   EXPECT_EQ(e.patterns[1].name, "triangle");
@@ -61,14 +61,14 @@ TEST_F(DetectExperimentTest, DefaultsAndPatternsFromTheSettings) {
 }
 
 TEST_F(DetectExperimentTest, EveryKeyIsRead) {
-  const Experiment e = LoadExperimentFile(
+  const sim::Experiment e = LoadExperimentFile(
       Write(kHead + kSigma + "[field]\nlength_mm = 4000\nwidth_mm = 3000\n" + kDetect +
             "frames = 77\nrobots_per_team = 3\nfalse_blob_rate_per_m2 = [0, 0.5, 2]\n"
             "false_blob_radius_min_mm = 5\nfalse_blob_radius_max_mm = 9\n"
             "missing_patch_probability = 0.1\ncolour_error_probability = 0.02\nball = false\n"
             "ball_colour = \"white\"\nrobot_radius_mm = 80\nmin_separation_mm = 200\n"
             "match_radius_mm = 30\ndetector_sigma = \"matched\"\n"));
-  const DetectSettings& d = e.detect;
+  const sim::DetectSettings& d = e.detect;
   EXPECT_EQ(d.frames, 77);
   EXPECT_EQ(d.scene.robots_per_team, 3);
   EXPECT_EQ(d.false_blob_rates_per_m2, (std::vector<double>{0.0, 0.5, 2.0}));
@@ -84,15 +84,15 @@ TEST_F(DetectExperimentTest, EveryKeyIsRead) {
   EXPECT_EQ(d.match_radius_mm, 30.0);
   EXPECT_TRUE(d.matched_sigma);
   // One number is a one-value axis.
-  const Experiment one =
+  const sim::Experiment one =
       LoadExperimentFile(Write(kHead + kSigma + kDetect + "false_blob_rate_per_m2 = 1.5\n"));
   EXPECT_EQ(one.detect.false_blob_rates_per_m2, (std::vector<double>{1.5}));
 }
 
 TEST_F(DetectExperimentTest, ShippedIdConfusionLoads) {
-  const Experiment e =
+  const sim::Experiment e =
       LoadExperimentFile(std::string(PATLAB_SOURCE_DIR) + "/experiments/id_confusion.toml");
-  EXPECT_EQ(e.correspondence, Correspondence::kDetect);
+  EXPECT_EQ(e.correspondence, sim::Correspondence::kDetect);
   ASSERT_EQ(e.patterns.size(), 3u);
   EXPECT_EQ(e.patterns[0].name, "butterfly");
   EXPECT_EQ(e.patterns[1].name, "ssl-standard");
@@ -192,17 +192,17 @@ TEST_F(DetectExperimentTest, BadDetectorSettingsReportTheSettingsFile) {
 }
 
 TEST_F(DetectExperimentTest, TrialsOverrideSetsFrames) {
-  Experiment e = LoadExperimentFile(Write(kHead + kSigma + kDetect));
-  Overrides o;
+  sim::Experiment e = LoadExperimentFile(Write(kHead + kSigma + kDetect));
+  sim::Overrides o;
   o.trials = 1;
-  ApplyOverrides(o, &e);
+  sim::ApplyOverrides(o, &e);
   EXPECT_EQ(e.detect.frames, 1);
   EXPECT_EQ(e.trials, 100000);  // the known-mode field is untouched
   o.trials = -3;
-  EXPECT_INPUT_ERROR(ApplyOverrides(o, &e),
+  EXPECT_INPUT_ERROR(sim::ApplyOverrides(o, &e),
                      "--trials is -3; expected an integer in [1, 100000000] (frames per point in "
                      "detect mode)");
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::formats

@@ -7,12 +7,12 @@
 #include "patlab/core/error.h"
 #include "patlab/sim/experiment.h"
 
-namespace patlab::sim {
+namespace patlab::formats {
 namespace {
 
 // Experiment files live in <dir>/experiments/, patterns in <dir>/patterns/ (a copy of two
 // shipped ones), as in the repository.
-class ExperimentFileTest : public testing_support::ExperimentFixture {
+class ExperimentFileTest : public sim::testing_support::ExperimentFixture {
  protected:
   void SetUp() override { CopyPatterns({"simple", "butterfly"}); }
 };
@@ -21,7 +21,7 @@ const std::string kHead = "name = \"x\"\npatterns = [\"simple\", \"butterfly\"]\
 const std::string kSigma = "[sigma]\nfrom = 0\nto = 4\nsteps = 17\n";
 
 TEST_F(ExperimentFileTest, ShippedFig5HasThePapersSetUp) {
-  const Experiment e =
+  const sim::Experiment e =
       LoadExperimentFile(std::string(PATLAB_SOURCE_DIR) + "/experiments/fig5.toml");
   ASSERT_EQ(e.patterns.size(), 5u);
   EXPECT_EQ(e.patterns[4].name, "ssl-standard");
@@ -37,7 +37,7 @@ TEST_F(ExperimentFileTest, ShippedFig5HasThePapersSetUp) {
 }
 
 TEST_F(ExperimentFileTest, DefaultsAndGridForms) {
-  Experiment e = LoadExperimentFile(Write(kHead + kSigma));
+  sim::Experiment e = LoadExperimentFile(Write(kHead + kSigma));
   EXPECT_EQ(e.trials, 100000);
   EXPECT_EQ(e.sigmas_mm.size(), 17u);
   EXPECT_DOUBLE_EQ(e.sigmas_mm[1], 0.25);
@@ -47,7 +47,7 @@ TEST_F(ExperimentFileTest, DefaultsAndGridForms) {
 
 TEST_F(ExperimentFileTest, NoiseFileIsReadRelativeToTheExperiment) {
   dir_.Write("experiments/noise/jitter.toml", "common_sigma_ratio = 0.5\nsigma_y_ratio = 2\n");
-  const Experiment e =
+  const sim::Experiment e =
       LoadExperimentFile(Write(kHead + "noise_file = \"noise/jitter.toml\"\n" + kSigma));
   EXPECT_EQ(e.noise.common_sigma_ratio, 0.5);
   EXPECT_EQ(e.noise.sigma_y_ratio, 2.0);
@@ -116,4 +116,4 @@ TEST_F(ExperimentFileTest, BadPatternFileReportsThePatternFileAndLine) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::formats

@@ -11,7 +11,7 @@
 #include "../expect_error.h"
 #include "patlab/calib/field.h"
 
-namespace patlab::calib {
+namespace patlab::formats {
 namespace {
 
 const std::vector<std::string> kRoots = {PATLAB_SOURCE_DIR};
@@ -49,13 +49,13 @@ struct Feature {
   std::string name;
   bool arc = false;
   Vec2 a = Vec2::Zero(), b = Vec2::Zero();  // segment ends
-  FieldCircle circle;
+  calib::FieldCircle circle;
 };
 
-std::vector<Feature> FeaturesOf(const Field& f) {
+std::vector<Feature> FeaturesOf(const calib::Field& f) {
   std::vector<Feature> out;
-  for (const FieldLine& l : f.lines) out.push_back({l.name, false, l.from_mm, l.to_mm, {}});
-  for (const FieldCircle& c : f.circles) out.push_back({c.name, true, {}, {}, c});
+  for (const calib::FieldLine& l : f.lines) out.push_back({l.name, false, l.from_mm, l.to_mm, {}});
+  for (const calib::FieldCircle& c : f.circles) out.push_back({c.name, true, {}, {}, c});
   return out;
 }
 
@@ -110,8 +110,8 @@ std::vector<std::pair<Vec2, std::string>> Intersections(const std::vector<Featur
   return out;
 }
 
-const FieldPoint* PointAt(const Field& f, const Vec2& p) {
-  for (const FieldPoint& q : f.points)
+const calib::FieldPoint* PointAt(const calib::Field& f, const Vec2& p) {
+  for (const calib::FieldPoint& q : f.points)
     if ((q.at_mm - p).norm() < kTol) return &q;
   return nullptr;
 }
@@ -123,12 +123,12 @@ bool SameSegment(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
 
 // `c` mirrored by (sx, sy) in {-1, 1}^2 is an arc (or circle) of the field. A mirror reverses the
 // direction of travel: the mirrored arc runs anticlockwise from the image of its end.
-bool HasMirroredArc(const Field& f, const FieldCircle& c, double sx, double sy) {
+bool HasMirroredArc(const calib::Field& f, const calib::FieldCircle& c, double sx, double sy) {
   const auto m = [&](const Vec2& p) { return Vec2(sx * p.x(), sy * p.y()); };
   const bool flipped = sx * sy < 0;
   const Vec2 start = flipped ? m(c.ArcTo()) : m(c.ArcFrom());
   const Vec2 end = flipped ? m(c.ArcFrom()) : m(c.ArcTo());
-  for (const FieldCircle& d : f.circles) {
+  for (const calib::FieldCircle& d : f.circles) {
     if ((d.centre_mm - m(c.centre_mm)).norm() > kTol || d.radius_mm != c.radius_mm) continue;
     if (c.IsFullCircle() || d.IsFullCircle()) {
       if (c.IsFullCircle() && d.IsFullCircle()) return true;
@@ -142,9 +142,9 @@ bool HasMirroredArc(const Field& f, const FieldCircle& c, double sx, double sy) 
 }
 
 TEST(FieldFile, EveryShippedModelParsesAndIsInTheRuleBookTable) {
-  const std::vector<Field> fields = ShippedFields(kRoots);
+  const std::vector<calib::Field> fields = ShippedFields(kRoots);
   ASSERT_EQ(fields.size(), RuleBook().size());
-  for (const Field& f : fields) {
+  for (const calib::Field& f : fields) {
     SCOPED_TRACE(f.name);
     EXPECT_EQ(RuleBook().count(f.name), 1u);
     EXPECT_FALSE(f.source.empty());
@@ -157,8 +157,8 @@ TEST(FieldFile, EveryShippedModelParsesAndIsInTheRuleBookTable) {
 TEST(FieldFile, FamiliesListTheirModelsNewestFirst) {
   EXPECT_EQ(FieldFamilies(kRoots), (std::vector<std::string>{"ssl", "vss"}));
   std::vector<std::string> ssl, vss;
-  for (const Field& f : FieldFamily("ssl", kRoots)) ssl.push_back(f.name);
-  for (const Field& f : FieldFamily("vss", kRoots)) vss.push_back(f.name);
+  for (const calib::Field& f : FieldFamily("ssl", kRoots)) ssl.push_back(f.name);
+  for (const calib::Field& f : FieldFamily("vss", kRoots)) vss.push_back(f.name);
   EXPECT_EQ(ssl,
             (std::vector<std::string>{"ssl-div-a", "ssl-div-b", "ssl-2019-div-b", "ssl-2018",
                                       "ssl-2015", "ssl-2014", "ssl-2012", "ssl-2009", "ssl-2008"}));
@@ -167,7 +167,7 @@ TEST(FieldFile, FamiliesListTheirModelsNewestFirst) {
 }
 
 TEST(FieldFile, DimensionsAgreeWithTheRuleBooks) {
-  for (const Field& f : ShippedFields(kRoots)) {
+  for (const calib::Field& f : ShippedFields(kRoots)) {
     SCOPED_TRACE(f.name);
     const Rules& r = RuleBook().at(f.name);
     const double x = r.length / 2, y = r.width / 2;
@@ -191,7 +191,7 @@ TEST(FieldFile, DimensionsAgreeWithTheRuleBooks) {
     }
     const std::string area = f.family == "vss" ? "goal_area" : "defense";
     if (r.arcs) {
-      const FieldCircle* arc = f.FindCircle("defense_arc_left_pos");
+      const calib::FieldCircle* arc = f.FindCircle("defense_arc_left_pos");
       ASSERT_NE(arc, nullptr);
       EXPECT_EQ(arc->radius_mm, r.a);
       EXPECT_EQ(arc->centre_mm, Vec2(x, r.b / 2));
@@ -205,12 +205,13 @@ TEST(FieldFile, DimensionsAgreeWithTheRuleBooks) {
     }
   }
   // The 5 vs 5 field's penalty areas: 350 mm deep, 800 mm wide.
-  const Field five = LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/vss-5v5.toml");
+  const calib::Field five =
+      LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/vss-5v5.toml");
   EXPECT_EQ(five.FindPoint("penalty_area_front_left_neg")->at_mm, Vec2(-750, 400));
 }
 
 TEST(FieldFile, LandmarksLieOnTheLinesAndEveryCrossingIsALandmark) {
-  for (const Field& f : ShippedFields(kRoots)) {
+  for (const calib::Field& f : ShippedFields(kRoots)) {
     SCOPED_TRACE(f.name);
     const std::vector<Feature> features = FeaturesOf(f);
     // Every line's and arc's ends are landmarks (the corners at line ends).
@@ -226,7 +227,7 @@ TEST(FieldFile, LandmarksLieOnTheLinesAndEveryCrossingIsALandmark) {
     }
     // Every landmark but the penalty marks (painted dots) lies on a line or arc; corners, posts
     // and crossings on two.
-    for (const FieldPoint& q : f.points) {
+    for (const calib::FieldPoint& q : f.points) {
       int on = 0;
       for (const Feature& e : features) on += OnFeature(e, q.at_mm);
       if (q.name.starts_with("penalty_mark")) {
@@ -244,20 +245,20 @@ TEST(FieldFile, LandmarksLieOnTheLinesAndEveryCrossingIsALandmark) {
 }
 
 TEST(FieldFile, EveryModelIsSymmetricAboutBothAxes) {
-  for (const Field& f : ShippedFields(kRoots)) {
+  for (const calib::Field& f : ShippedFields(kRoots)) {
     SCOPED_TRACE(f.name);
     for (const double sx : {-1.0, 1.0}) {
       for (const double sy : {-1.0, 1.0}) {
         const auto m = [&](const Vec2& p) { return Vec2(sx * p.x(), sy * p.y()); };
-        for (const FieldPoint& q : f.points)
+        for (const calib::FieldPoint& q : f.points)
           EXPECT_NE(PointAt(f, m(q.at_mm)), nullptr) << q.name << " mirrored " << sx << sy;
-        for (const FieldLine& l : f.lines) {
+        for (const calib::FieldLine& l : f.lines) {
           bool found = false;
-          for (const FieldLine& k : f.lines)
+          for (const calib::FieldLine& k : f.lines)
             found |= SameSegment(m(l.from_mm), m(l.to_mm), k.from_mm, k.to_mm);
           EXPECT_TRUE(found) << l.name << " mirrored " << sx << sy;
         }
-        for (const FieldCircle& c : f.circles)
+        for (const calib::FieldCircle& c : f.circles)
           EXPECT_TRUE(HasMirroredArc(f, c, sx, sy)) << c.name << " mirrored " << sx << sy;
       }
     }
@@ -265,12 +266,12 @@ TEST(FieldFile, EveryModelIsSymmetricAboutBothAxes) {
 }
 
 TEST(FieldFile, ArcsHaveAnExtentAndCirclesAreFull) {
-  const Field f = ParseField(
+  const calib::Field f = ParseField(
       "name = \"t\"\n[[circle]]\nname = \"arc\"\ncentre_mm = [0, 0]\nradius_mm = 100\n"
       "from_deg = 90\nto_deg = 180\n[[circle]]\nname = \"full\"\ncentre_mm = [0, 0]\n"
       "radius_mm = 50\n",
       "f.toml");
-  const FieldCircle& arc = f.circles[0];
+  const calib::FieldCircle& arc = f.circles[0];
   EXPECT_FALSE(arc.IsFullCircle());
   EXPECT_NEAR((arc.ArcFrom() - Vec2(0, 100)).norm(), 0.0, 1e-9);
   EXPECT_NEAR((arc.ArcTo() - Vec2(-100, 0)).norm(), 0.0, 1e-9);
@@ -282,7 +283,7 @@ TEST(FieldFile, ArcsHaveAnExtentAndCirclesAreFull) {
   EXPECT_EQ(f.circles[1].from_deg, 0.0);
   EXPECT_EQ(f.circles[1].to_deg, 360.0);
   // An arc across 0 degrees.
-  const FieldCircle wrap{"w", Vec2::Zero(), 10.0, 270.0, 450.0};
+  const calib::FieldCircle wrap{"w", Vec2::Zero(), 10.0, 270.0, 450.0};
   EXPECT_TRUE(wrap.Covers(0.0));
   EXPECT_TRUE(wrap.Covers(-80.0));
   EXPECT_FALSE(wrap.Covers(180.0));
@@ -305,4 +306,4 @@ TEST(FieldFile, BadArcsAndFactsAreInputErrors) {
 }
 
 }  // namespace
-}  // namespace patlab::calib
+}  // namespace patlab::formats

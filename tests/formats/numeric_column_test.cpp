@@ -9,7 +9,7 @@
 #include "../expect_error.h"
 #include "patlab/core/error.h"
 
-namespace patlab::io {
+namespace patlab::formats {
 namespace {
 
 std::vector<double> Parse(const std::string& text, const std::string& column = "") {
@@ -85,4 +85,4 @@ TEST(NumericColumn, MissingFile) {
 }
 
 }  // namespace
-}  // namespace patlab::io
+}  // namespace patlab::formats

@@ -8,7 +8,7 @@
 #include "../test_util.h"
 #include "patlab/core/error.h"
 
-namespace patlab::io {
+namespace patlab::formats {
 namespace {
 
 constexpr const char* kKey = "[[patch]]\nrole = \"key\"\nx = 0.0\ny = 0.0\nradius = 25.0\n";
@@ -185,19 +185,19 @@ TEST(PatternFile, MissingFileIsAnInputError) {
 }
 
 }  // namespace
-}  // namespace patlab::io
+}  // namespace patlab::formats
 
 // A name longer than the file system takes (fuzzing found std::filesystem_error escaping here) is
 // an InputError that says so.
 TEST(PatternFile, NameTheFileSystemRefusesIsAnInputError) {
   const std::string name(300, 'a');
-  EXPECT_INPUT_ERROR(patlab::io::ResolvePatternPath(name, "patterns"),
+  EXPECT_INPUT_ERROR(patlab::formats::ResolvePatternPath(name, "patterns"),
                      name +
                          ": File name too long; expected a path whose every component is at "
                          "most 255 bytes");
 }
 
-namespace patlab::io {
+namespace patlab::formats {
 namespace {
 
 // A fixed patch's colour is read as the vocabulary's name (core/colour_names.h); a misspelt one
@@ -216,4 +216,4 @@ TEST(PatternFile, FixedColourNamesResolveThroughTheVocabulary) {
 }
 
 }  // namespace
-}  // namespace patlab::io
+}  // namespace patlab::formats

@@ -8,11 +8,11 @@
 #include "../expect_error.h"
 #include "patlab/formats/labels_file.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 namespace {
 
 TEST(ThresholdsFile, TomlClassNamesResolveThroughTheVocabulary) {
-  const Thresholds t = ParseThresholdsToml(
+  const vision::Thresholds t = ParseThresholdsToml(
       "[[class]]\nname = \"Light Blue\"\n[[class]]\nname = \"magenta\"\n[[class]]\n"
       "name = \"field lines\"\n[[class]]\nname = \"carpet_green\"\n",
       "t.toml");
@@ -31,7 +31,7 @@ TEST(ThresholdsFile, TomlClassNamesResolveThroughTheVocabulary) {
 }
 
 TEST(ThresholdsFile, CmvisionClassNamesResolveThroughTheVocabulary) {
-  const Thresholds t = ParseCmvisionColors(
+  const vision::Thresholds t = ParseCmvisionColors(
       "[Colors]\n(255,0,255) 0.5 1 Magenta\n(0,0,255) 0.5 1 Dark_Blue\n(255,128,0) 0.5 1 Ball\n"
       "[Thresholds]\n(0:255,0:255,0:255)\n(0:255,0:255,0:255)\n(0:255,0:255,0:255)\n",
       "colors.txt");
@@ -87,7 +87,7 @@ TEST(ThresholdsFile, MergeDensitiesAndExpectedCountsAreBounded) {
 }
 
 TEST(LabelsFile, ClassNamesResolveThroughTheVocabulary) {
-  const Labels l = ParseLabels(
+  const vision::Labels l = ParseLabels(
       "image = \"f.png\"\n[[class]]\nname = \"Sky Blue\"\npoints = [[1, 1]]\n[[class]]\n"
       "name = \"violet\"\npoints = [[2, 2]]\n",
       "l.toml", ".");
@@ -101,4 +101,4 @@ TEST(LabelsFile, ClassNamesResolveThroughTheVocabulary) {
 }
 
 }  // namespace
-}  // namespace patlab::vision
+}  // namespace patlab::formats

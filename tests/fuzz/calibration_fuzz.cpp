@@ -4,7 +4,8 @@
 #include "patlab/formats/calibration_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  patlab::fuzz::ExpectInputErrorOnly(
-      [&] { (void)patlab::vision::ParseCalibration(patlab::fuzz::Text(data, size), "fuzz.toml"); });
+  patlab::fuzz::ExpectInputErrorOnly([&] {
+    (void)patlab::formats::ParseCalibration(patlab::fuzz::Text(data, size), "fuzz.toml");
+  });
   return 0;
 }

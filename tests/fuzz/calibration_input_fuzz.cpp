@@ -13,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text = patlab::fuzz::Text(data, size);
   patlab::fuzz::ExpectInputErrorOnly([&] {
     patlab::calib::CalibrationInput input =
-        patlab::calib::ParseCalibrationInput(text, "fuzz.toml", PATLAB_FUZZ_WORK_DIR "/run");
+        patlab::formats::ParseCalibrationInput(text, "fuzz.toml", PATLAB_FUZZ_WORK_DIR "/run");
     input.options.max_iterations = std::min(input.options.max_iterations, 20);
     (void)patlab::calib::FitCamera(input);
   });

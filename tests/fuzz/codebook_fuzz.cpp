@@ -6,11 +6,11 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const patlab::Pattern pattern =
-      patlab::io::LoadPatternFile(PATLAB_SOURCE_DIR "/patterns/ssl-standard.toml");
+      patlab::formats::LoadPatternFile(PATLAB_SOURCE_DIR "/patterns/ssl-standard.toml");
   static const patlab::detect::Symmetry symmetry = patlab::detect::FindSymmetry(pattern, 10.0);
   patlab::fuzz::ExpectInputErrorOnly([&] {
-    (void)patlab::detect::ParseCodebook(patlab::fuzz::Text(data, size), "fuzz.codebook.toml",
-                                        pattern, symmetry);
+    (void)patlab::formats::ParseCodebook(patlab::fuzz::Text(data, size), "fuzz.codebook.toml",
+                                         pattern, symmetry);
   });
   return 0;
 }

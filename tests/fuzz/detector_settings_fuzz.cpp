@@ -6,8 +6,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   patlab::fuzz::ExpectInputErrorOnly([&] {
-    (void)patlab::detect::ParseDetectorSettings(patlab::fuzz::Text(data, size), "fuzz.toml",
-                                                PATLAB_SOURCE_DIR "/experiments");
+    (void)patlab::formats::ParseDetectorSettings(patlab::fuzz::Text(data, size), "fuzz.toml",
+                                                 PATLAB_SOURCE_DIR "/experiments");
   });
   return 0;
 }

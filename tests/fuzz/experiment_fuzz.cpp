@@ -20,7 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
-  patlab::fuzz::ExpectInputErrorOnly([&] { (void)patlab::sim::LoadExperimentFile(path); });
+  patlab::fuzz::ExpectInputErrorOnly([&] { (void)patlab::formats::LoadExperimentFile(path); });
   std::remove(path.c_str());
   return 0;
 }

@@ -5,6 +5,6 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text = patlab::fuzz::Text(data, size);
-  patlab::fuzz::ExpectInputErrorOnly([&] { (void)patlab::calib::ParseField(text, "fuzz.toml"); });
+  patlab::fuzz::ExpectInputErrorOnly([&] { (void)patlab::formats::ParseField(text, "fuzz.toml"); });
   return 0;
 }

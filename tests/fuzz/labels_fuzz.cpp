@@ -7,7 +7,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text = patlab::fuzz::Text(data, size);
   patlab::fuzz::ExpectInputErrorOnly([&] {
-    const patlab::vision::Labels labels = patlab::vision::ParseLabels(text, "fuzz.toml", "");
+    const patlab::vision::Labels labels = patlab::formats::ParseLabels(text, "fuzz.toml", "");
     (void)patlab::vision::LabelPixels(labels, 64, 48, nullptr);
   });
   return 0;

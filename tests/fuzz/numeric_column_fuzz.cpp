@@ -6,10 +6,10 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
-  patlab::io::NumericColumnOptions options;
+  patlab::formats::NumericColumnOptions options;
   if (data[0] % 2 == 1) options.column = "x";
   std::istringstream in(patlab::fuzz::Text(data + 1, size - 1));
   patlab::fuzz::ExpectInputErrorOnly(
-      [&] { (void)patlab::io::ParseNumericColumn(in, "fuzz.csv", options); });
+      [&] { (void)patlab::formats::ParseNumericColumn(in, "fuzz.csv", options); });
   return 0;
 }

@@ -4,6 +4,6 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   patlab::fuzz::ExpectInputErrorOnly(
-      [&] { (void)patlab::io::ParsePattern(patlab::fuzz::Text(data, size), "fuzz.toml"); });
+      [&] { (void)patlab::formats::ParsePattern(patlab::fuzz::Text(data, size), "fuzz.toml"); });
   return 0;
 }

@@ -6,8 +6,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   patlab::fuzz::ExpectInputErrorOnly([&] {
-    (void)patlab::vision::ParseSceneFile(patlab::fuzz::Text(data, size), "fuzz.toml",
-                                         PATLAB_SOURCE_DIR "/tests/data/golden");
+    (void)patlab::formats::ParseSceneFile(patlab::fuzz::Text(data, size), "fuzz.toml",
+                                          PATLAB_SOURCE_DIR "/tests/data/golden");
   });
   return 0;
 }

@@ -8,9 +8,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text = patlab::fuzz::Text(data, size);
   patlab::fuzz::ExpectInputErrorOnly([&] {
     if (text.find("[Colors]") != std::string::npos) {
-      (void)patlab::vision::ParseCmvisionColors(text, "colors.txt");
+      (void)patlab::formats::ParseCmvisionColors(text, "colors.txt");
     } else {
-      (void)patlab::vision::ParseThresholdsToml(text, "fuzz.toml");
+      (void)patlab::formats::ParseThresholdsToml(text, "fuzz.toml");
     }
   });
   return 0;

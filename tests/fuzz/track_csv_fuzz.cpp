@@ -7,12 +7,12 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text = patlab::fuzz::Text(data, size);
   patlab::fuzz::ExpectInputErrorOnly([&] {
-    const std::vector<patlab::sim::MeasuredTrack> tracks =
-        patlab::sim::ParseTrackCsv(text, "fuzz.csv", patlab::sim::TrackColumns{});
+    const std::vector<patlab::analysis::MeasuredTrack> tracks =
+        patlab::analysis::ParseTrackCsv(text, "fuzz.csv", patlab::analysis::TrackColumns{});
     size_t samples = 0;
     for (const auto& t : tracks) samples += t.frame.size();
     if (samples > 20000) return;
-    (void)patlab::sim::AnalyzeTracks(tracks, patlab::sim::AnalyzeOptions{});
+    (void)patlab::analysis::AnalyzeTracks(tracks, patlab::analysis::AnalyzeOptions{});
   });
   return 0;
 }

@@ -4,8 +4,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   patlab::fuzz::ExpectInputErrorOnly([&] {
-    (void)patlab::sim::ParseTrackExperiment(patlab::fuzz::Text(data, size),
-                                            PATLAB_SOURCE_DIR "/experiments/fuzz.toml");
+    (void)patlab::formats::ParseTrackExperiment(patlab::fuzz::Text(data, size),
+                                                PATLAB_SOURCE_DIR "/experiments/fuzz.toml");
   });
   return 0;
 }

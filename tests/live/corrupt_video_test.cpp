@@ -39,8 +39,8 @@ std::vector<std::pair<size_t, size_t>> Jpegs(const std::string& bytes) {
 // The video written, frames 2 and 4 zeroed, the file cut halfway through frame 5.
 std::string DamagedVideo(const patlab::testing::TempDir& dir) {
   const std::string path = dir.Path("damaged.mkv");
-  const vision::Image golden = vision::ReadFrame(kGolden + "png");
-  EXPECT_TRUE(testing::WriteMjpegVideo(path, std::vector<vision::Image>(kFrames, golden), 30));
+  const camera::Image golden = vision::ReadFrame(kGolden + "png");
+  EXPECT_TRUE(testing::WriteMjpegVideo(path, std::vector<camera::Image>(kFrames, golden), 30));
   std::string bytes = ReadBytes(path);
   const auto jpegs = Jpegs(bytes);
   EXPECT_EQ(jpegs.size(), static_cast<size_t>(kFrames));

@@ -17,18 +17,18 @@ const std::string kGoldenFrame =
     std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.png";
 
 // Three frames that differ: the golden frame with a pixel row set to 0, 1, 2.
-std::vector<vision::Image> ThreeFrames() {
-  std::vector<vision::Image> frames;
+std::vector<camera::Image> ThreeFrames() {
+  std::vector<camera::Image> frames;
   for (int i = 0; i < 3; ++i) {
-    vision::Image image = vision::ReadFrame(kGoldenFrame);
+    camera::Image image = vision::ReadFrame(kGoldenFrame);
     std::fill(image.data.begin(), image.data.begin() + image.RowBytes(), static_cast<uint8_t>(i));
     frames.push_back(std::move(image));
   }
   return frames;
 }
 
-vision::Image Copy(const SourceFrame& frame) {
-  vision::Image image;
+camera::Image Copy(const SourceFrame& frame) {
+  camera::Image image;
   CopyToImage(frame, &image);
   return image;
 }
@@ -45,7 +45,7 @@ TEST(FrameSource, KindsOfSources) {
 
 TEST(FrameSource, FrameListInOrderThenLooped) {
   patlab::testing::TempDir dir;
-  const std::vector<vision::Image> frames = ThreeFrames();
+  const std::vector<camera::Image> frames = ThreeFrames();
   // Names appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on "f" + ...
   for (size_t i = 0; i < 3; ++i) {
     std::string name = "f";
@@ -73,7 +73,7 @@ TEST(FrameSource, FrameListInOrderThenLooped) {
 
 TEST(FrameSource, VideoReadsBackTheFramesWritten) {
   patlab::testing::TempDir dir;
-  const std::vector<vision::Image> frames = ThreeFrames();
+  const std::vector<camera::Image> frames = ThreeFrames();
   const std::string path = dir.Path("clip.mkv");
   ASSERT_TRUE(testing::WriteLosslessVideo(path, frames, 25));
   std::unique_ptr<FrameSource> source = OpenFrameSource(path, {});
@@ -84,7 +84,7 @@ TEST(FrameSource, VideoReadsBackTheFramesWritten) {
     EXPECT_EQ(frame.index, i);
     EXPECT_EQ(frame.width_px, frames[0].width_px);
     EXPECT_EQ(frame.height_px, frames[0].height_px);
-    EXPECT_EQ(frame.format, vision::PixelFormat::kRgb8);
+    EXPECT_EQ(frame.format, camera::PixelFormat::kRgb8);
     EXPECT_NEAR(frame.media_time_s, i / 25.0, 1e-3);  // Matroska keeps milliseconds
     if (i == 0) first_capture_s = frame.capture_time_s;
     EXPECT_NEAR(frame.capture_time_s - first_capture_s, frame.media_time_s, 1e-6);  // epoch doubles

@@ -24,8 +24,8 @@ const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden
 LiveCamera Camera() {  // balls only: the loop's behaviour, not the detector's, is under test
   LiveCamera camera;
   camera.source = "fake";
-  camera.thresholds = vision::LoadThresholds(kGolden + "thresholds.toml");
-  camera.calibration = vision::LoadCalibration(kGolden + "calibration.toml");
+  camera.thresholds = formats::LoadThresholds(kGolden + "thresholds.toml");
+  camera.calibration = formats::LoadCalibration(kGolden + "calibration.toml");
   return camera;
 }
 
@@ -87,7 +87,7 @@ class ScriptedSource : public FrameSource {
   std::vector<Step>* script_;
   size_t* next_;
   Lockstep* lockstep_;
-  vision::Image image_;
+  camera::Image image_;
   int64_t delivered_ = 0;
   std::string name_ = "fake";
 };

@@ -28,10 +28,10 @@ const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden
 LiveCamera GoldenCamera() {
   LiveCamera camera;
   camera.source = kGolden + "ssl-frame.png";
-  camera.thresholds = vision::LoadThresholds(kGolden + "ssl-frame.thresholds.toml");
-  camera.calibration = vision::LoadCalibration(kGolden + "ssl-frame.calibration.toml");
-  camera.detector = detect::LoadDetectorSettings(kGolden + "ssl-frame.detector.toml");
-  vision::ApplyFrameSettings(detect::LoadFrameSettings(kGolden + "ssl-frame.detector.toml"),
+  camera.thresholds = formats::LoadThresholds(kGolden + "ssl-frame.thresholds.toml");
+  camera.calibration = formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml");
+  camera.detector = formats::LoadDetectorSettings(kGolden + "ssl-frame.detector.toml");
+  vision::ApplyFrameSettings(formats::LoadFrameSettings(kGolden + "ssl-frame.detector.toml"),
                              &camera.frame);
   return camera;
 }
@@ -76,7 +76,7 @@ TEST(LiveLoop, PacketsLogAndJsonCarryTheFramesDetections) {
   outputs.log = &log;
   outputs.jsonl = [&lines](std::string_view line) { lines.emplace_back(line); };
   outputs.field =
-      calib::LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-div-b.toml");
+      formats::LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-div-b.toml");
   LiveOptions options;
   options.rate = LiveRate::kNative;
   options.source.list_rate_hz = 50.0;

@@ -37,7 +37,7 @@ TEST(LogTrack, OneTrackPerRobotAndCamera) {
   const LogTracks got = TracksOfSslLog(path);
   ASSERT_EQ(got.tracks.size(), 4u);
   EXPECT_EQ(got.skipped_frames, 2);  // frame 2 again, for blue 3 and yellow 5
-  const sim::MeasuredTrack& blue = got.tracks[0];
+  const analysis::MeasuredTrack& blue = got.tracks[0];
   EXPECT_EQ(blue.subject, "yellow 5");
   EXPECT_EQ(got.tracks[1].subject, "blue 3");
   EXPECT_EQ(got.tracks[1].run, "camera 0");

@@ -23,10 +23,10 @@ const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden
 vision::FrameDetector GoldenDetector() {
   vision::FrameDetectorOptions options;
   const std::string settings = kGolden + "ssl-frame.detector.toml";
-  vision::ApplyFrameSettings(detect::LoadFrameSettings(settings), &options);
-  return vision::FrameDetector(vision::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),
-                               vision::LoadCalibration(kGolden + "ssl-frame.calibration.toml"),
-                               detect::LoadDetectorSettings(settings), options);
+  vision::ApplyFrameSettings(formats::LoadFrameSettings(settings), &options);
+  return vision::FrameDetector(formats::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),
+                               formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml"),
+                               formats::LoadDetectorSettings(settings), options);
 }
 
 // (id, x, y, theta) of tests/data/golden/ssl-frame.expected.csv, by team.
@@ -89,7 +89,7 @@ TEST(Packet, RobotPixelIsWhereTheCameraSeesThePose) {
   const SslDetection d = DetectionOfFrame(result, frames, FrameStamp{});
   ASSERT_FALSE(d.robots_blue.empty());
   const SslRobot& r = d.robots_blue.front();
-  const vision::Calibration& calibration = frames.pipeline().calibration();
+  const camera::Calibration& calibration = frames.pipeline().calibration();
   EXPECT_EQ(r.height_mm, calibration.HeightOf("blue"));
   const std::optional<Vec2> back =
       calibration.camera.PixelToWorld(Vec2(r.pixel_x, r.pixel_y), r.height_mm);
@@ -125,7 +125,7 @@ TEST(Packet, JsonHasTheMessageFieldNames) {
 TEST(Packet, GeometryOfTheSsl2009Field) {
   // experiments/fields/ssl-2009.toml states field_length 6050, field_width 4050.
   const calib::Field field =
-      calib::LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
+      formats::LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
   SSL_WrapperPacket packet;
   ASSERT_TRUE(packet.ParseFromString(SerializeGeometry(GeometryOf(field, {}))));
   ASSERT_TRUE(packet.has_geometry());
@@ -149,13 +149,13 @@ TEST(Packet, CameraQuaternionAndCentre) {
   // A camera turned 90 degrees about z: q = (0, 0, sin 45, cos 45); X_c = R X_w + t with
   // t = (100, 200, 3000), so the centre -R^T t = -(200, -100, 3000) for R = [[0,-1,0],[1,0,0],
   // [0,0,1]].
-  vision::PinholeCamera p;
+  camera::PinholeCamera p;
   p.fx_px = 500.0;
   p.fy_px = 520.0;
   p.rotation << 0, -1, 0, 1, 0, 0, 0, 0, 1;
   p.translation_mm = Eigen::Vector3d(100, 200, 3000);
-  vision::Calibration calibration;
-  calibration.camera = vision::CameraModel::Pinhole(p);
+  camera::Calibration calibration;
+  calibration.camera = camera::CameraModel::Pinhole(p);
   const std::optional<SslCameraCalibration> c = CameraCalibrationOf(calibration, 2);
   ASSERT_TRUE(c.has_value());
   EXPECT_EQ(c->focal_length_px, 510.0);
@@ -166,8 +166,8 @@ TEST(Packet, CameraQuaternionAndCentre) {
   EXPECT_NEAR(c->camera_world_x_mm, -200.0, 1e-9);
   EXPECT_NEAR(c->camera_world_y_mm, 100.0, 1e-9);
   EXPECT_NEAR(c->camera_world_z_mm, -3000.0, 1e-9);
-  vision::Calibration homographies;
-  homographies.camera = vision::CameraModel::Homographies({vision::PlaneHomography{}});
+  camera::Calibration homographies;
+  homographies.camera = camera::CameraModel::Homographies({camera::PlaneHomography{}});
   EXPECT_FALSE(CameraCalibrationOf(homographies, 0).has_value());
 }
 

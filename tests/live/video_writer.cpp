@@ -66,7 +66,7 @@ struct Writer {
     }
   }
 
-  bool Add(const vision::Image& image, int64_t pts) {
+  bool Add(const camera::Image& image, int64_t pts) {
     if (av_frame_make_writable(frame) < 0) return false;
     const uint8_t* source[1] = {image.data.data()};
     const int stride[1] = {image.RowBytes()};
@@ -84,7 +84,7 @@ struct Writer {
 
 namespace {
 
-bool Write(const std::string& path, const std::vector<vision::Image>& frames, int fps, AVCodecID id,
+bool Write(const std::string& path, const std::vector<camera::Image>& frames, int fps, AVCodecID id,
            AVPixelFormat pixels) {
   if (frames.empty()) return false;
   av_log_set_level(AV_LOG_ERROR);  // not swscale's note on the JPEG range of YUVJ420P
@@ -98,12 +98,12 @@ bool Write(const std::string& path, const std::vector<vision::Image>& frames, in
 
 }  // namespace
 
-bool WriteLosslessVideo(const std::string& path, const std::vector<vision::Image>& frames,
+bool WriteLosslessVideo(const std::string& path, const std::vector<camera::Image>& frames,
                         int fps) {
   return Write(path, frames, fps, AV_CODEC_ID_FFV1, AV_PIX_FMT_RGB32);
 }
 
-bool WriteMjpegVideo(const std::string& path, const std::vector<vision::Image>& frames, int fps) {
+bool WriteMjpegVideo(const std::string& path, const std::vector<camera::Image>& frames, int fps) {
   return Write(path, frames, fps, AV_CODEC_ID_MJPEG, AV_PIX_FMT_YUVJ420P);
 }
 

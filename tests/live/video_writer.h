@@ -10,10 +10,10 @@
 namespace patlab::live::testing {
 
 // Writes `frames` (RGB, one size) at `fps` frames per second; false when FFmpeg refuses.
-bool WriteLosslessVideo(const std::string& path, const std::vector<vision::Image>& frames, int fps);
+bool WriteLosslessVideo(const std::string& path, const std::vector<camera::Image>& frames, int fps);
 
 // The same as Motion JPEG in Matroska: each frame one JPEG (SOI ff d8 ... EOI ff d9) stored whole
 // in the file, so that a test can find a frame's bytes and damage them.
-bool WriteMjpegVideo(const std::string& path, const std::vector<vision::Image>& frames, int fps);
+bool WriteMjpegVideo(const std::string& path, const std::vector<camera::Image>& frames, int fps);
 
 }  // namespace patlab::live::testing

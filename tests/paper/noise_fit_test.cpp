@@ -10,7 +10,7 @@
 #include "patlab/core/rng.h"
 #include "patlab/estimate/bounds.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 namespace {
 
 using M = Mechanism;
@@ -146,4 +146,4 @@ TEST(NoiseFit, RejectsBadOptions) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::paper

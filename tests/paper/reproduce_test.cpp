@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-namespace patlab::sim {
+namespace patlab::paper {
 namespace {
 
 TEST(Reproduce, CompareResultTextAcceptsTheCrossMachineToleranceOnly) {
@@ -196,4 +196,4 @@ TEST(ReproduceCompare, RankSumsMoveByTheirKnifeEdgePairsOnly) {
 }
 
 }  // namespace
-}  // namespace patlab::sim
+}  // namespace patlab::paper

@@ -18,26 +18,27 @@
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/vision/frame_detector.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 namespace {
 
 const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
 
 struct Rendered {
-  SceneFile file;
-  const CameraModel& camera;
+  formats::SceneFile file;
+  const camera::CameraModel& camera;
 };
 
-SceneFile GoldenFile() { return LoadSceneFile(kGolden + "ssl-frame.toml"); }
+formats::SceneFile GoldenFile() { return formats::LoadSceneFile(kGolden + "ssl-frame.toml"); }
 
 // Every robot of the golden scene found with its team and ID; returns the largest position
 // error (mm) and angle error (rad) over the robots.
-void DetectAll(const Image& frame, const FieldScene& scene, double* max_pos_mm,
+void DetectAll(const camera::Image& frame, const FieldScene& scene, double* max_pos_mm,
                double* max_theta_rad) {
-  FrameDetector detector(LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),
-                         LoadCalibration(kGolden + "ssl-frame.calibration.toml"),
-                         detect::LoadDetectorSettings(kGolden + "ssl-frame.detector.toml"), {});
-  const FrameResult& result = detector.Detect(frame, "camera");
+  vision::FrameDetector detector(formats::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),
+                                 formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml"),
+                                 formats::LoadDetectorSettings(kGolden + "ssl-frame.detector.toml"),
+                                 {});
+  const vision::FrameResult& result = detector.Detect(frame, "camera");
   const std::vector<std::string> palette = {"blue", "yellow", "pink", "green", "orange"};
   *max_pos_mm = *max_theta_rad = 0.0;
   for (const RobotPlacement& robot : scene.robots) {
@@ -62,11 +63,11 @@ void DetectAll(const Image& frame, const FieldScene& scene, double* max_pos_mm,
 // pixel, symmetrically for a disc, so a patch centroid moves by a few tenths of a pixel: at most
 // 0.5 px = 2.4 mm per patch, 2.4 mm for the origin, 2.4 / 65 mm = 0.037 rad for the angle.
 TEST(CameraRender, GoldenSceneThroughTheSensorIsDetected) {
-  const SceneFile file = GoldenFile();
+  const formats::SceneFile file = GoldenFile();
   const Rendered g{file, file.calibration.camera};
   const CameraSensorOptions sensor;
-  const Image frame = RenderCameraFrame(g.file.scene, g.camera, sensor, 7);
-  EXPECT_EQ(frame.format, PixelFormat::kUyvy);
+  const camera::Image frame = RenderCameraFrame(g.file.scene, g.camera, sensor, 7);
+  EXPECT_EQ(frame.format, camera::PixelFormat::kUyvy);
   double pos = 0.0, theta = 0.0;
   DetectAll(frame, g.file.scene, &pos, &theta);
   EXPECT_LT(pos, 2.4);
@@ -75,12 +76,12 @@ TEST(CameraRender, GoldenSceneThroughTheSensorIsDetected) {
 }
 
 TEST(CameraRender, SameFrameIdentitySameImage) {
-  const SceneFile file = GoldenFile();
+  const formats::SceneFile file = GoldenFile();
   const Rendered g{file, file.calibration.camera};
   const CameraSensorOptions sensor;
-  const Image a = RenderCameraFrame(g.file.scene, g.camera, sensor, 3);
-  const Image b = RenderCameraFrame(g.file.scene, g.camera, sensor, 3);
-  const Image c = RenderCameraFrame(g.file.scene, g.camera, sensor, 4);
+  const camera::Image a = RenderCameraFrame(g.file.scene, g.camera, sensor, 3);
+  const camera::Image b = RenderCameraFrame(g.file.scene, g.camera, sensor, 3);
+  const camera::Image c = RenderCameraFrame(g.file.scene, g.camera, sensor, 4);
   EXPECT_EQ(a.data, b.data);
   EXPECT_NE(a.data, c.data);
 }
@@ -92,26 +93,26 @@ TEST(CameraRender, BilinearDemosaicingByHand) {
   CameraSensorOptions quiet;
   quiet.read_noise_levels = 0.0;
   quiet.shot_noise_gain = 0.0;
-  Image flat = Image::Rgb(8, 6);
+  camera::Image flat = camera::Image::Rgb(8, 6);
   for (size_t i = 0; i < flat.data.size(); i += 3) {
     flat.data[i] = 200;
     flat.data[i + 1] = 100;
     flat.data[i + 2] = 50;
   }
-  EXPECT_EQ(SimulateSensor(flat, quiet, 0).data, ToUyvy(flat).data);
-  Image edge = flat;  // columns 0..3 (200, 100, 50), columns 4..7 (200, 20, 50)
+  EXPECT_EQ(SimulateSensor(flat, quiet, 0).data, camera::ToUyvy(flat).data);
+  camera::Image edge = flat;  // columns 0..3 (200, 100, 50), columns 4..7 (200, 20, 50)
   for (int y = 0; y < 6; ++y) {
     for (int x = 4; x < 8; ++x) edge.Row(y)[3 * x + 1] = 20;
   }
   // Photosite (4, 2) is R (even row, even column): green = (G(3,2) + G(5,2) + G(4,1) + G(4,3)) / 4
   // = (100 + 20 + 20 + 20) / 4 = 40; its pixel pair (4, 5) shares U and V, Y is its own.
-  const Image out = SimulateSensor(edge, quiet, 0);
+  const camera::Image out = SimulateSensor(edge, quiet, 0);
   int expected_y, u, v;
-  RgbToYuv(200, 40, 50, &expected_y, &u, &v);
+  camera::RgbToYuv(200, 40, 50, &expected_y, &u, &v);
   EXPECT_EQ(out.Row(2)[2 * 4 + 1], expected_y);
   quiet.exposure_gain = 2.0;  // 200 x 2 clips at 255
   int clipped_y;
-  RgbToYuv(255, 200, 100, &clipped_y, &u, &v);
+  camera::RgbToYuv(255, 200, 100, &clipped_y, &u, &v);
   EXPECT_EQ(SimulateSensor(flat, quiet, 0).Row(0)[1], clipped_y);
 }
 
@@ -122,13 +123,13 @@ TEST(CameraRender, BilinearDemosaicingByHand) {
 // neighbours, weights or phase anywhere changes bytes at every colour edge (checked: green from 2
 // instead of 4 neighbours, or R and B swapped at the G sites, fails here while the detection
 // test above still passes).
-Image ReferenceDemosaic(const Image& rgb) {
+camera::Image ReferenceDemosaic(const camera::Image& rgb) {
   const int w = rgb.width_px, h = rgb.height_px;
   auto channel = [](int x, int y) {
     return y % 2 == 0 ? (x % 2 == 0 ? 0 : 1) : (x % 2 == 0 ? 1 : 2);
   };
   auto reflect = [](int i, int n) { return i < 0 ? -i : (i >= n ? 2 * n - 2 - i : i); };
-  Image out = Image::Rgb(w, h);
+  camera::Image out = camera::Image::Rgb(w, h);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       for (int c = 0; c < 3; ++c) {
@@ -152,15 +153,15 @@ Image ReferenceDemosaic(const Image& rgb) {
 }
 
 TEST(CameraRender, DemosaicEqualsTheTextbookConvolutionOnTheGoldenScene) {
-  SceneFile file = GoldenFile();
+  formats::SceneFile file = GoldenFile();
   file.scene.options.noise_sigma_levels = 0.0;
-  const Image radiance = RenderScene(file.scene, file.calibration.camera);
+  const camera::Image radiance = RenderScene(file.scene, file.calibration.camera);
   CameraSensorOptions quiet;
   quiet.read_noise_levels = 0.0;
   quiet.shot_noise_gain = 0.0;
   // Mosaic: every pixel keeps only its own channel; the reference fills the others from it.
-  const Image reference = ToUyvy(ReferenceDemosaic(radiance));
-  const Image out = SimulateSensor(radiance, quiet, 0);
+  const camera::Image reference = camera::ToUyvy(ReferenceDemosaic(radiance));
+  const camera::Image out = SimulateSensor(radiance, quiet, 0);
   ASSERT_EQ(out.data.size(), reference.data.size());
   size_t differing = 0;
   for (size_t i = 0; i < out.data.size(); ++i) differing += out.data[i] != reference.data[i];
@@ -173,14 +174,15 @@ TEST(CameraRender, DemosaicEqualsTheTextbookConvolutionOnTheGoldenScene) {
 // principal point shifted): away from the window's border every byte agrees, up to one level
 // where a sub-sample on an edge rounds the other way.
 TEST(CameraRender, WindowIsTheWholeFramesPixels) {
-  const SceneFile file = GoldenFile();
+  const formats::SceneFile file = GoldenFile();
   const CameraSensorOptions sensor;
   CameraJitter jitter;
   jitter.roll_sigma_rad = 0.002;
   jitter.height_sigma_mm = 3.0;
-  const Image whole = RenderCameraFrame(file.scene, file.calibration.camera, sensor, 5, jitter);
+  const camera::Image whole =
+      RenderCameraFrame(file.scene, file.calibration.camera, sensor, 5, jitter);
   const PixelWindow window{200, 140, 120, 90};
-  const Image part =
+  const camera::Image part =
       RenderCameraWindow(file.scene, file.calibration.camera, sensor, 5, window, jitter);
   ASSERT_EQ(part.width_px, 120);
   int compared = 0, differing = 0, worst = 0;
@@ -202,11 +204,11 @@ TEST(CameraRender, WindowIsTheWholeFramesPixels) {
 // Jitter moves the camera, not the world: roll phi about the optical axis keeps the camera
 // centre, a height change moves it along z; the same frame identity gives the same camera.
 TEST(CameraRender, JitterMovesTheCameraPerFrame) {
-  const SceneFile file = GoldenFile();
-  const PinholeCamera& c = file.calibration.camera.pinhole();
+  const formats::SceneFile file = GoldenFile();
+  const camera::PinholeCamera& c = file.calibration.camera.pinhole();
   CameraJitter jitter;
   jitter.roll_sigma_rad = 0.01;
-  const PinholeCamera a = JitterCamera(c, jitter, 3), b = JitterCamera(c, jitter, 3);
+  const camera::PinholeCamera a = JitterCamera(c, jitter, 3), b = JitterCamera(c, jitter, 3);
   EXPECT_EQ(a.rotation, b.rotation);
   const Eigen::Vector3d centre = -c.rotation.transpose() * c.translation_mm;
   EXPECT_LT((-a.rotation.transpose() * a.translation_mm - centre).norm(), 1e-9);
@@ -216,7 +218,7 @@ TEST(CameraRender, JitterMovesTheCameraPerFrame) {
   EXPECT_GT(std::abs(delta(0, 1)), 0.0);
   jitter = CameraJitter{};
   jitter.height_sigma_mm = 5.0;
-  const PinholeCamera h = JitterCamera(c, jitter, 3);
+  const camera::PinholeCamera h = JitterCamera(c, jitter, 3);
   const Eigen::Vector3d moved = -h.rotation.transpose() * h.translation_mm - centre;
   EXPECT_NEAR(moved.x(), 0.0, 1e-9);
   EXPECT_GT(std::abs(moved.z()), 0.0);
@@ -234,9 +236,9 @@ TEST(CameraRender, OptionsAreChecked) {
   o.read_noise_levels = 100.0;
   EXPECT_INPUT_ERROR(Validate(o),
                      "read_noise_levels is 100; expected a number in [0, 64] (8-bit levels)");
-  EXPECT_INPUT_ERROR(SimulateSensor(Image::Rgb(3, 2), CameraSensorOptions{}, 0),
+  EXPECT_INPUT_ERROR(SimulateSensor(camera::Image::Rgb(3, 2), CameraSensorOptions{}, 0),
                      "image width_px is 3; expected an even width for UYVY");
 }
 
 }  // namespace
-}  // namespace patlab::vision
+}  // namespace patlab::render

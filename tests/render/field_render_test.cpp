@@ -6,11 +6,11 @@
 #include "../expect_error.h"
 #include "patlab/formats/field_file.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 namespace {
 
-PinholeCamera Nadir() {
-  PinholeCamera c;
+camera::PinholeCamera Nadir() {
+  camera::PinholeCamera c;
   c.fx_px = c.fy_px = 500;
   c.cx_px = 159.5;
   c.cy_px = 119.5;
@@ -20,10 +20,11 @@ PinholeCamera Nadir() {
 }
 
 TEST(FieldRender, LinesWhereTheFieldHasThem) {
-  const calib::Field f = calib::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
+  const calib::Field f = formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
   FieldLineStyle style;
   style.line_width_mm = 30;  // 3 px
-  const Image img = RenderFieldLines(f, CameraModel::Pinhole(Nadir()), 320, 240, style);
+  const camera::Image img =
+      RenderFieldLines(f, camera::CameraModel::Pinhole(Nadir()), 320, 240, style);
   auto at = [&](int x, int y) {
     const uint8_t* p = img.Row(y) + 3 * x;
     return std::array<int, 3>{p[0], p[1], p[2]};
@@ -37,11 +38,12 @@ TEST(FieldRender, LinesWhereTheFieldHasThem) {
 }
 
 TEST(FieldRender, HomographyCameraIsRefused) {
-  const calib::Field f = calib::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/vss.toml");
-  EXPECT_INPUT_ERROR(RenderFieldLines(f, CameraModel::Homographies({PlaneHomography{}}), 10, 10),
-                     "camera: a homography camera cannot render field lines; expected a pinhole "
-                     "camera");
+  const calib::Field f = formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/vss.toml");
+  EXPECT_INPUT_ERROR(
+      RenderFieldLines(f, camera::CameraModel::Homographies({camera::PlaneHomography{}}), 10, 10),
+      "camera: a homography camera cannot render field lines; expected a pinhole "
+      "camera");
 }
 
 }  // namespace
-}  // namespace patlab::vision
+}  // namespace patlab::render

@@ -14,21 +14,23 @@
 #include "patlab/formats/pattern_file.h"
 #include "patlab/formats/scene_file.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 namespace {
 
 const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
 const std::string kPatterns = std::string(PATLAB_SOURCE_DIR) + "/patterns/";
 
 // The golden frame's camera: 4 m up, tilted 4 deg, k1 = -0.18, 640x480.
-Calibration GoldenCalibration() { return LoadCalibration(kGolden + "ssl-frame.calibration.toml"); }
+camera::Calibration GoldenCalibration() {
+  return formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml");
+}
 
 // A scene of the SSL standard pattern with a grey field, no robots, no ball, no blur or noise.
 FieldScene EmptyScene() {
   FieldScene scene;
   detect::DetectorPattern worn =
-      detect::MakeDetectorPattern(io::LoadPatternFile(kPatterns + "ssl-standard.toml"), {},
-                                  kPatterns + "ssl-standard.codebook.toml", {});
+      formats::MakeDetectorPattern(formats::LoadPatternFile(kPatterns + "ssl-standard.toml"), {},
+                                   kPatterns + "ssl-standard.codebook.toml", {});
   scene.pattern = worn.pattern;
   scene.codebook = worn.codebook;
   scene.colours = {{"field", {40, 100, 50}}, {"body", {30, 30, 34}},   {"blue", {35, 75, 210}},
@@ -40,7 +42,7 @@ FieldScene EmptyScene() {
 
 // The centroid of the pixels weighted by how much of `colour` they show on the red channel
 // (field 40 -> 0, colour -> 1): the coverage-weighted centroid of the drawn disc.
-Vec2 CoverageCentroid(const Image& image, int field_r, int colour_r) {
+Vec2 CoverageCentroid(const camera::Image& image, int field_r, int colour_r) {
   double sum = 0.0, sx = 0.0, sy = 0.0;
   for (int y = 0; y < image.height_px; ++y) {
     for (int x = 0; x < image.width_px; ++x) {
@@ -62,13 +64,13 @@ Vec2 CoverageCentroid(const Image& image, int field_r, int colour_r) {
 // (random signs: sqrt(75) / 16 / sqrt(3) * 12 px / 450 px^2 = 0.01). Hence 0.1 px; a y axis
 // flipped or a pixel-centre convention off by half a pixel moves it by far more.
 TEST(SceneRender, DiscCentroidLandsWhereTheCameraMapsItsCentre) {
-  const Calibration cal = GoldenCalibration();
+  const camera::Calibration cal = GoldenCalibration();
   FieldScene scene = EmptyScene();
   scene.options.ball_radius_mm = 60.0;
   scene.options.blur_sigma_px = 0.7;  // symmetric: moves no centroid
   for (const Vec2& ball : {Vec2(700.0, 500.0), Vec2(-900.0, -600.0)}) {
     scene.ball_mm = ball;
-    const Image image = RenderScene(scene, cal.camera);
+    const camera::Image image = RenderScene(scene, cal.camera);
     const Vec2 expected = *cal.camera.WorldToPixel(ball, scene.options.ball_radius_mm);
     const Vec2 centroid = CoverageCentroid(image, 40, 250);
     EXPECT_NEAR(centroid.x(), expected.x(), 0.1);
@@ -87,7 +89,7 @@ TEST(SceneRender, NoiseHasTheRequestedSigmaAndIsIndependentBetweenPixels) {
   scene.options.width_px = 128;
   scene.options.height_px = 96;
   scene.options.noise_sigma_levels = 4.0;
-  const Image image = RenderScene(scene, GoldenCalibration().camera);
+  const camera::Image image = RenderScene(scene, GoldenCalibration().camera);
   const double n = static_cast<double>(image.data.size());
   double sum = 0.0, sum2 = 0.0, lag = 0.0;
   for (size_t i = 0; i < image.data.size(); ++i) {
@@ -110,11 +112,11 @@ TEST(SceneRender, SameSeedSameImageOtherSeedOtherNoise) {
   scene.options.height_px = 48;
   scene.options.noise_sigma_levels = 3.0;
   scene.options.seed = 7;
-  const CameraModel camera = GoldenCalibration().camera;
-  const Image a = RenderScene(scene, camera);
+  const camera::CameraModel camera = GoldenCalibration().camera;
+  const camera::Image a = RenderScene(scene, camera);
   EXPECT_EQ(RenderScene(scene, camera).data, a.data);
   scene.options.seed = 8;
-  const Image b = RenderScene(scene, camera);
+  const camera::Image b = RenderScene(scene, camera);
   // Two independent draws of sigma 3 round to the same level with probability ~0.1.
   size_t differ = 0;
   for (size_t i = 0; i < a.data.size(); ++i) differ += a.data[i] != b.data[i];
@@ -123,19 +125,19 @@ TEST(SceneRender, SameSeedSameImageOtherSeedOtherNoise) {
 
 // Blur spreads an edge over more pixels but keeps the disc where it is.
 TEST(SceneRender, BlurSoftensEdgesWithoutMovingThem) {
-  const Calibration cal = GoldenCalibration();
+  const camera::Calibration cal = GoldenCalibration();
   FieldScene scene = EmptyScene();
   scene.options.ball_radius_mm = 60.0;
   scene.ball_mm = Vec2(0.0, 0.0);
-  auto mixed = [](const Image& image) {
+  auto mixed = [](const camera::Image& image) {
     int count = 0;
     for (size_t i = 0; i < image.data.size(); i += 3)
       count += image.data[i] > 42 && image.data[i] < 248;
     return count;
   };
-  const Image sharp = RenderScene(scene, cal.camera);
+  const camera::Image sharp = RenderScene(scene, cal.camera);
   scene.options.blur_sigma_px = 1.5;
-  const Image soft = RenderScene(scene, cal.camera);
+  const camera::Image soft = RenderScene(scene, cal.camera);
   EXPECT_GT(mixed(soft), 2 * mixed(sharp));
   const Vec2 a = CoverageCentroid(sharp, 40, 250), b = CoverageCentroid(soft, 40, 250);
   EXPECT_NEAR((a - b).norm(), 0.0, 0.01);
@@ -147,9 +149,9 @@ TEST(SceneRender, RobotWearsItsTeamAndIdColours) {
   FieldScene scene = EmptyScene();
   EXPECT_EQ(PatchColours(scene.pattern, scene.codebook, "blue", 0),
             (std::vector<std::string>{"blue", "pink", "pink", "green", "pink"}));
-  const Calibration cal = GoldenCalibration();
+  const camera::Calibration cal = GoldenCalibration();
   scene.robots.push_back({"blue", 0, Pose2{-300.0, 200.0, 0.5}});
-  const Image image = RenderScene(scene, cal.camera);
+  const camera::Image image = RenderScene(scene, cal.camera);
   auto pixel_at = [&](const Vec2& model_mm) {
     const Vec2 p = *cal.camera.WorldToPixel(scene.robots[0].pose.Apply(model_mm), 140.0);
     const uint8_t* rgb = image.Row(static_cast<int>(std::lround(p.y()))) + 3 * std::lround(p.x());
@@ -194,7 +196,7 @@ TEST(SceneRender, CheckNamesEveryBrokenOption) {
 }
 
 TEST(SceneRender, RefusesWhatItCannotDraw) {
-  const CameraModel camera = GoldenCalibration().camera;
+  const camera::CameraModel camera = GoldenCalibration().camera;
   FieldScene scene = EmptyScene();
   scene.robots.push_back({"yellow", 0, Pose2{}});
   EXPECT_INPUT_ERROR(RenderScene(scene, camera),
@@ -206,14 +208,15 @@ TEST(SceneRender, RefusesWhatItCannotDraw) {
 }
 
 TEST(SceneRender, NeedsAPinholeCameraAboveTheScene) {
-  const CameraModel camera = GoldenCalibration().camera;
+  const camera::CameraModel camera = GoldenCalibration().camera;
   FieldScene scene = EmptyScene();
-  EXPECT_INPUT_ERROR(RenderScene(scene, CameraModel::Homographies({PlaneHomography{}})),
-                     "the camera is a homography; expected a pinhole camera to render with");
+  EXPECT_INPUT_ERROR(
+      RenderScene(scene, camera::CameraModel::Homographies({camera::PlaneHomography{}})),
+      "the camera is a homography; expected a pinhole camera to render with");
   scene.options.robot_height_mm = 900.0;
-  PinholeCamera low = camera.pinhole();
+  camera::PinholeCamera low = camera.pinhole();
   low.translation_mm = -low.rotation * Eigen::Vector3d(0, 0, 800);  // centre 800 mm up
-  EXPECT_INPUT_ERROR(RenderScene(scene, CameraModel::Pinhole(low)),
+  EXPECT_INPUT_ERROR(RenderScene(scene, camera::CameraModel::Pinhole(low)),
                      "the camera centre is at height 800 mm; expected it above the robot tops "
                      "and the ball");
 }
@@ -223,7 +226,7 @@ class SceneFileTest : public ::testing::Test {
  protected:
   // Parses the golden scene's header lines (1-3: calibration, pattern, codebook) plus `body`.
   static void Parse(const std::string& body) {
-    ParseSceneFile(
+    formats::ParseSceneFile(
         "calibration = \"ssl-frame.calibration.toml\"\n"
         "pattern = \"../../../patterns/ssl-standard.toml\"\n"
         "codebook = \"../../../patterns/ssl-standard.codebook.toml\"\n" +
@@ -237,7 +240,7 @@ class SceneFileTest : public ::testing::Test {
 };
 
 TEST_F(SceneFileTest, ReadsTheGoldenScene) {
-  const SceneFile file = LoadSceneFile(kGolden + "ssl-frame.toml");
+  const formats::SceneFile file = formats::LoadSceneFile(kGolden + "ssl-frame.toml");
   EXPECT_EQ(file.scene.robots.size(), 10u);
   EXPECT_EQ(file.scene.options.width_px, 640);
   EXPECT_EQ(file.scene.options.height_px, 480);
@@ -289,22 +292,23 @@ TEST_F(SceneFileTest, ReportsColoursAtTheirLine) {
 
 TEST_F(SceneFileTest, NeedsAReadablePinholeCalibrationWithAnImageSize) {
   EXPECT_INPUT_ERROR(
-      ParseSceneFile("calibration = \"nowhere.toml\"\n", "s.toml", "/tmp"),
+      formats::ParseSceneFile("calibration = \"nowhere.toml\"\n", "s.toml", "/tmp"),
       "s.toml:1: calibration file \"/tmp/nowhere.toml\" cannot be read; expected a readable file");
-  const std::string dir = testing::ScratchDir();
-  testing::WriteText(dir + "/h.toml",
-                     "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
-                     "matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n");
-  EXPECT_INPUT_ERROR(ParseSceneFile("calibration = \"h.toml\"\n", "s.toml", dir),
+  const std::string dir = vision::testing::ScratchDir();
+  vision::testing::WriteText(dir + "/h.toml",
+                             "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
+                             "matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n");
+  EXPECT_INPUT_ERROR(formats::ParseSceneFile("calibration = \"h.toml\"\n", "s.toml", dir),
                      "s.toml:1: calibration " + dir +
                          "/h.toml is a homography; expected a pinhole camera to render with");
-  testing::WriteText(dir + "/p.toml",
-                     "model = \"pinhole\"\n[pinhole]\nfx_px = 1\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
-                     "camera_position_mm = [0, 0, 4000]\n");
-  EXPECT_INPUT_ERROR(ParseSceneFile("calibration = \"p.toml\"\n", "s.toml", dir),
+  vision::testing::WriteText(
+      dir + "/p.toml",
+      "model = \"pinhole\"\n[pinhole]\nfx_px = 1\nfy_px = 1\ncx_px = 0\ncy_px = 0\n"
+      "camera_position_mm = [0, 0, 4000]\n");
+  EXPECT_INPUT_ERROR(formats::ParseSceneFile("calibration = \"p.toml\"\n", "s.toml", dir),
                      "s.toml:1: calibration " + dir +
                          "/p.toml has no image_size_px; expected the size of the frame to render");
 }
 
 }  // namespace
-}  // namespace patlab::vision
+}  // namespace patlab::render

@@ -30,7 +30,7 @@ class DetectCameraNoise : public testing_support::ExperimentFixture {
   }
   // One point at sigma 0.05 mm, 400 frames of 10 robots, with `noise` as the [noise] table.
   DetectPointResult Run(const std::string& noise) {
-    const Experiment e = LoadExperimentFile(
+    const Experiment e = formats::LoadExperimentFile(
         Write("name = \"x\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\"]\n"
               "[sigma]\nvalues = [0.05]\n[detect]\nsettings = \"det.toml\"\nframes = 1500\n"
               "[noise]\n" +
@@ -85,7 +85,7 @@ TEST_F(DetectCameraNoise, ColourEdgeBiasSpreadsWithHeading) {
 TEST_F(DetectCameraNoise, CorrelatedNoiseMovesNeighboursTogether) {
   // Sigma 0.05 is too small to see; the correlated model scales sigma's independent errors, so
   // a larger sigma through the same frames: 1 mm (still far inside the detector's tolerance).
-  const Experiment e = LoadExperimentFile(
+  const Experiment e = formats::LoadExperimentFile(
       Write("name = \"x\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\"]\n"
             "[sigma]\nvalues = [0.5]\n[detect]\nsettings = \"det.toml\"\nframes = 1500\n"
             "[noise]\ncorrelation_length_mm = 100\n"));

@@ -76,7 +76,7 @@ class DetectRunnerTest : public ::testing::Test {
   }
   Experiment Load(const std::string& extra_detect, const std::string& sigma = "[0, 1, 6]",
                   const std::string& noise = "") {
-    return LoadExperimentFile(dir_.Write(
+    return formats::LoadExperimentFile(dir_.Write(
         "experiments/e.toml",
         "name = \"small\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\", \"triangle\"]\n"
         "seed = 5\n[sigma]\nvalues = " +
@@ -85,7 +85,7 @@ class DetectRunnerTest : public ::testing::Test {
   }
   // One triangle point at sigma 2 mm of `frames` frames (more than one block of frames).
   Experiment LoadLong(int64_t frames, const std::string& extra_detect = "") {
-    return LoadExperimentFile(dir_.Write(
+    return formats::LoadExperimentFile(dir_.Write(
         "experiments/long.toml",
         "name = \"long\"\ncorrespondence = \"detect\"\npatterns = [\"triangle\"]\nseed = 5\n"
         "[sigma]\nvalues = [2]\n[detect]\nsettings = \"det.toml\"\nframes = " +
@@ -172,7 +172,7 @@ TEST_F(DetectRunnerTest, TheCodebooksContentIsPartOfThePointsIdentity) {
                "[detector]\npatch_sigma_mm = 1.0\n[[pattern]]\npattern = \"butterfly\"\n"
                "key_colours = [\"blue\", \"yellow\"]\n" +
                    pattern_table);
-    return LoadExperimentFile(dir_.Write(
+    return formats::LoadExperimentFile(dir_.Write(
         "experiments/cb.toml",
         "name = \"cb\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\"]\nseed = 5\n"
         "[sigma]\nvalues = [3]\n[detect]\nsettings = \"" +

@@ -16,7 +16,7 @@ namespace {
 
 detect::Detector ShippedDetector() {
   return detect::Detector(
-      detect::LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
+      formats::LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
 }
 
 TEST(Scene, TenRobotsFivePerTeamDistinctIdsApartAndABall) {

@@ -114,7 +114,7 @@ Experiment LoadDetect(const testing::TempDir& dir, const std::string& body) {
             "key_colours = [\"blue\", \"yellow\"]\n"
             "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"green\", \"cyan\"]\n"
             "key_colours = [\"blue\", \"yellow\"]\n");
-  return LoadExperimentFile(
+  return formats::LoadExperimentFile(
       dir.Write("experiments/e.toml", "name = \"det\"\ncorrespondence = \"detect\"\n" + body));
 }
 
@@ -185,7 +185,8 @@ TEST(Shard, TheFingerprintIsTheExperimentsContentNotItsPathAsTyped) {
       "patterns = [\"butterfly\", \"triangle\"]\nseed = 5\n[sigma]\nvalues = [0.5, 2]\n"
       "[detect]\nsettings = \"det.toml\"\nframes = 50\n";
   const Experiment plain = LoadDetect(dir, body);
-  const Experiment dotted = LoadExperimentFile(dir.Path("experiments/./../experiments/e.toml"));
+  const Experiment dotted =
+      formats::LoadExperimentFile(dir.Path("experiments/./../experiments/e.toml"));
   ASSERT_NE(plain.source_file, dotted.source_file);
   WriteDetectShard(plain, 1, 2, dir);
   WriteDetectShard(dotted, 2, 2, dir);
@@ -203,7 +204,7 @@ TEST(Shard, TheFingerprintIsTheExperimentsContentNotItsPathAsTyped) {
             "[[pattern]]\npattern = \"triangle\"\nid_colours = [\"pink\", \"cyan\", \"green\"]\n"
             "key_colours = [\"blue\", \"yellow\"]\n");
   const std::string other =
-      WriteDetectShard(LoadExperimentFile(dir.Path("experiments/e.toml")), 2, 2, dir);
+      WriteDetectShard(formats::LoadExperimentFile(dir.Path("experiments/e.toml")), 2, 2, dir);
   EXPECT_INPUT_ERROR_STARTS_WITH(
       MergeShards({dir.Path("shards/det.shard-1-of-2.json"), other}, dir.Path("out"), ""),
       other + ": shard of experiment 'det', seed 5, patlab " + PATLAB_VERSION + ", fingerprint ");

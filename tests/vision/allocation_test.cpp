@@ -26,26 +26,27 @@ namespace {
 // exact BT.601 path for mixed cells) and a distorted pinhole camera, and on the same frame as
 // UYVY (the camera-native path).
 TEST(VisionAllocation, WarmPipelineDoesNotAllocate) {
-  const Calibration cal = ParseCalibration(
+  const camera::Calibration cal = formats::ParseCalibration(
       "model = \"pinhole\"\nimage_size_px = [780, 580]\n[pinhole]\nfx_px = 850\nfy_px = 850\n"
       "cx_px = 390\ncy_px = 290\nk1 = -0.2\ncamera_position_mm = [0, 0, 4000]\nyaw_deg = 0\n"
       "[heights]\ndefault_mm = 140\n",
       "c.toml");
-  const Thresholds thresholds = ParseThresholdsToml(
+  const Thresholds thresholds = formats::ParseThresholdsToml(
       "[[class]]\nname = \"blue\"\nu = [150, 255]\nv = [0, 125]\n"
       "[[class]]\nname = \"pink\"\ny = [100, 255]\nv = [170, 255]\n"
       "[[class]]\nname = \"green\"\ny = [70, 255]\nu = [0, 120]\nv = [0, 110]\n",
       "t.toml");
-  std::vector<Disc> discs;
+  std::vector<render::Disc> discs;
   for (int i = 0; i < 10; ++i) {
     const Vec2 c(-1500.0 + 330.0 * i, 200.0 * (i % 3) - 200.0);
     discs.push_back({c, 25, {20, 40, 230}});
     discs.push_back({c + Vec2(35, 54.8), 20, {250, 60, 200}});
     discs.push_back({c + Vec2(-54.8, -35), 20, {40, 220, 60}});
   }
-  const Image rgb = RenderWorldDiscs(780, 580, cal.camera, 140, {40, 70, 30}, discs);
-  const Image uyvy = ToUyvy(rgb);
-  for (const Image* image : {&rgb, &uyvy}) {
+  const camera::Image rgb =
+      render::RenderWorldDiscs(780, 580, cal.camera, 140, {40, 70, 30}, discs);
+  const camera::Image uyvy = camera::ToUyvy(rgb);
+  for (const camera::Image* image : {&rgb, &uyvy}) {
     VisionPipeline pipeline(thresholds, cal, SegmenterOptions{});
     std::vector<detect::Blob> blobs;
     VisionStats stats;
@@ -66,13 +67,13 @@ TEST(VisionAllocation, WarmRealFrameLoopDoesNotAllocate) {
   if (!std::filesystem::exists(testing::SharedFrames()))
     GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
-  const Image image = ReadFrame(testing::SharedFrames() + "/ssl-field-2008.jpg");
+  const camera::Image image = ReadFrame(testing::SharedFrames() + "/ssl-field-2008.jpg");
   for (bool timing : {false, true}) {
     FrameDetectorOptions options;
     options.collect_timing = timing;
-    FrameDetector frames(LoadThresholds(data + "ssl-2008.thresholds.toml"),
-                         LoadCalibration(data + "ssl-2008.calibration.toml"),
-                         detect::LoadDetectorSettings(data + "ssl-2008.detector.toml"), options);
+    FrameDetector frames(formats::LoadThresholds(data + "ssl-2008.thresholds.toml"),
+                         formats::LoadCalibration(data + "ssl-2008.calibration.toml"),
+                         formats::LoadDetectorSettings(data + "ssl-2008.detector.toml"), options);
     const std::string name = "ssl-field-2008.jpg";
     ASSERT_EQ(frames.Detect(image, name).detections.size(), 5u);
     const long before = patlab::testing::AllocationCount();

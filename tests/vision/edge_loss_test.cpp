@@ -35,19 +35,19 @@ struct Count {
   int found = 0, unknown_id = 0, wrong_id = 0, false_detections = 0;
 };
 
-Count DetectScene(const SceneFile& file, const Image& frame, double edge_loss_px) {
+Count DetectScene(const formats::SceneFile& file, const camera::Image& frame, double edge_loss_px) {
   const std::string shipped = kSource + "experiments/detector.toml";
   FrameDetectorOptions options;
-  ApplyFrameSettings(detect::LoadFrameSettings(shipped), &options);
+  ApplyFrameSettings(formats::LoadFrameSettings(shipped), &options);
   options.edge_loss_px = edge_loss_px;
-  FrameDetector detector(LoadThresholds(kGolden + "ssl-frame.thresholds.toml"), file.calibration,
-                         detect::LoadDetectorSettings(shipped), options);
+  FrameDetector detector(formats::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),
+                         file.calibration, formats::LoadDetectorSettings(shipped), options);
   const FrameResult& result = detector.Detect(frame, "camera");
   const std::vector<std::string>& palette = detector.detector().config().palette;
   Count count;
   for (const detect::Detection& d : result.detections) {
-    const RobotPlacement* at = nullptr;
-    for (const RobotPlacement& robot : file.scene.robots) {
+    const render::RobotPlacement* at = nullptr;
+    for (const render::RobotPlacement& robot : file.scene.robots) {
       if (d.team_colour >= 0 && palette[static_cast<size_t>(d.team_colour)] == robot.team &&
           std::hypot(d.pose.x_mm - robot.pose.x_mm, d.pose.y_mm - robot.pose.y_mm) < 20.0) {
         at = &robot;
@@ -76,12 +76,13 @@ TEST(EdgeLoss, ShippedSettingsFindEveryRobotUnderBlurAndNoise) {
     SCOPED_TRACE("blur " + std::to_string(c.blur_sigma_px) + " px, exposure " +
                  std::to_string(c.exposure_gain) + ", read noise " +
                  std::to_string(c.read_noise_levels));
-    SceneFile file = LoadSceneFile(kGolden + "ssl-frame.toml");
+    formats::SceneFile file = formats::LoadSceneFile(kGolden + "ssl-frame.toml");
     file.scene.options.blur_sigma_px = c.blur_sigma_px;
-    CameraSensorOptions sensor;
+    render::CameraSensorOptions sensor;
     sensor.exposure_gain = c.exposure_gain;
     sensor.read_noise_levels = c.read_noise_levels;
-    const Image frame = RenderCameraFrame(file.scene, file.calibration.camera, sensor, 11);
+    const camera::Image frame =
+        render::RenderCameraFrame(file.scene, file.calibration.camera, sensor, 11);
     const Count with = DetectScene(file, frame, 1.0);
     const Count without = DetectScene(file, frame, 0.0);
     std::printf(

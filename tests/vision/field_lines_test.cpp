@@ -22,7 +22,7 @@ namespace patlab::vision {
 namespace {
 
 calib::Field Ssl() {
-  return calib::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
+  return formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
 }
 
 struct TrueCamera {
@@ -32,8 +32,8 @@ struct TrueCamera {
 
 constexpr int kWidth = 780, kHeight = 580;
 
-PinholeCamera MakeCamera(const TrueCamera& t) {
-  PinholeCamera c;
+camera::PinholeCamera MakeCamera(const TrueCamera& t) {
+  camera::PinholeCamera c;
   c.fx_px = c.fy_px = t.focal_px;
   c.cx_px = 0.5 * (kWidth - 1) + t.principal_offset_px.x();
   c.cy_px = 0.5 * (kHeight - 1) + t.principal_offset_px.y();
@@ -47,18 +47,20 @@ PinholeCamera MakeCamera(const TrueCamera& t) {
   return c;
 }
 
-Image Render(const PinholeCamera& camera, uint64_t seed) {
-  const Image clean = RenderFieldLines(Ssl(), CameraModel::Pinhole(camera), kWidth, kHeight);
-  CameraSensorOptions sensor;
+camera::Image Render(const camera::PinholeCamera& camera, uint64_t seed) {
+  const camera::Image clean =
+      render::RenderFieldLines(Ssl(), camera::CameraModel::Pinhole(camera), kWidth, kHeight);
+  render::CameraSensorOptions sensor;
   sensor.seed = seed;
   sensor.read_noise_levels = 3.0;
-  return ToRgb(SimulateSensor(clean, sensor, 0));
+  return camera::ToRgb(render::SimulateSensor(clean, sensor, 0));
 }
 
 // RMS (mm) of the fitted camera's floor mapping against the true one over the pixels (10 px
 // grid) that show the field's area (within its lines, 200 mm margin).
-double MappingRmsMm(const PinholeCamera& truth, const PinholeCamera& fitted) {
-  const CameraModel a = CameraModel::Pinhole(truth), b = CameraModel::Pinhole(fitted);
+double MappingRmsMm(const camera::PinholeCamera& truth, const camera::PinholeCamera& fitted) {
+  const camera::CameraModel a = camera::CameraModel::Pinhole(truth),
+                            b = camera::CameraModel::Pinhole(fitted);
   double sum = 0.0;
   int n = 0;
   for (int y = 5; y < kHeight; y += 10)
@@ -74,12 +76,12 @@ double MappingRmsMm(const PinholeCamera& truth, const PinholeCamera& fitted) {
 
 TEST(FieldLines, PixelsLieOnTheTrueLineCentres) {
   TrueCamera t{4000, 0.05, 0.3, 0.1, 600, -0.15, Vec2(1500, 300), Vec2(6, -4)};
-  const PinholeCamera camera = MakeCamera(t);
-  const Image frame = Render(camera, 7);
+  const camera::PinholeCamera camera = MakeCamera(t);
+  const camera::Image frame = Render(camera, 7);
   const std::vector<calib::LinePixel> found = FindLinePixels(frame);
   ASSERT_GT(found.size(), 1000u);
   // Each found point's distance (px) to the nearest painted mark, through the true camera.
-  const CameraModel model = CameraModel::Pinhole(camera);
+  const camera::CameraModel model = camera::CameraModel::Pinhole(camera);
   const calib::FieldMarks marks = calib::PaintedMarks(Ssl());
   double sum = 0.0;
   int far = 0;
@@ -103,12 +105,12 @@ TEST(FieldLines, PixelsLieOnTheTrueLineCentres) {
 TEST(FieldLines, BadOptionsAreInputErrors) {
   LineFinderOptions o;
   o.line_width_px = 0.5;
-  EXPECT_INPUT_ERROR(FindLinePixels(Image::Rgb(10, 10), o),
+  EXPECT_INPUT_ERROR(FindLinePixels(camera::Image::Rgb(10, 10), o),
                      "--line-width: 0.5 px is out of range; expected 1 to 30");
 }
 
 TEST(FieldLines, AnEmptyCarpetDoesNotDecideTheCamera) {
-  Image frame = Image::Rgb(200, 150);
+  camera::Image frame = camera::Image::Rgb(200, 150);
   for (size_t i = 0; i < frame.data.size(); i += 3) frame.data[i + 1] = 120;
   EXPECT_INPUT_ERROR(AutoCalibrateFrame(frame, "carpet.png", Ssl()),
                      "carpet.png: found 0 line pixels; expected at least 100 (white field lines on "
@@ -154,21 +156,21 @@ class AutoCalibrateRendered : public ::testing::TestWithParam<int> {};
 
 TEST_P(AutoCalibrateRendered, MapsTheFloorWithin5MmAndKnowsItsError) {
   const TrueCamera t = RandomCamera(GetParam());
-  const PinholeCamera truth = MakeCamera(t);
-  const Image frame = Render(truth, 100 + GetParam());
+  const camera::PinholeCamera truth = MakeCamera(t);
+  const camera::Image frame = Render(truth, 100 + GetParam());
   const FrameCalibration fc = AutoCalibrateFrame(frame, "rendered.png", Ssl());
   const calib::AutoCalibration& a = fc.calibration;
   // The kept one of the two equivalent cameras looks at x >= 0 at the image centre.
-  const auto look =
-      CameraModel::Pinhole(truth).PixelToWorld(Vec2(0.5 * (kWidth - 1), 0.5 * (kHeight - 1)), 0.0);
+  const auto look = camera::CameraModel::Pinhole(truth).PixelToWorld(
+      Vec2(0.5 * (kWidth - 1), 0.5 * (kHeight - 1)), 0.0);
   ASSERT_TRUE(look);
   const bool turn = look->x() < 0;
-  const PinholeCamera expected = turn ? PinholeCamera{[&] {
-    PinholeCamera c = truth;
+  const camera::PinholeCamera expected = turn ? camera::PinholeCamera{[&] {
+    camera::PinholeCamera c = truth;
     c.rotation = truth.rotation * Eigen::Vector3d(-1, -1, 1).asDiagonal();
     return c;
   }()}
-                                      : truth;
+                                              : truth;
   const double rms = MappingRmsMm(expected, a.fit.camera);
   std::printf(
       "camera %d: %d line pixels, true mapping RMS %.2f mm, held-out estimate %.2f mm "
@@ -187,8 +189,8 @@ INSTANTIATE_TEST_SUITE_P(Seeds, AutoCalibrateRendered, ::testing::Values(1, 2, 3
 // A quarter of the field seen with a 12 deg tilt: the search does not find this camera today; what
 // matters is that it is refused with a message, never a wrong calibration.
 TEST(AutoCalibrateRenderedQuarter, TiltedQuarterIsRightOrRefused) {
-  const PinholeCamera truth = MakeCamera(RandomCamera(0));
-  const Image frame = Render(truth, 100);
+  const camera::PinholeCamera truth = MakeCamera(RandomCamera(0));
+  const camera::Image frame = Render(truth, 100);
   try {
     const FrameCalibration fc = AutoCalibrateFrame(frame, "rendered.png", Ssl());
     EXPECT_LT(MappingRmsMm(truth, fc.calibration.fit.camera), 5.0);

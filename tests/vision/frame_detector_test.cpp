@@ -27,7 +27,7 @@ const std::string kSettings = std::string(PATLAB_SOURCE_DIR) + "/experiments/det
 // Blue, yellow (a class the detector's palette also names), pink, green and a class ("grass")
 // the palette does not name.
 Thresholds Classes() {
-  return ParseThresholdsToml(
+  return formats::ParseThresholdsToml(
       "space = \"rgb\"\n"
       "[[class]]\nname = \"blue\"\nr = [0, 80]\ng = [0, 100]\nb = [180, 255]\n"
       "[[class]]\nname = \"pink\"\nr = [200, 255]\ng = [0, 110]\nb = [160, 255]\n"
@@ -37,8 +37,8 @@ Thresholds Classes() {
 }
 
 // 2 mm per px, y up, 400 x 300 px = 800 x 600 mm.
-Calibration TwoMmPerPixel() {
-  return ParseCalibration(
+camera::Calibration TwoMmPerPixel() {
+  return formats::ParseCalibration(
       "model = \"homography\"\nimage_size_px = [400, 300]\n[[homography]]\nheight_mm = 0\n"
       "matrix = [[2, 0, -400], [0, -2, 300], [0, 0, 1]]\n",
       "c.toml");
@@ -50,31 +50,31 @@ struct Robot {
 };
 
 // The robots of the shipped settings' pattern (ssl-standard), blue team, plus a grass blob.
-Image RenderRobots(const detect::DetectorConfig& config, const std::vector<Robot>& robots,
-                   const Calibration& calibration) {
+camera::Image RenderRobots(const detect::DetectorConfig& config, const std::vector<Robot>& robots,
+                           const camera::Calibration& calibration) {
   const detect::DetectorPattern& dp = config.patterns[0];
   const std::vector<int> slots = detect::IdSlots(dp.pattern);
-  std::vector<Disc> discs = {{Vec2(-300, -200), 30, {120, 120, 30}}};
+  std::vector<render::Disc> discs = {{Vec2(-300, -200), 30, {120, 120, 30}}};
   for (const Robot& robot : robots) {
     for (int i = 0; i < dp.pattern.size(); ++i) {
       const Patch& patch = dp.pattern.patches[i];
-      Rgb rgb = {20, 40, 230};  // blue key
+      render::Rgb rgb = {20, 40, 230};  // blue key
       if (patch.role == PatchRole::kId) {
         const int slot = static_cast<int>(std::find(slots.begin(), slots.end(), i) - slots.begin());
         const std::string& colour =
             dp.codebook.colours[dp.codebook.entries[robot.entry].colour[slot]];
-        rgb = colour == "pink" ? Rgb{250, 60, 220} : Rgb{40, 230, 60};
+        rgb = colour == "pink" ? render::Rgb{250, 60, 220} : render::Rgb{40, 230, 60};
       }
       discs.push_back({robot.pose.Apply(patch.position_mm), patch.radius_mm, rgb});
     }
   }
-  return RenderWorldDiscs(400, 300, calibration.camera, 0.0, {70, 70, 70}, discs);
+  return render::RenderWorldDiscs(400, 300, calibration.camera, 0.0, {70, 70, 70}, discs);
 }
 
 TEST(FrameDetector, RenderedRobotsComeBackWithIdsPosesAndStageTimes) {
-  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(kSettings);
   const std::vector<Robot> robots = {{Pose2{-150, 50, 0.5}, 3}, {Pose2{180, -40, -2.0}, 12}};
-  const Image image = RenderRobots(config, robots, TwoMmPerPixel());
+  const camera::Image image = RenderRobots(config, robots, TwoMmPerPixel());
   FrameDetectorOptions options;
   options.collect_timing = true;
   FrameDetector frames(Classes(), TwoMmPerPixel(), config, options);
@@ -108,7 +108,7 @@ TEST(FrameDetector, RenderedRobotsComeBackWithIdsPosesAndStageTimes) {
 
 TEST(FrameDetector, WritesTheNumberedDebugImagesAndReadsFiles) {
   const std::string dir = testing::ScratchDir();
-  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(kSettings);
   WritePng(RenderRobots(config, {{Pose2{0, 0, 1.0}, 5}}, TwoMmPerPixel()), dir + "/f1.png");
   FrameDetectorOptions options;
   options.debug_dir = dir + "/debug";
@@ -120,7 +120,7 @@ TEST(FrameDetector, WritesTheNumberedDebugImagesAndReadsFiles) {
   EXPECT_EQ(names, (std::vector<std::string>{"f1.2_colour_lookup.png", "f1.4_regions.png",
                                              "f1.5_blobs_to_mm.png", "f1.6_detect.png"}));
   for (const std::string& name : names) {
-    const Image debug = ReadFrame(dir + "/debug/" + name);
+    const camera::Image debug = ReadFrame(dir + "/debug/" + name);
     EXPECT_EQ(debug.width_px, 400) << name;
     EXPECT_EQ(debug.height_px, 300) << name;
   }
@@ -128,8 +128,8 @@ TEST(FrameDetector, WritesTheNumberedDebugImagesAndReadsFiles) {
 }
 
 TEST(FrameDetector, ResultsWriterCsvAndJson) {
-  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
-  const Image image = RenderRobots(config, {{Pose2{10, 20, 0.25}, 0}}, TwoMmPerPixel());
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(kSettings);
+  const camera::Image image = RenderRobots(config, {{Pose2{10, 20, 0.25}, 0}}, TwoMmPerPixel());
   FrameDetector frames(Classes(), TwoMmPerPixel(), config, {});
   FrameResultsWriter detections(frames, /*blobs=*/false), blobs(frames, /*blobs=*/true);
   const FrameResult& r = frames.Detect(image, "a.png");
@@ -163,7 +163,7 @@ TEST(FrameDetector, OptionsAreChecked) {
 // policy replaces the [detector] one, its edge loss shrinks the lower area bound (2 mm per px:
 // a 1 px rim of the ssl-standard 20 mm dots leaves (18/20)^2, 2 px (16/20)^2).
 TEST(FrameDetector, FrameSettingsReachTheDetector) {
-  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(kSettings);
   ASSERT_EQ(config.options.missing_patch, detect::MissingPatchPolicy::kReject);
   FrameDetectorOptions options;
   FrameDetector as_is(Classes(), TwoMmPerPixel(), config, options);
@@ -173,7 +173,7 @@ TEST(FrameDetector, FrameSettingsReachTheDetector) {
               0.4 * (r - 2.0) * (r - 2.0) / (r * r), 1e-12);
 
   ApplyFrameSettings(
-      detect::ParseFrameSettings("[frame]\nedge_loss_px = 2\nmissing_patch = \"fit\"\n", "s.toml"),
+      formats::ParseFrameSettings("[frame]\nedge_loss_px = 2\nmissing_patch = \"fit\"\n", "s.toml"),
       &options);
   EXPECT_EQ(options.edge_loss_px, 2.0);
   FrameDetector adapted(Classes(), TwoMmPerPixel(), config, options);
@@ -186,7 +186,7 @@ TEST(FrameDetector, FrameSettingsReachTheDetector) {
   ApplyFrameSettings(detect::FrameSettings{}, &unchanged);
   EXPECT_EQ(unchanged.edge_loss_px, 1.0);
   EXPECT_FALSE(unchanged.missing_patch.has_value());
-  ApplyFrameSettings(detect::LoadFrameSettings(kSettings), &unchanged);
+  ApplyFrameSettings(formats::LoadFrameSettings(kSettings), &unchanged);
   EXPECT_EQ(unchanged.missing_patch, detect::MissingPatchPolicy::kFit);
 
   options.edge_loss_px = -0.5;
@@ -201,43 +201,45 @@ TEST(FrameDetector, FrameSettingsReachTheDetector) {
 // in its footprint), shrunk to radius 7 mm (a pink blob below the area range, as a patch merged
 // or cut up -> kept, its own colour in the footprint); the fourth intact.
 TEST(FrameDetector, MissingPatchFitsAreCheckedWhereThePatchShouldBe) {
-  const detect::DetectorConfig config = detect::LoadDetectorSettings(kSettings);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(kSettings);
   const detect::DetectorPattern& dp = config.patterns[0];
   const std::vector<int> slots = detect::IdSlots(dp.pattern);
   struct Change {
     Pose2 pose;
     int entry;
-    Rgb dot_rgb;
+    render::Rgb dot_rgb;
     double dot_radius_mm;  // 0: unchanged
   };
-  const Rgb kOrange{255, 140, 0}, kGrey{70, 70, 70};
+  const render::Rgb kOrange{255, 140, 0}, kGrey{70, 70, 70};
   const std::vector<Change> robots = {{Pose2{-200, 120, 0.3}, 3, kOrange, 20.0},
                                       {Pose2{200, 120, -1.0}, 5, kGrey, 20.0},
                                       {Pose2{-200, -130, 2.0}, 9, {}, 7.0},
                                       {Pose2{200, -130, 0.0}, 12, {}, 0.0}};
-  std::vector<Disc> discs;
+  std::vector<render::Disc> discs;
   for (const Change& robot : robots) {
     for (int i = 0; i < dp.pattern.size(); ++i) {
       const Patch& patch = dp.pattern.patches[i];
-      Rgb rgb = {20, 40, 230};  // blue key
+      render::Rgb rgb = {20, 40, 230};  // blue key
       double radius = patch.radius_mm;
       if (patch.role == PatchRole::kId) {
         const int slot = static_cast<int>(std::find(slots.begin(), slots.end(), i) - slots.begin());
         const std::string& colour =
             dp.codebook.colours[dp.codebook.entries[robot.entry].colour[slot]];
-        rgb = colour == "pink" ? Rgb{250, 60, 220} : Rgb{40, 230, 60};
+        rgb = colour == "pink" ? render::Rgb{250, 60, 220} : render::Rgb{40, 230, 60};
         if (i == 1 && robot.dot_radius_mm == 20.0) rgb = robot.dot_rgb;
         if (i == 1 && robot.dot_radius_mm > 0.0) radius = robot.dot_radius_mm;
       }
       discs.push_back({robot.pose.Apply(patch.position_mm), radius, rgb});
     }
   }
-  const Image image = RenderWorldDiscs(400, 300, TwoMmPerPixel().camera, 0.0, kGrey, discs);
+  const camera::Image image =
+      render::RenderWorldDiscs(400, 300, TwoMmPerPixel().camera, 0.0, kGrey, discs);
   Thresholds thresholds = Classes();
-  thresholds.classes.push_back(ParseThresholdsToml("space = \"rgb\"\n[[class]]\nname = \"orange\"\n"
-                                                   "r = [220, 255]\ng = [100, 180]\nb = [0, 60]\n",
-                                                   "t.toml")
-                                   .classes[0]);
+  thresholds.classes.push_back(
+      formats::ParseThresholdsToml("space = \"rgb\"\n[[class]]\nname = \"orange\"\n"
+                                   "r = [220, 255]\ng = [100, 180]\nb = [0, 60]\n",
+                                   "t.toml")
+          .classes[0]);
   FrameDetectorOptions options;
   options.missing_patch = detect::MissingPatchPolicy::kFit;
   options.explain = true;
@@ -292,11 +294,11 @@ namespace {
 // every pink-dotted robot; the front end says so, naming both sides.
 TEST(FrameDetector, WarnsWhenClassNamesAndPaletteDisagree) {
   const std::string golden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
-  Thresholds t = LoadThresholds(golden + "ssl-frame.thresholds.toml");
+  Thresholds t = formats::LoadThresholds(golden + "ssl-frame.thresholds.toml");
   t.source = "t.toml";
   t.classes[static_cast<size_t>(t.Find("pink"))].name = "magenta";
   const detect::DetectorConfig config =
-      detect::LoadDetectorSettings(golden + "ssl-frame.detector.toml");
+      formats::LoadDetectorSettings(golden + "ssl-frame.detector.toml");
   EXPECT_EQ(PaletteWarnings(t, config),
             (std::vector<std::string>{
                 "t.toml: class \"magenta\" is no colour of the detector's palette; its blobs are "

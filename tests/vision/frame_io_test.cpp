@@ -14,8 +14,8 @@ namespace {
 using testing::ScratchDir;
 using testing::WriteBytes;
 
-Image Gradient(int w, int h) {
-  Image image = Image::Rgb(w, h);
+camera::Image Gradient(int w, int h) {
+  camera::Image image = camera::Image::Rgb(w, h);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       uint8_t* p = image.Row(y) + 3 * x;
@@ -27,7 +27,7 @@ Image Gradient(int w, int h) {
   return image;
 }
 
-std::vector<uint8_t> EncodeJpegForTest(const Image& image) {
+std::vector<uint8_t> EncodeJpegForTest(const camera::Image& image) {
   jpeg_compress_struct cinfo;
   jpeg_error_mgr jerr;
   cinfo.err = jpeg_std_error(&jerr);
@@ -55,18 +55,18 @@ std::vector<uint8_t> EncodeJpegForTest(const Image& image) {
 
 TEST(FrameIo, PngRoundTripIsExact) {
   const std::string dir = ScratchDir();
-  const Image image = Gradient(37, 23);
+  const camera::Image image = Gradient(37, 23);
   WritePng(image, dir + "/a.png");
-  const Image back = ReadFrame(dir + "/a.png");
+  const camera::Image back = ReadFrame(dir + "/a.png");
   EXPECT_EQ(back.width_px, 37);
   EXPECT_EQ(back.height_px, 23);
-  EXPECT_EQ(back.format, PixelFormat::kRgb8);
+  EXPECT_EQ(back.format, camera::PixelFormat::kRgb8);
   EXPECT_EQ(back.data, image.data);
 }
 
 TEST(FrameIo, PpmRoundTripIsExact) {
   const std::string dir = ScratchDir();
-  const Image image = Gradient(5, 4);
+  const camera::Image image = Gradient(5, 4);
   WritePpm(image, dir + "/a.ppm");
   EXPECT_EQ(ReadFrame(dir + "/a.ppm").data, image.data);
 }
@@ -75,13 +75,13 @@ TEST(FrameIo, PpmWithCommentsInHeader) {
   std::string header = "P6\n# made by hand\n2 1\n# another\n255\n";
   std::vector<uint8_t> bytes(header.begin(), header.end());
   for (uint8_t v : {1, 2, 3, 4, 5, 6}) bytes.push_back(v);
-  const Image image = DecodePpm(bytes, "x.ppm");
+  const camera::Image image = DecodePpm(bytes, "x.ppm");
   EXPECT_EQ(image.width_px, 2);
   EXPECT_EQ(image.data, (std::vector<uint8_t>{1, 2, 3, 4, 5, 6}));
 }
 
 TEST(FrameIo, JpegDecodesCloseToOriginal) {
-  Image image = Image::Rgb(64, 48);  // smooth, so JPEG keeps it to a few levels
+  camera::Image image = camera::Image::Rgb(64, 48);  // smooth, so JPEG keeps it to a few levels
   for (int y = 0; y < 48; ++y) {
     for (int x = 0; x < 64; ++x) {
       uint8_t* p = image.Row(y) + 3 * x;
@@ -90,7 +90,7 @@ TEST(FrameIo, JpegDecodesCloseToOriginal) {
       p[2] = static_cast<uint8_t>(100 + x + y);
     }
   }
-  const Image back = DecodeJpeg(EncodeJpegForTest(image), "a.jpg");
+  const camera::Image back = DecodeJpeg(EncodeJpegForTest(image), "a.jpg");
   ASSERT_EQ(back.width_px, 64);
   ASSERT_EQ(back.height_px, 48);
   double error = 0;
@@ -184,19 +184,19 @@ TEST(FrameIo, RawUyvyOfTheWrongSize) {
                      dir +
                          "/f.yuv: raw frame size 25x20; expected a positive even width and a "
                          "positive height");
-  const Image image = ReadRawUyvy(dir + "/f.yuv", 20, 25);
-  EXPECT_EQ(image.format, PixelFormat::kUyvy);
+  const camera::Image image = ReadRawUyvy(dir + "/f.yuv", 20, 25);
+  EXPECT_EQ(image.format, camera::PixelFormat::kUyvy);
   EXPECT_EQ(image.RowBytes(), 40);
 }
 
 TEST(FrameIo, UyvyRoundTripThroughRgbKeepsGreys) {
-  Image grey = Image::Rgb(4, 1);
+  camera::Image grey = camera::Image::Rgb(4, 1);
   for (int i = 0; i < 12; ++i)
     grey.data[static_cast<size_t>(i)] = static_cast<uint8_t>(40 + 50 * (i / 3));
-  const Image yuv = ToUyvy(grey);
+  const camera::Image yuv = camera::ToUyvy(grey);
   EXPECT_EQ(yuv.data[0], 128);  // U of a grey pixel pair
   EXPECT_EQ(yuv.data[2], 128);  // V
-  EXPECT_EQ(ToRgb(yuv).data, grey.data);
+  EXPECT_EQ(camera::ToRgb(yuv).data, grey.data);
 }
 
 TEST(FrameIo, ExpandFrameListSortsDirectoriesAndReadsLists) {
@@ -217,10 +217,10 @@ TEST(FrameIo, ExpandFrameListSortsDirectoriesAndReadsLists) {
 TEST(FrameIo, ReadsTheSharedRealFrames) {
   const std::string frames = testing::SharedFrames();
   if (!std::filesystem::exists(frames)) GTEST_SKIP() << "no shared frames at " << frames;
-  const Image jpg = ReadFrame(frames + "/ssl-field-2008.jpg");
+  const camera::Image jpg = ReadFrame(frames + "/ssl-field-2008.jpg");
   EXPECT_EQ(jpg.width_px, 780);
   EXPECT_EQ(jpg.height_px, 580);
-  const Image png = ReadFrame(frames + "/vss-test-frame.png");
+  const camera::Image png = ReadFrame(frames + "/vss-test-frame.png");
   EXPECT_EQ(png.width_px, 765);
   EXPECT_EQ(png.height_px, 613);
 }

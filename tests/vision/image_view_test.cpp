@@ -1,4 +1,4 @@
-// vision::ImageView: the pipeline reads a frame where it is, with any strides. The same pixels in
+// camera::ImageView: the pipeline reads a frame where it is, with any strides. The same pixels in
 // any layout -- packed, BGR bytes read backwards, the RGB of an RGBA buffer, column-major
 // (numpy's Fortran order), upside down, a crop of a wider buffer, UYVY rows with padding -- give
 // the class image, runs, regions and detections of the packed Image, byte for byte.
@@ -41,7 +41,7 @@ std::vector<Layout> Layouts(int w, int h) {
            3 * (W + 7) + 5 + 9}};
 }
 
-ImageView Place(const Image& image, const Layout& l, std::vector<uint8_t>* buffer) {
+camera::ImageView Place(const camera::Image& image, const Layout& l, std::vector<uint8_t>* buffer) {
   buffer->assign(l.bytes, 0xAB);
   for (int y = 0; y < image.height_px; ++y) {
     for (int x = 0; x < image.width_px; ++x) {
@@ -51,7 +51,7 @@ ImageView Place(const Image& image, const Layout& l, std::vector<uint8_t>* buffe
       }
     }
   }
-  ImageView view;
+  camera::ImageView view;
   view.data = buffer->data() + l.origin;
   view.width_px = image.width_px;
   view.height_px = image.height_px;
@@ -72,8 +72,8 @@ void ExpectSameSegmentation(const Segmenter& a, const Segmenter& b, const char* 
 }
 
 TEST(ImageView, AnImageIsItsPackedView) {
-  const Image image = Image::Rgb(5, 4);
-  const ImageView view = image;
+  const camera::Image image = camera::Image::Rgb(5, 4);
+  const camera::ImageView view = image;
   EXPECT_EQ(view.data, image.data.data());
   EXPECT_EQ(view.row_stride, 15);
   EXPECT_EQ(view.pixel_stride, 3);
@@ -86,60 +86,60 @@ TEST(ImageView, AnImageIsItsPackedView) {
 // the Image.
 TEST(ImageView, EveryLayoutSegmentsAsThePackedImage) {
   const int w = 131, h = 57;  // no multiple of a vector width
-  Image image = Image::Rgb(w, h);
+  camera::Image image = camera::Image::Rgb(w, h);
   std::mt19937 rng(9);
   for (uint8_t& v : image.data) v = static_cast<uint8_t>(rng() % 4 == 0 ? 20 : rng());
   for (const char* file : {"ssl-2008.thresholds.toml", "ssl-standard-sheet.thresholds.toml"}) {
     const Thresholds t =
-        LoadThresholds(std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/" + file);
+        formats::LoadThresholds(std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/" + file);
     SegmenterOptions o;
     o.min_area_px = 1;
     Segmenter packed(t, o), strided(t, o);
     packed.Process(image);
     for (const Layout& l : Layouts(w, h)) {
       std::vector<uint8_t> buffer;
-      const ImageView view = Place(image, l, &buffer);
+      const camera::ImageView view = Place(image, l, &buffer);
       EXPECT_EQ(view.PackedPixels(), l.pixel == 3 && l.channel == 1) << l.name;
       strided.Process(view);
       ExpectSameSegmentation(packed, strided, l.name);
-      EXPECT_EQ(ToRgb(view).data, image.data) << l.name;
+      EXPECT_EQ(camera::ToRgb(view).data, image.data) << l.name;
     }
   }
 }
 
 // UYVY frames with padded rows (a camera's stride): the packed UYVY Image's classes.
 TEST(ImageView, UyvyRowsWithPaddingSegmentAsThePackedImage) {
-  Image rgb = Image::Rgb(64, 20);
+  camera::Image rgb = camera::Image::Rgb(64, 20);
   std::mt19937 rng(4);
   for (uint8_t& v : rgb.data) v = static_cast<uint8_t>(rng());
-  const Image uyvy = ToUyvy(rgb);
+  const camera::Image uyvy = camera::ToUyvy(rgb);
   std::vector<uint8_t> buffer(static_cast<size_t>(uyvy.height_px) * (uyvy.RowBytes() + 32));
   for (int y = 0; y < uyvy.height_px; ++y) {
     std::memcpy(buffer.data() + static_cast<size_t>(y) * (uyvy.RowBytes() + 32), uyvy.Row(y),
                 static_cast<size_t>(uyvy.RowBytes()));
   }
-  ImageView view = uyvy;
+  camera::ImageView view = uyvy;
   view.data = buffer.data();
   view.row_stride = uyvy.RowBytes() + 32;
-  const Thresholds t = LoadThresholds(std::string(PATLAB_SOURCE_DIR) +
-                                      "/tests/data/vision/ssl-2008.thresholds.toml");
+  const Thresholds t = formats::LoadThresholds(std::string(PATLAB_SOURCE_DIR) +
+                                               "/tests/data/vision/ssl-2008.thresholds.toml");
   Segmenter packed(t, SegmenterOptions{}), padded(t, SegmenterOptions{});
   packed.Process(uyvy);
   padded.Process(view);
   ExpectSameSegmentation(packed, padded, "uyvy");
-  EXPECT_EQ(ToRgb(view).data, ToRgb(uyvy).data);
+  EXPECT_EQ(camera::ToRgb(view).data, camera::ToRgb(uyvy).data);
 }
 
 // The golden frame through FrameDetector from every layout: the CSV of the packed frame.
 TEST(ImageView, FrameDetectorFindsTheSameRobotsInEveryLayout) {
   const std::string golden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame";
-  const Image image = ToRgb(ReadFrame(golden + ".png"));
+  const camera::Image image = camera::ToRgb(ReadFrame(golden + ".png"));
   FrameDetectorOptions options;
-  ApplyFrameSettings(detect::LoadFrameSettings(golden + ".detector.toml"), &options);
-  FrameDetector frames(LoadThresholds(golden + ".thresholds.toml"),
-                       LoadCalibration(golden + ".calibration.toml"),
-                       detect::LoadDetectorSettings(golden + ".detector.toml"), options);
-  const auto csv = [&frames](const ImageView& view) {
+  ApplyFrameSettings(formats::LoadFrameSettings(golden + ".detector.toml"), &options);
+  FrameDetector frames(formats::LoadThresholds(golden + ".thresholds.toml"),
+                       formats::LoadCalibration(golden + ".calibration.toml"),
+                       formats::LoadDetectorSettings(golden + ".detector.toml"), options);
+  const auto csv = [&frames](const camera::ImageView& view) {
     FrameResultsWriter writer(frames, false);
     writer.Add(frames.Detect(view, "frame"));
     return writer.Csv();

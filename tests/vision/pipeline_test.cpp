@@ -13,15 +13,15 @@ namespace patlab::vision {
 namespace {
 
 Thresholds BlueOrange() {
-  return ParseThresholdsToml(
+  return formats::ParseThresholdsToml(
       "space = \"yuv\"\n"
       "[[class]]\nname = \"blue\"\nu = [160, 255]\nv = [0, 120]\n"
       "[[class]]\nname = \"orange\"\nu = [0, 110]\nv = [160, 255]\n",
       "t.toml");
 }
 
-Calibration Overhead(double k1) {
-  return ParseCalibration(
+camera::Calibration Overhead(double k1) {
+  return formats::ParseCalibration(
       "model = \"pinhole\"\nimage_size_px = [320, 240]\n[pinhole]\nfx_px = 800\nfy_px = 800\n"
       "cx_px = 160\ncy_px = 120\nk1 = " +
           std::to_string(k1) +
@@ -36,14 +36,15 @@ Calibration Overhead(double k1) {
 // 3.6 mm per px here); mild barrel distortion adds a bias of well under a millimetre.
 TEST(VisionPipeline, RenderedWorldDiscsComeBackInMillimetres) {
   for (double k1 : {0.0, -0.1}) {
-    const Calibration cal = Overhead(k1);
-    const std::vector<Disc> blue = {{Vec2(-300, 200), 25, {20, 40, 230}},
-                                    {Vec2(150.5, -100.25), 25, {20, 40, 230}},
-                                    {Vec2(0, 0), 40, {20, 40, 230}}};
-    Image image = RenderWorldDiscs(320, 240, cal.camera, 140, {60, 60, 60}, blue);
+    const camera::Calibration cal = Overhead(k1);
+    const std::vector<render::Disc> blue = {{Vec2(-300, 200), 25, {20, 40, 230}},
+                                            {Vec2(150.5, -100.25), 25, {20, 40, 230}},
+                                            {Vec2(0, 0), 40, {20, 40, 230}}};
+    camera::Image image = render::RenderWorldDiscs(320, 240, cal.camera, 140, {60, 60, 60}, blue);
     // The ball at its own plane height, painted over the same background.
-    const std::vector<Disc> orange = {{Vec2(400, 50), 21, {250, 120, 10}}};
-    const Image ball = RenderWorldDiscs(320, 240, cal.camera, 21, {60, 60, 60}, orange);
+    const std::vector<render::Disc> orange = {{Vec2(400, 50), 21, {250, 120, 10}}};
+    const camera::Image ball =
+        render::RenderWorldDiscs(320, 240, cal.camera, 21, {60, 60, 60}, orange);
     for (size_t i = 0; i < image.data.size(); ++i) {
       if (ball.data[i] != 60) image.data[i] = ball.data[i];
     }
@@ -72,12 +73,12 @@ TEST(VisionPipeline, RenderedWorldDiscsComeBackInMillimetres) {
 
 TEST(VisionPipeline, FrameSizeMustMatchTheCalibration) {
   VisionPipeline pipeline(BlueOrange(), Overhead(0), SegmenterOptions{});
-  EXPECT_INPUT_ERROR(pipeline.CheckFrameSize(Image::Rgb(640, 480), "f.png"),
+  EXPECT_INPUT_ERROR(pipeline.CheckFrameSize(camera::Image::Rgb(640, 480), "f.png"),
                      "f.png: image is 640x480; expected 320x240 as in c.toml");
 }
 
 TEST(VisionPipeline, HomographyMustCoverEveryClassHeight) {
-  const Calibration cal = ParseCalibration(
+  const camera::Calibration cal = formats::ParseCalibration(
       "model = \"homography\"\n[[homography]]\nheight_mm = 140\n"
       "matrix = [[1, 0, 0], [0, -1, 800], [0, 0, 1]]\n[heights]\ndefault_mm = 140\norange = 21\n",
       "h.toml");
@@ -87,7 +88,7 @@ TEST(VisionPipeline, HomographyMustCoverEveryClassHeight) {
 }
 
 TEST(VisionPipeline, HeightsMustNameKnownClasses) {
-  const Calibration cal = ParseCalibration(
+  const camera::Calibration cal = formats::ParseCalibration(
       "model = \"homography\"\n[[homography]]\nheight_mm = 0\n"
       "matrix = [[1, 0, 0], [0, -1, 800], [0, 0, 1]]\n[heights]\npink = 0\n",
       "h.toml");

@@ -38,16 +38,17 @@ struct FrameRun {
 };
 
 // Stages 2-6 as patlab detect runs them (FrameDetector: blob classes matched to the palette by
-// name). `uyvy`: the frame converted to UYVY 4:2:2 first (vision::ToUyvy), as a camera would
+// name). `uyvy`: the frame converted to UYVY 4:2:2 first (camera::ToUyvy), as a camera would
 // send it.
 FrameRun DetectFrame(const std::string& frame, const std::string& thresholds,
                      const std::string& calibration, const std::string& settings,
                      bool uyvy = false) {
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
-  FrameDetector frames(LoadThresholds(data + thresholds), LoadCalibration(data + calibration),
-                       detect::LoadDetectorSettings(data + settings), FrameDetectorOptions{});
-  Image image = ReadFrame(testing::SharedFrames() + "/" + frame);
-  if (uyvy) image = ToUyvy(image);
+  FrameDetector frames(formats::LoadThresholds(data + thresholds),
+                       formats::LoadCalibration(data + calibration),
+                       formats::LoadDetectorSettings(data + settings), FrameDetectorOptions{});
+  camera::Image image = ReadFrame(testing::SharedFrames() + "/" + frame);
+  if (uyvy) image = camera::ToUyvy(image);
   const FrameResult& result = frames.Detect(image, frame);
   FrameRun run;
   run.detections = result.detections;

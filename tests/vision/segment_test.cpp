@@ -27,8 +27,9 @@ Thresholds RedGreen() {
 }
 
 // Draws a tiny image from text: '.' background, 'r' red, 'g' green.
-Image FromText(const std::vector<std::string>& rows) {
-  Image image = Image::Rgb(static_cast<int>(rows[0].size()), static_cast<int>(rows.size()));
+camera::Image FromText(const std::vector<std::string>& rows) {
+  camera::Image image =
+      camera::Image::Rgb(static_cast<int>(rows[0].size()), static_cast<int>(rows.size()));
   for (int y = 0; y < image.height_px; ++y) {
     for (int x = 0; x < image.width_px; ++x) {
       uint8_t* p = image.Row(y) + 3 * x;
@@ -109,7 +110,7 @@ TEST(Segmenter, DifferentClassesTouchingStayApart) {
 }
 
 TEST(Segmenter, FiltersByAreaAndFillAndSortsByArea) {
-  const Image image = FromText({
+  const camera::Image image = FromText({
       "r..rr.rrr",
       "...rr.r..",
       "......r..",
@@ -172,11 +173,11 @@ TEST(Segmenter, YuvThresholdsOnRgbAndUyvyFramesAgree) {
   blue.name = "blue";
   blue.range = {ChannelRange{0, 255}, ChannelRange{160, 255}, ChannelRange{0, 120}};
   t.classes = {blue};
-  std::vector<Disc> discs = {{Vec2(20.3, 15.7), 6.2, {30, 40, 220}}};
-  const Image rgb = RenderDiscs(40, 30, {90, 90, 90}, discs);
+  std::vector<render::Disc> discs = {{Vec2(20.3, 15.7), 6.2, {30, 40, 220}}};
+  const camera::Image rgb = render::RenderDiscs(40, 30, {90, 90, 90}, discs);
   Segmenter a(t, Keep()), b(t, Keep());
   a.Process(rgb);
-  b.Process(ToUyvy(rgb));
+  b.Process(camera::ToUyvy(rgb));
   ASSERT_EQ(a.regions().size(), 1u);
   ASSERT_EQ(b.regions().size(), 1u);
   // Digitisation error < 0.15 px at this radius (see the test below); UYVY's shared chroma
@@ -204,8 +205,8 @@ void CheckDiscCentroids(double min_radius, double max_radius, double max_error_p
   for (int trial = 0; trial < n; ++trial) {
     const double radius = min_radius + (max_radius - min_radius) * unit(rng);
     const Vec2 centre(30 + unit(rng), 30 + unit(rng));
-    const std::vector<Disc> discs = {{centre, radius, {240, 10, 10}}};
-    s.Process(RenderDiscs(61, 61, {10, 10, 10}, discs, 16));
+    const std::vector<render::Disc> discs = {{centre, radius, {240, 10, 10}}};
+    s.Process(render::RenderDiscs(61, 61, {10, 10, 10}, discs, 16));
     ASSERT_EQ(s.regions().size(), 1u);
     const Vec2 error = s.regions()[0].centroid_px - centre;
     for (int k = 0; k < 2; ++k) {
@@ -230,19 +231,19 @@ TEST(Segmenter, CentroidsOfRenderedDiscsAreSubPixelAccurate) {
 }
 
 TEST(Segmenter, ManyDiscsAllFoundInAreaOrder) {
-  std::vector<Disc> discs;
+  std::vector<render::Disc> discs;
   for (int i = 0; i < 12; ++i) {
     discs.push_back({Vec2(20 + 40 * (i % 4) + 0.25 * i, 20 + 40 * (i / 4) + 0.1 * i), 5.0 + i,
-                     i % 2 ? Rgb{10, 240, 10} : Rgb{240, 10, 10}});
+                     i % 2 ? render::Rgb{10, 240, 10} : render::Rgb{240, 10, 10}});
   }
   Segmenter s(RedGreen(), Keep(10));
-  s.Process(RenderDiscs(170, 130, {0, 0, 0}, discs));
+  s.Process(render::RenderDiscs(170, 130, {0, 0, 0}, discs));
   ASSERT_EQ(s.RegionsOf(0).size(), 6u);
   ASSERT_EQ(s.RegionsOf(1).size(), 6u);
   for (int c = 0; c < 2; ++c) {
     const auto regions = s.RegionsOf(c);
     for (size_t k = 0; k < regions.size(); ++k) {
-      const Disc& d =
+      const render::Disc& d =
           discs[static_cast<size_t>(10 + c - 2 * static_cast<int>(k))];  // largest first
       EXPECT_NEAR(regions[k].centroid_px.x(), d.centre.x(), 0.1);
       EXPECT_NEAR(regions[k].centroid_px.y(), d.centre.y(), 0.1);
@@ -274,11 +275,11 @@ namespace {
 // in 16-bit lanes, then a byte range test per class, the first-listed class winning): every pixel
 // must get the class ColorLut gives its exact BT.601 YUV value.
 TEST(Segmenter, RgbRowClassificationIsExactForYuvThresholds) {
-  const Thresholds t = ParseCmvisionColors(
+  const Thresholds t = formats::ParseCmvisionColors(
       "[Colors]\n(1,1,1) 0.5 1 a\n(1,1,1) 0.5 1 b\n(1,1,1) 0.5 1 c\n[Thresholds]\n"
       "(60:160, 60:115, 160:200)\n(100:255, 0:95, 135:175)\n(30:160, 150:255, 60:125)\n",
       "t.txt");
-  Image image = Image::Rgb(256, 256);
+  camera::Image image = camera::Image::Rgb(256, 256);
   std::mt19937 rng(3);
   for (uint8_t& v : image.data) v = static_cast<uint8_t>(rng());
   SegmenterOptions o;
@@ -290,7 +291,7 @@ TEST(Segmenter, RgbRowClassificationIsExactForYuvThresholds) {
     for (int x = 0; x < 256; ++x) {
       const uint8_t* p = image.Row(y) + 3 * x;
       int yy, uu, vv;
-      RgbToYuv(p[0], p[1], p[2], &yy, &uu, &vv);
+      camera::RgbToYuv(p[0], p[1], p[2], &yy, &uu, &vv);
       mismatches +=
           s.class_image()[static_cast<size_t>(y * 256 + x)] != s.lut().Classify(yy, uu, vv) + 1;
     }
@@ -305,8 +306,8 @@ TEST(Segmenter, RgbRowClassificationIsExactForEveryColour) {
   constexpr int kWidth = 4099, kHeight = ((1 << 24) + kWidth - 1) / kWidth;
   for (const char* file : {"ssl-2008.thresholds.toml", "vss.colors.txt"}) {
     const Thresholds t =
-        LoadThresholds(std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/" + file);
-    Image image = Image::Rgb(kWidth, kHeight);
+        formats::LoadThresholds(std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/" + file);
+    camera::Image image = camera::Image::Rgb(kWidth, kHeight);
     const int n = kWidth * kHeight;
     for (int i = 0; i < n; ++i) {
       const int c = i & 0xffffff;
@@ -323,7 +324,7 @@ TEST(Segmenter, RgbRowClassificationIsExactForEveryColour) {
     for (int i = 0; i < n; ++i) {
       const int c = i & 0xffffff;
       int yy, uu, vv;
-      RgbToYuv(c >> 16, (c >> 8) & 255, c & 255, &yy, &uu, &vv);
+      camera::RgbToYuv(c >> 16, (c >> 8) & 255, c & 255, &yy, &uu, &vv);
       mismatches += s.class_image()[static_cast<size_t>(i)] != s.lut().Classify(yy, uu, vv) + 1;
     }
     EXPECT_EQ(mismatches, 0) << file;
@@ -391,16 +392,16 @@ Thresholds RandomBoxes(ColorSpace space, int classes, std::mt19937& rng) {
 }
 
 // Pixel (x, y) of an RGB or UYVY frame in the colour space `space` (image.h's conversions).
-std::array<int, 3> PixelIn(const Image& image, int x, int y, ColorSpace space) {
+std::array<int, 3> PixelIn(const camera::Image& image, int x, int y, ColorSpace space) {
   int a, b, c;
-  if (image.format == PixelFormat::kUyvy) {
+  if (image.format == camera::PixelFormat::kUyvy) {
     const uint8_t* pair = image.Row(y) + 4 * (x / 2);
     a = pair[1 + 2 * (x % 2)], b = pair[0], c = pair[2];
-    if (space == ColorSpace::kRgb) YuvToRgb(a, b, c, &a, &b, &c);
+    if (space == ColorSpace::kRgb) camera::YuvToRgb(a, b, c, &a, &b, &c);
   } else {
     const uint8_t* p = image.Row(y) + 3 * x;
     a = p[0], b = p[1], c = p[2];
-    if (space == ColorSpace::kYuv) RgbToYuv(a, b, c, &a, &b, &c);
+    if (space == ColorSpace::kYuv) camera::RgbToYuv(a, b, c, &a, &b, &c);
   }
   return {a, b, c};
 }
@@ -414,7 +415,8 @@ TEST(Segmenter, ClassesAreColorLutsForEveryFormatSpaceAndClassCount) {
     for (const int classes : {1, 3, 8, 9, 12}) {
       const Thresholds t = RandomBoxes(space, classes, rng);
       for (const bool uyvy : {false, true}) {
-        Image image = uyvy ? ToUyvy(Image::Rgb(98, 37)) : Image::Rgb(98, 37);
+        camera::Image image =
+            uyvy ? camera::ToUyvy(camera::Image::Rgb(98, 37)) : camera::Image::Rgb(98, 37);
         for (uint8_t& v : image.data) v = static_cast<uint8_t>(rng());  // any U, Y, V too
         Segmenter s(t, Keep());
         s.Classify(image);
@@ -444,7 +446,7 @@ TEST(Segmenter, PortableRowConversionIsRgbToYuv) {
     internal::RgbRowToYuv(in.data(), n, o, o + n, o + 2 * n);
     for (int i = 0; i < n; ++i) {
       int y, u, v;
-      RgbToYuv(in[3 * i], in[3 * i + 1], in[3 * i + 2], &y, &u, &v);
+      camera::RgbToYuv(in[3 * i], in[3 * i + 1], in[3 * i + 2], &y, &u, &v);
       mismatches += (o[i] != y) + (o[n + i] != u) + (o[2 * n + i] != v);
     }
   };

@@ -45,11 +45,11 @@ struct Score {
 Score FitAndScore(const std::string& frame, const std::string& settings,
                   const std::string& calibration, const std::vector<ExpectedRobot>& expected) {
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
-  const Image image = ReadFrame(testing::SharedFrames() + "/" + frame);
-  const detect::DetectorConfig config = detect::LoadDetectorSettings(data + settings);
+  const camera::Image image = ReadFrame(testing::SharedFrames() + "/" + frame);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(data + settings);
   const AutoThresholdsFit fit =
       FitThresholdsAuto({&image}, config.palette, io::DefaultColourVocabulary(), {});
-  FrameDetector frames(fit.thresholds, LoadCalibration(data + calibration), config, {});
+  FrameDetector frames(fit.thresholds, formats::LoadCalibration(data + calibration), config, {});
   const FrameResult& result = frames.Detect(image, frame);
   const auto& palette = frames.detector().config().palette;
   std::vector<bool> used(result.detections.size(), false);

@@ -20,7 +20,7 @@ const std::string kData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/";
 // A carpet with square patches of three colours painted at known places: each class's cluster
 // is exactly its patches' pixels, its box holds its colour and not the carpet's.
 TEST(ThresholdsAuto, FindsCarpetAndPaintedPatchesExactly) {
-  Image image = Image::Rgb(120, 80);
+  camera::Image image = camera::Image::Rgb(120, 80);
   const auto paint = [&](int x0, int y0, int size, std::array<uint8_t, 3> rgb) {
     for (int y = y0; y < std::min(y0 + size, 80); ++y) {
       for (int x = x0; x < x0 + size; ++x) std::copy(rgb.begin(), rgb.end(), image.Row(y) + 3 * x);
@@ -43,7 +43,7 @@ TEST(ThresholdsAuto, FindsCarpetAndPaintedPatchesExactly) {
   const ColorLut lut(fit.thresholds);
   const auto classify = [&](int r, int g, int b) {
     int y, u, v;
-    RgbToYuv(r, g, b, &y, &u, &v);
+    camera::RgbToYuv(r, g, b, &y, &u, &v);
     return lut.Classify(y, u, v);
   };
   EXPECT_EQ(classify(35, 75, 210), 0);
@@ -60,7 +60,8 @@ TEST(ThresholdsAuto, FindsCarpetAndPaintedPatchesExactly) {
 // Labels seed their class: an amber patch labelled "yellow" (between the vocabulary's yellow and
 // orange) becomes yellow's cluster, with its labelled pixels counted, and yellow's box holds it.
 TEST(ThresholdsAuto, LabelledPixelsSeedTheirClass) {
-  Image image = Image::Rgb(200, 150);  // 0.4% of it (max_patch_fraction) is 120 px > 25
+  camera::Image image =
+      camera::Image::Rgb(200, 150);  // 0.4% of it (max_patch_fraction) is 120 px > 25
   for (int y = 0; y < 150; ++y) {
     for (int x = 0; x < 200; ++x) {
       const bool patch = x >= 20 && x < 25 && y >= 10 && y < 15;
@@ -80,12 +81,12 @@ TEST(ThresholdsAuto, LabelledPixelsSeedTheirClass) {
   EXPECT_EQ(fit.classes[1].pixels, 25);
   EXPECT_EQ(fit.classes[0].pixels, 0);
   int y, u, v;
-  RgbToYuv(240, 170, 30, &y, &u, &v);
+  camera::RgbToYuv(240, 170, 30, &y, &u, &v);
   EXPECT_EQ(ColorLut(fit.thresholds).Classify(y, u, v), 1);
 }
 
 TEST(ThresholdsAuto, BadInputIsAnInputError) {
-  const Image image = Image::Rgb(4, 4);
+  const camera::Image image = camera::Image::Rgb(4, 4);
   EXPECT_INPUT_ERROR(
       FitThresholdsAuto({&image}, {"blue", "pnik"}, io::DefaultColourVocabulary(), {}),
       "unknown colour 'pnik'; expected a colour of settings/colours.toml (did you mean 'pink'?)");
@@ -102,25 +103,29 @@ TEST(ThresholdsAuto, BadInputIsAnInputError) {
 // robot of another scene (other poses, IDs, ball place) with its team and ID at exposures 0.8
 // and 1.25 and another sensor seed.
 TEST(ThresholdsAuto, FittedOnOneFrameFindEveryRobotOfOtherFramesAndExposures) {
-  const SceneFile golden = LoadSceneFile(kData + "golden/ssl-frame.toml");
-  CameraSensorOptions sensor;
-  const Image fit_frame = RenderCameraFrame(golden.scene, golden.calibration.camera, sensor, 0);
+  const formats::SceneFile golden = formats::LoadSceneFile(kData + "golden/ssl-frame.toml");
+  render::CameraSensorOptions sensor;
+  const camera::Image fit_frame =
+      render::RenderCameraFrame(golden.scene, golden.calibration.camera, sensor, 0);
   const detect::DetectorConfig config =
-      detect::LoadDetectorSettings(kData + "golden/ssl-frame.detector.toml");
+      formats::LoadDetectorSettings(kData + "golden/ssl-frame.detector.toml");
   const AutoThresholdsFit fit =
       FitThresholdsAuto({&fit_frame}, config.palette, io::DefaultColourVocabulary(), {});
-  const SceneFile holdout = LoadSceneFile(kData + "vision/thresholds-holdout.scene.toml");
-  FrameDetector frames(fit.thresholds, LoadCalibration(kData + "golden/ssl-frame.calibration.toml"),
+  const formats::SceneFile holdout =
+      formats::LoadSceneFile(kData + "vision/thresholds-holdout.scene.toml");
+  FrameDetector frames(fit.thresholds,
+                       formats::LoadCalibration(kData + "golden/ssl-frame.calibration.toml"),
                        config, {});
   for (const double exposure : {0.8, 1.0, 1.25}) {
     sensor.exposure_gain = exposure;
     sensor.seed = 99;
-    const Image frame = RenderCameraFrame(holdout.scene, holdout.calibration.camera, sensor, 3);
+    const camera::Image frame =
+        render::RenderCameraFrame(holdout.scene, holdout.calibration.camera, sensor, 3);
     const FrameResult& result = frames.Detect(frame, "holdout");
     EXPECT_EQ(result.detections.size(), holdout.scene.robots.size()) << exposure << "\n"
                                                                      << AutoThresholdsReport(fit);
     const auto& palette = frames.detector().config().palette;
-    for (const RobotPlacement& robot : holdout.scene.robots) {
+    for (const render::RobotPlacement& robot : holdout.scene.robots) {
       const bool found = std::any_of(
           result.detections.begin(), result.detections.end(), [&](const detect::Detection& d) {
             return d.id == robot.id && palette[static_cast<size_t>(d.team_colour)] == robot.team;

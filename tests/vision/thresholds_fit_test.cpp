@@ -19,8 +19,8 @@
 namespace patlab::vision {
 namespace {
 
-Image Row(const std::vector<std::array<uint8_t, 3>>& pixels, int width, int height) {
-  Image image = Image::Rgb(width, height);
+camera::Image Row(const std::vector<std::array<uint8_t, 3>>& pixels, int width, int height) {
+  camera::Image image = camera::Image::Rgb(width, height);
   for (size_t i = 0; i < pixels.size(); ++i) {
     for (int ch = 0; ch < 3; ++ch) image.data[3 * i + ch] = pixels[i][ch];
   }
@@ -44,16 +44,16 @@ void ExpectRange(const ChannelRange& r, int lo, int hi) {
 // 4 x 2 pixels; class a: a rectangle of two pixels and a point; class b: a 2 x 2 rectangle. Bounds
 // by hand: a R 10..12, G 20..25, B 30..32; b R 50..205, G 0..50, B 0..50; margin 2, clamped.
 TEST(ThresholdsFit, BoundsAreTheSampleRangeWidenedByTheMargin) {
-  const Image image = Row({{10, 20, 30},
-                           {12, 22, 32},
-                           {200, 0, 0},
-                           {202, 4, 0},  // row 0
-                           {11, 25, 31},
-                           {0, 0, 0},
-                           {205, 1, 3},
-                           {50, 50, 50}},  // row 1
-                          4, 2);
-  const Labels labels = ParseLabels(
+  const camera::Image image = Row({{10, 20, 30},
+                                   {12, 22, 32},
+                                   {200, 0, 0},
+                                   {202, 4, 0},  // row 0
+                                   {11, 25, 31},
+                                   {0, 0, 0},
+                                   {205, 1, 3},
+                                   {50, 50, 50}},  // row 1
+                                  4, 2);
+  const Labels labels = formats::ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"a\"\nrects = [[0, 0, 1, 0]]\npoints = [[0, 1]]\n"
       "[[class]]\nname = \"b\"\nrects = [[2, 0, 3, 1]]\nmin_area_px = 3\n",
       "l.toml", "");
@@ -83,8 +83,9 @@ TEST(ThresholdsFit, BoundsAreTheSampleRangeWidenedByTheMargin) {
 // Percentiles by nearest rank: 5 values 10, 11, 12, 13, 100 -> p25 = v[floor(0.25*4)] = 11,
 // p75 = v[ceil(0.75*4)] = v[3] = 13, so the outlier 100 is left out.
 TEST(ThresholdsFit, PercentilesDropOutliers) {
-  const Image image = Row({{10, 0, 0}, {11, 0, 0}, {12, 0, 0}, {13, 0, 0}, {100, 0, 0}}, 5, 1);
-  const Labels labels = ParseLabels(
+  const camera::Image image =
+      Row({{10, 0, 0}, {11, 0, 0}, {12, 0, 0}, {13, 0, 0}, {100, 0, 0}}, 5, 1);
+  const Labels labels = formats::ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"a\"\nrects = [[0, 0, 4, 0]]\n", "l.toml", "");
   const ThresholdsFit fit =
       FitThresholds(image, LabelPixels(labels, 5, 1, nullptr), labels, RgbOptions(0, 25, 75));
@@ -95,8 +96,8 @@ TEST(ThresholdsFit, PercentilesDropOutliers) {
 // In YUV (BT.601 fixed point, image.h): red (255, 0, 0) -> (77, 85, 255) and blue (0, 0, 255) ->
 // (29, 255, 107), by hand from the formula; the box spans both.
 TEST(ThresholdsFit, YuvBoundsAreInTheLookupTablesSpace) {
-  const Image image = Row({{255, 0, 0}, {0, 0, 255}}, 2, 1);
-  const Labels labels = ParseLabels(
+  const camera::Image image = Row({{255, 0, 0}, {0, 0, 255}}, 2, 1);
+  const Labels labels = formats::ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"a\"\npoints = [[0, 0], [1, 0]]\n", "l.toml", "");
   ThresholdsFitOptions o;
   o.margin_levels = 0;
@@ -114,9 +115,9 @@ TEST(ThresholdsFit, YuvBoundsAreInTheLookupTablesSpace) {
 // a's. The lookup gives overlaps to the class listed first (a): a catches its 3 and b's 15, 18
 // and the unlabelled 17; b keeps only its 30.
 TEST(ThresholdsFit, OverlapsAndCatchesAreCounted) {
-  const Image image = Row(
+  const camera::Image image = Row(
       {{10, 0, 0}, {16, 0, 0}, {20, 0, 0}, {15, 0, 0}, {18, 0, 0}, {30, 0, 0}, {17, 0, 0}}, 7, 1);
-  const Labels labels = ParseLabels(
+  const Labels labels = formats::ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"a\"\nrects = [[0, 0, 2, 0]]\n"
       "[[class]]\nname = \"b\"\nrects = [[3, 0, 5, 0]]\n",
       "l.toml", "");
@@ -140,16 +141,16 @@ TEST(ThresholdsFit, OverlapsAndCatchesAreCounted) {
 }
 
 TEST(ThresholdsFit, MaskColoursLabelPixels) {
-  const Labels labels = ParseLabels(
+  const Labels labels = formats::ParseLabels(
       "image = \"x.png\"\nmask = \"m.png\"\n[[class]]\nname = \"a\"\nmask = [255, 0, 0]\n"
       "[[class]]\nname = \"b\"\nmask = [0, 0, 255]\n",
       "l.toml", "dir");
   EXPECT_EQ(labels.mask_path, "dir/m.png");
-  const Image mask = Row({{255, 0, 0}, {0, 0, 0}, {0, 0, 255}, {255, 0, 0}}, 2, 2);
+  const camera::Image mask = Row({{255, 0, 0}, {0, 0, 0}, {0, 0, 255}, {255, 0, 0}}, 2, 2);
   EXPECT_EQ(LabelPixels(labels, 2, 2, &mask), (std::vector<int>{0, -1, 1, 0}));
   EXPECT_INPUT_ERROR(LabelPixels(labels, 3, 2, &mask),
                      "l.toml:2: mask dir/m.png is 2x2; expected the image's size 3x2");
-  const Image no_blue = Row({{255, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, 2, 2);
+  const camera::Image no_blue = Row({{255, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, 2, 2);
   EXPECT_INPUT_ERROR(LabelPixels(labels, 2, 2, &no_blue),
                      "l.toml:6: class \"b\" labels no pixel (its mask colour is not in the mask, "
                      "or classes listed before it took its pixels); expected at least one sample "
@@ -167,7 +168,7 @@ TEST(ThresholdsFit, TomlRoundTrips) {
   t.classes.push_back(c);
   const std::string text = ThresholdsToml(t, "made by a test\nsecond line");
   EXPECT_EQ(text.substr(0, 31), "# made by a test\n# second line\n");
-  const Thresholds back = ParseThresholdsToml(text, "t.toml");
+  const Thresholds back = formats::ParseThresholdsToml(text, "t.toml");
   ASSERT_EQ(back.classes.size(), 1u);
   EXPECT_EQ(back.classes[0].name, "pink");
   EXPECT_EQ(back.classes[0].display_rgb, c.display_rgb);
@@ -176,45 +177,48 @@ TEST(ThresholdsFit, TomlRoundTrips) {
 }
 
 TEST(ThresholdsFit, LabelErrorsNameFileAndLine) {
-  const Labels labels = ParseLabels(
+  const Labels labels = formats::ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"blue\"\npoints = [[1, 1], [5, 2]]\n", "l.toml", "");
   EXPECT_INPUT_ERROR(LabelPixels(labels, 5, 3, nullptr),
                      "l.toml:4: point [5, 2] of class \"blue\" lies outside the 5x3 image; "
                      "expected 0 <= x < 5 and 0 <= y < 3");
-  const Labels rect = ParseLabels(
+  const Labels rect = formats::ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"blue\"\nrects = [\n  [0, 0, 1, 1],\n  [0, 0, 2, "
       "3],\n]\n",
       "l.toml", "");
   EXPECT_INPUT_ERROR(LabelPixels(rect, 5, 3, nullptr),
                      "l.toml:6: rectangle corner [2, 3] of class \"blue\" lies outside the 5x3 "
                      "image; expected 0 <= x < 5 and 0 <= y < 3");
-  EXPECT_INPUT_ERROR(ParseLabels("image = \"x.png\"\n[[class]]\nname = \"blue\"\n", "l.toml", ""),
-                     "l.toml:2: class \"blue\" has no samples; expected points, rects or a mask "
-                     "colour");
   EXPECT_INPUT_ERROR(
-      ParseLabels("image = \"x.png\"\n[[class]]\nname = \"b\"\nrects = [[3, 0, 1, 1]]\n", "l.toml",
-                  ""),
+      formats::ParseLabels("image = \"x.png\"\n[[class]]\nname = \"blue\"\n", "l.toml", ""),
+      "l.toml:2: class \"blue\" has no samples; expected points, rects or a mask "
+      "colour");
+  EXPECT_INPUT_ERROR(
+      formats::ParseLabels("image = \"x.png\"\n[[class]]\nname = \"b\"\nrects = [[3, 0, 1, 1]]\n",
+                           "l.toml", ""),
       "l.toml:4: rectangle [3, 0, 1, 1] in [[class]] 1 is empty; expected x0 <= x1 and y0 <= y1");
   EXPECT_INPUT_ERROR(
-      ParseLabels("image = \"x.png\"\n[[class]]\nname = \"b\"\npoints = [[3, 0, 1]]\n", "l.toml",
-                  ""),
+      formats::ParseLabels("image = \"x.png\"\n[[class]]\nname = \"b\"\npoints = [[3, 0, 1]]\n",
+                           "l.toml", ""),
       "l.toml:4: an item of points in [[class]] 1 is not [x, y]; expected [[x, y], ...] with "
       "integer pixel coordinates");
   EXPECT_INPUT_ERROR(
-      ParseLabels("image = \"x.png\"\n[[class]]\nname = \"b\"\nmask = [1, 2, 3]\n", "l.toml", ""),
+      formats::ParseLabels("image = \"x.png\"\n[[class]]\nname = \"b\"\nmask = [1, 2, 3]\n",
+                           "l.toml", ""),
       "l.toml:2: class \"b\" has a mask colour but the file names no mask; expected mask = "
       "\"FILE.png\"");
   EXPECT_INPUT_ERROR(
-      ParseLabels("image = \"x.png\"\n[[class]]\nname = \"b\"\npoint = [[1, 1]]\n", "l.toml", ""),
+      formats::ParseLabels("image = \"x.png\"\n[[class]]\nname = \"b\"\npoint = [[1, 1]]\n",
+                           "l.toml", ""),
       "l.toml:4: unknown key 'point' in [[class]] 1; expected one of: name, display, points, "
       "rects, mask, min_area_px, max_area_px");
-  EXPECT_INPUT_ERROR(ParseLabels("image = \"x.png\"\n", "l.toml", ""),
+  EXPECT_INPUT_ERROR(formats::ParseLabels("image = \"x.png\"\n", "l.toml", ""),
                      "l.toml: no classes; expected at least one [[class]] table");
   // "magenta" is pink (settings/colours.toml); "orange" is a colour but not of this palette.
-  const Labels magenta = ParseLabels(
+  const Labels magenta = formats::ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"magenta\"\npoints = [[1, 1]]\n", "l.toml", "");
   CheckClassesKnown(magenta, {"blue", "pink"});
-  const Labels orange = ParseLabels(
+  const Labels orange = formats::ParseLabels(
       "image = \"x.png\"\n[[class]]\nname = \"Orange\"\npoints = [[1, 1]]\n", "l.toml", "");
   EXPECT_INPUT_ERROR(CheckClassesKnown(orange, {"blue", "pink"}),
                      "l.toml:2: unknown class \"orange\"; expected one of the detector palette: "
@@ -239,8 +243,8 @@ namespace {
 const std::string kData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/";
 
 ThresholdsFit FitFile(const std::string& labels_path) {
-  const Labels labels = LoadLabels(labels_path);
-  const Image image = ReadFrame(labels.image_path);
+  const Labels labels = formats::LoadLabels(labels_path);
+  const camera::Image image = ReadFrame(labels.image_path);
   return FitThresholds(image, LabelPixels(labels, image.width_px, image.height_px, nullptr), labels,
                        ThresholdsFitOptions{});
 }
@@ -250,15 +254,17 @@ ThresholdsFit FitFile(const std::string& labels_path) {
 TEST(ThresholdsFit, GoldenFrameLabelsDetectEveryRobotOfAnotherFrame) {
   const ThresholdsFit fit = FitFile(kData + "vision/golden-frame.labels.toml");
   EXPECT_TRUE(fit.overlaps.empty());
-  const SceneFile holdout = LoadSceneFile(kData + "vision/thresholds-holdout.scene.toml");
-  const Image frame = RenderScene(holdout.scene, holdout.calibration.camera);
-  FrameDetector frames(fit.thresholds, LoadCalibration(kData + "golden/ssl-frame.calibration.toml"),
-                       detect::LoadDetectorSettings(kData + "golden/ssl-frame.detector.toml"), {});
+  const formats::SceneFile holdout =
+      formats::LoadSceneFile(kData + "vision/thresholds-holdout.scene.toml");
+  const camera::Image frame = render::RenderScene(holdout.scene, holdout.calibration.camera);
+  FrameDetector frames(fit.thresholds,
+                       formats::LoadCalibration(kData + "golden/ssl-frame.calibration.toml"),
+                       formats::LoadDetectorSettings(kData + "golden/ssl-frame.detector.toml"), {});
   EXPECT_TRUE(frames.warnings().empty());
   const FrameResult& result = frames.Detect(frame, "holdout");
   ASSERT_EQ(result.detections.size(), holdout.scene.robots.size());
   const auto& palette = frames.detector().config().palette;
-  for (const RobotPlacement& robot : holdout.scene.robots) {
+  for (const render::RobotPlacement& robot : holdout.scene.robots) {
     const auto it = std::find_if(
         result.detections.begin(), result.detections.end(), [&](const detect::Detection& d) {
           return d.id == robot.id && palette[static_cast<size_t>(d.team_colour)] == robot.team;
@@ -279,8 +285,9 @@ TEST(ThresholdsFit, RealSslFrameLabelsFindTheLabelledAndAHeldOutRobot) {
     GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   }
   const ThresholdsFit fit = FitFile(kData + "vision/ssl-2008.labels.toml");
-  FrameDetector frames(fit.thresholds, LoadCalibration(kData + "vision/ssl-2008.calibration.toml"),
-                       detect::LoadDetectorSettings(kData + "vision/ssl-2008.detector.toml"), {});
+  FrameDetector frames(fit.thresholds,
+                       formats::LoadCalibration(kData + "vision/ssl-2008.calibration.toml"),
+                       formats::LoadDetectorSettings(kData + "vision/ssl-2008.detector.toml"), {});
   const FrameResult& result = frames.DetectFile(testing::SharedFrames() + "/ssl-field-2008.jpg");
   std::vector<int> ids;
   for (const detect::Detection& d : result.detections) ids.push_back(d.id);

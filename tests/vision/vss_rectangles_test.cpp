@@ -24,7 +24,7 @@ const std::string kPatterns = std::string(PATLAB_SOURCE_DIR) + "/patterns/";
 
 struct VssFrame {
   detect::DetectorPattern pattern;
-  FieldScene scene;
+  render::FieldScene scene;
 };
 
 // Robots wearing the VSS two-rectangle pattern (IDs 0 and 1 of pink and green, both teams) at
@@ -32,8 +32,8 @@ struct VssFrame {
 VssFrame VssScene(const std::vector<Pose2>& poses) {
   VssFrame f;
   f.pattern =
-      detect::MakeDetectorPattern(io::LoadPatternFile(kPatterns + "vss-two-rectangles.toml"),
-                                  {"blue", "yellow"}, "", {"pink", "green"});
+      formats::MakeDetectorPattern(formats::LoadPatternFile(kPatterns + "vss-two-rectangles.toml"),
+                                   {"blue", "yellow"}, "", {"pink", "green"});
   f.scene.pattern = f.pattern.pattern;
   f.scene.codebook = f.pattern.codebook;
   f.scene.colours = {{"field", {40, 100, 50}},   {"body", {30, 30, 34}},   {"blue", {35, 75, 210}},
@@ -50,8 +50,9 @@ VssFrame VssScene(const std::vector<Pose2>& poses) {
   return f;
 }
 
-FrameDetector VssDetector(const detect::DetectorPattern& pattern, const Calibration& calibration) {
-  return FrameDetector(LoadThresholds(kGolden + "ssl-frame.thresholds.toml"), calibration,
+FrameDetector VssDetector(const detect::DetectorPattern& pattern,
+                          const camera::Calibration& calibration) {
+  return FrameDetector(formats::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"), calibration,
                        detect::MakeDetectorConfig({"blue", "yellow", "pink", "green", "orange"},
                                                   detect::DetectorOptions{}, {pattern}),
                        FrameDetectorOptions{});
@@ -60,16 +61,17 @@ FrameDetector VssDetector(const detect::DetectorPattern& pattern, const Calibrat
 TEST(VssRectangles, RenderedRobotsAreAllDetectedWithTheirPoses) {
   // The golden frame's camera (4 m up, tilted, k1 = -0.18, tops at 140 mm) and colours; the
   // pattern's ID colours pink and green give two IDs per team.
-  const Calibration calibration = LoadCalibration(kGolden + "ssl-frame.calibration.toml");
+  const camera::Calibration calibration =
+      formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml");
   std::vector<Pose2> poses;
   for (int i = 0; i < 6; ++i) {
     poses.push_back(
         Pose2{-1500.0 + 600.0 * i, (i % 2 == 0 ? 600.0 : -700.0) + 50.0 * i, -3.0 + 1.1 * i});
   }
   const VssFrame f = VssScene(poses);
-  const FieldScene& scene = f.scene;
+  const render::FieldScene& scene = f.scene;
   ASSERT_EQ(f.pattern.codebook.entries.size(), 2u);
-  const Image image = RenderScene(scene, calibration.camera);
+  const camera::Image image = render::RenderScene(scene, calibration.camera);
   FrameDetector detector = VssDetector(f.pattern, calibration);
   const FrameResult& result = detector.Detect(image, "vss");
   ASSERT_EQ(result.detections.size(), scene.robots.size());
@@ -81,7 +83,7 @@ TEST(VssRectangles, RenderedRobotsAreAllDetectedWithTheirPoses) {
   // heading comes from the two centroids 36 mm apart, each off by up to 1.2 mm across it:
   // 2.4 / 36 = 0.067 rad. Hence 1.5 mm and 0.07 rad (a first bound of 0.03 rad that left out
   // the pixel cut failed at 0.041 rad). A swapped key or a mirrored layout is off by far more.
-  for (const RobotPlacement& truth : scene.robots) {
+  for (const render::RobotPlacement& truth : scene.robots) {
     SCOPED_TRACE(truth.team + " " + std::to_string(truth.id));
     const detect::Detection* found = nullptr;
     for (const detect::Detection& d : result.detections) {
@@ -109,22 +111,23 @@ TEST(VssRectangles, RenderedRobotsAreAllDetectedWithTheirPoses) {
 // writes it): with it the tolerance is (4 + 64) * 15.14 = 1029 mm^2 and every robot is found;
 // with the residual ignored (no [[residual]] rows, as in an old file), none is.
 TEST(VssRectangles, ImperfectCalibrationWorksThroughItsRecordedResidual) {
-  const Calibration truth = LoadCalibration(kGolden + "ssl-frame.calibration.toml");
+  const camera::Calibration truth =
+      formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml");
   const std::vector<Pose2> poses = {Pose2{-300, 200, 0.4}, Pose2{250, -150, 2.0},
                                     Pose2{100, 400, -1.2}, Pose2{-200, -350, 3.0}};
   const VssFrame f = VssScene(poses);
-  const Image image = RenderScene(f.scene, truth.camera);
+  const camera::Image image = render::RenderScene(f.scene, truth.camera);
 
-  Calibration imperfect = truth;
-  PinholeCamera short_focal = truth.camera.pinhole();
+  camera::Calibration imperfect = truth;
+  camera::PinholeCamera short_focal = truth.camera.pinhole();
   short_focal.fx_px *= 0.7;
   short_focal.fy_px *= 0.7;
-  imperfect.camera = CameraModel::Pinhole(short_focal);
+  imperfect.camera = camera::CameraModel::Pinhole(short_focal);
   FrameDetector ignored = VssDetector(f.pattern, imperfect);
   EXPECT_EQ(ignored.detector().config().options.calibration_residual_mm, 0.0);
   EXPECT_TRUE(ignored.Detect(image, "imperfect").detections.empty());
 
-  imperfect.residuals = {PlaneResidual{140.0, 8.0, 8.0, true}};
+  imperfect.residuals = {camera::PlaneResidual{140.0, 8.0, 8.0, true}};
   FrameDetector with = VssDetector(f.pattern, imperfect);
   EXPECT_EQ(with.detector().config().options.calibration_residual_mm, 8.0);
   const FrameResult& result = with.Detect(image, "imperfect");

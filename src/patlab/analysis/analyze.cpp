@@ -9,7 +9,7 @@
 #include "patlab/core/format.h"
 #include "patlab/core/geometry.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 namespace {
 
@@ -29,7 +29,7 @@ struct SegmentFrame {
   double cos_h = 1.0, sin_h = 0.0;
 };
 
-void AppendRotated(const SegmentFrame& f, double ex, double ey, ErrorSegment* s) {
+void AppendRotated(const SegmentFrame& f, double ex, double ey, stats::ErrorSegment* s) {
   // The error in the frame rotated by the heading h: R(-h) (ex, ey).
   s->x.push_back(f.cos_h * ex + f.sin_h * ey);
   s->y.push_back(-f.sin_h * ex + f.cos_h * ey);
@@ -62,8 +62,8 @@ std::vector<double> Trend(std::span<const double> x, const AnalyzeOptions& o) {
 }
 
 // The residuals of samples [lo, hi) of a track (one gap-free segment), kept part only.
-ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int run,
-                              const AnalyzeOptions& o, int radius, SegmentFrame* f) {
+stats::ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int run,
+                                     const AnalyzeOptions& o, int radius, SegmentFrame* f) {
   const auto span = [&](const std::vector<double>& v) {
     return std::span<const double>(v.data() + lo, hi - lo);
   };
@@ -87,7 +87,7 @@ ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int 
     f->cos_h = std::cos(h);
     f->sin_h = std::sin(h);
   }
-  ErrorSegment s;
+  stats::ErrorSegment s;
   s.run = run;
   s.frame.reserve(f->end - f->begin);
   s.x.reserve(f->end - f->begin);
@@ -102,9 +102,9 @@ ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int 
 }
 
 // The true errors of the kept samples of a segment: sample - truth, rotated like the residuals.
-ErrorSegment SegmentTruth(const MeasuredTrack& t, const MeasuredTrack& truth, const SegmentFrame& f,
-                          int run) {
-  ErrorSegment s;
+stats::ErrorSegment SegmentTruth(const MeasuredTrack& t, const MeasuredTrack& truth,
+                                 const SegmentFrame& f, int run) {
+  stats::ErrorSegment s;
   s.run = run;
   for (size_t i = f.begin; i < f.end; ++i) {
     const auto it = std::lower_bound(truth.frame.begin(), truth.frame.end(), t.frame[i]);
@@ -203,7 +203,7 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
                          std::to_string(report.min_segment), " consecutive frames (longest: ",
                          std::to_string(longest), "); expected at least ", why));
   }
-  a.est = SummariseErrors(a.est_errors, report.options.lag, 2 * report.radius);
+  a.est = stats::SummariseErrors(a.est_errors, report.options.lag, 2 * report.radius);
   if (report.options.correct_bias) {
     for (stats::StdWithCi* s : {&a.est.x, &a.est.y, &a.est.x_iid, &a.est.y_iid}) {
       ScaleStd(s, report.residual_factor);
@@ -215,20 +215,20 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
   }
   if (truth) {
     a.has_truth = true;
-    a.truth = SummariseErrors(a.true_errors, report.options.lag);
+    a.truth = stats::SummariseErrors(a.true_errors, report.options.lag);
   }
   return a;
 }
 
 // A warning per std of the subject whose iid interval is off (IidIntervalWarning).
 void AddWarnings(const SubjectAnalysis& a, std::vector<std::string>* warnings) {
-  const auto add = [&](const char* which, const ErrorSummary& e) {
+  const auto add = [&](const char* which, const stats::ErrorSummary& e) {
     const std::pair<const char*, const stats::EffectiveSize*> axes[] = {
         {"x", &e.size_x}, {"y", &e.size_y}, {"theta", &e.size_theta}};
     for (const auto& [axis, size] : axes) {
       if (std::string(axis) == "theta" && !e.has_theta) continue;
-      const std::string w =
-          IidIntervalWarning(Cat("subject ", Quoted(a.subject), ", ", which, " ", axis), *size);
+      const std::string w = stats::IidIntervalWarning(
+          Cat("subject ", Quoted(a.subject), ", ", which, " ", axis), *size);
       if (!w.empty()) warnings->push_back(w);
     }
   };
@@ -305,15 +305,15 @@ AnalyzeReport Analyze(const std::vector<MeasuredTrack>& tracks, const AnalyzeOpt
     options.progress(static_cast<int>(report.subjects.size()), static_cast<int>(by_subject.size()));
   }
   std::vector<std::string> names;
-  std::vector<const std::vector<ErrorSegment>*> est, true_errors;
+  std::vector<const std::vector<stats::ErrorSegment>*> est, true_errors;
   for (const SubjectAnalysis& a : report.subjects) {
     names.push_back(a.subject);
     est.push_back(&a.est_errors);
     true_errors.push_back(&a.true_errors);
   }
-  report.tests = PairedAbsErrorTests("est", names, est);
+  report.tests = stats::PairedAbsErrorTests("est", names, est);
   if (truth) {
-    const std::vector<PairedTest> t = PairedAbsErrorTests("true", names, true_errors);
+    const std::vector<stats::PairedTest> t = stats::PairedAbsErrorTests("true", names, true_errors);
     report.tests.insert(report.tests.end(), t.begin(), t.end());
   }
   return report;
@@ -331,4 +331,4 @@ AnalyzeReport AnalyzeTracks(std::vector<MeasuredTrack>&& tracks, const AnalyzeOp
   return Analyze(tracks, options, truth, &tracks);
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

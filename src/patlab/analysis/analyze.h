@@ -30,7 +30,7 @@
 #include "patlab/stats/error_stats.h"
 #include "patlab/stats/smoothing.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 // Column names of a track CSV (header row, then one sample a row; docs/file-formats.md).
 struct TrackColumns {
@@ -97,23 +97,23 @@ void Validate(const AnalyzeOptions& options);
 
 struct SubjectAnalysis {
   std::string subject;
-  ErrorSummary est;  // smoothing residuals (bias-corrected with correct_bias)
+  stats::ErrorSummary est;  // smoothing residuals (bias-corrected with correct_bias)
   bool has_truth = false;
-  ErrorSummary truth;  // sample - truth over the same samples (with a truth file)
-  size_t samples = 0;  // read
-  int segments = 0;    // gap-free segments analysed
+  stats::ErrorSummary truth;  // sample - truth over the same samples (with a truth file)
+  size_t samples = 0;         // read
+  int segments = 0;           // gap-free segments analysed
   int skipped_segments = 0;
-  size_t skipped_samples = 0;                         // in the skipped segments
-  std::vector<ErrorSegment> est_errors, true_errors;  // sorted by run, then frame
+  size_t skipped_samples = 0;                                // in the skipped segments
+  std::vector<stats::ErrorSegment> est_errors, true_errors;  // sorted by run, then frame
 };
 
 struct AnalyzeReport {
   AnalyzeOptions options;
-  // One line per std whose iid interval is off (sim::IidIntervalWarning), for stderr.
+  // One line per std whose iid interval is off (stats::IidIntervalWarning), for stderr.
   std::vector<std::string> warnings;
   std::vector<std::string> runs;  // names; ErrorSegment::run indexes them
   std::vector<SubjectAnalysis> subjects;
-  std::vector<PairedTest> tests;  // "est" and, with a truth file, "true"
+  std::vector<stats::PairedTest> tests;  // "est" and, with a truth file, "true"
   int radius = 0;                // kernel radius: samples dropped per segment end (0 unless smooth)
   int min_segment = 0;           // smooth: 2 radius + 1; linear: 3; none: 2
   double residual_factor = 0.0;  // stats::ResidualStdFactor (smooth), 1 otherwise
@@ -144,4 +144,4 @@ void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
 std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::vector<std::string>& inputs,
                                 const std::vector<std::string>& outputs);
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -9,7 +9,7 @@
 #include "patlab/core/error.h"
 #include "patlab/io/csv.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 namespace {
 
@@ -240,4 +240,4 @@ std::vector<MeasuredTrack> ReadTrackCsv(const std::string& path, const TrackColu
   return records.Take();
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -7,7 +7,7 @@
 
 #include "patlab/core/error.h"
 
-namespace patlab::sim::detail {
+namespace patlab::analysis::detail {
 
 // Concatenation by append (GCC 12's -Wrestrict misfires on "literal" + std::string chains).
 template <typename... Parts>
@@ -20,4 +20,4 @@ std::string Cat(const Parts&... parts) {
 // A name or value in a message: quoted, escaped and cut to 60 bytes.
 inline std::string Quoted(std::string_view s) { return Cat("\"", EscapeForMessage(s, 60), "\""); }
 
-}  // namespace patlab::sim::detail
+}  // namespace patlab::analysis::detail

@@ -10,7 +10,7 @@
 #include "patlab/io/atomic_file.h"
 #include "patlab/io/csv.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 namespace {
 
@@ -29,7 +29,7 @@ nlohmann::json StdJson(const stats::StdWithCi& s, const stats::StdWithCi& iid,
           {"tau_lags", size.lags},  {"dof_effective", (static_cast<double>(s.n) - 1.0) / size.tau}};
 }
 
-nlohmann::json SummaryJson(const ErrorSummary& s) {
+nlohmann::json SummaryJson(const stats::ErrorSummary& s) {
   nlohmann::json j = {{"x", StdJson(s.x, s.x_iid, s.size_x)},
                       {"y", StdJson(s.y, s.y_iid, s.size_y)},
                       {"mean_x", s.mean_x},
@@ -63,8 +63,8 @@ std::string AnalyzeTableCsv(const AnalyzeReport& report) {
              Fixed(iid.lower, decimals), Fixed(iid.upper, decimals)});
   };
   for (const SubjectAnalysis& a : report.subjects) {
-    const ErrorSummary& e = a.est;
-    const ErrorSummary& t = a.truth;
+    const stats::ErrorSummary& e = a.est;
+    const stats::ErrorSummary& t = a.truth;
     const bool tt = a.has_truth && t.has_theta;
     w.Cell(a.subject);
     w.Cell(static_cast<int64_t>(e.x.n)).Cell(static_cast<int64_t>(a.samples));
@@ -103,8 +103,8 @@ class ErrorsWriter {
     used_ += text.size();
   }
   // One row: prefix, frame, the estimated errors and (when given) the true ones.
-  void Row(std::string_view prefix, int64_t frame, const ErrorSegment& est, size_t i,
-           const ErrorSegment* truth) {
+  void Row(std::string_view prefix, int64_t frame, const stats::ErrorSegment& est, size_t i,
+           const stats::ErrorSegment* truth) {
     Room(prefix.size() + kMaxNumbers);
     char* p = buffer_.data() + used_;
     std::memcpy(p, prefix.data(), prefix.size());
@@ -130,7 +130,7 @@ class ErrorsWriter {
     if (size > buffer_.size()) buffer_.resize(size);
   }
   // ",x,y,theta" of sample i with 4, 4 and 6 decimals, a cell empty when its column is absent.
-  static char* Errors(char* p, char* end, const ErrorSegment& e, size_t i) {
+  static char* Errors(char* p, char* end, const stats::ErrorSegment& e, size_t i) {
     for (const auto& [v, d] : {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
       *p++ = ',';
       if (!v->empty()) p = std::to_chars(p, end, (*v)[i], std::chars_format::fixed, d).ptr;
@@ -153,10 +153,10 @@ void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
   out.Text(truth ? ",true_x_mm,true_y_mm,true_theta_rad\n" : "\n");
   for (const SubjectAnalysis& a : report.subjects) {
     for (size_t g = 0; g < a.est_errors.size(); ++g) {
-      const ErrorSegment& e = a.est_errors[g];
+      const stats::ErrorSegment& e = a.est_errors[g];
       std::string prefix;  // the subject and run cells and the comma after them
       io::CsvWriter(&prefix).Cells({a.subject, report.runs[static_cast<size_t>(e.run)], ""});
-      const ErrorSegment* t = truth ? &a.true_errors[g] : nullptr;
+      const stats::ErrorSegment* t = truth ? &a.true_errors[g] : nullptr;
       for (size_t i = 0; i < e.frame.size(); ++i) out.Row(prefix, e.frame[i], e, i, t);
     }
   }
@@ -177,7 +177,7 @@ std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::vector<s
   j["version"] = PATLAB_VERSION;
   j["inputs"] = inputs;
   j["analysis"] = {{"detrend", NameOf(o.detrend, kDetrendNames)},
-                   {"std_interval_method", kStdIntervalMethod},
+                   {"std_interval_method", stats::kStdIntervalMethod},
                    {"smoothing_sigma_samples", o.smoothing.sigma_samples},
                    {"truncate_sigmas", o.smoothing.truncate_sigmas},
                    {"kernel_radius_samples", report.radius},
@@ -204,4 +204,4 @@ std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::vector<s
   return j.dump(2) + "\n";
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -15,7 +15,7 @@
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/segment.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 std::vector<OptionsProblem> Check(const CameraTrackOptions& o) {
   OptionsChecker check;
@@ -101,7 +101,7 @@ GroupError Summarise(const std::string& name, const GroupSums& g, bool with_thet
 // The window around the pattern's pixel footprint: the outline of its patches' bounding circle
 // (model radius + margin) mapped to pixels, grown by 8 px (blur, demosaicing), origin and width
 // even, clipped to the frame.
-vision::PixelWindow WindowAround(const vision::CameraModel& camera, double height_mm,
+render::PixelWindow WindowAround(const camera::CameraModel& camera, double height_mm,
                                  const Vec2& centre_mm, double radius_mm, int width, int height) {
   double lo_x = 1e300, lo_y = 1e300, hi_x = -1e300, hi_y = -1e300;
   for (int k = 0; k < 16; ++k) {
@@ -124,8 +124,8 @@ vision::PixelWindow WindowAround(const vision::CameraModel& camera, double heigh
 // Stage 2 of a frame: each true patch's measurement (the largest region of its class whose
 // centroid maps within a patch radius of the truth), its error added to its group and to `all`.
 // Returns whether every patch was found.
-bool MeasureFrame(const vision::Segmenter& segmenter, const vision::CameraModel& camera,
-                  double height_mm, const vision::PixelWindow& window, const Pattern& pattern,
+bool MeasureFrame(const vision::Segmenter& segmenter, const camera::CameraModel& camera,
+                  double height_mm, const render::PixelWindow& window, const Pattern& pattern,
                   const std::vector<int>& class_of, const Pose2& truth, std::vector<Vec2>* measured,
                   GroupSums* key, GroupSums* ids, GroupSums* all, long* missed) {
   bool complete = true;
@@ -161,12 +161,12 @@ bool MeasureFrame(const vision::Segmenter& segmenter, const vision::CameraModel&
 // the pattern plane); the robot's detection (status ok) nearest the truth is scored.
 class DetectStage {
  public:
-  DetectStage(const vision::FieldScene& scene, const vision::Thresholds& thresholds,
-              const vision::Calibration& calibration, const std::string& team)
+  DetectStage(const render::FieldScene& scene, const vision::Thresholds& thresholds,
+              const camera::Calibration& calibration, const std::string& team)
       : detector_(Config(scene, thresholds, calibration, team)) {}
 
-  void Score(const vision::Segmenter& segmenter, const vision::CameraModel& camera,
-             double height_mm, const vision::PixelWindow& window, int num_classes, int id,
+  void Score(const vision::Segmenter& segmenter, const camera::CameraModel& camera,
+             double height_mm, const render::PixelWindow& window, int num_classes, int id,
              const Pose2& truth, GroupSums* sums, CameraTrackResult* result) {
     blobs_.clear();
     const Vec2 origin(window.x0, window.y0);
@@ -198,9 +198,9 @@ class DetectStage {
  private:
   // The shipped detector options, adapted to the camera as patlab detect adapts them
   // (vision::AdaptToCamera: the calibration's residual, the segmentation's edge loss).
-  static detect::DetectorConfig Config(const vision::FieldScene& scene,
+  static detect::DetectorConfig Config(const render::FieldScene& scene,
                                        const vision::Thresholds& thresholds,
-                                       const vision::Calibration& calibration,
+                                       const camera::Calibration& calibration,
                                        const std::string& team) {
     detect::DetectorConfig config;
     for (const vision::ColorClass& c : thresholds.classes) config.palette.push_back(c.name);
@@ -215,22 +215,22 @@ class DetectStage {
 
 }  // namespace
 
-CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
-                                 const vision::Calibration& calibration,
+CameraTrackResult RunCameraTrack(const render::FieldScene& scene,
+                                 const camera::Calibration& calibration,
                                  const vision::Thresholds& thresholds, const std::string& team,
-                                 int id, const vision::CameraSensorOptions& sensor,
-                                 const vision::CameraJitter& jitter,
+                                 int id, const render::CameraSensorOptions& sensor,
+                                 const render::CameraJitter& jitter,
                                  const CameraTrackOptions& options) {
   Validate(options);
   const auto start = std::chrono::steady_clock::now();
-  vision::FieldScene s = scene;
+  render::FieldScene s = scene;
   s.options.width_px =
       calibration.image_width_px > 0 ? calibration.image_width_px : scene.options.width_px;
   s.options.height_px =
       calibration.image_height_px > 0 ? calibration.image_height_px : scene.options.height_px;
   const Pattern& pattern = s.pattern;
   const int n = pattern.size();
-  std::vector<std::string> names = vision::PatchColours(pattern, s.codebook, team, id);
+  std::vector<std::string> names = render::PatchColours(pattern, s.codebook, team, id);
   if (options.all_white) {
     for (const std::string& name : names) s.colours[name] = s.colours.at("white");
     for (std::string& name : names) name = "white";
@@ -247,7 +247,7 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
   for (const Patch& p : pattern.patches)
     extent_mm = std::max(extent_mm, p.position_mm.norm() + p.radius_mm);
   const double height_mm = s.options.robot_height_mm;
-  const vision::CameraModel& camera = calibration.camera;
+  const camera::CameraModel& camera = calibration.camera;
   const estimate::Model model = estimate::Model::FromPattern(pattern);
   vision::Segmenter segmenter(thresholds, vision::SegmenterOptions{});
 
@@ -265,11 +265,11 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
                         offset, heading};
       s.robots = {{team, id, truth}};
       const uint64_t frame = static_cast<uint64_t>(run) * options.frames + f;
-      const vision::PixelWindow window =
+      const render::PixelWindow window =
           WindowAround(camera, height_mm, Vec2(truth.x_mm, truth.y_mm), extent_mm + 10.0,
                        s.options.width_px, s.options.height_px);
-      const vision::Image image =
-          vision::RenderCameraWindow(s, camera, sensor, frame, window, jitter);
+      const camera::Image image =
+          render::RenderCameraWindow(s, camera, sensor, frame, window, jitter);
       segmenter.Process(image);
       const bool complete =
           MeasureFrame(segmenter, camera, height_mm, window, pattern, class_of, truth, &measured,
@@ -301,4 +301,4 @@ CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
   return result;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -32,7 +32,7 @@
 #include "patlab/render/scene_render.h"
 #include "patlab/vision/color_lut.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 inline constexpr uint32_t kCameraTrackStream = 0x63747263;  // "ctrc"
 
@@ -78,11 +78,11 @@ struct CameraTrackResult {
 // robot of team `team`, ID `id` rides the path); `calibration` the camera (pinhole, heights per
 // class); `thresholds` the colour classes, which must name the team colour, the codebook's ID
 // colours (or "white" when all_white).
-CameraTrackResult RunCameraTrack(const vision::FieldScene& scene,
-                                 const vision::Calibration& calibration,
+CameraTrackResult RunCameraTrack(const render::FieldScene& scene,
+                                 const camera::Calibration& calibration,
                                  const vision::Thresholds& thresholds, const std::string& team,
-                                 int id, const vision::CameraSensorOptions& sensor,
-                                 const vision::CameraJitter& jitter,
+                                 int id, const render::CameraSensorOptions& sensor,
+                                 const render::CameraJitter& jitter,
                                  const CameraTrackOptions& options);
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

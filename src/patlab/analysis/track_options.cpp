@@ -7,7 +7,7 @@
 
 #include "patlab/core/format.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 namespace {
 
@@ -185,4 +185,4 @@ double SubjectOffsetMm(const TrackOptions& o, int subject) {
   return (subject - 0.5 * (NumSubjects(o) - 1)) * o.spacing_mm;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

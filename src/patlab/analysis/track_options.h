@@ -9,7 +9,7 @@
 #include "patlab/core/options.h"
 #include "patlab/core/pattern.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 struct TrackCamera {
   double height_mm = 3000.0;  // camera centre above the floor (paper: 3 m). > plane height
@@ -99,4 +99,4 @@ double TravelMm(const TrackOptions& options);
 // Across-track offset of subject k on the platform (mm): centred, spacing_mm apart.
 double SubjectOffsetMm(const TrackOptions& options, int subject);
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

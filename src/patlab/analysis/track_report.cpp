@@ -11,16 +11,16 @@
 #include "patlab/io/csv.h"
 #include "patlab/stats/smoothing.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 namespace {
 
 // One subject's errors (estimated or true) as ErrorSegments, one per run, for error_stats.h.
-std::vector<ErrorSegment> Segments(const std::vector<SubjectRun>& runs, bool est) {
-  std::vector<ErrorSegment> segments(runs.size());
+std::vector<stats::ErrorSegment> Segments(const std::vector<SubjectRun>& runs, bool est) {
+  std::vector<stats::ErrorSegment> segments(runs.size());
   for (size_t run = 0; run < runs.size(); ++run) {
     const SubjectRun& r = runs[run];
-    ErrorSegment& s = segments[run];
+    stats::ErrorSegment& s = segments[run];
     s.run = static_cast<int>(run);
     s.frame.assign(r.sample.begin(), r.sample.end());
     s.x = est ? r.est_x_mm : r.true_x_mm;
@@ -43,8 +43,9 @@ TableRow MakeRow(const std::string& subject, const std::vector<SubjectRun>& runs
     throw InputError("subject " + row.subject + " was found in fewer than 2 frames; expected a " +
                      "patch the segmentation can see (check the levels and the noise)");
   }
-  const ErrorSummary est = SummariseErrors(Segments(runs, true), 1, 2 * smoothing_radius);
-  const ErrorSummary truth = SummariseErrors(Segments(runs, false));
+  const stats::ErrorSummary est =
+      stats::SummariseErrors(Segments(runs, true), 1, 2 * smoothing_radius);
+  const stats::ErrorSummary truth = stats::SummariseErrors(Segments(runs, false));
   row.est_x = est.x;
   row.est_y = est.y;
   row.true_x = truth.x;
@@ -143,11 +144,12 @@ std::vector<SizeTest> MakeSizeTests(const TrackResult& result) {
     if (s.ends_with("mm")) discs.push_back(s);
   }
   for (const bool est : {true, false}) {
-    std::vector<std::vector<ErrorSegment>> errors;
+    std::vector<std::vector<stats::ErrorSegment>> errors;
     for (size_t k = 0; k < discs.size(); ++k) errors.push_back(Segments(result.data[k], est));
-    std::vector<const std::vector<ErrorSegment>*> pointers;
+    std::vector<const std::vector<stats::ErrorSegment>*> pointers;
     for (const auto& e : errors) pointers.push_back(&e);
-    const std::vector<SizeTest> some = PairedAbsErrorTests(est ? "est" : "true", discs, pointers);
+    const std::vector<SizeTest> some =
+        stats::PairedAbsErrorTests(est ? "est" : "true", discs, pointers);
     tests.insert(tests.end(), some.begin(), some.end());
   }
   return tests;
@@ -185,7 +187,9 @@ std::string TableCsv(const std::vector<TableRow>& rows) {
   return csv;
 }
 
-std::string SizeTestsCsv(const std::vector<SizeTest>& tests) { return PairedTestsCsv(tests); }
+std::string SizeTestsCsv(const std::vector<SizeTest>& tests) {
+  return stats::PairedTestsCsv(tests);
+}
 
 std::string ErrorsCsv(const TrackOptions& options, const TrackResult& result, int decimate) {
   PATLAB_CHECK(decimate >= 1);
@@ -237,4 +241,4 @@ std::string TrackManifestJson(const TrackOptions& o, const TrackResult& result,
   return j.dump(2) + "\n";
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -11,7 +11,7 @@
 #include "patlab/stats/summary.h"
 #include "patlab/stats/wilcoxon.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 // Table I rows: per subject, std with 95% CI of the estimated and of the true error, per axis.
 struct TableRow {
@@ -33,7 +33,7 @@ std::vector<TableRow> MakeTable(const TrackResult& result);
 // Wilcoxon signed-rank tests between the disc diameters on paired |error| (same run, same frame),
 // per axis (x, y, and the combined |(x, y)|), for the estimated and the true errors
 // (error_stats.h, shared with `patlab analyze`).
-using SizeTest = PairedTest;
+using SizeTest = stats::PairedTest;
 std::vector<SizeTest> MakeSizeTests(const TrackResult& result);
 
 // Output files (CSV text).
@@ -49,4 +49,4 @@ std::string TrackManifestJson(const TrackOptions& options, const TrackResult& re
                               const std::vector<TableRow>& table,
                               const std::vector<std::string>& outputs);
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

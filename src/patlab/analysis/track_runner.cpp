@@ -19,21 +19,21 @@
 #include "patlab/stats/smoothing.h"
 #include "patlab/vision/segment.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 namespace {
 
 constexpr int kFramesPerBlock = 64;
 
-vision::CameraModel MakeCamera(const TrackOptions& o) {
-  vision::PinholeCamera p;
+camera::CameraModel MakeCamera(const TrackOptions& o) {
+  camera::PinholeCamera p;
   p.fx_px = p.fy_px = o.camera.focal_length_px;
   p.cx_px = 0.5 * (o.camera.image_width_px - 1);
   p.cy_px = 0.5 * (o.camera.image_height_px - 1);
   // Straight down: camera x = world x, camera y = -world y, camera z = -world z (+ height).
   p.rotation = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
   p.translation_mm = Eigen::Vector3d(0.0, 0.0, o.camera.height_mm);
-  return vision::CameraModel::Pinhole(p);
+  return camera::CameraModel::Pinhole(p);
 }
 
 vision::Thresholds PatchThresholds(const TrackOptions& o) {
@@ -56,7 +56,7 @@ estimate::Model PatternModel(const TrackOptions& o) {
 // What measuring one frame needs: the options, the camera, the frame's identity and its jitter.
 struct Frame {
   const TrackOptions* options;
-  const vision::CameraModel* camera;
+  const camera::CameraModel* camera;
   int run;
   int frame;
   Vec2 jitter_px;
@@ -72,7 +72,7 @@ Vec2 FrameJitter(const TrackOptions& o, int run, int frame) {
 
 // Adds the frame's Gaussian intensity noise to a window whose top-left pixel is (x0, y0) in the
 // frame: each pixel's noise comes from its frame coordinates, so overlapping windows agree.
-void AddPixelNoise(const Frame& f, int x0, int y0, vision::Image* image) {
+void AddPixelNoise(const Frame& f, int x0, int y0, camera::Image* image) {
   const TrackOptions& o = *f.options;
   const int width = o.camera.image_width_px;
   for (int j = 0; j < image->height_px; ++j) {
@@ -105,9 +105,9 @@ bool MeasureWindow(const Frame& f, const Vec2& centre_px, double radius_px,
                             std::max(0, height - side));
   const auto level = static_cast<uint8_t>(o.patch_level);
   const auto bg = static_cast<uint8_t>(o.background_level);
-  const vision::Disc disc{centre_px - Vec2(x0, y0), radius_px, {level, level, level}};
-  vision::Image image = vision::RenderDiscs(
-      side, side, {bg, bg, bg}, std::span<const vision::Disc>(&disc, 1), o.supersampling);
+  const render::Disc disc{centre_px - Vec2(x0, y0), radius_px, {level, level, level}};
+  camera::Image image = render::RenderDiscs(
+      side, side, {bg, bg, bg}, std::span<const render::Disc>(&disc, 1), o.supersampling);
   if (o.pixel_sigma > 0.0) AddPixelNoise(f, x0, y0, &image);
   segmenter->Process(image);
   const auto regions = segmenter->RegionsOf(0);
@@ -171,7 +171,7 @@ using RawSamples = std::vector<std::vector<std::vector<RawSample>>>;
 // Stage 1: every frame of every run, TBB over blocks of frames, each sample in its fixed slot.
 RawSamples MeasureAllFrames(const TrackOptions& o, const std::vector<RunSetup>& setups, int threads,
                             const std::function<void(int, int)>& progress) {
-  const vision::CameraModel camera = MakeCamera(o);
+  const camera::CameraModel camera = MakeCamera(o);
   const vision::Thresholds thresholds = PatchThresholds(o);
   const estimate::Model model = PatternModel(o);
   const int num_subjects = NumSubjects(o);
@@ -299,7 +299,7 @@ Vec2 ToTrackFrame(const Vec2& e, double heading_rad) {
 
 bool MeasureDisc(const TrackOptions& options, int run, int frame, const Vec2& world_mm,
                  double diameter_mm, Vec2* measured_mm) {
-  const vision::CameraModel camera = MakeCamera(options);
+  const camera::CameraModel camera = MakeCamera(options);
   vision::Segmenter segmenter(PatchThresholds(options), vision::SegmenterOptions{});
   const Frame f{&options, &camera, run, frame, FrameJitter(options, run, frame)};
   return MeasureWorldDisc(f, world_mm, 0.5 * diameter_mm, &segmenter, measured_mm);
@@ -307,7 +307,7 @@ bool MeasureDisc(const TrackOptions& options, int run, int frame, const Vec2& wo
 
 bool MeasureSubject(const TrackOptions& options, int run, int frame, int subject, Pose2* measured) {
   PATLAB_CHECK(subject >= 0 && subject < NumSubjects(options));
-  const vision::CameraModel camera = MakeCamera(options);
+  const camera::CameraModel camera = MakeCamera(options);
   vision::Segmenter segmenter(PatchThresholds(options), vision::SegmenterOptions{});
   const Frame f{&options, &camera, run, frame, FrameJitter(options, run, frame)};
   return MeasureSubjectInFrame(f, PatternModel(options),
@@ -366,4 +366,4 @@ TrackResult RunTrack(const TrackOptions& o, const TrackRunOptions& run_options) 
   return result;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

@@ -19,7 +19,7 @@
 #include "patlab/analysis/track_options.h"
 #include "patlab/core/geometry.h"
 
-namespace patlab::sim {
+namespace patlab::analysis {
 
 inline constexpr uint32_t kRunStream = 0x7472756e;     // "trun"
 inline constexpr uint32_t kJitterStream = 0x746a6974;  // "tjit"
@@ -93,4 +93,4 @@ struct TrackRunOptions {
 // Runs the whole experiment (TBB over blocks of frames, results in fixed slots). Validates first.
 TrackResult RunTrack(const TrackOptions& options, const TrackRunOptions& run_options = {});
 
-}  // namespace patlab::sim
+}  // namespace patlab::analysis

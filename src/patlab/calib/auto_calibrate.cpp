@@ -132,7 +132,7 @@ void RefineCamera(ScoredView& sv, const FieldMarks& marks, const LineDistance& d
   const double mm_per_px = height / sv.camera.fx_px;
   double steps[7] = {0.02, 0.02, 0.02, 6 * mm_per_px, 6 * mm_per_px, 0.03, 0.04};
   auto with = [&](int i, double d) {
-    vision::PinholeCamera c = sv.camera;
+    camera::PinholeCamera c = sv.camera;
     Eigen::Vector3d centre = -c.rotation.transpose() * c.translation_mm;
     if (i < 3) {
       // About the camera's own axes, orbiting the floor point the optical axis meets (a tilt
@@ -161,7 +161,7 @@ void RefineCamera(ScoredView& sv, const FieldMarks& marks, const LineDistance& d
       improved = false;
       for (int i = 0; i < 7; ++i) {
         for (double sign : {1.0, -1.0}) {
-          const vision::PinholeCamera c = with(i, sign * steps[i]);
+          const camera::PinholeCamera c = with(i, sign * steps[i]);
           const double score = CameraScore(c, marks, dt, tau);
           if (score > sv.score) sv.camera = c, sv.score = score, improved = true;
         }
@@ -211,9 +211,9 @@ double LineDistance::At(const Vec2& q) const {
   return d_[static_cast<size_t>(y) * w_ + x];
 }
 
-double CameraScore(const vision::PinholeCamera& camera, const FieldMarks& marks,
+double CameraScore(const camera::PinholeCamera& camera, const FieldMarks& marks,
                    const LineDistance& dt, double tau_px) {
-  const vision::CameraModel model = vision::CameraModel::Pinhole(camera);
+  const camera::CameraModel model = camera::CameraModel::Pinhole(camera);
   // Points about 3 px apart where the camera sees them: the step from the mm per px at the
   // image centre.
   const Vec2 c(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
@@ -223,8 +223,8 @@ double CameraScore(const vision::PinholeCamera& camera, const FieldMarks& marks,
       world, 3.0, dt, [&](const Vec2& p) { return model.WorldToPixel(p, 0.0); }, tau_px);
 }
 
-vision::PinholeCamera PinholeOf(const NadirView& v, int width, int height) {
-  vision::PinholeCamera cam;
+camera::PinholeCamera PinholeOf(const NadirView& v, int width, int height) {
+  camera::PinholeCamera cam;
   cam.fx_px = cam.fy_px = width;
   cam.cx_px = 0.5 * (width - 1);
   cam.cy_px = 0.5 * (height - 1);
@@ -255,8 +255,8 @@ vision::PinholeCamera PinholeOf(const NadirView& v, int width, int height) {
   return cam;
 }
 
-vision::PinholeCamera Turned(const vision::PinholeCamera& camera) {
-  vision::PinholeCamera out = camera;
+camera::PinholeCamera Turned(const camera::PinholeCamera& camera) {
+  camera::PinholeCamera out = camera;
   out.rotation = camera.rotation * Eigen::Vector3d(-1, -1, 1).asDiagonal();
   return out;
 }

@@ -95,7 +95,7 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
 
 // The distance (mm) from the back-projection of `pixel` through `camera` on the floor to the
 // observation's line or circle; NaN when the pixel does not map onto the floor.
-double FloorDistanceMm(const vision::PinholeCamera& camera, const Vec2& pixel,
+double FloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,
                        const LineObservation* line, const CircleObservation* circle);
 
 // The report: what was found, the symmetry, the held-out error, then FitReportText.

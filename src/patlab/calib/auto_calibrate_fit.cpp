@@ -27,10 +27,10 @@ struct Assigned {
 };
 
 // Each pixel to the nearest painted mark (on the floor) within gate_px and of its direction.
-Assigned Assign(const vision::PinholeCamera& camera, const std::vector<LinePixel>& pixels,
+Assigned Assign(const camera::PinholeCamera& camera, const std::vector<LinePixel>& pixels,
                 const Field& field, const FieldMarks& marks, double gate_px, int max_pixels,
                 const CalibrationInput& base) {
-  const vision::CameraModel model = vision::CameraModel::Pinhole(camera);
+  const camera::CameraModel model = camera::CameraModel::Pinhole(camera);
   const size_t n_marks = marks.segments.size() + marks.arcs.size();
   std::vector<std::vector<std::pair<double, Vec2>>> groups(n_marks);
   for (const LinePixel& p : pixels) {
@@ -133,9 +133,9 @@ CalibrationInput Fold(const Assigned& a, int fold) {
 }
 
 // FloorDistanceMm with a sign: left of the line's direction, or outside the circle, positive.
-double SignedFloorDistanceMm(const vision::PinholeCamera& camera, const Vec2& pixel,
+double SignedFloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,
                              const LineObservation* line, const CircleObservation* circle) {
-  const auto q = vision::CameraModel::Pinhole(camera).PixelToWorld(pixel, 0.0);
+  const auto q = camera::CameraModel::Pinhole(camera).PixelToWorld(pixel, 0.0);
   if (!q) return std::numeric_limits<double>::quiet_NaN();
   if (line != nullptr) {
     const Vec2 d = (line->to_mm - line->from_mm).normalized();
@@ -147,7 +147,7 @@ double SignedFloorDistanceMm(const vision::PinholeCamera& camera, const Vec2& pi
 
 }  // namespace
 
-double FloorDistanceMm(const vision::PinholeCamera& camera, const Vec2& pixel,
+double FloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,
                        const LineObservation* line, const CircleObservation* circle) {
   return std::abs(SignedFloorDistanceMm(camera, pixel, line, circle));
 }
@@ -189,7 +189,7 @@ struct FitContext {
 };
 
 // The fit at one gate; the focal length held when the free fit leaves the camera model's range.
-void FitAtGate(const FitContext& x, double gate, CalibrationInput& base, vision::PinholeCamera& cam,
+void FitAtGate(const FitContext& x, double gate, CalibrationInput& base, camera::PinholeCamera& cam,
                Candidate& c, std::vector<std::string>* notes) {
   c.assigned = Assign(cam, *x.pixels, *x.field, *x.marks, gate, x.options->max_fit_pixels, base);
   const std::string missing = WhatIsMissing(c.assigned.input);
@@ -200,7 +200,7 @@ void FitAtGate(const FitContext& x, double gate, CalibrationInput& base, vision:
   bool hold = false;
   try {
     c.fit = FitCamera(c.assigned.input);
-    hold = !vision::Check(c.fit.camera).empty();
+    hold = !camera::Check(c.fit.camera).empty();
   } catch (const InputError&) {
     if (!focal_free) throw;  // refused with the focal length held: nothing left to hold
     hold = true;             // refused as unphysical (FitCamera's UnphysicalFitReason)
@@ -218,12 +218,12 @@ void FitAtGate(const FitContext& x, double gate, CalibrationInput& base, vision:
   cam = c.fit.camera;
 }
 
-Candidate FitView(const FitContext& x, const vision::PinholeCamera& start, CalibrationInput& base,
+Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, CalibrationInput& base,
                   std::vector<std::string>* notes) {
   Candidate c;
-  vision::PinholeCamera cam = start;
+  camera::PinholeCamera cam = start;
   if (x.point_symmetric) {
-    const auto look = vision::CameraModel::Pinhole(cam).PixelToWorld(
+    const auto look = camera::CameraModel::Pinhole(cam).PixelToWorld(
         Vec2(0.5 * (x.width_px - 1), 0.5 * (x.height_px - 1)), 0.0);
     if (look && (look->x() < -1.0 || (std::abs(look->x()) <= 1.0 && look->y() < 0.0))) {
       cam = Turned(cam);
@@ -241,12 +241,12 @@ Candidate FitView(const FitContext& x, const vision::PinholeCamera& start, Calib
 
 // The largest floor distance (mm) between two cameras' maps over a 3 x 3 grid of the frame, the
 // second also turned by 180 deg when the field is point-symmetric (equivalents are equal).
-double FloorDifferenceMm(const vision::PinholeCamera& first, const vision::PinholeCamera& second,
+double FloorDifferenceMm(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
                          bool point_symmetric, int width_px, int height_px) {
-  const vision::CameraModel a = vision::CameraModel::Pinhole(first);
+  const camera::CameraModel a = camera::CameraModel::Pinhole(first);
   double differ = INFINITY;
   for (int turn = 0; turn < (point_symmetric ? 2 : 1); ++turn) {
-    const vision::CameraModel b = vision::CameraModel::Pinhole(turn == 0 ? second : Turned(second));
+    const camera::CameraModel b = camera::CameraModel::Pinhole(turn == 0 ? second : Turned(second));
     double d = 0.0;
     for (double fx : {0.25, 0.5, 0.75})
       for (double fy : {0.25, 0.5, 0.75}) {
@@ -265,7 +265,7 @@ void CheckDecided(const Candidate& best, const Candidate& second, bool point_sym
   if (!std::isfinite(second.score)) return;
   const double differ =
       FloorDifferenceMm(best.fit.camera, second.fit.camera, point_symmetric, width_px, height_px);
-  const vision::CameraModel a = vision::CameraModel::Pinhole(best.fit.camera);
+  const camera::CameraModel a = camera::CameraModel::Pinhole(best.fit.camera);
   const double mm_per_px = std::sqrt(a.AreaScale(Vec2(0.5 * width_px, 0.5 * height_px), 0.0));
   if (differ > 20.0 * mm_per_px && second.score > 0.9 * best.score) {
     throw InputError(source + ": the line pixels do not decide the camera: two cameras " +
@@ -293,7 +293,7 @@ struct HeldOutSums {
     within_dof += static_cast<int>(d.size()) - 1;
     run_sq += mean * mean, inverse_n += 1.0 / static_cast<double>(d.size()), ++runs;
   }
-  void AddMark(const vision::PinholeCamera& camera, const std::vector<Vec2>& pixels,
+  void AddMark(const camera::PinholeCamera& camera, const std::vector<Vec2>& pixels,
                const LineObservation* l, const CircleObservation* c) {
     std::vector<double> run;
     for (size_t i = 0; i < pixels.size(); ++i) {

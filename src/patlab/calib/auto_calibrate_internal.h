@@ -21,17 +21,17 @@ struct NadirView {
 };
 
 // The view as a pinhole camera of focal length `width` px.
-vision::PinholeCamera PinholeOf(const NadirView& v, int width, int height);
+camera::PinholeCamera PinholeOf(const NadirView& v, int width, int height);
 
 // The same camera turned by 180 deg about the field's vertical axis (x, y -> -x, -y).
-vision::PinholeCamera Turned(const vision::PinholeCamera& camera);
+camera::PinholeCamera Turned(const camera::PinholeCamera& camera);
 
 // The best nadir views of the line pixels, best first, with their scores (px); throws
 // InputError when none explains them.
 struct ScoredView {
   NadirView view;
   double score = 0.0;
-  vision::PinholeCamera camera;  // the view refined as a pinhole camera (tilt, distortion)
+  camera::PinholeCamera camera;  // the view refined as a pinhole camera (tilt, distortion)
 };
 std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int width, int height,
                                     const FieldMarks& marks, bool symmetric, int* hypotheses);
@@ -49,7 +49,7 @@ class LineDistance {
   int w_, h_;
   std::vector<float> d_;
 };
-double CameraScore(const vision::PinholeCamera& camera, const FieldMarks& marks,
+double CameraScore(const camera::PinholeCamera& camera, const FieldMarks& marks,
                    const LineDistance& distance, double tau_px = 6.0);
 
 bool PointSymmetric(const Field& field);

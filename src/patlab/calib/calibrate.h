@@ -93,7 +93,7 @@ struct FitOptions {
   int holdout_folds = 5;
   // A start camera of the caller's own (the automatic field calibration's, auto_calibrate.h):
   // when set, the fit starts from it alone and needs no known points.
-  std::optional<vision::PinholeCamera> start_camera;
+  std::optional<camera::PinholeCamera> start_camera;
 };
 
 struct CalibrationInput {
@@ -147,7 +147,7 @@ struct PlaneResiduals {
 inline constexpr int kCameraParameters = 12;
 
 struct CalibrationFit {
-  vision::PinholeCamera camera;
+  camera::PinholeCamera camera;
   Eigen::Vector3d rotation_rodrigues = Eigen::Vector3d::Zero();  // camera.rotation, as fitted
   std::array<double, 6> standard_error{};  // fx, fy, cx, cy, k1, k2 (0 when held fixed)
   // The covariance of the kCameraParameters camera numbers (row-major; rows and columns of held
@@ -166,7 +166,7 @@ struct CalibrationFit {
   // The calibration file's [[residual]] rows, which patlab detect adds to its blob noise: every
   // plane with observations (its measured rms_mm, worst_mm) and every height of [heights] without
   // (each pixel's reprojection error times the plane's mm per px at that pixel, measured = false).
-  std::vector<vision::PlaneResidual> file_residuals;  // by increasing height
+  std::vector<camera::PlaneResidual> file_residuals;  // by increasing height
   std::vector<ObservationResidual> residuals;
   int iterations = 0;
   double seconds = 0.0;

@@ -17,7 +17,7 @@ std::string Px(double v) { return FormatFixed(v, 0); }
 
 // The first camera number that is not finite, as "name = value", or "".
 std::string FirstNotFinite(const CalibrationFit& fit) {
-  const vision::PinholeCamera& c = fit.camera;
+  const camera::PinholeCamera& c = fit.camera;
   const std::pair<const char*, double> numbers[] = {{"fx", c.fx_px},
                                                     {"fy", c.fy_px},
                                                     {"cx", c.cx_px},
@@ -83,7 +83,7 @@ std::string UnphysicalFitReason(const CalibrationFit& fit, int image_width_px,
            " is not a finite number; expected observations a pinhole camera explains (check for "
            "mis-clicked pixels, or hold k1 and k2 with [fit] fix)";
   }
-  const vision::PinholeCamera& c = fit.camera;
+  const camera::PinholeCamera& c = fit.camera;
   const double w = image_width_px, h = image_height_px;
   // The largest normalised radius of the image: its farthest corner from the principal point.
   double image_r = 0.0;

@@ -22,15 +22,15 @@ namespace patlab::calib {
 
 namespace internal {
 
-vision::PinholeCamera CameraOf(const FitState& s) {
-  vision::PinholeCamera c;
+camera::PinholeCamera CameraOf(const FitState& s) {
+  camera::PinholeCamera c;
   c.fx_px = s.intrinsics[0];
   c.fy_px = s.intrinsics[0] * s.intrinsics[1];
   c.cx_px = s.intrinsics[2];
   c.cy_px = s.intrinsics[3];
   c.k1 = s.intrinsics[4];
   c.k2 = s.intrinsics[5];
-  c.rotation = vision::RotationFromRodrigues(Eigen::Vector3d(s.pose[0], s.pose[1], s.pose[2]));
+  c.rotation = camera::RotationFromRodrigues(Eigen::Vector3d(s.pose[0], s.pose[1], s.pose[2]));
   c.translation_mm = Eigen::Vector3d(s.pose[3], s.pose[4], s.pose[5]);
   return c;
 }

@@ -111,7 +111,7 @@ void FillHeldOut(const CalibrationInput& in, const std::vector<int>& fixed,
       ++failed;
       continue;
     }
-    const vision::CameraModel cam = vision::CameraModel::Pinhole(CameraOf(start));
+    const camera::CameraModel cam = camera::CameraModel::Pinhole(CameraOf(start));
     for (const HeldPixel& h : held) {
       const auto back = cam.PixelToWorld(h.pixel, h.height_mm);
       if (!back) {

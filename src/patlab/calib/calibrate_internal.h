@@ -25,7 +25,7 @@ struct FitState {
   std::vector<std::array<double, 3>> pattern_pose;
 };
 
-vision::PinholeCamera CameraOf(const FitState& s);
+camera::PinholeCamera CameraOf(const FitState& s);
 
 // The world point (x, y, height) that an observation's pixel `index` is fitted to.
 Vec2 LineTarget(const LineObservation& l, double t);

@@ -17,7 +17,7 @@ namespace {
 // Adds one pixel's residual: reprojection of the fitted target, and the observed pixel
 // back-projected onto the target's plane measured by `distance_mm` (NaN when it misses it).
 template <typename Distance>
-void AddResidual(const vision::CameraModel& cam, ObservationResidual r, const Vec2& pixel,
+void AddResidual(const camera::CameraModel& cam, ObservationResidual r, const Vec2& pixel,
                  const Vec2& target, Distance distance_mm, CalibrationFit& fit) {
   const auto projected = cam.WorldToPixel(target, r.height_mm);
   r.pixel = pixel;
@@ -50,7 +50,7 @@ void Summarise(CalibrationFit& fit) {
 }
 
 // The [[residual]] rows of the calibration file (CalibrationFit::file_residuals).
-void FileResiduals(const CalibrationInput& in, const vision::CameraModel& cam,
+void FileResiduals(const CalibrationInput& in, const camera::CameraModel& cam,
                    CalibrationFit& fit) {
   std::vector<double> heights = {in.default_height_mm};
   for (const auto& [name, h] : in.class_height_mm) heights.push_back(h);
@@ -60,7 +60,7 @@ void FileResiduals(const CalibrationInput& in, const vision::CameraModel& cam,
                             [](double a, double b) { return std::abs(a - b) <= 0.5; }),
                 heights.end());
   for (const double h : heights) {
-    vision::PlaneResidual row;
+    camera::PlaneResidual row;
     row.height_mm = h;
     const auto plane = std::find_if(fit.planes.begin(), fit.planes.end(), [&](const auto& p) {
       return std::abs(p.height_mm - h) <= 0.5;
@@ -86,7 +86,7 @@ void FileResiduals(const CalibrationInput& in, const vision::CameraModel& cam,
 }  // namespace
 
 void FillResiduals(const CalibrationInput& in, const FitState& s, CalibrationFit& fit) {
-  const vision::CameraModel cam = vision::CameraModel::Pinhole(CameraOf(s));
+  const camera::CameraModel cam = camera::CameraModel::Pinhole(CameraOf(s));
   for (const PointObservation& p : in.points) {
     AddResidual(
         cam, {"point", p.name, 0, p.loc, p.height_mm}, p.pixel, p.world_mm,
@@ -139,7 +139,7 @@ std::string Vector3(const Eigen::Vector3d& v) {
 }
 
 // The angle (deg) between the optical axis and straight down.
-double TiltDeg(const vision::PinholeCamera& c) {
+double TiltDeg(const camera::PinholeCamera& c) {
   const Eigen::Vector3d axis_world = c.rotation.transpose() * Eigen::Vector3d(0, 0, 1);
   return std::acos(std::clamp(-axis_world.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
@@ -167,7 +167,7 @@ std::string Parameter(const char* name, double value, double se) {
 }  // namespace
 
 std::string CalibrationFileText(const CalibrationInput& input, const CalibrationFit& fit) {
-  const vision::PinholeCamera& c = fit.camera;
+  const camera::PinholeCamera& c = fit.camera;
   std::string out =
       "# Fitted by `patlab calibrate " + input.loc.file +
       "` (patlab " PATLAB_VERSION "): " + std::to_string(fit.observations) + " pixels, RMS " +
@@ -198,7 +198,7 @@ std::string CalibrationFileText(const CalibrationInput& input, const Calibration
       "rms_mm\n"
       "# to its blob noise (docs/detect.md). measured = false: no observation on that plane, the\n"
       "# pixel residuals converted with the plane's mm per px.\n";
-  for (const vision::PlaneResidual& r : fit.file_residuals) {
+  for (const camera::PlaneResidual& r : fit.file_residuals) {
     out += "[[residual]]\nheight_mm = " + FormatRoundTrip(r.height_mm) +
            "\nrms_mm = " + FormatFixed(r.rms_mm, 3) + "\nworst_mm = " + FormatFixed(r.worst_mm, 3) +
            "\n";
@@ -208,7 +208,7 @@ std::string CalibrationFileText(const CalibrationInput& input, const Calibration
 }
 
 std::string FitReportText(const CalibrationInput& input, const CalibrationFit& fit) {
-  const vision::PinholeCamera& c = fit.camera;
+  const camera::PinholeCamera& c = fit.camera;
   std::string out = "calibration of " + input.loc.file + ": " + std::to_string(fit.observations) +
                     " pixels, " + std::to_string(fit.parameters) + " free parameters, " +
                     std::to_string(fit.iterations) + " iterations, " +

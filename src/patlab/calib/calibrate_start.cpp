@@ -186,7 +186,7 @@ void PoseFromHomography(const Eigen::Matrix3d& h, double f, const Vec2& c, doubl
 
 // Start values of the per-pixel and per-pattern unknowns from the start camera.
 void StartNuisance(const CalibrationInput& in, FitState& s, std::vector<std::string>& notes) {
-  const vision::CameraModel cam = vision::CameraModel::Pinhole(internal::CameraOf(s));
+  const camera::CameraModel cam = camera::CameraModel::Pinhole(internal::CameraOf(s));
   auto on_plane = [&](const Vec2& px, double h) { return cam.PixelToWorld(px, h); };
   for (const LineObservation& l : in.lines) {
     std::vector<double>& ts = s.line_t.emplace_back();
@@ -227,7 +227,7 @@ void StartNuisance(const CalibrationInput& in, FitState& s, std::vector<std::str
 // RMS reprojection error (px) of the known points on the start plane through the camera of `s`
 // (distortion ignored); infinite when a point is behind it.
 double PointsRms(const FitState& s, const std::vector<const PointObservation*>& pts) {
-  const vision::CameraModel cam = vision::CameraModel::Pinhole(internal::CameraOf(s));
+  const camera::CameraModel cam = camera::CameraModel::Pinhole(internal::CameraOf(s));
   double sum = 0.0;
   for (const auto* p : pts) {
     const auto px = cam.WorldToPixel(p->world_mm, p->height_mm);
@@ -247,7 +247,7 @@ double PointsRms(const FitState& s, const std::vector<const PointObservation*>& 
 std::vector<FitState> StartCandidates(const CalibrationInput& in) {
   const FitOptions& o = in.options;
   if (o.start_camera) {
-    const vision::PinholeCamera& cam = *o.start_camera;
+    const camera::PinholeCamera& cam = *o.start_camera;
     FitState s;
     s.intrinsics = {cam.fx_px, cam.fy_px / cam.fx_px, cam.cx_px, cam.cy_px, cam.k1, cam.k2};
     const Eigen::AngleAxisd aa(cam.rotation);

@@ -13,7 +13,7 @@ namespace {
 using Parameters = std::array<double, kCameraParameters>;
 
 Parameters ParametersOf(const CalibrationFit& fit) {
-  const vision::PinholeCamera& c = fit.camera;
+  const camera::PinholeCamera& c = fit.camera;
   const Eigen::Vector3d& r = fit.rotation_rodrigues;
   const Eigen::Vector3d& t = c.translation_mm;
   return {
@@ -25,7 +25,7 @@ std::optional<Vec2> MapAt(const Parameters& p, const Vec2& pixel, double height_
   internal::FitState s;
   std::copy(p.begin(), p.begin() + 6, s.intrinsics.begin());
   std::copy(p.begin() + 6, p.end(), s.pose.begin());
-  return vision::CameraModel::Pinhole(internal::CameraOf(s)).PixelToWorld(pixel, height_mm);
+  return camera::CameraModel::Pinhole(internal::CameraOf(s)).PixelToWorld(pixel, height_mm);
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 
-namespace patlab::vision {
+namespace patlab::camera {
 
 Eigen::Matrix3d RotationFromRodrigues(const Eigen::Vector3d& rodrigues) {
   const double angle = rodrigues.norm();
@@ -145,4 +145,4 @@ std::vector<OptionsProblem> Check(const PinholeCamera& c) {
   return check.Take();
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::camera

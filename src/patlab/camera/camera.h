@@ -19,7 +19,7 @@
 #include "patlab/core/geometry.h"
 #include "patlab/core/options.h"
 
-namespace patlab::vision {
+namespace patlab::camera {
 
 struct PinholeCamera {
   double fx_px = 1.0;  // focal length in pixels, > 0
@@ -111,4 +111,4 @@ struct Calibration {
 // Rodrigues vector (axis * angle, rad) -> rotation matrix.
 Eigen::Matrix3d RotationFromRodrigues(const Eigen::Vector3d& rodrigues);
 
-}  // namespace patlab::vision
+}  // namespace patlab::camera

@@ -2,7 +2,7 @@
 
 #include "patlab/core/error.h"
 
-namespace patlab::vision {
+namespace patlab::camera {
 
 Image ToRgb(const Image& image) {
   if (image.format == PixelFormat::kRgb8) return image;
@@ -69,4 +69,4 @@ Image ToUyvy(const Image& image) {
   return yuv;
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::camera

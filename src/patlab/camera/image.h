@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace patlab::vision {
+namespace patlab::camera {
 
 enum class PixelFormat {
   kRgb8,  // 3 bytes per pixel, R G B, rows packed (PNG, JPEG, PPM after decoding)
@@ -95,4 +95,4 @@ Image ToRgb(const ImageView& view);
 // Converts an RGB frame to UYVY (U and V averaged over each pixel pair); width must be even.
 Image ToUyvy(const Image& image);
 
-}  // namespace patlab::vision
+}  // namespace patlab::camera

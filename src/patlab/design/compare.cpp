@@ -16,7 +16,7 @@
 #include "patlab/stats/intervals.h"
 #include "patlab/stats/noncentral_chi2.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 namespace {
 
@@ -47,7 +47,8 @@ double DetectorChiSquared(const Pattern& pattern, double tolerance_mm) {
   options.patch_sigma_mm = 1.0;
   const detect::Detector detector(detect::MakeDetectorConfig(
       palette, options,
-      {detect::MakeDetectorPattern(pattern, {"blue"}, "", {kEvaluateIdColours[0]}, tolerance_mm)}));
+      {formats::MakeDetectorPattern(pattern, {"blue"}, "", {kEvaluateIdColours[0]},
+                                    tolerance_mm)}));
   return detector.ResidualTolerance(0);
 }
 
@@ -200,15 +201,15 @@ DesignGeometry ComputeDesignGeometry(const Pattern& pattern, const detect::Symme
 
 namespace {
 
-const EstimatorResult* FindEstimator(const EvaluationReport& r, estimate::Estimator est) {
-  for (const EstimatorResult& e : r.monte_carlo.points.at(0).estimators) {
+const sim::EstimatorResult* FindEstimator(const EvaluationReport& r, estimate::Estimator est) {
+  for (const sim::EstimatorResult& e : r.monte_carlo.points.at(0).estimators) {
     if (e.estimator == est) return &e;
   }
   return nullptr;
 }
 
-std::string Verdict(const EstimatorResult& ml) {
-  const Comparison& c = ml.vs_fast;
+std::string Verdict(const sim::EstimatorResult& ml) {
+  const sim::Comparison& c = ml.vs_fast;
   if (!c.computed) return "not computed";
   std::string differ;
   const std::pair<const char*, double> tests[] = {{"ks_x", c.ks_x.p_value},
@@ -226,8 +227,8 @@ std::string Verdict(const EstimatorResult& ml) {
 }
 
 // Part 2's cells: std / sigma with its 95% interval, per estimator.
-void MonteCarloCells(const EvaluationReport& r, const EstimatorResult& e, const std::string& name,
-                     std::vector<std::pair<std::string, double>>* c) {
+void MonteCarloCells(const EvaluationReport& r, const sim::EstimatorResult& e,
+                     const std::string& name, std::vector<std::pair<std::string, double>>* c) {
   const double sigma = r.options.sigma_mm;
   c->push_back({name + "_pos_per_mm", e.position_std_mm / sigma});
   c->push_back({name + "_pos_per_mm_lo", e.position_std_lower_mm / sigma});
@@ -247,8 +248,8 @@ void RateCells(const std::string& name, const stats::Proportion* p,
 // Every cell of a row: the rankable columns of CompareColumns and, after each, its interval.
 void FillCells(CompareRow* row) {
   const EvaluationReport& r = row->report;
-  const EstimatorResult* fast = FindEstimator(r, estimate::Estimator::kFast);
-  const EstimatorResult* ml = FindEstimator(r, estimate::Estimator::kMl);
+  const sim::EstimatorResult* fast = FindEstimator(r, estimate::Estimator::kFast);
+  const sim::EstimatorResult* ml = FindEstimator(r, estimate::Estimator::kMl);
   PATLAB_CHECK(fast != nullptr && ml != nullptr);
   auto& c = row->cells;
   const DesignGeometry& g = row->geometry;
@@ -259,8 +260,8 @@ void FillCells(CompareRow* row) {
        {"crlb_theta_mrad_per_mm", 1e3 * r.crlb.theta}};
   MonteCarloCells(r, *fast, "fast", &c);
   MonteCarloCells(r, *ml, "ml", &c);
-  c.push_back({"fast_eff_pos", Efficiency(fast->crlb_position_mm, fast->position_std_mm)});
-  c.push_back({"fast_eff_theta", Efficiency(fast->crlb_theta_rad, fast->theta.std)});
+  c.push_back({"fast_eff_pos", sim::Efficiency(fast->crlb_position_mm, fast->position_std_mm)});
+  c.push_back({"fast_eff_theta", sim::Efficiency(fast->crlb_theta_rad, fast->theta.std)});
   for (const auto& [n, ids] : r.ids.counts) c.push_back({IdsColumn(n), static_cast<double>(ids)});
   c.push_back({"rotation_sigma0_mm", g.rotation_sigma0_mm});
   c.push_back({"rotation_onset_mm", g.rotation_onset_mm});
@@ -268,7 +269,7 @@ void FillCells(CompareRow* row) {
   c.push_back({"codebook_ids", m.ids});
   for (size_t k = 0; k < r.options.sigmas_mm.size(); ++k) {
     const double s = r.options.sigmas_mm[k];
-    const DetectPointResult* d = m.run ? &m.result.points.at(k) : nullptr;
+    const sim::DetectPointResult* d = m.run ? &m.result.points.at(k) : nullptr;
     RateCells(DetectionColumn(s), d ? &d->detection : nullptr, &c);
     RateCells(WrongIdColumn(s), d ? &d->wrong_id_rate : nullptr, &c);
     RateCells(AmbiguousColumn(s), d ? &d->ambiguous_rate : nullptr, &c);
@@ -276,7 +277,7 @@ void FillCells(CompareRow* row) {
         d ? stats::WilsonInterval(d->wrong_id + d->ambiguous, d->robots) : stats::Proportion{};
     RateCells(RotationErrorsColumn(s), d ? &errors : nullptr, &c);
   }
-  const Comparison& vs = ml->vs_fast;
+  const sim::Comparison& vs = ml->vs_fast;
   c.push_back({"ks_x_p", vs.computed ? vs.ks_x.p_value : kNan});
   c.push_back({"ks_y_p", vs.computed ? vs.ks_y.p_value : kNan});
   c.push_back({"ks_theta_p", vs.computed ? vs.ks_theta.p_value : kNan});
@@ -492,4 +493,4 @@ std::string CompareJson(const CompareResult& result) {
   return j.dump(2) + "\n";
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -14,7 +14,7 @@
 #include "patlab/core/pattern.h"
 #include "patlab/design/evaluate.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 struct CompareOptions {
   EvaluateOptions evaluate;  // the work per design (parts 1-4 of patlab evaluate)
@@ -106,4 +106,4 @@ std::string CompareText(const CompareResult& result);
 std::string CompareCsv(const CompareResult& result);
 std::string CompareJson(const CompareResult& result);
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -18,7 +18,7 @@
 #include "patlab/estimate/estimators.h"
 #include "patlab/io/csv.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 using internal::EvaluateLayout;
 using internal::IdRadius;
@@ -376,4 +376,4 @@ DesignResult RunDesign(const DesignOptions& options) {
   return r;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -29,7 +29,7 @@
 #include "patlab/core/options.h"
 #include "patlab/core/pattern.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 // What the search minimises (the other criteria enter as constraints).
 enum class DesignObjective {
@@ -171,4 +171,4 @@ std::string DesignPatternFileText(const DesignResult& result);
 // The report for people: options, the design's metrics, every start's outcome and the speed.
 std::string DesignReportText(const DesignResult& result);
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -10,7 +10,7 @@
 #include "patlab/design/design_internal.h"
 #include "patlab/detect/codebook.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 using internal::IdRadius;
 using internal::InnerRadius;
@@ -119,4 +119,4 @@ std::vector<OptionsProblem> Check(const DesignOptions& o) {
 
 void Validate(const DesignOptions& options) { ThrowFirstProblem(Check(options)); }
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -9,7 +9,7 @@
 #include "patlab/design/design.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 namespace {
 
@@ -107,4 +107,4 @@ DesignOptions LoadDesignConstraints(const std::string& path, DesignOptions defau
                                 std::move(defaults));
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

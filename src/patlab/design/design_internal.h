@@ -13,7 +13,7 @@
 #include "patlab/core/pattern.h"
 #include "patlab/design/design.h"
 
-namespace patlab::sim::internal {
+namespace patlab::design::internal {
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 // The geometric constraints hold to within the precision of the file, 1e-3 mm: the layout is
@@ -66,4 +66,4 @@ struct LayoutEvaluation {
 // (design_metrics.cpp).
 LayoutEvaluation EvaluateLayout(const Pattern& pattern, const DesignOptions& o, double chi2);
 
-}  // namespace patlab::sim::internal
+}  // namespace patlab::design::internal

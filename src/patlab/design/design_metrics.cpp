@@ -13,7 +13,7 @@
 #include "patlab/estimate/bounds.h"
 #include "patlab/estimate/estimators.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 using internal::EvaluateLayout;
 using internal::kGeometryToleranceMm;
@@ -159,4 +159,4 @@ DesignMetrics EvaluateDesign(const Pattern& pattern, const DesignOptions& option
       .metrics;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -8,7 +8,7 @@
 #include "patlab/design/design.h"
 #include "patlab/design/design_internal.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 using internal::Mm;
 using internal::RequiredIds;
@@ -110,4 +110,4 @@ std::string DesignReportText(const DesignResult& r) {
   return out;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

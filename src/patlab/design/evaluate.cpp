@@ -10,7 +10,7 @@
 #include "patlab/formats/detector_settings.h"
 #include "patlab/sim/runner.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 namespace {
 
@@ -60,13 +60,14 @@ detect::DetectorOptions MisidentificationDetectorOptions(const Pattern& pattern)
   return options;
 }
 
-Experiment MisidentificationExperiment(const Pattern& pattern, const std::string& file,
-                                       const EvaluateOptions& o,
-                                       const std::vector<std::string>& key_colours,
-                                       const detect::DetectorPattern& dp, int robots_per_team) {
-  Experiment e;
+sim::Experiment MisidentificationExperiment(const Pattern& pattern, const std::string& file,
+                                            const EvaluateOptions& o,
+                                            const std::vector<std::string>& key_colours,
+                                            const detect::DetectorPattern& dp,
+                                            int robots_per_team) {
+  sim::Experiment e;
   e.name = "evaluate-" + pattern.name;
-  e.correspondence = Correspondence::kDetect;
+  e.correspondence = sim::Correspondence::kDetect;
   e.patterns = {pattern};
   e.pattern_files = {file};
   e.sigmas_mm = o.sigmas_mm;
@@ -96,7 +97,7 @@ Misidentification EvaluateMisidentification(const Pattern& pattern, const std::s
   if (!key.colour.empty()) key_colours = {key.colour};
 
   const detect::DetectorPattern dp =
-      detect::MakeDetectorPattern(pattern, key_colours, shipped, id_colours, o.tolerance_mm);
+      formats::MakeDetectorPattern(pattern, key_colours, shipped, id_colours, o.tolerance_mm);
   part.codebook = shipped.empty() ? "generated" : shipped;
   part.id_colours = dp.codebook.colours;
   part.ids = static_cast<int>(dp.codebook.entries.size());
@@ -108,22 +109,23 @@ Misidentification EvaluateMisidentification(const Pattern& pattern, const std::s
   }
   const int robots_per_team = std::min(kMaxRobotsPerTeam, part.ids);
   part.robots_per_frame = robots_per_team * static_cast<int>(key_colours.size());
-  const Experiment e =
+  const sim::Experiment e =
       MisidentificationExperiment(pattern, file, o, key_colours, dp, robots_per_team);
   Validate(e);
-  RunOptions run;
+  sim::RunOptions run;
   run.threads = o.threads;
   if (o.progress) {
     run.progress = [&o](int done, int total) { o.progress(1 + done, 1 + total); };
   }
-  part.result = RunDetectExperiment(e, run);
+  part.result = sim::RunDetectExperiment(e, run);
   part.run = true;
   return part;
 }
 
 // Part 2: one known-correspondence point at sigma, every estimator.
-RunResult MonteCarlo(const Pattern& pattern, const std::string& file, const EvaluateOptions& o) {
-  Experiment e;
+sim::RunResult MonteCarlo(const Pattern& pattern, const std::string& file,
+                          const EvaluateOptions& o) {
+  sim::Experiment e;
   e.name = "evaluate-" + pattern.name;
   e.patterns = {pattern};
   e.pattern_files = {file};
@@ -132,11 +134,11 @@ RunResult MonteCarlo(const Pattern& pattern, const std::string& file, const Eval
   e.trials = o.trials;
   e.seed = o.seed;
   Validate(e);
-  RunOptions run;
+  sim::RunOptions run;
   run.threads = o.threads;
   const int units = 1 + static_cast<int>(o.sigmas_mm.size());
   if (o.progress) run.progress = [&o, units](int done, int) { o.progress(done, units); };
-  return RunExperiment(e, run);
+  return sim::RunExperiment(e, run);
 }
 
 }  // namespace
@@ -146,13 +148,13 @@ std::vector<OptionsProblem> Check(const EvaluateOptions& o) {
   check.Require("--sigma", o.sigma_mm,
                 std::isfinite(o.sigma_mm) && o.sigma_mm > 0.0 && o.sigma_mm <= 1e6,
                 "a patch std in mm > 0");
-  CheckTrials(o.trials, "--trials", &check);
+  sim::CheckTrials(o.trials, "--trials", &check);
   if (o.id_colours) {
     check.IntegerInRange("--id-colors", *o.id_colours, 1,
                          static_cast<int64_t>(kEvaluateIdColours.size()));
   }
-  CheckFrames(o.frames, "--frames", &check);
-  CheckSigmas(o.sigmas_mm, "--sigmas", &check);
+  sim::CheckFrames(o.frames, "--frames", &check);
+  sim::CheckSigmas(o.sigmas_mm, "--sigmas", &check);
   check.Require("--threads", o.threads, o.threads >= 0 && o.threads <= sim::kMaxThreads,
                 "0 (all cores) to " + std::to_string(sim::kMaxThreads));
   return check.Take();
@@ -205,21 +207,21 @@ std::string GeometryText(const EvaluationReport& r) {
     out += StringPrintf(
         "   %-9s  %-14.4f  %-7.4f  %-10.3f  %-13.3f  %-7.3f  %.3f\n", NameOf(g.estimator).c_str(),
         g.predicted.position_per_axis, crlb.position_per_axis,
-        Efficiency(crlb.position_per_axis, g.predicted.position_per_axis), 1e3 * g.predicted.theta,
-        1e3 * crlb.theta, Efficiency(crlb.theta, g.predicted.theta));
+        sim::Efficiency(crlb.position_per_axis, g.predicted.position_per_axis),
+        1e3 * g.predicted.theta, 1e3 * crlb.theta, sim::Efficiency(crlb.theta, g.predicted.theta));
   }
   return out;
 }
 
 std::string MonteCarloText(const EvaluationReport& r) {
-  const PointResult& point = r.monte_carlo.points.at(0);
+  const sim::PointResult& point = r.monte_carlo.points.at(0);
   std::string out = "\n2. Accuracy by Monte-Carlo at sigma = " + FormatNumber(r.options.sigma_mm) +
                     " mm (" + std::to_string(point.trials) + " trials, random poses, seed " +
                     std::to_string(r.options.seed) + ")\n";
   out +=
       "   estimator  position std mm [95% CI]   predicted  angle std mrad [95% CI]    "
       "predicted\n";
-  for (const EstimatorResult& er : point.estimators) {
+  for (const sim::EstimatorResult& er : point.estimators) {
     const std::string position = StringPrintf("%.4f [%.4f, %.4f]", er.position_std_mm,
                                               er.position_std_lower_mm, er.position_std_upper_mm);
     const std::string angle = StringPrintf("%.3f [%.3f, %.3f]", 1e3 * er.theta.std,
@@ -266,7 +268,7 @@ std::string MisidentificationText(const EvaluationReport& r) {
          std::to_string(m.robots_per_frame) + " robots per frame; detector patch_sigma_mm = max(" +
          FormatNumber(detect::DetectorOptions{}.patch_sigma_mm) + ", sigma)\n";
   out += "   sigma mm  detection [95%]           wrong ID [95%]            ambiguous [95%]\n";
-  for (const DetectPointResult& d : m.result.points) {
+  for (const sim::DetectPointResult& d : m.result.points) {
     out += StringPrintf("   %-8s  %-24s  %-24s  %s\n", FormatNumber(d.sigma_mm).c_str(),
                         Rate(d.detection).c_str(), Rate(d.wrong_id_rate).c_str(),
                         Rate(d.ambiguous_rate).c_str());
@@ -310,16 +312,16 @@ json GeometryJson(const EvaluationReport& r) {
          {"predicted_position_mm_per_mm", g.predicted.position_per_axis},
          {"predicted_theta_rad_per_mm", g.predicted.theta},
          {"efficiency_position",
-          Efficiency(r.crlb.position_per_axis, g.predicted.position_per_axis)},
-         {"efficiency_theta", Efficiency(r.crlb.theta, g.predicted.theta)}});
+          sim::Efficiency(r.crlb.position_per_axis, g.predicted.position_per_axis)},
+         {"efficiency_theta", sim::Efficiency(r.crlb.theta, g.predicted.theta)}});
   }
   return geometry;
 }
 
 json MonteCarloJson(const EvaluationReport& r) {
-  const PointResult& point = r.monte_carlo.points.at(0);
+  const sim::PointResult& point = r.monte_carlo.points.at(0);
   json mc = {{"sigma_mm", r.options.sigma_mm}, {"trials", point.trials}, {"seed", r.options.seed}};
-  for (const EstimatorResult& er : point.estimators) {
+  for (const sim::EstimatorResult& er : point.estimators) {
     mc["estimators"].push_back(
         {{"estimator", NameOf(er.estimator)},
          {"std_position_mm", er.position_std_mm},
@@ -332,8 +334,8 @@ json MonteCarloJson(const EvaluationReport& r) {
          {"predicted_theta_rad", er.predicted_theta_rad},
          {"crlb_position_mm", er.crlb_position_mm},
          {"crlb_theta_rad", er.crlb_theta_rad},
-         {"efficiency_position", Efficiency(er.crlb_position_mm, er.position_std_mm)},
-         {"efficiency_theta", Efficiency(er.crlb_theta_rad, er.theta.std)},
+         {"efficiency_position", sim::Efficiency(er.crlb_position_mm, er.position_std_mm)},
+         {"efficiency_theta", sim::Efficiency(er.crlb_theta_rad, er.theta.std)},
          {"ml_nonconverged", er.nonconverged}});
   }
   return mc;
@@ -372,7 +374,7 @@ json MisidentificationJson(const EvaluationReport& r) {
               {"robots_per_frame", m.robots_per_frame},
               {"points", json::array()}};
   if (!m.run) mis["skipped_reason"] = m.skipped_reason;
-  for (const DetectPointResult& d : m.result.points) {
+  for (const sim::DetectPointResult& d : m.result.points) {
     mis["points"].push_back({{"sigma_mm", d.sigma_mm},
                              {"detector_sigma_mm", d.detector_sigma_mm},
                              {"robots", d.robots},
@@ -415,4 +417,4 @@ std::string EvaluationJson(const EvaluateOptions& options,
   return j.dump(2) + "\n";
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

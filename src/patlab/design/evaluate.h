@@ -23,7 +23,7 @@
 #include "patlab/sim/detect_runner.h"
 #include "patlab/sim/runner.h"
 
-namespace patlab::sim {
+namespace patlab::design {
 
 // The ID colour names of generated codebooks, in order (id_colours = N takes the first N).
 inline constexpr std::array<const char*, 8> kEvaluateIdColours = {
@@ -74,7 +74,7 @@ struct Misidentification {
   std::vector<std::string> id_colours;  // the codebook's colours
   int ids = 0;
   int robots_per_frame = 0;
-  DetectRunResult result;
+  sim::DetectRunResult result;
 };
 
 struct EvaluationReport {
@@ -83,7 +83,7 @@ struct EvaluationReport {
   std::string file;
   estimate::StdPerSigma crlb;         // per mm of patch sigma
   std::vector<GeometryRow> geometry;  // every estimator
-  RunResult monte_carlo;              // one point, every estimator
+  sim::RunResult monte_carlo;         // one point, every estimator
   IdCapacity ids;
   Misidentification misidentification;
 };
@@ -99,4 +99,4 @@ std::string EvaluationText(const EvaluationReport& report);
 std::string EvaluationJson(const EvaluateOptions& options,
                            const std::vector<EvaluationReport>& reports);
 
-}  // namespace patlab::sim
+}  // namespace patlab::design

@@ -13,7 +13,7 @@
 #include "patlab/io/name.h"
 #include "patlab/vision/segment.h"
 
-namespace patlab::vision {
+namespace patlab::design {
 
 namespace {
 
@@ -27,11 +27,12 @@ using internal::kYellow;
 // The sheet colours are pure RGB primaries and mixes drawn with anti-aliased edges; each class
 // takes the colour and its edge pixels that are still clearly that colour. The cell background
 // (0, 96..128, 0) and the black robot top fall in none.
-Thresholds SheetThresholds() {
-  Thresholds t;
-  t.space = ColorSpace::kRgb;
-  auto add = [&t](const char* name, ChannelRange r, ChannelRange g, ChannelRange b) {
-    ColorClass c;
+vision::Thresholds SheetThresholds() {
+  vision::Thresholds t;
+  t.space = vision::ColorSpace::kRgb;
+  auto add = [&t](const char* name, vision::ChannelRange r, vision::ChannelRange g,
+                  vision::ChannelRange b) {
+    vision::ColorClass c;
     c.name = name;
     c.range = {r, g, b};
     t.classes.push_back(c);
@@ -56,11 +57,11 @@ CellKey CellOf(const Vec2& centroid_px, int cell_px) {
 
 // Stage 2 for one cell: the key is the largest blue region whose centroid lies in the cell.
 // Returns the key, nullptr for a cell without one.
-const Region* ReadCell(const Segmenter& seg, const SheetImport& sheet, const SheetImportOptions& o,
-                       int index, SheetCell* cell) {
+const vision::Region* ReadCell(const vision::Segmenter& seg, const SheetImport& sheet,
+                               const SheetImportOptions& o, int index, SheetCell* cell) {
   const int column = index % sheet.columns, row = index / sheet.columns;
-  const Region* key = nullptr;
-  for (const Region& r : seg.RegionsOf(kBlue)) {
+  const vision::Region* key = nullptr;
+  for (const vision::Region& r : seg.RegionsOf(kBlue)) {
     const CellKey k = CellOf(r.centroid_px, o.cell_px);
     if (k.column == column && k.row == row && (key == nullptr || r.area_px > key->area_px)) {
       key = &r;
@@ -71,7 +72,7 @@ const Region* ReadCell(const Segmenter& seg, const SheetImport& sheet, const She
   cell->index = index;
   cell->key_radius_mm = std::sqrt(key->area_px * mm2_per_px / std::numbers::pi);
   for (int c = 1; c < kYellow; ++c) {
-    for (const Region& r : seg.RegionsOf(c)) {
+    for (const vision::Region& r : seg.RegionsOf(c)) {
       const double area_mm2 = r.area_px * mm2_per_px;
       if (area_mm2 < kDotAreaMinMm2 || area_mm2 > kDotAreaMaxMm2) continue;
       const Vec2 d = (r.centroid_px - key->centroid_px) * o.mm_per_px;
@@ -81,7 +82,7 @@ const Region* ReadCell(const Segmenter& seg, const SheetImport& sheet, const She
           {Vec2(-d.y(), -d.x()), std::sqrt(area_mm2 / std::numbers::pi), kClassNames[c], -1});
     }
   }
-  for (const Region& r : seg.RegionsOf(kYellow)) {
+  for (const vision::Region& r : seg.RegionsOf(kYellow)) {
     const CellKey k = CellOf(r.centroid_px, o.cell_px);
     if (k.column == column && k.row == row) {
       cell->height_mm = static_cast<int>(std::lround((r.y_max - r.y_min + 1) * o.mm_per_px));
@@ -228,7 +229,8 @@ std::vector<OptionsProblem> Check(const SheetImportOptions& o) {
 
 void Validate(const SheetImportOptions& o) { ThrowFirstProblem(Check(o)); }
 
-SheetImport ImportSheet(const Image& image, const std::string& file, const SheetImportOptions& o) {
+SheetImport ImportSheet(const camera::Image& image, const std::string& file,
+                        const SheetImportOptions& o) {
   Validate(o);
   SheetImport sheet;
   sheet.file = file;
@@ -239,14 +241,14 @@ SheetImport ImportSheet(const Image& image, const std::string& file, const Sheet
   }
   sheet.columns = image.width_px / o.cell_px;
   sheet.rows = image.height_px / o.cell_px;
-  SegmenterOptions so;
+  vision::SegmenterOptions so;
   so.min_area_px = 20;
-  Segmenter seg(SheetThresholds(), so);
+  vision::Segmenter seg(SheetThresholds(), so);
   seg.Process(image);
   std::vector<internal::CellRing> rings;
   for (int index = 0; index < sheet.columns * sheet.rows; ++index) {
     SheetCell cell;
-    const Region* key = ReadCell(seg, sheet, o, index, &cell);
+    const vision::Region* key = ReadCell(seg, sheet, o, index, &cell);
     if (key == nullptr) continue;
     if (internal::HasRingSectors(seg, *key, o)) {
       rings.push_back(internal::ReadRing(seg, *key, o));
@@ -356,4 +358,4 @@ std::string CodebookFileText(const ImportedLayout& layout, const SheetImport& sh
   return out;
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::design

@@ -35,7 +35,7 @@
 #include "patlab/core/pattern.h"
 #include "patlab/detect/codebook.h"
 
-namespace patlab::vision {
+namespace patlab::design {
 
 struct SheetImportOptions {
   int cell_px = 200;       // cell size in px (SSL-Vision sheets: 200); > 0
@@ -89,11 +89,11 @@ struct SheetImport {
 
 // Stages 1-5 on a decoded sheet. Throws InputError naming `file` when the image is not a grid
 // of cells or no cell holds a recognisable pattern (a key and at least one dot).
-SheetImport ImportSheet(const Image& image, const std::string& file,
+SheetImport ImportSheet(const camera::Image& image, const std::string& file,
                         const SheetImportOptions& options);
 
 // The pattern file and codebook file texts of one layout (formats: patterns/README.md).
 std::string PatternFileText(const ImportedLayout& layout, const SheetImport& sheet);
 std::string CodebookFileText(const ImportedLayout& layout, const SheetImport& sheet);
 
-}  // namespace patlab::vision
+}  // namespace patlab::design

@@ -8,7 +8,7 @@
 #include "patlab/design/sheet_import.h"
 #include "patlab/vision/segment.h"
 
-namespace patlab::vision::internal {
+namespace patlab::design::internal {
 
 // Segmenter classes of a sheet: 0 the key, 1-4 the dot colours, 5 the height bar.
 constexpr int kBlue = 0, kYellow = 5;
@@ -30,15 +30,17 @@ struct CellRing {
 
 // Whether the cell of the key holds ring sectors: a dot-coloured region larger than a dot whose
 // centroid is within kReachMm of the key.
-bool HasRingSectors(const Segmenter& seg, const Region& key, const SheetImportOptions& o);
-CellRing ReadRing(const Segmenter& seg, const Region& key, const SheetImportOptions& o);
+bool HasRingSectors(const vision::Segmenter& seg, const vision::Region& key,
+                    const SheetImportOptions& o);
+CellRing ReadRing(const vision::Segmenter& seg, const vision::Region& key,
+                  const SheetImportOptions& o);
 
 // Splits every ring cell into sectors at the sheet's sector boundaries (the colour changes seen
 // in any ring cell, clustered within 5 degrees) and gives each ring cell one dot per sector it
 // colours: the sector's centroid, with the radius of the largest disc about it inside the
 // sector. Sets sheet->sector_bounds_deg. Throws InputError naming the file when no ring cell
 // shows a boundary (one colour all round in every cell).
-void SplitRings(const Segmenter& seg, const std::vector<CellRing>& rings,
+void SplitRings(const vision::Segmenter& seg, const std::vector<CellRing>& rings,
                 const SheetImportOptions& o, SheetImport* sheet);
 
-}  // namespace patlab::vision::internal
+}  // namespace patlab::design::internal

@@ -7,7 +7,7 @@
 #include "patlab/core/error.h"
 #include "patlab/design/sheet_import_internal.h"
 
-namespace patlab::vision::internal {
+namespace patlab::design::internal {
 
 namespace {
 
@@ -18,7 +18,8 @@ constexpr int kMinBinPixels = 3;
 // Calls fn(model position mm, model angle in [0, 360) degrees, class) for every dot-coloured
 // pixel of the key's cell within kReachMm of the key (a neighbour cell's ring can be nearer).
 template <typename Fn>
-void ForRingPixels(const Segmenter& seg, const Vec2& key_px, const SheetImportOptions& o, Fn fn) {
+void ForRingPixels(const vision::Segmenter& seg, const Vec2& key_px, const SheetImportOptions& o,
+                   Fn fn) {
   const double reach_px = kReachMm / o.mm_per_px;
   const int cx = static_cast<int>(std::floor(key_px.x() / o.cell_px)) * o.cell_px;
   const int cy = static_cast<int>(std::floor(key_px.y() / o.cell_px)) * o.cell_px;
@@ -100,8 +101,8 @@ int SectorColour(const CellRing& ring, double a0, double a1) {
 // The disc patch of one coloured sector: the centroid of its pixels; the radius of the largest
 // disc about the centroid inside the sector (its two edges, the key, the outer rim), less the
 // clearance.
-SheetDot SectorDot(const Segmenter& seg, const CellRing& ring, double key_radius_mm, double a0,
-                   double a1, int colour, const SheetImportOptions& o) {
+SheetDot SectorDot(const vision::Segmenter& seg, const CellRing& ring, double key_radius_mm,
+                   double a0, double a1, int colour, const SheetImportOptions& o) {
   Vec2 sum = Vec2::Zero();
   double count = 0.0, outer = 0.0;
   ForRingPixels(seg, ring.key_px, o, [&](const Vec2& m, double angle, int c) {
@@ -122,10 +123,11 @@ SheetDot SectorDot(const Segmenter& seg, const CellRing& ring, double key_radius
 
 }  // namespace
 
-bool HasRingSectors(const Segmenter& seg, const Region& key, const SheetImportOptions& o) {
+bool HasRingSectors(const vision::Segmenter& seg, const vision::Region& key,
+                    const SheetImportOptions& o) {
   const double mm2_per_px = o.mm_per_px * o.mm_per_px;
   for (int c = 1; c < kYellow; ++c) {
-    for (const Region& r : seg.RegionsOf(c)) {
+    for (const vision::Region& r : seg.RegionsOf(c)) {
       if (r.area_px * mm2_per_px <= kDotAreaMaxMm2) continue;
       const bool same_cell =
           std::floor(r.centroid_px.x() / o.cell_px) ==
@@ -139,7 +141,8 @@ bool HasRingSectors(const Segmenter& seg, const Region& key, const SheetImportOp
   return false;
 }
 
-CellRing ReadRing(const Segmenter& seg, const Region& key, const SheetImportOptions& o) {
+CellRing ReadRing(const vision::Segmenter& seg, const vision::Region& key,
+                  const SheetImportOptions& o) {
   CellRing ring;
   ring.key_px = key.centroid_px;
   std::vector<std::array<int, kYellow>> votes(360, std::array<int, kYellow>{});
@@ -153,7 +156,7 @@ CellRing ReadRing(const Segmenter& seg, const Region& key, const SheetImportOpti
   return ring;
 }
 
-void SplitRings(const Segmenter& seg, const std::vector<CellRing>& rings,
+void SplitRings(const vision::Segmenter& seg, const std::vector<CellRing>& rings,
                 const SheetImportOptions& o, SheetImport* sheet) {
   const std::vector<double> bounds = Boundaries(rings);
   if (bounds.size() < 2) {
@@ -174,4 +177,4 @@ void SplitRings(const Segmenter& seg, const std::vector<CellRing>& rings,
   }
 }
 
-}  // namespace patlab::vision::internal
+}  // namespace patlab::design::internal

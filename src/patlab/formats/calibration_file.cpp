@@ -8,7 +8,7 @@
 #include "patlab/core/format.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 namespace {
 
@@ -40,7 +40,7 @@ double Positive(const io::TomlReader& r, std::string_view key) {
   return v;
 }
 
-void ReadImageSize(const io::TomlReader& top, Calibration& cal) {
+void ReadImageSize(const io::TomlReader& top, camera::Calibration& cal) {
   const auto size = NumberArray(top, "image_size_px", 2, "[width, height] in pixels");
   // At most 100000 px a side, so the sizes fit an int (a huge value was found by
   // calibration_fuzz).
@@ -54,7 +54,7 @@ void ReadImageSize(const io::TomlReader& top, Calibration& cal) {
   cal.image_height_px = static_cast<int>(size[1]);
 }
 
-void ReadIntrinsics(const io::TomlReader& r, PinholeCamera& c) {
+void ReadIntrinsics(const io::TomlReader& r, camera::PinholeCamera& c) {
   c.fx_px = Positive(r, "fx_px");
   c.fy_px = Positive(r, "fy_px");
   c.cx_px = r.Number("cx_px");
@@ -64,15 +64,15 @@ void ReadIntrinsics(const io::TomlReader& r, PinholeCamera& c) {
 }
 
 // The OpenCV form: world-to-camera rotation (Rodrigues vector) and translation.
-void ReadOpenCvExtrinsics(const io::TomlReader& r, PinholeCamera& c) {
+void ReadOpenCvExtrinsics(const io::TomlReader& r, camera::PinholeCamera& c) {
   const auto rv = NumberArray(r, "rotation_rodrigues", 3, "[rx, ry, rz] in radians");
   const auto tv = NumberArray(r, "translation_mm", 3, "[tx, ty, tz] in mm");
-  c.rotation = RotationFromRodrigues(Eigen::Vector3d(rv[0], rv[1], rv[2]));
+  c.rotation = camera::RotationFromRodrigues(Eigen::Vector3d(rv[0], rv[1], rv[2]));
   c.translation_mm = Eigen::Vector3d(tv[0], tv[1], tv[2]);
 }
 
 // The overhead form: a camera looking straight down from a position, turned by a yaw.
-void ReadOverheadExtrinsics(const io::TomlReader& r, PinholeCamera& c) {
+void ReadOverheadExtrinsics(const io::TomlReader& r, camera::PinholeCamera& c) {
   const auto p = NumberArray(r, "camera_position_mm", 3, "[x, y, z] in mm");
   const double yaw = r.OptionalNumber("yaw_deg").value_or(0.0) * std::numbers::pi / 180.0;
   // Camera axes in world coordinates: image right, image down, optical axis (straight down).
@@ -84,7 +84,7 @@ void ReadOverheadExtrinsics(const io::TomlReader& r, PinholeCamera& c) {
   c.translation_mm = -c.rotation * Eigen::Vector3d(p[0], p[1], p[2]);
 }
 
-void ReadExtrinsics(const io::TomlReader& r, PinholeCamera& c) {
+void ReadExtrinsics(const io::TomlReader& r, camera::PinholeCamera& c) {
   const bool opencv = r.Has("rotation_rodrigues") || r.Has("translation_mm");
   const bool overhead = r.Has("camera_position_mm") || r.Has("yaw_deg");
   if (opencv == overhead) {
@@ -100,8 +100,8 @@ void ReadExtrinsics(const io::TomlReader& r, PinholeCamera& c) {
 }
 
 // The [pinhole] table of a model = "pinhole" file.
-PinholeCamera ReadPinhole(const toml::table& root, const io::TomlReader& top,
-                          const std::string& name) {
+camera::PinholeCamera ReadPinhole(const toml::table& root, const io::TomlReader& top,
+                                  const std::string& name) {
   const toml::table* t = root["pinhole"].as_table();
   if (t == nullptr)
     top.Fail("pinhole",
@@ -110,7 +110,7 @@ PinholeCamera ReadPinhole(const toml::table& root, const io::TomlReader& top,
   const io::TomlReader r(*t, name, "[pinhole]");
   r.CheckKeys({"fx_px", "fy_px", "cx_px", "cy_px", "k1", "k2", "rotation_rodrigues",
                "translation_mm", "camera_position_mm", "yaw_deg"});
-  PinholeCamera c;
+  camera::PinholeCamera c;
   ReadIntrinsics(r, c);
   ReadExtrinsics(r, c);
   io::ThrowFirstProblemAt(root, name, Check(c));
@@ -135,8 +135,8 @@ std::optional<Eigen::Matrix3d> Matrix3(const toml::node* node) {
 }
 
 // One [[homography]] table (number i + 1 in messages), checked against the earlier ones.
-PlaneHomography ReadHomography(const toml::node& node, size_t i, const std::string& name,
-                               const std::vector<PlaneHomography>& earlier) {
+camera::PlaneHomography ReadHomography(const toml::node& node, size_t i, const std::string& name,
+                                       const std::vector<camera::PlaneHomography>& earlier) {
   const toml::table* t = node.as_table();
   const std::string context = "[[homography]] " + std::to_string(i + 1);
   if (t == nullptr)
@@ -144,7 +144,7 @@ PlaneHomography ReadHomography(const toml::node& node, size_t i, const std::stri
                      context + " is not a table; expected [[homography]] tables");
   const io::TomlReader r(*t, name, context);
   r.CheckKeys({"height_mm", "matrix"});
-  PlaneHomography h;
+  camera::PlaneHomography h;
   h.height_mm = r.Number("height_mm");
   const auto matrix = Matrix3(t->get("matrix"));
   if (!matrix)
@@ -154,8 +154,8 @@ PlaneHomography ReadHomography(const toml::node& node, size_t i, const std::stri
   if (std::abs(h.pixel_to_world.determinant()) <= 1e-12 * norm * norm * norm) {
     r.Fail("matrix", "matrix in " + context + " is singular; expected an invertible homography");
   }
-  for (const PlaneHomography& other : earlier) {
-    if (std::abs(other.height_mm - h.height_mm) <= kHeightToleranceMm) {
+  for (const camera::PlaneHomography& other : earlier) {
+    if (std::abs(other.height_mm - h.height_mm) <= camera::kHeightToleranceMm) {
       r.Fail("height_mm", "height_mm " + FormatNumber(h.height_mm) + " in " + context +
                               " repeats an earlier homography; expected one matrix per height");
     }
@@ -164,20 +164,21 @@ PlaneHomography ReadHomography(const toml::node& node, size_t i, const std::stri
 }
 
 // The [[homography]] tables of a model = "homography" file.
-std::vector<PlaneHomography> ReadHomographies(const toml::table& root, const io::TomlReader& top,
-                                              const std::string& name) {
+std::vector<camera::PlaneHomography> ReadHomographies(const toml::table& root,
+                                                      const io::TomlReader& top,
+                                                      const std::string& name) {
   const toml::node* node = root.get("homography");
   const toml::array* list = node ? node->as_array() : nullptr;
   if (list == nullptr || list->empty()) {
     top.Fail("homography",
              "model = \"homography\" needs [[homography]] tables; expected height_mm and matrix");
   }
-  std::vector<PlaneHomography> hs;
+  std::vector<camera::PlaneHomography> hs;
   for (size_t i = 0; i < list->size(); ++i) hs.push_back(ReadHomography((*list)[i], i, name, hs));
   return hs;
 }
 
-void ReadHeights(const toml::table& heights, const std::string& name, Calibration& cal) {
+void ReadHeights(const toml::table& heights, const std::string& name, camera::Calibration& cal) {
   const io::TomlReader r(heights, name, "[heights]");
   for (const auto& [key, node] : heights) {
     const double v = r.Number(key.str());
@@ -190,8 +191,8 @@ void ReadHeights(const toml::table& heights, const std::string& name, Calibratio
 }
 
 // One [[residual]] table (number i + 1 in messages).
-PlaneResidual ReadResidual(const toml::node& node, size_t i, const std::string& name,
-                           const std::vector<PlaneResidual>& earlier) {
+camera::PlaneResidual ReadResidual(const toml::node& node, size_t i, const std::string& name,
+                                   const std::vector<camera::PlaneResidual>& earlier) {
   const toml::table* t = node.as_table();
   const std::string context = "[[residual]] " + std::to_string(i + 1);
   if (t == nullptr)
@@ -199,7 +200,7 @@ PlaneResidual ReadResidual(const toml::node& node, size_t i, const std::string& 
                      context + " is not a table; expected [[residual]] tables");
   const io::TomlReader r(*t, name, context);
   r.CheckKeys({"height_mm", "rms_mm", "worst_mm", "measured"});
-  PlaneResidual p;
+  camera::PlaneResidual p;
   p.height_mm = r.Number("height_mm");
   p.rms_mm = r.Number("rms_mm");
   p.worst_mm = r.OptionalNumber("worst_mm").value_or(p.rms_mm);
@@ -212,8 +213,8 @@ PlaneResidual ReadResidual(const toml::node& node, size_t i, const std::string& 
     r.Fail("worst_mm", "worst_mm is " + FormatNumber(p.worst_mm) + " in " + context +
                            "; expected at least rms_mm (" + FormatNumber(p.rms_mm) + ")");
   }
-  for (const PlaneResidual& other : earlier) {
-    if (std::abs(other.height_mm - p.height_mm) <= kHeightToleranceMm) {
+  for (const camera::PlaneResidual& other : earlier) {
+    if (std::abs(other.height_mm - p.height_mm) <= camera::kHeightToleranceMm) {
       r.Fail("height_mm", "height_mm " + FormatNumber(p.height_mm) + " in " + context +
                               " repeats an earlier residual; expected one per height");
     }
@@ -221,9 +222,9 @@ PlaneResidual ReadResidual(const toml::node& node, size_t i, const std::string& 
   return p;
 }
 
-std::vector<PlaneResidual> ReadResiduals(const toml::table& root, const io::TomlReader& top,
-                                         const std::string& name) {
-  std::vector<PlaneResidual> out;
+std::vector<camera::PlaneResidual> ReadResiduals(const toml::table& root, const io::TomlReader& top,
+                                                 const std::string& name) {
+  std::vector<camera::PlaneResidual> out;
   const toml::node* node = root.get("residual");
   if (node == nullptr) return out;
   const toml::array* list = node->as_array();
@@ -231,26 +232,27 @@ std::vector<PlaneResidual> ReadResiduals(const toml::table& root, const io::Toml
     top.Fail("residual", "residual is not an array of tables; expected [[residual]] tables");
   }
   for (size_t i = 0; i < list->size(); ++i) out.push_back(ReadResidual((*list)[i], i, name, out));
-  std::sort(out.begin(), out.end(), [](const PlaneResidual& a, const PlaneResidual& b) {
-    return a.height_mm < b.height_mm;
-  });
+  std::sort(out.begin(), out.end(),
+            [](const camera::PlaneResidual& a, const camera::PlaneResidual& b) {
+              return a.height_mm < b.height_mm;
+            });
   return out;
 }
 
 }  // namespace
 
-Calibration ParseCalibration(std::string_view text, const std::string& name) {
+camera::Calibration ParseCalibration(std::string_view text, const std::string& name) {
   const toml::table root = io::ParseTomlText(text, name);
   const io::TomlReader top(root, name);
   top.CheckKeys({"model", "image_size_px", "pinhole", "homography", "heights", "residual"});
-  Calibration cal;
+  camera::Calibration cal;
   cal.source = name;
   if (top.Has("image_size_px")) ReadImageSize(top, cal);
   const std::string model = top.String("model");
   if (model == "pinhole") {
-    cal.camera = CameraModel::Pinhole(ReadPinhole(root, top, name));
+    cal.camera = camera::CameraModel::Pinhole(ReadPinhole(root, top, name));
   } else if (model == "homography") {
-    cal.camera = CameraModel::Homographies(ReadHomographies(root, top, name));
+    cal.camera = camera::CameraModel::Homographies(ReadHomographies(root, top, name));
   } else {
     top.Fail("model", "model is \"" + model + "\"; expected \"pinhole\" or \"homography\"");
   }
@@ -259,8 +261,8 @@ Calibration ParseCalibration(std::string_view text, const std::string& name) {
   return cal;
 }
 
-Calibration LoadCalibration(const std::string& path) {
+camera::Calibration LoadCalibration(const std::string& path) {
   return ParseCalibration(io::ReadTextFile(path, "calibration TOML file"), path);
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

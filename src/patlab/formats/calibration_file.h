@@ -8,7 +8,7 @@
 
 #include "patlab/camera/camera.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 // Reads a calibration TOML file:
 //   model = "pinhole"                 # or "homography"
@@ -38,7 +38,7 @@ namespace patlab::vision {
 //   rms_mm = 9.3                      # the calibration's RMS position error on that plane
 //   worst_mm = 41.0
 //   measured = false                  # optional (default true): converted from px residuals
-Calibration LoadCalibration(const std::string& path);
-Calibration ParseCalibration(std::string_view text, const std::string& name);
+camera::Calibration LoadCalibration(const std::string& path);
+camera::Calibration ParseCalibration(std::string_view text, const std::string& name);
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

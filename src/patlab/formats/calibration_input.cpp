@@ -9,7 +9,7 @@
 #include "patlab/formats/toml_values_internal.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::calib {
+namespace patlab::formats {
 
 namespace {
 
@@ -35,7 +35,8 @@ double Height(const io::TomlReader& r) {
 }
 
 // A named feature of the field, or the keys that give it explicitly; never both.
-bool UsesFeature(const io::TomlReader& r, const Field* field, std::string_view explicit_key) {
+bool UsesFeature(const io::TomlReader& r, const calib::Field* field,
+                 std::string_view explicit_key) {
   const bool named = r.Has("feature"), given = r.Has(explicit_key);
   if (named == given)
     r.Fail("feature", std::string(named ? "both feature and " : "neither feature nor ") +
@@ -48,13 +49,13 @@ bool UsesFeature(const io::TomlReader& r, const Field* field, std::string_view e
   return named;
 }
 
-void ReadPoint(const io::TomlReader& r, const Field* field, CalibrationInput& input) {
+void ReadPoint(const io::TomlReader& r, const calib::Field* field, calib::CalibrationInput& input) {
   r.CheckKeys({"feature", "world_mm", "height_mm", "pixel"});
-  PointObservation p;
+  calib::PointObservation p;
   p.loc = r.TableLoc();
   if (UsesFeature(r, field, "world_mm")) {
     p.name = r.String("feature");
-    const FieldPoint* f = field->FindPoint(p.name);
+    const calib::FieldPoint* f = field->FindPoint(p.name);
     if (f == nullptr)
       r.Fail("feature", "point feature '" + p.name + "' is not in field '" + field->name +
                             "'; expected one of: " + field->PointNames());
@@ -67,13 +68,13 @@ void ReadPoint(const io::TomlReader& r, const Field* field, CalibrationInput& in
   input.points.push_back(p);
 }
 
-void ReadLine(const io::TomlReader& r, const Field* field, CalibrationInput& input) {
+void ReadLine(const io::TomlReader& r, const calib::Field* field, calib::CalibrationInput& input) {
   r.CheckKeys({"feature", "from_mm", "to_mm", "height_mm", "pixels"});
-  LineObservation l;
+  calib::LineObservation l;
   l.loc = r.TableLoc();
   if (UsesFeature(r, field, "from_mm")) {
     l.name = r.String("feature");
-    const FieldLine* f = field->FindLine(l.name);
+    const calib::FieldLine* f = field->FindLine(l.name);
     if (f == nullptr)
       r.Fail("feature", "line feature '" + l.name + "' is not in field '" + field->name +
                             "'; expected one of: " + field->LineNames());
@@ -91,13 +92,14 @@ void ReadLine(const io::TomlReader& r, const Field* field, CalibrationInput& inp
   input.lines.push_back(l);
 }
 
-void ReadCircle(const io::TomlReader& r, const Field* field, CalibrationInput& input) {
+void ReadCircle(const io::TomlReader& r, const calib::Field* field,
+                calib::CalibrationInput& input) {
   r.CheckKeys({"feature", "centre_mm", "radius_mm", "height_mm", "pixels"});
-  CircleObservation c;
+  calib::CircleObservation c;
   c.loc = r.TableLoc();
   if (UsesFeature(r, field, "centre_mm")) {
     c.name = r.String("feature");
-    const FieldCircle* f = field->FindCircle(c.name);
+    const calib::FieldCircle* f = field->FindCircle(c.name);
     if (f == nullptr)
       r.Fail("feature", "circle feature '" + c.name + "' is not in field '" + field->name +
                             "'; expected one of: " + field->CircleNames());
@@ -137,12 +139,13 @@ std::vector<std::optional<Vec2>> PatchPixels(const io::TomlReader& r, int patche
   return out;
 }
 
-void ReadPattern(const io::TomlReader& r, const std::string& base_dir, CalibrationInput& input) {
+void ReadPattern(const io::TomlReader& r, const std::string& base_dir,
+                 calib::CalibrationInput& input) {
   r.CheckKeys({"pattern", "height_mm", "pixels"});
-  PatternObservation p;
+  calib::PatternObservation p;
   p.loc = r.TableLoc();
   const std::string file = Relative(base_dir, r.String("pattern"));
-  p.pattern = io::LoadPatternFile(file);
+  p.pattern = formats::LoadPatternFile(file);
   p.name = p.pattern.name;
   p.height_mm = Height(r);
   p.pixels = PatchPixels(r, p.pattern.size());
@@ -154,7 +157,7 @@ void ReadPattern(const io::TomlReader& r, const std::string& base_dir, Calibrati
   input.patterns.push_back(std::move(p));
 }
 
-void ReadFit(const toml::table& root, const std::string& name, FitOptions& o) {
+void ReadFit(const toml::table& root, const std::string& name, calib::FitOptions& o) {
   const toml::table* t = root["fit"].as_table();
   if (t == nullptr) return;
   const io::TomlReader r(*t, name, "[fit]");
@@ -166,12 +169,12 @@ void ReadFit(const toml::table& root, const std::string& name, FitOptions& o) {
     o.fixed.clear();
     for (const toml::node& e : *a) {
       const auto* s = e.as_string();
-      const auto p = s ? FindName(s->get(), kFitParameterNames) : std::nullopt;
+      const auto p = s ? FindName(s->get(), calib::kFitParameterNames) : std::nullopt;
       if (!p)
         throw InputError(io::LocOf(name, e),
                          "fix in [fit] holds an unknown parameter; expected "
                          "any of: " +
-                             NameList(kFitParameterNames));
+                             NameList(calib::kFitParameterNames));
       o.fixed.push_back(*p);
     }
   }
@@ -207,7 +210,7 @@ void ReadFit(const toml::table& root, const std::string& name, FitOptions& o) {
   o.holdout_folds = static_cast<int>(folds);
 }
 
-void ReadHeights(const toml::table& root, const std::string& name, CalibrationInput& input) {
+void ReadHeights(const toml::table& root, const std::string& name, calib::CalibrationInput& input) {
   const toml::table* t = root["heights"].as_table();
   if (t == nullptr) return;
   const io::TomlReader r(*t, name, "[heights]");
@@ -221,7 +224,7 @@ void ReadHeights(const toml::table& root, const std::string& name, CalibrationIn
   }
 }
 
-void ReadImageSize(const io::TomlReader& top, CalibrationInput& input) {
+void ReadImageSize(const io::TomlReader& top, calib::CalibrationInput& input) {
   const Vec2 size = in::ReadPair(top, "image_size_px", "[width, height] in pixels");
   if (size.x() < 1 || size.y() < 1 || size.x() > 65535 || size.y() > 65535 ||
       size.x() != std::floor(size.x()) || size.y() != std::floor(size.y()))
@@ -234,19 +237,19 @@ void ReadImageSize(const io::TomlReader& top, CalibrationInput& input) {
 
 }  // namespace
 
-CalibrationInput ParseCalibrationInput(std::string_view text, const std::string& name,
-                                       const std::string& base_dir) {
+calib::CalibrationInput ParseCalibrationInput(std::string_view text, const std::string& name,
+                                              const std::string& base_dir) {
   const toml::table root = io::ParseTomlText(text, name);
   const io::TomlReader top(root, name);
   top.CheckKeys(
       {"source", "image_size_px", "field", "fit", "heights", "point", "line", "circle", "pattern"});
-  CalibrationInput input;
+  calib::CalibrationInput input;
   input.loc = FileLoc{name, 0};
   input.source = top.OptionalString("source").value_or("");
   ReadImageSize(top, input);
-  std::optional<Field> field;
+  std::optional<calib::Field> field;
   if (const auto f = top.OptionalString("field")) field = LoadField(Relative(base_dir, *f));
-  const Field* fp = field ? &*field : nullptr;
+  const calib::Field* fp = field ? &*field : nullptr;
   for (const toml::table* t : in::TableArray(root, "point", name))
     ReadPoint(io::TomlReader(*t, name, "[[point]] " + std::to_string(input.points.size() + 1)), fp,
               input);
@@ -265,9 +268,9 @@ CalibrationInput ParseCalibrationInput(std::string_view text, const std::string&
   return input;
 }
 
-CalibrationInput LoadCalibrationInput(const std::string& path) {
+calib::CalibrationInput LoadCalibrationInput(const std::string& path) {
   const std::string text = io::ReadTextFile(path, "calibration input TOML file");
   return ParseCalibrationInput(text, path, std::filesystem::path(path).parent_path().string());
 }
 
-}  // namespace patlab::calib
+}  // namespace patlab::formats

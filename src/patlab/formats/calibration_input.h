@@ -8,13 +8,13 @@
 
 #include "patlab/calib/calibrate.h"
 
-namespace patlab::calib {
+namespace patlab::formats {
 
 // Reads a calibration-input TOML file (docs/file-formats.md#calibration-input). The files it
 // names (`field = "..."`, `pattern = "..."`) are read relative to the file's own directory;
 // ParseCalibrationInput reads them relative to `base_dir`.
-CalibrationInput LoadCalibrationInput(const std::string& path);
-CalibrationInput ParseCalibrationInput(std::string_view text, const std::string& name,
-                                       const std::string& base_dir);
+calib::CalibrationInput LoadCalibrationInput(const std::string& path);
+calib::CalibrationInput ParseCalibrationInput(std::string_view text, const std::string& name,
+                                              const std::string& base_dir);
 
-}  // namespace patlab::calib
+}  // namespace patlab::formats

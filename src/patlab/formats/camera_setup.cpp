@@ -22,13 +22,13 @@
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/thresholds_fit.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 namespace {
 
 namespace fs = std::filesystem;
 
-void CheckSetupInput(const std::vector<const Image*>& frames, const std::vector<std::string>& names,
-                     const SetupOptions& o) {
+void CheckSetupInput(const std::vector<const camera::Image*>& frames,
+                     const std::vector<std::string>& names, const SetupOptions& o) {
   if (frames.empty() || frames.size() != names.size())
     throw InputError("no frames; expected at least one FRAME of the camera");
   if (o.fields.empty()) throw InputError("--field names no model; expected a model or a family");
@@ -46,15 +46,15 @@ void CheckSetupInput(const std::vector<const Image*>& frames, const std::vector<
 }
 
 // The calibration from the first frame's lines: every field model fitted, the best kept.
-void CalibrateFromLines(const Image& frame, const std::string& name, const SetupOptions& o,
+void CalibrateFromLines(const camera::Image& frame, const std::string& name, const SetupOptions& o,
                         SetupResult* r) {
-  LineFinderOptions finder;
+  vision::LineFinderOptions finder;
   finder.line_width_px = o.line_width_px;
   std::optional<calib::AutoCalibration> best;
   for (const calib::Field& field : o.fields) {
     SetupFieldTry t{field.name, 0.0, 0.0, ""};
     try {
-      FrameCalibration fc = AutoCalibrateFrame(frame, name, field, finder);
+      vision::FrameCalibration fc = vision::AutoCalibrateFrame(frame, name, field, finder);
       t.score_px = fc.calibration.score_px;
       t.held_out_mapping_mm = fc.calibration.held_out_mapping_mm;
       if (!best || t.score_px > best->score_px) {
@@ -82,8 +82,8 @@ void CalibrateFromLines(const Image& frame, const std::string& name, const Setup
 }
 
 // The calibration from clicked landmarks of the first field model.
-void CalibrateFromLandmarks(const Image& frame, const std::string& name, const SetupOptions& o,
-                            SetupResult* r) {
+void CalibrateFromLandmarks(const camera::Image& frame, const std::string& name,
+                            const SetupOptions& o, SetupResult* r) {
   const calib::Field& field = o.fields.front();
   calib::CalibrationInput in;
   in.source = name;
@@ -148,8 +148,8 @@ double SmallestPatchMm(const detect::DetectorConfig& config) {
   return std::isfinite(r) ? r : 0.0;
 }
 
-void FitColours(const std::vector<const Image*>& frames, const detect::DetectorConfig& config,
-                const SetupOptions& o, SetupResult* r) {
+void FitColours(const std::vector<const camera::Image*>& frames,
+                const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r) {
   const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
   std::vector<std::string> classes;
   for (const std::string& name : config.palette) {
@@ -157,7 +157,7 @@ void FitColours(const std::vector<const Image*>& frames, const detect::DetectorC
     if (!c.known) throw InputError(o.settings_path + ": " + UnknownColourMessage(vocabulary, c));
     classes.push_back(name);
   }
-  r->thresholds = FitThresholdsAuto(frames, classes, vocabulary, o.thresholds);
+  r->thresholds = vision::FitThresholdsAuto(frames, classes, vocabulary, o.thresholds);
 }
 
 }  // namespace
@@ -175,11 +175,11 @@ detect::DetectorOptions SetupTolerances(const detect::DetectorOptions& base, dou
   return t;
 }
 
-SetupResult SetupCamera(const std::vector<const Image*>& frames,
+SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
                         const std::vector<std::string>& names, const SetupOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   CheckSetupInput(frames, names, options);
-  const detect::DetectorConfig config = detect::LoadDetectorSettings(options.settings_path);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(options.settings_path);
   SetupResult r;
   if (options.landmarks.empty()) {
     CalibrateFromLines(*frames.front(), names.front(), options, &r);
@@ -187,8 +187,8 @@ SetupResult SetupCamera(const std::vector<const Image*>& frames,
     CalibrateFromLandmarks(*frames.front(), names.front(), options, &r);
   }
   r.calibration_input.default_height_mm = options.robot_height_mm;
-  const CameraModel camera = CameraModel::Pinhole(r.calibration_fit.camera);
-  const Image& first = *frames.front();
+  const camera::CameraModel camera = camera::CameraModel::Pinhole(r.calibration_fit.camera);
+  const camera::Image& first = *frames.front();
   r.mm_per_px = std::sqrt(camera.AreaScale(
       Vec2(0.5 * (first.width_px - 1), 0.5 * (first.height_px - 1)), options.robot_height_mm));
   r.smallest_patch_px = r.mm_per_px > 0.0 ? SmallestPatchMm(config) / r.mm_per_px : 0.0;
@@ -199,9 +199,9 @@ SetupResult SetupCamera(const std::vector<const Image*>& frames,
       "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
   r.files = {
       {"calibration.toml", calib::CalibrationFileText(r.calibration_input, r.calibration_fit)},
-      {"thresholds.toml",
-       ThresholdsToml(r.thresholds.thresholds,
-                      "Made by patlab setup from " + std::to_string(frames.size()) + " frame(s).")},
+      {"thresholds.toml", vision::ThresholdsToml(r.thresholds.thresholds,
+                                                 "Made by patlab setup from " +
+                                                     std::to_string(frames.size()) + " frame(s).")},
       {"settings.toml",
        SettingsText(options.settings_path, r.tolerances,
                     made + "# The detector settings " + options.settings_path +
@@ -238,7 +238,7 @@ std::string SetupReportText(const SetupResult& r) {
        FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
   s += "colour classes (pixels, separability, nearest):\n  carpet: " +
        std::to_string(r.thresholds.carpet.pixels) + " px\n";
-  for (const AutoClassFit& c : r.thresholds.classes) {
+  for (const vision::AutoClassFit& c : r.thresholds.classes) {
     s += "  " + c.name + ": " + std::to_string(c.pixels) + " px, separability " +
          FormatSignificant(c.separability, 3) + " from " + c.nearest + "\n";
   }
@@ -309,4 +309,4 @@ SetupLandmark ParseLandmark(const std::string& text) {
   return {m[1].str(), Vec2(*x, *y)};
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

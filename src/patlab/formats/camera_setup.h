@@ -29,7 +29,7 @@
 #include "patlab/detect/detector.h"
 #include "patlab/vision/thresholds_auto.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 // A landmark of the field model clicked in the first frame (`--landmark NAME=X,Y`).
 struct SetupLandmark {
@@ -48,7 +48,7 @@ struct SetupOptions {
   // When not empty (at least 4): the calibration is fitted to these in the first frame instead
   // of the lines, with the first field model.
   std::vector<SetupLandmark> landmarks;
-  AutoThresholdsOptions thresholds;
+  vision::AutoThresholdsOptions thresholds;
 };
 
 // One field model tried: its camera's score (px of line explained) or why it failed.
@@ -69,7 +69,7 @@ struct SetupResult {
   double mapping_error_mm = 0.0;   // held-out (lines) or cross-validated (landmarks)
   double mm_per_px = 0.0;          // on the robots' plane at the image centre
   double smallest_patch_px = 0.0;  // the smallest patch's radius in px there
-  AutoThresholdsFit thresholds;
+  vision::AutoThresholdsFit thresholds;
   detect::DetectorOptions tolerances;  // the settings' options with the chosen tolerances
   // The files to write into the output folder (name, text): calibration.toml, thresholds.toml,
   // settings.toml, setup.toml.
@@ -79,7 +79,7 @@ struct SetupResult {
 
 // Sets up a camera from its frames (names for messages). InputError for bad input or frames
 // that do not decide the camera, naming the frame, the numbers and what is expected.
-SetupResult SetupCamera(const std::vector<const Image*>& frames,
+SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
                         const std::vector<std::string>& names, const SetupOptions& options);
 
 // The tolerances for a floor scale (mm per px), a mapping error (mm) and the smallest patch's
@@ -104,4 +104,4 @@ std::string LandmarkListText(const calib::Field& field);
 // Parses "NAME=X,Y" (`--landmark`); InputError naming the flag.
 SetupLandmark ParseLandmark(const std::string& text);
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

@@ -7,7 +7,7 @@
 #include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::detect {
+namespace patlab::formats {
 
 namespace {
 
@@ -58,9 +58,9 @@ const toml::array& IdTables(const toml::table& root, const std::string& source_n
 // What every [[id]] table is read and checked against.
 struct EntryContext {
   const Pattern& pattern;
-  const Symmetry& symmetry;
+  const detect::Symmetry& symmetry;
   const std::vector<std::vector<int>>& perms;  // SlotPermutations(pattern, symmetry)
-  const Codebook& book;                        // colours, num_slots and the entries so far
+  const detect::Codebook& book;                // colours, num_slots and the entries so far
   const std::string& colour_list;              // book.colours joined by ", " for messages
   const std::vector<int>& lines;               // the line of each entry so far
 };
@@ -106,12 +106,12 @@ std::vector<int> ReadEntryColours(const io::TomlReader& er, int id, const EntryC
 }
 
 // A colouring that some rotation maps onto itself cannot tell that rotation apart.
-void CheckNotAmbiguous(const io::TomlReader& er, const CodebookEntry& entry,
+void CheckNotAmbiguous(const io::TomlReader& er, const detect::CodebookEntry& entry,
                        const EntryContext& ctx) {
   for (size_t t2 = 1; t2 < ctx.perms.size(); ++t2) {
-    if (Stabilises(ctx.perms[t2], entry.colour)) {
+    if (detect::Stabilises(ctx.perms[t2], entry.colour)) {
       er.Fail("slots", "ID " + std::to_string(entry.id) + " is ambiguous: rotating " +
-                           ctx.pattern.name + " by " + DegreesText(ctx.symmetry, t2) +
+                           ctx.pattern.name + " by " + detect::DegreesText(ctx.symmetry, t2) +
                            " degrees maps it onto itself; expected colours that fix the "
                            "rotation");
     }
@@ -119,30 +119,31 @@ void CheckNotAmbiguous(const io::TomlReader& er, const CodebookEntry& entry,
 }
 
 // Two entries must differ in id and in colouring up to the pattern's rotations.
-void CheckDistinct(const io::TomlReader& er, const CodebookEntry& entry, const EntryContext& ctx) {
+void CheckDistinct(const io::TomlReader& er, const detect::CodebookEntry& entry,
+                   const EntryContext& ctx) {
   for (size_t other = 0; other < ctx.book.entries.size(); ++other) {
-    const CodebookEntry& o = ctx.book.entries[other];
+    const detect::CodebookEntry& o = ctx.book.entries[other];
     if (o.id == entry.id) {
       er.Fail("id", "id " + std::to_string(entry.id) + " appears twice (first at line " +
                         std::to_string(ctx.lines[other]) + "); expected distinct IDs");
     }
     for (size_t t2 = 0; t2 < ctx.perms.size(); ++t2) {
-      if (Permuted(ctx.perms[t2], o.colour) != entry.colour) continue;
+      if (detect::Permuted(ctx.perms[t2], o.colour) != entry.colour) continue;
       er.Fail("slots", "ID " + std::to_string(entry.id) +
                            (t2 == 0 ? " has the same colours as ID " + std::to_string(o.id)
                                     : " is ID " + std::to_string(o.id) + " rotated by " +
-                                          DegreesText(ctx.symmetry, t2) + " degrees") +
+                                          detect::DegreesText(ctx.symmetry, t2) + " degrees") +
                            "; expected colourings that differ up to the pattern's symmetry");
     }
   }
 }
 
 // [[id]] table number e (0-based in messages, as before).
-CodebookEntry ReadEntry(const toml::table& t, size_t e, const std::string& source_name,
-                        const EntryContext& ctx) {
+detect::CodebookEntry ReadEntry(const toml::table& t, size_t e, const std::string& source_name,
+                                const EntryContext& ctx) {
   const io::TomlReader er(t, source_name, "[[id]] " + std::to_string(e));
   er.CheckKeys({"id", "slots"});
-  CodebookEntry entry;
+  detect::CodebookEntry entry;
   entry.id = ReadEntryId(er, e);
   entry.colour = ReadEntryColours(er, entry.id, ctx);
   CheckNotAmbiguous(er, entry, ctx);
@@ -152,12 +153,12 @@ CodebookEntry ReadEntry(const toml::table& t, size_t e, const std::string& sourc
 
 }  // namespace
 
-Codebook ParseCodebook(const std::string& text, const std::string& source_name,
-                       const Pattern& pattern, const Symmetry& symmetry) {
+detect::Codebook ParseCodebook(const std::string& text, const std::string& source_name,
+                               const Pattern& pattern, const detect::Symmetry& symmetry) {
   const toml::table root = io::ParseTomlText(text, source_name);
   io::TomlReader reader(root, source_name);
   reader.CheckKeys({"pattern", "colours", "id"});
-  Codebook book;
+  detect::Codebook book;
   book.pattern = reader.String("pattern");
   if (book.pattern != pattern.name) {
     reader.Fail("pattern", "pattern is \"" + book.pattern + "\"; expected \"" + pattern.name +
@@ -167,25 +168,26 @@ Codebook ParseCodebook(const std::string& text, const std::string& source_name,
   std::string colour_list;
   for (const std::string& c : book.colours) colour_list += (colour_list.empty() ? "" : ", ") + c;
 
-  book.num_slots = static_cast<int>(IdSlots(pattern).size());
+  book.num_slots = static_cast<int>(detect::IdSlots(pattern).size());
   const toml::array& ids = IdTables(root, source_name);
-  const std::vector<std::vector<int>> perms = SlotPermutations(pattern, symmetry);
+  const std::vector<std::vector<int>> perms = detect::SlotPermutations(pattern, symmetry);
   std::vector<int> lines;
   const EntryContext ctx{pattern, symmetry, perms, book, colour_list, lines};
   for (size_t e = 0; e < ids.size(); ++e) {
     const toml::table& t = *ids.get(e)->as_table();
-    CodebookEntry entry = ReadEntry(t, e, source_name, ctx);
+    detect::CodebookEntry entry = ReadEntry(t, e, source_name, ctx);
     lines.push_back(io::LocOf(source_name, t).line);
     book.entries.push_back(std::move(entry));
   }
-  std::sort(book.entries.begin(), book.entries.end(),
-            [](const CodebookEntry& a, const CodebookEntry& b) { return a.id < b.id; });
+  std::sort(
+      book.entries.begin(), book.entries.end(),
+      [](const detect::CodebookEntry& a, const detect::CodebookEntry& b) { return a.id < b.id; });
   return book;
 }
 
-Codebook LoadCodebookFile(const std::string& path, const Pattern& pattern,
-                          const Symmetry& symmetry) {
+detect::Codebook LoadCodebookFile(const std::string& path, const Pattern& pattern,
+                                  const detect::Symmetry& symmetry) {
   return ParseCodebook(io::ReadTextFile(path, "TOML file"), path, pattern, symmetry);
 }
 
-}  // namespace patlab::detect
+}  // namespace patlab::formats

@@ -7,14 +7,14 @@
 #include "patlab/core/pattern.h"
 #include "patlab/detect/codebook.h"
 
-namespace patlab::detect {
+namespace patlab::formats {
 
 // Reads a codebook file for `pattern` and checks it against the pattern's symmetry: every
 // colouring must be an ID and no two may be the same up to a symmetry rotation. Throws InputError
 // "file:line: what is wrong; expected what".
-Codebook LoadCodebookFile(const std::string& path, const Pattern& pattern,
-                          const Symmetry& symmetry);
-Codebook ParseCodebook(const std::string& text, const std::string& source_name,
-                       const Pattern& pattern, const Symmetry& symmetry);
+detect::Codebook LoadCodebookFile(const std::string& path, const Pattern& pattern,
+                                  const detect::Symmetry& symmetry);
+detect::Codebook ParseCodebook(const std::string& text, const std::string& source_name,
+                               const Pattern& pattern, const detect::Symmetry& symmetry);
 
-}  // namespace patlab::detect
+}  // namespace patlab::formats

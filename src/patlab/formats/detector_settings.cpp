@@ -11,7 +11,7 @@
 #include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::detect {
+namespace patlab::formats {
 
 namespace {
 
@@ -68,22 +68,22 @@ void CheckInPalette(const std::vector<std::string>& names, const std::vector<std
 }
 
 // A table's missing_patch key, if present: "reject" or "fit".
-std::optional<MissingPatchPolicy> OptionalMissingPatch(const io::TomlReader& table) {
+std::optional<detect::MissingPatchPolicy> OptionalMissingPatch(const io::TomlReader& table) {
   const auto name = table.OptionalString("missing_patch");
   if (!name) return std::nullopt;
-  const auto policy = FindName(*name, kMissingPatchPolicyNames);
+  const auto policy = FindName(*name, detect::kMissingPatchPolicyNames);
   if (!policy) {
     table.Fail("missing_patch", "missing_patch is \"" + *name + "\"; expected " +
-                                    NameList(kMissingPatchPolicyNames));
+                                    NameList(detect::kMissingPatchPolicyNames));
   }
   return policy;
 }
 
 // [detector]: every field optional, defaults from DetectorOptions; a broken constraint
 // (Check) at its key's line.
-DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReader& reader,
-                                    const std::string& file) {
-  DetectorOptions o;
+detect::DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReader& reader,
+                                            const std::string& file) {
+  detect::DetectorOptions o;
   static const toml::table kEmpty;
   const toml::node* detector_node = root.get("detector");
   if (detector_node != nullptr && !detector_node->is_table()) {
@@ -116,15 +116,15 @@ DetectorOptions ReadDetectorOptions(const toml::table& root, const io::TomlReade
               "estimator is \"" + *v + "\"; expected \"fast\", \"ml\", \"lsq\" or \"key\"");
     }
   }
-  const std::vector<OptionsProblem> problems = Check(o);
+  const std::vector<OptionsProblem> problems = detect::Check(o);
   if (!problems.empty()) dr.Fail(problems.front().field, problems.front().message);
   return o;
 }
 
 // [frame]: every field optional; a bad value at its key's line.
-FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlReader& reader,
-                                const std::string& file) {
-  FrameSettings f;
+detect::FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlReader& reader,
+                                        const std::string& file) {
+  detect::FrameSettings f;
   const toml::node* frame_node = root.get("frame");
   if (frame_node == nullptr) return f;
   if (!frame_node->is_table()) {
@@ -134,7 +134,7 @@ FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlReader& r
   fr.CheckKeys({"edge_loss_px", "missing_patch"});
   f.edge_loss_px = fr.OptionalNumber("edge_loss_px");
   f.missing_patch = OptionalMissingPatch(fr);
-  const std::vector<OptionsProblem> problems = Check(f);
+  const std::vector<OptionsProblem> problems = detect::Check(f);
   if (!problems.empty()) fr.Fail(problems.front().field, problems.front().message);
   return f;
 }
@@ -147,8 +147,8 @@ Pattern ReadPattern(const io::TomlReader& pr, const std::string& base_dir,
   const std::string reference = pr.String("pattern");
   try {
     const bool is_path = reference.find('/') != std::string::npos || reference.ends_with(".toml");
-    return io::LoadPatternFile(is_path ? Resolve(base_dir, reference)
-                                       : io::ResolvePatternPath(reference, patterns_dir));
+    return formats::LoadPatternFile(is_path ? Resolve(base_dir, reference)
+                                            : formats::ResolvePatternPath(reference, patterns_dir));
   } catch (const InputError& e) {
     if (std::string(e.what()).starts_with("pattern '")) pr.Fail("pattern", e.what());
     throw;
@@ -156,14 +156,16 @@ Pattern ReadPattern(const io::TomlReader& pr, const std::string& base_dir,
 }
 
 // [[pattern]] table i: its pattern, key colours, and codebook file or ID colours.
-DetectorPattern ReadPatternTable(const toml::table& t, size_t i, const DetectorConfig& config,
-                                 const std::string& file, const std::string& base_dir,
-                                 const std::string& patterns_dir) {
+detect::DetectorPattern ReadPatternTable(const toml::table& t, size_t i,
+                                         const detect::DetectorConfig& config,
+                                         const std::string& file, const std::string& base_dir,
+                                         const std::string& patterns_dir) {
   io::TomlReader pr(t, file, "[[pattern]] " + std::to_string(i));
   pr.CheckKeys({"pattern", "codebook", "id_colours", "key_colours", "symmetry_tolerance_mm"});
   Pattern pattern = ReadPattern(pr, base_dir, patterns_dir);
   const double symmetry_tolerance_mm =
-      pr.OptionalNumber("symmetry_tolerance_mm").value_or(DetectorPattern{}.symmetry_tolerance_mm);
+      pr.OptionalNumber("symmetry_tolerance_mm")
+          .value_or(detect::DetectorPattern{}.symmetry_tolerance_mm);
   if (symmetry_tolerance_mm < 0.0) {
     pr.Fail("symmetry_tolerance_mm", "symmetry_tolerance_mm is " +
                                          FormatNumber(symmetry_tolerance_mm) +
@@ -185,7 +187,7 @@ DetectorPattern ReadPatternTable(const toml::table& t, size_t i, const DetectorC
     id_colours = StringList(t, "id_colours", file, "ID colour names");
     CheckInPalette(id_colours, config.palette, t, "id_colours", file);
   }
-  DetectorPattern dp =
+  detect::DetectorPattern dp =
       MakeDetectorPattern(std::move(pattern), std::move(key_colours),
                           has_codebook ? Resolve(base_dir, pr.String("codebook")) : std::string(),
                           id_colours, symmetry_tolerance_mm);
@@ -201,12 +203,13 @@ DetectorPattern ReadPatternTable(const toml::table& t, size_t i, const DetectorC
 
 }  // namespace
 
-DetectorConfig ParseDetectorSettings(const std::string& text, const std::string& source_name,
-                                     const std::string& base_dir) {
+detect::DetectorConfig ParseDetectorSettings(const std::string& text,
+                                             const std::string& source_name,
+                                             const std::string& base_dir) {
   const toml::table root = io::ParseTomlText(text, source_name);
   io::TomlReader reader(root, source_name);
   reader.CheckKeys({"palette", "patterns_dir", "detector", "frame", "pattern"});
-  DetectorConfig config;
+  detect::DetectorConfig config;
   config.palette = StringList(root, "palette", source_name, "colour names");
   if (config.palette.size() > 64) {
     reader.Fail("palette", "palette has " + std::to_string(config.palette.size()) +
@@ -230,39 +233,39 @@ DetectorConfig ParseDetectorSettings(const std::string& text, const std::string&
   }
   try {
     // The remaining cross-checks (fixed colours, max_neighbours).
-    return MakeDetectorConfig(std::move(config.palette), config.options,
-                              std::move(config.patterns));
+    return detect::MakeDetectorConfig(std::move(config.palette), config.options,
+                                      std::move(config.patterns));
   } catch (const InputError& e) {
     throw InputError(FileLoc{source_name, 0}, e.what());
   }
 }
 
-DetectorPattern MakeDetectorPattern(Pattern pattern, std::vector<std::string> key_colours,
-                                    const std::string& codebook_file,
-                                    const std::vector<std::string>& id_colours,
-                                    double symmetry_tolerance_mm) {
-  DetectorPattern dp;
+detect::DetectorPattern MakeDetectorPattern(Pattern pattern, std::vector<std::string> key_colours,
+                                            const std::string& codebook_file,
+                                            const std::vector<std::string>& id_colours,
+                                            double symmetry_tolerance_mm) {
+  detect::DetectorPattern dp;
   dp.symmetry_tolerance_mm = symmetry_tolerance_mm;
   dp.key_colours = std::move(key_colours);
-  const Symmetry symmetry = FindSymmetry(pattern, symmetry_tolerance_mm);
-  dp.codebook = codebook_file.empty() ? GenerateCodebook(pattern, symmetry, id_colours)
+  const detect::Symmetry symmetry = detect::FindSymmetry(pattern, symmetry_tolerance_mm);
+  dp.codebook = codebook_file.empty() ? detect::GenerateCodebook(pattern, symmetry, id_colours)
                                       : LoadCodebookFile(codebook_file, pattern, symmetry);
   dp.pattern = std::move(pattern);
   return dp;
 }
 
-FrameSettings ParseFrameSettings(const std::string& text, const std::string& source_name) {
+detect::FrameSettings ParseFrameSettings(const std::string& text, const std::string& source_name) {
   const toml::table root = io::ParseTomlText(text, source_name);
   return ReadFrameSettings(root, io::TomlReader(root, source_name), source_name);
 }
 
-FrameSettings LoadFrameSettings(const std::string& path) {
+detect::FrameSettings LoadFrameSettings(const std::string& path) {
   return ParseFrameSettings(io::ReadTextFile(path, "TOML file"), path);
 }
 
-DetectorConfig LoadDetectorSettings(const std::string& path) {
+detect::DetectorConfig LoadDetectorSettings(const std::string& path) {
   return ParseDetectorSettings(io::ReadTextFile(path, "TOML file"), path,
                                fs::path(path).parent_path().string());
 }
 
-}  // namespace patlab::detect
+}  // namespace patlab::formats

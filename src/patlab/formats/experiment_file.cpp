@@ -17,7 +17,7 @@
 #include "patlab/io/atomic_file.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::sim {
+namespace patlab::formats {
 
 namespace internal {
 
@@ -107,13 +107,13 @@ void CheckTopLevelKeys(const TomlReader& r, bool detect_mode) {
                "noise", "noise_file", "detect"});
 }
 
-Correspondence ReadCorrespondence(const TomlReader& r) {
+sim::Correspondence ReadCorrespondence(const TomlReader& r) {
   const auto name = r.OptionalString("correspondence");
-  if (!name) return Correspondence::kKnown;
-  const auto value = FindName(*name, kCorrespondenceNames);
+  if (!name) return sim::Correspondence::kKnown;
+  const auto value = FindName(*name, sim::kCorrespondenceNames);
   if (!value) {
     r.Fail("correspondence",
-           "correspondence is \"" + *name + "\"; expected " + NameList(kCorrespondenceNames));
+           "correspondence is \"" + *name + "\"; expected " + NameList(sim::kCorrespondenceNames));
   }
   return *value;
 }
@@ -137,7 +137,7 @@ const toml::array& ReadPatternList(const TomlReader& r) {
 // Known mode: pattern names resolve in patterns_dir; a reference with a path separator or .toml
 // is a file relative to the experiment file.
 void LoadKnownPatterns(const TomlReader& r, const toml::array& patterns, const fs::path& base,
-                       Experiment* e) {
+                       sim::Experiment* e) {
   const std::string patterns_dir =
       (base / r.OptionalString("patterns_dir").value_or("../patterns")).lexically_normal().string();
   for (const toml::node& item : patterns) {
@@ -147,11 +147,11 @@ void LoadKnownPatterns(const TomlReader& r, const toml::array& patterns, const f
     }
     std::string file;
     try {
-      file = io::ResolvePatternPath(reference, patterns_dir);
+      file = formats::ResolvePatternPath(reference, patterns_dir);
     } catch (const InputError& error) {
       throw InputError(io::LocOf(r.file(), item), error.what());
     }
-    Pattern pattern = io::LoadPatternFile(file);
+    Pattern pattern = formats::LoadPatternFile(file);
     CheckNotListed(e->patterns, pattern.name, io::LocOf(r.file(), item));
     e->patterns.push_back(std::move(pattern));
     e->pattern_files.push_back(file);
@@ -181,10 +181,10 @@ std::vector<estimate::Estimator> ReadEstimators(const TomlReader& r) {
   return estimators;
 }
 
-void ReadTrialsAndSeed(const TomlReader& r, Experiment* e) {
+void ReadTrialsAndSeed(const TomlReader& r, sim::Experiment* e) {
   if (const auto trials = r.OptionalInteger("trials")) {
     OptionsChecker check;
-    CheckTrials(*trials, "trials", &check);
+    sim::CheckTrials(*trials, "trials", &check);
     FailAtFirst(r, check.problems());
     e->trials = *trials;
   }
@@ -216,7 +216,7 @@ std::vector<double> ReadSigmaGrid(const TomlReader& r) {
       }
       sigmas.push_back(*value);
     }
-    CheckSigmas(sigmas, "values", &check);
+    sim::CheckSigmas(sigmas, "values", &check);
   } else {
     const double from = r.Number("from");
     const double to = r.Number("to");
@@ -236,14 +236,14 @@ std::vector<double> ReadSigmaGrid(const TomlReader& r) {
 
 // [field]: the area random poses (and detect-mode scenes) cover. Scenes need a field of some
 // size; their limit (Check(SceneOptions)) is checked here, at the key's line.
-void ReadField(const TomlReader& f, bool detect_mode, Experiment* e) {
+void ReadField(const TomlReader& f, bool detect_mode, sim::Experiment* e) {
   f.CheckKeys({"length_mm", "width_mm"});
   e->field_length_mm = f.OptionalNumber("length_mm").value_or(e->field_length_mm);
   e->field_width_mm = f.OptionalNumber("width_mm").value_or(e->field_width_mm);
   OptionsChecker check;
-  CheckFieldSides(e->field_length_mm, e->field_width_mm, "length_mm", "width_mm", &check);
+  sim::CheckFieldSides(e->field_length_mm, e->field_width_mm, "length_mm", "width_mm", &check);
   if (detect_mode && check.problems().empty()) {
-    SceneOptions scene;
+    sim::SceneOptions scene;
     scene.field_length_mm = e->field_length_mm;
     scene.field_width_mm = e->field_width_mm;
     for (const OptionsProblem& p : Check(scene)) {
@@ -257,11 +257,11 @@ void ReadField(const TomlReader& f, bool detect_mode, Experiment* e) {
   FailAtFirst(f, check.problems());
 }
 
-NoiseModel ReadNoiseTable(const TomlReader& r) {
+sim::NoiseModel ReadNoiseTable(const TomlReader& r) {
   r.CheckKeys({"sigma_y_ratio", "common_sigma_ratio", "outlier_probability", "outlier_sigma_ratio",
                "rotation_jitter_rad", "scale_jitter_ppm", "correlation_length_mm", "key_shift_x_mm",
                "id_shift_x_mm"});
-  NoiseModel noise;
+  sim::NoiseModel noise;
   for (auto [key, field] : {std::pair{"sigma_y_ratio", &noise.sigma_y_ratio},
                             std::pair{"common_sigma_ratio", &noise.common_sigma_ratio},
                             std::pair{"outlier_probability", &noise.outlier_probability},
@@ -278,7 +278,7 @@ NoiseModel ReadNoiseTable(const TomlReader& r) {
 }
 
 // [noise], or noise_file (relative to the experiment), or the paper's isotropic Gaussian.
-NoiseModel ReadNoise(const TomlReader& r, const fs::path& base) {
+sim::NoiseModel ReadNoise(const TomlReader& r, const fs::path& base) {
   if (r.Has("noise") && r.Has("noise_file")) {
     r.Fail("noise_file", "both [noise] and noise_file are given; expected one of the two");
   }
@@ -297,7 +297,7 @@ NoiseModel ReadNoise(const TomlReader& r, const fs::path& base) {
     const toml::table noise_root = io::ParseTomlFile(noise_path);
     return ReadNoiseTable(TomlReader(noise_root, noise_path));
   }
-  return NoiseModel{};
+  return sim::NoiseModel{};
 }
 
 estimate::Options ReadMlTable(const TomlReader& m) {
@@ -318,13 +318,13 @@ estimate::Options ReadMlTable(const TomlReader& m) {
 
 }  // namespace
 
-Experiment LoadExperimentFile(const std::string& path) {
+sim::Experiment LoadExperimentFile(const std::string& path) {
   const toml::table root = io::ParseTomlFile(path);
   const TomlReader r(root, path);
-  Experiment e;
-  e.correspondence = r.OptionalString("correspondence") == "detect" ? Correspondence::kDetect
-                                                                    : Correspondence::kKnown;
-  const bool detect_mode = e.correspondence == Correspondence::kDetect;
+  sim::Experiment e;
+  e.correspondence = r.OptionalString("correspondence") == "detect" ? sim::Correspondence::kDetect
+                                                                    : sim::Correspondence::kKnown;
+  const bool detect_mode = e.correspondence == sim::Correspondence::kDetect;
   CheckTopLevelKeys(r, detect_mode);
   e.source_file = path;
   e.name = r.String("name");
@@ -353,4 +353,4 @@ Experiment LoadExperimentFile(const std::string& path) {
   return e;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::formats

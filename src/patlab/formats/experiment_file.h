@@ -6,12 +6,12 @@
 
 #include "patlab/sim/experiment.h"
 
-namespace patlab::sim {
+namespace patlab::formats {
 
 // Reads an experiment file. Pattern names resolve to <patterns_dir>/<name>.toml, where
 // patterns_dir defaults to ../patterns relative to the experiment file (key `patterns_dir`).
 // With correspondence = "detect" they name [[pattern]]s of the [detect] settings file instead,
 // and trials, estimators, ml and patterns_dir are rejected (the detector settings hold them).
-Experiment LoadExperimentFile(const std::string& path);
+sim::Experiment LoadExperimentFile(const std::string& path);
 
-}  // namespace patlab::sim
+}  // namespace patlab::formats

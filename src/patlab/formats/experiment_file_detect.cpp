@@ -13,7 +13,7 @@
 #include "patlab/formats/pattern_file.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::sim {
+namespace patlab::formats {
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,7 +27,7 @@ using io::TomlReader;
 
 // settings = "<file>", relative to the experiment; loaded (and checked) as a detector settings
 // file.
-void ReadDetectorSettings(const TomlReader& d, const fs::path& base, DetectSettings* s) {
+void ReadDetectorSettings(const TomlReader& d, const fs::path& base, sim::DetectSettings* s) {
   const std::string expected = "expected a detector settings file (relative to the experiment)";
   if (!d.Has("settings")) d.Fail("settings", "missing " + d.Describe("settings") + "; " + expected);
   const std::string settings = d.String("settings");
@@ -37,13 +37,13 @@ void ReadDetectorSettings(const TomlReader& d, const fs::path& base, DetectSetti
     d.Fail("settings", d.Describe("settings") + " is \"" + settings + "\", but " +
                            s->settings_file + " is not a file; " + expected);
   }
-  s->detector = detect::LoadDetectorSettings(s->settings_file);
+  s->detector = formats::LoadDetectorSettings(s->settings_file);
 }
 
 // The scalar keys: frames, the scene's numbers and switches, match_radius_mm, detector_sigma.
-void ReadDetectScalars(const TomlReader& d, DetectSettings* s) {
+void ReadDetectScalars(const TomlReader& d, sim::DetectSettings* s) {
   s->frames = d.OptionalInteger("frames").value_or(s->frames);
-  SceneOptions& o = s->scene;
+  sim::SceneOptions& o = s->scene;
   if (const auto robots = d.OptionalInteger("robots_per_team")) {
     o.robots_per_team = static_cast<int>(std::clamp<int64_t>(*robots, INT32_MIN, INT32_MAX));
   }
@@ -59,10 +59,10 @@ void ReadDetectScalars(const TomlReader& d, DetectSettings* s) {
   o.ball = d.OptionalBool("ball").value_or(o.ball);
   o.ball_colour = d.OptionalString("ball_colour").value_or(o.ball_colour);
   if (const auto mode = d.OptionalString("detector_sigma")) {
-    const auto matched = FindName(*mode, kDetectorSigmaNames);
+    const auto matched = FindName(*mode, sim::kDetectorSigmaNames);
     if (!matched) {
       d.Fail("detector_sigma", d.Describe("detector_sigma") + " is \"" + *mode + "\"; expected " +
-                                   NameList(kDetectorSigmaNames));
+                                   NameList(sim::kDetectorSigmaNames));
     }
     s->matched_sigma = *matched;
   }
@@ -70,7 +70,7 @@ void ReadDetectScalars(const TomlReader& d, DetectSettings* s) {
 
 // false_blob_rate_per_m2: one number, or an array of them (a second grid axis), each checked
 // at its own line.
-void ReadFalseBlobRates(const TomlReader& d, DetectSettings* s) {
+void ReadFalseBlobRates(const TomlReader& d, sim::DetectSettings* s) {
   s->false_blob_rates_per_m2 = {0.0};
   if (!d.Has("false_blob_rate_per_m2")) return;
   const std::string key = "false_blob_rate_per_m2";
@@ -84,7 +84,7 @@ void ReadFalseBlobRates(const TomlReader& d, DetectSettings* s) {
     items.push_back(&node);
   }
   s->false_blob_rates_per_m2.clear();
-  SceneOptions scene = s->scene;
+  sim::SceneOptions scene = s->scene;
   for (const toml::node* v : items) {
     const FileLoc loc = io::LocOf(d.file(), *v);
     const auto value = NumberOf(*v);
@@ -102,7 +102,7 @@ void ReadFalseBlobRates(const TomlReader& d, DetectSettings* s) {
 }
 
 // The ball must have a colour the detector knows, or the scene could not label it.
-void CheckBallColour(const TomlReader& d, const DetectSettings& s) {
+void CheckBallColour(const TomlReader& d, const sim::DetectSettings& s) {
   const std::vector<std::string>& palette = s.detector.palette;
   if (!s.scene.ball ||
       std::find(palette.begin(), palette.end(), s.scene.ball_colour) != palette.end()) {
@@ -116,8 +116,8 @@ void CheckBallColour(const TomlReader& d, const DetectSettings& s) {
 }
 
 // The [detect] table, after [field] (the scene stands on the experiment's field).
-void ReadDetectTable(const TomlReader& d, const fs::path& base, const Experiment& e,
-                     DetectSettings* s) {
+void ReadDetectTable(const TomlReader& d, const fs::path& base, const sim::Experiment& e,
+                     sim::DetectSettings* s) {
   d.CheckKeys({"settings", "frames", "robots_per_team", "false_blob_rate_per_m2",
                "false_blob_radius_min_mm", "false_blob_radius_max_mm", "missing_patch_probability",
                "colour_error_probability", "ball", "ball_colour", "robot_radius_mm",
@@ -152,7 +152,7 @@ int FindDetectorPattern(const detect::DetectorConfig& config, const std::string&
 constexpr double kMaxExcludedFraction = 0.8;
 
 // The larger of the robots' and the ball's excluded fractions for the last one placed.
-double ExcludedFraction(const SceneOptions& o, int robots) {
+double ExcludedFraction(const sim::SceneOptions& o, int robots) {
   const double l = o.field_length_mm, w = o.field_width_mm, r = o.robot_radius_mm;
   const double robot_region = (l - 2 * r) * (w - 2 * r);
   const double robot_excluded =
@@ -167,7 +167,7 @@ double ExcludedFraction(const SceneOptions& o, int robots) {
 }
 
 // One trial scene of the pattern: enough IDs for robots_per_team, room for robots and ball.
-void CheckSceneFits(const TomlReader& d, const DetectSettings& s, int index, uint64_t seed) {
+void CheckSceneFits(const TomlReader& d, const sim::DetectSettings& s, int index, uint64_t seed) {
   const detect::DetectorPattern& dp = s.detector.patterns[index];
   const std::string& name = dp.pattern.name;
   const std::string robots =
@@ -191,11 +191,11 @@ void CheckSceneFits(const TomlReader& d, const DetectSettings& s, int index, uin
   detect::DetectorConfig config = s.detector;
   config.patterns = {dp};
   const detect::Detector detector(std::move(config));
-  SceneOptions scene = s.scene;
+  sim::SceneOptions scene = s.scene;
   scene.pattern = 0;
   RandomStream rng(seed, 0, 0);
   try {
-    GenerateScene(detector, scene, PatchNoise{}, rng);
+    sim::GenerateScene(detector, scene, sim::PatchNoise{}, rng);
   } catch (const InputError& error) {
     const std::string what = error.what();
     d.Fail("robots_per_team",
@@ -205,8 +205,8 @@ void CheckSceneFits(const TomlReader& d, const DetectSettings& s, int index, uin
 
 // Detect mode: `patterns` name [[pattern]]s of the detector settings.
 void ResolveDetectPatterns(const TomlReader& r, const TomlReader& d, const toml::array& patterns,
-                           Experiment* e) {
-  DetectSettings& s = e->detect;
+                           sim::Experiment* e) {
+  sim::DetectSettings& s = e->detect;
   for (const toml::node& item : patterns) {
     const std::string& name = item.as_string()->get();
     const FileLoc loc = io::LocOf(r.file(), item);
@@ -229,7 +229,7 @@ void ResolveDetectPatterns(const TomlReader& r, const TomlReader& d, const toml:
 namespace internal {
 
 void ReadDetectMode(const TomlReader& r, const toml::array& patterns, const fs::path& base,
-                    Experiment* e) {
+                    sim::Experiment* e) {
   if (!r.Has("detect")) {
     r.Fail("detect",
            "missing [detect] with correspondence = \"detect\"; expected a table "
@@ -241,4 +241,4 @@ void ReadDetectMode(const TomlReader& r, const toml::array& patterns, const fs::
 }
 
 }  // namespace internal
-}  // namespace patlab::sim
+}  // namespace patlab::formats

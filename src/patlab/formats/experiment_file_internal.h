@@ -14,7 +14,7 @@
 #include "patlab/io/toml_util.h"
 #include "patlab/sim/experiment.h"
 
-namespace patlab::sim::internal {
+namespace patlab::formats::internal {
 
 // Throws the first problem at the line of its key in `r`, the field renamed as `r` describes it
 // ("max_iterations" -> "max_iterations in [ml]").
@@ -35,6 +35,6 @@ void CheckNotListed(const std::vector<Pattern>& seen, const std::string& name, c
 // Detect mode (experiment_file_detect.cpp): the [detect] table, and `patterns` resolved as
 // [[pattern]]s of its detector settings.
 void ReadDetectMode(const io::TomlReader& r, const toml::array& patterns,
-                    const std::filesystem::path& base, Experiment* e);
+                    const std::filesystem::path& base, sim::Experiment* e);
 
-}  // namespace patlab::sim::internal
+}  // namespace patlab::formats::internal

@@ -10,7 +10,7 @@
 #include "patlab/io/data_path.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::calib {
+namespace patlab::formats {
 
 namespace {
 
@@ -24,7 +24,7 @@ std::string UniqueName(const io::TomlReader& r, std::set<std::string>& seen) {
 }
 
 // An arc's from_deg and to_deg: both or neither (the full circle), from < to <= from + 360.
-void ReadArcExtent(const io::TomlReader& r, FieldCircle& c) {
+void ReadArcExtent(const io::TomlReader& r, calib::FieldCircle& c) {
   const std::optional<double> from = r.OptionalNumber("from_deg");
   const std::optional<double> to = r.OptionalNumber("to_deg");
   if (!from && !to) return;
@@ -46,7 +46,7 @@ void ReadArcExtent(const io::TomlReader& r, FieldCircle& c) {
 }
 
 // The model's optional facts; sizes, when given, positive (the boundary may be 0).
-void ReadFacts(const io::TomlReader& top, Field& field) {
+void ReadFacts(const io::TomlReader& top, calib::Field& field) {
   field.family = top.OptionalString("family").value_or("");
   if (const std::optional<int64_t> year = top.OptionalInteger("year")) {
     if (*year < 1997 || *year > 2200)
@@ -73,15 +73,15 @@ void ReadFacts(const io::TomlReader& top, Field& field) {
   }
 }
 
-void ReadFeatures(const toml::table& root, const std::string& file, Field& field) {
+void ReadFeatures(const toml::table& root, const std::string& file, calib::Field& field) {
   namespace in = internal;
   std::set<std::string> seen;
   const auto lines = in::TableArray(root, "line", file);
   for (size_t i = 0; i < lines.size(); ++i) {
     const io::TomlReader r(*lines[i], file, "[[line]] " + std::to_string(i + 1));
     r.CheckKeys({"name", "from_mm", "to_mm"});
-    FieldLine l{UniqueName(r, seen), in::ReadPair(r, "from_mm", "[x, y] in mm"),
-                in::ReadPair(r, "to_mm", "[x, y] in mm")};
+    calib::FieldLine l{UniqueName(r, seen), in::ReadPair(r, "from_mm", "[x, y] in mm"),
+                       in::ReadPair(r, "to_mm", "[x, y] in mm")};
     if ((l.to_mm - l.from_mm).norm() < 1.0)
       r.Fail("to_mm", r.Describe("to_mm") +
                           " is within 1 mm of from_mm; expected two distinct points of the line");
@@ -91,8 +91,8 @@ void ReadFeatures(const toml::table& root, const std::string& file, Field& field
   for (size_t i = 0; i < circles.size(); ++i) {
     const io::TomlReader r(*circles[i], file, "[[circle]] " + std::to_string(i + 1));
     r.CheckKeys({"name", "centre_mm", "radius_mm", "from_deg", "to_deg"});
-    FieldCircle c{UniqueName(r, seen), in::ReadPair(r, "centre_mm", "[x, y] in mm"),
-                  r.Number("radius_mm")};
+    calib::FieldCircle c{UniqueName(r, seen), in::ReadPair(r, "centre_mm", "[x, y] in mm"),
+                         r.Number("radius_mm")};
     if (!(c.radius_mm >= 1.0))
       r.Fail("radius_mm", r.Describe("radius_mm") + " is " + FormatNumber(c.radius_mm) +
                               "; expected a radius of at least 1 mm");
@@ -109,12 +109,12 @@ void ReadFeatures(const toml::table& root, const std::string& file, Field& field
 
 }  // namespace
 
-Field ParseField(std::string_view text, const std::string& source_name) {
+calib::Field ParseField(std::string_view text, const std::string& source_name) {
   const toml::table root = io::ParseTomlText(text, source_name);
   const io::TomlReader top(root, source_name);
   top.CheckKeys({"name", "source", "family", "year", "length_mm", "width_mm", "boundary_mm",
                  "goal_width_mm", "goal_depth_mm", "line", "circle", "point"});
-  Field field;
+  calib::Field field;
   field.name = top.String("name");
   field.source = top.OptionalString("source").value_or("");
   ReadFacts(top, field);
@@ -127,16 +127,16 @@ Field ParseField(std::string_view text, const std::string& source_name) {
   return field;
 }
 
-Field LoadField(const std::string& path) {
+calib::Field LoadField(const std::string& path) {
   return ParseField(io::ReadTextFile(path, "field geometry TOML file"), path);
 }
 
-std::vector<Field> ShippedFields(const std::vector<std::string>& roots) {
-  std::vector<Field> fields;
+std::vector<calib::Field> ShippedFields(const std::vector<std::string>& roots) {
+  std::vector<calib::Field> fields;
   for (const std::string& name : io::DataNames(io::DataKind::kField, roots)) {
     fields.push_back(LoadField(io::FindData(name, io::DataKind::kField, roots)));
   }
-  std::stable_sort(fields.begin(), fields.end(), [](const Field& a, const Field& b) {
+  std::stable_sort(fields.begin(), fields.end(), [](const calib::Field& a, const calib::Field& b) {
     if (a.family != b.family) return a.family < b.family;
     if (a.year != b.year) return a.year > b.year;
     return a.name < b.name;
@@ -146,18 +146,19 @@ std::vector<Field> ShippedFields(const std::vector<std::string>& roots) {
 
 std::vector<std::string> FieldFamilies(const std::vector<std::string>& roots) {
   std::set<std::string> families;
-  for (const Field& f : ShippedFields(roots)) {
+  for (const calib::Field& f : ShippedFields(roots)) {
     if (!f.family.empty()) families.insert(f.family);
   }
   return {families.begin(), families.end()};
 }
 
-std::vector<Field> FieldFamily(std::string_view family, const std::vector<std::string>& roots) {
-  std::vector<Field> out;
-  for (Field& f : ShippedFields(roots)) {
+std::vector<calib::Field> FieldFamily(std::string_view family,
+                                      const std::vector<std::string>& roots) {
+  std::vector<calib::Field> out;
+  for (calib::Field& f : ShippedFields(roots)) {
     if (f.family == family) out.push_back(std::move(f));
   }
   return out;
 }
 
-}  // namespace patlab::calib
+}  // namespace patlab::formats

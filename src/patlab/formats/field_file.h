@@ -8,20 +8,21 @@
 
 #include "patlab/calib/field.h"
 
-namespace patlab::calib {
+namespace patlab::formats {
 
 // Reads a field file. Throws InputError "file:line: what is wrong; expected what" for the first
 // problem.
-Field LoadField(const std::string& path);
-Field ParseField(std::string_view text, const std::string& source_name);
+calib::Field LoadField(const std::string& path);
+calib::Field ParseField(std::string_view text, const std::string& source_name);
 
 // The shipped field models (experiments/fields/*.toml under the data roots of io/data_path.h),
 // parsed; by family, each family newest first (year descending, then name). A model that does
 // not parse throws its InputError.
-std::vector<Field> ShippedFields(const std::vector<std::string>& roots);
+std::vector<calib::Field> ShippedFields(const std::vector<std::string>& roots);
 // The families of the shipped models ("ssl", "vss"), sorted.
 std::vector<std::string> FieldFamilies(const std::vector<std::string>& roots);
 // Every shipped model of `family`, newest first; empty when there is no such family.
-std::vector<Field> FieldFamily(std::string_view family, const std::vector<std::string>& roots);
+std::vector<calib::Field> FieldFamily(std::string_view family,
+                                      const std::vector<std::string>& roots);
 
-}  // namespace patlab::calib
+}  // namespace patlab::formats

@@ -9,7 +9,7 @@
 #include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 namespace {
 
@@ -75,8 +75,8 @@ void ReadCoordinateList(const io::TomlReader& r, std::string_view key, const std
   }
 }
 
-LabelClass ReadLabelClass(const toml::node& node, const std::string& file, size_t index,
-                          const std::vector<LabelClass>& before) {
+vision::LabelClass ReadLabelClass(const toml::node& node, const std::string& file, size_t index,
+                                  const std::vector<vision::LabelClass>& before) {
   const std::string context = "[[class]] " + std::to_string(index + 1);
   const toml::table* table = node.as_table();
   if (table == nullptr) {
@@ -84,7 +84,7 @@ LabelClass ReadLabelClass(const toml::node& node, const std::string& file, size_
   }
   const io::TomlReader r(*table, file, context);
   r.CheckKeys({"name", "display", "points", "rects", "mask", "min_area_px", "max_area_px"});
-  LabelClass c;
+  vision::LabelClass c;
   c.line = r.TableLoc().line;
   c.name = r.String("name");
   if (c.name.empty()) r.Fail("name", "empty name in " + context + "; expected a class name");
@@ -93,7 +93,7 @@ LabelClass ReadLabelClass(const toml::node& node, const std::string& file, size_
                        io::kNameExpected);
   }
   c.name = io::CanonicalClassName(c.name, r.Loc("name"));
-  for (const LabelClass& b : before) {
+  for (const vision::LabelClass& b : before) {
     if (b.name == c.name) {
       r.Fail("name",
              "duplicate class name \"" + EscapeForMessage(c.name) + "\"; expected unique names");
@@ -137,11 +137,12 @@ std::string Resolve(const std::string& base_dir, const std::string& path) {
 
 }  // namespace
 
-Labels ParseLabels(std::string_view text, const std::string& name, const std::string& base_dir) {
+vision::Labels ParseLabels(std::string_view text, const std::string& name,
+                           const std::string& base_dir) {
   const toml::table root = io::ParseTomlText(text, name);
   const io::TomlReader top(root, name);
   top.CheckKeys({"image", "mask", "point_radius_px", "class"});
-  Labels labels;
+  vision::Labels labels;
   labels.source = name;
   labels.image_path = Resolve(base_dir, top.String("image"));
   labels.image_line = top.Loc("image").line;
@@ -162,15 +163,16 @@ Labels ParseLabels(std::string_view text, const std::string& name, const std::st
     throw InputError(FileLoc{name, classes_node ? io::LocOf(name, *classes_node).line : 0},
                      "no classes; expected at least one [[class]] table");
   }
-  if (classes->size() > kMaxColorClasses) {
-    throw InputError(io::LocOf(name, (*classes)[kMaxColorClasses]),
-                     "[[class]] " + std::to_string(kMaxColorClasses + 1) + "; expected at most " +
-                         std::to_string(kMaxColorClasses) + " colour classes");
+  if (classes->size() > vision::kMaxColorClasses) {
+    throw InputError(io::LocOf(name, (*classes)[vision::kMaxColorClasses]),
+                     "[[class]] " + std::to_string(vision::kMaxColorClasses + 1) +
+                         "; expected at most " + std::to_string(vision::kMaxColorClasses) +
+                         " colour classes");
   }
   for (size_t i = 0; i < classes->size(); ++i) {
     labels.classes.push_back(ReadLabelClass((*classes)[i], name, i, labels.classes));
   }
-  for (const LabelClass& c : labels.classes) {
+  for (const vision::LabelClass& c : labels.classes) {
     if (c.has_mask_rgb && labels.mask_path.empty()) {
       throw InputError(FileLoc{name, c.line}, "class \"" + EscapeForMessage(c.name) +
                                                   "\" has a mask colour but the file names no "
@@ -180,9 +182,9 @@ Labels ParseLabels(std::string_view text, const std::string& name, const std::st
   return labels;
 }
 
-Labels LoadLabels(const std::string& path) {
+vision::Labels LoadLabels(const std::string& path) {
   const std::string text = io::ReadTextFile(path, "labels file");
   return ParseLabels(text, path, fs::path(path).parent_path().string());
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

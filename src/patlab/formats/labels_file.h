@@ -7,12 +7,13 @@
 
 #include "patlab/vision/thresholds_fit.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 // `base_dir` resolves the relative image and mask paths. InputError at the offending line for
 // bad syntax, unknown keys, duplicate or empty names, malformed points or rectangles, a class
 // with no samples at all.
-Labels ParseLabels(std::string_view text, const std::string& name, const std::string& base_dir);
-Labels LoadLabels(const std::string& path);
+vision::Labels ParseLabels(std::string_view text, const std::string& name,
+                           const std::string& base_dir);
+vision::Labels LoadLabels(const std::string& path);
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

@@ -10,7 +10,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::io {
+namespace patlab::formats {
 namespace {
 
 std::string_view Trim(std::string_view s) {
@@ -21,7 +21,7 @@ std::string_view Trim(std::string_view s) {
 }
 
 double ParseCell(std::string_view cell, const FileLoc& loc, const std::string& where) {
-  const std::optional<double> value = ParseDouble(cell);
+  const std::optional<double> value = io::ParseDouble(cell);
   if (!value) {
     throw InputError(loc, "cannot read '" + EscapeForMessage(cell) + "'" + where +
                               " as a number; expected a decimal number such as 0.52 or -1.5e-3");
@@ -66,9 +66,9 @@ std::vector<double> ParseColumn(std::string_view text, const std::string& source
                                 const std::string& column) {
   std::vector<double> values;
   std::optional<size_t> index;
-  CsvReadOptions options;
+  io::CsvReadOptions options;
   options.skip_blank_lines = options.skip_comment_lines = options.trim_blanks = true;
-  CsvParser parser(source_name, options, [&](const CsvRecord& r) {
+  io::CsvParser parser(source_name, options, [&](const io::CsvRecord& r) {
     if (!index) {
       std::string names;
       for (size_t i = 0; i < r.cells.size() && !index; ++i) {
@@ -129,7 +129,7 @@ std::vector<double> ParseNumericColumn(std::istream& in, const std::string& sour
 std::vector<double> ReadNumericColumn(const std::string& path,
                                       const NumericColumnOptions& options) {
   Validate(options);
-  CheckInputFile(path, "file of numbers", UINTMAX_MAX);
+  io::CheckInputFile(path, "file of numbers", UINTMAX_MAX);
   std::ifstream in(path);
   if (!in) {
     throw InputError(FileLoc{path, 0}, "cannot open file; expected a readable file of numbers");
@@ -137,4 +137,4 @@ std::vector<double> ReadNumericColumn(const std::string& path,
   return ParseNumericColumn(in, path, options);
 }
 
-}  // namespace patlab::io
+}  // namespace patlab::formats

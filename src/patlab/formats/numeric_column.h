@@ -14,7 +14,7 @@
 
 #include "patlab/core/options.h"
 
-namespace patlab::io {
+namespace patlab::formats {
 
 struct NumericColumnOptions {
   // Name of the CSV column to read (matched exactly after trimming and removing one pair of
@@ -35,4 +35,4 @@ std::vector<double> ReadNumericColumn(const std::string& path,
 std::vector<double> ParseNumericColumn(std::istream& in, const std::string& source_name,
                                        const NumericColumnOptions& options = {});
 
-}  // namespace patlab::io
+}  // namespace patlab::formats

@@ -11,7 +11,7 @@
 #include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::io {
+namespace patlab::formats {
 
 namespace {
 
@@ -24,7 +24,7 @@ std::string PointText(const Vec2& p) {
 }
 
 // A length (mm) in (0, kMaxPatternExtentMm]: `value` read from `key`, named `what` in messages.
-void CheckLength(const TomlReader& pr, std::string_view key, const std::string& what,
+void CheckLength(const io::TomlReader& pr, std::string_view key, const std::string& what,
                  double value) {
   if (!(value > 0.0)) {
     pr.Fail(key, what + " is " + FormatNumber(value) + "; expected a positive number (mm)");
@@ -37,7 +37,7 @@ void CheckLength(const TomlReader& pr, std::string_view key, const std::string& 
 
 // The patch's outline: shape = "disc" (default) with radius, or "rectangle" with size = [sx, sy]
 // and an optional angle_deg.
-void ParseShape(const TomlReader& pr, size_t i, Patch* patch) {
+void ParseShape(const io::TomlReader& pr, size_t i, Patch* patch) {
   const std::string shape = pr.OptionalString("shape").value_or("disc");
   const std::optional<PatchShape> parsed = FindName(shape, kPatchShapeNames);
   if (!parsed) {
@@ -87,7 +87,7 @@ void ParseShape(const TomlReader& pr, size_t i, Patch* patch) {
 
 // One [[patch]] table, number i. `key_index` is the first key patch seen so far (-1: none).
 Patch ParsePatch(const toml::table& t, const std::string& file, size_t i, int key_index) {
-  TomlReader pr(t, file, "[[patch]] " + std::to_string(i));
+  io::TomlReader pr(t, file, "[[patch]] " + std::to_string(i));
   pr.CheckKeys({"x", "y", "radius", "role", "colour", "shape", "size", "angle_deg"});
   Patch patch;
   // A pattern sits on a robot: coordinates beyond 10 m are a typo, and 1e300 would overflow the
@@ -140,15 +140,15 @@ void ParsePatches(const toml::table& root, const std::string& file, Pattern* pat
   }
   const toml::array* patches = patches_node->as_array();
   if (patches == nullptr || !patches->is_array_of_tables()) {
-    throw InputError(LocOf(file, *patches_node),
-                     "patch is " + TypeName(*patches_node) + "; expected [[patch]] tables");
+    throw InputError(io::LocOf(file, *patches_node),
+                     "patch is " + io::TypeName(*patches_node) + "; expected [[patch]] tables");
   }
   int key_index = -1;
   for (size_t i = 0; i < patches->size(); ++i) {
     const toml::table& t = *patches->get(i)->as_table();
     pattern->patches.push_back(ParsePatch(t, file, i, key_index));
     if (pattern->patches.back().role == PatchRole::kKey) key_index = static_cast<int>(i);
-    locs->push_back(LocOf(file, t));
+    locs->push_back(io::LocOf(file, t));
   }
   pattern->key_index = std::max(key_index, 0);
   const int n = pattern->size();
@@ -241,21 +241,21 @@ std::vector<OrientationPair> ParseOrientationPairs(const toml::node& pairs_node,
   const std::string expected =
       "expected an array of [from, to] patch index pairs, e.g. [[1, 2], [3, 4]]";
   if (pairs == nullptr || pairs->empty()) {
-    throw InputError(LocOf(file, pairs_node),
+    throw InputError(io::LocOf(file, pairs_node),
                      "orientation_pairs is " +
-                         (pairs == nullptr ? TypeName(pairs_node) : std::string("empty")) + "; " +
-                         expected);
+                         (pairs == nullptr ? io::TypeName(pairs_node) : std::string("empty")) +
+                         "; " + expected);
   }
   std::vector<OrientationPair> result;
   for (size_t k = 0; k < pairs->size(); ++k) {
     const toml::node& item = *pairs->get(k);
-    result.push_back(ParseOrientationPair(item, LocOf(file, item), k, n, result, expected));
+    result.push_back(ParseOrientationPair(item, io::LocOf(file, item), k, n, result, expected));
   }
   return result;
 }
 
 Pattern ParseTable(const toml::table& root, const std::string& file) {
-  TomlReader reader(root, file);
+  io::TomlReader reader(root, file);
   reader.CheckKeys({"name", "description", "orientation_pairs", "patch"});
   Pattern pattern;
   pattern.name = reader.String("name");
@@ -278,10 +278,12 @@ Pattern ParseTable(const toml::table& root, const std::string& file) {
 
 }  // namespace
 
-Pattern LoadPatternFile(const std::string& path) { return ParseTable(ParseTomlFile(path), path); }
+Pattern LoadPatternFile(const std::string& path) {
+  return ParseTable(io::ParseTomlFile(path), path);
+}
 
 Pattern ParsePattern(std::string_view text, const std::string& source_name) {
-  return ParseTable(ParseTomlText(text, source_name), source_name);
+  return ParseTable(io::ParseTomlText(text, source_name), source_name);
 }
 
 std::string ResolvePatternPath(const std::string& reference, const std::string& patterns_dir) {
@@ -297,4 +299,4 @@ std::string ResolvePatternPath(const std::string& reference, const std::string& 
                    "' not found; expected a pattern file path or a name in " + patterns_dir + "/");
 }
 
-}  // namespace patlab::io
+}  // namespace patlab::formats

@@ -6,7 +6,7 @@
 
 #include "patlab/core/pattern.h"
 
-namespace patlab::io {
+namespace patlab::formats {
 
 // Reads and validates a pattern file. Throws InputError naming the file and line of the first
 // problem: TOML syntax, unknown keys, wrong types, non-finite numbers, no key or two keys,
@@ -19,4 +19,4 @@ Pattern ParsePattern(std::string_view text, const std::string& source_name);
 // bare name looked up as <patterns_dir>/<name>.toml.
 std::string ResolvePatternPath(const std::string& reference, const std::string& patterns_dir);
 
-}  // namespace patlab::io
+}  // namespace patlab::formats

@@ -12,7 +12,7 @@
 #include "patlab/formats/pattern_file.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 namespace {
 
@@ -34,10 +34,10 @@ const toml::table& OptionalTable(const io::TomlReader& root, std::string_view ke
   return *node->as_table();
 }
 
-Rgb ReadRgb(const io::TomlReader& r, std::string_view key) {
+render::Rgb ReadRgb(const io::TomlReader& r, std::string_view key) {
   const toml::node* node = r.table().get(key);
   const toml::array* a = node->as_array();
-  Rgb rgb{};
+  render::Rgb rgb{};
   bool ok = a != nullptr && a->size() == 3;
   for (size_t k = 0; ok && k < 3; ++k) {
     const auto* v = (*a)[k].as_integer();
@@ -48,7 +48,7 @@ Rgb ReadRgb(const io::TomlReader& r, std::string_view key) {
   return rgb;
 }
 
-void ReadRenderOptions(const io::TomlReader& r, RenderOptions* o) {
+void ReadRenderOptions(const io::TomlReader& r, render::RenderOptions* o) {
   r.CheckKeys({"supersampling", "robot_height_mm", "robot_radius_mm", "ball_radius_mm",
                "blur_sigma_px", "noise_sigma_levels", "seed"});
   const auto clamp_int = [](int64_t v) {
@@ -81,8 +81,8 @@ std::string ExistingFile(const io::TomlReader& top, std::string_view key,
 }
 
 // The calibration the scene names: a pinhole camera with an image size.
-Calibration ReadCalibration(const io::TomlReader& top, const std::string& base_dir) {
-  Calibration calibration = LoadCalibration(ExistingFile(top, "calibration", base_dir));
+camera::Calibration ReadCalibration(const io::TomlReader& top, const std::string& base_dir) {
+  camera::Calibration calibration = LoadCalibration(ExistingFile(top, "calibration", base_dir));
   if (!calibration.camera.is_pinhole()) {
     top.Fail("calibration", "calibration " + calibration.source +
                                 " is a homography; expected a pinhole camera to render with");
@@ -96,8 +96,8 @@ Calibration ReadCalibration(const io::TomlReader& top, const std::string& base_d
 
 // A robot whose top the camera cannot see (outside the frame, behind the camera, beyond the
 // distortion's fold) would render as nothing: refused at its x_mm.
-void CheckRobotInView(const io::TomlReader& r, const RobotPlacement& robot,
-                      const Calibration& calibration, const FieldScene& scene) {
+void CheckRobotInView(const io::TomlReader& r, const render::RobotPlacement& robot,
+                      const camera::Calibration& calibration, const render::FieldScene& scene) {
   const auto& options = scene.options;
   const Vec2 at(robot.pose.x_mm, robot.pose.y_mm);
   std::optional<Vec2> pixel;
@@ -120,9 +120,9 @@ void CheckRobotInView(const io::TomlReader& r, const RobotPlacement& robot,
   r.Fail("x_mm", message);
 }
 
-RobotPlacement ReadRobot(const io::TomlReader& r, const FieldScene& scene) {
+render::RobotPlacement ReadRobot(const io::TomlReader& r, const render::FieldScene& scene) {
   r.CheckKeys({"team", "id", "x_mm", "y_mm", "theta_rad"});
-  RobotPlacement robot;
+  render::RobotPlacement robot;
   robot.team = r.String("team");
   const std::optional<int64_t> id = r.OptionalInteger("id");
   if (!id) r.Fail("id", "missing " + r.Describe("id") + "; expected an integer");
@@ -134,7 +134,7 @@ RobotPlacement ReadRobot(const io::TomlReader& r, const FieldScene& scene) {
   }
   std::vector<std::string> names;
   try {
-    names = PatchColours(scene.pattern, scene.codebook, robot.team, robot.id);
+    names = render::PatchColours(scene.pattern, scene.codebook, robot.team, robot.id);
   } catch (const InputError& e) {
     r.Fail("id", e.what());
   }
@@ -147,7 +147,7 @@ RobotPlacement ReadRobot(const io::TomlReader& r, const FieldScene& scene) {
   return robot;
 }
 
-void ReadBall(const io::TomlReader& r, FieldScene* scene) {
+void ReadBall(const io::TomlReader& r, render::FieldScene* scene) {
   r.CheckKeys({"x_mm", "y_mm", "colour"});
   scene->ball_mm = Vec2(r.Number("x_mm"), r.Number("y_mm"));
   scene->ball_colour = r.OptionalString("colour").value_or(scene->ball_colour);
@@ -158,7 +158,7 @@ void ReadBall(const io::TomlReader& r, FieldScene* scene) {
   }
 }
 
-void ReadColours(const io::TomlReader& top, FieldScene* scene) {
+void ReadColours(const io::TomlReader& top, render::FieldScene* scene) {
   if (!top.Has("colours"))
     top.Fail("colours", "missing [colours]; expected name = [R, G, B] per colour");
   const io::TomlReader r(OptionalTable(top, "colours"), top.file(), "[colours]");
@@ -182,19 +182,20 @@ SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
       {"calibration", "pattern", "codebook", "field", "render", "colours", "robot", "ball"});
   SceneFile file;
   file.calibration = ReadCalibration(top, base_dir);
-  FieldScene& scene = file.scene;
+  render::FieldScene& scene = file.scene;
   scene.options.width_px = file.calibration.image_width_px;
   scene.options.height_px = file.calibration.image_height_px;
   ReadRenderOptions(io::TomlReader(OptionalTable(top, "render"), source_name, "[render]"),
                     &scene.options);
   // The pattern and its codebook, checked against each other as the detector settings do.
   detect::DetectorPattern worn =
-      detect::MakeDetectorPattern(io::LoadPatternFile(ExistingFile(top, "pattern", base_dir)), {},
-                                  ExistingFile(top, "codebook", base_dir), {});
+      formats::MakeDetectorPattern(formats::LoadPatternFile(ExistingFile(top, "pattern", base_dir)),
+                                   {}, ExistingFile(top, "codebook", base_dir), {});
   scene.pattern = std::move(worn.pattern);
   scene.codebook = std::move(worn.codebook);
   ReadColours(top, &scene);
-  if (root.contains("field")) scene.field = calib::LoadField(ExistingFile(top, "field", base_dir));
+  if (root.contains("field"))
+    scene.field = formats::LoadField(ExistingFile(top, "field", base_dir));
   if (const toml::node* robots = root.get("robot")) {
     const toml::array* list = robots->as_array();
     if (list == nullptr || !list->is_array_of_tables()) {
@@ -218,4 +219,4 @@ SceneFile LoadSceneFile(const std::string& path) {
                         fs::path(path).parent_path().string());
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

@@ -8,13 +8,13 @@
 #include "patlab/camera/camera.h"
 #include "patlab/render/scene_render.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 // A scene file (format: docs/render.md, example tests/data/golden/ssl-frame.toml) with the
 // calibration it names; the image size comes from the calibration's image_size_px.
 struct SceneFile {
-  FieldScene scene;
-  Calibration calibration;
+  render::FieldScene scene;
+  camera::Calibration calibration;
 };
 // Reads a scene file; relative paths in it are relative to its folder. Throws InputError
 // "file:line: what is wrong; expected what" for the first problem.
@@ -23,4 +23,4 @@ SceneFile LoadSceneFile(const std::string& path);
 SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
                          const std::string& base_dir);
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

@@ -13,7 +13,7 @@
 #include "patlab/io/name.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 namespace {
 
@@ -147,7 +147,8 @@ Section ParseSectionHeader(const FileLoc& loc, const std::string& line) {
 }
 
 // `num_classes` is how many [Colors] lines came before this one.
-ColorClass ParseColorsLine(const FileLoc& loc, const std::string& line, size_t num_classes) {
+vision::ColorClass ParseColorsLine(const FileLoc& loc, const std::string& line,
+                                   size_t num_classes) {
   LineCursor c(line);
   long r, g, b, expected;
   double merge;
@@ -173,11 +174,12 @@ ColorClass ParseColorsLine(const FileLoc& loc, const std::string& line, size_t n
   if (const std::string problem = ExpectedNumProblem(expected); !problem.empty()) {
     throw InputError(loc, "expected_num " + problem);
   }
-  if (num_classes == kMaxColorClasses) {
-    throw InputError(loc, "colour " + std::to_string(kMaxColorClasses + 1) + "; expected at most " +
-                              std::to_string(kMaxColorClasses) + " colour classes");
+  if (num_classes == vision::kMaxColorClasses) {
+    throw InputError(loc, "colour " + std::to_string(vision::kMaxColorClasses + 1) +
+                              "; expected at most " + std::to_string(vision::kMaxColorClasses) +
+                              " colour classes");
   }
-  ColorClass cls;
+  vision::ColorClass cls;
   cls.name = io::CanonicalClassName(class_name, loc);
   cls.display_rgb = {static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)};
   cls.merge = merge;
@@ -187,7 +189,7 @@ ColorClass ParseColorsLine(const FileLoc& loc, const std::string& line, size_t n
 
 // Sets the ranges of classes[index]: [Thresholds] lines pair with [Colors] lines in order.
 void ParseThresholdsLine(const FileLoc& loc, const std::string& line, size_t index,
-                         std::vector<ColorClass>* classes) {
+                         std::vector<vision::ColorClass>* classes) {
   LineCursor c(line);
   long v[6];
   if (!(c.Char('(') && c.Integer(&v[0]) && c.Char(':') && c.Integer(&v[1]) && c.Char(',') &&
@@ -201,7 +203,7 @@ void ParseThresholdsLine(const FileLoc& loc, const std::string& line, size_t ind
                               std::to_string(classes->size()) +
                               " colours; expected one [Thresholds] line per [Colors] line");
   }
-  ColorClass& cls = (*classes)[index];
+  vision::ColorClass& cls = (*classes)[index];
   for (int ch = 0; ch < 3; ++ch) {
     CheckRange(loc, kChannelNames[0][ch], v[2 * ch], v[2 * ch + 1]);
     cls.range[ch] = {static_cast<int>(v[2 * ch]), static_cast<int>(v[2 * ch + 1])};
@@ -225,9 +227,9 @@ void CheckCmvisionCounts(const std::string& name, size_t num_classes, size_t num
 
 }  // namespace
 
-Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
-  Thresholds t;
-  t.space = ColorSpace::kYuv;
+vision::Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
+  vision::Thresholds t;
+  t.space = vision::ColorSpace::kYuv;
   t.source = name;
   Section section = Section::kNone;
   size_t num_thresholds = 0;
@@ -248,7 +250,7 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
       throw InputError(loc, "line outside a section; expected [Colors] or [Thresholds] first");
     }
     if (section == Section::kColors) {
-      ColorClass cls = ParseColorsLine(loc, line, t.classes.size());
+      vision::ColorClass cls = ParseColorsLine(loc, line, t.classes.size());
       if (t.Find(cls.name) >= 0) {
         throw InputError(loc, "colour '" + EscapeForMessage(cls.name) +
                                   "' listed twice (names that differ only in case, spaces, "
@@ -268,9 +270,10 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name) {
 
 namespace {
 
-ChannelRange ReadRange(const io::TomlReader& reader, std::string_view key, const char* channel) {
+vision::ChannelRange ReadRange(const io::TomlReader& reader, std::string_view key,
+                               const char* channel) {
   const toml::node* node = reader.table().get(key);
-  if (node == nullptr) return ChannelRange{};
+  if (node == nullptr) return vision::ChannelRange{};
   const auto* array = node->as_array();
   const FileLoc loc = reader.Loc(key);
   if (array == nullptr || array->size() != 2 || !(*array)[0].is_integer() ||
@@ -284,11 +287,11 @@ ChannelRange ReadRange(const io::TomlReader& reader, std::string_view key, const
   return {static_cast<int>(lo), static_cast<int>(hi)};
 }
 
-ColorSpace ReadSpace(const io::TomlReader& top) {
+vision::ColorSpace ReadSpace(const io::TomlReader& top) {
   const std::string space = top.OptionalString("space").value_or("yuv");
-  const auto parsed = FindName(space, kColorSpaceNames);
+  const auto parsed = FindName(space, vision::kColorSpaceNames);
   if (!parsed) {
-    top.Fail("space", "space is \"" + space + "\"; expected " + NameList(kColorSpaceNames));
+    top.Fail("space", "space is \"" + space + "\"; expected " + NameList(vision::kColorSpaceNames));
   }
   return *parsed;
 }
@@ -302,15 +305,16 @@ const toml::array& ReadClassArray(const toml::table& root, const std::string& na
         FileLoc{name, classes_node ? static_cast<int>(classes_node->source().begin.line) : 0},
         "no colour classes; expected at least one [[class]] table");
   }
-  if (classes->size() > kMaxColorClasses) {
-    throw InputError(io::LocOf(name, (*classes)[kMaxColorClasses]),
-                     "[[class]] " + std::to_string(kMaxColorClasses + 1) + "; expected at most " +
-                         std::to_string(kMaxColorClasses) + " colour classes");
+  if (classes->size() > vision::kMaxColorClasses) {
+    throw InputError(io::LocOf(name, (*classes)[vision::kMaxColorClasses]),
+                     "[[class]] " + std::to_string(vision::kMaxColorClasses + 1) +
+                         "; expected at most " + std::to_string(vision::kMaxColorClasses) +
+                         " colour classes");
   }
   return *classes;
 }
 
-void ReadDisplay(const io::TomlReader& r, const std::string& context, ColorClass* cls) {
+void ReadDisplay(const io::TomlReader& r, const std::string& context, vision::ColorClass* cls) {
   const toml::node* d = r.table().get("display");
   if (d == nullptr) return;
   const auto* a = d->as_array();
@@ -325,7 +329,7 @@ void ReadDisplay(const io::TomlReader& r, const std::string& context, ColorClass
            "display in " + context + " is not [R, G, B]; expected three integers in 0..255");
 }
 
-void ReadAreas(const io::TomlReader& r, const std::string& context, ColorClass* cls) {
+void ReadAreas(const io::TomlReader& r, const std::string& context, vision::ColorClass* cls) {
   if (auto v = r.OptionalInteger("min_area_px")) {
     if (*v < 0 || *v > kMaxAreaPx)
       r.Fail("min_area_px", "min_area_px " + std::to_string(*v) + " in " + context +
@@ -342,15 +346,15 @@ void ReadAreas(const io::TomlReader& r, const std::string& context, ColorClass* 
 }
 
 // The [[class]] table at `index`; `t` holds the classes before it, for the duplicate-name check.
-ColorClass ReadClass(const toml::node& node, const std::string& name, size_t index,
-                     const Thresholds& t) {
+vision::ColorClass ReadClass(const toml::node& node, const std::string& name, size_t index,
+                             const vision::Thresholds& t) {
   const toml::table* table = node.as_table();
   const std::string context = "[[class]] " + std::to_string(index + 1);
   if (table == nullptr) {
     throw InputError(io::LocOf(name, node), context + " is not a table; expected [[class]] tables");
   }
   const io::TomlReader r(*table, name, context);
-  const int sp = t.space == ColorSpace::kYuv ? 0 : 1;
+  const int sp = t.space == vision::ColorSpace::kYuv ? 0 : 1;
   if (sp == 0) {
     r.CheckKeys(
         {"name", "display", "y", "u", "v", "min_area_px", "max_area_px", "merge", "expected_num"});
@@ -358,7 +362,7 @@ ColorClass ReadClass(const toml::node& node, const std::string& name, size_t ind
     r.CheckKeys(
         {"name", "display", "r", "g", "b", "min_area_px", "max_area_px", "merge", "expected_num"});
   }
-  ColorClass cls;
+  vision::ColorClass cls;
   cls.name = r.String("name");
   if (cls.name.empty()) r.Fail("name", "empty name in " + context + "; expected a class name");
   if (const std::string problem = io::NameProblem(cls.name); !problem.empty()) {
@@ -388,11 +392,11 @@ ColorClass ReadClass(const toml::node& node, const std::string& name, size_t ind
 
 }  // namespace
 
-Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
+vision::Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
   const toml::table root = io::ParseTomlText(text, name);
   const io::TomlReader top(root, name);
   top.CheckKeys({"space", "class"});
-  Thresholds t;
+  vision::Thresholds t;
   t.source = name;
   t.space = ReadSpace(top);
   const toml::array& classes = ReadClassArray(root, name);
@@ -401,7 +405,7 @@ Thresholds ParseThresholdsToml(std::string_view text, const std::string& name) {
   return t;
 }
 
-Thresholds LoadThresholds(const std::string& path) {
+vision::Thresholds LoadThresholds(const std::string& path) {
   const std::string text = io::ReadTextFile(path, "thresholds file");
   // CMVision's format is recognised by its first non-blank, non-comment line.
   std::istringstream lines(text);
@@ -415,4 +419,4 @@ Thresholds LoadThresholds(const std::string& path) {
   return ParseThresholdsToml(text, path);
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

@@ -7,13 +7,13 @@
 
 #include "patlab/vision/color_lut.h"
 
-namespace patlab::vision {
+namespace patlab::formats {
 
 // Loads a thresholds file: CMVision's colors.txt when its first non-comment line is [Colors] or
 // [Thresholds] (in any case, as CMVision compares section names), otherwise
 // our TOML form (see ParseThresholdsToml). Bad syntax or impossible values are InputErrors
 // naming the file and line.
-Thresholds LoadThresholds(const std::string& path);
+vision::Thresholds LoadThresholds(const std::string& path);
 
 // CMVision's colors.txt, as it is:
 //   [Colors]
@@ -22,7 +22,7 @@ Thresholds LoadThresholds(const std::string& path);
 //   ( 10:200, 38:120,138:200)          <- (Ylo:Yhi, Ulo:Uhi, Vlo:Vhi), one line per colour
 // Section names are matched without regard to case ([colors], [THRESHOLDS]). Blank lines and
 // lines starting with '#' or ';' are ignored.
-Thresholds ParseCmvisionColors(std::string_view text, const std::string& name);
+vision::Thresholds ParseCmvisionColors(std::string_view text, const std::string& name);
 
 // Our TOML form:
 //   space = "yuv"                 # or "rgb" (default "yuv")
@@ -34,6 +34,6 @@ Thresholds ParseCmvisionColors(std::string_view text, const std::string& name);
 //   v = [0, 125]
 //   min_area_px = 20              # optional
 //   max_area_px = 200             # optional, 0 = no limit
-Thresholds ParseThresholdsToml(std::string_view text, const std::string& name);
+vision::Thresholds ParseThresholdsToml(std::string_view text, const std::string& name);
 
-}  // namespace patlab::vision
+}  // namespace patlab::formats

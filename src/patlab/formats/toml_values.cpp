@@ -4,7 +4,7 @@
 #include "patlab/core/error.h"
 #include "patlab/formats/toml_values_internal.h"
 
-namespace patlab::calib::internal {
+namespace patlab::formats::internal {
 
 namespace {
 
@@ -73,4 +73,4 @@ std::vector<const toml::table*> TableArray(const toml::table& root, std::string_
   return out;
 }
 
-}  // namespace patlab::calib::internal
+}  // namespace patlab::formats::internal

@@ -10,7 +10,7 @@
 #include "patlab/core/geometry.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::calib::internal {
+namespace patlab::formats::internal {
 
 // Two finite numbers [a, b] as a node, or nullopt for anything else.
 std::optional<Vec2> PairOf(const toml::node& node);
@@ -23,4 +23,4 @@ std::vector<Vec2> ReadPairList(const io::TomlReader& r, std::string_view key,
 std::vector<const toml::table*> TableArray(const toml::table& root, std::string_view key,
                                            const std::string& file);
 
-}  // namespace patlab::calib::internal
+}  // namespace patlab::formats::internal

@@ -9,7 +9,7 @@
 #include "patlab/io/atomic_file.h"
 #include "patlab/io/toml_util.h"
 
-namespace patlab::sim {
+namespace patlab::formats {
 
 namespace {
 
@@ -37,7 +37,7 @@ const toml::table* SubTable(const io::TomlReader& r, std::string_view key) {
   return node->as_table();
 }
 
-void ParseTop(const io::TomlReader& r, TrackOptions* o) {
+void ParseTop(const io::TomlReader& r, analysis::TrackOptions* o) {
   o->name = r.OptionalString("name").value_or(o->name);
   if (!io::IsFileBaseName(o->name)) {
     r.Fail("name",
@@ -53,7 +53,7 @@ void ParseTop(const io::TomlReader& r, TrackOptions* o) {
   o->runs = ReadInt(r, "runs", o->runs);
 }
 
-void ParseDiameters(const io::TomlReader& r, TrackOptions* o) {
+void ParseDiameters(const io::TomlReader& r, analysis::TrackOptions* o) {
   const toml::node* node = r.table().get("diameters_mm");
   if (node == nullptr) return;
   const toml::array* array = node->as_array();
@@ -76,7 +76,7 @@ void ParseDiameters(const io::TomlReader& r, TrackOptions* o) {
 
 // pattern = "butterfly" (a name in patterns_dir, default ../patterns next to the file) or a
 // path relative to the file.
-void ParsePattern(const io::TomlReader& r, TrackOptions* o) {
+void ParsePattern(const io::TomlReader& r, analysis::TrackOptions* o) {
   const auto pattern = r.OptionalString("pattern");
   if (!pattern || pattern->empty()) return;
   const std::filesystem::path base = std::filesystem::path(r.file()).parent_path();
@@ -87,14 +87,14 @@ void ParsePattern(const io::TomlReader& r, TrackOptions* o) {
     reference = (base / reference).lexically_normal().string();
   }
   try {
-    o->pattern_file = io::ResolvePatternPath(reference, dir);
+    o->pattern_file = formats::ResolvePatternPath(reference, dir);
   } catch (const InputError& e) {
     throw InputError(r.Loc("pattern"), e.what());
   }
-  o->pattern = io::LoadPatternFile(o->pattern_file);
+  o->pattern = formats::LoadPatternFile(o->pattern_file);
 }
 
-void ParsePlatform(const io::TomlReader& s, TrackOptions* o) {
+void ParsePlatform(const io::TomlReader& s, analysis::TrackOptions* o) {
   s.CheckKeys({"samples_per_run", "rate_hz", "speed_mm_per_s", "heading_max_deg",
                "lateral_range_mm", "start_jitter_mm", "spacing_mm", "plane_height_mm"});
   o->samples_per_run = ReadInt(s, "samples_per_run", o->samples_per_run);
@@ -107,7 +107,7 @@ void ParsePlatform(const io::TomlReader& s, TrackOptions* o) {
   o->plane_height_mm = ReadNumber(s, "plane_height_mm", o->plane_height_mm);
 }
 
-void ParseCamera(const io::TomlReader& s, TrackCamera* c) {
+void ParseCamera(const io::TomlReader& s, analysis::TrackCamera* c) {
   s.CheckKeys({"height_mm", "image_size_px", "focal_length_px"});
   c->height_mm = ReadNumber(s, "height_mm", c->height_mm);
   c->focal_length_px = ReadNumber(s, "focal_length_px", c->focal_length_px);
@@ -123,7 +123,7 @@ void ParseCamera(const io::TomlReader& s, TrackCamera* c) {
   c->image_height_px = clamp(a->get(1)->as_integer()->get());
 }
 
-void ParseRender(const io::TomlReader& s, TrackOptions* o) {
+void ParseRender(const io::TomlReader& s, analysis::TrackOptions* o) {
   s.CheckKeys({"background_level", "patch_level", "threshold_level", "supersampling"});
   o->background_level = ReadInt(s, "background_level", o->background_level);
   o->patch_level = ReadInt(s, "patch_level", o->patch_level);
@@ -131,23 +131,23 @@ void ParseRender(const io::TomlReader& s, TrackOptions* o) {
   o->supersampling = ReadInt(s, "supersampling", o->supersampling);
 }
 
-void ParseNoise(const io::TomlReader& s, TrackOptions* o) {
+void ParseNoise(const io::TomlReader& s, analysis::TrackOptions* o) {
   s.CheckKeys({"pixel_sigma", "jitter_sigma_px"});
   o->pixel_sigma = ReadNumber(s, "pixel_sigma", o->pixel_sigma);
   o->jitter_sigma_px = ReadNumber(s, "jitter_sigma_px", o->jitter_sigma_px);
 }
 
-void ParseAnalysis(const io::TomlReader& s, TrackOptions* o) {
+void ParseAnalysis(const io::TomlReader& s, analysis::TrackOptions* o) {
   s.CheckKeys({"smoothing_sigma_samples", "trim_samples"});
   o->smoothing_sigma_samples = ReadNumber(s, "smoothing_sigma_samples", o->smoothing_sigma_samples);
   o->trim_samples = ReadInt(s, "trim_samples", o->trim_samples);
 }
 
-TrackOptions ParseTable(const toml::table& root, const std::string& path) {
+analysis::TrackOptions ParseTable(const toml::table& root, const std::string& path) {
   const io::TomlReader r(root, path);
   r.CheckKeys({"name", "description", "seed", "runs", "diameters_mm", "pattern", "patterns_dir",
                "platform", "camera", "render", "noise", "analysis"});
-  TrackOptions o;
+  analysis::TrackOptions o;
   o.source_file = path;
   ParseTop(r, &o);
   ParseDiameters(r, &o);
@@ -169,12 +169,12 @@ TrackOptions ParseTable(const toml::table& root, const std::string& path) {
 
 }  // namespace
 
-TrackOptions LoadTrackExperiment(const std::string& path) {
+analysis::TrackOptions LoadTrackExperiment(const std::string& path) {
   return ParseTable(io::ParseTomlFile(path), path);
 }
 
-TrackOptions ParseTrackExperiment(std::string_view text, const std::string& source_name) {
+analysis::TrackOptions ParseTrackExperiment(std::string_view text, const std::string& source_name) {
   return ParseTable(io::ParseTomlText(text, source_name), source_name);
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::formats

@@ -6,12 +6,12 @@
 
 #include "patlab/analysis/track_options.h"
 
-namespace patlab::sim {
+namespace patlab::formats {
 
 // Reads an experiment file and validates it (Check, track_options.h). Problems are InputErrors
 // "file:line: message" pointing at the offending key.
-TrackOptions LoadTrackExperiment(const std::string& path);
+analysis::TrackOptions LoadTrackExperiment(const std::string& path);
 // The same on TOML text; `source_name` stands for the file in messages.
-TrackOptions ParseTrackExperiment(std::string_view text, const std::string& source_name);
+analysis::TrackOptions ParseTrackExperiment(std::string_view text, const std::string& source_name);
 
-}  // namespace patlab::sim
+}  // namespace patlab::formats

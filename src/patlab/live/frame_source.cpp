@@ -44,7 +44,7 @@ class FrameListSource : public FrameSource {
   std::vector<std::string> paths_;
   size_t next_ = 0;
   int64_t index_ = 0;
-  vision::Image image_;
+  camera::Image image_;
 };
 
 std::string Lower(std::string text) {
@@ -97,7 +97,7 @@ std::unique_ptr<FrameSource> OpenFrameSource(const std::string& spec,
   return OpenFrameList(spec, options);
 }
 
-void CopyToImage(const SourceFrame& frame, vision::Image* image) {
+void CopyToImage(const SourceFrame& frame, camera::Image* image) {
   image->width_px = frame.width_px;
   image->height_px = frame.height_px;
   image->format = frame.format;

@@ -26,7 +26,7 @@ struct SourceFrame {
   int width_px = 0;
   int height_px = 0;
   std::ptrdiff_t stride_bytes = 0;  // bytes from one row's start to the next's
-  vision::PixelFormat format = vision::PixelFormat::kRgb8;
+  camera::PixelFormat format = camera::PixelFormat::kRgb8;
   // When the frame was captured, seconds since the Unix epoch: a device's buffer timestamp; a
   // video's presentation time added to the wall time at which its first frame was read; a frame
   // file's read time.
@@ -101,7 +101,7 @@ std::unique_ptr<FrameSource> OpenV4l2Device(const std::string& path,
                                             const FrameSourceOptions& options);
 
 // Copies a view into `image` (resized as needed; no allocation once it has the size).
-void CopyToImage(const SourceFrame& frame, vision::Image* image);
+void CopyToImage(const SourceFrame& frame, camera::Image* image);
 
 // Seconds since the Unix epoch, from the system clock.
 double WallTimeSeconds();

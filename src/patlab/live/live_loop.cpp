@@ -79,7 +79,7 @@ void Emit(const SslDetection& detection, const std::string& bytes, Shared& share
 }
 
 // Takes the waiting frame into `image`; false when the source has ended and nothing waits.
-bool Take(Mailbox& box, vision::Image* image, FrameStamp* stamp, Clock::time_point* delivered,
+bool Take(Mailbox& box, camera::Image* image, FrameStamp* stamp, Clock::time_point* delivered,
           Clock::time_point* put) {
   std::unique_lock lock(box.mutex);
   box.ready.wait(lock, [&] { return box.full || box.closed; });
@@ -95,7 +95,7 @@ bool Take(Mailbox& box, vision::Image* image, FrameStamp* stamp, Clock::time_poi
 
 void DetectFrames(vision::FrameDetector& frames, uint32_t camera_id, Mailbox& box, Shared& shared) {
   IdHolder holder(shared.options.hold_ids);
-  vision::Image image;
+  camera::Image image;
   FrameStamp stamp;
   stamp.camera_id = camera_id;
   Clock::time_point delivered, put;

@@ -35,7 +35,7 @@ struct LiveCamera {
   std::string source;
   uint32_t camera_id = 0;
   vision::Thresholds thresholds;
-  vision::Calibration calibration;
+  camera::Calibration calibration;
   std::optional<detect::DetectorConfig> detector;  // nullopt: balls only
   vision::FrameDetectorOptions frame;
 };

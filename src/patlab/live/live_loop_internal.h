@@ -20,7 +20,7 @@ using Clock = std::chrono::steady_clock;
 struct Mailbox {
   std::mutex mutex;
   std::condition_variable ready;
-  vision::Image image;
+  camera::Image image;
   double capture_time_s = 0.0;
   int64_t index = 0;
   Clock::time_point delivered_at, put_at;

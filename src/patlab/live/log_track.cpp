@@ -19,13 +19,13 @@ void AddRobots(const std::vector<SslRobot>& robots, const char* team, const SslD
     const std::string run = "camera " + std::to_string(d.camera_id);
     const auto [it, added] = index->emplace(subject + "\n" + run, out->tracks.size());
     if (added) {
-      sim::MeasuredTrack track;
+      analysis::MeasuredTrack track;
       track.subject = subject;
       track.run = run;
       track.file = path;
       out->tracks.push_back(std::move(track));
     }
-    sim::MeasuredTrack& t = out->tracks[it->second];
+    analysis::MeasuredTrack& t = out->tracks[it->second];
     if (!t.frame.empty() && d.frame_number <= t.frame.back()) {
       ++out->skipped_frames;
       continue;

@@ -11,7 +11,7 @@ namespace patlab::live {
 
 namespace {
 
-SslRobot RobotOf(const detect::Detection& d, const vision::Calibration& calibration,
+SslRobot RobotOf(const detect::Detection& d, const camera::Calibration& calibration,
                  const std::string& key_colour) {
   SslRobot robot;
   robot.confidence = d.confidence;
@@ -33,7 +33,7 @@ void AddRobots(const vision::FrameResult& result, const vision::FrameDetector& f
                const SslColourNames& names, SslDetection* out) {
   if (!frames.has_detector()) return;
   const std::vector<std::string>& palette = frames.detector().config().palette;
-  const vision::Calibration& calibration = frames.pipeline().calibration();
+  const camera::Calibration& calibration = frames.pipeline().calibration();
   for (const detect::Detection& d : result.detections) {
     if (d.status == detect::DetectionStatus::kAmbiguous || d.team_colour < 0) continue;
     const std::string& colour = palette[static_cast<size_t>(d.team_colour)];
@@ -109,10 +109,10 @@ SslDetection DetectionOfFrame(const vision::FrameResult& result,
   return out;
 }
 
-std::optional<SslCameraCalibration> CameraCalibrationOf(const vision::Calibration& calibration,
+std::optional<SslCameraCalibration> CameraCalibrationOf(const camera::Calibration& calibration,
                                                         uint32_t camera_id) {
   if (!calibration.camera.is_pinhole()) return std::nullopt;
-  const vision::PinholeCamera& p = calibration.camera.pinhole();
+  const camera::PinholeCamera& p = calibration.camera.pinhole();
   SslCameraCalibration c;
   c.camera_id = camera_id;
   c.focal_length_px = 0.5 * (p.fx_px + p.fy_px);
@@ -136,7 +136,7 @@ std::optional<SslCameraCalibration> CameraCalibrationOf(const vision::Calibratio
   return c;
 }
 
-SslGeometry GeometryOf(const calib::Field& field, const std::vector<vision::Calibration>& cameras) {
+SslGeometry GeometryOf(const calib::Field& field, const std::vector<camera::Calibration>& cameras) {
   SslGeometry g;
   SetSizes(field, &g);
   for (const calib::FieldLine& line : field.lines) {

@@ -94,7 +94,7 @@ struct SslCameraCalibration {
   double camera_world_x_mm = 0.0, camera_world_y_mm = 0.0, camera_world_z_mm = 0.0;  // -R^T t
   int image_width_px = 0, image_height_px = 0;
 };
-std::optional<SslCameraCalibration> CameraCalibrationOf(const vision::Calibration& calibration,
+std::optional<SslCameraCalibration> CameraCalibrationOf(const camera::Calibration& calibration,
                                                         uint32_t camera_id);
 
 struct SslLine {
@@ -119,7 +119,7 @@ struct SslGeometry {
 // arc, 10 mm thick (the rules' line width); field length and width from the lines' extent (the
 // goal lines and touch lines); goal width and depth from lines named goal_* when the field has
 // them, else 0. `cameras`: the calibrations in camera id order; homographies are left out.
-SslGeometry GeometryOf(const calib::Field& field, const std::vector<vision::Calibration>& cameras);
+SslGeometry GeometryOf(const calib::Field& field, const std::vector<camera::Calibration>& cameras);
 
 // The bytes of an SSL_WrapperPacket holding the detection or the geometry.
 std::string SerializeDetection(const SslDetection& detection);

@@ -57,7 +57,7 @@ class V4l2Source : public FrameSource {
     frame->width_px = width_;
     frame->height_px = height_;
     frame->stride_bytes = stride_;
-    frame->format = vision::PixelFormat::kRgb8;
+    frame->format = camera::PixelFormat::kRgb8;
     // The driver's timestamp is CLOCK_MONOTONIC; the wall time of the dequeue stands for it.
     const double stamp_s =
         static_cast<double>(buffer.timestamp.tv_sec) + 1e-6 * buffer.timestamp.tv_usec;

@@ -60,7 +60,7 @@ class VideoSource : public FrameSource {
     frame->width_px = width_;
     frame->height_px = height_;
     frame->stride_bytes = static_cast<std::ptrdiff_t>(width_) * 3;
-    frame->format = vision::PixelFormat::kRgb8;
+    frame->format = camera::PixelFormat::kRgb8;
     frame->media_time_s = pts_s - first_pts_s_;
     frame->capture_time_s = start_wall_s_ + frame->media_time_s;
     frame->index = index_++;

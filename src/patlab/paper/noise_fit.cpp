@@ -12,7 +12,7 @@
 #include "patlab/estimate/bounds.h"
 #include "patlab/stats/smoothing.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 std::vector<OptionsProblem> Check(const NoiseFitGeometry& g) {
   OptionsChecker check;
@@ -365,4 +365,4 @@ FitDesign AddTable1Discrepancy(const FitDesign& design, double* delta_mm) {
   return out;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

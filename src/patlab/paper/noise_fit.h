@@ -49,7 +49,7 @@
 #include "patlab/core/options.h"
 #include "patlab/estimate/estimators.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 enum class Mechanism { kIndependentX, kIndependentY, kCommon, kRoll, kScale, kCorrelated, kColour };
 inline constexpr int kNumMechanisms = 7;
@@ -197,9 +197,9 @@ std::vector<double> SimulateTrack(const std::vector<FitDatum>& data,
 // directions of patterns/butterfly.toml.
 estimate::Model ButterflyModel(double id_radius_mm);
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 // The whole camera-noise study behind `patlab fitnoise`: the fit of `free` (all mechanisms by
 // default) with profiles and bootstrap, a table of nested candidate models (which mechanisms are
@@ -225,4 +225,4 @@ struct NoiseFitStudy {
 };
 NoiseFitStudy RunNoiseFitStudy(const NoiseFitStudyOptions& options);
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

@@ -12,7 +12,7 @@
 #include "patlab/paper/noise_fit.h"
 #include "patlab/stats/smoothing.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 std::vector<FitDatum> PaperData(const PaperDataOptions& o) {
   Validate(o);
@@ -285,4 +285,4 @@ std::vector<double> SimulateTrack(const std::vector<FitDatum>& data,
   return out;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

@@ -10,7 +10,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/paper/noise_fit.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 namespace {
 
@@ -257,4 +257,4 @@ NoiseFitStudy RunNoiseFitStudy(const NoiseFitStudyOptions& o) {
   return study;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

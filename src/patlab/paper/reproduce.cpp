@@ -15,7 +15,7 @@
 #include "patlab/sim/report.h"
 #include "patlab/sim/runner.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 namespace {
 
@@ -30,11 +30,11 @@ std::string Output(const ReproduceOptions& o, const std::string& name) {
 
 // |error| of every kept sample of one subject on axis 0 (x), 1 (y) or 2 (hypot), keyed by (run,
 // frame) as error_stats.cpp pairs them.
-std::map<std::pair<size_t, int>, double> AbsErrors(const std::vector<SubjectRun>& runs, bool est,
-                                                   int axis) {
+std::map<std::pair<size_t, int>, double> AbsErrors(const std::vector<analysis::SubjectRun>& runs,
+                                                   bool est, int axis) {
   std::map<std::pair<size_t, int>, double> out;
   for (size_t run = 0; run < runs.size(); ++run) {
-    const SubjectRun& r = runs[run];
+    const analysis::SubjectRun& r = runs[run];
     const std::vector<double>& x = est ? r.est_x_mm : r.true_x_mm;
     const std::vector<double>& y = est ? r.est_y_mm : r.true_y_mm;
     for (size_t i = 0; i < r.sample.size(); ++i) {
@@ -48,7 +48,7 @@ std::map<std::pair<size_t, int>, double> AbsErrors(const std::vector<SubjectRun>
 
 // The rank allowance of every test of MakeSizeTests (the discs, paired by run and frame), keyed
 // "error,axis,a,b" as the rows of table1_tests.csv.
-std::map<std::string, RankAllowance> SizeTestAllowances(const TrackResult& result) {
+std::map<std::string, RankAllowance> SizeTestAllowances(const analysis::TrackResult& result) {
   std::map<std::string, RankAllowance> out;
   const char* axes[] = {"x", "y", "xy"};
   for (const bool est : {true, false}) {
@@ -93,22 +93,22 @@ std::function<void(int, int)> RunProgress(const ReproduceOptions& o, int index) 
 // The four files of a track run under `dir` ("" or "track_quantisation/"), as `patlab track`
 // writes them; returns Table I and its tests.
 std::pair<std::string, std::string> AddTrackFiles(const ReproduceOptions& o,
-                                                  const TrackOptions& track, int decimate,
+                                                  const analysis::TrackOptions& track, int decimate,
                                                   const std::string& dir, int run_index,
                                                   Reproduction* r) {
-  const TrackResult result =
-      RunTrack(track, {.threads = o.threads, .progress = RunProgress(o, run_index)});
-  const std::vector<TableRow> table = MakeTable(result);
+  const analysis::TrackResult result =
+      analysis::RunTrack(track, {.threads = o.threads, .progress = RunProgress(o, run_index)});
+  const std::vector<analysis::TableRow> table = analysis::MakeTable(result);
   const std::string names[] = {dir + track.name + ".csv", dir + track.name + "_tests.csv",
                                dir + "track_errors.csv", dir + track.name + ".json"};
   std::vector<std::string> outputs;
   for (const std::string& name : names) outputs.push_back(Output(o, name));
-  const std::string table_csv = TableCsv(table);
-  const std::string tests_csv = SizeTestsCsv(MakeSizeTests(result));
+  const std::string table_csv = analysis::TableCsv(table);
+  const std::string tests_csv = analysis::SizeTestsCsv(analysis::MakeSizeTests(result));
   r->files.emplace_back(names[0], table_csv);
   r->files.emplace_back(names[1], tests_csv);
-  r->files.emplace_back(names[2], ErrorsCsv(track, result, decimate));
-  r->files.emplace_back(names[3], TrackManifestJson(track, result, table, outputs));
+  r->files.emplace_back(names[2], analysis::ErrorsCsv(track, result, decimate));
+  r->files.emplace_back(names[3], analysis::TrackManifestJson(track, result, table, outputs));
   for (int k = 0; k < 3; ++k) r->rules[names[k]] = RulesForResultFile(names[k]);
   r->rules[names[1]].rank_allowances = SizeTestAllowances(result);
   return {table_csv, tests_csv};
@@ -118,21 +118,22 @@ std::pair<std::string, std::string> AddTrackFiles(const ReproduceOptions& o,
 
 Reproduction Reproduce(const ReproduceOptions& options) {
   Reproduction r;
-  RunOptions run;
+  sim::RunOptions run;
   run.threads = options.threads;
   run.progress = RunProgress(options, 0);
-  const Experiment fig5 = LoadExperimentFile(Input(options, "experiments/fig5.toml"));
-  const RunResult fig5_result = RunExperiment(fig5, run);
-  const std::string fig5_csv = ResultsCsv(fig5, fig5_result);
-  r.files = {
-      {"fig5.csv", fig5_csv},
-      {"fig5.json", ManifestJson(fig5, fig5_result,
-                                 {Output(options, "fig5.csv"), Output(options, "fig5.json")})}};
+  const sim::Experiment fig5 = formats::LoadExperimentFile(Input(options, "experiments/fig5.toml"));
+  const sim::RunResult fig5_result = sim::RunExperiment(fig5, run);
+  const std::string fig5_csv = sim::ResultsCsv(fig5, fig5_result);
+  r.files = {{"fig5.csv", fig5_csv},
+             {"fig5.json",
+              sim::ManifestJson(fig5, fig5_result,
+                                {Output(options, "fig5.csv"), Output(options, "fig5.json")})}};
   r.rules["fig5.csv"] = RulesForResultFile("fig5.csv");
-  const TrackOptions table1 = LoadTrackExperiment(Input(options, "experiments/table1.toml"));
+  const analysis::TrackOptions table1 =
+      formats::LoadTrackExperiment(Input(options, "experiments/table1.toml"));
   const auto [table1_csv, tests_csv] = AddTrackFiles(options, table1, 1, "", 1, &r);
   // Fig. 6's left panels: the same runs with quantisation only (no intensity noise or jitter).
-  TrackOptions quantisation = table1;
+  analysis::TrackOptions quantisation = table1;
   quantisation.pixel_sigma = 0.0;
   quantisation.jitter_sigma_px = 0.0;
   Validate(quantisation);
@@ -157,4 +158,4 @@ std::vector<FigureStep> FigureSteps(const ReproduceOptions& options) {
        {Output(options, "fig2.png"), Output(options, "fig3.png"), Output(options, "fig6.png")}}};
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

@@ -14,7 +14,7 @@
 
 #include "patlab/paper/reproduce_compare.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 // How a paper number is judged.
 enum class Rule {
@@ -92,4 +92,4 @@ std::string PaperMarkdown(const Reproduction& reproduction);
 // The CSVs are compared by CompareResultCsv with Reproduction::rules.
 std::string CompareResultText(const std::string& regenerated, const std::string& committed);
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

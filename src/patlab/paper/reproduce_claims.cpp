@@ -11,7 +11,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/paper/reproduce_internal.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 namespace {
 
@@ -160,7 +160,7 @@ void TableTwo(const std::string& root, std::vector<PaperNumber>* out) {
                       {"linear", {1, 3, 6}},
                       {"triangle", {2, 6, 12}}};
   for (const Row& r : rows) {
-    const Pattern p = io::LoadPatternFile(root + "/patterns/" + r.pattern + ".toml");
+    const Pattern p = formats::LoadPatternFile(root + "/patterns/" + r.pattern + ".toml");
     const detect::Symmetry symmetry = detect::FindSymmetry(p, 10.0);
     for (int n = 2; n <= 4; ++n) {
       const auto count = static_cast<double>(detect::CountIds(p, symmetry, n));
@@ -183,7 +183,7 @@ void TableTwo(const std::string& root, std::vector<PaperNumber>* out) {
 }
 
 // Fig. 5, the KS comparison and section IV's Butterfly.
-void SectionFour(const Experiment& fig5, const Table& f, const Table& t,
+void SectionFour(const sim::Experiment& fig5, const Table& f, const Table& t,
                  std::vector<PaperNumber>* out) {
   out->push_back(Number("Fig. 5", "simulated detections per data point", 100000,
                         static_cast<double>(fig5.trials), Rule::kWithin, 0.0, "the same count"));
@@ -263,7 +263,7 @@ void SectionFour(const Experiment& fig5, const Table& f, const Table& t,
 }
 
 // Section II's set-up: the paper's numbers that are inputs of experiments/table1.toml.
-void SectionTwoSetup(const TrackOptions& o, std::vector<PaperNumber>* out) {
+void SectionTwoSetup(const analysis::TrackOptions& o, std::vector<PaperNumber>* out) {
   const char* input = "an input of experiments/table1.toml, set to the paper's value";
   const auto add = [&](const char* quantity, double paper, double patlab, double tolerance,
                        const std::string& reason) {
@@ -309,7 +309,7 @@ void BestToWorst(const Table& t, std::vector<PaperNumber>* out) {
 
 // Fig. 5's claims about the patterns (section IV), at sigma = 1 mm, fast estimator, each with a
 // margin of 4 standard errors.
-void FigureFiveClaims(const Experiment& fig5, const Table& f, std::vector<PaperNumber>* out) {
+void FigureFiveClaims(const sim::Experiment& fig5, const Table& f, std::vector<PaperNumber>* out) {
   const auto at = [&f](const char* pattern, const char* column) {
     return f.Get({{"pattern", pattern}, {"estimator", "fast"}, {"sigma_mm", "1"}}, column);
   };
@@ -394,8 +394,8 @@ void RealButterflyClaims(const Table& f, const Table& t, std::vector<PaperNumber
 
 }  // namespace
 
-void AddPaperNumbers(const ReproduceOptions& options, const Experiment& fig5,
-                     const TrackOptions& table1, const RegeneratedTables& tables,
+void AddPaperNumbers(const ReproduceOptions& options, const sim::Experiment& fig5,
+                     const analysis::TrackOptions& table1, const RegeneratedTables& tables,
                      std::vector<PaperNumber>* out) {
   const Table f(tables.fig5_csv, "fig5.csv"), t(tables.table1_csv, "table1.csv"),
       tests(tables.tests_csv, "table1_tests.csv");
@@ -409,4 +409,4 @@ void AddPaperNumbers(const ReproduceOptions& options, const Experiment& fig5,
   for (PaperNumber& n : *out) Judge(&n);
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

@@ -11,7 +11,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/stats/ks.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 RankAllowance KnifeEdgeAllowance(std::span<const double> abs_a, std::span<const double> abs_b) {
   PATLAB_CHECK(abs_a.size() == abs_b.size());
@@ -359,4 +359,4 @@ std::string CompareResultCsv(const std::string& regenerated, const std::string& 
   return "";
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

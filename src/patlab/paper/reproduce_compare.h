@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 // What a column holds, and so how far it may move on another machine.
 enum class ColumnKind {
@@ -73,4 +73,4 @@ CsvRules RulesForResultFile(const std::string& name);
 std::string CompareResultCsv(const std::string& regenerated, const std::string& committed,
                              const CsvRules& rules);
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

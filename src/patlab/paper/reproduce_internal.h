@@ -9,7 +9,7 @@
 #include "patlab/paper/reproduce.h"
 #include "patlab/sim/experiment.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 // The regenerated CSVs the paper's numbers are read from.
 struct RegeneratedTables {
@@ -18,8 +18,8 @@ struct RegeneratedTables {
 
 // Appends every number of the paper that patlab checks or reports (Tables I and II, section II's
 // set-up and claims, Fig. 5 and section IV), each judged by its rule.
-void AddPaperNumbers(const ReproduceOptions& options, const Experiment& fig5,
-                     const TrackOptions& table1, const RegeneratedTables& tables,
+void AddPaperNumbers(const ReproduceOptions& options, const sim::Experiment& fig5,
+                     const analysis::TrackOptions& table1, const RegeneratedTables& tables,
                      std::vector<PaperNumber>* out);
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

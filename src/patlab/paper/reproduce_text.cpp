@@ -11,7 +11,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/paper/reproduce.h"
 
-namespace patlab::sim {
+namespace patlab::paper {
 
 namespace {
 
@@ -154,4 +154,4 @@ std::string CompareResultText(const std::string& regenerated, const std::string&
   }
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::paper

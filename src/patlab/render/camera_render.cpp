@@ -9,7 +9,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/rng.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 std::vector<OptionsProblem> Check(const CameraSensorOptions& o) {
   OptionsChecker check;
@@ -33,8 +33,8 @@ std::vector<OptionsProblem> Check(const CameraJitter& j) {
 
 void Validate(const CameraJitter& j) { ThrowFirstProblem(Check(j)); }
 
-PinholeCamera JitterCamera(const PinholeCamera& camera, const CameraJitter& jitter,
-                           uint64_t frame_index) {
+camera::PinholeCamera JitterCamera(const camera::PinholeCamera& camera, const CameraJitter& jitter,
+                                   uint64_t frame_index) {
   Validate(jitter);
   if (jitter.IsStill()) return camera;
   RandomStream rng(jitter.seed, kJitterStream, frame_index);
@@ -43,7 +43,7 @@ PinholeCamera JitterCamera(const PinholeCamera& camera, const CameraJitter& jitt
   const double dx = jitter.shift_sigma_mm * rng.Normal();
   const double dy = jitter.shift_sigma_mm * rng.Normal();
   const Eigen::Vector3d centre = -camera.rotation.transpose() * camera.translation_mm;
-  PinholeCamera out = camera;
+  camera::PinholeCamera out = camera;
   out.rotation =
       Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitZ()).toRotationMatrix() * camera.rotation;
   out.translation_mm = -out.rotation * (centre + Eigen::Vector3d(dx, dy, dh));
@@ -96,7 +96,7 @@ struct RowNoise {
 // Stage 1-2: exposure, the mosaic (or every channel), noise, quantisation. `raw` holds 3 values
 // per pixel; with the mosaic only the photosite's channel is meaningful. (ox, oy): the image's
 // origin in the whole frame.
-void Expose(const Image& rgb, const CameraSensorOptions& s, uint64_t frame, int ox, int oy,
+void Expose(const camera::Image& rgb, const CameraSensorOptions& s, uint64_t frame, int ox, int oy,
             std::vector<uint8_t>* raw) {
   const int w = rgb.width_px, h = rgb.height_px;
   raw->assign(static_cast<size_t>(w) * h * 3, 0);
@@ -187,10 +187,10 @@ void CheckWindowOrigin(int x0, int y0) {
 
 }  // namespace
 
-Image SimulateSensor(const Image& radiance_rgb, const CameraSensorOptions& sensor,
-                     uint64_t frame_index, int origin_x, int origin_y) {
+camera::Image SimulateSensor(const camera::Image& radiance_rgb, const CameraSensorOptions& sensor,
+                             uint64_t frame_index, int origin_x, int origin_y) {
   Validate(sensor);
-  PATLAB_CHECK(radiance_rgb.format == PixelFormat::kRgb8);
+  PATLAB_CHECK(radiance_rgb.format == camera::PixelFormat::kRgb8);
   PATLAB_CHECK(frame_index < (uint64_t{1} << 32));
   CheckWindowOrigin(origin_x, origin_y);
   const int w = radiance_rgb.width_px, h = radiance_rgb.height_px;
@@ -201,14 +201,14 @@ Image SimulateSensor(const Image& radiance_rgb, const CameraSensorOptions& senso
   std::vector<uint8_t> raw;
   Expose(radiance_rgb, sensor, frame_index, origin_x, origin_y, &raw);
   if (sensor.bayer) Demosaic(w, h, origin_x, origin_y, &raw);
-  Image rgb = Image::Rgb(w, h);
+  camera::Image rgb = camera::Image::Rgb(w, h);
   rgb.data = std::move(raw);
-  return sensor.chroma_422 ? ToUyvy(rgb) : rgb;
+  return sensor.chroma_422 ? camera::ToUyvy(rgb) : rgb;
 }
 
-Image RenderCameraWindow(const FieldScene& scene, const CameraModel& camera,
-                         const CameraSensorOptions& sensor, uint64_t frame_index,
-                         const PixelWindow& window, const CameraJitter& jitter) {
+camera::Image RenderCameraWindow(const FieldScene& scene, const camera::CameraModel& camera,
+                                 const CameraSensorOptions& sensor, uint64_t frame_index,
+                                 const PixelWindow& window, const CameraJitter& jitter) {
   if (!camera.is_pinhole()) {
     throw InputError("the camera is a homography; expected a pinhole camera to render with");
   }
@@ -223,22 +223,22 @@ Image RenderCameraWindow(const FieldScene& scene, const CameraModel& camera,
                      " px; expected it inside the " + std::to_string(o.width_px) + "x" +
                      std::to_string(o.height_px) + " frame");
   }
-  PinholeCamera pinhole = JitterCamera(camera.pinhole(), jitter, frame_index);
+  camera::PinholeCamera pinhole = JitterCamera(camera.pinhole(), jitter, frame_index);
   pinhole.cx_px -= window.x0;
   pinhole.cy_px -= window.y0;
   FieldScene quiet = scene;
   quiet.options.noise_sigma_levels = 0.0;
   quiet.options.width_px = window.width;
   quiet.options.height_px = window.height;
-  return SimulateSensor(RenderScene(quiet, CameraModel::Pinhole(pinhole)), sensor, frame_index,
-                        window.x0, window.y0);
+  return SimulateSensor(RenderScene(quiet, camera::CameraModel::Pinhole(pinhole)), sensor,
+                        frame_index, window.x0, window.y0);
 }
 
-Image RenderCameraFrame(const FieldScene& scene, const CameraModel& camera,
-                        const CameraSensorOptions& sensor, uint64_t frame_index,
-                        const CameraJitter& jitter) {
+camera::Image RenderCameraFrame(const FieldScene& scene, const camera::CameraModel& camera,
+                                const CameraSensorOptions& sensor, uint64_t frame_index,
+                                const CameraJitter& jitter) {
   return RenderCameraWindow(scene, camera, sensor, frame_index,
                             {0, 0, scene.options.width_px, scene.options.height_px}, jitter);
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

@@ -33,7 +33,7 @@
 #include "patlab/core/options.h"
 #include "patlab/render/scene_render.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 inline constexpr uint32_t kCameraStream = 0x43414d;  // "CAM"
 inline constexpr uint32_t kJitterStream = 0x4a4954;  // "JIT"
@@ -83,8 +83,8 @@ void Validate(const CameraJitter& jitter);
 // `camera` with frame `frame_index`'s jitter: roll R' = Rz(phi) R (about the camera's own z
 // axis, the optical axis), centre C' = C + (dx, dy, dh), translation t' = -R' C'. A still jitter
 // returns the camera unchanged.
-PinholeCamera JitterCamera(const PinholeCamera& camera, const CameraJitter& jitter,
-                           uint64_t frame_index);
+camera::PinholeCamera JitterCamera(const camera::PinholeCamera& camera, const CameraJitter& jitter,
+                                   uint64_t frame_index);
 
 // A rectangle of the frame (px): columns x0 .. x0 + width - 1, rows y0 .. y0 + height - 1. x0,
 // y0 and width must be even (Bayer phase and UYVY pixel pairs).
@@ -96,9 +96,9 @@ struct PixelWindow {
 // image (RGB when chroma_422 is false; width even: an odd scene width is an InputError).
 // scene.options.noise_sigma_levels is ignored (the sensor brings its own noise); everything else
 // of the scene's options applies.
-Image RenderCameraFrame(const FieldScene& scene, const CameraModel& camera,
-                        const CameraSensorOptions& sensor, uint64_t frame_index,
-                        const CameraJitter& jitter = {});
+camera::Image RenderCameraFrame(const FieldScene& scene, const camera::CameraModel& camera,
+                                const CameraSensorOptions& sensor, uint64_t frame_index,
+                                const CameraJitter& jitter = {});
 
 // The same frame rendered only inside `window` (which must lie inside the scene's image): the
 // camera's principal point moves by (-x0, -y0) and the noise keeps the whole frame's pixel
@@ -106,14 +106,14 @@ Image RenderCameraFrame(const FieldScene& scene, const CameraModel& camera,
 // the window's border when something other than flat background reaches it (the blur and the
 // demosaicing reflect at the window's edges, not at the frame's). Costs the window's area, not
 // the frame's: what makes a track of thousands of frames take seconds.
-Image RenderCameraWindow(const FieldScene& scene, const CameraModel& camera,
-                         const CameraSensorOptions& sensor, uint64_t frame_index,
-                         const PixelWindow& window, const CameraJitter& jitter = {});
+camera::Image RenderCameraWindow(const FieldScene& scene, const camera::CameraModel& camera,
+                                 const CameraSensorOptions& sensor, uint64_t frame_index,
+                                 const PixelWindow& window, const CameraJitter& jitter = {});
 
 // Stages 1-4 on an already rendered noise-free RGB image (exposed for tests and for other
 // renderers): returns the UYVY frame (RGB when chroma_422 is false). (origin_x, origin_y), both
 // even, is the image's top-left pixel in the whole frame (a window's x0, y0), for the noise keys.
-Image SimulateSensor(const Image& radiance_rgb, const CameraSensorOptions& sensor,
-                     uint64_t frame_index, int origin_x = 0, int origin_y = 0);
+camera::Image SimulateSensor(const camera::Image& radiance_rgb, const CameraSensorOptions& sensor,
+                             uint64_t frame_index, int origin_x = 0, int origin_y = 0);
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

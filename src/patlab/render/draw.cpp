@@ -4,7 +4,7 @@
 #include <cctype>
 #include <cmath>
 
-namespace patlab::vision {
+namespace patlab::render {
 
 namespace {
 
@@ -31,7 +31,7 @@ const uint8_t* Glyph(char c) {
 
 }  // namespace
 
-void PutPixel(Image* image, int x, int y, const std::array<uint8_t, 3>& rgb) {
+void PutPixel(camera::Image* image, int x, int y, const std::array<uint8_t, 3>& rgb) {
   if (x < 0 || y < 0 || x >= image->width_px || y >= image->height_px) return;
   uint8_t* p = image->Row(y) + 3 * x;
   p[0] = rgb[0];
@@ -39,7 +39,8 @@ void PutPixel(Image* image, int x, int y, const std::array<uint8_t, 3>& rgb) {
   p[2] = rgb[2];
 }
 
-void DrawLine(Image* image, const Vec2& a, const Vec2& b, const std::array<uint8_t, 3>& rgb) {
+void DrawLine(camera::Image* image, const Vec2& a, const Vec2& b,
+              const std::array<uint8_t, 3>& rgb) {
   const int steps = static_cast<int>(std::ceil((b - a).lpNorm<Eigen::Infinity>())) + 1;
   for (int i = 0; i <= steps; ++i) {
     const Vec2 p = a + (b - a) * (static_cast<double>(i) / steps);
@@ -48,7 +49,7 @@ void DrawLine(Image* image, const Vec2& a, const Vec2& b, const std::array<uint8
   }
 }
 
-void DrawText(Image* image, int x, int y, const std::string& text,
+void DrawText(camera::Image* image, int x, int y, const std::string& text,
               const std::array<uint8_t, 3>& rgb, int scale) {
   for (size_t k = 0; k < text.size(); ++k) {
     if (text[k] == ' ') continue;
@@ -67,7 +68,7 @@ void DrawText(Image* image, int x, int y, const std::string& text,
   }
 }
 
-void DrawDetection(Image* image, const Vec2& centre_px, double radius_px,
+void DrawDetection(camera::Image* image, const Vec2& centre_px, double radius_px,
                    const Vec2& heading_tip_px, const std::string& text,
                    const std::array<uint8_t, 3>& rgb) {
   const int n = std::max(16, static_cast<int>(radius_px * 8));
@@ -81,7 +82,7 @@ void DrawDetection(Image* image, const Vec2& centre_px, double radius_px,
            static_cast<int>(centre_px.y() - radius_px), text, rgb);
 }
 
-void DrawDisc(Image* image, const Vec2& centre_px, double radius_px,
+void DrawDisc(camera::Image* image, const Vec2& centre_px, double radius_px,
               const std::array<uint8_t, 3>& rgb) {
   const int x0 = static_cast<int>(std::floor(centre_px.x() - radius_px));
   const int x1 = static_cast<int>(std::ceil(centre_px.x() + radius_px));
@@ -95,4 +96,4 @@ void DrawDisc(Image* image, const Vec2& centre_px, double radius_px,
   }
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

@@ -11,25 +11,26 @@
 #include "patlab/camera/image.h"
 #include "patlab/core/geometry.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 // Sets pixel (x, y) of an RGB image to `rgb`; outside the image: nothing.
-void PutPixel(Image* image, int x, int y, const std::array<uint8_t, 3>& rgb);
+void PutPixel(camera::Image* image, int x, int y, const std::array<uint8_t, 3>& rgb);
 
 // A filled disc of radius_px at centre_px (clipped to the image).
-void DrawDisc(Image* image, const Vec2& centre_px, double radius_px,
+void DrawDisc(camera::Image* image, const Vec2& centre_px, double radius_px,
               const std::array<uint8_t, 3>& rgb);
 
 // A detection: a circle of radius_px at centre_px, a heading line to heading_tip_px, and the
 // text (digits, '-', letters A-Z) beside it.
-void DrawDetection(Image* image, const Vec2& centre_px, double radius_px,
+void DrawDetection(camera::Image* image, const Vec2& centre_px, double radius_px,
                    const Vec2& heading_tip_px, const std::string& text,
                    const std::array<uint8_t, 3>& rgb);
 
-void DrawLine(Image* image, const Vec2& a, const Vec2& b, const std::array<uint8_t, 3>& rgb);
+void DrawLine(camera::Image* image, const Vec2& a, const Vec2& b,
+              const std::array<uint8_t, 3>& rgb);
 // `text` from its top-left corner (x, y), each glyph 3 x 5 cells of scale x scale pixels, one
 // blank column between glyphs.
-void DrawText(Image* image, int x, int y, const std::string& text,
+void DrawText(camera::Image* image, int x, int y, const std::string& text,
               const std::array<uint8_t, 3>& rgb, int scale = 2);
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

@@ -7,10 +7,10 @@
 #include "patlab/calib/field_marks.h"
 #include "patlab/core/error.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
-Image RenderFieldLines(const calib::Field& field, const CameraModel& camera, int width_px,
-                       int height_px, const FieldLineStyle& style) {
+camera::Image RenderFieldLines(const calib::Field& field, const camera::CameraModel& camera,
+                               int width_px, int height_px, const FieldLineStyle& style) {
   if (!camera.is_pinhole()) {
     throw InputError(
         "camera: a homography camera cannot render field lines; expected a pinhole "
@@ -31,7 +31,7 @@ Image RenderFieldLines(const calib::Field& field, const CameraModel& camera, int
       if (calib::DistanceToMark(a, q) <= half) return true;
     return false;
   };
-  Image image = Image::Rgb(width_px, height_px);
+  camera::Image image = camera::Image::Rgb(width_px, height_px);
   const int n = style.supersample;
   for (int y = 0; y < height_px; ++y) {
     uint8_t* row = image.Row(y);
@@ -61,4 +61,4 @@ Image RenderFieldLines(const calib::Field& field, const CameraModel& camera, int
   return image;
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

@@ -10,7 +10,7 @@
 #include "patlab/camera/image.h"
 #include "patlab/render/render.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 struct FieldLineStyle {
   double line_width_mm = 10.0;  // > 0: the painted width, centred on the model's lines
@@ -22,7 +22,7 @@ struct FieldLineStyle {
 
 // The RGB frame of `field`'s lines on the carpet through `camera` (a pinhole camera; a
 // homography camera or bad style is an InputError).
-Image RenderFieldLines(const calib::Field& field, const CameraModel& camera, int width_px,
-                       int height_px, const FieldLineStyle& style = {});
+camera::Image RenderFieldLines(const calib::Field& field, const camera::CameraModel& camera,
+                               int width_px, int height_px, const FieldLineStyle& style = {});
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

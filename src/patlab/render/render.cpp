@@ -7,7 +7,7 @@
 
 #include "patlab/core/error.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 namespace {
 
@@ -33,7 +33,7 @@ void ShadePixel(uint8_t* out, const Rgb& background, std::span<const Disc> discs
 // background without a single camera inversion, which is most of a field frame: the output is
 // the same as testing every pixel, at a fraction of the cost. A disc whose outline does not map
 // into the image cleanly (beyond the distortion fold) marks the whole image.
-std::vector<uint8_t> CandidatePixels(int width_px, int height_px, const CameraModel& camera,
+std::vector<uint8_t> CandidatePixels(int width_px, int height_px, const camera::CameraModel& camera,
                                      double height_mm, std::span<const Disc> discs) {
   std::vector<uint8_t> mask(static_cast<size_t>(width_px) * height_px, 0);
   constexpr int kOutline = 32;
@@ -72,10 +72,10 @@ std::vector<uint8_t> CandidatePixels(int width_px, int height_px, const CameraMo
 
 }  // namespace
 
-Image RenderDiscs(int width_px, int height_px, const Rgb& background, std::span<const Disc> discs,
-                  int supersampling) {
+camera::Image RenderDiscs(int width_px, int height_px, const Rgb& background,
+                          std::span<const Disc> discs, int supersampling) {
   PATLAB_CHECK(supersampling >= 1);
-  Image image = Image::Rgb(width_px, height_px);
+  camera::Image image = camera::Image::Rgb(width_px, height_px);
   for (int y = 0; y < height_px; ++y) {
     for (int x = 0; x < width_px; ++x) {
       uint8_t* out = image.Row(y) + 3 * x;
@@ -102,10 +102,11 @@ Image RenderDiscs(int width_px, int height_px, const Rgb& background, std::span<
   return image;
 }
 
-Image RenderWorldDiscs(int width_px, int height_px, const CameraModel& camera, double height_mm,
-                       const Rgb& background, std::span<const Disc> discs, int supersampling) {
+camera::Image RenderWorldDiscs(int width_px, int height_px, const camera::CameraModel& camera,
+                               double height_mm, const Rgb& background, std::span<const Disc> discs,
+                               int supersampling) {
   PATLAB_CHECK(supersampling >= 1);
-  Image image = Image::Rgb(width_px, height_px);
+  camera::Image image = camera::Image::Rgb(width_px, height_px);
   const std::vector<uint8_t> candidate =
       CandidatePixels(width_px, height_px, camera, height_mm, discs);
   for (int y = 0; y < height_px; ++y) {
@@ -141,4 +142,4 @@ Image RenderWorldDiscs(int width_px, int height_px, const CameraModel& camera, d
   return image;
 }
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

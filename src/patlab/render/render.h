@@ -12,7 +12,7 @@
 #include "patlab/camera/image.h"
 #include "patlab/core/geometry.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 using Rgb = std::array<uint8_t, 3>;
 
@@ -36,13 +36,14 @@ struct Disc {
 };
 
 // Discs given in pixel coordinates (pixel (i, j) centred at (i, j)); later discs cover earlier.
-Image RenderDiscs(int width_px, int height_px, const Rgb& background, std::span<const Disc> discs,
-                  int supersampling = 8);
+camera::Image RenderDiscs(int width_px, int height_px, const Rgb& background,
+                          std::span<const Disc> discs, int supersampling = 8);
 
 // Discs given in world mm on the plane at height_mm, seen through `camera`: each sub-sample is
 // mapped pixel -> world and tested against the discs, so perspective and lens distortion are
 // rendered exactly.
-Image RenderWorldDiscs(int width_px, int height_px, const CameraModel& camera, double height_mm,
-                       const Rgb& background, std::span<const Disc> discs, int supersampling = 4);
+camera::Image RenderWorldDiscs(int width_px, int height_px, const camera::CameraModel& camera,
+                               double height_mm, const Rgb& background, std::span<const Disc> discs,
+                               int supersampling = 4);
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

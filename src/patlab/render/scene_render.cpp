@@ -11,7 +11,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/render/field_render.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 namespace {
 
@@ -40,18 +40,18 @@ struct PlaneTransfer {
 };
 
 // The camera centre C = -R^T t in world coordinates (mm).
-Eigen::Vector3d CameraCentre(const PinholeCamera& c) {
+Eigen::Vector3d CameraCentre(const camera::PinholeCamera& c) {
   return -c.rotation.transpose() * c.translation_mm;
 }
 
-PlaneTransfer TransferBetweenPlanes(const PinholeCamera& c, double from_mm, double to_mm) {
+PlaneTransfer TransferBetweenPlanes(const camera::PinholeCamera& c, double from_mm, double to_mm) {
   const Eigen::Vector3d centre = CameraCentre(c);
   return {Vec2(centre.x(), centre.y()), (centre.z() - to_mm) / (centre.z() - from_mm)};
 }
 
 // Every disc of the scene on the plane of the pattern tops, in paint order: the ball (lowest),
 // then per robot its top cover and its patches.
-std::vector<Disc> SceneDiscs(const FieldScene& scene, const CameraModel& camera) {
+std::vector<Disc> SceneDiscs(const FieldScene& scene, const camera::CameraModel& camera) {
   const RenderOptions& o = scene.options;
   std::vector<Disc> discs;
   if (scene.ball_mm) {
@@ -120,7 +120,7 @@ void BlurPass(const std::vector<double>& in, int width, int height,
 }
 
 // Stages 2 and 3: blur, noise keyed by (seed, pixel), rounding to 8 bits.
-void BlurAndNoise(const RenderOptions& o, Image* image) {
+void BlurAndNoise(const RenderOptions& o, camera::Image* image) {
   thread_local std::vector<double> level, across;
   level.assign(image->data.begin(), image->data.end());
   if (o.blur_sigma_px > 0.0) {
@@ -187,7 +187,7 @@ std::vector<std::string> PatchColours(const Pattern& pattern, const detect::Code
   return names;
 }
 
-Image RenderScene(const FieldScene& scene, const CameraModel& camera) {
+camera::Image RenderScene(const FieldScene& scene, const camera::CameraModel& camera) {
   const RenderOptions& o = scene.options;
   Validate(o);
   if (!camera.is_pinhole()) {
@@ -201,12 +201,13 @@ Image RenderScene(const FieldScene& scene, const CameraModel& camera) {
   const std::vector<Disc> discs = SceneDiscs(scene, camera);
   // Stage 1: geometry, every disc tested on the plane of the pattern tops.
   const Rgb carpet = ColourOf(scene, "field");
-  Image image = RenderWorldDiscs(o.width_px, o.height_px, camera, o.robot_height_mm, carpet, discs,
-                                 o.supersampling);
+  camera::Image image = RenderWorldDiscs(o.width_px, o.height_px, camera, o.robot_height_mm, carpet,
+                                         discs, o.supersampling);
   if (scene.field) {  // the lines show where no disc covers the carpet
     FieldLineStyle style;
     style.carpet = carpet;
-    const Image lines = RenderFieldLines(*scene.field, camera, o.width_px, o.height_px, style);
+    const camera::Image lines =
+        RenderFieldLines(*scene.field, camera, o.width_px, o.height_px, style);
     for (size_t i = 0; i + 2 < image.data.size(); i += 3) {
       if (std::equal(carpet.begin(), carpet.end(), image.data.begin() + static_cast<long>(i))) {
         std::copy_n(lines.data.begin() + static_cast<long>(i), 3,
@@ -234,4 +235,4 @@ std::string TruthCsv(const FieldScene& scene) {
 // ---------------------------------------------------------------------------------------------
 // Scene files.
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

@@ -36,7 +36,7 @@
 #include "patlab/detect/codebook.h"
 #include "patlab/render/render.h"
 
-namespace patlab::vision {
+namespace patlab::render {
 
 // How a scene is turned into pixels. Defaults: an SSL-like camera frame.
 struct RenderOptions {
@@ -103,10 +103,10 @@ std::vector<std::string> PatchColours(const Pattern& pattern, const detect::Code
 // Renders `scene` as an RGB frame through `camera`, which must be a pinhole camera above the
 // robots and the ball. Throws InputError for invalid options, a colour without RGB, an ID not in
 // the codebook, or a homography camera (its centre, needed to place the ball, is unknown).
-Image RenderScene(const FieldScene& scene, const CameraModel& camera);
+camera::Image RenderScene(const FieldScene& scene, const camera::CameraModel& camera);
 
 // The true poses as CSV: header "team,id,x_mm,y_mm,theta_rad", one row per robot in scene
 // order, numbers as they read back exactly (FormatRoundTrip).
 std::string TruthCsv(const FieldScene& scene);
 
-}  // namespace patlab::vision
+}  // namespace patlab::render

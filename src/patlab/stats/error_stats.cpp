@@ -10,7 +10,7 @@
 #include "patlab/io/csv.h"
 #include "patlab/stats/smoothing.h"
 
-namespace patlab::sim {
+namespace patlab::stats {
 
 namespace {
 
@@ -204,4 +204,4 @@ std::string PairedTestsCsv(const std::vector<PairedTest>& tests) {
   return csv;
 }
 
-}  // namespace patlab::sim
+}  // namespace patlab::stats

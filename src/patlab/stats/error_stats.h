@@ -15,7 +15,7 @@
 #include "patlab/stats/summary.h"
 #include "patlab/stats/wilcoxon.h"
 
-namespace patlab::sim {
+namespace patlab::stats {
 
 // Errors of one subject over a stretch of consecutive kept samples: one run of the track
 // experiment, or one gap-free segment of a measured track. frame increases strictly; theta is
@@ -81,4 +81,4 @@ std::vector<PairedTest> PairedAbsErrorTests(
 // smaller (smaller: the subject with the smaller errors by the sign of R+ - R-).
 std::string PairedTestsCsv(const std::vector<PairedTest>& tests);
 
-}  // namespace patlab::sim
+}  // namespace patlab::stats

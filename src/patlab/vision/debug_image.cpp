@@ -4,21 +4,21 @@
 
 namespace patlab::vision {
 
-Image DrawClasses(const Segmenter& segmenter, const Thresholds& thresholds) {
-  Image out = Image::Rgb(segmenter.width_px(), segmenter.height_px());
+camera::Image DrawClasses(const Segmenter& segmenter, const Thresholds& thresholds) {
+  camera::Image out = camera::Image::Rgb(segmenter.width_px(), segmenter.height_px());
   const std::vector<uint8_t>& cls = segmenter.class_image();
   for (int y = 0; y < out.height_px; ++y) {
     for (int x = 0; x < out.width_px; ++x) {
       const uint8_t c = cls[static_cast<size_t>(y) * out.width_px + x];
-      if (c != 0) PutPixel(&out, x, y, thresholds.classes[c - 1].display_rgb);
+      if (c != 0) render::PutPixel(&out, x, y, thresholds.classes[c - 1].display_rgb);
     }
   }
   return out;
 }
 
-Image DrawRegions(const ImageView& frame, const Segmenter& segmenter,
-                  const Thresholds& thresholds) {
-  Image out = ToRgb(frame);
+camera::Image DrawRegions(const camera::ImageView& frame, const Segmenter& segmenter,
+                          const Thresholds& thresholds) {
+  camera::Image out = camera::ToRgb(frame);
   for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);  // dim, so the marks stand out
   const int w = segmenter.width_px(), h = segmenter.height_px();
   const std::vector<uint8_t>& cls = segmenter.class_image();
@@ -32,20 +32,20 @@ Image DrawRegions(const ImageView& frame, const Segmenter& segmenter,
                         cls[static_cast<size_t>(y) * w + x + 1] != c ||
                         cls[static_cast<size_t>(y - 1) * w + x] != c ||
                         cls[static_cast<size_t>(y + 1) * w + x] != c;
-      if (edge) PutPixel(&out, x, y, thresholds.classes[c - 1].display_rgb);
+      if (edge) render::PutPixel(&out, x, y, thresholds.classes[c - 1].display_rgb);
     }
   }
   // Kept regions: bounding box and centroid cross in the class colour.
   for (const Region& r : segmenter.regions()) {
     const auto& rgb = thresholds.classes[static_cast<size_t>(r.colour)].display_rgb;
     const Vec2 a(r.x_min - 1, r.y_min - 1), b(r.x_max + 1, r.y_max + 1);
-    DrawLine(&out, a, Vec2(b.x(), a.y()), rgb);
-    DrawLine(&out, Vec2(b.x(), a.y()), b, rgb);
-    DrawLine(&out, b, Vec2(a.x(), b.y()), rgb);
-    DrawLine(&out, Vec2(a.x(), b.y()), a, rgb);
+    render::DrawLine(&out, a, Vec2(b.x(), a.y()), rgb);
+    render::DrawLine(&out, Vec2(b.x(), a.y()), b, rgb);
+    render::DrawLine(&out, b, Vec2(a.x(), b.y()), rgb);
+    render::DrawLine(&out, Vec2(a.x(), b.y()), a, rgb);
     const Vec2 c = r.centroid_px;
-    DrawLine(&out, c - Vec2(2, 0), c + Vec2(2, 0), {255, 255, 255});
-    DrawLine(&out, c - Vec2(0, 2), c + Vec2(0, 2), {255, 255, 255});
+    render::DrawLine(&out, c - Vec2(2, 0), c + Vec2(2, 0), {255, 255, 255});
+    render::DrawLine(&out, c - Vec2(0, 2), c + Vec2(0, 2), {255, 255, 255});
   }
   return out;
 }

@@ -12,10 +12,11 @@
 namespace patlab::vision {
 
 // The annotated RGB image of the segmenter's last frame (`frame` must be that frame).
-Image DrawRegions(const ImageView& frame, const Segmenter& segmenter, const Thresholds& thresholds);
+camera::Image DrawRegions(const camera::ImageView& frame, const Segmenter& segmenter,
+                          const Thresholds& thresholds);
 
 // The segmenter's class image in RGB: each classified pixel in its class's display colour, the
 // rest black.
-Image DrawClasses(const Segmenter& segmenter, const Thresholds& thresholds);
+camera::Image DrawClasses(const Segmenter& segmenter, const Thresholds& thresholds);
 
 }  // namespace patlab::vision

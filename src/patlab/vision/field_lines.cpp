@@ -80,9 +80,10 @@ void Check(const LineFinderOptions& o) {
 
 }  // namespace
 
-std::vector<calib::LinePixel> FindLinePixels(const Image& frame, const LineFinderOptions& options) {
+std::vector<calib::LinePixel> FindLinePixels(const camera::Image& frame,
+                                             const LineFinderOptions& options) {
   Check(options);
-  const Image rgb = ToRgb(frame);
+  const camera::Image rgb = camera::ToRgb(frame);
   const int w = rgb.width_px, h = rgb.height_px;
   std::vector<calib::LinePixel> out;
   if (w < 8 || h < 8) return out;
@@ -91,7 +92,7 @@ std::vector<calib::LinePixel> FindLinePixels(const Image& frame, const LineFinde
     const uint8_t* row = rgb.Row(y);
     for (int x = 0; x < w; ++x) {
       int yy, u, v;
-      RgbToYuv(row[3 * x], row[3 * x + 1], row[3 * x + 2], &yy, &u, &v);
+      camera::RgbToYuv(row[3 * x], row[3 * x + 1], row[3 * x + 2], &yy, &u, &v);
       luma.at(x, y) = static_cast<float>(yy);
       chroma.at(x, y) = static_cast<float>(std::abs(u - 128) + std::abs(v - 128));
     }
@@ -134,28 +135,29 @@ std::vector<calib::LinePixel> FindLinePixels(const Image& frame, const LineFinde
   return out;
 }
 
-Image DrawLinePixels(const Image& frame, const std::vector<calib::LinePixel>& pixels,
-                     const calib::Field* field, const calib::AutoCalibration* fit) {
-  Image out = ToRgb(frame);
+camera::Image DrawLinePixels(const camera::Image& frame,
+                             const std::vector<calib::LinePixel>& pixels, const calib::Field* field,
+                             const calib::AutoCalibration* fit) {
+  camera::Image out = camera::ToRgb(frame);
   for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 2);
   if (field != nullptr && fit != nullptr) {
-    const CameraModel cam = CameraModel::Pinhole(fit->fit.camera);
+    const camera::CameraModel cam = camera::CameraModel::Pinhole(fit->fit.camera);
     const calib::FieldMarks marks = calib::PaintedMarks(*field);
     std::vector<int> mark;
     for (const Vec2& q : calib::SampleMarks(marks, 5.0, &mark)) {
       const auto px = cam.WorldToPixel(q, 0.0);
       if (px)
-        PutPixel(&out, static_cast<int>(std::lround(px->x())),
-                 static_cast<int>(std::lround(px->y())), {0, 255, 255});
+        render::PutPixel(&out, static_cast<int>(std::lround(px->x())),
+                         static_cast<int>(std::lround(px->y())), {0, 255, 255});
     }
   }
   for (const calib::LinePixel& p : pixels)
-    PutPixel(&out, static_cast<int>(std::lround(p.pixel.x())),
-             static_cast<int>(std::lround(p.pixel.y())), {255, 40, 40});
+    render::PutPixel(&out, static_cast<int>(std::lround(p.pixel.x())),
+                     static_cast<int>(std::lround(p.pixel.y())), {255, 40, 40});
   return out;
 }
 
-FrameCalibration AutoCalibrateFrame(const Image& frame, const std::string& source,
+FrameCalibration AutoCalibrateFrame(const camera::Image& frame, const std::string& source,
                                     const calib::Field& field, const LineFinderOptions& finder,
                                     const calib::AutoOptions& options) {
   FrameCalibration out;

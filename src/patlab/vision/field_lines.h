@@ -28,14 +28,15 @@ struct LineFinderOptions {
 };
 
 // The line-centre points of `frame` (RGB or UYVY), in row order. Bad options -> InputError.
-std::vector<calib::LinePixel> FindLinePixels(const Image& frame,
+std::vector<calib::LinePixel> FindLinePixels(const camera::Image& frame,
                                              const LineFinderOptions& options = {});
 
 // `frame` dimmed, each line pixel a red dot; with `fit` (may be null), the field's marks drawn
 // through the fitted camera in cyan.
-Image DrawLinePixels(const Image& frame, const std::vector<calib::LinePixel>& pixels,
-                     const calib::Field* field = nullptr,
-                     const calib::AutoCalibration* fit = nullptr);
+camera::Image DrawLinePixels(const camera::Image& frame,
+                             const std::vector<calib::LinePixel>& pixels,
+                             const calib::Field* field = nullptr,
+                             const calib::AutoCalibration* fit = nullptr);
 
 // FindLinePixels and calib::AutoCalibrate; InputError when the lines do not decide the camera.
 struct FrameCalibration {
@@ -43,7 +44,7 @@ struct FrameCalibration {
   calib::AutoCalibration calibration;
   double find_seconds = 0.0;
 };
-FrameCalibration AutoCalibrateFrame(const Image& frame, const std::string& source,
+FrameCalibration AutoCalibrateFrame(const camera::Image& frame, const std::string& source,
                                     const calib::Field& field, const LineFinderOptions& finder = {},
                                     const calib::AutoOptions& options = {});
 

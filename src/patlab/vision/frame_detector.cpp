@@ -89,7 +89,7 @@ std::vector<std::string> PaletteWarnings(const Thresholds& thresholds,
 // The camera's mm per px on the plane at height_mm where the robots are: at the principal point
 // of a pinhole camera, at the pixel of the world origin for plane homographies; 0 when it cannot
 // be evaluated there.
-double MmPerPx(const CameraModel& camera, double height_mm) {
+double MmPerPx(const camera::CameraModel& camera, double height_mm) {
   std::optional<Vec2> pixel;
   if (camera.is_pinhole()) {
     pixel = Vec2(camera.pinhole().cx_px, camera.pinhole().cy_px);
@@ -129,7 +129,7 @@ std::vector<std::string> DebugImageNames(const std::string& stem, bool with_dete
   return names;
 }
 
-void AdaptToCamera(detect::DetectorConfig& config, const Calibration& calibration,
+void AdaptToCamera(detect::DetectorConfig& config, const camera::Calibration& calibration,
                    double edge_loss_px) {
   // The calibration's recorded residual on the robot-top plane (default height) widens the
   // detector's geometric tolerance (detect::DetectorOptions::calibration_residual_mm).
@@ -141,7 +141,7 @@ void AdaptToCamera(detect::DetectorConfig& config, const Calibration& calibratio
   config.options.area_ratio_min *= EdgeLossFactor(config, edge_mm);
 }
 
-FrameDetector::FrameDetector(Thresholds thresholds, Calibration calibration,
+FrameDetector::FrameDetector(Thresholds thresholds, camera::Calibration calibration,
                              std::optional<detect::DetectorConfig> detector,
                              FrameDetectorOptions options)
     : options_((Validate(options), std::move(options))),
@@ -185,19 +185,19 @@ const FrameResult& FrameDetector::DetectFile(const std::string& path) {
   TimeProfile& profile = result_.profile;
   profile.Clear();
   profile.Start();
-  const Image image = ReadFrameFile(path, options_.raw_width_px, options_.raw_height_px);
+  const camera::Image image = ReadFrameFile(path, options_.raw_width_px, options_.raw_height_px);
   profile.Stamp(kFrameStageNames[0]);
   Process(image, path);
   return result_;
 }
 
-const FrameResult& FrameDetector::Detect(const ImageView& image, const std::string& name) {
+const FrameResult& FrameDetector::Detect(const camera::ImageView& image, const std::string& name) {
   result_.profile.Clear();
   Process(image, name);
   return result_;
 }
 
-void FrameDetector::Process(const ImageView& image, const std::string& name) {
+void FrameDetector::Process(const camera::ImageView& image, const std::string& name) {
   result_.frame = name;
   pipeline_.CheckFrameSize(image, name);
   RunStages(image);
@@ -206,7 +206,7 @@ void FrameDetector::Process(const ImageView& image, const std::string& name) {
 
 // Stages 2-5 (the pipeline) and 6: the blobs whose class is in the detector's palette, relabelled
 // with their palette label, through the detector.
-void FrameDetector::RunStages(const ImageView& image) {
+void FrameDetector::RunStages(const camera::ImageView& image) {
   FrameResult& r = result_;
   r.detect_profile.Clear();
   pipeline_.Process(image, &r.blobs, &r.vision_stats, &r.profile);
@@ -244,7 +244,7 @@ MissingPatchLook FrameDetector::LookAt(const detect::Detection& d) const {
   const Patch& patch = dp.pattern.patches[static_cast<size_t>(d.missing_patch)];
   const uint64_t own =
       patch_colours_[static_cast<size_t>(d.pattern)][static_cast<size_t>(d.missing_patch)];
-  const Calibration& calibration = pipeline_.calibration();
+  const camera::Calibration& calibration = pipeline_.calibration();
   const double height = calibration.default_height_mm;
   const Segmenter& segmenter = pipeline_.segmenter();
   // The pixel box of the patch's bounding disc (its four extreme points, 1 px margin).
@@ -310,8 +310,8 @@ namespace {
 // Detections on the debug image: drawn at the key blob's plane height; the heading is the model
 // x axis, 100 mm long; the circle passes 90 mm from the centre.
 void DrawDetections(const FrameResult& r, const VisionPipeline& pipeline,
-                    const detect::Detector& detector, Image* debug) {
-  const Calibration& calibration = pipeline.calibration();
+                    const detect::Detector& detector, camera::Image* debug) {
+  const camera::Calibration& calibration = pipeline.calibration();
   for (const detect::Detection& d : r.detections) {
     const int key = d.blob[static_cast<size_t>(
         detector.config().patterns[static_cast<size_t>(d.pattern)].pattern.key_index)];
@@ -326,7 +326,7 @@ void DrawDetections(const FrameResult& r, const VisionPipeline& pipeline,
     const auto rim = calibration.camera.WorldToPixel(d.pose.Apply(Vec2(0, 90)), height);
     if (!centre || !tip || !rim) continue;
     const std::string label = d.id >= 0 ? std::to_string(d.id) : "?";
-    DrawDetection(debug, *centre, (*rim - *centre).norm(), *tip, label, {255, 255, 255});
+    render::DrawDetection(debug, *centre, (*rim - *centre).norm(), *tip, label, {255, 255, 255});
   }
 }
 
@@ -351,37 +351,37 @@ const char* OutcomeLetter(detect::KeyOutcome outcome) {
 
 // Explain: every key candidate that is no detection, a red ring round its key region and the
 // letter of its outcome.
-void DrawMisses(const FrameResult& r, Image* debug) {
+void DrawMisses(const FrameResult& r, camera::Image* debug) {
   for (const detect::KeyExplanation& e : r.explanations) {
     const bool rejected = e.outcome == detect::KeyOutcome::kDetected && e.detection < 0;
     if (e.outcome == detect::KeyOutcome::kDetected && !rejected) continue;
     const Region& region = r.blob_regions[static_cast<size_t>(
         r.detector_blob_source[static_cast<size_t>(e.key_blob)])];
     const double radius = std::sqrt(region.area_px / std::numbers::pi) + 4.0;
-    DrawDetection(debug, region.centroid_px, radius, region.centroid_px,
-                  rejected ? "M" : OutcomeLetter(e.outcome), {255, 40, 40});
+    render::DrawDetection(debug, region.centroid_px, radius, region.centroid_px,
+                          rejected ? "M" : OutcomeLetter(e.outcome), {255, 40, 40});
   }
 }
 
 // The blobs the next stage sees: with a detector, those in its palette; discs of the region's
 // area at its centroid, in the class colour, on the dimmed frame.
-Image DrawBlobs(const ImageView& frame, const FrameResult& r, const Thresholds& thresholds,
-                bool detector_blobs_only) {
-  Image out = ToRgb(frame);
+camera::Image DrawBlobs(const camera::ImageView& frame, const FrameResult& r,
+                        const Thresholds& thresholds, bool detector_blobs_only) {
+  camera::Image out = camera::ToRgb(frame);
   for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);
   const size_t count = detector_blobs_only ? r.detector_blob_source.size() : r.blobs.size();
   for (size_t k = 0; k < count; ++k) {
     const size_t i = detector_blobs_only ? static_cast<size_t>(r.detector_blob_source[k]) : k;
     const Region& region = r.blob_regions[i];
-    DrawDisc(&out, region.centroid_px, std::sqrt(region.area_px / std::numbers::pi),
-             thresholds.classes[static_cast<size_t>(r.blobs[i].colour)].display_rgb);
+    render::DrawDisc(&out, region.centroid_px, std::sqrt(region.area_px / std::numbers::pi),
+                     thresholds.classes[static_cast<size_t>(r.blobs[i].colour)].display_rgb);
   }
   return out;
 }
 
 }  // namespace
 
-void FrameDetector::WriteDebugImages(const ImageView& image) const {
+void FrameDetector::WriteDebugImages(const camera::ImageView& image) const {
   const Thresholds& thresholds = pipeline_.thresholds();
   const std::vector<std::string> names =
       DebugImageNames(fs::path(result_.frame).stem().string(), has_detector());
@@ -393,7 +393,7 @@ void FrameDetector::WriteDebugImages(const ImageView& image) const {
                      error.message() + "); expected a writable directory");
   }
   WritePng(DrawClasses(pipeline_.segmenter(), thresholds), (dir / names[0]).string());
-  Image regions = DrawRegions(image, pipeline_.segmenter(), thresholds);
+  camera::Image regions = DrawRegions(image, pipeline_.segmenter(), thresholds);
   WritePng(regions, (dir / names[1]).string());
   WritePng(DrawBlobs(image, result_, thresholds, has_detector()), (dir / names[2]).string());
   if (!has_detector()) return;

@@ -6,9 +6,9 @@
 // vision stack can call it the same way:
 //
 //   vision::FrameDetectorOptions options;
-//   vision::ApplyFrameSettings(detect::LoadFrameSettings(s), &options);  // the file's [frame]
+//   vision::ApplyFrameSettings(formats::LoadFrameSettings(s), &options);  // the file's [frame]
 //   vision::FrameDetector frames(LoadThresholds(t), LoadCalibration(c),
-//                                detect::LoadDetectorSettings(s), options);
+//                                formats::LoadDetectorSettings(s), options);
 //   const vision::FrameResult& result = frames.DetectFile("frame.png");
 //   for (const detect::Detection& d : result.detections) ...
 //
@@ -68,7 +68,7 @@ struct FrameDetectorOptions {
 std::vector<OptionsProblem> Check(const FrameDetectorOptions& options);
 void Validate(const FrameDetectorOptions& options);
 
-// The set fields of a settings file's [frame] table (detect::LoadFrameSettings) into `options`.
+// The set fields of a settings file's [frame] table (formats::LoadFrameSettings) into `options`.
 void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOptions* options);
 
 // What FrameDetector does to a detector configuration for frames of `calibration`: the
@@ -76,7 +76,7 @@ void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOpti
 // lower area bound allows for the segmentation's edge loss (FrameDetectorOptions::edge_loss_px).
 // Every front end that turns segmented regions into blobs applies it (patlab camtrack does), so
 // the detector sees rendered and real frames alike.
-void AdaptToCamera(detect::DetectorConfig& config, const Calibration& calibration,
+void AdaptToCamera(detect::DetectorConfig& config, const camera::Calibration& calibration,
                    double edge_loss_px);
 
 // The debug images of a frame whose file stem is `stem`, one per stage that has a picture, named
@@ -145,7 +145,7 @@ class FrameDetector {
  public:
   // `detector`: the patterns to detect, or nullopt for blobs only. Throws InputError for a bad
   // configuration (options, thresholds against calibration heights, detector settings).
-  FrameDetector(Thresholds thresholds, Calibration calibration,
+  FrameDetector(Thresholds thresholds, camera::Calibration calibration,
                 std::optional<detect::DetectorConfig> detector, FrameDetectorOptions options);
   ~FrameDetector();
   FrameDetector(FrameDetector&&) noexcept;
@@ -157,7 +157,7 @@ class FrameDetector {
   // Stages 2-6 on a frame in memory, read where it is (an Image, or a view of any strides: no
   // copy is made; only the debug images copy it); `name` stands for it in messages, results and
   // debug images.
-  const FrameResult& Detect(const ImageView& image, const std::string& name);
+  const FrameResult& Detect(const camera::ImageView& image, const std::string& name);
 
   // Mismatches between the thresholds' class names and the detector's palette, found at
   // construction, for the caller to show: a class no palette colour names (its blobs never reach
@@ -171,9 +171,9 @@ class FrameDetector {
   const FrameDetectorOptions& options() const { return options_; }
 
  private:
-  void Process(const ImageView& image, const std::string& name);
-  void RunStages(const ImageView& image);
-  void WriteDebugImages(const ImageView& image) const;
+  void Process(const camera::ImageView& image, const std::string& name);
+  void RunStages(const camera::ImageView& image);
+  void WriteDebugImages(const camera::ImageView& image) const;
   void LookAtMissingPatches();
   MissingPatchLook LookAt(const detect::Detection& d) const;
 

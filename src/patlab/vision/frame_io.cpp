@@ -126,7 +126,8 @@ void JpegEmitMessage(j_common_ptr cinfo, int level) {
 
 // Plain C-style decoder: no C++ object with a destructor lives in this frame across setjmp.
 // Returns false with `message` and `offset` filled on error.
-bool DecodeJpegRaw(const uint8_t* data, size_t size, Image* out, char* message, size_t* offset) {
+bool DecodeJpegRaw(const uint8_t* data, size_t size, camera::Image* out, char* message,
+                   size_t* offset) {
   jpeg_decompress_struct cinfo;
   JpegErrorManager err;
   cinfo.err = jpeg_std_error(&err.pub);
@@ -168,7 +169,7 @@ bool DecodeJpegRaw(const uint8_t* data, size_t size, Image* out, char* message, 
   jpeg_start_decompress(&cinfo);
   out->width_px = static_cast<int>(cinfo.output_width);
   out->height_px = static_cast<int>(cinfo.output_height);
-  out->format = PixelFormat::kRgb8;
+  out->format = camera::PixelFormat::kRgb8;
   out->data.resize(static_cast<size_t>(out->width_px) * out->height_px * 3);
   while (cinfo.output_scanline < cinfo.output_height) {
     JSAMPROW row =
@@ -295,7 +296,7 @@ std::vector<uint8_t> ReadFileBytes(const std::string& path) {
   return ReadFileBytesAtMost(path, kMaxFrameFileBytes);
 }
 
-Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name) {
+camera::Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name) {
   static const uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kSignature, 8) != 0) {
     FailAt(name, 0, "not a PNG file; expected the 8-byte PNG signature");
@@ -314,10 +315,10 @@ Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name) {
     CheckSize(name, png.width, png.height);
   }
   png.format = PNG_FORMAT_RGB;
-  Image image;
+  camera::Image image;
   image.width_px = static_cast<int>(png.width);
   image.height_px = static_cast<int>(png.height);
-  image.format = PixelFormat::kRgb8;
+  image.format = camera::PixelFormat::kRgb8;
   image.data.resize(PNG_IMAGE_SIZE(png));
   png_color black{0, 0, 0};
   if (!png_image_finish_read(&png, &black, image.data.data(), 0, nullptr)) {
@@ -328,8 +329,8 @@ Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name) {
   return image;
 }
 
-Image DecodeJpeg(const std::vector<uint8_t>& bytes, const std::string& name) {
-  Image image;
+camera::Image DecodeJpeg(const std::vector<uint8_t>& bytes, const std::string& name) {
+  camera::Image image;
   char message[JMSG_LENGTH_MAX] = {0};
   size_t offset = 0;
   if (!DecodeJpegRaw(bytes.data(), bytes.size(), &image, message, &offset)) {
@@ -340,7 +341,7 @@ Image DecodeJpeg(const std::vector<uint8_t>& bytes, const std::string& name) {
   return image;
 }
 
-Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name) {
+camera::Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name) {
   if (bytes.size() < 2 || bytes[0] != 'P' || bytes[1] != '6') {
     FailAt(name, 0, "not a binary PPM; expected the magic number P6");
   }
@@ -363,16 +364,16 @@ Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name) {
                std::to_string(needed) + " bytes of pixels from byte " + std::to_string(data_at) +
                "; expected a file of " + std::to_string(data_at + needed) + " bytes");
   }
-  Image image;
+  camera::Image image;
   image.width_px = static_cast<int>(width);
   image.height_px = static_cast<int>(height);
-  image.format = PixelFormat::kRgb8;
+  image.format = camera::PixelFormat::kRgb8;
   image.data.assign(bytes.begin() + static_cast<std::ptrdiff_t>(data_at),
                     bytes.begin() + static_cast<std::ptrdiff_t>(data_at + needed));
   return image;
 }
 
-Image ReadFrame(const std::string& path) {
+camera::Image ReadFrame(const std::string& path) {
   // A PPM header states the size: check it on the first bytes before reading a file of
   // gigabytes (a 20000x20000 PPM is rejected after 64 kB, not 1.2 GB).
   if (const std::vector<uint8_t> head = ReadFileHead(path, kPpmHeaderBytes);
@@ -398,14 +399,14 @@ bool IsRawFrameFile(const std::string& path) {
   return HasExtension(path, {".yuv", ".uyvy", ".raw"});
 }
 
-Image ReadFrameFile(const std::string& path, int raw_width_px, int raw_height_px) {
+camera::Image ReadFrameFile(const std::string& path, int raw_width_px, int raw_height_px) {
   if (raw_width_px > 0 && IsRawFrameFile(path)) {
     return ReadRawUyvy(path, raw_width_px, raw_height_px);
   }
   return ReadFrame(path);
 }
 
-Image ReadRawUyvy(const std::string& path, int width_px, int height_px) {
+camera::Image ReadRawUyvy(const std::string& path, int width_px, int height_px) {
   if (width_px <= 0 || height_px <= 0 || width_px % 2 != 0) {
     throw InputError(path + ": raw frame size " + std::to_string(width_px) + "x" +
                      std::to_string(height_px) +
@@ -434,17 +435,18 @@ Image ReadRawUyvy(const std::string& path, int width_px, int height_px) {
                      std::to_string(expected) + " bytes for a " + std::to_string(width_px) + "x" +
                      std::to_string(height_px) + " UYVY frame (width x height x 2)");
   }
-  Image image;
+  camera::Image image;
   image.width_px = width_px;
   image.height_px = height_px;
-  image.format = PixelFormat::kUyvy;
+  image.format = camera::PixelFormat::kUyvy;
   image.data = std::move(bytes);
   return image;
 }
 
-std::vector<uint8_t> EncodePng(const Image& image) {
-  const Image rgb = image.format == PixelFormat::kRgb8 ? Image() : ToRgb(image);
-  const Image& src = image.format == PixelFormat::kRgb8 ? image : rgb;
+std::vector<uint8_t> EncodePng(const camera::Image& image) {
+  const camera::Image rgb =
+      image.format == camera::PixelFormat::kRgb8 ? camera::Image() : camera::ToRgb(image);
+  const camera::Image& src = image.format == camera::PixelFormat::kRgb8 ? image : rgb;
   png_image png;
   std::memset(&png, 0, sizeof(png));
   png.version = PNG_IMAGE_VERSION;
@@ -467,12 +469,12 @@ void WriteAtomically(const std::string& path, const std::vector<uint8_t>& bytes)
 }
 }  // namespace
 
-void WritePng(const Image& image, const std::string& path) {
+void WritePng(const camera::Image& image, const std::string& path) {
   WriteAtomically(path, EncodePng(image));
 }
 
-void WritePpm(const Image& image, const std::string& path) {
-  const Image rgb = ToRgb(image);
+void WritePpm(const camera::Image& image, const std::string& path) {
+  const camera::Image rgb = camera::ToRgb(image);
   const std::string header =
       "P6\n" + std::to_string(rgb.width_px) + " " + std::to_string(rgb.height_px) + "\n255\n";
   std::vector<uint8_t> bytes(header.begin(), header.end());

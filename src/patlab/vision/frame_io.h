@@ -17,29 +17,29 @@ inline constexpr long long kMaxFramePixels = 1LL << 28;
 
 // Reads a PNG, JPEG or PPM (P6, maxval 255) frame, chosen by the file's first bytes (not its
 // name). Grey, palette, 16-bit and alpha PNGs are converted to 8-bit RGB.
-Image ReadFrame(const std::string& path);
+camera::Image ReadFrame(const std::string& path);
 
 // Reads a raw UYVY frame: exactly width_px * height_px * 2 bytes, width even.
-Image ReadRawUyvy(const std::string& path, int width_px, int height_px);
+camera::Image ReadRawUyvy(const std::string& path, int width_px, int height_px);
 
 // True for the names of raw UYVY frames: .yuv .uyvy .raw (any case).
 bool IsRawFrameFile(const std::string& path);
 // A frame file as patlab detect reads it: a raw UYVY file of raw_width_px x raw_height_px when
 // IsRawFrameFile(path) and a size is given (> 0), otherwise ReadFrame.
-Image ReadFrameFile(const std::string& path, int raw_width_px, int raw_height_px);
+camera::Image ReadFrameFile(const std::string& path, int raw_width_px, int raw_height_px);
 
 // Decoders from memory; `name` is used in messages.
-Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name);
-Image DecodeJpeg(const std::vector<uint8_t>& bytes, const std::string& name);
-Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name);
+camera::Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name);
+camera::Image DecodeJpeg(const std::vector<uint8_t>& bytes, const std::string& name);
+camera::Image DecodePpm(const std::vector<uint8_t>& bytes, const std::string& name);
 
 // Writes an RGB frame as PNG atomically (temp file + rename). Throws InputError when the file
 // cannot be written.
-void WritePng(const Image& image, const std::string& path);
+void WritePng(const camera::Image& image, const std::string& path);
 // Encodes an RGB frame as PNG bytes.
-std::vector<uint8_t> EncodePng(const Image& image);
+std::vector<uint8_t> EncodePng(const camera::Image& image);
 // Writes an RGB frame as binary PPM (P6).
-void WritePpm(const Image& image, const std::string& path);
+void WritePpm(const camera::Image& image, const std::string& path);
 
 // Expands the frame arguments of `patlab detect`, in order: a directory gives its frame files
 // (.png .jpg .jpeg .ppm .yuv .uyvy .raw, sorted by name); a file ending in .txt or .list is a

@@ -14,7 +14,7 @@ VisionStats& VisionStats::operator+=(const VisionStats& o) {
   return *this;
 }
 
-VisionPipeline::VisionPipeline(Thresholds thresholds, Calibration calibration,
+VisionPipeline::VisionPipeline(Thresholds thresholds, camera::Calibration calibration,
                                const SegmenterOptions& options)
     : thresholds_(std::move(thresholds)),
       calibration_(std::move(calibration)),
@@ -38,7 +38,8 @@ VisionPipeline::VisionPipeline(Thresholds thresholds, Calibration calibration,
   }
 }
 
-void VisionPipeline::CheckFrameSize(const ImageView& image, const std::string& frame_name) const {
+void VisionPipeline::CheckFrameSize(const camera::ImageView& image,
+                                    const std::string& frame_name) const {
   if (calibration_.image_width_px == 0) return;
   if (image.width_px != calibration_.image_width_px ||
       image.height_px != calibration_.image_height_px) {
@@ -50,7 +51,7 @@ void VisionPipeline::CheckFrameSize(const ImageView& image, const std::string& f
   }
 }
 
-void VisionPipeline::Process(const ImageView& image, std::vector<detect::Blob>* blobs,
+void VisionPipeline::Process(const camera::ImageView& image, std::vector<detect::Blob>* blobs,
                              VisionStats* stats, TimeProfile* profile) {
   TimeProfile untimed;
   TimeProfile& time = profile != nullptr ? *profile : untimed;

@@ -45,28 +45,29 @@ class VisionPipeline {
  public:
   // Throws InputError when the calibration cannot map some class's plane height (a homography
   // calibration without a matrix for it).
-  VisionPipeline(Thresholds thresholds, Calibration calibration, const SegmenterOptions& options);
+  VisionPipeline(Thresholds thresholds, camera::Calibration calibration,
+                 const SegmenterOptions& options);
 
   // InputError "frame: image is WxH; expected WxH as in calibration" when the calibration
   // names an image size and the frame differs.
-  void CheckFrameSize(const ImageView& image, const std::string& frame_name) const;
+  void CheckFrameSize(const camera::ImageView& image, const std::string& frame_name) const;
 
   // Stages 2-5. `blobs` is cleared and filled in region order (class, then area); blob i
   // came from segmenter().regions()[blob_region()[i]]. Blob colours are class indices. `stats`
   // (optional) is overwritten; an enabled `profile` gets the time of stages 2-5 added under
   // their names (no clock is read otherwise).
-  void Process(const ImageView& image, std::vector<detect::Blob>* blobs,
+  void Process(const camera::ImageView& image, std::vector<detect::Blob>* blobs,
                VisionStats* stats = nullptr, TimeProfile* profile = nullptr);
 
   const Segmenter& segmenter() const { return segmenter_; }
   const Thresholds& thresholds() const { return thresholds_; }
-  const Calibration& calibration() const { return calibration_; }
+  const camera::Calibration& calibration() const { return calibration_; }
   const std::vector<int>& blob_region() const { return blob_region_; }
   double class_height_mm(int colour) const { return heights_mm_[colour]; }
 
  private:
   Thresholds thresholds_;
-  Calibration calibration_;
+  camera::Calibration calibration_;
   Segmenter segmenter_;
   std::vector<double> heights_mm_;  // per class
   std::vector<int> blob_region_;

@@ -262,12 +262,12 @@ void internal::RgbRowToYuvAvx512(const uint8_t* __restrict in, int n, uint8_t* _
 
 // Row y of the frame into the three planes of the thresholds' colour space: packed rows as they
 // are (the AVX-512 conversion reads them directly), other RGB layouts gathered first.
-void Segmenter::RowToPlanes(const ImageView& image, int y, uint8_t* c0, uint8_t* c1,
+void Segmenter::RowToPlanes(const camera::ImageView& image, int y, uint8_t* c0, uint8_t* c1,
                             uint8_t* c2) const {
   const uint8_t* in = image.Row(y);
   const int w = image.width_px;
   const bool yuv_lut = lut_.space() == ColorSpace::kYuv;
-  if (image.format != PixelFormat::kRgb8) {
+  if (image.format != camera::PixelFormat::kRgb8) {
     (yuv_lut ? SplitUyvy : UyvyRowToRgb)(in, w / 2, c0, c1, c2);
   } else if (image.PackedPixels()) {
     (yuv_lut ? internal::RgbRowToYuvAvx512 : SplitRgb)(in, w, c0, c1, c2);
@@ -277,9 +277,9 @@ void Segmenter::RowToPlanes(const ImageView& image, int y, uint8_t* c0, uint8_t*
   }
 }
 
-void Segmenter::Classify(const ImageView& image) {
+void Segmenter::Classify(const camera::ImageView& image) {
   PATLAB_CHECK(image.width_px > 0 && image.height_px > 0);
-  PATLAB_CHECK(image.format == PixelFormat::kRgb8 || image.PackedPixels());
+  PATLAB_CHECK(image.format == camera::PixelFormat::kRgb8 || image.PackedPixels());
   width_ = image.width_px;
   height_ = image.height_px;
   const int w = width_;
@@ -288,7 +288,7 @@ void Segmenter::Classify(const ImageView& image) {
   uint8_t* c0 = planes_.data();
   uint8_t* c1 = c0 + w;
   uint8_t* c2 = c1 + w;
-  const bool rgb = image.format == PixelFormat::kRgb8;
+  const bool rgb = image.format == camera::PixelFormat::kRgb8;
   if (!rgb && w % 2 != 0) {
     // UYVY frames have even widths (frame_io checks); a last lone pixel would have no U, V.
     c0[w - 1] = c1[w - 1] = c2[w - 1] = 0;

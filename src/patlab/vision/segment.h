@@ -71,14 +71,14 @@ class Segmenter {
   // pixel is converted with image.h's BT.601 RgbToYuv / YuvToRgb when the spaces differ). The
   // frame is read in place, a row at a time, whatever its strides (an Image is a packed view);
   // the same classes for any layout of the same pixels.
-  void Classify(const ImageView& image);
+  void Classify(const camera::ImageView& image);
   // Stage 3. Run-length encodes class_image() and joins runs into regions (union-find).
   void EncodeRuns();
   // Stage 4. Region statistics and filters.
   void ExtractRegions();
 
   // Stages 2-4 in order.
-  void Process(const ImageView& image) {
+  void Process(const camera::ImageView& image) {
     Classify(image);
     EncodeRuns();
     ExtractRegions();
@@ -97,7 +97,8 @@ class Segmenter {
   const ColorLut& lut() const { return lut_; }
 
  private:
-  void RowToPlanes(const ImageView& image, int y, uint8_t* c0, uint8_t* c1, uint8_t* c2) const;
+  void RowToPlanes(const camera::ImageView& image, int y, uint8_t* c0, uint8_t* c1,
+                   uint8_t* c2) const;
 
   ColorLut lut_;
   SegmenterOptions options_;

@@ -49,13 +49,14 @@ struct Pixel {
   int hand;        // hand label (class index) or -1
 };
 
-void AppendPixels(const Image& image, const std::vector<int>* hand, std::vector<Pixel>* out) {
+void AppendPixels(const camera::Image& image, const std::vector<int>* hand,
+                  std::vector<Pixel>* out) {
   for (int y = 0; y < image.height_px; ++y) {
     const uint8_t* row = image.Row(y);
     for (int x = 0; x < image.width_px; ++x) {
       int a, b, c;
-      if (image.format == PixelFormat::kRgb8) {
-        RgbToYuv(row[3 * x], row[3 * x + 1], row[3 * x + 2], &a, &b, &c);
+      if (image.format == camera::PixelFormat::kRgb8) {
+        camera::RgbToYuv(row[3 * x], row[3 * x + 1], row[3 * x + 2], &a, &b, &c);
       } else {
         const uint8_t* pair = row + 4 * (x / 2);
         a = pair[1 + 2 * (x % 2)], b = pair[0], c = pair[2];
@@ -364,12 +365,12 @@ std::vector<const ColourEntry*> ClassEntries(const std::vector<std::string>& cla
 }
 
 // Every frame's pixels, then every labelled frame's with its hand labels mapped to the classes.
-void CollectPixels(const std::vector<const Image*>& frames,
+void CollectPixels(const std::vector<const camera::Image*>& frames,
                    const std::vector<LabelledFrame>& labels,
                    const std::vector<const ColourEntry*>& entries,
                    const ColourVocabulary& vocabulary, std::vector<Pixel>* pixels,
                    std::vector<FrameSpan>* spans) {
-  for (const Image* frame : frames) {
+  for (const camera::Image* frame : frames) {
     spans->push_back({pixels->size(), frame->width_px, frame->height_px});
     AppendPixels(*frame, nullptr, pixels);
   }
@@ -401,7 +402,7 @@ std::vector<Centre> SeedCentres(const std::vector<const ColourEntry*>& entries,
   std::vector<bool> has_hand(n, false);
   for (size_t k = 0; k < n; ++k) {
     int y, u, v;
-    RgbToYuv(entries[k]->rgb[0], entries[k]->rgb[1], entries[k]->rgb[2], &y, &u, &v);
+    camera::RgbToYuv(entries[k]->rgb[0], entries[k]->rgb[1], entries[k]->rgb[2], &y, &u, &v);
     centres[k] = SeedOf(y, u, v);
   }
   for (Pixel& p : *pixels) {
@@ -437,7 +438,7 @@ void AssignPixels(const std::vector<Centre>& centres, int carpet_class,
 
 }  // namespace
 
-AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
+AutoThresholdsFit FitThresholdsAuto(const std::vector<const camera::Image*>& frames,
                                     const std::vector<std::string>& class_names,
                                     const ColourVocabulary& vocabulary,
                                     const AutoThresholdsOptions& options,

@@ -66,7 +66,7 @@ void Validate(const AutoThresholdsOptions& options);
 // labels[i] = -1 or an index into class_names. Labelled pixels always belong to their class and,
 // when there are at least 5, their mean is its seed; labels of several frames are pooled.
 struct LabelledFrame {
-  const Image* image = nullptr;
+  const camera::Image* image = nullptr;
   std::vector<int> labels;
   std::vector<std::string> class_names;
 };
@@ -92,7 +92,7 @@ struct AutoThresholdsFit {
 // `class_names` must be colours of `vocabulary` (InputError naming the unknown one) and distinct;
 // at most kMaxColorClasses. A class named "carpet" (or an alias) is the carpet cluster. Frames
 // may have any PixelFormat and size. InputError for no frames or a labelled class not asked for.
-AutoThresholdsFit FitThresholdsAuto(const std::vector<const Image*>& frames,
+AutoThresholdsFit FitThresholdsAuto(const std::vector<const camera::Image*>& frames,
                                     const std::vector<std::string>& class_names,
                                     const ColourVocabulary& vocabulary,
                                     const AutoThresholdsOptions& options,

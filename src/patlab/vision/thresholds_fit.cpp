@@ -79,7 +79,8 @@ void LabelPointsAndRectangles(const Labels& labels, int k, int w, int h, std::ve
 
 }  // namespace
 
-std::vector<int> LabelPixels(const Labels& labels, int width_px, int height_px, const Image* mask) {
+std::vector<int> LabelPixels(const Labels& labels, int width_px, int height_px,
+                             const camera::Image* mask) {
   std::vector<int> out(static_cast<size_t>(width_px) * height_px, -1);
   const int nc = static_cast<int>(labels.classes.size());
   for (int k = 0; k < nc; ++k) LabelPointsAndRectangles(labels, k, width_px, height_px, &out);
@@ -91,7 +92,7 @@ std::vector<int> LabelPixels(const Labels& labels, int width_px, int height_px, 
                            "; expected the image's size " + std::to_string(width_px) + "x" +
                            std::to_string(height_px));
     }
-    const Image rgb = ToRgb(*mask);
+    const camera::Image rgb = camera::ToRgb(*mask);
     for (int y = 0; y < height_px; ++y) {
       const uint8_t* row = rgb.Row(y);
       for (int x = 0; x < width_px; ++x) {
@@ -124,20 +125,20 @@ std::vector<int> LabelPixels(const Labels& labels, int width_px, int height_px, 
 namespace {
 
 // Each pixel's three channel values in `space`, as the segmenter's lookup sees them.
-std::vector<std::array<uint8_t, 3>> PixelValues(const Image& image, ColorSpace space) {
+std::vector<std::array<uint8_t, 3>> PixelValues(const camera::Image& image, ColorSpace space) {
   std::vector<std::array<uint8_t, 3>> values;
   values.reserve(static_cast<size_t>(image.width_px) * image.height_px);
   for (int y = 0; y < image.height_px; ++y) {
     const uint8_t* row = image.Row(y);
     for (int x = 0; x < image.width_px; ++x) {
       int a, b, c;
-      if (image.format == PixelFormat::kRgb8) {
+      if (image.format == camera::PixelFormat::kRgb8) {
         a = row[3 * x], b = row[3 * x + 1], c = row[3 * x + 2];
-        if (space == ColorSpace::kYuv) RgbToYuv(a, b, c, &a, &b, &c);
+        if (space == ColorSpace::kYuv) camera::RgbToYuv(a, b, c, &a, &b, &c);
       } else {
         const uint8_t* pair = row + 4 * (x / 2);
         a = pair[1 + 2 * (x % 2)], b = pair[0], c = pair[2];
-        if (space == ColorSpace::kRgb) YuvToRgb(a, b, c, &a, &b, &c);
+        if (space == ColorSpace::kRgb) camera::YuvToRgb(a, b, c, &a, &b, &c);
       }
       values.push_back({static_cast<uint8_t>(a), static_cast<uint8_t>(b), static_cast<uint8_t>(c)});
     }
@@ -192,7 +193,7 @@ void FindOverlaps(const std::vector<std::array<uint8_t, 3>>& values,
 
 }  // namespace
 
-ThresholdsFit FitThresholds(const Image& image, const std::vector<int>& pixel_labels,
+ThresholdsFit FitThresholds(const camera::Image& image, const std::vector<int>& pixel_labels,
                             const Labels& labels, const ThresholdsFitOptions& options) {
   Validate(options);
   PATLAB_CHECK(pixel_labels.size() == static_cast<size_t>(image.width_px) * image.height_px);
@@ -232,7 +233,7 @@ ThresholdsFit FitThresholds(const Image& image, const std::vector<int>& pixel_la
     cc.max_area_px = lc.max_area_px;
     int r = static_cast<int>(std::lround(mean[0])), g = static_cast<int>(std::lround(mean[1])),
         b = static_cast<int>(std::lround(mean[2]));
-    if (options.space == ColorSpace::kYuv) YuvToRgb(r, g, b, &r, &g, &b);
+    if (options.space == ColorSpace::kYuv) camera::YuvToRgb(r, g, b, &r, &g, &b);
     cc.display_rgb = lc.has_display
                          ? lc.display_rgb
                          : std::array<uint8_t, 3>{static_cast<uint8_t>(r), static_cast<uint8_t>(g),

@@ -79,7 +79,8 @@ void CheckClassesKnown(const Labels& labels, const std::vector<std::string>& kno
 // label the same pixel, the one listed first keeps it. InputError (file:line) for a point or
 // rectangle outside the image, a mask of another size, a class that labels no pixel (a mask
 // colour absent from the mask).
-std::vector<int> LabelPixels(const Labels& labels, int width_px, int height_px, const Image* mask);
+std::vector<int> LabelPixels(const Labels& labels, int width_px, int height_px,
+                             const camera::Image* mask);
 
 struct ClassFit {
   std::string name;
@@ -106,7 +107,7 @@ struct ThresholdsFit {
 
 // The fit on `image` (any PixelFormat; converted to the options' space as ColorLut sees it) with
 // `labels` from LabelPixels. Class order, names and areas follow the labels file.
-ThresholdsFit FitThresholds(const Image& image, const std::vector<int>& pixel_labels,
+ThresholdsFit FitThresholds(const camera::Image& image, const std::vector<int>& pixel_labels,
                             const Labels& labels, const ThresholdsFitOptions& options);
 
 // The thresholds in our TOML form (ParseThresholdsToml reads it back identically), with
