@@ -12,6 +12,9 @@ Fails (exit 1), naming file and line, on
   - rooms.txt itself: a use of a room that is not before it, a room without a directory;
   - the room order in CMakeLists.txt and the room table of docs/architecture.md differing from
     rooms.txt;
+  - a namespace opened at file scope in src/patlab/<room>/ other than patlab::<room> (or one
+    nested in it, such as patlab::<room>::internal); core's files open patlab itself or its
+    math namespace patlab::pmath (docs/architecture.md, rule 14);
   - a .cpp or .h file under src/, tests/ or examples/ over 500 lines, unless
     scripts/long_files.txt lets it have more (up to the count it gives; an entry for a file that
     is no longer over the limit is a problem too, so the list only shrinks).
@@ -25,6 +28,8 @@ import sys
 
 MAX_FILE_LINES = 500
 INCLUDE = re.compile(r'^\s*#\s*include\s*["<](?:patlab/|\.\./)(\w+)/')
+NAMESPACE = re.compile(r"\bnamespace\s+([\w:]+)\s*\{")
+CORE_NAMESPACES = ("patlab", "patlab::pmath")
 ROOMS_LINE = re.compile(r"^(\w+)\s*:\s*([\w\s]*?)\s*(?:;\s*([\w\s]*?)\s*)?$")
 
 
@@ -154,6 +159,68 @@ def check_include_cycles(edges, problems):
                  for a, b in zip(cycle, cycle[1:] + [cycle[0]])]
         problems.append(f"{edges[(cycle[0], cycle[1 % len(cycle)])]}: the includes make a cycle "
                         "of rooms: " + ", ".join(steps))
+
+
+def code_of(line, in_comment):
+    """A line without its comments and string literals; and whether a /* comment stays open."""
+    out, i = [], 0
+    while i < len(line):
+        if in_comment:
+            end = line.find("*/", i)
+            if end < 0:
+                return "".join(out), True
+            in_comment, i = False, end + 2
+        elif line.startswith("//", i):
+            break
+        elif line.startswith("/*", i):
+            in_comment, i = True, i + 2
+        elif line[i] in "\"'":
+            quote, i = line[i], i + 1
+            while i < len(line) and line[i] != quote:
+                i += 2 if line[i] == "\\" else 1
+            i += 1
+            out.append('""')
+        else:
+            out.append(line[i])
+            i += 1
+    return "".join(out), in_comment
+
+
+def expected_namespaces(room):
+    return CORE_NAMESPACES if room == "core" else (f"patlab::{room}",)
+
+
+def namespace_allowed(name, room):
+    """patlab::<room> or a namespace nested in it; in core, patlab itself (not one nested in it,
+    which would be a room's name) or patlab::pmath and those nested in it."""
+    if room == "core":
+        return name == "patlab" or name == "patlab::pmath" or name.startswith("patlab::pmath::")
+    return name == f"patlab::{room}" or name.startswith(f"patlab::{room}::")
+
+
+def check_namespaces(root, rooms, problems):
+    """Each namespace a room's file opens at file scope is the room's own (or nested in it)."""
+    for room in rooms.order:
+        allowed = expected_namespaces(room)
+        for path in source_files(root, os.path.join("src", "patlab", room)):
+            rel = os.path.relpath(path, root)
+            depth, in_comment = 0, False
+            with open(path, encoding="utf-8", errors="replace") as f:
+                for number, text in enumerate(f, 1):
+                    if text.lstrip().startswith("#"):
+                        continue
+                    code, in_comment = code_of(text, in_comment)
+                    opened = {m.end() - 1: m.group(1) for m in NAMESPACE.finditer(code)}
+                    for i, c in enumerate(code):
+                        if c == "{":
+                            name = opened.get(i)
+                            if depth == 0 and name is not None and not namespace_allowed(
+                                    name, room):
+                                problems.append(f"{rel}:{number}: namespace {name} in room "
+                                                f"{room}; expected {' or '.join(allowed)}")
+                            depth += 1
+                        elif c == "}":
+                            depth = max(depth - 1, 0)
 
 
 def cmake_calls(text, names):
@@ -333,6 +400,7 @@ def main():
     check_cmake(root, rooms, problems)
     edges = check_includes(root, rooms, problems)
     check_include_cycles(edges, problems)
+    check_namespaces(root, rooms, problems)
     files = check_file_sizes(root, problems)
     for problem in problems:
         print(problem)

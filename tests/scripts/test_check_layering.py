@@ -162,3 +162,42 @@ def test_a_document_table_that_disagrees_is_named(tree):
 def test_a_room_directory_that_rooms_txt_does_not_list_is_named(tree):
     write(tree, "src/patlab/extra/extra.h", "#pragma once\n")
     expect_problems(tree, "src/patlab/extra/: a room that scripts/rooms.txt does not list")
+
+
+def test_a_namespace_other_than_the_room_s_is_named(tree):
+    write(tree, "src/patlab/mid/mid.cpp",
+          '#include "patlab/mid/mid.h"\n#include "patlab/base/base.h"\n\n'
+          "namespace patlab::mid {\nnamespace {\nint Local() { return 1; }\n}  // namespace\n"
+          "}  // namespace patlab::mid\n\nnamespace patlab::mid::internal {\n"
+          "namespace detail {}\n}  // namespace patlab::mid::internal\n\n"
+          "// namespace patlab::top { in a comment\nconst char* k = \"namespace patlab::top {\";\n"
+          "namespace patlab::top {\nint Stray();\n}  // namespace patlab::top\n"
+          "namespace patlab {\nint Loose();\n}  // namespace patlab\n")
+    write(tree, "src/patlab/top/top_internal.h",
+          '#pragma once\n#include "patlab/base/base.h"\n\nnamespace patlab::base::internal {\n}\n')
+    expect_problems(tree,
+                    "src/patlab/mid/mid.cpp:16: namespace patlab::top in room mid; expected "
+                    "patlab::mid",
+                    "src/patlab/mid/mid.cpp:19: namespace patlab in room mid; expected "
+                    "patlab::mid",
+                    "src/patlab/top/top_internal.h:4: namespace patlab::base::internal in room "
+                    "top; expected patlab::top")
+    code, lines = check(tree)
+    assert len(lines) == 4, "\n".join(lines)
+
+
+def test_core_opens_patlab_and_its_math_namespace_only(tree):
+    write(tree, "scripts/rooms.txt", ROOMS.replace("base:\n", "core:\nbase:\n"))
+    write(tree, "CMakeLists.txt", "foreach(module core base side mid top)\n"
+          "  add_subdirectory(src/patlab/${module})\nendforeach()\n")
+    write(tree, "docs/architecture.md", "# rooms\n\n" + TABLE.replace(
+        "| `base/` |", "| `core/` | c | — | — |\n| `base/` |"))
+    write(tree, "src/patlab/core/CMakeLists.txt", "patlab_add_module(core)\n")
+    write(tree, "src/patlab/core/core.h",
+          "#pragma once\nnamespace patlab {\nnamespace detail {}\n}  // namespace patlab\n"
+          "namespace patlab::pmath {\n}  // namespace patlab::pmath\n")
+    write(tree, "src/patlab/core/math.h", "#pragma once\nnamespace patlab::core {\n}\n")
+    expect_problems(tree, "src/patlab/core/math.h:2: namespace patlab::core in room core; "
+                    "expected patlab or patlab::pmath")
+    code, lines = check(tree)
+    assert len(lines) == 2, "\n".join(lines)
