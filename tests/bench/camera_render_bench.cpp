@@ -14,7 +14,6 @@
 namespace {
 
 using namespace patlab;
-using namespace patlab::vision;
 
 const patlab::formats::SceneFile& Scene() {
   static const patlab::formats::SceneFile file = [] {
