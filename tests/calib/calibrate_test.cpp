@@ -1,8 +1,7 @@
-// The camera fit against cameras it has never seen: random pinhole cameras (height, tilt, yaw,
-// focal length, principal point, barrel distortion) look at the SSL 2008 field and at robots of
-// the SSL standard pattern on their 150 mm tops; the visible field points, line and circle pixels
-// and patch centres, with 0.3 px of Gaussian noise, are fitted, and the fitted camera must map
-// the whole image onto the floor and onto the robot tops as the true camera does.
+// The camera fit against cameras it has never seen: random pinhole cameras with distortion look
+// at the SSL 2008 field and at SSL standard robots; the visible field points, line and circle
+// pixels and patch centres, with 0.3 px of noise, are fitted, and the fitted camera must map the
+// whole image onto the floor and onto the robot tops as the true camera does.
 #include "patlab/calib/calibrate.h"
 
 #include <gtest/gtest.h>
@@ -24,8 +23,7 @@ namespace {
 constexpr double kNoisePx = 0.3;
 constexpr int kWidth = 780, kHeight = 580;
 
-// The 2009 field as the seeds and bounds below were chosen on: the shipped model less the goal
-// walls, goal posts and penalty marks it has since gained, in the same order.
+// The 2009 field the seeds were chosen on: the shipped model less goal walls, posts, penalty marks.
 Field Ssl2009() {
   Field f =
       formats::LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");

@@ -172,7 +172,8 @@ def test_a_namespace_other_than_the_room_s_is_named(tree):
           "namespace detail {}\n}  // namespace patlab::mid::internal\n\n"
           "// namespace patlab::top { in a comment\nconst char* k = \"namespace patlab::top {\";\n"
           "namespace patlab::top {\nint Stray();\n}  // namespace patlab::top\n"
-          "namespace patlab {\nint Loose();\n}  // namespace patlab\n")
+          "namespace patlab {\nint Loose();\n}  // namespace patlab\n"
+          "namespace ceres {\nclass LossFunction;\n}  // a library's type, forward-declared\n")
     write(tree, "src/patlab/top/top_internal.h",
           '#pragma once\n#include "patlab/base/base.h"\n\nnamespace patlab::base::internal {\n}\n')
     expect_problems(tree,
