@@ -158,14 +158,35 @@ def read_frame(path):
     return _load_checked(_patlab._read_frame, path)
 
 
-def detect(image, thresholds, calibration, settings=None, name="frame", blobs=False):
+def _detector_files(thresholds, calibration, settings, setup, settings_required):
+    """The (thresholds, calibration, settings) paths: a `patlab setup` folder's, or the files
+    given (paths or shipped names)."""
+    if setup is not None:
+        if any(f is not None for f in (thresholds, calibration, settings)):
+            raise ValueError("setup names the thresholds, calibration and settings files; "
+                             "expected setup= or the three files, not both")
+        setup = os.fspath(setup)
+        if not os.path.isdir(setup):
+            raise FileNotFoundError(f"setup {setup}: no such folder; expected a folder written "
+                                    "by patlab setup")
+        return list(_patlab._setup_files(setup))
+    if thresholds is None or calibration is None or (settings_required and settings is None):
+        raise ValueError("expected setup= (a folder written by patlab setup) or the thresholds, "
+                         "calibration" + (" and settings" if settings_required else "") +
+                         " files")
+    return [_data.find(f, "settings") if f is not None else "" for f in
+            (thresholds, calibration, settings)]
+
+
+def detect(image, thresholds=None, calibration=None, settings=None, name="frame", blobs=False,
+           setup=None):
     """`patlab detect` on one frame: an (H, W, 3) uint8 RGB array (any strides, read in place:
     the detector reads the array's own memory, no copy), with the thresholds and
-    calibration files and, for detections, the detector settings (paths or shipped names).
+    calibration files and, for detections, the detector settings (paths or shipped names), or
+    instead of the three, ``setup``: a folder written by `patlab setup` (`detect --setup DIR`).
     Returns the CLI's CSV and JSON (`name` stands for the frame's path in them) and the table of
     detections (or, with blobs=True or no settings, of the calibrated blobs)."""
-    files = [_data.find(f, "settings") if f is not None else "" for f in
-             (thresholds, calibration, settings)]
+    files = _detector_files(thresholds, calibration, settings, setup, settings_required=False)
     try:
         return DetectResult(*_patlab._detect(image, *files, str(name), bool(blobs)))
     except ValueError as error:
@@ -181,10 +202,11 @@ class Detector:
     strides, no copy) and returns the detections as a dict of numpy columns -- pattern (index
     into ``patterns``), team_colour (index into ``palette``), id (-1: unknown), x_mm, y_mm,
     theta_rad, confidence -- and cpp_seconds, the time of the C++ call alone. The detections
-    are those `patlab detect` prints for the frame. ``warnings``: the palette mismatches."""
+    are those `patlab detect` prints for the frame. ``warnings``: the palette mismatches.
+    ``Detector(setup=DIR)`` takes the three files from a folder written by `patlab setup`."""
 
-    def __init__(self, thresholds, calibration, settings):
-        files = [_data.find(f, "settings") for f in (thresholds, calibration, settings)]
+    def __init__(self, thresholds=None, calibration=None, settings=None, setup=None):
+        files = _detector_files(thresholds, calibration, settings, setup, settings_required=True)
         try:
             self._detector = _patlab._Detector(*files)
         except ValueError as error:

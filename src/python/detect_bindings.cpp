@@ -12,6 +12,7 @@
 #include "patlab/core/error.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
+#include "patlab/formats/camera_setup.h"
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/scene_file.h"
 #include "patlab/formats/thresholds_file.h"
@@ -185,6 +186,15 @@ void BindDetect(py::module_& m) {
   m.def("_detect", &Detect, py::arg("image"), py::arg("thresholds"), py::arg("calibration"),
         py::arg("settings"), py::arg("name"), py::arg("blobs"));
   m.def("_read_frame", &ReadFrame, py::arg("path"));
+  // The thresholds, calibration and settings files a `patlab setup` folder names (its
+  // setup.toml), as `patlab detect --setup DIR` reads them.
+  m.def(
+      "_setup_files",
+      [](const std::string& dir) {
+        const formats::SetupFiles f = formats::LoadSetupFiles(dir);
+        return py::make_tuple(f.thresholds, f.calibration, f.settings);
+      },
+      py::arg("dir"));
   m.def("_render", &Render, py::arg("scene"));
   // The view detect() hands the detector for an image (the same ViewOf): its data address and
   // (height, width, row, pixel and channel strides); tests/python check that it is the array's

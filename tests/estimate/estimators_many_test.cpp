@@ -47,10 +47,22 @@ bool SameBits(double a, double b) {
   return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b);
 }
 
+void ExpectOneTrialPoses(const Model& model, Estimator method,
+                         const std::vector<std::array<Vec2, kMaxPatches>>& trials,
+                         const std::vector<double>& poses, const char* name) {
+  for (size_t k = 0; k < trials.size(); ++k) {
+    const Pose2 p = OneTrial(model, method, trials[k].data());
+    const double* q = poses.data() + 3 * k;
+    ASSERT_TRUE(SameBits(q[0], p.x_mm) && SameBits(q[1], p.y_mm) && SameBits(q[2], p.theta_rad))
+        << name << " " << EstimatorName(method) << " trial " << k << ": (" << q[0] << ", " << q[1]
+        << ", " << q[2] << ") vs (" << p.x_mm << ", " << p.y_mm << ", " << p.theta_rad << ")";
+  }
+}
+
 // EstimateMany on a (trials, patches, 2) array laid out as `layout` says gives, trial by trial,
 // the one-trial estimator's pose to the last bit: C order, a wider buffer (x, y apart), trials in
 // reverse (negative stride), patches and axes transposed; counts that are no multiple of the
-// block, and a range that starts inside the array.
+// block, and a range that starts inside the array; and so does each instruction-set version.
 TEST(EstimateMany, IsTheOneTrialEstimatorBitForBit) {
   for (const char* name : {"butterfly", "triangle", "ssl-standard", "linear", "simple"}) {
     const Model model = Model::FromPattern(testing::ShippedPattern(name));
@@ -82,14 +94,12 @@ TEST(EstimateMany, IsTheOneTrialEstimatorBitForBit) {
         std::vector<double> poses(static_cast<size_t>(3 * count));
         EstimateMany(model, method, array, 0, 600, poses.data());
         EstimateMany(model, method, array, 600, count - 600, poses.data() + 3 * 600);
-        for (int k = 0; k < count; ++k) {
-          const Pose2 p = OneTrial(model, method, trials[static_cast<size_t>(k)].data());
-          const double* q = poses.data() + 3 * k;
-          ASSERT_TRUE(SameBits(q[0], p.x_mm) && SameBits(q[1], p.y_mm) &&
-                      SameBits(q[2], p.theta_rad))
-              << name << " " << EstimatorName(method) << " trial " << k << ": (" << q[0] << ", "
-              << q[1] << ", " << q[2] << ") vs (" << p.x_mm << ", " << p.y_mm << ", " << p.theta_rad
-              << ")";
+        ExpectOneTrialPoses(model, method, trials, poses, name);
+        // Every instruction-set version the CPU runs gives the same bits as the dispatched one.
+        for (ManyIsa isa : SupportedManyIsas()) {
+          std::vector<double> with(poses.size(), -1.0);
+          EstimateManyWith(isa, model, method, array, 0, count, with.data());
+          ExpectOneTrialPoses(model, method, trials, with, name);
         }
       }
     }

@@ -144,3 +144,34 @@ def test_render_is_the_clis_frame(cli, root, tmp_path, in_root):
     assert image.dtype == np.uint8 and image.shape[2] == 3
     np.testing.assert_array_equal(image, png_pixels(out))
     assert truth_csv == truth.read_text()
+
+
+def write_setup(folder, root):
+    """A setup folder as `patlab setup` writes it: setup.toml naming the three files."""
+    folder.mkdir()
+    (folder / "setup.toml").write_text("".join(
+        f'{key} = "{root / path}"\n' for key, path in FILES.items()))
+    return folder
+
+
+def test_a_setup_folder_stands_for_its_three_files(frame, root, tmp_path, in_root):
+    """detect(setup=DIR) and Detector(setup=DIR) read the files DIR/setup.toml names, as
+    `patlab detect --setup DIR` does."""
+    setup = write_setup(tmp_path / "camera", root)
+    plain = patlab.detect(frame, **FILES)
+    assert patlab.detect(frame, setup=setup).csv == plain.csv
+    found = patlab.Detector(setup=str(setup)).detect(frame)
+    np.testing.assert_array_equal(found["id"], np.asarray(plain.table["id"]))
+
+
+def test_setup_and_files_are_one_or_the_other(frame, root, tmp_path, in_root):
+    setup = write_setup(tmp_path / "camera", root)
+    with pytest.raises(ValueError, match=r"expected setup= or the three files, not both"):
+        patlab.detect(frame, setup=setup, thresholds=FILES["thresholds"])
+    with pytest.raises(ValueError, match=r"expected setup= \(a folder written by patlab setup\)"):
+        patlab.Detector(FILES["thresholds"], FILES["calibration"])
+    with pytest.raises(FileNotFoundError, match=r"no such folder"):
+        patlab.detect(frame, setup=tmp_path / "missing")
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(ValueError, match=r"no setup.toml in it"):
+        patlab.Detector(setup=tmp_path / "empty")

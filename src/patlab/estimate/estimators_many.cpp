@@ -211,17 +211,48 @@ bool HasManyVersion(Estimator method) {
   return method == Estimator::kFast || method == Estimator::kKey || method == Estimator::kLsq;
 }
 
+namespace {
+
+ManyIsa WidestManyIsa() {
+#if PATLAB_MANY_ISA_VERSIONS
+  static const ManyIsa widest = __builtin_cpu_supports("x86-64-v4")   ? ManyIsa::kAvx512
+                                : __builtin_cpu_supports("x86-64-v3") ? ManyIsa::kAvx2
+                                                                      : ManyIsa::kBaseline;
+  return widest;
+#else
+  return ManyIsa::kBaseline;
+#endif
+}
+
+}  // namespace
+
+std::vector<ManyIsa> SupportedManyIsas() {
+  std::vector<ManyIsa> isas;
+  for (ManyIsa isa : {ManyIsa::kBaseline, ManyIsa::kAvx2, ManyIsa::kAvx512}) {
+    if (isa <= WidestManyIsa()) isas.push_back(isa);
+  }
+  return isas;
+}
+
+void EstimateManyWith(ManyIsa isa, const Model& model, Estimator method, const PatchArray& patches,
+                      int64_t first, int64_t count, double* poses) {
+  PATLAB_CHECK(HasManyVersion(method));
+  PATLAB_CHECK(isa <= WidestManyIsa());
+  switch (isa) {
+#if PATLAB_MANY_ISA_VERSIONS
+    case ManyIsa::kAvx512:
+      return Avx512(model, method, patches, first, count, poses);
+    case ManyIsa::kAvx2:
+      return Avx2(model, method, patches, first, count, poses);
+#endif
+    default:
+      return Baseline(model, method, patches, first, count, poses);
+  }
+}
+
 void EstimateMany(const Model& model, Estimator method, const PatchArray& patches, int64_t first,
                   int64_t count, double* poses) {
-  PATLAB_CHECK(HasManyVersion(method));
-#if PATLAB_MANY_ISA_VERSIONS
-  static const int widest = __builtin_cpu_supports("x86-64-v4")   ? 2
-                            : __builtin_cpu_supports("x86-64-v3") ? 1
-                                                                  : 0;
-  if (widest == 2) return Avx512(model, method, patches, first, count, poses);
-  if (widest == 1) return Avx2(model, method, patches, first, count, poses);
-#endif
-  Baseline(model, method, patches, first, count, poses);
+  EstimateManyWith(WidestManyIsa(), model, method, patches, first, count, poses);
 }
 
 }  // namespace patlab::estimate

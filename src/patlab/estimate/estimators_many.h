@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "patlab/estimate/estimators.h"
 
@@ -33,5 +34,13 @@ bool HasManyVersion(Estimator method);
 // alone.
 void EstimateMany(const Model& model, Estimator method, const PatchArray& patches, int64_t first,
                   int64_t count, double* poses);
+
+// The instruction sets EstimateMany has a version for. EstimateMany runs the widest this CPU has;
+// EstimateManyWith runs the one named (one of SupportedManyIsas), so that a test can check that
+// every version gives the same bits (docs/architecture.md, rule 13).
+enum class ManyIsa { kBaseline, kAvx2, kAvx512 };
+std::vector<ManyIsa> SupportedManyIsas();
+void EstimateManyWith(ManyIsa isa, const Model& model, Estimator method, const PatchArray& patches,
+                      int64_t first, int64_t count, double* poses);
 
 }  // namespace patlab::estimate
