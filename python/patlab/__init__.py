@@ -15,7 +15,8 @@ from ._results import (CompareResult, CrlbResult, DetectResult, EvaluationResult
 
 __version__ = _patlab.version
 __all__ = ["Pattern", "simulate", "simulate_experiment", "estimate", "crlb", "predicted_std",
-           "ids", "evaluate", "compare", "detect", "read_frame", "render", "stats", "SimulationResult", "ESTIMATORS"]
+           "ids", "evaluate", "compare", "detect", "Detector", "read_frame", "render", "stats",
+           "SimulationResult", "ESTIMATORS"]
 
 ESTIMATORS = ("fast", "ml", "lsq", "key")
 
@@ -87,7 +88,9 @@ def simulate(patterns, sigmas, trials=100000, estimators=("fast", "ml"), noise=N
 def simulate_experiment(path_or_name, trials=None, seed=None, sigmas=None, threads=0,
                         keep_errors=False):
     """Runs an experiment file (or a shipped experiment by name, "fig5") as `patlab simulate`
-    does, with the same overrides as its --trials, --seed and --sigmas."""
+    does, with the same overrides as its --trials, --seed and --sigmas. A detect-mode experiment
+    (correspondence = "detect", e.g. "id_confusion") runs whole frames through the detector;
+    `trials` is then the frames per point, and the table has the CLI's detect-mode columns."""
     path = _data.find(path_or_name, "experiment")
     return SimulationResult(_load_checked(
         lambda p: _patlab._simulate_experiment(p, trials, seed,
@@ -99,9 +102,11 @@ def estimate(pattern, observed, method="fast", max_iterations=20, return_converg
              threads=0):
     """Poses (trials, 3) = (x mm, y mm, theta rad) from observed patches (trials, patches, 2),
     float64 in the pattern's patch order, any strides (read in place). method: "fast", "ml"
-    (Newton from the fast pose, max_iterations steps), "lsq" or "key". Runs in parallel with
-    the GIL released on `threads` threads (0: every core; the poses do not depend on it). With
-    return_converged (ml only) also a bool array per trial."""
+    (Newton from the fast pose, max_iterations steps), "lsq" or "key"; fast, lsq and key run
+    vectorised over blocks of trials (estimate::EstimateMany), each pose the one-trial
+    estimator's to the last bit. Runs in parallel with the GIL released on `threads` threads
+    (0: every core; the poses do not depend on it). With return_converged (ml only) also a bool
+    array per trial."""
     pattern, _ = _as_pattern(pattern)
     poses, converged = _patlab._estimate(pattern, observed, method, int(max_iterations),
                                          int(threads))
@@ -153,20 +158,68 @@ def read_frame(path):
     return _load_checked(_patlab._read_frame, path)
 
 
-def detect(image, thresholds, calibration, settings=None, name="frame", blobs=False):
-    """`patlab detect` on one frame: an (H, W, 3) uint8 RGB array (any strides; numpy makes no
-    copy, the library copies the pixels once into its own image), with the thresholds and
-    calibration files and, for detections, the detector settings (paths or shipped names).
+def _detector_files(thresholds, calibration, settings, setup, settings_required):
+    """The (thresholds, calibration, settings) paths: a `patlab setup` folder's, or the files
+    given (paths or shipped names)."""
+    if setup is not None:
+        if any(f is not None for f in (thresholds, calibration, settings)):
+            raise ValueError("setup names the thresholds, calibration and settings files; "
+                             "expected setup= or the three files, not both")
+        setup = os.fspath(setup)
+        if not os.path.isdir(setup):
+            raise FileNotFoundError(f"setup {setup}: no such folder; expected a folder written "
+                                    "by patlab setup")
+        return list(_patlab._setup_files(setup))
+    if thresholds is None or calibration is None or (settings_required and settings is None):
+        raise ValueError("expected setup= (a folder written by patlab setup) or the thresholds, "
+                         "calibration" + (" and settings" if settings_required else "") +
+                         " files")
+    return [_data.find(f, "settings") if f is not None else "" for f in
+            (thresholds, calibration, settings)]
+
+
+def detect(image, thresholds=None, calibration=None, settings=None, name="frame", blobs=False,
+           setup=None):
+    """`patlab detect` on one frame: an (H, W, 3) uint8 RGB array (any strides, read in place:
+    the detector reads the array's own memory, no copy), with the thresholds and
+    calibration files and, for detections, the detector settings (paths or shipped names), or
+    instead of the three, ``setup``: a folder written by `patlab setup` (`detect --setup DIR`).
     Returns the CLI's CSV and JSON (`name` stands for the frame's path in them) and the table of
     detections (or, with blobs=True or no settings, of the calibrated blobs)."""
-    files = [_data.find(f, "settings") if f is not None else "" for f in
-             (thresholds, calibration, settings)]
+    files = _detector_files(thresholds, calibration, settings, setup, settings_required=False)
     try:
         return DetectResult(*_patlab._detect(image, *files, str(name), bool(blobs)))
     except ValueError as error:
         if any(f and not os.path.exists(f) for f in files):
             raise FileNotFoundError(str(error)) from None
         raise
+
+
+class Detector:
+    """The front end of `patlab detect` built once from its files (thresholds, calibration,
+    detector settings: paths or shipped names), for frame after frame in memory, e.g. a camera
+    loop: ``detect(image, name="frame")`` reads the (H, W, 3) uint8 RGB array in place (any
+    strides, no copy) and returns the detections as a dict of numpy columns -- pattern (index
+    into ``patterns``), team_colour (index into ``palette``), id (-1: unknown), x_mm, y_mm,
+    theta_rad, confidence -- and cpp_seconds, the time of the C++ call alone. The detections
+    are those `patlab detect` prints for the frame. ``warnings``: the palette mismatches.
+    ``Detector(setup=DIR)`` takes the three files from a folder written by `patlab setup`."""
+
+    def __init__(self, thresholds=None, calibration=None, settings=None, setup=None):
+        files = _detector_files(thresholds, calibration, settings, setup, settings_required=True)
+        try:
+            self._detector = _patlab._Detector(*files)
+        except ValueError as error:
+            if any(not os.path.exists(f) for f in files):
+                raise FileNotFoundError(str(error)) from None
+            raise
+        self.patterns = self._detector.patterns
+        self.palette = self._detector.palette
+        self.warnings = list(self._detector.warnings)
+        self.detect = self._detector.detect  # the C++ method itself: no Python frame per call
+
+    def __repr__(self):
+        return f"<patlab.Detector: patterns {self.patterns}, palette {self.palette}>"
 
 
 def render(scene):

@@ -22,6 +22,11 @@ def table(columns):
 
 def _table_from_csv(text):
     """The CLI's CSV text as a table: number columns float64 (empty cells NaN), others str."""
+    return table(_columns_from_csv(text))
+
+
+def _columns_from_csv(text):
+    """The CLI's CSV text as a dict of columns: numbers float64 (empty cells NaN), others str."""
     rows = list(csv.reader(io.StringIO(text)))
     header, body = rows[0], rows[1:]
     columns = {}
@@ -31,7 +36,7 @@ def _table_from_csv(text):
             columns[name] = np.array([float(c) if c != "" else np.nan for c in cells])
         except ValueError:
             columns[name] = cells
-    return table(columns)
+    return columns
 
 
 CrlbResult = collections.namedtuple("CrlbResult", ["position_mm", "theta_rad"])
@@ -41,14 +46,18 @@ CrlbResult.__doc__ = "Per-axis position std (mm) and heading std (rad) of a patt
 class SimulationResult:
     """The data points of a simulation.
 
-    table:  one row per pattern x sigma x estimator, columns named as the CLI's CSV columns and
-            holding the doubles it prints with 10 significant digits (NaN for an empty cell)
+    table:  one row per pattern x sigma x estimator (a detect-mode experiment: per pattern x
+            false-blob rate x sigma), columns named as the CLI's CSV columns and holding the
+            doubles it prints with 10 significant digits (NaN for an empty cell)
     csv:    the CSV text `patlab simulate` writes for the same run, byte for byte
     errors: with keep_errors=True, every trial's errors (points, estimators, trials, 3)
+    total_trials: the trials run (a detect-mode experiment: the frames)
     """
 
     def __init__(self, raw):
         self.columns = raw["columns"]
+        if self.columns is None:  # detect mode: the CSV's columns
+            self.columns = _columns_from_csv(raw["csv"])
         self.table = table(dict(self.columns))
         self.csv = raw["csv"]
         self.name = raw["name"]

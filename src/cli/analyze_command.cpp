@@ -29,8 +29,11 @@ constexpr const char* kExamples = R"(examples:
   /usr/bin/python3 scripts/plot_analyze.py results/analyze   # Figs. 2, 3, 6 as PNGs
 
 Each sample's error is estimated as the sample minus the Gaussian-smoothed track (sigma = 10
-samples, the paper's section II); tracks are split at missed frames and never smoothed across a
-gap; the first and last 4 sigma samples of every segment are dropped. Writes to <out>: <name>.csv
+samples, the paper's section II; --detrend linear or none: a straight line or the mean); tracks
+are split at missed frames and never smoothed across a gap; the first and last 4 sigma samples of
+every segment are dropped. Each std's 95% interval allows for the errors' autocorrelation
+(effective dof (n - 1) / tau, Bartlett; the iid interval in the *_iid_lo/*_iid_hi columns, and a
+warning when it is 10% or more too narrow). Writes to <out>: <name>.csv
 (Table I: per subject std and 95% CI per axis, lag-k autocorrelation), <name>_tests.csv (Wilcoxon
 signed-rank tests between subjects on |error| paired by run and frame), <name>_errors.csv
 (per-sample errors) and <name>.json (manifest), all atomically.
@@ -44,6 +47,7 @@ struct AnalyzeCliOptions {
   std::string name = "analyze";
   analysis::TrackColumns columns;
   analysis::AnalyzeOptions analysis;
+  std::string detrend = "smooth";
   bool quiet = false;
 };
 
@@ -61,6 +65,7 @@ po::options_description Flags(AnalyzeCliOptions* o) {
       ("x-column", po::value(&c.x), "x column, mm (default: x_mm)")
       ("y-column", po::value(&c.y), "y column, mm (default: y_mm)")
       ("theta-column", po::value(&c.theta), "orientation column, rad (default: theta_rad; absent: none)")
+      ("detrend", po::value(&o->detrend), "what an error is measured against in each gap-free segment: smooth (the Gaussian-smoothed track, the paper's; default), linear (a least-squares line) or none (the mean)")
       ("smoothing-sigma", po::value(&o->analysis.smoothing.sigma_samples), "smoothing kernel std in samples (default: 10, the paper's)")
       ("lag", po::value(&o->analysis.lag), "lag of the reported autocorrelation (default: 1)")
       ("correct-bias", po::bool_switch(&o->analysis.correct_bias), "divide the estimated stds by the white-noise residual factor (0.974 for sigma 10)")
@@ -120,7 +125,7 @@ const OptionGroups kAnalyzeGroups = {
     {"input",
      {"frame-column", "subject-column", "run-column", "x-column", "y-column", "theta-column",
       "truth"}},
-    {"analysis", {"smoothing-sigma", "lag", "correct-bias", "along-travel"}},
+    {"analysis", {"detrend", "smoothing-sigma", "lag", "correct-bias", "along-travel"}},
     {"output", {"out", "name"}}};
 
 int RunAnalyze(const std::vector<std::string>& args) {
@@ -134,6 +139,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
   if (o.tracks.empty()) {
     throw InputError("no track files; expected 'patlab analyze TRACK.csv...' (see --help)");
   }
+  ThrowFlagProblem(analysis::Check(o.analysis), vm,
+                   {{"sigma_samples", "--smoothing-sigma"}, {"lag", "--lag"}});
   if (!io::IsFileBaseName(o.name)) {
     throw InputError("--name is '" + EscapeForMessage(o.name) + "'; expected " +
                      io::kFileBaseNameExpected);
@@ -141,6 +148,7 @@ int RunAnalyze(const std::vector<std::string>& args) {
   o.columns.require_subject = vm.count("subject-column") > 0;
   o.columns.require_run = vm.count("run-column") > 0;
   o.columns.require_theta = vm.count("theta-column") > 0;
+  o.analysis.detrend = ParseName(o.detrend, analysis::kDetrendNames, "--detrend");
   analysis::Validate(o.columns);
   analysis::Validate(o.analysis);
   const std::string base = o.out_dir + "/" + o.name;
@@ -181,6 +189,7 @@ int RunAnalyze(const std::vector<std::string>& args) {
     return kExitFailure;
   }
   timings.emplace_back("write", Seconds(analysed, std::chrono::steady_clock::now()));
+  for (const std::string& w : report.warnings) std::cerr << "patlab analyze: " << w << "\n";
   if (!o.quiet)
     PrintSummary(report, timings, Seconds(start, std::chrono::steady_clock::now()), paths);
   return kExitOk;

@@ -9,6 +9,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/io/csv.h"
+#include "patlab/sim/runner.h"
 
 namespace patlab::cli {
 
@@ -114,7 +115,34 @@ uint64_t ParseSeed(const std::string& text, const std::string& flag) {
 }
 
 void CheckThreads(int threads) {
-  if (threads < 0) throw InputError("--threads is " + std::to_string(threads) + "; expected >= 0");
+  if (threads < 0 || threads > sim::kMaxThreads) {
+    throw InputError("--threads is " + std::to_string(threads) + "; expected 0 (all cores) to " +
+                     std::to_string(sim::kMaxThreads));
+  }
+}
+
+void ThrowFlagProblem(const std::vector<OptionsProblem>& problems, const po::variables_map& vm,
+                      const std::vector<std::pair<std::string, std::string>>& names) {
+  for (const OptionsProblem& problem : problems) {
+    for (const auto& [name, flag] : names) {
+      if (vm.count(flag.substr(2)) == 0 || !problem.message.starts_with(name + " ")) continue;
+      std::string message = flag;
+      message.append(problem.message, name.size());
+      throw InputError(message);
+    }
+  }
+}
+
+void ThrowCameraFlagProblem(const render::CameraSensorOptions& sensor,
+                            const render::CameraJitter& jitter, const po::variables_map& vm) {
+  ThrowFlagProblem(render::Check(sensor), vm,
+                   {{"exposure_gain", "--exposure-gain"},
+                    {"read_noise_levels", "--read-noise-levels"},
+                    {"shot_noise_gain", "--shot-noise-gain"}});
+  ThrowFlagProblem(render::Check(jitter), vm,
+                   {{"roll_sigma_rad", "--roll-jitter-rad"},
+                    {"height_sigma_mm", "--height-jitter-mm"},
+                    {"shift_sigma_mm", "--shift-jitter-mm"}});
 }
 
 void CheckTolerance(double tolerance_mm) {

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "cli/command_line.h"
+#include "patlab/core/options.h"
+#include "patlab/render/camera_render.h"
 
 namespace patlab::cli {
 
@@ -33,10 +35,22 @@ std::vector<int> ParseIntegerList(const std::string& text, const std::string& fl
                                   const std::string& expected);
 // An unsigned 64-bit seed: "--seed is '-4'; expected an integer >= 0".
 uint64_t ParseSeed(const std::string& text, const std::string& flag);
-// "--threads is -1; expected >= 0" (0 = all cores).
+// "--threads is -1; expected 0 (all cores) to 4096" (sim::kMaxThreads).
 void CheckThreads(int threads);
 // The symmetry tolerance of `patlab ids` and `patlab evaluate`: a distance in mm >= 0.
 void CheckTolerance(double tolerance_mm);
+// The first problem of a library options check (`problems`, from Check(options)) about a value a
+// flag set, thrown with the flag's name in place of the option's: `names` pairs each option name
+// as the message starts with it (e.g. "min_area_px") with its flag ("--min-area-px"). A problem
+// about a value no flag of `vm` set is left to the library (it names its file and key).
+void ThrowFlagProblem(const std::vector<OptionsProblem>& problems,
+                      const boost::program_options::variables_map& vm,
+                      const std::vector<std::pair<std::string, std::string>>& names);
+// The colour camera's flags of `patlab render` and `patlab camtrack` (sensor and jitter), each
+// problem naming its flag (ThrowFlagProblem).
+void ThrowCameraFlagProblem(const render::CameraSensorOptions& sensor,
+                            const render::CameraJitter& jitter,
+                            const boost::program_options::variables_map& vm);
 // The ID palette sizes of `patlab ids` and `patlab evaluate` (--colors): integers 1..16.
 std::vector<int> ParseColourCounts(const std::string& text);
 

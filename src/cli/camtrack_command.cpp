@@ -118,6 +118,8 @@ int RunCamtrack(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (o.scene.empty()) throw InputError("missing SCENE; expected a scene TOML file");
+  ThrowCameraFlagProblem(o.sensor, o.jitter, vm);
+  ThrowFlagProblem(analysis::Check(o.track), vm, {{"runs", "--runs"}, {"frames", "--frames"}});
   if (o.thresholds.empty()) throw InputError("missing --thresholds; expected a thresholds file");
   if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
   o.out = (std::filesystem::path(o.out) / "camtrack.csv").string();

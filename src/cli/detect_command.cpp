@@ -15,12 +15,14 @@
 #include "patlab/core/format.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
+#include "patlab/formats/camera_setup.h"
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/io/atomic_file.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/frame_results.h"
+#include "patlab/vision/segment.h"
 
 namespace patlab::cli {
 
@@ -51,6 +53,7 @@ struct DetectOptions {
   std::string thresholds;
   std::string calibration;
   std::string settings;
+  std::string setup;  // --setup DIR: the three files of a patlab setup folder
   std::string raw_size;
   std::string format = "csv";
   std::string out;
@@ -65,16 +68,25 @@ struct DetectOptions {
 
 void ParseRawSize(const std::string& text, int* width, int* height) {
   const size_t x = text.find('x');
+  bool parsed = false;
   try {
     size_t used_w = 0, used_h = 0;
     if (x != std::string::npos) {
       *width = std::stoi(text.substr(0, x), &used_w);
       *height = std::stoi(text.substr(x + 1), &used_h);
-      if (used_w == x && used_h == text.size() - x - 1 && *width > 0 && *height > 0) return;
+      parsed = used_w == x && used_h == text.size() - x - 1 && *width > 0 && *height > 0;
     }
   } catch (const std::exception&) {
   }
-  throw InputError("--raw-size is '" + text + "'; expected WIDTHxHEIGHT, e.g. 780x580");
+  if (!parsed) {
+    throw InputError("--raw-size is '" + text + "'; expected WIDTHxHEIGHT, e.g. 780x580");
+  }
+  const int64_t pixels = int64_t{*width} * *height;
+  if (pixels > vision::kMaxFramePixels) {
+    throw InputError("--raw-size is '" + text + "', " + std::to_string(pixels) +
+                     " pixels; expected at most " + std::to_string(vision::kMaxFramePixels) +
+                     " pixels (the frame budget)");
+  }
 }
 
 po::options_description Flags(DetectOptions* o) {
@@ -85,6 +97,9 @@ po::options_description Flags(DetectOptions* o) {
       "colour thresholds: CMVision colors.txt or our TOML form (required)")(
       "calibration,c", po::value(&o->calibration),
       "camera calibration TOML: pinhole or homography, plane heights (required)")(
+      "setup", po::value(&o->setup),
+      "a folder written by patlab setup: its calibration, thresholds and settings (instead of "
+      "-t, -c and -s)")(
       "settings,s", po::value(&o->settings),
       "detector settings TOML (palette, patterns, options; e.g. experiments/detector.toml)")(
       "raw-size", po::value(&o->raw_size), "WIDTHxHEIGHT of raw UYVY frames (.yuv .uyvy .raw)")(
@@ -134,6 +149,15 @@ void CheckTrack(const DetectOptions& o) {
 void CheckRequired(DetectOptions* o) {
   if (o->frames.empty())
     throw InputError("no frames; expected 'patlab detect FRAME...' (see --help)");
+  if (!o->setup.empty()) {
+    if (!o->thresholds.empty() || !o->calibration.empty() || !o->settings.empty()) {
+      throw InputError("--setup with -t, -c or -s; expected either --setup DIR or the three files");
+    }
+    const formats::SetupFiles f = formats::LoadSetupFiles(o->setup);
+    o->thresholds = f.thresholds;
+    o->calibration = f.calibration;
+    o->settings = f.settings;
+  }
   if (o->thresholds.empty())
     throw InputError("missing --thresholds FILE; expected a colors.txt or thresholds TOML file");
   if (o->calibration.empty())
@@ -177,6 +201,27 @@ void CheckDistinctStems(const std::vector<std::string>& paths) {
                        "'; expected frames with distinct file names (their debug images are "
                        "named after them)");
     }
+  }
+}
+
+// The debug directory is checked before any work: not one of the output files (its images would
+// be written and the results then refused) and not an existing file.
+void CheckDebugDir(const std::string& debug_dir, const std::vector<std::string>& outputs) {
+  std::error_code ec;
+  const fs::path debug = fs::weakly_canonical(fs::absolute(debug_dir, ec), ec);
+  for (const std::string& out : outputs) {
+    std::error_code out_ec;
+    if (!out.empty() && fs::weakly_canonical(fs::absolute(out, out_ec), out_ec) == debug) {
+      throw InputError("--debug " + EscapeForMessage(debug_dir) + " is the output file " +
+                       EscapeForMessage(out) +
+                       "; expected a debug directory apart from the output files");
+    }
+  }
+  if (fs::exists(debug_dir, ec) && !fs::is_directory(debug_dir, ec)) {
+    // As an output file whose path is a directory: an unusable output location, exit 1.
+    throw EnvironmentError(EscapeForMessage(debug_dir, 1024) +
+                           ": cannot write: it is a file; expected a directory for the debug "
+                           "images");
   }
 }
 
@@ -252,7 +297,7 @@ void PrintTiming(const Totals& t) {
 
 // The help's option groups (command_line.h).
 const OptionGroups kDetectGroups = {
-    {"input", {"thresholds", "calibration", "settings", "raw-size"}},
+    {"input", {"setup", "thresholds", "calibration", "settings", "raw-size"}},
     {"detector", {"min-area-px", "min-fill", "edge-loss-px"}},
     {"output", {"out", "format", "blobs", "track"}},
     {"diagnostics", {"debug", "explain", "timing"}},
@@ -266,10 +311,13 @@ int RunDetect(const std::vector<std::string>& args) {
                       &vm)) {
     return kExitOk;
   }
+  ThrowFlagProblem(vision::Check(o.frame.segmenter), vm,
+                   {{"min_area_px", "--min-area-px"}, {"min_fill", "--min-fill"}});
   CheckRequired(&o);
   if (vm.count("edge-loss-px") > 0) CheckEdgeLoss(o.edge_loss_px);
   if (!o.out.empty()) io::CheckWritable({o.out});
   if (o.track) io::CheckWritable({o.track_path});
+  if (!o.frame.debug_dir.empty()) CheckDebugDir(o.frame.debug_dir, {o.out, o.track_path});
   std::optional<detect::DetectorConfig> settings;
   if (!o.settings.empty()) {
     settings = formats::LoadDetectorSettings(o.settings);

@@ -133,6 +133,7 @@ int RunRender(const std::vector<std::string>& args) {
   if (o.scene.empty()) {
     throw InputError("missing SCENE; expected 'patlab render SCENE -o DIR'");
   }
+  if (o.camera) ThrowCameraFlagProblem(o.sensor, o.jitter, vm);
   if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");
   if (o.uyvy && !o.camera) throw InputError("--uyvy without --camera; expected --camera with it");
   const std::filesystem::path dir(o.out);

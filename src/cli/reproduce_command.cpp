@@ -166,6 +166,8 @@ int RunReproduce(const std::vector<std::string>& args) {
   }
   CheckThreads(o.threads);
   if (!vm.count("root")) o.root = DefaultRoot();
+  // The results folder is checked before the work (minutes of it), not when the files are written.
+  if (!o.check) io::CheckWritable({(std::filesystem::path(o.out_dir) / "fig5.csv").string()});
   Progress progress("patlab reproduce", "steps", !o.quiet, StderrIsTerminal());
   const paper::ReproduceOptions options{
       .root = o.root, .threads = o.threads, .out_dir = o.out_dir, .progress = progress.Callback()};

@@ -164,8 +164,8 @@ sim::Experiment LoadWithOverrides(const SimulateOptions& o, const po::variables_
       formats::LoadExperimentFile(FindData(o.experiment, io::DataKind::kExperiment));
   sim::Overrides overrides;
   if (vm.count("trials")) overrides.trials = o.trials;
-  if (!o.seed.empty()) overrides.seed = ParseSeed(o.seed, "--seed");
-  if (!o.sigmas.empty()) {
+  if (vm.count("seed") > 0) overrides.seed = ParseSeed(o.seed, "--seed");
+  if (vm.count("sigmas") > 0) {  // an empty --sigmas is refused, not ignored
     overrides.sigmas_mm =
         ParseNumberList(o.sigmas, "--sigmas", "comma-separated numbers, e.g. 0,0.5,1");
   }

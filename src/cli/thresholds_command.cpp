@@ -248,6 +248,10 @@ int RunThresholds(const std::vector<std::string>& args) {
                       kExamples, &vm)) {
     return kExitOk;
   }
+  ThrowFlagProblem(vision::Check(o.fit), vm,
+                   {{"lower_percentile", "--lower-percentile"},
+                    {"upper_percentile", "--upper-percentile"},
+                    {"margin_levels", "--margin"}});
   if (o.automatic) {
     if (o.inputs.empty()) throw InputError("--auto without frames; expected FRAME...");
     if (o.out.empty()) throw InputError("missing --out DIR; expected the directory to write to");

@@ -17,6 +17,7 @@
 #include "patlab/core/format.h"
 #include "patlab/estimate/bounds.h"
 #include "patlab/estimate/estimators.h"
+#include "patlab/estimate/estimators_many.h"
 #include "patlab/sim/noise_prediction.h"
 #include "python/bindings.h"
 
@@ -85,8 +86,26 @@ std::string ShapeText(const py::array& a) {
   return text + (a.ndim() == 1 ? ",)" : ")");
 }
 
+// Trials [begin, end) one at a time (EstimateOne): ml, and every method when asked for the
+// reference path (tests compare it with EstimateMany's bits).
+void EstimateEach(const EstimateTask& task, const py::detail::unchecked_reference<double, 3>& in,
+                  py::ssize_t begin, py::ssize_t end, double* out, uint8_t* ok) {
+  uint8_t ignored = 0;
+  for (py::ssize_t t = begin; t < end; ++t) {
+    uint8_t* converged = ok != nullptr ? &ok[t] : &ignored;
+    *converged = 1;
+    const Pose2 p = EstimateOne(task, in, t, converged);
+    out[3 * t] = p.x_mm;
+    out[3 * t + 1] = p.y_mm;
+    out[3 * t + 2] = p.theta_rad;
+  }
+}
+
+// Poses (trials, 3) and, for ml, whether each trial's Newton iteration converged. fast, key and
+// lsq run estimate::EstimateMany on blocks of trials read in place (vectorised; the bits of the
+// one-trial estimators), ml trial by trial; both in parallel over trials with the GIL released.
 py::tuple Estimate(const Pattern& pattern, const Observed& observed, const std::string& method,
-                   int max_iterations, int threads) {
+                   int max_iterations, int threads, bool one_by_one) {
   if (observed.ndim() != 3 || observed.shape(1) != pattern.size() || observed.shape(2) != 2) {
     throw InputError("observed has shape " + ShapeText(observed) + "; expected (trials, " +
                      std::to_string(pattern.size()) +
@@ -101,29 +120,37 @@ py::tuple Estimate(const Pattern& pattern, const Observed& observed, const std::
   task.options.max_iterations = max_iterations;
   estimate::Validate(task.options);
   const py::ssize_t trials = observed.shape(0);
+  const bool ml = task.method == estimate::Estimator::kMl;
+  const bool many = !one_by_one && estimate::HasManyVersion(task.method);
   py::array_t<double> poses({trials, py::ssize_t{3}});
-  py::array_t<uint8_t> converged(trials);
-  const auto in = observed.unchecked<3>();
+  std::optional<py::array_t<uint8_t>> converged;
+  if (ml) converged.emplace(trials);
+  const estimate::PatchArray in{reinterpret_cast<const unsigned char*>(observed.data()),
+                                observed.strides(0), observed.strides(1), observed.strides(2)};
+  const auto each = observed.unchecked<3>();
   double* out = poses.mutable_data();
-  uint8_t* ok = converged.mutable_data();
+  uint8_t* ok = ml ? converged->mutable_data() : nullptr;
   {
     const py::gil_scoped_release nogil;
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, trials, 4096),
-                        [&](const tbb::blocked_range<py::ssize_t>& r) {
-                          for (py::ssize_t t = r.begin(); t < r.end(); ++t) {
-                            ok[t] = 1;
-                            const Pose2 p = EstimateOne(task, in, t, &ok[t]);
-                            out[3 * t] = p.x_mm;
-                            out[3 * t + 1] = p.y_mm;
-                            out[3 * t + 2] = p.theta_rad;
-                          }
-                        });
-    });
+    const auto run = [&](const tbb::blocked_range<py::ssize_t>& r) {
+      if (many) {
+        estimate::EstimateMany(model, task.method, in, r.begin(), r.end() - r.begin(),
+                               out + 3 * r.begin());
+      } else {
+        EstimateEach(task, each, r.begin(), r.end(), out, ok);
+      }
+    };
+    const py::ssize_t grain = many ? 16384 : 4096;
+    if (threads == 1 || trials <= grain) {
+      run(tbb::blocked_range<py::ssize_t>(0, trials));
+    } else {
+      tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+      arena.execute(
+          [&] { tbb::parallel_for(tbb::blocked_range<py::ssize_t>(0, trials, grain), run); });
+    }
   }
-  if (task.method != estimate::Estimator::kMl) return py::make_tuple(poses, py::none());
-  return py::make_tuple(poses, converged.attr("astype")("bool"));
+  if (!ml) return py::make_tuple(poses, py::none());
+  return py::make_tuple(poses, converged->attr("astype")("bool"));
 }
 
 // The Cramer-Rao bound at patch sigma (mm) under the noise model: per-axis position std (mm) and
@@ -160,8 +187,11 @@ py::dict Predicted(const Pattern& pattern, const std::string& method, double sig
 }  // namespace
 
 void BindEstimate(py::module_& m) {
+  // one_by_one: every method trial by trial through the one-trial estimators (tests compare
+  // the vectorised path's bits with it).
   m.def("_estimate", &Estimate, py::arg("pattern"), py::arg("observed").noconvert(false),
-        py::arg("method"), py::arg("max_iterations"), py::arg("threads"));
+        py::arg("method"), py::arg("max_iterations"), py::arg("threads"),
+        py::arg("one_by_one") = false);
   // Where the estimator reads `observed`: the array's own buffer when it is float64, whatever
   // its strides (tests/python check that no copy is made).
   m.def("_observed_address",

@@ -1,6 +1,7 @@
-// patlab.simulate and patlab.simulate_experiment: sim::RunExperiment, the call `patlab simulate`
-// makes, with the GIL released and Ctrl-C checked between blocks; per-point summaries as columns
-// named as the CLI's CSV columns, holding the doubles the CSV prints with 10 digits.
+// patlab.simulate and patlab.simulate_experiment: sim::RunExperiment (or, for a detect-mode
+// experiment, sim::RunDetectExperiment), the call `patlab simulate` makes, with the GIL released
+// and Ctrl-C checked between blocks; per-point summaries as columns named as the CLI's CSV
+// columns, holding the doubles the CSV prints with 10 digits.
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -8,6 +9,7 @@
 #include "patlab/core/error.h"
 #include "patlab/formats/experiment_file.h"
 #include "patlab/sim/batch.h"
+#include "patlab/sim/detect_runner.h"
 #include "patlab/sim/report.h"
 #include "patlab/sim/runner.h"
 #include "python/bindings.h"
@@ -141,17 +143,41 @@ py::array_t<double> TrialErrors(const sim::Experiment& experiment) {
   return errors;
 }
 
+// correspondence = "detect": whole frames through the detector (sim::RunDetectExperiment), the
+// run `patlab simulate` makes; the CSV is the table (Python reads its columns).
+py::dict RunDetect(const sim::Experiment& experiment, const sim::RunOptions& options,
+                   bool keep_errors) {
+  if (keep_errors) {
+    throw InputError(experiment.source_file +
+                     ": keep_errors is set, but the experiment's correspondence is \"detect\" "
+                     "(whole frames, no per-trial errors to keep); expected keep_errors=False");
+  }
+  sim::DetectRunResult result;
+  {
+    const py::gil_scoped_release nogil;
+    result = sim::RunDetectExperiment(experiment, options);
+  }
+  py::dict out;
+  out["columns"] = py::none();
+  out["csv"] = sim::DetectResultsCsv(experiment, result);
+  out["name"] = experiment.name;
+  out["seed"] = experiment.seed;
+  out["threads"] = result.threads;
+  out["total_trials"] = result.total_frames;
+  out["wall_seconds"] = result.wall_seconds;
+  out["simulate_seconds"] = result.simulate_seconds;
+  return out;
+}
+
 py::dict Run(const sim::Experiment& experiment, int threads, bool keep_errors) {
   sim::Validate(experiment);
-  if (experiment.correspondence != sim::Correspondence::kKnown) {
-    throw InputError(experiment.source_file +
-                     ": correspondence is \"detect\"; expected \"known\" (detect-mode "
-                     "experiments are not offered in Python yet)");
-  }
   sim::RunOptions options;
   options.threads = threads;
   options.progress = SignalCheck();
   sim::Validate(options);
+  if (experiment.correspondence == sim::Correspondence::kDetect) {
+    return RunDetect(experiment, options, keep_errors);
+  }
   sim::RunResult result;
   {
     const py::gil_scoped_release nogil;

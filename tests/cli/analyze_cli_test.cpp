@@ -58,17 +58,51 @@ TEST(AnalyzeCli, WritesTableTestsErrorsAndManifest) {
   EXPECT_NE(r.err.find("\nb                  75 "), std::string::npos) << r.err;
   const std::string table = testing::ReadFile(dir.Path("out/analyze.csv"));
   EXPECT_EQ(table.substr(0, table.find('\n')),
-            "subject,n,samples,segments,skipped_segments,skipped_samples,sx_mm,sx_lo,sx_hi,sy_mm,"
-            "sy_lo,sy_hi,stheta_rad,stheta_lo,stheta_hi,lag1_x,lag1_y,true_sx_mm,true_sx_lo,"
-            "true_sx_hi,true_sy_mm,true_sy_lo,true_sy_hi,true_stheta_rad,true_stheta_lo,"
-            "true_stheta_hi,true_mean_x_mm,true_mean_y_mm");
+            "subject,n,samples,segments,skipped_segments,skipped_samples,sx_mm,sx_lo,sx_hi,"
+            "sx_iid_lo,sx_iid_hi,sy_mm,sy_lo,sy_hi,sy_iid_lo,sy_iid_hi,stheta_rad,stheta_lo,"
+            "stheta_hi,stheta_iid_lo,stheta_iid_hi,lag1_x,lag1_y,true_sx_mm,true_sx_lo,true_sx_hi,"
+            "true_sx_iid_lo,true_sx_iid_hi,true_sy_mm,true_sy_lo,true_sy_hi,true_sy_iid_lo,"
+            "true_sy_iid_hi,true_stheta_rad,true_stheta_lo,true_stheta_hi,true_stheta_iid_lo,"
+            "true_stheta_iid_hi,true_mean_x_mm,true_mean_y_mm");
   EXPECT_NE(table.find("\na,140,300,2,0,0,"), std::string::npos) << table;
   const std::string tests = testing::ReadFile(dir.Path("out/analyze_tests.csv"));
   EXPECT_NE(tests.find("est,x,a,b,"), std::string::npos) << tests;
   const auto manifest = nlohmann::json::parse(testing::ReadFile(dir.Path("out/analyze.json")));
   EXPECT_EQ(manifest["analysis"]["kernel_radius_samples"], 40);
+  EXPECT_EQ(manifest["analysis"]["detrend"], "smooth");
+  EXPECT_NE(manifest["analysis"]["std_interval_method"].get<std::string>().find("Bartlett"),
+            std::string::npos);
+  EXPECT_GE(manifest["subjects"][0]["est"]["x"]["tau"].get<double>(), 1.0);
   EXPECT_NEAR(manifest["analysis"]["white_noise_residual_factor"].get<double>(), 0.97387, 1e-5);
   EXPECT_TRUE(std::filesystem::exists(dir.Path("out/analyze_errors.csv")));
+}
+
+// --detrend linear keeps every sample (no kernel radius); an AR(1) track (phi 0.9) warns on
+// stderr that the iid interval is too narrow; a misspelt detrending is exit 2 naming the flag.
+TEST(AnalyzeCli, DetrendLinearAndTheAutocorrelationWarning) {
+  testing::TempDir dir;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, std::sqrt(1.0 - 0.81));
+  std::string csv = "frame,x_mm,y_mm\n";
+  double ex = 0.0, ey = 0.0;
+  for (int f = 0; f < 1000; ++f) {
+    ex = 0.9 * ex + noise(rng);
+    ey = 0.9 * ey + noise(rng);
+    csv += StringPrintf("%d,%.4f,%.4f\n", f, 5.0 * f + ex, ey);
+  }
+  const std::string track = dir.Write("ar1.csv", csv);
+  const auto r =
+      RunCommand(kPatlab + " analyze " + track + " --detrend linear -q --out " + dir.Path("out"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: subject \"track\", est x: lag-1 autocorrelation 0."),
+            std::string::npos)
+      << r.err;
+  const std::string table = testing::ReadFile(dir.Path("out/analyze.csv"));
+  EXPECT_NE(table.find("\ntrack,1000,1000,1,0,0,"), std::string::npos) << table;
+  const auto bad =
+      RunCommand(kPatlab + " analyze " + track + " --detrend spline --out " + dir.Path("bad"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--detrend"), std::string::npos) << bad.err;
 }
 
 TEST(AnalyzeCli, BadInputExitsTwoWithFileLineAndWritesNothing) {

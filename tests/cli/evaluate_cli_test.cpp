@@ -227,7 +227,8 @@ TEST(EvaluateCli, BadInputExitsTwoWithMessage) {
   expect("butterfly --tolerance -1",
          "patlab evaluate: --tolerance is -1; expected a distance in mm >= 0\n");
   expect("butterfly --seed -4", "patlab evaluate: --seed is '-4'; expected an integer >= 0\n");
-  expect("butterfly --threads -1", "patlab evaluate: --threads is -1; expected >= 0\n");
+  expect("butterfly --threads -1",
+         "patlab evaluate: --threads is -1; expected 0 (all cores) to 4096\n");
   expect("",
          "patlab evaluate: missing PATTERN; expected 'patlab evaluate PATTERN... [options]' "
          "(see --help)\n");

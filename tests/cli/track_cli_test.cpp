@@ -120,7 +120,7 @@ TEST(TrackCli, BadInputExitsTwoWithAMessageAndWritesNothing) {
       {kPatlab + " track " + experiment + " --seed x1" + out,
        "patlab track: --seed is 'x1'; expected an integer >= 0\n"},
       {kPatlab + " track " + experiment + " --threads -1" + out,
-       "patlab track: --threads is -1; expected >= 0\n"},
+       "patlab track: --threads is -1; expected 0 (all cores) to 4096\n"},
       {kPatlab + " track " + experiment + " --decimate 0" + out,
        "patlab track: --decimate is 0; expected an integer >= 1\n"},
       {kPatlab + " track " + experiment + " --jitter-px -1" + out,

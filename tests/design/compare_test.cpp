@@ -27,8 +27,10 @@ CompareOptions Small() {
 // SSL standard, hand computed: dots of radius 20 at |p| = 65 mm -> diameter 2 (65 + 20) = 170;
 // the smallest gap is key to dot, 65 - 25 - 20 = 20 mm. The nearest wrong rotation is a quarter
 // turn, E0 = 932 mm^2 (docs/paper-reproduction.md, detect mode), chi2_7^-1(0.9999) = 29.88:
-// sigma0 = sqrt(932 / 29.88) = 5.58 mm; the onset solves 932 + 7 s^2 - 6.18 sqrt(932) s = 29.88
-// s^2: s = 3.48 mm (measured in frames: first rotation errors at 3.5 mm).
+// sigma0 = sqrt(932 / 29.88) = 5.58 mm; the onset is sqrt(932 / lambda*) with
+// P(ncx2(7, lambda*) <= 29.88) = 1e-3, lambda* = 65.713 (scipy, as in
+// RotationOnsetIsTheExactNoncentralChiSquared): 3.766 mm (measured in frames: first rotation
+// errors at 3.5-3.75 mm; the first-order approximation gave 3.48).
 TEST(DesignGeometry, SslStandardByHand) {
   const auto [ssl, file] = Design("ssl-standard");
   const DesignGeometry g = ComputeDesignGeometry(ssl, detect::FindSymmetry(ssl, 10.0));
@@ -37,7 +39,30 @@ TEST(DesignGeometry, SslStandardByHand) {
   EXPECT_NEAR(g.wrong_rotation_e0_mm2, 932.0, 1.0);
   EXPECT_NEAR(g.chi2_quantile, 29.88, 0.01);
   EXPECT_NEAR(g.rotation_sigma0_mm, 5.58, 0.01);
-  EXPECT_NEAR(g.rotation_onset_mm, 3.48, 0.01);
+  EXPECT_NEAR(g.rotation_onset_mm, 3.766, 0.005);
+}
+
+// sigma with P(ncx2(dof, E0 / sigma^2) <= chi2) = 1e-3, from scipy 1.10.1 (computed once):
+//   from scipy.stats import ncx2, chi2; from scipy.optimize import brentq; import math
+//   q = chi2.ppf(0.9999, dof)
+//   lam = brentq(lambda l: ncx2.cdf(q, dof, l) - 0.001, 1e-9, 1e4, xtol=1e-14, rtol=1e-15)
+//   math.sqrt(e0 / lam)
+// The first-order normal approximation gave 1.1383, 2.3954, 0.7906, 0.4072: 7-11% lower.
+TEST(DesignGeometry, RotationOnsetIsTheExactNoncentralChiSquared) {
+  struct Case {
+    double e0;
+    int dof;
+    double chi2, sigma;
+  };
+  const Case cases[] = {{100.0, 7, 29.87750390922517, 1.2335976680836076},
+                        {400.0, 3, 21.107513466160444, 2.6612989245414997},
+                        {50.0, 9, 33.719948438964906, 0.8496552255718339},
+                        {12.25, 5, 25.74483195905612, 0.445965205749033}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.dof);
+    EXPECT_NEAR(RotationOnsetSigma(c.e0, c.dof, c.chi2), c.sigma, 1e-7 * c.sigma);
+  }
+  EXPECT_EQ(RotationOnsetSigma(0.0, 7, 29.87750390922517), 0.0);
 }
 
 TEST(DesignGeometry, ColoursDecideEveryRotationOfTheTriangle) {

@@ -92,7 +92,8 @@ TEST(NoiseModel, CheckReportsEveryBrokenField) {
 TEST(RunOptions, ThreadsMustNotBeNegative) {
   sim::RunOptions options;
   options.threads = -1;
-  EXPECT_INPUT_ERROR(Validate(options), "threads is -1; expected an integer >= 0 (0 = all cores)");
+  EXPECT_INPUT_ERROR(Validate(options),
+                     "threads is -1; expected an integer in [0, 4096] (0 = all cores)");
 }
 
 }  // namespace

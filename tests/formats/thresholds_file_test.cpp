@@ -52,6 +52,40 @@ TEST(ThresholdsFile, CmvisionClassNamesResolveThroughTheVocabulary) {
                      "settings/colours.toml (did you mean 'yellow'?)");
 }
 
+// CMVision's merge is a density in [0, 1] and expected_num a count; NaN, infinity, values
+// outside the range and overflowing integers are refused at their line (TOML: file:line and key).
+TEST(ThresholdsFile, MergeDensitiesAndExpectedCountsAreBounded) {
+  const auto cmvision = [](const std::string& colour) {
+    return ParseCmvisionColors("[Colors]\n" + colour + "\n[Thresholds]\n(0:255,0:255,0:255)\n",
+                               "colors.txt");
+  };
+  EXPECT_EQ(cmvision("(255,0,255) 1 0 pink").classes[0].merge, 1.0);
+  EXPECT_EQ(cmvision("(255,0,255) 0 1000000 pink").classes[0].expected_num, 1000000);
+  EXPECT_INPUT_ERROR(cmvision("(255,0,255) nan 1 pink"),
+                     "colors.txt:2: merge is nan; expected a density in [0, 1]");
+  EXPECT_INPUT_ERROR(cmvision("(255,0,255) inf 1 pink"),
+                     "colors.txt:2: merge is inf; expected a density in [0, 1]");
+  EXPECT_INPUT_ERROR(cmvision("(255,0,255) 1.5 1 pink"),
+                     "colors.txt:2: merge is 1.5; expected a density in [0, 1]");
+  EXPECT_INPUT_ERROR(cmvision("(255,0,255) -0.1 1 pink"),
+                     "colors.txt:2: merge is -0.1; expected a density in [0, 1]");
+  EXPECT_INPUT_ERROR(cmvision("(255,0,255) 0.5 1000001 pink"),
+                     "colors.txt:2: expected_num is 1000001; expected an integer in [0, 1000000]");
+  EXPECT_INPUT_ERROR(cmvision("(255,0,255) 0.5 99999999999999999999999 pink"),
+                     "colors.txt:2: expected_num is 9223372036854775807; expected an integer in "
+                     "[0, 1000000]");
+  EXPECT_INPUT_ERROR(ParseThresholdsToml("[[class]]\nname = \"pink\"\nmerge = nan\n", "t.toml"),
+                     "t.toml:3: merge in [[class]] 1 is nan; expected a finite number");
+  EXPECT_INPUT_ERROR(ParseThresholdsToml("[[class]]\nname = \"pink\"\nmerge = 2.0\n", "t.toml"),
+                     "t.toml:3: merge in [[class]] 1 is 2; expected a density in [0, 1]");
+  EXPECT_INPUT_ERROR(
+      ParseThresholdsToml("[[class]]\nname = \"pink\"\nexpected_num = -1\n", "t.toml"),
+      "t.toml:3: expected_num in [[class]] 1 is -1; expected an integer in [0, 1000000]");
+  EXPECT_INPUT_ERROR(
+      ParseThresholdsToml("[[class]]\nname = \"pink\"\nmin_area_px = 4294967296\n", "t.toml"),
+      "t.toml:3: min_area_px 4294967296 in [[class]] 1; expected 0..268435456 pixels");
+}
+
 TEST(LabelsFile, ClassNamesResolveThroughTheVocabulary) {
   const vision::Labels l = ParseLabels(
       "image = \"f.png\"\n[[class]]\nname = \"Sky Blue\"\npoints = [[1, 1]]\n[[class]]\n"

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -20,6 +21,9 @@ struct MalformedCase {
   int exit_code;
   std::string message;
   void (*setup)(const std::string& dir) = nullptr;
+  // Shell commands run before patlab in the case's shell, e.g. a file size limit that makes a
+  // write fail as on a full disk ("trap '' XFSZ; ulimit -f 2;").
+  const char* shell_prefix = nullptr;
 };
 
 // gtest prints a case by its name (ctest lists the tests by it).
@@ -49,6 +53,20 @@ inline std::string PngClaiming(uint32_t width, uint32_t height) {
   const std::string ihdr = be32(width) + be32(height) + std::string("\x08\x02\x00\x00\x00", 5);
   return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) +
          chunk("IDAT", std::string(10, '\0')) + chunk("IEND", "");
+}
+
+// A JPEG whose SOF0 header claims width x height: the small JPEG seed of the image fuzzer with its
+// frame size patched (the sizes are checked before any scanline is decoded).
+inline std::string JpegClaiming(uint16_t width, uint16_t height) {
+  std::ifstream in(PATLAB_SOURCE_DIR "/tests/fuzz/corpus/image/python.jpg", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t sof = bytes.find("\xff\xc0");
+  if (sof == std::string::npos || sof + 9 > bytes.size()) return "";
+  bytes[sof + 5] = static_cast<char>(height >> 8);
+  bytes[sof + 6] = static_cast<char>(height & 0xff);
+  bytes[sof + 7] = static_cast<char>(width >> 8);
+  bytes[sof + 8] = static_cast<char>(width & 0xff);
+  return bytes;
 }
 
 }  // namespace patlab::testing

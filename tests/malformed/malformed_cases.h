@@ -12,9 +12,12 @@
 #include "malformed_command_cases.h"
 #include "malformed_detector_cases.h"
 #include "malformed_experiment_cases.h"
+#include "malformed_flag_cases.h"
 #include "malformed_image_cases.h"
 #include "malformed_live_cases.h"
+#include "malformed_output_cases.h"
 #include "malformed_pattern_cases.h"
+#include "malformed_shard_cases.h"
 
 namespace patlab::testing {
 
@@ -24,7 +27,8 @@ inline const std::vector<MalformedCase>& MalformedCases() {
     std::vector<MalformedCase> all;
     for (std::vector<MalformedCase> group :
          {PatternMalformedCases(), DetectorInputMalformedCases(), ImageMalformedCases(),
-          ExperimentMalformedCases(), CommandMalformedCases(), LiveMalformedCases()}) {
+          ExperimentMalformedCases(), CommandMalformedCases(), LiveMalformedCases(),
+          FlagMalformedCases(), OutputAndValueMalformedCases(), ShardMalformedCases()}) {
       all.insert(all.end(), group.begin(), group.end());
     }
     return all;

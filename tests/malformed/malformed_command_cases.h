@@ -60,7 +60,7 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
          "name = \"e\"\npatterns_dir = \"{src}/patterns\"\npatterns = [\"butterfly\"]\ntrials = 100\nseed = 1\n[sigma]\nvalues = [1]\n"s}},
        "simulate {dir}e.toml -q --out {dir}out --threads -1",
        2,
-       "patlab simulate: --threads is -1; expected >= 0"s,
+       "patlab simulate: --threads is -1; expected 0 (all cores) to 4096"s,
        nullptr},
       {"CliSigmasNotNumbers",
        {{"e.toml",
@@ -334,7 +334,7 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
        {{"t.csv", "frame,x_mm,y_mm\n0,1,2\n1,1,2\n"s}},
        "analyze {dir}t.csv --out {dir}out -q --smoothing-sigma 1e300",
        2,
-       "patlab analyze: sigma_samples is 1e+300; expected at most 100000 samples (the kernel's size is bounded)"s,
+       "patlab analyze: --smoothing-sigma is 1e+300; expected at most 100000 samples (the kernel's size is bounded)"s,
        nullptr},
       {"AnalyzeSubjectNotUtf8",
        {{"t.csv", "frame,subject,x_mm,y_mm\n0,r\xff,1,2\n"s}},
@@ -404,7 +404,37 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
        {{"l.toml", "image = \"x.png\"\n"s}},
        "thresholds {dir}l.toml --out {dir}out/t.toml --margin 300",
        2,
-       "patlab thresholds: margin_levels is 300; expected an integer in [0, 128]"s,
+       "patlab thresholds: --margin is 300; expected an integer in [0, 128]"s,
+       nullptr},
+      {"SetupTooFewLandmarks",
+       {},
+       "setup {src}/settings/ssl-frame.png --field ssl-2009 --settings ssl-frame.detector "
+       "--landmark centre=1,2 --landmark halfway_left=3,4 -o {dir}cam",
+       2,
+       "patlab setup: --landmark given 2 times; expected at least 4 landmarks (or none: the lines "
+       "decide)"s,
+       nullptr},
+      {"SetupUnknownLandmark",
+       {},
+       "setup {src}/settings/ssl-frame.png --field ssl-2009 --settings ssl-frame.detector "
+       "--landmark centre=1,2 --landmark halfway_left=3,4 --landmark corner_pos_left=5,6 "
+       "--landmark middle=7,8 -o {dir}cam",
+       2,
+       "patlab setup: --landmark middle: not a landmark of ssl-2009; expected one of centre, "
+       "corner_pos_left, corner_pos_right, corner_neg_left, corner_neg_right, halfway_left, "
+       "halfway_right, centre_circle_left, centre_circle_right, defense_front_left_pos, "
+       "defense_front_right_pos, defense_goal_left_pos, defense_goal_right_pos, "
+       "defense_front_left_neg, defense_front_right_neg, defense_goal_left_neg, "
+       "defense_goal_right_neg, goal_post_left_pos, goal_post_right_pos, goal_back_left_pos, "
+       "goal_back_right_pos, goal_post_left_neg, goal_post_right_neg, goal_back_left_neg, "
+       "goal_back_right_neg, penalty_mark_pos, penalty_mark_neg"s,
+       nullptr},
+      {"DetectSetupWithoutSetupToml",
+       {},
+       "detect {src}/settings/ssl-frame.png --setup {dir}nowhere",
+       2,
+       "patlab detect: --setup {dir}nowhere: no setup.toml in it; expected a folder written by "
+       "patlab setup"s,
        nullptr},
   };
 }

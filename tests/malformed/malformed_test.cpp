@@ -54,7 +54,8 @@ TEST_P(Malformed, ExitsWithTheMessageAndWritesNothing) {
   }
   if (c.setup != nullptr) c.setup(dir.Path(""));
   const std::set<std::string> before = Listing(dir.Path(""));
-  const auto r = testing::RunCommand(std::string(PATLAB_BINARY) + " " +
+  const std::string prefix = c.shell_prefix != nullptr ? std::string(c.shell_prefix) + " " : "";
+  const auto r = testing::RunCommand(prefix + PATLAB_BINARY + " " +
                                      Substitute(c.arguments, dir.Path("")) + " </dev/null");
   if (const char* dump = std::getenv("PATLAB_MALFORMED_DUMP")) {
     std::string err = r.err;
@@ -84,13 +85,13 @@ INSTANTIATE_TEST_SUITE_P(FrameSettings, Malformed,
                            return std::string(info.param.name);
                          });
 
-TEST(MalformedSuite, CoversAtLeastEightyCasesWithDistinctNames) {
+TEST(MalformedSuite, CoversAtLeastThreeHundredCasesWithDistinctNames) {
   std::set<std::string> names;
   for (const testing::MalformedCase& c : testing::MalformedCases()) names.insert(c.name);
   for (const testing::MalformedCase& c : testing::FrameSettingsMalformedCases()) {
     names.insert(c.name);
   }
-  EXPECT_GE(names.size(), 80u);
+  EXPECT_GE(names.size(), 300u);
   EXPECT_EQ(names.size(),
             testing::MalformedCases().size() + testing::FrameSettingsMalformedCases().size());
 }

@@ -50,20 +50,76 @@ def test_blobs_are_the_clis(cli, frame, in_root):
     assert result.csv == run.stdout
 
 
+def assert_read_in_place(image):
+    """The view detect() hands the detector is the array's own memory with its own strides."""
+    address, height, width, row, pixel, channel = patlab._patlab._image_view(image)
+    assert address == image.__array_interface__["data"][0]
+    assert (height, width) == image.shape[:2]
+    assert (row, pixel, channel) == image.strides
+
+
 def test_strided_views_are_read_in_place(frame, in_root):
-    """A BGR view (negative channel stride) of a BGR frame and a frame inside a wider buffer: the
-    binding reads the view's own memory (no numpy copy) and finds the same detections."""
+    """Views that are not C-contiguous -- RGB channels of a BGR buffer (negative channel
+    stride), the RGB channels of an RGBA buffer, Fortran order, a frame stored upside down
+    (negative row stride) -- are read where they are, with no copy, and give the detections of
+    the packed frame."""
     plain = patlab.detect(frame, **FILES).csv
+    assert_read_in_place(frame)
     bgr = np.ascontiguousarray(frame[:, :, ::-1])
-    rgb_view = bgr[:, :, ::-1]
-    assert not rgb_view.flags.c_contiguous
-    assert patlab._patlab._image_address(rgb_view) == rgb_view.__array_interface__["data"][0]
-    assert patlab.detect(rgb_view, **FILES).csv == plain
-    wide = np.zeros((frame.shape[0], frame.shape[1], 4), np.uint8)
-    wide[:, :, :3] = frame
-    rgba_view = wide[:, :, :3]
-    assert patlab._patlab._image_address(rgba_view) == rgba_view.__array_interface__["data"][0]
-    assert patlab.detect(rgba_view, **FILES).csv == plain
+    rgba = np.zeros((frame.shape[0], frame.shape[1], 4), np.uint8)
+    rgba[:, :, :3] = frame
+    upside_down = np.ascontiguousarray(frame[::-1])
+    views = [bgr[:, :, ::-1], rgba[:, :, :3], np.asfortranarray(frame), upside_down[::-1]]
+    for view in views:
+        assert not view.flags.c_contiguous
+        assert_read_in_place(view)
+        assert patlab.detect(view, **FILES).csv == plain
+
+
+def test_the_detector_reads_the_arrays_memory(frame, in_root):
+    """Zero-copy, seen from outside: pixels changed in the array between two calls (through
+    another view of the same memory) change what is detected, and putting them back restores
+    it; a crop of a larger buffer is read in place."""
+    wide = np.zeros((frame.shape[0] + 20, frame.shape[1] + 30, 4), np.uint8)
+    view = wide[10:10 + frame.shape[0], 5:5 + frame.shape[1], :3]
+    view[...] = frame
+    assert_read_in_place(view)
+    before = patlab.detect(view, **FILES)
+    assert before.csv == patlab.detect(frame, **FILES).csv and len(before) > 0
+    saved = wide.copy()
+    wide[:, :, :3] = 0  # the same memory, written through the buffer, not the view
+    after = patlab.detect(view, **FILES)
+    assert len(after) == 0
+    wide[...] = saved
+    assert patlab.detect(view, **FILES).csv == before.csv
+
+
+def test_detector_object_gives_the_clis_detections(frame, in_root):
+    """patlab.Detector, built once, frame after frame: the detections `patlab detect` prints
+    (the CSV's rounded numbers), as numpy columns; the frame read in place."""
+    table = patlab.detect(frame, **FILES).table
+    detector = patlab.Detector(**FILES)
+    for image in (frame, np.ascontiguousarray(frame[:, :, ::-1])[:, :, ::-1], frame):
+        found = detector.detect(image)
+        assert len(found["x_mm"]) == len(table["x_mm"]) > 0
+        assert [detector.patterns[p] for p in found["pattern"]] == list(table["pattern"])
+        assert [detector.palette[t] for t in found["team_colour"]] == list(table["team"])
+        np.testing.assert_array_equal(found["id"], np.asarray(table["id"]))
+        np.testing.assert_allclose(found["x_mm"], table["x_mm"], rtol=0, atol=0.005)
+        np.testing.assert_allclose(found["y_mm"], table["y_mm"], rtol=0, atol=0.005)
+        np.testing.assert_allclose(found["theta_rad"], table["theta_rad"], rtol=0, atol=5e-5)
+        assert 0 < found["cpp_seconds"] < 10
+    assert len(detector.detect(np.zeros_like(frame))["id"]) == 0
+
+
+def test_detector_needs_its_files(in_root, tmp_path):
+    with pytest.raises(FileNotFoundError):
+        patlab.Detector(str(tmp_path / "no.toml"), FILES["calibration"], FILES["settings"])
+
+
+def test_empty_image_is_a_value_error(in_root):
+    with pytest.raises(ValueError, match=r"expected at least one row and one column"):
+        patlab.detect(np.zeros((0, 5, 3), np.uint8), **FILES)
 
 
 @pytest.mark.parametrize("image", [np.zeros((4, 4), np.uint8), np.zeros((4, 4, 3), np.float32),
@@ -88,3 +144,34 @@ def test_render_is_the_clis_frame(cli, root, tmp_path, in_root):
     assert image.dtype == np.uint8 and image.shape[2] == 3
     np.testing.assert_array_equal(image, png_pixels(out))
     assert truth_csv == truth.read_text()
+
+
+def write_setup(folder, root):
+    """A setup folder as `patlab setup` writes it: setup.toml naming the three files."""
+    folder.mkdir()
+    (folder / "setup.toml").write_text("".join(
+        f'{key} = "{root / path}"\n' for key, path in FILES.items()))
+    return folder
+
+
+def test_a_setup_folder_stands_for_its_three_files(frame, root, tmp_path, in_root):
+    """detect(setup=DIR) and Detector(setup=DIR) read the files DIR/setup.toml names, as
+    `patlab detect --setup DIR` does."""
+    setup = write_setup(tmp_path / "camera", root)
+    plain = patlab.detect(frame, **FILES)
+    assert patlab.detect(frame, setup=setup).csv == plain.csv
+    found = patlab.Detector(setup=str(setup)).detect(frame)
+    np.testing.assert_array_equal(found["id"], np.asarray(plain.table["id"]))
+
+
+def test_setup_and_files_are_one_or_the_other(frame, root, tmp_path, in_root):
+    setup = write_setup(tmp_path / "camera", root)
+    with pytest.raises(ValueError, match=r"expected setup= or the three files, not both"):
+        patlab.detect(frame, setup=setup, thresholds=FILES["thresholds"])
+    with pytest.raises(ValueError, match=r"expected setup= \(a folder written by patlab setup\)"):
+        patlab.Detector(FILES["thresholds"], FILES["calibration"])
+    with pytest.raises(FileNotFoundError, match=r"no such folder"):
+        patlab.detect(frame, setup=tmp_path / "missing")
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(ValueError, match=r"no setup.toml in it"):
+        patlab.Detector(setup=tmp_path / "empty")

@@ -142,3 +142,28 @@ def test_predicted_std_matches_the_monte_carlo_std():
     assert math.isnan(patlab.predicted_std(pattern, "robust", 0.5).theta_rad)
     # The std's own standard error is std / sqrt(2 (n - 1)); 4 of them.
     assert abs(theta.std(ddof=1) - predicted) < 4 * predicted / math.sqrt(2 * len(theta))
+
+
+@pytest.mark.parametrize("method", ["fast", "key", "lsq"])
+@pytest.mark.parametrize("name", ["butterfly", "triangle", "linear"])
+def test_vectorised_estimators_are_the_one_trial_estimators_bit_for_bit(method, name):
+    """fast, key and lsq run vectorised over blocks of trials (estimate::EstimateMany), in
+    parallel: the poses are the one-trial estimators' bits, for C-ordered and strided arrays,
+    any thread count, and arrays cut at any trial."""
+    pattern = patlab.Pattern.load(name)
+    v = observe(pattern, random_poses(40001), sigma=2.0)
+    v[::11] = np.random.default_rng(2).normal(0.0, 700.0, v[::11].shape)  # anything at all
+    v[5] = 1.0  # every patch at one point: atan2(0, 0)
+
+    def bits(a):
+        return np.ascontiguousarray(a).view(np.uint64)
+
+    reference = patlab._patlab._estimate(pattern, v, method, 20, 1, True)[0]
+    for observed in (v, v[::-1], np.asfortranarray(v)):
+        for threads in (0, 1, 2):
+            poses = patlab.estimate(pattern, observed, method, threads=threads)
+            expected = reference[::-1] if observed.strides[0] < 0 else reference
+            np.testing.assert_array_equal(bits(poses), bits(expected))
+    pieces = np.concatenate([patlab.estimate(pattern, v[k:k + 777], method)
+                             for k in range(0, len(v), 777)])
+    np.testing.assert_array_equal(bits(pieces), bits(reference))

@@ -131,3 +131,60 @@ def test_ctrl_c_interrupts_a_long_simulation():
     finally:
         timer.cancel()
     assert time.monotonic() - start < 30.0
+
+
+DETECT_FRAMES = 120
+DETECT_SIGMAS = [1.0, 4.5]
+
+
+@pytest.fixture(scope="module")
+def cli_detect_csv(cli, tmp_path_factory):
+    """results of `patlab simulate experiments/id_confusion.toml` (correspondence = "detect":
+    whole frames through the detector) for DETECT_SIGMAS, DETECT_FRAMES frames, seed SEED."""
+    out = tmp_path_factory.mktemp("cli_detect")
+    run = cli("simulate", "experiments/id_confusion.toml", "--trials", DETECT_FRAMES, "--seed",
+              SEED, "--sigmas", ",".join(map(str, DETECT_SIGMAS)), "--out", out, "-q")
+    assert run.returncode == 0, run.stderr
+    return (out / "id_confusion.csv").read_text()
+
+
+def test_detect_mode_equals_the_cli_byte_for_byte(cli_detect_csv, root):
+    """A detect-mode experiment (scenes, detector, scoring) gives the CLI's CSV to the last bit,
+    on one thread or two, and its table holds the CSV's values."""
+    for threads in (1, 2):
+        result = patlab.simulate_experiment(root / "experiments" / "id_confusion.toml",
+                                            trials=DETECT_FRAMES, seed=SEED, sigmas=DETECT_SIGMAS,
+                                            threads=threads)
+        assert result.csv == cli_detect_csv
+        assert result.threads == threads
+    lines = cli_detect_csv.splitlines()
+    header = lines[0].split(",")
+    assert list(result.columns) == header
+    rows = len(lines) - 1
+    assert rows == 3 * 2 * len(DETECT_SIGMAS)  # patterns x false-blob rates x sigmas
+    assert result.total_trials == rows * DETECT_FRAMES
+    for row, line in enumerate(lines[1:]):
+        for name, cell in zip(header, line.split(",")):
+            value = result.columns[name][row]
+            if isinstance(value, str):
+                assert value == cell
+            elif cell == "":
+                assert math.isnan(value)
+            else:
+                assert float(cell) == value, (name, row)
+    detection = np.asarray(result.columns["detection_rate"])
+    assert ((detection >= 0) & (detection <= 1)).all() and detection.max() > 0.5
+
+
+def test_detect_mode_by_name_and_its_seed(root):
+    """The shipped experiment by name; another seed draws other frames."""
+    one = patlab.simulate_experiment("id_confusion", trials=40, seed=1, sigmas=[3.0])
+    again = patlab.simulate_experiment(root / "experiments" / "id_confusion.toml", trials=40,
+                                       seed=1, sigmas=[3.0])
+    other = patlab.simulate_experiment("id_confusion", trials=40, seed=2, sigmas=[3.0])
+    assert one.csv == again.csv and one.csv != other.csv
+
+
+def test_detect_mode_keeps_no_errors(root):
+    with pytest.raises(ValueError, match=r'correspondence is "detect" .*expected keep_errors=False'):
+        patlab.simulate_experiment("id_confusion", trials=10, sigmas=[1.0], keep_errors=True)

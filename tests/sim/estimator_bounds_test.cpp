@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "../test_util.h"
+#include "patlab/sim/batch.h"
+#include "patlab/sim/report.h"
 #include "patlab/sim/runner.h"
 
 namespace patlab::sim {
@@ -117,6 +119,58 @@ TEST(EstimatorBounds, RobustLosesLessThanFivePercentToMlUnderIsotropicNoise) {
     EXPECT_LT(robust.theta.std / ml.theta.std, 1.05) << pattern;
     EXPECT_LT(robust.position_std_mm / ml.position_std_mm, 1.05) << pattern;
   }
+}
+
+// robust reports its steps and non-converged trials as ml does: the runner's counters (batches
+// on two threads, folded in order) against every trial's own from the batch kernel, and the
+// ml_* columns of the results CSV filled on the robust row.
+TEST(EstimatorBounds, RobustCountsItsStepsLikeMl) {
+  NoiseModel outliers;
+  outliers.outlier_probability = 0.05;
+  outliers.outlier_sigma_ratio = 10.0;
+  Experiment e = Butterfly(outliers, 1.0, 5000);
+  e.estimators = {Estimator::kFast, Estimator::kRobust};
+  RunOptions options;
+  options.threads = 2;
+  const RunResult result = RunExperiment(e, options);
+  const EstimatorResult& robust = result.points[0].estimators[1];
+
+  const auto n = static_cast<size_t>(e.trials);
+  const estimate::Model model = estimate::Model::FromPattern(e.patterns[0]);
+  const PointSetup setup = MakePointSetup(e, model, 0, 0);
+  std::vector<double> x(n), y(n), theta(n), fx(n), fy(n), ftheta(n);
+  std::vector<uint8_t> iterations(n), termination(n);
+  for (size_t first = 0; first < n; first += kBatchSize) {
+    BatchOutput out;
+    out.errors[static_cast<int>(Estimator::kFast)] = {fx.data() + first, fy.data() + first,
+                                                      ftheta.data() + first};
+    out.errors[static_cast<int>(Estimator::kRobust)] = {x.data() + first, y.data() + first,
+                                                        theta.data() + first};
+    out.robust_iterations = iterations.data() + first;
+    out.robust_termination = termination.data() + first;
+    RunBatch(setup, first, static_cast<int>(std::min<size_t>(kBatchSize, n - first)), out);
+  }
+  int64_t steps = 0, nonconverged = 0, first_nonconverged = -1;
+  for (size_t t = 0; t < n; ++t) {
+    steps += iterations[t];
+    if (termination[t] == static_cast<uint8_t>(estimate::Termination::kConverged)) continue;
+    if (first_nonconverged < 0) first_nonconverged = static_cast<int64_t>(t);
+    ++nonconverged;
+  }
+  EXPECT_GT(steps, static_cast<int64_t>(n));  // EM takes more than one step per trial
+  EXPECT_EQ(robust.mean_iterations, static_cast<double>(steps) / static_cast<double>(n));
+  EXPECT_EQ(robust.nonconverged, nonconverged);
+  EXPECT_EQ(robust.first_nonconverged_trial, first_nonconverged);
+  // The CSV: the fast row leaves the counters empty, the robust row has them.
+  const std::string csv = ResultsCsv(e, result);
+  EXPECT_NE(csv.find(",robust,"), std::string::npos);
+  const size_t row = csv.find("\nbutterfly,robust,");
+  ASSERT_NE(row, std::string::npos) << csv;
+  const std::string line = csv.substr(row + 1, csv.find('\n', row + 1) - row - 1);
+  EXPECT_NE(line.find("," + std::to_string(nonconverged) + "," +
+                      std::to_string(first_nonconverged) + ","),
+            std::string::npos)
+      << line;
 }
 
 }  // namespace

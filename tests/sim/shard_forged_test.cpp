@@ -121,6 +121,54 @@ TEST(ShardForged, EveryProblemOfAShardIsNamed) {
                                     "seconds in [0, 31536000]");
 }
 
+// Trial-range shares (one point of two blocks, one block a share): each block's range alone lies
+// within the point, so only the tiling tells a forged range: block 1 must start where block 0
+// ends, and the blocks must add up to the point's trials.
+TEST(ShardForged, BlocksThatDoNotTileTheirPointAreRefused) {
+  Experiment e = Small();
+  e.estimators = {Estimator::kFast};
+  e.sigmas_mm = {1.0};
+  e.trials = kStatisticsBlockTrials + 1000;
+  testing::TempDir dir;
+  std::string paths[2], text2;
+  for (int k = 1; k <= 2; ++k) {
+    RunOptions options;
+    options.shard = ShardSpec{k, 2};
+    options.threads = 2;
+    paths[k - 1] =
+        dir.Write(ShardFileName(e.name, options.shard),
+                  KnownShardText(e, RunExperiment(e, options), options.shard, e.name, "test"));
+  }
+  text2 = testing::ReadFile(paths[1]);
+  const auto forge = [&](const std::function<void(json&)>& edit) {
+    json j = json::parse(text2);
+    edit(j);
+    j.erase("checksum");
+    j["checksum"] = StringPrintf(
+        "%016llx",
+        static_cast<unsigned long long>(StreamKey(0).Add(std::string_view(j.dump())).value()));
+    dir.Write(ShardFileName("small", {2, 2}), j.dump(1) + "\n");
+  };
+  const std::string block1 = std::to_string(kStatisticsBlockTrials);
+  ASSERT_EQ(json::parse(text2)["blocks"][0]["first"].get<int64_t>(), kStatisticsBlockTrials);
+  forge([](json& j) {
+    j["blocks"][0]["first"] = j["blocks"][0]["first"].get<int64_t>() + 1;
+    j["blocks"][0]["count"] = j["blocks"][0]["count"].get<int64_t>() - 1;
+  });
+  EXPECT_INPUT_ERROR(MergeShards({paths[0], paths[1]}, dir.Path("out"), ""),
+                     paths[1] + ": block 1 of point 0 starts at trial " +
+                         std::to_string(kStatisticsBlockTrials + 1) + "; expected " + block1 +
+                         ", where block 0 ends");
+  forge([](json& j) { j["blocks"][0]["count"] = j["blocks"][0]["count"].get<int64_t>() - 1; });
+  EXPECT_INPUT_ERROR(MergeShards({paths[0], paths[1]}, dir.Path("out"), ""),
+                     paths[1] + ": the blocks of point 0 add up to " +
+                         std::to_string(e.trials - 1) + " trials; expected the " +
+                         std::to_string(e.trials) + " of every point");
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("out")));
+  dir.Write(ShardFileName("small", {2, 2}), text2);  // the shard as written merges
+  EXPECT_NO_THROW(MergeShards({paths[0], paths[1]}, dir.Path("out"), ""));
+}
+
 // Twelve files that are not shards: ten are named, then how many more.
 TEST(ShardForged, ManyBadShardsAreListedUpToACap) {
   testing::TempDir dir;

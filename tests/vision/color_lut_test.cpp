@@ -135,14 +135,14 @@ TEST(ColorLut, TomlErrorsNameFileAndLine) {
       formats::ParseThresholdsToml("[[class]]\nname = \"a\"\nr = [0, 1]\n", "t.toml"),
       "t.toml:3: unknown key 'r' in [[class]] 1; expected one of: name, display, y, "
       "u, v, min_area_px, max_area_px, merge, expected_num");
-  EXPECT_INPUT_ERROR(
-      formats::ParseThresholdsToml("[[class]]\nname = \"a\"\nmin_area_px = 5\nmax_area_px = 4\n",
-                                   "t.toml"),
-      "t.toml:4: max_area_px 4 in [[class]] 1; expected 0 (no limit) or >= min_area_px");
+  EXPECT_INPUT_ERROR(formats::ParseThresholdsToml(
+                         "[[class]]\nname = \"a\"\nmin_area_px = 5\nmax_area_px = 4\n", "t.toml"),
+                     "t.toml:4: max_area_px 4 in [[class]] 1; expected 0 (no limit) or "
+                     "min_area_px..268435456 pixels");
   EXPECT_INPUT_ERROR(
       formats::ParseThresholdsToml("[[class]]\nname = \"a\"\nmax_area_px = -1\n", "t.toml"),
-      "t.toml:3: max_area_px -1 in [[class]] 1; expected 0 (no limit) or >= "
-      "min_area_px");
+      "t.toml:3: max_area_px -1 in [[class]] 1; expected 0 (no limit) or "
+      "min_area_px..268435456 pixels");
   EXPECT_INPUT_ERROR(formats::ParseThresholdsToml("[[class]\n", "t.toml"),
                      "t.toml:1: TOML syntax error: Error while parsing table header: expected "
                      "']', saw '\\n'");

@@ -1,20 +1,13 @@
 #include "patlab/analysis/analyze.h"
 
 #include <algorithm>
-#include <array>
-#include <charconv>
 #include <cmath>
-#include <cstring>
 #include <map>
-#include <memory>
-#include <nlohmann/json.hpp>
 
 #include "patlab/analysis/analyze_internal.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/core/geometry.h"
-#include "patlab/io/atomic_file.h"
-#include "patlab/io/csv.h"
 
 namespace patlab::analysis {
 
@@ -42,16 +35,50 @@ void AppendRotated(const SegmentFrame& f, double ex, double ey, stats::ErrorSegm
   s->y.push_back(-f.sin_h * ex + f.cos_h * ey);
 }
 
+// The trend of a segment's samples: smoothed, the least-squares line against the sample index,
+// or the mean (AnalyzeOptions::detrend).
+std::vector<double> Trend(std::span<const double> x, const AnalyzeOptions& o) {
+  if (o.detrend == Detrend::kSmooth) return stats::GaussianSmooth(x, o.smoothing);
+  const auto n = static_cast<double>(x.size());
+  double mean = 0.0;
+  for (double v : x) mean += v;
+  mean /= n;
+  double slope = 0.0;
+  if (o.detrend == Detrend::kLinear) {
+    const double centre = (n - 1.0) / 2.0;
+    double sxy = 0.0, sxx = 0.0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      const double u = static_cast<double>(i) - centre;
+      sxy += u * (x[i] - mean);
+      sxx += u * u;
+    }
+    slope = sxy / sxx;
+  }
+  std::vector<double> trend(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    trend[i] = mean + slope * (static_cast<double>(i) - (n - 1.0) / 2.0);
+  }
+  return trend;
+}
+
 // The residuals of samples [lo, hi) of a track (one gap-free segment), kept part only.
 stats::ErrorSegment SegmentResiduals(const MeasuredTrack& t, size_t lo, size_t hi, int run,
                                      const AnalyzeOptions& o, int radius, SegmentFrame* f) {
   const auto span = [&](const std::vector<double>& v) {
     return std::span<const double>(v.data() + lo, hi - lo);
   };
-  const std::vector<double> sx = stats::GaussianSmooth(span(t.x), o.smoothing);
-  const std::vector<double> sy = stats::GaussianSmooth(span(t.y), o.smoothing);
+  const std::vector<double> sx = Trend(span(t.x), o);
+  const std::vector<double> sy = Trend(span(t.y), o);
   std::vector<double> rt;
-  if (!t.theta.empty()) rt = stats::SmoothingResiduals(Unwrapped(span(t.theta)), o.smoothing);
+  if (!t.theta.empty()) {
+    rt = Unwrapped(span(t.theta));
+    if (o.detrend == Detrend::kSmooth) {
+      rt = stats::SmoothingResiduals(rt, o.smoothing);
+    } else {
+      const std::vector<double> trend = Trend(rt, o);
+      for (size_t i = 0; i < rt.size(); ++i) rt[i] -= trend[i];
+    }
+  }
   const auto r = static_cast<size_t>(radius);
   f->begin = lo + r;
   f->end = hi - r;
@@ -165,18 +192,26 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
     }
   }
   if (a.segments == 0) {
-    throw InputError(
-        FileLoc{first.file, first.first_line},
-        Cat("subject ", Quoted(a.subject), " has no run of ", std::to_string(report.min_segment),
-            " consecutive frames (longest: ", std::to_string(longest), "); expected at least 2 x ",
-            std::to_string(report.radius), " + 1 for smoothing with sigma = ",
-            FormatSignificant(report.options.smoothing.sigma_samples, 6), " samples"));
+    const std::string why =
+        report.options.detrend == Detrend::kSmooth
+            ? Cat("2 x ", std::to_string(report.radius), " + 1 for smoothing with sigma = ",
+                  FormatSignificant(report.options.smoothing.sigma_samples, 6), " samples")
+            : Cat(std::to_string(report.min_segment), " for detrend ",
+                  std::string(NameOf(report.options.detrend, kDetrendNames)));
+    throw InputError(FileLoc{first.file, first.first_line},
+                     Cat("subject ", Quoted(a.subject), " has no run of ",
+                         std::to_string(report.min_segment), " consecutive frames (longest: ",
+                         std::to_string(longest), "); expected at least ", why));
   }
-  a.est = stats::SummariseErrors(a.est_errors, report.options.lag);
+  a.est = stats::SummariseErrors(a.est_errors, report.options.lag, 2 * report.radius);
   if (report.options.correct_bias) {
-    ScaleStd(&a.est.x, report.residual_factor);
-    ScaleStd(&a.est.y, report.residual_factor);
-    if (a.est.has_theta) ScaleStd(&a.est.theta, report.residual_factor);
+    for (stats::StdWithCi* s : {&a.est.x, &a.est.y, &a.est.x_iid, &a.est.y_iid}) {
+      ScaleStd(s, report.residual_factor);
+    }
+    if (a.est.has_theta) {
+      ScaleStd(&a.est.theta, report.residual_factor);
+      ScaleStd(&a.est.theta_iid, report.residual_factor);
+    }
   }
   if (truth) {
     a.has_truth = true;
@@ -185,21 +220,20 @@ SubjectAnalysis AnalyseSubject(const std::vector<MeasuredTrack>& tracks,
   return a;
 }
 
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
-  return {buf, r.ptr};
-}
-
-nlohmann::json StdJson(const stats::StdWithCi& s) {
-  return {{"std", s.std}, {"lower", s.lower}, {"upper", s.upper}, {"n", s.n}};
-}
-
-nlohmann::json SummaryJson(const stats::ErrorSummary& s) {
-  nlohmann::json j = {{"x", StdJson(s.x)},  {"y", StdJson(s.y)}, {"mean_x", s.mean_x},
-                      {"mean_y", s.mean_y}, {"lag_x", s.lag_x},  {"lag_y", s.lag_y}};
-  if (s.has_theta) j["theta"] = StdJson(s.theta);
-  return j;
+// A warning per std of the subject whose iid interval is off (IidIntervalWarning).
+void AddWarnings(const SubjectAnalysis& a, std::vector<std::string>* warnings) {
+  const auto add = [&](const char* which, const stats::ErrorSummary& e) {
+    const std::pair<const char*, const stats::EffectiveSize*> axes[] = {
+        {"x", &e.size_x}, {"y", &e.size_y}, {"theta", &e.size_theta}};
+    for (const auto& [axis, size] : axes) {
+      if (std::string(axis) == "theta" && !e.has_theta) continue;
+      const std::string w = stats::IidIntervalWarning(
+          Cat("subject ", Quoted(a.subject), ", ", which, " ", axis), *size);
+      if (!w.empty()) warnings->push_back(w);
+    }
+  };
+  add("est", a.est);
+  if (a.has_truth) add("true", a.truth);
 }
 
 }  // namespace
@@ -210,6 +244,11 @@ std::vector<OptionsProblem> Check(const AnalyzeOptions& o) {
   check.Positive("sigma_samples", o.smoothing.sigma_samples, "samples")
       .IntegerInRange("lag", o.lag, 1, 1000000);
   for (OptionsProblem& p : check.Take()) problems.push_back(std::move(p));
+  if (o.along_travel && o.detrend == Detrend::kNone) {
+    problems.push_back({"along_travel",
+                        "along_travel is true with detrend \"none\"; expected detrend \"smooth\" "
+                        "or \"linear\" (a mean has no direction of travel)"});
+  }
   return problems;
 }
 
@@ -223,11 +262,16 @@ AnalyzeReport Analyze(const std::vector<MeasuredTrack>& tracks, const AnalyzeOpt
   Validate(options);
   AnalyzeReport report;
   report.options = options;
-  report.radius = static_cast<int>(stats::GaussianKernel(options.smoothing).size()) - 1;
-  report.min_segment = 2 * report.radius + 1;
-  report.residual_factor = stats::ResidualStdFactor(options.smoothing);
-  report.white_noise_lag =
-      stats::ResidualAutocorrelation(options.smoothing, static_cast<size_t>(options.lag));
+  if (options.detrend == Detrend::kSmooth) {
+    report.radius = static_cast<int>(stats::GaussianKernel(options.smoothing).size()) - 1;
+    report.min_segment = 2 * report.radius + 1;
+    report.residual_factor = stats::ResidualStdFactor(options.smoothing);
+    report.white_noise_lag =
+        stats::ResidualAutocorrelation(options.smoothing, static_cast<size_t>(options.lag));
+  } else {
+    report.min_segment = options.detrend == Detrend::kLinear ? 3 : 2;
+    report.residual_factor = 1.0;
+  }
   // Runs and subjects in order of first appearance; each subject's tracks in run order.
   std::map<std::string, int> run_index;
   std::map<std::string, size_t> subject_index;
@@ -255,6 +299,7 @@ AnalyzeReport Analyze(const std::vector<MeasuredTrack>& tracks, const AnalyzeOpt
                            "; expected each subject and run in one file"));
     }
     report.subjects.push_back(AnalyseSubject(tracks, runs_and_tracks, report, truth, release));
+    AddWarnings(report.subjects.back(), &report.warnings);
   }
   if (options.progress) {
     options.progress(static_cast<int>(report.subjects.size()), static_cast<int>(by_subject.size()));
@@ -284,162 +329,6 @@ AnalyzeReport AnalyzeTracks(const std::vector<MeasuredTrack>& tracks, const Anal
 AnalyzeReport AnalyzeTracks(std::vector<MeasuredTrack>&& tracks, const AnalyzeOptions& options,
                             const std::vector<MeasuredTrack>* truth) {
   return Analyze(tracks, options, truth, &tracks);
-}
-
-std::string AnalyzeTableCsv(const AnalyzeReport& report) {
-  const std::string lag = std::to_string(report.options.lag);
-  std::string csv =
-      "subject,n,samples,segments,skipped_segments,skipped_samples,sx_mm,sx_lo,sx_hi,"
-      "sy_mm,sy_lo,sy_hi,stheta_rad,stheta_lo,stheta_hi,lag" +
-      lag + "_x,lag" + lag +
-      "_y,true_sx_mm,true_sx_lo,true_sx_hi,true_sy_mm,true_sy_lo,true_sy_hi,"
-      "true_stheta_rad,true_stheta_lo,true_stheta_hi,true_mean_x_mm,true_mean_y_mm\n";
-  io::CsvWriter w(&csv);
-  auto ci = [&w](const stats::StdWithCi& s, bool present, int decimals) {
-    if (!present) {
-      w.Cells({"", "", ""});
-      return;
-    }
-    w.Cells({Fixed(s.std, decimals), Fixed(s.lower, decimals), Fixed(s.upper, decimals)});
-  };
-  for (const SubjectAnalysis& a : report.subjects) {
-    const stats::ErrorSummary& e = a.est;
-    const stats::ErrorSummary& t = a.truth;
-    const bool tt = a.has_truth && t.has_theta;
-    w.Cell(a.subject);
-    w.Cell(static_cast<int64_t>(e.x.n)).Cell(static_cast<int64_t>(a.samples));
-    w.Cell(static_cast<int64_t>(a.segments)).Cell(static_cast<int64_t>(a.skipped_segments));
-    w.Cell(static_cast<int64_t>(a.skipped_samples));
-    ci(e.x, true, 4);
-    ci(e.y, true, 4);
-    ci(e.theta, e.has_theta, 6);
-    w.Cells({Fixed(e.lag_x, 3), Fixed(e.lag_y, 3)});
-    ci(t.x, a.has_truth, 4);
-    ci(t.y, a.has_truth, 4);
-    ci(t.theta, tt, 6);
-    w.Cells({a.has_truth ? Fixed(t.mean_x, 4) : "", a.has_truth ? Fixed(t.mean_y, 4) : ""});
-    w.EndRow();
-  }
-  return csv;
-}
-
-namespace {
-
-// The errors CSV formatted straight into a buffer of about 256 kB that is handed to the sink
-// whenever the next row might not fit (no per-row string appends, no whole-file string).
-class ErrorsWriter {
- public:
-  // A frame (at most 20 characters) and up to six fixed-point cells of at most
-  // 1 + 1 + 309 + 1 + 6 characters each (comma, sign, |v| up to DBL_MAX, point, decimals), '\n'.
-  static constexpr size_t kMaxNumbers = 20 + 6 * 318 + 1;
-  static constexpr size_t kBlock = size_t{1} << 18;
-
-  explicit ErrorsWriter(const std::function<void(std::string_view)>& sink)
-      : sink_(sink), buffer_(kBlock + kMaxNumbers) {}
-
-  void Text(std::string_view text) {
-    Room(text.size());
-    std::memcpy(buffer_.data() + used_, text.data(), text.size());
-    used_ += text.size();
-  }
-  // One row: prefix, frame, the estimated errors and (when given) the true ones.
-  void Row(std::string_view prefix, int64_t frame, const stats::ErrorSegment& est, size_t i,
-           const stats::ErrorSegment* truth) {
-    Room(prefix.size() + kMaxNumbers);
-    char* p = buffer_.data() + used_;
-    std::memcpy(p, prefix.data(), prefix.size());
-    p += prefix.size();
-    char* const end = buffer_.data() + buffer_.size();
-    p = std::to_chars(p, end, frame).ptr;
-    p = Errors(p, end, est, i);
-    if (truth) p = Errors(p, end, *truth, i);
-    *p++ = '\n';
-    used_ = static_cast<size_t>(p - buffer_.data());
-  }
-  void Flush() {
-    if (used_ > 0) sink_(std::string_view(buffer_.data(), used_));
-    used_ = 0;
-  }
-
- private:
-  // Makes room for `size` more characters: flushes when the block is full, grows the buffer
-  // for a row longer than a block (a subject or run name of hundreds of kB).
-  void Room(size_t size) {
-    if (used_ + size <= buffer_.size() && used_ <= kBlock) return;
-    Flush();
-    if (size > buffer_.size()) buffer_.resize(size);
-  }
-  // ",x,y,theta" of sample i with 4, 4 and 6 decimals, a cell empty when its column is absent.
-  static char* Errors(char* p, char* end, const stats::ErrorSegment& e, size_t i) {
-    for (const auto& [v, d] : {std::pair(&e.x, 4), std::pair(&e.y, 4), std::pair(&e.theta, 6)}) {
-      *p++ = ',';
-      if (!v->empty()) p = std::to_chars(p, end, (*v)[i], std::chars_format::fixed, d).ptr;
-    }
-    return p;
-  }
-
-  const std::function<void(std::string_view)>& sink_;
-  std::vector<char> buffer_;
-  size_t used_ = 0;
-};
-
-}  // namespace
-
-void WriteAnalyzeErrorsCsv(const AnalyzeReport& report,
-                           const std::function<void(std::string_view)>& sink) {
-  const bool truth = !report.subjects.empty() && report.subjects.front().has_truth;
-  ErrorsWriter out(sink);
-  out.Text("subject,run,frame,est_x_mm,est_y_mm,est_theta_rad");
-  out.Text(truth ? ",true_x_mm,true_y_mm,true_theta_rad\n" : "\n");
-  for (const SubjectAnalysis& a : report.subjects) {
-    for (size_t g = 0; g < a.est_errors.size(); ++g) {
-      const stats::ErrorSegment& e = a.est_errors[g];
-      std::string prefix;  // the subject and run cells and the comma after them
-      io::CsvWriter(&prefix).Cells({a.subject, report.runs[static_cast<size_t>(e.run)], ""});
-      const stats::ErrorSegment* t = truth ? &a.true_errors[g] : nullptr;
-      for (size_t i = 0; i < e.frame.size(); ++i) out.Row(prefix, e.frame[i], e, i, t);
-    }
-  }
-  out.Flush();
-}
-
-std::string AnalyzeErrorsCsv(const AnalyzeReport& report) {
-  std::string csv;
-  WriteAnalyzeErrorsCsv(report, [&csv](std::string_view piece) { csv.append(piece); });
-  return csv;
-}
-
-std::string AnalyzeManifestJson(const AnalyzeReport& report, const std::vector<std::string>& inputs,
-                                const std::vector<std::string>& outputs) {
-  const AnalyzeOptions& o = report.options;
-  nlohmann::json j;
-  j["tool"] = "patlab analyze";
-  j["version"] = PATLAB_VERSION;
-  j["inputs"] = inputs;
-  j["analysis"] = {{"smoothing_sigma_samples", o.smoothing.sigma_samples},
-                   {"truncate_sigmas", o.smoothing.truncate_sigmas},
-                   {"kernel_radius_samples", report.radius},
-                   {"min_segment_samples", report.min_segment},
-                   {"lag", o.lag},
-                   {"correct_bias", o.correct_bias},
-                   {"along_travel", o.along_travel},
-                   {"white_noise_residual_factor", report.residual_factor},
-                   {"white_noise_residual_lag_correlation", report.white_noise_lag}};
-  j["runs"] = report.runs;
-  nlohmann::json subjects = nlohmann::json::array();
-  for (const SubjectAnalysis& a : report.subjects) {
-    nlohmann::json s = {{"subject", a.subject},
-                        {"samples", a.samples},
-                        {"segments", a.segments},
-                        {"skipped_segments", a.skipped_segments},
-                        {"skipped_samples", a.skipped_samples},
-                        {"est", SummaryJson(a.est)}};
-    if (a.has_truth) s["true"] = SummaryJson(a.truth);
-    subjects.push_back(s);
-  }
-  j["subjects"] = subjects;
-  j["outputs"] = io::OutputNames(outputs);
-  return j.dump(2) + "\n";
 }
 
 }  // namespace patlab::analysis

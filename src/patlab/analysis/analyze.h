@@ -3,7 +3,9 @@
 // CSV files (e.g. written by `patlab detect --track`). Each sample's error is estimated as the
 // sample minus the Gaussian-smoothed track (sigma = 10 samples, stats/smoothing.h); the
 // statistics of those residuals are error_stats.h's, shared with the simulated experiment
-// (`patlab track`). docs/analyze.md has the method, its bias and its limits.
+// (`patlab track`). docs/analyze.md has the method, its bias and its limits. Other detrendings
+// (AnalyzeOptions::detrend): a straight line or a mean per segment. Each std's 95% interval
+// allows for the errors' autocorrelation (error_stats.h, kStdIntervalMethod).
 //
 // Gaps. A track is split where its frame numbers jump (missed frames); each gap-free segment is
 // smoothed alone (never across a gap) and only where the whole kernel lies inside it: the first
@@ -23,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "patlab/core/enum_names.h"
 #include "patlab/core/options.h"
 #include "patlab/stats/error_stats.h"
 #include "patlab/stats/smoothing.h"
@@ -63,14 +66,28 @@ std::vector<MeasuredTrack> ReadTrackCsv(const std::string& path, const TrackColu
 std::vector<MeasuredTrack> ParseTrackCsv(std::string_view text, const std::string& source_name,
                                          const TrackColumns& columns);
 
+// What a sample's error is measured against (the trend of its gap-free segment): the
+// Gaussian-smoothed track (the paper's, the default; the segment's first and last kernel radius
+// samples dropped), the least-squares straight line through the segment's samples against their
+// frame index (a subject moving at constant speed), or the segment's mean (a subject at rest).
+enum class Detrend { kSmooth, kLinear, kNone };
+inline constexpr EnumNames<Detrend, 3> kDetrendNames{{{
+    {Detrend::kSmooth, "smooth"},
+    {Detrend::kLinear, "linear"},
+    {Detrend::kNone, "none"},
+}}};
+
 struct AnalyzeOptions {
+  Detrend detrend = Detrend::kSmooth;
   stats::SmoothingOptions smoothing;  // sigma_samples > 0 (the paper's 10), truncate_sigmas
   int lag = 1;                        // lag of the reported autocorrelation, >= 1 (Fig. 6: 1)
-  // Divide the estimated stds and their intervals by stats::ResidualStdFactor (white errors).
+  // Divide the estimated stds and their intervals by stats::ResidualStdFactor (white errors;
+  // detrend smooth only: a line or a mean costs 2 or 1 of a segment's degrees of freedom, a bias
+  // below 0.1% for segments of 1000 samples, and the factor is then 1).
   bool correct_bias = false;
   // Rotate each segment's errors into its direction of travel (x along the line from the first to
   // the last smoothed position of the kept samples, y across it: the paper's convention) instead
-  // of the file's axes.
+  // of the file's axes. Needs detrend smooth or linear (a mean has no direction).
   bool along_travel = false;
   // Called after each subject is analysed (subjects done, subjects in all); empty = no reports.
   std::function<void(int, int)> progress;
@@ -92,13 +109,15 @@ struct SubjectAnalysis {
 
 struct AnalyzeReport {
   AnalyzeOptions options;
+  // One line per std whose iid interval is off (stats::IidIntervalWarning), for stderr.
+  std::vector<std::string> warnings;
   std::vector<std::string> runs;  // names; ErrorSegment::run indexes them
   std::vector<SubjectAnalysis> subjects;
   std::vector<stats::PairedTest> tests;  // "est" and, with a truth file, "true"
-  int radius = 0;                        // kernel radius: samples dropped per segment end
-  int min_segment = 0;                   // 2 radius + 1
-  double residual_factor = 0.0;          // stats::ResidualStdFactor
-  double white_noise_lag = 0.0;          // lag-k autocorrelation of the residuals of white noise
+  int radius = 0;                // kernel radius: samples dropped per segment end (0 unless smooth)
+  int min_segment = 0;           // smooth: 2 radius + 1; linear: 3; none: 2
+  double residual_factor = 0.0;  // stats::ResidualStdFactor (smooth), 1 otherwise
+  double white_noise_lag = 0.0;  // lag-k autocorrelation of the residuals of white noise (smooth)
 };
 
 // Analyses `tracks` (several subjects and runs). `truth` (optional, same subjects and runs, every

@@ -30,7 +30,8 @@ std::vector<stats::ErrorSegment> Segments(const std::vector<SubjectRun>& runs, b
   return segments;
 }
 
-TableRow MakeRow(const std::string& subject, const std::vector<SubjectRun>& runs) {
+TableRow MakeRow(const std::string& subject, const std::vector<SubjectRun>& runs,
+                 int smoothing_radius) {
   TableRow row;
   row.subject = subject;
   size_t samples = 0;
@@ -42,12 +43,21 @@ TableRow MakeRow(const std::string& subject, const std::vector<SubjectRun>& runs
     throw InputError("subject " + row.subject + " was found in fewer than 2 frames; expected a " +
                      "patch the segmentation can see (check the levels and the noise)");
   }
-  const stats::ErrorSummary est = stats::SummariseErrors(Segments(runs, true));
+  const stats::ErrorSummary est =
+      stats::SummariseErrors(Segments(runs, true), 1, 2 * smoothing_radius);
   const stats::ErrorSummary truth = stats::SummariseErrors(Segments(runs, false));
   row.est_x = est.x;
   row.est_y = est.y;
   row.true_x = truth.x;
   row.true_y = truth.y;
+  row.est_x_iid = est.x_iid;
+  row.est_y_iid = est.y_iid;
+  row.true_x_iid = truth.x_iid;
+  row.true_y_iid = truth.y_iid;
+  row.est_size_x = est.size_x;
+  row.est_size_y = est.size_y;
+  row.true_size_x = truth.size_x;
+  row.true_size_y = truth.size_y;
   row.true_mean_x_mm = truth.mean_x;
   row.true_mean_y_mm = truth.mean_y;
   row.est_lag1_x = est.lag_x;
@@ -62,12 +72,26 @@ nlohmann::json StdJson(const stats::StdWithCi& s) {
   return {{"std", s.std}, {"lower", s.lower}, {"upper", s.upper}, {"n", s.n}};
 }
 
+nlohmann::json StdJson(const stats::StdWithCi& s, const stats::StdWithCi& iid,
+                       const stats::EffectiveSize& size) {
+  nlohmann::json j = StdJson(s);
+  j["iid_lower"] = iid.lower;
+  j["iid_upper"] = iid.upper;
+  j["lag1"] = size.lag1;
+  j["tau"] = size.tau;
+  j["tau_lags"] = size.lags;
+  return j;
+}
+
 nlohmann::json TableJson(const std::vector<TableRow>& table) {
   nlohmann::json rows = nlohmann::json::array();
   for (const TableRow& r : table) {
-    nlohmann::json row = {{"subject", r.subject},        {"est_x", StdJson(r.est_x)},
-                          {"est_y", StdJson(r.est_y)},   {"true_x", StdJson(r.true_x)},
-                          {"true_y", StdJson(r.true_y)}, {"missed_frames", r.missed_frames}};
+    nlohmann::json row = {{"subject", r.subject},
+                          {"est_x", StdJson(r.est_x, r.est_x_iid, r.est_size_x)},
+                          {"est_y", StdJson(r.est_y, r.est_y_iid, r.est_size_y)},
+                          {"true_x", StdJson(r.true_x, r.true_x_iid, r.true_size_x)},
+                          {"true_y", StdJson(r.true_y, r.true_y_iid, r.true_size_y)},
+                          {"missed_frames", r.missed_frames}};
     if (r.has_theta) {
       row["est_theta"] = StdJson(r.est_theta);
       row["true_theta"] = StdJson(r.true_theta);
@@ -108,7 +132,7 @@ void AddOptionsJson(const TrackOptions& o, nlohmann::json* j) {
 std::vector<TableRow> MakeTable(const TrackResult& result) {
   std::vector<TableRow> rows;
   for (size_t k = 0; k < result.subjects.size(); ++k) {
-    rows.push_back(MakeRow(result.subjects[k], result.data[k]));
+    rows.push_back(MakeRow(result.subjects[k], result.data[k], result.smoothing_radius));
   }
   return rows;
 }
@@ -133,20 +157,26 @@ std::vector<SizeTest> MakeSizeTests(const TrackResult& result) {
 
 std::string TableCsv(const std::vector<TableRow>& rows) {
   std::string csv =
-      "subject,n,est_sx_mm,est_sx_lo,est_sx_hi,est_sy_mm,est_sy_lo,est_sy_hi,true_sx_mm,"
-      "true_sx_lo,true_sx_hi,true_sy_mm,true_sy_lo,true_sy_hi,est_over_true_x,est_over_true_y,"
+      "subject,n,est_sx_mm,est_sx_lo,est_sx_hi,est_sx_iid_lo,est_sx_iid_hi,est_sy_mm,est_sy_lo,"
+      "est_sy_hi,est_sy_iid_lo,est_sy_iid_hi,true_sx_mm,true_sx_lo,true_sx_hi,true_sx_iid_lo,"
+      "true_sx_iid_hi,true_sy_mm,true_sy_lo,true_sy_hi,true_sy_iid_lo,true_sy_iid_hi,"
+      "est_over_true_x,est_over_true_y,"
       "true_mean_x_mm,true_mean_y_mm,est_lag1_x,est_lag1_y,est_stheta_rad,true_stheta_rad,"
       "missed_frames\n";
   io::CsvWriter w(&csv);
-  auto ci = [&w](const stats::StdWithCi& s) {
-    w.Cells({FormatFixed(s.std, 4), FormatFixed(s.lower, 4), FormatFixed(s.upper, 4)});
+  auto ci = [&w](const stats::StdWithCi& s, const stats::StdWithCi& iid) {
+    w.Cells({FormatFixed(s.std, 4), FormatFixed(s.lower, 4), FormatFixed(s.upper, 4),
+             FormatFixed(iid.lower, 4), FormatFixed(iid.upper, 4)});
   };
   auto theta = [](const TableRow& r, const stats::StdWithCi& s) {
     return r.has_theta ? FormatSignificant(s.std, 4) : std::string();
   };
   for (const TableRow& r : rows) {
     w.Cell(r.subject).Cell(static_cast<int64_t>(r.est_x.n));
-    for (const stats::StdWithCi* s : {&r.est_x, &r.est_y, &r.true_x, &r.true_y}) ci(*s);
+    ci(r.est_x, r.est_x_iid);
+    ci(r.est_y, r.est_y_iid);
+    ci(r.true_x, r.true_x_iid);
+    ci(r.true_y, r.true_y_iid);
     w.Cells({FormatFixed(r.est_x.std / r.true_x.std, 3), FormatFixed(r.est_y.std / r.true_y.std, 3),
              FormatFixed(r.true_mean_x_mm, 4), FormatFixed(r.true_mean_y_mm, 4),
              FormatFixed(r.est_lag1_x, 3), FormatFixed(r.est_lag1_y, 3), theta(r, r.est_theta),

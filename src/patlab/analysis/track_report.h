@@ -16,7 +16,11 @@ namespace patlab::analysis {
 // Table I rows: per subject, std with 95% CI of the estimated and of the true error, per axis.
 struct TableRow {
   std::string subject;
+  // Each interval on the effective dof of the autocorrelated errors (error_stats.h); the iid
+  // intervals and the effective sizes beside them.
   stats::StdWithCi est_x, est_y, true_x, true_y;
+  stats::StdWithCi est_x_iid, est_y_iid, true_x_iid, true_y_iid;
+  stats::EffectiveSize est_size_x, est_size_y, true_size_x, true_size_y;
   double true_mean_x_mm = 0.0, true_mean_y_mm = 0.0;  // bias of the measurement
   double est_lag1_x = 0.0, est_lag1_y = 0.0;          // lag-1 autocorrelation (Fig. 6)
   bool has_theta = false;

@@ -341,6 +341,9 @@ TrackResult RunTrack(const TrackOptions& o, const TrackRunOptions& run_options) 
   Validate(o);
   const auto start = std::chrono::steady_clock::now();
   TrackResult result;
+  stats::SmoothingOptions smoothing;
+  smoothing.sigma_samples = o.smoothing_sigma_samples;
+  result.smoothing_radius = static_cast<int>(stats::GaussianKernel(smoothing).size()) - 1;
   result.subjects = SubjectNames(o);
   for (int run = 0; run < o.runs; ++run) result.setups.push_back(MakeRunSetup(o, run));
   result.threads =

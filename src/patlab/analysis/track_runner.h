@@ -76,6 +76,7 @@ struct TrackResult {
   std::vector<std::string> subjects;          // SubjectNames(): "40mm", ..., the pattern name
   std::vector<std::vector<SubjectRun>> data;  // [subject][run]
   std::vector<RunSetup> setups;               // per run
+  int smoothing_radius = 0;  // radius (samples) of the kernel behind the estimated errors
   double wall_seconds = 0.0;
   double measure_seconds = 0.0;   // stage 1: render, segment, camera (and fast estimator)
   double analysis_seconds = 0.0;  // stage 2: smoothing residuals, track-frame errors

@@ -91,6 +91,9 @@ struct FitOptions {
   // the full fit) and its back-projection measured against its target. More folds: each refit
   // closer to the full fit's data, more time (one refit each). 0: not computed.
   int holdout_folds = 5;
+  // A start camera of the caller's own (the automatic field calibration's, auto_calibrate.h):
+  // when set, the fit starts from it alone and needs no known points.
+  std::optional<camera::PinholeCamera> start_camera;
 };
 
 struct CalibrationInput {

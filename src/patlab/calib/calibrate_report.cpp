@@ -171,11 +171,14 @@ std::string CalibrationFileText(const CalibrationInput& input, const Calibration
   std::string out =
       "# Fitted by `patlab calibrate " + input.loc.file +
       "` (patlab " PATLAB_VERSION "): " + std::to_string(fit.observations) + " pixels, RMS " +
-      FormatFixed(fit.rms_px, 3) + " px, worst " + FormatFixed(fit.worst_px, 3) +
-      " px.\n# Held-out mapping error " + FormatFixed(fit.heldout_rms_mm, 2) + " mm RMS (" +
-      std::to_string(fit.heldout_folds) +
-      "-fold cross-validation: points not used in the fit, their noise included); rms_mm is "
-      "in-sample.\n"
+      FormatFixed(fit.rms_px, 3) + " px, worst " + FormatFixed(fit.worst_px, 3) + " px.\n# " +
+      (fit.heldout_folds > 0
+           ? "Held-out mapping error " + FormatFixed(fit.heldout_rms_mm, 2) + " mm RMS (" +
+                 std::to_string(fit.heldout_folds) +
+                 "-fold cross-validation: points not used in the fit, their noise included); "
+                 "rms_mm is in-sample.\n"
+           : std::string("No cross-validated mapping error (holdout_folds = 0); rms_mm is "
+                         "in-sample.\n")) +
       "# plane_mm  pixels  rms_px  worst_px  rms_mm  heldout_mm  worst_mm\n";
   out += PlaneLines(fit, "# ");
   out += "# Camera centre " + Vector3(fit.camera_centre_mm) + " mm, tilt " +
@@ -217,10 +220,13 @@ std::string FitReportText(const CalibrationInput& input, const CalibrationFit& f
   out += "  camera centre " + Vector3(fit.camera_centre_mm) + " mm, tilt " +
          FormatFixed(TiltDeg(c), 2) + " deg\n";
   out += "residuals: RMS " + FormatFixed(fit.rms_px, 3) + " px, worst " +
-         FormatFixed(fit.worst_px, 3) + " px; held-out mapping error " +
-         FormatFixed(fit.heldout_rms_mm, 2) + " mm RMS (" + std::to_string(fit.heldout_folds) +
-         "-fold cross-validation: points not used in the fit, mapped by the camera fitted without "
-         "them, their noise included; rms_mm is in-sample)\n"
+         FormatFixed(fit.worst_px, 3) + " px; " +
+         (fit.heldout_folds > 0
+              ? "held-out mapping error " + FormatFixed(fit.heldout_rms_mm, 2) + " mm RMS (" +
+                    std::to_string(fit.heldout_folds) +
+                    "-fold cross-validation: points not used in the fit, mapped by the camera "
+                    "fitted without them, their noise included; rms_mm is in-sample)\n"
+              : std::string("no cross-validated mapping error (holdout_folds = 0)\n")) +
          "  plane_mm   pixels   rms_px worst_px   rms_mm heldout_mm worst_mm\n" +
          PlaneLines(fit, "  ");
   out +=

@@ -92,6 +92,7 @@ bool HasFourInGeneralPosition(const std::vector<const PointObservation*>& pts) {
 // At least four known points on one plane, no three of them on a line, so that the plane
 // homography of the start is determined.
 void CheckStartPoints(const CalibrationInput& in) {
+  if (in.options.start_camera) return;  // the caller's own start
   const auto pts = PointsOnPlane(in, StartPlane(in));
   if (pts.size() < 4) {
     throw InputError(in.loc, "the input has " + std::to_string(pts.size()) +
@@ -245,6 +246,22 @@ double PointsRms(const FitState& s, const std::vector<const PointObservation*>& 
 // each and keeps the best.
 std::vector<FitState> StartCandidates(const CalibrationInput& in) {
   const FitOptions& o = in.options;
+  if (o.start_camera) {
+    const camera::PinholeCamera& cam = *o.start_camera;
+    FitState s;
+    s.intrinsics = {cam.fx_px, cam.fy_px / cam.fx_px, cam.cx_px, cam.cy_px, cam.k1, cam.k2};
+    const Eigen::AngleAxisd aa(cam.rotation);
+    const Eigen::Vector3d rv = aa.angle() * aa.axis();
+    s.pose = {rv.x(),
+              rv.y(),
+              rv.z(),
+              cam.translation_mm.x(),
+              cam.translation_mm.y(),
+              cam.translation_mm.z()};
+    std::vector<std::string> notes;
+    StartNuisance(in, s, notes);
+    return {s};
+  }
   const Vec2 c = o.principal_point_px.value_or(
       Vec2(0.5 * (in.image_width_px - 1), 0.5 * (in.image_height_px - 1)));
   const double plane = StartPlane(in);

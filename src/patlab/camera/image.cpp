@@ -23,6 +23,28 @@ Image ToRgb(const Image& image) {
   return rgb;
 }
 
+Image ToRgb(const ImageView& view) {
+  Image packed;
+  packed.width_px = view.width_px;
+  packed.height_px = view.height_px;
+  packed.format = view.format;
+  packed.data.resize(static_cast<size_t>(view.width_px) * view.height_px * view.BytesPerPixel());
+  const int channels = view.format == PixelFormat::kRgb8 ? 3 : 1;
+  const int per_row = view.format == PixelFormat::kRgb8 ? view.width_px : view.width_px * 2;
+  const std::ptrdiff_t step = view.format == PixelFormat::kRgb8 ? view.pixel_stride : 1;
+  for (int y = 0; y < view.height_px; ++y) {
+    const uint8_t* in = view.Row(y);
+    uint8_t* out = packed.Row(y);
+    for (int x = 0; x < per_row; ++x) {
+      for (int c = 0; c < channels; ++c) {
+        out[channels * x + c] = in[x * step + c * view.channel_stride];
+      }
+    }
+  }
+  if (packed.format == PixelFormat::kRgb8) return packed;
+  return ToRgb(packed);
+}
+
 Image ToUyvy(const Image& image) {
   if (image.format == PixelFormat::kUyvy) return image;
   PATLAB_CHECK(image.width_px % 2 == 0);

@@ -1,4 +1,6 @@
-// A decoded camera frame in memory, in the two layouts cameras and image files deliver.
+// A decoded camera frame in memory, in the two layouts cameras and image files deliver: Image owns
+// its packed pixels; ImageView reads pixels where they already are (a numpy array, a camera's
+// buffer), with any strides, and is what the vision pipeline consumes.
 #pragma once
 
 #include <cstddef>
@@ -35,6 +37,40 @@ struct Image {
   }
 };
 
+// A frame's pixels in memory the view does not own (they must outlive its use), laid out with
+// any strides in bytes, of any sign: channel c of pixel (i, j) is the byte at
+//   data + j * row_stride + i * pixel_stride + c * channel_stride.
+// An Image converts to the view of its packed rows (as std::string to std::string_view), so
+// every function that takes a view takes an Image. RGB views may have any strides (a numpy
+// (H, W, 3) array, its [:, :, ::-1] view of BGR bytes, the RGB channels of an RGBA buffer, a
+// crop); UYVY views must have packed pixel pairs (pixel_stride 2, channel_stride 1) and any row
+// stride.
+struct ImageView {
+  const uint8_t* data = nullptr;  // channel 0 of pixel (0, 0)
+  int width_px = 0;
+  int height_px = 0;
+  PixelFormat format = PixelFormat::kRgb8;
+  std::ptrdiff_t row_stride = 0;
+  std::ptrdiff_t pixel_stride = 0;
+  std::ptrdiff_t channel_stride = 1;
+
+  ImageView() = default;
+  ImageView(const Image& image)  // NOLINT(google-explicit-constructor): as string_view
+      : data(image.data.data()),
+        width_px(image.width_px),
+        height_px(image.height_px),
+        format(image.format),
+        row_stride(image.RowBytes()),
+        pixel_stride(image.BytesPerPixel()),
+        channel_stride(1) {}
+
+  int BytesPerPixel() const { return format == PixelFormat::kRgb8 ? 3 : 2; }
+  // Pixels packed along each row (the rows themselves may be anywhere): row y is then
+  // width_px * BytesPerPixel() consecutive bytes from Row(y), as in an Image.
+  bool PackedPixels() const { return pixel_stride == BytesPerPixel() && channel_stride == 1; }
+  const uint8_t* Row(int y) const { return data + static_cast<std::ptrdiff_t>(y) * row_stride; }
+};
+
 // ITU-R BT.601 full-range conversions, the ones CMVision's YUV thresholds and UYVY cameras use.
 // Fixed point with 8 fraction bits; every output is clamped to 0..255.
 inline void RgbToYuv(int r, int g, int b, int* y, int* u, int* v) {
@@ -54,6 +90,8 @@ inline void YuvToRgb(int y, int u, int v, int* r, int* g, int* b) {
 
 // Converts a frame to packed RGB (a copy when it already is).
 Image ToRgb(const Image& image);
+// The viewed frame as a packed RGB image of its own (a copy, converted from UYVY).
+Image ToRgb(const ImageView& view);
 // Converts an RGB frame to UYVY (U and V averaged over each pixel pair); width must be even.
 Image ToUyvy(const Image& image);
 

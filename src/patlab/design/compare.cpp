@@ -14,6 +14,7 @@
 #include "patlab/formats/detector_settings.h"
 #include "patlab/io/csv.h"
 #include "patlab/stats/intervals.h"
+#include "patlab/stats/noncentral_chi2.h"
 
 namespace patlab::design {
 
@@ -22,8 +23,8 @@ namespace {
 using json = nlohmann::ordered_json;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// One-sided normal quantile of 1e-3: the wrong rotation passes in 1 of 1000 fits at the onset.
-constexpr double kOnsetZ = 3.090232306167813;
+// The wrong rotation passes the detector's test in 1 of 1000 fits at the onset.
+constexpr double kOnsetP = 0.001;
 // ML against fast: 5 tests (KS x, y, theta; Wilcoxon position, theta) at a family-wise 5%
 // (Bonferroni): each p below 0.01 counts as a difference.
 constexpr double kTestAlpha = 0.01;
@@ -71,10 +72,20 @@ double WrongRotationError(const Pattern& pattern, const detect::Symmetry& symmet
   return std::max(0.0, sq - 2.0 * std::sqrt(a * a + b * b));
 }
 
-// The root s > 0 of E0 + (dof - chi2) s^2 - 2 z sqrt(E0) s = 0 (see DesignGeometry).
+// The sigma at which the wrong rotation's rigid-fit error E passes the detector's test
+// E <= chi2 sigma^2 in kOnsetP of the fits: E / sigma^2 is noncentral chi-square with dof degrees
+// of freedom and noncentrality E0 / sigma^2 (see DesignGeometry), so sigma = sqrt(E0 / lambda*)
+// with lambda* the noncentrality at which P(chi'^2(dof, lambda*) <= chi2) = kOnsetP. lambda*
+// depends on (dof, chi2) alone: the last one is kept, since the layout search asks for it with
+// the same pair for every layout.
 double RotationOnsetSigma(double e0, int dof, double chi2) {
-  const double qa = chi2 - dof, qb = 2.0 * kOnsetZ * std::sqrt(e0);
-  return (-qb + std::sqrt(qb * qb + 4.0 * qa * e0)) / (2.0 * qa);
+  thread_local double last_dof = -1.0, last_chi2 = -1.0, last_lambda = 0.0;
+  if (static_cast<double>(dof) != last_dof || chi2 != last_chi2) {
+    last_lambda = stats::NoncentralityForCdf(dof, chi2, kOnsetP);
+    last_dof = dof;
+    last_chi2 = chi2;
+  }
+  return std::sqrt(e0 / last_lambda);
 }
 
 namespace {

@@ -57,10 +57,12 @@ struct DesignGeometry {
   // sigma0 = sqrt(E0 / chi2): the patch sigma (mm) at which the detector's tolerance reaches the
   // wrong rotation without noise.
   double rotation_sigma0_mm = 0.0;
-  // The onset with noise (first order: E of the wrong rotation ~ E0 + (2m-3) sigma^2 +
-  // 2 sqrt(E0) sigma N(0, 1)): the sigma at which it passes in 1 of 1000 fits,
-  // E0 + (2m-3) s^2 - 3.09 * 2 sqrt(E0) s = chi2 s^2. Validated against detect-mode frames in
-  // docs/compare.md (SSL standard: 3.5 mm here, 3.5-3.75 mm measured).
+  // The onset with noise: the rigid-fit error E of the wrong rotation, over sigma^2, is
+  // noncentral chi-square with 2m - 3 degrees of freedom and noncentrality E0 / sigma^2 (exact
+  // for isotropic Gaussian patch noise and a rigid fit linear in the noise); the onset is the
+  // sigma at which it passes the test, E <= chi2 sigma^2, in 1 of 1000 fits
+  // (stats/noncentral_chi2.h). The first-order normal approximation used before put it 7-11%
+  // lower. Validated against detect-mode frames in docs/compare.md.
   double rotation_onset_mm = 0.0;
 };
 DesignGeometry ComputeDesignGeometry(const Pattern& pattern, const detect::Symmetry& symmetry);
@@ -68,7 +70,8 @@ DesignGeometry ComputeDesignGeometry(const Pattern& pattern, const detect::Symme
 // The pieces of the rotation fix above, for callers that evaluate many layouts of one size (the
 // layout search of design/design.h): the noise-free E (mm^2) of circular position j matched to
 // j + shift; the detector's chi2_{2m-3}^-1(0.9999) for the pattern (builds a detector: call it
-// once per pattern size); the onset sigma (mm) from E0, dof = 2m - 3 and that quantile.
+// once per pattern size); the onset sigma (mm) from E0, dof = 2m - 3 and that quantile (exact
+// noncentral chi-square, as DesignGeometry::rotation_onset_mm).
 double WrongRotationError(const Pattern& pattern, const detect::Symmetry& symmetry, int shift);
 double DetectorChiSquared(const Pattern& pattern, double tolerance_mm);
 double RotationOnsetSigma(double e0_mm2, int dof, double chi2);

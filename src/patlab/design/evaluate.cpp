@@ -8,6 +8,7 @@
 #include "patlab/core/format.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/detector_settings.h"
+#include "patlab/sim/runner.h"
 
 namespace patlab::design {
 
@@ -154,7 +155,8 @@ std::vector<OptionsProblem> Check(const EvaluateOptions& o) {
   }
   sim::CheckFrames(o.frames, "--frames", &check);
   sim::CheckSigmas(o.sigmas_mm, "--sigmas", &check);
-  check.Require("--threads", o.threads, o.threads >= 0, ">= 0");
+  check.Require("--threads", o.threads, o.threads >= 0 && o.threads <= sim::kMaxThreads,
+                "0 (all cores) to " + std::to_string(sim::kMaxThreads));
   return check.Take();
 }
 

@@ -125,12 +125,31 @@ ShiftFit FitShift(const std::vector<Vec2>& q, int shift) {
   return fit;
 }
 
-bool PreservesRoles(const Pattern& pattern, const std::vector<int>& circular_order, int shift) {
+// Size classes of the patches: radii sorted, a new class wherever two neighbours' diameters
+// differ by more than tolerance_mm (single linkage, so that "of the same size" is an equivalence
+// and the shifts that keep it form a group). The key is classed with the others; no shift moves it.
+std::vector<int> SizeClasses(const Pattern& pattern, double tolerance_mm) {
+  std::vector<std::pair<double, int>> by_radius;
+  for (int i = 0; i < pattern.size(); ++i) by_radius.emplace_back(pattern.patches[i].radius_mm, i);
+  std::sort(by_radius.begin(), by_radius.end());
+  std::vector<int> size_class(pattern.size(), 0);
+  int current = 0;
+  for (size_t k = 1; k < by_radius.size(); ++k) {
+    if (2.0 * (by_radius[k].first - by_radius[k - 1].first) > tolerance_mm) ++current;
+    size_class[by_radius[k].second] = current;
+  }
+  return size_class;
+}
+
+bool PreservesRoles(const Pattern& pattern, const std::vector<int>& size_class,
+                    const std::vector<int>& circular_order, int shift) {
   const int m = static_cast<int>(circular_order.size());
   for (int j = 0; j < m; ++j) {
-    const Patch& from = pattern.patches[circular_order[j]];
-    const Patch& to = pattern.patches[circular_order[(j + shift) % m]];
-    if (from.role != to.role || (from.role == PatchRole::kFixed && from.colour != to.colour)) {
+    const int a = circular_order[j], b = circular_order[(j + shift) % m];
+    const Patch& from = pattern.patches[a];
+    const Patch& to = pattern.patches[b];
+    if (from.role != to.role || (from.role == PatchRole::kFixed && from.colour != to.colour) ||
+        size_class[a] != size_class[b]) {
       return false;
     }
   }
@@ -158,11 +177,12 @@ Symmetry FindSymmetry(const Pattern& pattern, double tolerance_mm) {
   }
 
   const int m = static_cast<int>(q.size());
+  const std::vector<int> size_class = SizeClasses(pattern, tolerance_mm);
   int generator = m;  // gcd of m and the accepted shifts: the group is its multiples
   for (int shift = 0; shift < m; ++shift) {
     ShiftFit fit = FitShift(q, shift);
     fit.accepted = fit.residual_mm <= tolerance_mm || shift == 0;
-    fit.preserves_roles = PreservesRoles(pattern, symmetry.circular_order, shift);
+    fit.preserves_roles = PreservesRoles(pattern, size_class, symmetry.circular_order, shift);
     if (fit.accepted) {
       symmetry.shifts.push_back(shift);
       symmetry.angles_rad.push_back(fit.angle_rad);
@@ -206,7 +226,7 @@ std::string SymmetryTable(const Symmetry& symmetry, const std::string& indent) {
                                           : "rejected: residual > tolerance";
     const char* decided = fit.shift == 0         ? "-"
                           : !fit.in_group        ? "geometry"
-                          : !fit.preserves_roles ? "fixed colours"
+                          : !fit.preserves_roles ? "fixed colours or sizes"
                                                  : "ID colours";
     out += indent + StringPrintf("%-5d  %-9s  %-11s  %-46s %s\n", fit.shift,
                                  FormatFixed(deg, 1).c_str(),

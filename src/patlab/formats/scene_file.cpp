@@ -1,5 +1,6 @@
 #include "patlab/formats/scene_file.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -7,6 +8,7 @@
 #include "patlab/core/format.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
+#include "patlab/formats/field_file.h"
 #include "patlab/formats/pattern_file.h"
 #include "patlab/io/toml_util.h"
 
@@ -92,6 +94,32 @@ camera::Calibration ReadCalibration(const io::TomlReader& top, const std::string
   return calibration;
 }
 
+// A robot whose top the camera cannot see (outside the frame, behind the camera, beyond the
+// distortion's fold) would render as nothing: refused at its x_mm.
+void CheckRobotInView(const io::TomlReader& r, const render::RobotPlacement& robot,
+                      const camera::Calibration& calibration, const render::FieldScene& scene) {
+  const auto& options = scene.options;
+  const Vec2 at(robot.pose.x_mm, robot.pose.y_mm);
+  std::optional<Vec2> pixel;
+  if (calibration.camera.SupportsHeight(options.robot_height_mm)) {
+    pixel = calibration.camera.WorldToPixel(at, options.robot_height_mm);
+  }
+  if (pixel && pixel->x() >= 0 && pixel->y() >= 0 && pixel->x() <= options.width_px &&
+      pixel->y() <= options.height_px) {
+    return;
+  }
+  std::string message =
+      "robot at (" + FormatNumber(robot.pose.x_mm) + ", " + FormatNumber(robot.pose.y_mm) + ") mm";
+  message.append(" is outside the field the camera sees (")
+      .append(pixel ? "pixel (" + std::to_string(std::lround(pixel->x())) + ", " +
+                          std::to_string(std::lround(pixel->y())) + ")"
+                    : std::string("not in front of the camera"))
+      .append(", the frame is " + std::to_string(options.width_px) + "x" +
+              std::to_string(options.height_px) + ")")
+      .append("; expected a robot whose centre is inside the rendered frame");
+  r.Fail("x_mm", message);
+}
+
 render::RobotPlacement ReadRobot(const io::TomlReader& r, const render::FieldScene& scene) {
   r.CheckKeys({"team", "id", "x_mm", "y_mm", "theta_rad"});
   render::RobotPlacement robot;
@@ -150,7 +178,8 @@ SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
                          const std::string& base_dir) {
   const toml::table root = io::ParseTomlText(text, source_name);
   const io::TomlReader top(root, source_name);
-  top.CheckKeys({"calibration", "pattern", "codebook", "render", "colours", "robot", "ball"});
+  top.CheckKeys(
+      {"calibration", "pattern", "codebook", "field", "render", "colours", "robot", "ball"});
   SceneFile file;
   file.calibration = ReadCalibration(top, base_dir);
   render::FieldScene& scene = file.scene;
@@ -165,6 +194,8 @@ SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
   scene.pattern = std::move(worn.pattern);
   scene.codebook = std::move(worn.codebook);
   ReadColours(top, &scene);
+  if (root.contains("field"))
+    scene.field = formats::LoadField(ExistingFile(top, "field", base_dir));
   if (const toml::node* robots = root.get("robot")) {
     const toml::array* list = robots->as_array();
     if (list == nullptr || !list->is_array_of_tables()) {
@@ -174,6 +205,7 @@ SceneFile ParseSceneFile(std::string_view text, const std::string& source_name,
       const io::TomlReader r(*list->get(i)->as_table(), source_name,
                              "[[robot]] " + std::to_string(i + 1));
       scene.robots.push_back(ReadRobot(r, scene));
+      CheckRobotInView(r, scene.robots.back(), file.calibration, scene);
     }
   }
   if (top.Has("ball")) {

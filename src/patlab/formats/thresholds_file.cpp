@@ -2,10 +2,12 @@
 
 #include <cctype>
 #include <charconv>
+#include <cstdint>
 #include <cstdlib>
 #include <sstream>
 
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/csv.h"
 #include "patlab/io/name.h"
@@ -99,6 +101,24 @@ void CheckRange(const FileLoc& loc, const char* channel, long lo, long hi) {
   }
 }
 
+// CMVision's merge is a density, a fraction of a region's bounding box; expected_num counts the
+// regions a frame holds; the areas are at most a frame's pixel budget (vision/frame_io.cpp).
+constexpr long kMaxExpectedNum = 1'000'000;
+constexpr int64_t kMaxAreaPx = int64_t{1} << 28;
+
+// What is wrong with a class's merge density (a number in [0, 1]; NaN fails both comparisons),
+// "is <value>; expected ...", or "" when nothing is.
+std::string MergeProblem(double merge) {
+  if (merge >= 0.0 && merge <= 1.0) return "";
+  return "is " + FormatNumber(merge) + "; expected a density in [0, 1]";
+}
+
+std::string ExpectedNumProblem(int64_t expected) {
+  if (expected >= 0 && expected <= kMaxExpectedNum) return "";
+  return "is " + std::to_string(expected) + "; expected an integer in [0, " +
+         std::to_string(kMaxExpectedNum) + "]";
+}
+
 enum class Section { kNone, kColors, kThresholds };
 
 // CMVision compares section names without regard to case ([colors], [COLORS], [Colors]).
@@ -148,8 +168,11 @@ vision::ColorClass ParseColorsLine(const FileLoc& loc, const std::string& line,
           loc, "display colour component " + std::to_string(v) + " out of range; expected 0..255");
     }
   }
-  if (expected < 0) {
-    throw InputError(loc, "expected_num " + std::to_string(expected) + "; expected >= 0");
+  if (const std::string problem = MergeProblem(merge); !problem.empty()) {
+    throw InputError(loc, "merge " + problem);
+  }
+  if (const std::string problem = ExpectedNumProblem(expected); !problem.empty()) {
+    throw InputError(loc, "expected_num " + problem);
   }
   if (num_classes == vision::kMaxColorClasses) {
     throw InputError(loc, "colour " + std::to_string(vision::kMaxColorClasses + 1) +
@@ -308,15 +331,16 @@ void ReadDisplay(const io::TomlReader& r, const std::string& context, vision::Co
 
 void ReadAreas(const io::TomlReader& r, const std::string& context, vision::ColorClass* cls) {
   if (auto v = r.OptionalInteger("min_area_px")) {
-    if (*v < 0)
-      r.Fail("min_area_px",
-             "min_area_px " + std::to_string(*v) + " in " + context + "; expected >= 0");
+    if (*v < 0 || *v > kMaxAreaPx)
+      r.Fail("min_area_px", "min_area_px " + std::to_string(*v) + " in " + context +
+                                "; expected 0.." + std::to_string(kMaxAreaPx) + " pixels");
     cls->min_area_px = static_cast<int>(*v);
   }
   if (auto v = r.OptionalInteger("max_area_px")) {
-    if (*v < 0 || (*v > 0 && *v < cls->min_area_px))
+    if (*v < 0 || (*v > 0 && *v < cls->min_area_px) || *v > kMaxAreaPx)
       r.Fail("max_area_px", "max_area_px " + std::to_string(*v) + " in " + context +
-                                "; expected 0 (no limit) or >= min_area_px");
+                                "; expected 0 (no limit) or min_area_px.." +
+                                std::to_string(kMaxAreaPx) + " pixels");
     cls->max_area_px = static_cast<int>(*v);
   }
 }
@@ -354,7 +378,15 @@ vision::ColorClass ReadClass(const toml::node& node, const std::string& name, si
   ReadDisplay(r, context, &cls);
   ReadAreas(r, context, &cls);
   cls.merge = r.OptionalNumber("merge").value_or(0.0);
-  if (auto v = r.OptionalInteger("expected_num")) cls.expected_num = static_cast<int>(*v);
+  if (const std::string problem = MergeProblem(cls.merge); !problem.empty()) {
+    r.Fail("merge", r.Describe("merge") + " " + problem);
+  }
+  if (auto v = r.OptionalInteger("expected_num")) {
+    if (const std::string problem = ExpectedNumProblem(*v); !problem.empty()) {
+      r.Fail("expected_num", r.Describe("expected_num") + " " + problem);
+    }
+    cls.expected_num = static_cast<int>(*v);
+  }
   return cls;
 }
 

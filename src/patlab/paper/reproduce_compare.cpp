@@ -81,10 +81,12 @@ CsvRules RulesForResultFile(const std::string& name) {
   } else if (base == "table1.csv") {
     set({"subject"}, kText);
     set({"n", "missed_frames"}, kCount);
-    set({"est_sx_mm",      "est_sx_lo",  "est_sx_hi",       "est_sy_mm",       "est_sy_lo",
-         "est_sy_hi",      "true_sx_mm", "true_sx_lo",      "true_sx_hi",      "true_sy_mm",
-         "true_sy_lo",     "true_sy_hi", "est_over_true_x", "est_over_true_y", "true_mean_x_mm",
-         "true_mean_y_mm", "est_lag1_x", "est_lag1_y",      "est_stheta_rad",  "true_stheta_rad"},
+    set({"est_sx_mm",       "est_sx_lo",       "est_sx_hi",      "est_sx_iid_lo",  "est_sx_iid_hi",
+         "est_sy_mm",       "est_sy_lo",       "est_sy_hi",      "est_sy_iid_lo",  "est_sy_iid_hi",
+         "true_sx_mm",      "true_sx_lo",      "true_sx_hi",     "true_sx_iid_lo", "true_sx_iid_hi",
+         "true_sy_mm",      "true_sy_lo",      "true_sy_hi",     "true_sy_iid_lo", "true_sy_iid_hi",
+         "est_over_true_x", "est_over_true_y", "true_mean_x_mm", "true_mean_y_mm", "est_lag1_x",
+         "est_lag1_y",      "est_stheta_rad",  "true_stheta_rad"},
         kContinuous);
   } else if (base == "table1_tests.csv") {
     set({"error", "axis", "a", "b", "smaller"}, kText);

@@ -9,6 +9,7 @@
 #include "patlab/core/gaussian.h"
 #include "patlab/core/rng.h"
 #include "patlab/io/csv.h"
+#include "patlab/render/field_render.h"
 
 namespace patlab::render {
 
@@ -199,8 +200,21 @@ camera::Image RenderScene(const FieldScene& scene, const camera::CameraModel& ca
   }
   const std::vector<Disc> discs = SceneDiscs(scene, camera);
   // Stage 1: geometry, every disc tested on the plane of the pattern tops.
-  camera::Image image = RenderWorldDiscs(o.width_px, o.height_px, camera, o.robot_height_mm,
-                                         ColourOf(scene, "field"), discs, o.supersampling);
+  const Rgb carpet = ColourOf(scene, "field");
+  camera::Image image = RenderWorldDiscs(o.width_px, o.height_px, camera, o.robot_height_mm, carpet,
+                                         discs, o.supersampling);
+  if (scene.field) {  // the lines show where no disc covers the carpet
+    FieldLineStyle style;
+    style.carpet = carpet;
+    const camera::Image lines =
+        RenderFieldLines(*scene.field, camera, o.width_px, o.height_px, style);
+    for (size_t i = 0; i + 2 < image.data.size(); i += 3) {
+      if (std::equal(carpet.begin(), carpet.end(), image.data.begin() + static_cast<long>(i))) {
+        std::copy_n(lines.data.begin() + static_cast<long>(i), 3,
+                    image.data.begin() + static_cast<long>(i));
+      }
+    }
+  }
   BlurAndNoise(o, &image);  // stages 2 and 3
   return image;
 }

@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "patlab/calib/field.h"
 #include "patlab/camera/camera.h"
 #include "patlab/camera/image.h"
 #include "patlab/core/geometry.h"
@@ -88,6 +89,9 @@ struct FieldScene {
   std::optional<Vec2> ball_mm;  // the ball's position on the floor, if any
   std::string ball_colour = "orange";
   RenderOptions options;
+  // When set, the field's painted lines (white, 10 mm wide, render/field_render.h) are drawn on
+  // the carpet under the robots, for frames a calibration from the lines can start from.
+  std::optional<calib::Field> field;
 };
 
 // The colour name of each patch of `pattern` (patch order) on a robot of team colour `team`

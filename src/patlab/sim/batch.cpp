@@ -267,14 +267,20 @@ void GeneralisedLeastSquares(const PointSetup& s, int m, const Scratch& w, const
   }
 }
 
-// "robust" (estimate/robust.h), trial by trial.
+// "robust" (estimate/robust.h), trial by trial; its steps and termination per trial when the
+// arrays are given.
 void RobustTrials(const PointSetup& s, int m, const Scratch& w, const ErrorArrays& out,
-                  const ErrorArrays& estimates) {
+                  const ErrorArrays& estimates, uint8_t* iterations_out, uint8_t* termination_out) {
   const estimate::Model& model = *s.model;
   std::array<Vec2, kMaxPatches> observed;
   for (int k = 0; k < m; ++k) {
     for (int i = 0; i < model.num_patches; ++i) observed[i] = Vec2(w.ox[i][k], w.oy[i][k]);
-    WritePose(estimate::Robust(model, observed.data(), s.robust, nullptr), k, w, out, estimates);
+    estimate::Summary summary;
+    WritePose(estimate::Robust(model, observed.data(), s.robust, &summary), k, w, out, estimates);
+    if (iterations_out != nullptr) {
+      iterations_out[k] = static_cast<uint8_t>(std::min(summary.iterations, 255));
+      termination_out[k] = static_cast<uint8_t>(summary.termination);
+    }
   }
 }
 
@@ -312,7 +318,8 @@ inline void RunBatchStages(const PointSetup& setup, uint64_t first_trial, int co
                       out.ml_iterations, out.ml_termination);
   }
   if (setup.run[static_cast<int>(Estimator::kRobust)]) {
-    RobustTrials(setup, m, w, errors(Estimator::kRobust), estimates(Estimator::kRobust));
+    RobustTrials(setup, m, w, errors(Estimator::kRobust), estimates(Estimator::kRobust),
+                 out.robust_iterations, out.robust_termination);
   }
 }
 

@@ -70,6 +70,9 @@ struct BatchOutput {
   ErrorArrays estimates[estimate::kNumEstimators];
   uint8_t* ml_iterations = nullptr;   // Newton steps per trial (ml only)
   uint8_t* ml_termination = nullptr;  // estimate::Termination per trial (ml only)
+  // robust: its IRLS / EM steps and estimate::Termination per trial, written when not null.
+  uint8_t* robust_iterations = nullptr;
+  uint8_t* robust_termination = nullptr;
 };
 
 // Runs trials [first_trial, first_trial + count) of a point, count <= kBatchSize, writing slot

@@ -101,7 +101,9 @@ std::string ResultsCsvRows(const std::string& noise, std::span<const PointResult
   std::string csv;
   for (const PointResult& p : points) {
     for (const EstimatorResult& r : p.estimators) {
-      const bool ml = r.estimator == estimate::Estimator::kMl;
+      // The iteration counters of the iterative estimators (ml, robust), in the ml_* columns.
+      const bool ml =
+          r.estimator == estimate::Estimator::kMl || r.estimator == estimate::Estimator::kRobust;
       const Comparison& c = r.vs_fast;
       const std::string head[] = {
           p.pattern,       std::string(estimate::EstimatorName(r.estimator)),

@@ -73,9 +73,9 @@ namespace {
 // Two sets of sample arrays: the statistics of point k (a task) run while point k + 1 is
 // simulated into the other set, so neither stage waits for the other. Each point's results are
 // computed by serial code into their own slot: the overlap changes timing only.
-// The ML counters of one batch of trials: its Newton steps, its non-converged trials and the
-// first of them (an index in the block, -1 if none). Integers, so summing the batches in order
-// gives what summing the trials would.
+// The counters of an iterative estimator (ml, robust) over one batch of trials: its steps, its
+// non-converged trials and the first of them (an index in the block, -1 if none). Integers, so
+// summing the batches in order gives what summing the trials would.
 struct MlBatch {
   int64_t iterations = 0, nonconverged = 0, first_nonconverged = -1;
 };
@@ -83,6 +83,7 @@ struct MlBatch {
 struct PointBuffers {
   Samples samples[estimate::kNumEstimators];  // indexed by estimate::Estimator
   std::vector<MlBatch> ml_batches;            // one per batch of the block
+  std::vector<MlBatch> robust_batches;        // the same for robust
   BatchOutput output;  // views of the sample arrays (the ML arrays are per batch)
 
   PointBuffers(const std::vector<Estimator>& estimators, int64_t trials) {
@@ -92,6 +93,7 @@ struct PointBuffers {
       output.errors[static_cast<int>(e)] = ErrorArrays{s.x.data(), s.y.data(), s.theta.data()};
     }
     ml_batches.resize(static_cast<size_t>((trials + kBatchSize - 1) / kBatchSize));
+    robust_batches.resize(ml_batches.size());
   }
   PointBuffers(const PointBuffers&) = delete;
   PointBuffers& operator=(const PointBuffers&) = delete;
@@ -132,7 +134,8 @@ MlBatch CountMl(const uint8_t* iterations, const uint8_t* termination, int count
 // ML counters to its slot of ml_batches (the per-trial ML arrays are the thread's, one batch
 // long, so the block holds no per-trial array but the samples).
 void RunTrials(const PointSetup& setup, int64_t first_trial, int64_t trials,
-               const BatchOutput& output, std::span<MlBatch> ml_batches) {
+               const BatchOutput& output, std::span<MlBatch> ml_batches,
+               std::span<MlBatch> robust_batches) {
   const int64_t num_batches = (trials + kBatchSize - 1) / kBatchSize;
   tbb::parallel_for(
       tbb::blocked_range<int64_t>(0, num_batches, 1),
@@ -147,12 +150,19 @@ void RunTrials(const PointSetup& setup, int64_t first_trial, int64_t trials,
             e.y_mm += first;
             e.theta_rad += first;
           }
-          thread_local std::array<uint8_t, kBatchSize> ml_iterations, ml_termination;
+          thread_local std::array<uint8_t, kBatchSize> ml_iterations, ml_termination,
+              robust_iterations, robust_termination;
           at.ml_iterations = ml_iterations.data();
           at.ml_termination = ml_termination.data();
+          at.robust_iterations = robust_iterations.data();
+          at.robust_termination = robust_termination.data();
           RunBatch(setup, static_cast<uint64_t>(first_trial + first), count, at);
           if (setup.run[static_cast<int>(Estimator::kMl)]) {
             ml_batches[b] = CountMl(ml_iterations.data(), ml_termination.data(), count, first);
+          }
+          if (setup.run[static_cast<int>(Estimator::kRobust)]) {
+            robust_batches[b] =
+                CountMl(robust_iterations.data(), robust_termination.data(), count, first);
           }
         }
       },
@@ -179,12 +189,13 @@ void FillBounds(const NoiseModel& noise, const PatternBounds& bounds, double sig
   r->predicted_theta_rad = sigma_mm * pr.theta * noise_scale;
 }
 
-// ml: non-converged trials (the first for replay, as a trial index of the point) and the Newton
-// steps of a block.
-void MlCounters(const PointBuffers& pb, int64_t first_trial, int64_t trials, EstimatorBlock* b) {
+// ml or robust: non-converged trials (the first for replay, as a trial index of the point) and
+// the steps of a block, from that estimator's batch counters.
+void MlCounters(const std::vector<MlBatch>& batch_counters, int64_t first_trial, int64_t trials,
+                EstimatorBlock* b) {
   const size_t batches = static_cast<size_t>((trials + kBatchSize - 1) / kBatchSize);
   for (size_t k = 0; k < batches; ++k) {
-    const MlBatch& m = pb.ml_batches[k];
+    const MlBatch& m = batch_counters[k];
     b->iterations += m.iterations;
     b->nonconverged += m.nonconverged;
     if (b->first_nonconverged_trial < 0 && m.first_nonconverged >= 0) {
@@ -203,7 +214,10 @@ void BlockStatistics(const Experiment& experiment, PointBuffers& pb, double sigm
   const auto fast_at = std::find(estimators.begin(), estimators.end(), Estimator::kFast);
   const size_t n = static_cast<size_t>(trials);
   for (size_t k = 0; k < estimators.size(); ++k) {
-    if (estimators[k] == Estimator::kMl) MlCounters(pb, first_trial, trials, &out[k]);
+    if (estimators[k] == Estimator::kMl) MlCounters(pb.ml_batches, first_trial, trials, &out[k]);
+    if (estimators[k] == Estimator::kRobust) {
+      MlCounters(pb.robust_batches, first_trial, trials, &out[k]);
+    }
   }
   const bool compare = first_trial == 0 && fast_at != estimators.end() && sigma_mm > 0.0;
   if (!compare) {
@@ -251,7 +265,7 @@ EstimatorResult FinishEstimator(const EstimatorResult& header, const EstimatorBl
   r.position_std_upper_mm = pooled.upper;
   r.radial_rms_mm = std::sqrt(f.sum_sq / n);
   r.radial = SummariseMoments(f.radial);
-  if (e == Estimator::kMl) {
+  if (e == Estimator::kMl || e == Estimator::kRobust) {
     r.nonconverged = f.nonconverged;
     r.first_nonconverged_trial = f.first_nonconverged_trial;
     r.mean_iterations = static_cast<double>(f.iterations) / n;
@@ -347,7 +361,7 @@ RunResult RunExperiment(const Experiment& experiment, const RunOptions& options)
     const estimate::Model model = estimate::Model::FromPattern(experiment.patterns[pi]);
     const PointSetup setup = MakePointSetup(experiment, model, pi, si);
     const auto sim_start = Clock::now();
-    RunTrials(setup, w.first, w.count, pb.output, pb.ml_batches);
+    RunTrials(setup, w.first, w.count, pb.output, pb.ml_batches, pb.robust_batches);
     result.simulate_seconds += SecondsSince(sim_start);
 
     const std::span<EstimatorBlock> out(blocks[index].estimators);
@@ -428,8 +442,8 @@ double Efficiency(double bound, double achieved) {
 
 std::vector<OptionsProblem> Check(const RunOptions& options) {
   OptionsChecker check;
-  check.Require("threads", options.threads, options.threads >= 0,
-                "an integer >= 0 (0 = all cores)");
+  check.Require("threads", options.threads, options.threads >= 0 && options.threads <= kMaxThreads,
+                "an integer in [0, " + std::to_string(kMaxThreads) + "] (0 = all cores)");
   check.Require("shard.count", options.shard.count,
                 options.shard.count >= 1 && options.shard.count <= kMaxShards,
                 "an integer in [1, " + std::to_string(kMaxShards) + "]");

@@ -32,6 +32,8 @@ struct ShardSpec {
   bool Holds(int64_t point) const { return point % count == index - 1; }
 };
 inline constexpr int kMaxShards = 100000;
+// The most worker threads a run takes: more is a typo, and each thread costs its buffers.
+inline constexpr int kMaxThreads = 4096;
 
 // Bounded memory (docs/hardening.md): a data point is run in blocks of at most this many trials
 // (or frames, in detect mode), and only one block's samples are held per estimator, so memory
@@ -118,9 +120,12 @@ struct EstimatorResult {
   double crlb_theta_rad = 0.0;
   double predicted_position_mm = 0.0;  // first-order predicted std of this estimator
   double predicted_theta_rad = 0.0;
-  int64_t nonconverged = 0;               // ml: trials whose Newton iteration did not converge
-  int64_t first_nonconverged_trial = -1;  // ml: replay it with this trial index (-1: none)
-  double mean_iterations = 0.0;           // ml: mean Newton steps
+  // ml and robust: trials whose iteration did not converge (Newton; robust's IRLS / EM: 200
+  // steps without a step below 1e-9 mm and 1e-11 rad), the first of them to replay (-1: none),
+  // and the mean steps.
+  int64_t nonconverged = 0;
+  int64_t first_nonconverged_trial = -1;
+  double mean_iterations = 0.0;
   Comparison vs_fast;
 };
 

@@ -232,6 +232,40 @@ std::vector<const ShardFile*> ByShare(const std::vector<ShardFile>& files) {
   return by_share;
 }
 
+// The blocks of each point, over every share, must tile its trials: block 0 starts at trial 0,
+// each next block where the one before ends, and the counts add up to the point's trials. A
+// share whose ranges were forged (each range alone within the point) is named with the block.
+void CheckBlockSums(const std::vector<const ShardFile*>& shards) {
+  std::map<int64_t, std::map<int64_t, std::pair<const json*, const ShardFile*>>> by_point;
+  for (const ShardFile* f : shards) {
+    for (const json& b : f->content["blocks"]) {
+      by_point[b["index"].get<int64_t>()][b["block"].get<int64_t>()] = {&b, f};
+    }
+  }
+  const json& m = shards.front()->content["manifest"];
+  const bool known = shards.front()->content["mode"] == "known";
+  const int64_t per_point = m[known ? "trials_per_point" : "frames_per_point"].get<int64_t>();
+  for (const auto& [index, blocks] : by_point) {
+    int64_t next = 0;
+    for (const auto& [block, entry] : blocks) {
+      const json& b = *entry.first;
+      if (b["first"].get<int64_t>() != next) {
+        Fail(entry.second->path,
+             "block " + std::to_string(block) + " of point " + std::to_string(index) +
+                 " starts at trial " + b["first"].dump() + "; expected " + std::to_string(next) +
+                 (block == 0 ? " (a point's first trial)"
+                             : ", where block " + std::to_string(block - 1) + " ends"));
+      }
+      next += b["count"].get<int64_t>();
+    }
+    if (next != per_point) {
+      Fail(blocks.rbegin()->second.second->path,
+           "the blocks of point " + std::to_string(index) + " add up to " + std::to_string(next) +
+               " trials; expected the " + std::to_string(per_point) + " of every point");
+    }
+  }
+}
+
 // The merged manifest: the experiment part, the totals summed over points, and the files
 // written: the bytes a single process writes (report.h).
 std::string MergedManifest(const std::vector<const ShardFile*>& shards,
@@ -357,6 +391,7 @@ MergedOutputs MergeShards(const std::vector<std::string>& inputs, const std::str
     CheckPoints(f);
   }
   const std::vector<const ShardFile*> shards = ByShare(files);
+  CheckBlockSums(shards);
 
   std::map<int64_t, const json*> rows_by_point;
   for (const ShardFile* f : shards) {

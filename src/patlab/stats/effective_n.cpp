@@ -1,5 +1,6 @@
 #include "patlab/stats/effective_n.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -8,8 +9,8 @@
 
 namespace patlab::stats {
 
-EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> segments,
-                                    int max_lag) {
+EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> segments, int max_lag,
+                                    int min_lags) {
   if (max_lag < 1) {
     throw InputError("effective sample size: max_lag is " + std::to_string(max_lag) +
                      "; expected an integer >= 1");
@@ -41,6 +42,7 @@ EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> seg
   const int cap =
       static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(max_lag), shortest - 1));
   double sum = 0.0;
+  bool inside_band = false;
   for (int k = 1; k <= cap; ++k) {
     double c = 0.0;
     for (const std::vector<double>& d : dev) {
@@ -50,11 +52,14 @@ EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> seg
     }
     const double r = c / m2;
     if (k == 1) out.lag1 = r;
-    if (std::abs(r) < band) break;
-    sum += r * r;
+    inside_band = inside_band || std::abs(r) < band;
+    if (inside_band && k > min_lags) break;
+    // A lag summed only because of min_lags is mostly noise: its r_k^2 carries about 1 / n of
+    // it, which is taken off (else 2R lags of a short series would inflate tau by 4R / n).
+    sum += inside_band ? r * r - 1.0 / out.n : r * r;
     out.lags = k;
   }
-  out.tau = 1.0 + 2.0 * sum;
+  out.tau = std::max(1.0, 1.0 + 2.0 * sum);
   out.dof_eff = out.dof / out.tau;
   return out;
 }

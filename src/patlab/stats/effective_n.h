@@ -34,8 +34,12 @@ struct EffectiveSize {
 // r_k = sum_seg sum_t d_t d_{t+k} / sum_seg sum_t d_t^2. Segments with fewer than 2 samples are
 // skipped. max_lag >= 1 (InputError otherwise); values must be finite. A constant series or no
 // usable segment: tau 1, lags 0, dof as computed (possibly 0).
+// min_lags >= 0: lags summed whatever the band (a detrending whose residuals are correlated
+// over a known reach, e.g. 2 radius for a smoothing kernel of that radius, whose autocorrelation
+// crosses zero inside it), at most max_lag; such a lag inside the band adds r_k^2 - 1 / n (the
+// noise floor of r_k^2 taken off), and tau is at least 1.
 EffectiveSize VarianceEffectiveSize(std::span<const std::span<const double>> segments,
-                                    int max_lag = 1000);
+                                    int max_lag = 1000, int min_lags = 0);
 
 // The chi-square interval of a std with dof / tau degrees of freedom (StdConfidenceInterval).
 StdWithCi StdIntervalEffective(double std, const EffectiveSize& size, double level = 0.95);

@@ -87,12 +87,33 @@ double UpperMedian(std::vector<double> v) {
 
 }  // namespace
 
-ErrorSummary SummariseErrors(const std::vector<ErrorSegment>& segments, int lag) {
+namespace {
+
+// The effective size of one axis of `segments` and the interval of `iid.std` on (n - 1) / tau dof.
+stats::StdWithCi Effective(const std::vector<ErrorSegment>& segments,
+                           const std::vector<double> ErrorSegment::*field,
+                           const stats::StdWithCi& iid, int min_lags, stats::EffectiveSize* size) {
+  std::vector<std::span<const double>> spans;
+  spans.reserve(segments.size());
+  for (const ErrorSegment& s : segments) spans.emplace_back(s.*field);
+  *size = stats::VarianceEffectiveSize(spans, 1000, min_lags);
+  if (size->tau == 1.0) return iid;  // white: the same numbers as the iid interval
+  stats::StdWithCi ci = stats::StdConfidenceInterval(
+      iid.std, (static_cast<double>(iid.n) - 1.0) / size->tau, iid.level);
+  ci.n = iid.n;
+  return ci;
+}
+
+}  // namespace
+
+ErrorSummary SummariseErrors(const std::vector<ErrorSegment>& segments, int lag, int min_lags) {
   ErrorSummary s;
   const std::vector<double> x = Pool(segments, &ErrorSegment::x);
   const std::vector<double> y = Pool(segments, &ErrorSegment::y);
-  s.x = stats::StdWithConfidence(x);
-  s.y = stats::StdWithConfidence(y);
+  s.x_iid = stats::StdWithConfidence(x);
+  s.y_iid = stats::StdWithConfidence(y);
+  s.x = Effective(segments, &ErrorSegment::x, s.x_iid, min_lags, &s.size_x);
+  s.y = Effective(segments, &ErrorSegment::y, s.y_iid, min_lags, &s.size_y);
   s.mean_x = stats::Mean(x);
   s.mean_y = stats::Mean(y);
   int counted = 0;
@@ -109,9 +130,19 @@ ErrorSummary SummariseErrors(const std::vector<ErrorSegment>& segments, int lag)
   const std::vector<double> theta = Pool(segments, &ErrorSegment::theta);
   if (!theta.empty()) {
     s.has_theta = true;
-    s.theta = stats::StdWithConfidence(theta);
+    s.theta_iid = stats::StdWithConfidence(theta);
+    s.theta = Effective(segments, &ErrorSegment::theta, s.theta_iid, min_lags, &s.size_theta);
   }
   return s;
+}
+
+std::string IidIntervalWarning(const std::string& what, const stats::EffectiveSize& size) {
+  if (size.tau < kIidWarningTau) return "";
+  return "warning: " + what + ": lag-1 autocorrelation " + FormatFixed(size.lag1, 3) +
+         ", variance inflation tau " + FormatFixed(size.tau, 2) +
+         ": the iid 95% interval (the *_iid_lo/*_iid_hi columns) is " +
+         FormatFixed(std::sqrt(size.tau), 2) +
+         "x too narrow; the *_lo/*_hi columns use (n - 1) / tau degrees of freedom";
 }
 
 std::vector<PairedTest> PairedAbsErrorTests(

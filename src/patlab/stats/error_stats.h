@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "patlab/stats/effective_n.h"
 #include "patlab/stats/summary.h"
 #include "patlab/stats/wilcoxon.h"
 
@@ -25,18 +26,42 @@ struct ErrorSegment {
   std::vector<double> x, y, theta;
 };
 
+// Consecutive errors of a track are correlated (a pattern moves a fraction of a pixel per frame,
+// so its quantisation error repeats), and the chi-square interval of a std on n - 1 degrees of
+// freedom is then too narrow by about sqrt(tau). Each std's interval is therefore taken on
+// (n - 1) / tau degrees of freedom, tau = 1 + 2 sum_k r_k^2 estimated from the errors themselves
+// (stats/effective_n.h: Bartlett's variance inflation, the autocorrelations of each segment
+// about its own mean pooled over segments, summed up to the first lag inside the white-noise
+// band 2 / sqrt(n)); the iid interval is kept beside it.
+inline constexpr const char* kStdIntervalMethod =
+    "chi-square on (n - 1) / tau dof, tau = 1 + 2 sum_k r_k^2 (Bartlett), r_k pooled over "
+    "segments, summed to the first lag with |r_k| < 2 / sqrt(n)";
+
 struct ErrorSummary {
-  stats::StdWithCi x, y;
+  stats::StdWithCi x, y;  // the std and its interval on the effective dof (above)
   double mean_x = 0.0, mean_y = 0.0;
   // Mean over segments of the lag-k autocorrelation within each segment (segments with fewer
   // than lag + 2 samples left out; 0 when none is left).
   double lag_x = 0.0, lag_y = 0.0;
   bool has_theta = false;
   stats::StdWithCi theta;
+  // The same stds with the iid interval (n - 1 dof), and the effective sizes behind x, y, theta.
+  stats::StdWithCi x_iid, y_iid, theta_iid;
+  stats::EffectiveSize size_x, size_y, size_theta;
 };
-// The std (95% interval) of x, y and theta pooled over `segments`, their means, and the lag-`lag`
-// autocorrelation. Needs at least 2 samples in all (InputError from stats otherwise).
-ErrorSummary SummariseErrors(const std::vector<ErrorSegment>& segments, int lag = 1);
+// The std (95% interval on the effective dof, and the iid one) of x, y and theta pooled over
+// `segments`, their means, and the lag-`lag` autocorrelation. `min_lags`: the lags of the
+// autocorrelation that tau sums whatever the white-noise band (stats::VarianceEffectiveSize):
+// 2 radius for residuals of a smoothing kernel of that radius, which are correlated over that
+// reach and cross zero inside it; 0 for errors against the truth. Needs at least 2 samples in all
+// (InputError from stats otherwise).
+ErrorSummary SummariseErrors(const std::vector<ErrorSegment>& segments, int lag = 1,
+                             int min_lags = 0);
+
+// The iid interval is off when tau >= kIidWarningTau (its width by sqrt(tau) >= 1.1): a line
+// naming `what` (e.g. "subject a, est x"), the lag-1 autocorrelation and tau, or "" when not.
+inline constexpr double kIidWarningTau = 1.21;
+std::string IidIntervalWarning(const std::string& what, const stats::EffectiveSize& size);
 
 // A Wilcoxon signed-rank test between subjects a and b on |error| of the same run and frame.
 struct PairedTest {

@@ -16,7 +16,7 @@ camera::Image DrawClasses(const Segmenter& segmenter, const Thresholds& threshol
   return out;
 }
 
-camera::Image DrawRegions(const camera::Image& frame, const Segmenter& segmenter,
+camera::Image DrawRegions(const camera::ImageView& frame, const Segmenter& segmenter,
                           const Thresholds& thresholds) {
   camera::Image out = camera::ToRgb(frame);
   for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);  // dim, so the marks stand out

@@ -12,7 +12,7 @@
 namespace patlab::vision {
 
 // The annotated RGB image of the segmenter's last frame (`frame` must be that frame).
-camera::Image DrawRegions(const camera::Image& frame, const Segmenter& segmenter,
+camera::Image DrawRegions(const camera::ImageView& frame, const Segmenter& segmenter,
                           const Thresholds& thresholds);
 
 // The segmenter's class image in RGB: each classified pixel in its class's display colour, the

@@ -191,13 +191,13 @@ const FrameResult& FrameDetector::DetectFile(const std::string& path) {
   return result_;
 }
 
-const FrameResult& FrameDetector::Detect(const camera::Image& image, const std::string& name) {
+const FrameResult& FrameDetector::Detect(const camera::ImageView& image, const std::string& name) {
   result_.profile.Clear();
   Process(image, name);
   return result_;
 }
 
-void FrameDetector::Process(const camera::Image& image, const std::string& name) {
+void FrameDetector::Process(const camera::ImageView& image, const std::string& name) {
   result_.frame = name;
   pipeline_.CheckFrameSize(image, name);
   RunStages(image);
@@ -206,7 +206,7 @@ void FrameDetector::Process(const camera::Image& image, const std::string& name)
 
 // Stages 2-5 (the pipeline) and 6: the blobs whose class is in the detector's palette, relabelled
 // with their palette label, through the detector.
-void FrameDetector::RunStages(const camera::Image& image) {
+void FrameDetector::RunStages(const camera::ImageView& image) {
   FrameResult& r = result_;
   r.detect_profile.Clear();
   pipeline_.Process(image, &r.blobs, &r.vision_stats, &r.profile);
@@ -365,7 +365,7 @@ void DrawMisses(const FrameResult& r, camera::Image* debug) {
 
 // The blobs the next stage sees: with a detector, those in its palette; discs of the region's
 // area at its centroid, in the class colour, on the dimmed frame.
-camera::Image DrawBlobs(const camera::Image& frame, const FrameResult& r,
+camera::Image DrawBlobs(const camera::ImageView& frame, const FrameResult& r,
                         const Thresholds& thresholds, bool detector_blobs_only) {
   camera::Image out = camera::ToRgb(frame);
   for (uint8_t& v : out.data) v = static_cast<uint8_t>(v / 3);
@@ -381,7 +381,7 @@ camera::Image DrawBlobs(const camera::Image& frame, const FrameResult& r,
 
 }  // namespace
 
-void FrameDetector::WriteDebugImages(const camera::Image& image) const {
+void FrameDetector::WriteDebugImages(const camera::ImageView& image) const {
   const Thresholds& thresholds = pipeline_.thresholds();
   const std::vector<std::string> names =
       DebugImageNames(fs::path(result_.frame).stem().string(), has_detector());

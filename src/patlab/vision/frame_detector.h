@@ -154,8 +154,10 @@ class FrameDetector {
   // Stages 1-6 on a frame file (ReadFrameFile with the options' raw size); InputError for a bad
   // file or a frame whose size differs from the calibration's.
   const FrameResult& DetectFile(const std::string& path);
-  // Stages 2-6 on a frame in memory; `name` stands for it in messages, results and debug images.
-  const FrameResult& Detect(const camera::Image& image, const std::string& name);
+  // Stages 2-6 on a frame in memory, read where it is (an Image, or a view of any strides: no
+  // copy is made; only the debug images copy it); `name` stands for it in messages, results and
+  // debug images.
+  const FrameResult& Detect(const camera::ImageView& image, const std::string& name);
 
   // Mismatches between the thresholds' class names and the detector's palette, found at
   // construction, for the caller to show: a class no palette colour names (its blobs never reach
@@ -169,9 +171,9 @@ class FrameDetector {
   const FrameDetectorOptions& options() const { return options_; }
 
  private:
-  void Process(const camera::Image& image, const std::string& name);
-  void RunStages(const camera::Image& image);
-  void WriteDebugImages(const camera::Image& image) const;
+  void Process(const camera::ImageView& image, const std::string& name);
+  void RunStages(const camera::ImageView& image);
+  void WriteDebugImages(const camera::ImageView& image) const;
   void LookAtMissingPatches();
   MissingPatchLook LookAt(const detect::Detection& d) const;
 

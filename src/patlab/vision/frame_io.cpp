@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Guards against a corrupt header asking for gigabytes.
-constexpr long long kMaxPixels = 1LL << 28;
+constexpr long long kMaxPixels = kMaxFramePixels;
 
 [[noreturn]] void FailAt(const std::string& name, size_t byte, const std::string& message) {
   throw InputError(name + ": byte " + std::to_string(byte) + ": " + message);

@@ -11,6 +11,10 @@
 
 namespace patlab::vision {
 
+// The pixel budget of a frame: every reader checks width x height from the file's header against
+// it before any pixel memory is allocated (2^28 pixels, 768 MiB as 8-bit RGB).
+inline constexpr long long kMaxFramePixels = 1LL << 28;
+
 // Reads a PNG, JPEG or PPM (P6, maxval 255) frame, chosen by the file's first bytes (not its
 // name). Grey, palette, 16-bit and alpha PNGs are converted to 8-bit RGB.
 camera::Image ReadFrame(const std::string& path);

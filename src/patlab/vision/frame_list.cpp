@@ -24,7 +24,7 @@ void AppendListedFrames(const fs::path& path, const std::string& argument,
   std::ifstream in(path);
   if (!in) throw InputError(argument + ": cannot open file; expected a readable list of frames");
   std::string line;
-  int line_number = 0;
+  int line_number = 0, listed = 0;
   while (std::getline(in, line)) {
     ++line_number;
     if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
@@ -40,6 +40,12 @@ void AppendListedFrames(const fs::path& path, const std::string& argument,
                            "' not found; expected a frame file, one a line");
     }
     frames->push_back(frame.string());
+    ++listed;
+  }
+  if (listed == 0) {
+    throw InputError(argument +
+                     ": names no frame (empty, or only comments and blank lines); "
+                     "expected one frame file a line");
   }
 }
 

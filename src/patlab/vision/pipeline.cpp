@@ -38,7 +38,7 @@ VisionPipeline::VisionPipeline(Thresholds thresholds, camera::Calibration calibr
   }
 }
 
-void VisionPipeline::CheckFrameSize(const camera::Image& image,
+void VisionPipeline::CheckFrameSize(const camera::ImageView& image,
                                     const std::string& frame_name) const {
   if (calibration_.image_width_px == 0) return;
   if (image.width_px != calibration_.image_width_px ||
@@ -51,7 +51,7 @@ void VisionPipeline::CheckFrameSize(const camera::Image& image,
   }
 }
 
-void VisionPipeline::Process(const camera::Image& image, std::vector<detect::Blob>* blobs,
+void VisionPipeline::Process(const camera::ImageView& image, std::vector<detect::Blob>* blobs,
                              VisionStats* stats, TimeProfile* profile) {
   TimeProfile untimed;
   TimeProfile& time = profile != nullptr ? *profile : untimed;

@@ -50,13 +50,13 @@ class VisionPipeline {
 
   // InputError "frame: image is WxH; expected WxH as in calibration" when the calibration
   // names an image size and the frame differs.
-  void CheckFrameSize(const camera::Image& image, const std::string& frame_name) const;
+  void CheckFrameSize(const camera::ImageView& image, const std::string& frame_name) const;
 
   // Stages 2-5. `blobs` is cleared and filled in region order (class, then area); blob i
   // came from segmenter().regions()[blob_region()[i]]. Blob colours are class indices. `stats`
   // (optional) is overwritten; an enabled `profile` gets the time of stages 2-5 added under
   // their names (no clock is read otherwise).
-  void Process(const camera::Image& image, std::vector<detect::Blob>* blobs,
+  void Process(const camera::ImageView& image, std::vector<detect::Blob>* blobs,
                VisionStats* stats = nullptr, TimeProfile* profile = nullptr);
 
   const Segmenter& segmenter() const { return segmenter_; }

@@ -83,6 +83,11 @@ void SplitRgb(const uint8_t* __restrict in, int n, uint8_t* __restrict c0, uint8
 void internal::RgbRowToYuv(const uint8_t* __restrict in, int n, uint8_t* __restrict c0,
                            uint8_t* __restrict c1, uint8_t* __restrict c2) {
   SplitRgb(in, n, c0, c1, c2);
+  RgbPlanesToYuv(n, c0, c1, c2);
+}
+
+void internal::RgbPlanesToYuv(int n, uint8_t* __restrict c0, uint8_t* __restrict c1,
+                              uint8_t* __restrict c2) {
   for (int x = 0; x < n; ++x) {
     const uint16_t r = c0[x], g = c1[x], b = c2[x];
     const uint16_t y = static_cast<uint16_t>(77 * r + 150 * g + 29 * b + 128);
@@ -97,6 +102,17 @@ void internal::RgbRowToYuv(const uint8_t* __restrict in, int n, uint8_t* __restr
 }
 
 namespace {
+
+// An RGB row with any pixel and channel strides into R, G and B planes.
+void SplitRgbStrided(const uint8_t* in, int n, std::ptrdiff_t pixel, std::ptrdiff_t channel,
+                     uint8_t* __restrict c0, uint8_t* __restrict c1, uint8_t* __restrict c2) {
+  for (int x = 0; x < n; ++x) {
+    const uint8_t* p = in + x * pixel;
+    c0[x] = p[0];
+    c1[x] = p[channel];
+    c2[x] = p[2 * channel];
+  }
+}
 
 // UYVY: U and V are shared by each pixel pair; n_pairs = width / 2.
 void SplitUyvy(const uint8_t* __restrict in, int n_pairs, uint8_t* __restrict c0,
@@ -244,8 +260,26 @@ void internal::RgbRowToYuvAvx512(const uint8_t* __restrict in, int n, uint8_t* _
 #endif
 }
 
-void Segmenter::Classify(const camera::Image& image) {
+// Row y of the frame into the three planes of the thresholds' colour space: packed rows as they
+// are (the AVX-512 conversion reads them directly), other RGB layouts gathered first.
+void Segmenter::RowToPlanes(const camera::ImageView& image, int y, uint8_t* c0, uint8_t* c1,
+                            uint8_t* c2) const {
+  const uint8_t* in = image.Row(y);
+  const int w = image.width_px;
+  const bool yuv_lut = lut_.space() == ColorSpace::kYuv;
+  if (image.format != camera::PixelFormat::kRgb8) {
+    (yuv_lut ? SplitUyvy : UyvyRowToRgb)(in, w / 2, c0, c1, c2);
+  } else if (image.PackedPixels()) {
+    (yuv_lut ? internal::RgbRowToYuvAvx512 : SplitRgb)(in, w, c0, c1, c2);
+  } else {
+    SplitRgbStrided(in, w, image.pixel_stride, image.channel_stride, c0, c1, c2);
+    if (yuv_lut) internal::RgbPlanesToYuv(w, c0, c1, c2);
+  }
+}
+
+void Segmenter::Classify(const camera::ImageView& image) {
   PATLAB_CHECK(image.width_px > 0 && image.height_px > 0);
+  PATLAB_CHECK(image.format == camera::PixelFormat::kRgb8 || image.PackedPixels());
   width_ = image.width_px;
   height_ = image.height_px;
   const int w = width_;
@@ -254,7 +288,6 @@ void Segmenter::Classify(const camera::Image& image) {
   uint8_t* c0 = planes_.data();
   uint8_t* c1 = c0 + w;
   uint8_t* c2 = c1 + w;
-  const bool yuv_lut = lut_.space() == ColorSpace::kYuv;
   const bool rgb = image.format == camera::PixelFormat::kRgb8;
   if (!rgb && w % 2 != 0) {
     // UYVY frames have even widths (frame_io checks); a last lone pixel would have no U, V.
@@ -262,13 +295,8 @@ void Segmenter::Classify(const camera::Image& image) {
   }
   const int num_boxes = static_cast<int>(boxes_.size());
   for (int y = 0; y < height_; ++y) {
-    const uint8_t* in = image.Row(y);
     uint8_t* out = class_image_.data() + static_cast<size_t>(y) * w;
-    if (rgb) {
-      (yuv_lut ? internal::RgbRowToYuvAvx512 : SplitRgb)(in, w, c0, c1, c2);
-    } else {
-      (yuv_lut ? SplitUyvy : UyvyRowToRgb)(in, w / 2, c0, c1, c2);
-    }
+    RowToPlanes(image, y, c0, c1, c2);
 #ifdef PATLAB_SEGMENT_AVX512
     if (use_tables_) {
       LabelRow(c0, c1, c2, w, channel_bits_, first_class_, out);

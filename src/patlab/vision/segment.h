@@ -68,15 +68,17 @@ class Segmenter {
 
   // Stage 2. Fills class_image(): 0 = no class, k + 1 = class k, exactly lut().Classify of the
   // pixel + 1. Frames in either pixel format work with thresholds in either colour space (the
-  // pixel is converted with image.h's BT.601 RgbToYuv / YuvToRgb when the spaces differ).
-  void Classify(const camera::Image& image);
+  // pixel is converted with image.h's BT.601 RgbToYuv / YuvToRgb when the spaces differ). The
+  // frame is read in place, a row at a time, whatever its strides (an Image is a packed view);
+  // the same classes for any layout of the same pixels.
+  void Classify(const camera::ImageView& image);
   // Stage 3. Run-length encodes class_image() and joins runs into regions (union-find).
   void EncodeRuns();
   // Stage 4. Region statistics and filters.
   void ExtractRegions();
 
   // Stages 2-4 in order.
-  void Process(const camera::Image& image) {
+  void Process(const camera::ImageView& image) {
     Classify(image);
     EncodeRuns();
     ExtractRegions();
@@ -95,6 +97,9 @@ class Segmenter {
   const ColorLut& lut() const { return lut_; }
 
  private:
+  void RowToPlanes(const camera::ImageView& image, int y, uint8_t* c0, uint8_t* c1,
+                   uint8_t* c2) const;
+
   ColorLut lut_;
   SegmenterOptions options_;
   std::vector<int> min_area_px_;  // per class

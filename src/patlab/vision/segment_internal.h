@@ -10,6 +10,10 @@ namespace patlab::vision::internal {
 // portable element-wise loop (vectorised by the compiler).
 void RgbRowToYuv(const uint8_t* in, int n, uint8_t* c0, uint8_t* c1, uint8_t* c2);
 
+// The same conversion in place on the n pixels' R, G and B planes (c0, c1, c2 become Y, U, V):
+// the second pass of RgbRowToYuv, for rows read with any strides.
+void RgbPlanesToYuv(int n, uint8_t* c0, uint8_t* c1, uint8_t* c2);
+
 // Whether this build has the AVX-512 (BW + VBMI) forms of stage 2: the row conversion below and
 // the classification by byte tables (segment.h). Fixed at compile time (-march).
 bool HaveAvx512Rows();

@@ -1,0 +1,104 @@
+// The automatic field calibration: the camera of a frame from the centre points of its white
+// field lines (vision/field_lines.h finds them) and the field's model (field.h), with nobody
+// clicking. Image-free: pixels in, calibration out.
+//
+//  1. Hypotheses. The field's lines are parallel to two axes; the frame's dominant line
+//     direction (modulo 90 deg) gives the image's rotation against them. Line pixels running
+//     along either image axis are histogrammed across it; the histograms' peaks are lines. A
+//     camera looking nearly straight down maps the floor to the image by a similarity (scale s
+//     px/mm, one of the four quarter-turns with the image's mirror, the floor point under the
+//     image centre); a pair of peaks matched to a pair of field lines along one axis gives s and
+//     one coordinate, one peak matched to one field line along the other axis the second (and
+//     a log-spaced sweep of s when an axis shows fewer than two lines).
+//  2. Scoring. Each hypothesis projects points along the field's painted marks (field_marks.h)
+//     into the image and is scored by the line length it explains (marks within a few px of a
+//     line pixel, by a distance transform of the line pixels) minus half the length it puts
+//     where there is no line. The six best distinct ones are refined by coordinate descent on
+//     the same score: first as similarities (scale, rotation, position, a radial distortion),
+//     then as pinhole cameras (tilts orbiting the floor point at the image centre, position,
+//     height, k1).
+//  3. Symmetry. A field that is the same rotated by 180 deg about its centre (mirrored about
+//     both axes) gives two equivalent cameras for every view; the one whose image centre looks
+//     at x >= 0 (at the pos half; on the halfway line, at y >= 0) is kept, and the report says
+//     whether the search's camera was turned to it.
+//  4. Fit. From each of the two best cameras (the second only when it scores at least 80% of
+//     the first), each line pixel is given to the painted mark nearest its back-projection on
+//     the floor (within a gate of 12, then 5, then 3 px, and within 25 deg of its direction),
+//     and calib::FitCamera fits every free parameter to the line and circle observations with a
+//     Huber loss, three rounds; a fit that leaves the camera model's range (the floor alone
+//     hardly separates focal length from height) is redone with the focal length held. The
+//     better final score wins; a different camera (not the equivalent one) scoring 90% of it
+//     makes the frame ambiguous.
+//  5. Held-out error. The pixels of every observation, in runs of 8 along it, are split into
+//     two folds; the camera fitted to one fold back-projects the other's pixels, and their
+//     distance on the floor to their mark, in mm, is the held-out mapping error.
+// A frame whose lines do not decide the camera (too few line pixels, no hypothesis that
+// explains them, a second, non-equivalent camera explaining them nearly as well, observations
+// along one direction only) is an InputError naming what was found.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "patlab/calib/calibrate.h"
+#include "patlab/calib/field.h"
+#include "patlab/core/geometry.h"
+
+namespace patlab::calib {
+
+// A point on the centre of a painted line, in pixels, with the line's direction there.
+struct LinePixel {
+  Vec2 pixel = Vec2::Zero();
+  Vec2 direction = Vec2(1, 0);  // unit
+  double strength = 0.0;        // the ridge's contrast (8-bit levels), for ranking
+};
+
+struct AutoOptions {
+  double huber_px = 1.0;     // the fit's Huber scale, > 0
+  int max_fit_pixels = 300;  // the line pixels the fit uses at most (evenly along each mark)
+  // Held fixed in the fit (calibrate.h FitOptions::fixed).
+  std::vector<FitParameter> fixed = {FitParameter::kAspect, FitParameter::kK2};
+  // The camera's height above the floor, if measured: separates focal length from height,
+  // which a view of the floor alone barely does (calibrate.h FitOptions::camera_height_mm).
+  std::optional<double> camera_height_mm;
+};
+
+struct AutoCalibration {
+  CalibrationInput input;        // the observations found (lines and circles), for the file
+  CalibrationFit fit;            // the fit on every observation
+  int line_pixels = 0;           // found
+  int assigned_pixels = 0;       // within the final gate of a mark
+  int hypotheses = 0;            // scored
+  double score_px = 0.0;         // the best hypothesis' explained length minus penalty (px)
+  double runner_up_px = 0.0;     // the best non-equivalent other one's
+  bool point_symmetric = false;  // the field is the same rotated by 180 deg
+  bool turned = false;           // the search's camera was turned by 180 deg to the kept one
+  // The held-out pixels' floor distances to their marks (mm): RMS and worst; they hold the line
+  // finder's noise as well as the camera's error. Their means over each run of 8 along a mark
+  // average the noise away: held_out_mapping_mm = sqrt(mean of the squared run means - the
+  // noise's share of them), the estimated RMS floor error of the camera. (The runs measure one
+  // axis of the error, across the line: 1 / sqrt 2 of the 2-D error; a fold's camera is fitted to
+  // half the pixels: sqrt 2 times the whole fit's error; the two cancel.) held_out_noise_mm is
+  // the within-run spread (the finder's noise).
+  double held_out_rms_mm = 0.0, held_out_worst_mm = 0.0;
+  double held_out_mapping_mm = 0.0, held_out_noise_mm = 0.0;
+  int held_out_count = 0;
+  double seconds = 0.0;
+  std::vector<std::string> notes;
+};
+
+// The calibration of a width x height frame from its line pixels. `source` names the frame in
+// the input and messages. InputError when the lines do not decide the camera.
+AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px, int height_px,
+                              const std::string& source, const Field& field,
+                              const AutoOptions& options = {});
+
+// The distance (mm) from the back-projection of `pixel` through `camera` on the floor to the
+// observation's line or circle; NaN when the pixel does not map onto the floor.
+double FloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,
+                       const LineObservation* line, const CircleObservation* circle);
+
+// The report: what was found, the symmetry, the held-out error, then FitReportText.
+std::string AutoReportText(const AutoCalibration& a);
+
+}  // namespace patlab::calib

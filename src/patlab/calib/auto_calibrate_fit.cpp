@@ -1,0 +1,425 @@
+// The automatic field calibration's fit (auto_calibrate.h steps 3-5): line pixels assigned to
+// the painted marks, FitCamera, the held-out error and the report.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "patlab/calib/auto_calibrate_internal.h"
+#include "patlab/core/error.h"
+#include "patlab/core/format.h"
+
+namespace patlab::calib {
+namespace {
+
+using internal::PinholeOf;
+using internal::Turned;
+
+constexpr double kMaxAngle =
+    0.42;                      // |sin| between a pixel's direction and its mark's, on the floor
+constexpr int kMinPixels = 8;  // an observation's pixels at least
+constexpr int kRun = 8;        // the held-out folds' run length along a mark
+
+struct Assigned {
+  CalibrationInput input;
+  int count = 0;
+  std::vector<std::vector<double>> line_order, circle_order;  // position along the mark
+};
+
+// Each pixel to the nearest painted mark (on the floor) within gate_px and of its direction.
+Assigned Assign(const camera::PinholeCamera& camera, const std::vector<LinePixel>& pixels,
+                const Field& field, const FieldMarks& marks, double gate_px, int max_pixels,
+                const CalibrationInput& base) {
+  const camera::CameraModel model = camera::CameraModel::Pinhole(camera);
+  const size_t n_marks = marks.segments.size() + marks.arcs.size();
+  std::vector<std::vector<std::pair<double, Vec2>>> groups(n_marks);
+  for (const LinePixel& p : pixels) {
+    const auto q = model.PixelToWorld(p.pixel, 0.0);
+    const auto q2 = model.PixelToWorld(p.pixel + 2.0 * p.direction, 0.0);
+    if (!q || !q2) continue;
+    const double mm_per_px = std::sqrt(model.AreaScale(p.pixel, 0.0));
+    if (!(mm_per_px > 0.0)) continue;
+    const Vec2 dir = (*q2 - *q).normalized();
+    double best = gate_px * mm_per_px;
+    int best_mark = -1;
+    double position = 0.0;
+    for (size_t m = 0; m < n_marks; ++m) {
+      double d, along;
+      Vec2 tangent;
+      if (m < marks.segments.size()) {
+        const MarkSegment& s = marks.segments[m];
+        d = DistanceToMark(s, *q);
+        tangent = (s.to_mm - s.from_mm).normalized();
+        along = (*q - s.from_mm).dot(tangent);
+      } else {
+        const MarkArc& a = marks.arcs[m - marks.segments.size()];
+        d = DistanceToMark(a, *q);
+        const Vec2 r = *q - a.centre_mm;
+        tangent = Vec2(-r.y(), r.x()).normalized();
+        along = std::atan2(r.y(), r.x()) - a.start_rad;
+        along -= 2 * std::numbers::pi * std::floor(along / (2 * std::numbers::pi));
+      }
+      if (d < best && std::abs(tangent.x() * dir.y() - tangent.y() * dir.x()) < kMaxAngle) {
+        best = d;
+        best_mark = static_cast<int>(m);
+        position = along;
+      }
+    }
+    if (best_mark >= 0) groups[static_cast<size_t>(best_mark)].emplace_back(position, p.pixel);
+  }
+  size_t total = 0;
+  for (const auto& g : groups) total += g.size();
+  Assigned out;
+  out.input = base;
+  const double keep = total > static_cast<size_t>(max_pixels)
+                          ? static_cast<double>(max_pixels) / static_cast<double>(total)
+                          : 1.0;
+  for (size_t m = 0; m < n_marks; ++m) {
+    auto& g = groups[m];
+    if (g.size() < static_cast<size_t>(kMinPixels)) continue;
+    std::sort(g.begin(), g.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const size_t n = std::max<size_t>(kMinPixels, static_cast<size_t>(g.size() * keep));
+    std::vector<Vec2> px;
+    std::vector<double> order;
+    for (size_t i = 0; i < n; ++i) {
+      const auto& e = g[i * g.size() / n];
+      px.push_back(e.second);
+      order.push_back(e.first);
+    }
+    out.count += static_cast<int>(g.size());
+    if (m < marks.segments.size()) {
+      const FieldLine& l = field.lines[static_cast<size_t>(marks.segments[m].line)];
+      out.input.lines.push_back({l.name, l.from_mm, l.to_mm, 0.0, px, base.loc});
+      out.line_order.push_back(order);
+    } else {
+      const FieldCircle& c =
+          field.circles[static_cast<size_t>(marks.arcs[m - marks.segments.size()].circle)];
+      out.input.circles.push_back({c.name, c.centre_mm, c.radius_mm, 0.0, px, base.loc});
+      out.circle_order.push_back(order);
+    }
+  }
+  return out;
+}
+
+// Whether the observations fix a camera: straight lines in two directions, or a circle and a
+// line, with enough pixels.
+std::string WhatIsMissing(const CalibrationInput& in) {
+  std::vector<Vec2> dirs;
+  for (const LineObservation& l : in.lines) dirs.push_back((l.to_mm - l.from_mm).normalized());
+  bool crossing = false;
+  for (size_t i = 0; i < dirs.size(); ++i)
+    for (size_t j = i + 1; j < dirs.size(); ++j)
+      crossing = crossing || std::abs(dirs[i].x() * dirs[j].y() - dirs[i].y() * dirs[j].x()) > 0.5;
+  if (crossing && in.lines.size() + in.circles.size() >= 3) return "";
+  if (!in.circles.empty() && in.lines.size() + in.circles.size() >= 2) return "";
+  return "the line pixels matched " + std::to_string(in.lines.size()) + " field line(s) and " +
+         std::to_string(in.circles.size()) + " circle(s)";
+}
+
+// The two folds of `in`: runs of kRun pixels along each observation alternate.
+CalibrationInput Fold(const Assigned& a, int fold) {
+  CalibrationInput in = a.input;
+  auto keep = [&](std::vector<Vec2>& px) {
+    std::vector<Vec2> out;
+    for (size_t i = 0; i < px.size(); ++i)
+      if (static_cast<int>(i / kRun) % 2 == fold) out.push_back(px[i]);
+    px = out;
+  };
+  for (auto& l : in.lines) keep(l.pixels);
+  for (auto& c : in.circles) keep(c.pixels);
+  std::erase_if(in.lines, [](const LineObservation& l) { return l.pixels.size() < 3; });
+  std::erase_if(in.circles, [](const CircleObservation& c) { return c.pixels.size() < 3; });
+  return in;
+}
+
+// FloorDistanceMm with a sign: left of the line's direction, or outside the circle, positive.
+double SignedFloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,
+                             const LineObservation* line, const CircleObservation* circle) {
+  const auto q = camera::CameraModel::Pinhole(camera).PixelToWorld(pixel, 0.0);
+  if (!q) return std::numeric_limits<double>::quiet_NaN();
+  if (line != nullptr) {
+    const Vec2 d = (line->to_mm - line->from_mm).normalized();
+    const Vec2 r = *q - line->from_mm;
+    return d.x() * r.y() - d.y() * r.x();
+  }
+  return (*q - circle->centre_mm).norm() - circle->radius_mm;
+}
+
+}  // namespace
+
+double FloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,
+                       const LineObservation* line, const CircleObservation* circle) {
+  return std::abs(SignedFloorDistanceMm(camera, pixel, line, circle));
+}
+
+namespace {
+
+void CheckAutoInput(const std::vector<LinePixel>& pixels, int width_px, int height_px,
+                    const std::string& source, const AutoOptions& options) {
+  if (width_px < 16 || height_px < 16)
+    throw InputError(source + ": a " + std::to_string(width_px) + " x " +
+                     std::to_string(height_px) + " frame; expected at least 16 x 16 px");
+  if (!(options.huber_px > 0.0) || options.max_fit_pixels < 50)
+    throw InputError("auto calibration: huber_px must be > 0 and max_fit_pixels >= 50");
+  constexpr size_t kMinLinePixels = 100;
+  if (pixels.size() < kMinLinePixels) {
+    throw InputError(source + ": found " + std::to_string(pixels.size()) +
+                     " line pixels; expected at least " + std::to_string(kMinLinePixels) +
+                     " (white field lines on the carpet; check --line-width and the frame)");
+  }
+}
+
+// A view's camera through steps 3-4 (assignment and fit at shrinking gates).
+struct Candidate {
+  Assigned assigned;
+  CalibrationFit fit;
+  double score = -INFINITY;
+  bool turned = false;
+  std::string failure;
+};
+
+struct FitContext {
+  const std::vector<LinePixel>* pixels;
+  const Field* field;
+  const FieldMarks* marks;
+  const internal::LineDistance* dt;
+  const AutoOptions* options;
+  int width_px, height_px;
+  bool point_symmetric;
+};
+
+// The fit at one gate; the focal length held when the free fit leaves the camera model's range.
+void FitAtGate(const FitContext& x, double gate, CalibrationInput& base, camera::PinholeCamera& cam,
+               Candidate& c, std::vector<std::string>* notes) {
+  c.assigned = Assign(cam, *x.pixels, *x.field, *x.marks, gate, x.options->max_fit_pixels, base);
+  const std::string missing = WhatIsMissing(c.assigned.input);
+  if (!missing.empty()) throw InputError(missing);
+  c.assigned.input.options.start_camera = cam;
+  const bool focal_free = std::find(base.options.fixed.begin(), base.options.fixed.end(),
+                                    FitParameter::kFocal) == base.options.fixed.end();
+  bool hold = false;
+  try {
+    c.fit = FitCamera(c.assigned.input);
+    hold = !camera::Check(c.fit.camera).empty();
+  } catch (const InputError&) {
+    if (!focal_free) throw;  // refused with the focal length held: nothing left to hold
+    hold = true;             // refused as unphysical (FitCamera's UnphysicalFitReason)
+  }
+  if (hold) {
+    // The floor alone hardly separates the focal length from the height, and the fit wandered
+    // along that valley out of the camera model's range (or out of physical bounds): the focal
+    // length is held at the start's instead (the floor's mapping is the same along the valley).
+    base.options.fixed.push_back(FitParameter::kFocal);
+    c.assigned.input.options.fixed = base.options.fixed;
+    c.fit = FitCamera(c.assigned.input);
+    notes->push_back("the focal length was held at " + FormatSignificant(cam.fx_px, 4) +
+                     " px: fitted freely it left the camera model's range");
+  }
+  cam = c.fit.camera;
+}
+
+Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, CalibrationInput& base,
+                  std::vector<std::string>* notes) {
+  Candidate c;
+  camera::PinholeCamera cam = start;
+  if (x.point_symmetric) {
+    const auto look = camera::CameraModel::Pinhole(cam).PixelToWorld(
+        Vec2(0.5 * (x.width_px - 1), 0.5 * (x.height_px - 1)), 0.0);
+    if (look && (look->x() < -1.0 || (std::abs(look->x()) <= 1.0 && look->y() < 0.0))) {
+      cam = Turned(cam);
+      c.turned = true;
+    }
+  }
+  try {
+    for (double gate : {12.0, 5.0, 3.0}) FitAtGate(x, gate, base, cam, c, notes);
+    c.score = internal::CameraScore(cam, *x.marks, *x.dt);
+  } catch (const InputError& e) {
+    c.failure = e.what();
+  }
+  return c;
+}
+
+// The largest floor distance (mm) between two cameras' maps over a 3 x 3 grid of the frame, the
+// second also turned by 180 deg when the field is point-symmetric (equivalents are equal).
+double FloorDifferenceMm(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
+                         bool point_symmetric, int width_px, int height_px) {
+  const camera::CameraModel a = camera::CameraModel::Pinhole(first);
+  double differ = INFINITY;
+  for (int turn = 0; turn < (point_symmetric ? 2 : 1); ++turn) {
+    const camera::CameraModel b = camera::CameraModel::Pinhole(turn == 0 ? second : Turned(second));
+    double d = 0.0;
+    for (double fx : {0.25, 0.5, 0.75})
+      for (double fy : {0.25, 0.5, 0.75}) {
+        const Vec2 px(fx * width_px, fy * height_px);
+        const auto qa = a.PixelToWorld(px, 0.0), qb = b.PixelToWorld(px, 0.0);
+        if (qa && qb) d = std::max(d, (*qa - *qb).norm());
+      }
+    differ = std::min(differ, d);
+  }
+  return differ;
+}
+
+// Throws when a second camera maps the frame differently yet explains it nearly as well.
+void CheckDecided(const Candidate& best, const Candidate& second, bool point_symmetric,
+                  int width_px, int height_px, const std::string& source) {
+  if (!std::isfinite(second.score)) return;
+  const double differ =
+      FloorDifferenceMm(best.fit.camera, second.fit.camera, point_symmetric, width_px, height_px);
+  const camera::CameraModel a = camera::CameraModel::Pinhole(best.fit.camera);
+  const double mm_per_px = std::sqrt(a.AreaScale(Vec2(0.5 * width_px, 0.5 * height_px), 0.0));
+  if (differ > 20.0 * mm_per_px && second.score > 0.9 * best.score) {
+    throw InputError(source + ": the line pixels do not decide the camera: two cameras " +
+                     FormatSignificant(differ, 3) + " mm apart on the floor explain " +
+                     FormatSignificant(best.score, 4) + " and " +
+                     FormatSignificant(second.score, 4) +
+                     " px of line; expected a frame showing more of the field's lines");
+  }
+}
+
+// Step 5's sums: the held-out pixels' floor distances in runs along their marks.
+struct HeldOutSums {
+  double sum = 0.0, worst = 0.0, run_sq = 0.0, within = 0.0, inverse_n = 0.0;
+  int count = 0, runs = 0, within_dof = 0;
+
+  void AddRun(const std::vector<double>& d) {
+    double mean = 0.0;
+    for (double x : d) {
+      sum += x * x, worst = std::max(worst, std::abs(x)), ++count;
+      mean += x;
+    }
+    if (d.size() < 4) return;
+    mean /= static_cast<double>(d.size());
+    for (double x : d) within += (x - mean) * (x - mean);
+    within_dof += static_cast<int>(d.size()) - 1;
+    run_sq += mean * mean, inverse_n += 1.0 / static_cast<double>(d.size()), ++runs;
+  }
+  void AddMark(const camera::PinholeCamera& camera, const std::vector<Vec2>& pixels,
+               const LineObservation* l, const CircleObservation* c) {
+    std::vector<double> run;
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      if (i % kRun == 0 && !run.empty()) AddRun(run), run.clear();
+      const double d = SignedFloorDistanceMm(camera, pixels[i], l, c);
+      if (std::isfinite(d)) run.push_back(d);
+    }
+    if (!run.empty()) AddRun(run);
+  }
+};
+
+// Step 5: the held-out error, each fold fitted from the final camera.
+void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
+  HeldOutSums h;
+  for (int fold = 0; fold < 2; ++fold) {
+    CalibrationInput train = Fold(assigned, fold);
+    const CalibrationInput test = Fold(assigned, 1 - fold);
+    train.options.start_camera = out.fit.camera;
+    if (!WhatIsMissing(train).empty()) continue;
+    const CalibrationFit f = FitCamera(train);
+    for (const LineObservation& l : test.lines) h.AddMark(f.camera, l.pixels, &l, nullptr);
+    for (const CircleObservation& c : test.circles) h.AddMark(f.camera, c.pixels, nullptr, &c);
+  }
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  out.held_out_count = h.count;
+  out.held_out_rms_mm = h.count > 0 ? std::sqrt(h.sum / h.count) : kNaN;
+  out.held_out_worst_mm = h.worst;
+  const double noise_var = h.within_dof > 0 ? h.within / h.within_dof : 0.0;
+  out.held_out_noise_mm = std::sqrt(noise_var);
+  out.held_out_mapping_mm =
+      h.runs > 0 ? std::sqrt(std::max(0.0, h.run_sq / h.runs - noise_var * h.inverse_n / h.runs))
+                 : kNaN;
+}
+
+}  // namespace
+
+AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px, int height_px,
+                              const std::string& source, const Field& field,
+                              const AutoOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CheckAutoInput(pixels, width_px, height_px, source, options);
+  AutoCalibration out;
+  out.line_pixels = static_cast<int>(pixels.size());
+  const FieldMarks marks = PaintedMarks(field);
+  out.point_symmetric = internal::PointSymmetric(field);
+  std::vector<internal::ScoredView> views;
+  try {
+    views = internal::SearchViews(pixels, width_px, height_px, marks, out.point_symmetric,
+                                  &out.hypotheses);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  const internal::LineDistance dt(pixels, width_px, height_px);
+  // The base input: the frame and the fit's options.
+  CalibrationInput base;
+  base.source = source;
+  base.image_width_px = width_px;
+  base.image_height_px = height_px;
+  base.loc = FileLoc{source, 0};
+  base.options.fixed = options.fixed;
+  base.options.huber_px = options.huber_px;
+  base.options.camera_height_mm = options.camera_height_mm;
+  // The cross-validation of FitCamera is off: step 5 measures the held-out error on line pixels.
+  base.options.holdout_folds = 0;
+  // Steps 3-4 from the two best views; the better final camera wins.
+  const FitContext context{&pixels,  &field,   &marks,    &dt,
+                           &options, width_px, height_px, out.point_symmetric};
+  std::vector<Candidate> candidates;
+  for (size_t v = 0; v < std::min<size_t>(views.size(), 2); ++v) {
+    if (v > 0 && views[v].score < 0.8 * views[0].score) break;  // clearly worse: not fitted
+    candidates.push_back(FitView(context, views[v].camera, base, &out.notes));
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  const Candidate& best = candidates.front();
+  if (!std::isfinite(best.score)) {
+    throw InputError(source + ": " + std::to_string(pixels.size()) +
+                     " line pixels, but no camera fits them to the field " + field.name + " (" +
+                     best.failure + "); expected a frame whose lines cross");
+  }
+  out.score_px = best.score;
+  const bool second = candidates.size() > 1 && std::isfinite(candidates[1].score);
+  out.runner_up_px = second ? candidates[1].score : 0.0;
+  if (second) CheckDecided(best, candidates[1], out.point_symmetric, width_px, height_px, source);
+  out.turned = best.turned;
+  out.input = best.assigned.input;
+  out.fit = best.fit;
+  out.assigned_pixels = best.assigned.count;
+  HeldOutError(best.assigned, out);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+std::string AutoReportText(const AutoCalibration& a) {
+  std::string s = "# automatic field calibration\n";
+  s += "line pixels found: " + std::to_string(a.line_pixels) +
+       "; assigned to the field's marks: " + std::to_string(a.assigned_pixels) + "\n";
+  s += "observations: " + std::to_string(a.input.lines.size()) + " lines (";
+  for (size_t i = 0; i < a.input.lines.size(); ++i) s += (i ? ", " : "") + a.input.lines[i].name;
+  s += "), " + std::to_string(a.input.circles.size()) + " circles (";
+  for (size_t i = 0; i < a.input.circles.size(); ++i)
+    s += (i ? ", " : "") + a.input.circles[i].name;
+  s += ")\n";
+  s += "hypotheses scored: " + std::to_string(a.hypotheses) + "; best explains " +
+       FormatSignificant(a.score_px, 5) + " px of line, the other refined one " +
+       FormatSignificant(a.runner_up_px, 5) + " px\n";
+  if (a.point_symmetric) {
+    s += std::string(
+             "symmetry: the field is the same rotated by 180 deg (mirrored about both "
+             "axes); of the two equivalent cameras the one whose image centre looks at "
+             "x >= 0 is kept") +
+         (a.turned ? " (the search's camera was turned to it)" : "") + "\n";
+  } else {
+    s += "symmetry: none (the field is not the same rotated by 180 deg)\n";
+  }
+  s += "held-out mapping error: " + FormatSignificant(a.held_out_mapping_mm, 3) +
+       " mm RMS on the floor (estimated from the run means of the held-out pixels, the line "
+       "finder's noise of " +
+       FormatSignificant(a.held_out_noise_mm, 3) + " mm removed)\n";
+  s += "held-out pixels: RMS " + FormatSignificant(a.held_out_rms_mm, 3) + " mm, worst " +
+       FormatSignificant(a.held_out_worst_mm, 3) + " mm over " + std::to_string(a.held_out_count) +
+       " line pixels (two folds of alternating runs of 8 along each mark; each pixel's floor "
+       "distance to its mark through the camera fitted to the other fold)\n";
+  for (const std::string& n : a.notes) s += "note: " + n + "\n";
+  s += "seconds: " + FormatSignificant(a.seconds, 3) + "\n\n";
+  return s + FitReportText(a.input, a.fit);
+}
+
+}  // namespace patlab::calib

@@ -1,0 +1,57 @@
+// Pieces of the automatic field calibration shared by auto_calibrate.cpp (the search) and
+// auto_calibrate_fit.cpp (the assignment, the fit and the held-out error).
+#pragma once
+
+#include <vector>
+
+#include "patlab/calib/auto_calibrate.h"
+#include "patlab/calib/field_marks.h"
+
+namespace patlab::calib::internal {
+
+// A camera looking straight down, as a map floor -> image: the image-centred point
+// q = Rot(psi) s A_k (p - centre_mm), distorted radially q (1 + kd |q|^2 / width^2).
+// A_0 = [[1, 0], [0, -1]], A_1 = [[0, 1], [1, 0]], A_2 = -A_0, A_3 = -A_1.
+struct NadirView {
+  int k = 0;
+  double psi = 0.0;
+  double scale = 1.0;  // px per mm
+  Vec2 centre_mm = Vec2::Zero();
+  double kd = 0.0;
+};
+
+// The view as a pinhole camera of focal length `width` px.
+camera::PinholeCamera PinholeOf(const NadirView& v, int width, int height);
+
+// The same camera turned by 180 deg about the field's vertical axis (x, y -> -x, -y).
+camera::PinholeCamera Turned(const camera::PinholeCamera& camera);
+
+// The best nadir views of the line pixels, best first, with their scores (px); throws
+// InputError when none explains them.
+struct ScoredView {
+  NadirView view;
+  double score = 0.0;
+  camera::PinholeCamera camera;  // the view refined as a pinhole camera (tilt, distortion)
+};
+std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int width, int height,
+                                    const FieldMarks& marks, bool symmetric, int* hypotheses);
+
+// The score (px) of a camera: the painted length it explains minus half the length it puts
+// where no line pixel is (SearchViews' measure, for comparing the final cameras).
+class LineDistance {
+ public:
+  LineDistance(const std::vector<LinePixel>& pixels, int width, int height);
+  double At(const Vec2& q) const;  // px to the nearest line pixel; large outside the image
+  int width() const { return w_; }
+  int height() const { return h_; }
+
+ private:
+  int w_, h_;
+  std::vector<float> d_;
+};
+double CameraScore(const camera::PinholeCamera& camera, const FieldMarks& marks,
+                   const LineDistance& distance, double tau_px = 6.0);
+
+bool PointSymmetric(const Field& field);
+
+}  // namespace patlab::calib::internal

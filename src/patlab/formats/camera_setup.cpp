@@ -1,0 +1,312 @@
+// A new camera set up from its frames (camera_setup.h): calibration, thresholds, tolerances.
+#include "patlab/formats/camera_setup.h"
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <regex>
+#include <sstream>
+
+#include "patlab/calib/calibrate.h"
+#include "patlab/core/colour_names.h"
+#include "patlab/core/error.h"
+#include "patlab/core/format.h"
+#include "patlab/formats/calibration_file.h"
+#include "patlab/formats/detector_settings.h"
+#include "patlab/formats/thresholds_file.h"
+#include "patlab/io/colour_vocabulary.h"
+#include "patlab/io/toml_util.h"
+#include "patlab/vision/field_lines.h"
+#include "patlab/vision/frame_detector.h"
+#include "patlab/vision/thresholds_fit.h"
+
+namespace patlab::formats {
+namespace {
+
+namespace fs = std::filesystem;
+
+void CheckSetupInput(const std::vector<const camera::Image*>& frames,
+                     const std::vector<std::string>& names, const SetupOptions& o) {
+  if (frames.empty() || frames.size() != names.size())
+    throw InputError("no frames; expected at least one FRAME of the camera");
+  if (o.fields.empty()) throw InputError("--field names no model; expected a model or a family");
+  if (o.settings_path.empty())
+    throw InputError("missing --settings S; expected detector settings naming the patterns");
+  if (!(o.robot_height_mm >= 0.0 && o.robot_height_mm <= 1000.0)) {
+    throw InputError("--robot-height is " + FormatNumber(o.robot_height_mm) +
+                     " mm; expected 0 to 1000");
+  }
+  if (!o.landmarks.empty() && o.landmarks.size() < 4) {
+    throw InputError("--landmark given " + std::to_string(o.landmarks.size()) +
+                     " times; expected at least 4 landmarks (or none: the lines decide)");
+  }
+  Validate(o.thresholds);
+}
+
+// The calibration from the first frame's lines: every field model fitted, the best kept.
+void CalibrateFromLines(const camera::Image& frame, const std::string& name, const SetupOptions& o,
+                        SetupResult* r) {
+  vision::LineFinderOptions finder;
+  finder.line_width_px = o.line_width_px;
+  std::optional<calib::AutoCalibration> best;
+  for (const calib::Field& field : o.fields) {
+    SetupFieldTry t{field.name, 0.0, 0.0, ""};
+    try {
+      vision::FrameCalibration fc = vision::AutoCalibrateFrame(frame, name, field, finder);
+      t.score_px = fc.calibration.score_px;
+      t.held_out_mapping_mm = fc.calibration.held_out_mapping_mm;
+      if (!best || t.score_px > best->score_px) {
+        best = std::move(fc.calibration);
+        r->field = field;
+      }
+    } catch (const InputError& e) {
+      t.failure = e.what();
+    }
+    r->tried.push_back(t);
+  }
+  std::stable_sort(r->tried.begin(), r->tried.end(),
+                   [](const SetupFieldTry& a, const SetupFieldTry& b) {
+                     return a.failure.empty() && (!b.failure.empty() || a.score_px > b.score_px);
+                   });
+  if (!best) {
+    throw InputError(r->tried.front().failure +
+                     (o.fields.size() > 1 ? " (and every other model of the family failed)" : "") +
+                     "; or give four --landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");
+  }
+  r->calibration_input = best->input;
+  r->calibration_fit = best->fit;
+  r->mapping_error_mm = best->held_out_mapping_mm;
+  r->calibration_report = calib::AutoReportText(*best);
+}
+
+// The calibration from clicked landmarks of the first field model.
+void CalibrateFromLandmarks(const camera::Image& frame, const std::string& name,
+                            const SetupOptions& o, SetupResult* r) {
+  const calib::Field& field = o.fields.front();
+  calib::CalibrationInput in;
+  in.source = name;
+  in.loc = FileLoc{name, 0};
+  in.image_width_px = frame.width_px;
+  in.image_height_px = frame.height_px;
+  for (const SetupLandmark& l : o.landmarks) {
+    const calib::FieldPoint* p = field.FindPoint(l.name);
+    if (p == nullptr) {
+      throw InputError("--landmark " + l.name + ": not a landmark of " + field.name +
+                       "; expected one of " + field.PointNames());
+    }
+    in.points.push_back({l.name, l.pixel, p->at_mm, 0.0, in.loc});
+  }
+  in.options.holdout_folds = std::min<int>(5, static_cast<int>(o.landmarks.size()));
+  r->field = field;
+  r->from_landmarks = true;
+  r->calibration_input = in;
+  r->calibration_fit = calib::FitCamera(in);
+  r->mapping_error_mm = r->calibration_fit.heldout_rms_mm;
+  r->calibration_report = calib::FitReportText(in, r->calibration_fit);
+  r->tried.push_back({field.name, 0.0, r->mapping_error_mm, ""});
+}
+
+// The settings' text with relative pattern, codebook and patterns_dir paths made absolute (the
+// settings are written into another folder) and its [detector] table replaced by `detector`.
+std::string SettingsText(const std::string& path, const detect::DetectorOptions& t,
+                         const std::string& comment) {
+  const std::string text = io::ReadTextFile(path, "detector settings");
+  const fs::path base = fs::absolute(fs::path(path)).parent_path();
+  static const std::regex kPath(R"(^(\s*(pattern|codebook|patterns_dir)\s*=\s*")([^"]+)(".*)$)");
+  static const std::regex kTable(R"(^\s*\[.*)");
+  std::istringstream in(text);
+  std::string out = comment, line;
+  bool in_detector = false;
+  while (std::getline(in, line)) {
+    if (std::regex_match(line, kTable)) in_detector = line.find("[detector]") != std::string::npos;
+    if (in_detector) continue;
+    std::smatch m;
+    // A pattern or codebook named without a folder or ".toml" is looked up in patterns_dir.
+    const bool is_path =
+        std::regex_match(line, m, kPath) &&
+        (m[2].str() == "patterns_dir" || m[3].str().find('/') != std::string::npos ||
+         m[3].str().ends_with(".toml"));
+    if (is_path && !fs::path(m[3].str()).is_absolute()) {
+      line = m[1].str() + (base / m[3].str()).lexically_normal().string() + m[4].str();
+    }
+    out += line + "\n";
+  }
+  out += "\n[detector]\npatch_sigma_mm = " + FormatRoundTrip(t.patch_sigma_mm) +
+         "\ngeometry_confidence = " + FormatRoundTrip(t.geometry_confidence) +
+         "\nreach_margin_mm = " + FormatRoundTrip(t.reach_margin_mm) +
+         "\narea_ratio_min = " + FormatRoundTrip(t.area_ratio_min) +
+         "\narea_ratio_max = " + FormatRoundTrip(t.area_ratio_max) + "\n";
+  return out;
+}
+
+double SmallestPatchMm(const detect::DetectorConfig& config) {
+  double r = INFINITY;
+  for (const detect::DetectorPattern& p : config.patterns)
+    for (const Patch& patch : p.pattern.patches) r = std::min(r, patch.radius_mm);
+  return std::isfinite(r) ? r : 0.0;
+}
+
+void FitColours(const std::vector<const camera::Image*>& frames,
+                const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r) {
+  const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
+  std::vector<std::string> classes;
+  for (const std::string& name : config.palette) {
+    const ColourResolution c = ResolveColourName(vocabulary, name);
+    if (!c.known) throw InputError(o.settings_path + ": " + UnknownColourMessage(vocabulary, c));
+    classes.push_back(name);
+  }
+  r->thresholds = vision::FitThresholdsAuto(frames, classes, vocabulary, o.thresholds);
+}
+
+}  // namespace
+
+detect::DetectorOptions SetupTolerances(const detect::DetectorOptions& base, double mm_per_px,
+                                        double mapping_error_mm, double smallest_patch_px) {
+  detect::DetectorOptions t = base;
+  const double e = std::isfinite(mapping_error_mm) ? mapping_error_mm : 0.0;
+  t.patch_sigma_mm = std::max(2.0, 0.4 * mm_per_px);
+  t.reach_margin_mm = std::max(20.0, 3.0 * e + 2.0 * mm_per_px);
+  const double r = smallest_patch_px;
+  const double core = r > 1.06 ? (r - 1.06) / r : 0.0;
+  t.area_ratio_min = std::clamp(0.5 * core * core, 0.1, 0.4);
+  t.area_ratio_max = 2.5;
+  return t;
+}
+
+SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
+                        const std::vector<std::string>& names, const SetupOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CheckSetupInput(frames, names, options);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(options.settings_path);
+  SetupResult r;
+  if (options.landmarks.empty()) {
+    CalibrateFromLines(*frames.front(), names.front(), options, &r);
+  } else {
+    CalibrateFromLandmarks(*frames.front(), names.front(), options, &r);
+  }
+  r.calibration_input.default_height_mm = options.robot_height_mm;
+  const camera::CameraModel camera = camera::CameraModel::Pinhole(r.calibration_fit.camera);
+  const camera::Image& first = *frames.front();
+  r.mm_per_px = std::sqrt(camera.AreaScale(
+      Vec2(0.5 * (first.width_px - 1), 0.5 * (first.height_px - 1)), options.robot_height_mm));
+  r.smallest_patch_px = r.mm_per_px > 0.0 ? SmallestPatchMm(config) / r.mm_per_px : 0.0;
+  r.tolerances =
+      SetupTolerances(config.options, r.mm_per_px, r.mapping_error_mm, r.smallest_patch_px);
+  FitColours(frames, config, options, &r);
+  const std::string made =
+      "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
+  r.files = {
+      {"calibration.toml", calib::CalibrationFileText(r.calibration_input, r.calibration_fit)},
+      {"thresholds.toml", vision::ThresholdsToml(r.thresholds.thresholds,
+                                                 "Made by patlab setup from " +
+                                                     std::to_string(frames.size()) + " frame(s).")},
+      {"settings.toml",
+       SettingsText(options.settings_path, r.tolerances,
+                    made + "# The detector settings " + options.settings_path +
+                        " with the tolerances setup chose ([detector], docs/setup.md).\n")},
+      {"setup.toml", made + "field = \"" + r.field.name +
+                         "\"\ncalibration = \"calibration.toml\"\nthresholds = "
+                         "\"thresholds.toml\"\nsettings = \"settings.toml\"\n"}};
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+std::string SetupReportText(const SetupResult& r) {
+  std::string s = "field model: " + r.field.name;
+  if (r.from_landmarks) {
+    s += " (from " + std::to_string(r.calibration_input.points.size()) + " landmarks)\n";
+  } else if (r.tried.size() > 1) {
+    const SetupFieldTry& second = r.tried[1];
+    s += second.failure.empty()
+             ? " (explains " + FormatSignificant(r.tried[0].score_px, 5) + " px of line; next " +
+                   second.field + " " + FormatSignificant(second.score_px, 5) + " px, " +
+                   FormatSignificant(r.tried[0].score_px - second.score_px, 4) + " px less)\n"
+             : " (the only model of " + std::to_string(r.tried.size()) + " that fitted)\n";
+    for (const SetupFieldTry& t : r.tried) {
+      s += "  " + t.field + ": " +
+           (t.failure.empty() ? FormatSignificant(t.score_px, 5) + " px of line explained"
+                              : "failed: " + t.failure) +
+           "\n";
+    }
+  } else {
+    s += "\n";
+  }
+  s += "mapping error: " + FormatSignificant(r.mapping_error_mm, 3) + " mm RMS on the floor (" +
+       (r.from_landmarks ? "cross-validated over the landmarks" : "held-out line pixels") + "); " +
+       FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
+  s += "colour classes (pixels, separability, nearest):\n  carpet: " +
+       std::to_string(r.thresholds.carpet.pixels) + " px\n";
+  for (const vision::AutoClassFit& c : r.thresholds.classes) {
+    s += "  " + c.name + ": " + std::to_string(c.pixels) + " px, separability " +
+         FormatSignificant(c.separability, 3) + " from " + c.nearest + "\n";
+  }
+  const detect::DetectorOptions& t = r.tolerances;
+  s += "tolerances: patch_sigma_mm " + FormatSignificant(t.patch_sigma_mm, 3) +
+       ", reach_margin_mm " + FormatSignificant(t.reach_margin_mm, 3) + ", area_ratio_min " +
+       FormatSignificant(t.area_ratio_min, 3) + " (smallest patch " +
+       FormatSignificant(r.smallest_patch_px, 3) + " px), area_ratio_max " +
+       FormatSignificant(t.area_ratio_max, 3) + "\n";
+  return s + "seconds: " + FormatSignificant(r.seconds, 3) + "\n";
+}
+
+SetupFiles LoadSetupFiles(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "setup.toml").string();
+  if (!fs::exists(path)) {
+    throw InputError("--setup " + dir +
+                     ": no setup.toml in it; expected a folder written by "
+                     "patlab setup");
+  }
+  const toml::table root = io::ParseTomlFile(path);
+  SetupFiles f;
+  auto get = [&](const char* key) {
+    const auto v = root[key].value<std::string>();
+    if (!v) {
+      throw InputError(path + ":1: missing or non-text key '" + key +
+                       "'; expected calibration, thresholds and settings file names");
+    }
+    const fs::path p(*v);
+    return (p.is_absolute() ? p : fs::path(dir) / p).string();
+  };
+  f.calibration = get("calibration");
+  f.thresholds = get("thresholds");
+  f.settings = get("settings");
+  return f;
+}
+
+std::string LandmarkListText(const calib::Field& field) {
+  std::string s = "landmarks of " + field.name + " (name, x mm, y mm):\n";
+  for (const calib::FieldPoint& p : field.points) {
+    s += "  " + p.name + " " + FormatNumber(p.at_mm.x()) + " " + FormatNumber(p.at_mm.y()) + "\n";
+  }
+  return s;
+}
+
+namespace {
+
+std::optional<double> ParseDecimal(const std::string& text) {
+  double value = 0.0;
+  const char* begin = text.data() + (text.starts_with('+') ? 1 : 0);
+  const auto [end, ec] = std::from_chars(begin, text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+    return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+SetupLandmark ParseLandmark(const std::string& text) {
+  static const std::regex kForm(R"(^([A-Za-z0-9_]+)=([-+0-9.eE]+),([-+0-9.eE]+)$)");
+  std::smatch m;
+  const std::optional<double> x =
+      std::regex_match(text, m, kForm) ? ParseDecimal(m[2].str()) : std::nullopt;
+  const std::optional<double> y = x ? ParseDecimal(m[3].str()) : std::nullopt;
+  if (!x || !y) {
+    throw InputError("--landmark '" + text +
+                     "'; expected NAME=X,Y (a landmark of the field and its pixel)");
+  }
+  return {m[1].str(), Vec2(*x, *y)};
+}
+
+}  // namespace patlab::formats

@@ -1,0 +1,107 @@
+// A new camera set up from its frames, behind `patlab setup` (docs/setup.md): the field's lines
+// give the calibration (vision/field_lines.h AutoCalibrateFrame; with several field models, each
+// is fitted and the one whose camera explains the most line length is kept), or, as a fallback,
+// landmarks the user clicked; the colour classes the settings' palette names give the
+// thresholds (vision/thresholds_auto.h); and the detector's tolerances are chosen from what was
+// measured. The result is four files in one folder -- calibration.toml, thresholds.toml,
+// settings.toml (the given settings with a [detector] table of the chosen tolerances) and
+// setup.toml naming them -- which `patlab detect --setup DIR` reads.
+//
+// Tolerances (SetupTolerances): with s the floor's mm per pixel at the image centre on the
+// robots' plane and e the calibration's held-out mapping error (mm),
+//   patch_sigma_mm  = max(2, 0.4 s)  -- a thresholded patch's centroid is good to ~0.4 px;
+//   reach_margin_mm = max(20, 3 e + 2 s)  -- a patch may be found 3 mapping errors and 2 pixels
+//                     beyond the pattern's reach;
+//   area_ratio_min  = clamp(0.5 ((r - 1.06) / r)^2, 0.1, 0.4), r the smallest patch's radius in
+//                     px -- the thresholds keep a patch's core, about a pixel inside its edge
+//                     (settings/ssl-frame.detector.toml explains the 1.06 px); half of that
+//                     admits every patch;
+//   area_ratio_max  = 2.5.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "patlab/calib/auto_calibrate.h"
+#include "patlab/calib/field.h"
+#include "patlab/camera/image.h"
+#include "patlab/detect/detector.h"
+#include "patlab/vision/thresholds_auto.h"
+
+namespace patlab::formats {
+
+// A landmark of the field model clicked in the first frame (`--landmark NAME=X,Y`).
+struct SetupLandmark {
+  std::string name;
+  Vec2 pixel = Vec2::Zero();
+};
+
+struct SetupOptions {
+  // The field models to try (one model, or every model of a family); at least one.
+  std::vector<calib::Field> fields;
+  std::string settings_path;  // detector settings: palette and patterns (required)
+  // The robots' pattern plane above the floor (mm), written as the calibration's default height;
+  // in [0, 1000].
+  double robot_height_mm = 140.0;
+  double line_width_px = 4.0;  // the field lines' width in the frames, in [1, 30]
+  // When not empty (at least 4): the calibration is fitted to these in the first frame instead
+  // of the lines, with the first field model.
+  std::vector<SetupLandmark> landmarks;
+  vision::AutoThresholdsOptions thresholds;
+};
+
+// One field model tried: its camera's score (px of line explained) or why it failed.
+struct SetupFieldTry {
+  std::string field;
+  double score_px = 0.0;
+  double held_out_mapping_mm = 0.0;
+  std::string failure;  // "" when it fitted
+};
+
+struct SetupResult {
+  calib::Field field;                // the model kept
+  std::vector<SetupFieldTry> tried;  // every model tried, best first
+  bool from_landmarks = false;
+  calib::CalibrationInput calibration_input;
+  calib::CalibrationFit calibration_fit;
+  std::string calibration_report;  // the automatic calibration's (or the fit's) report
+  double mapping_error_mm = 0.0;   // held-out (lines) or cross-validated (landmarks)
+  double mm_per_px = 0.0;          // on the robots' plane at the image centre
+  double smallest_patch_px = 0.0;  // the smallest patch's radius in px there
+  vision::AutoThresholdsFit thresholds;
+  detect::DetectorOptions tolerances;  // the settings' options with the chosen tolerances
+  // The files to write into the output folder (name, text): calibration.toml, thresholds.toml,
+  // settings.toml, setup.toml.
+  std::vector<std::pair<std::string, std::string>> files;
+  double seconds = 0.0;
+};
+
+// Sets up a camera from its frames (names for messages). InputError for bad input or frames
+// that do not decide the camera, naming the frame, the numbers and what is expected.
+SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
+                        const std::vector<std::string>& names, const SetupOptions& options);
+
+// The tolerances for a floor scale (mm per px), a mapping error (mm) and the smallest patch's
+// radius (px), starting from `base` (header comment).
+detect::DetectorOptions SetupTolerances(const detect::DetectorOptions& base, double mm_per_px,
+                                        double mapping_error_mm, double smallest_patch_px);
+
+// The report for people: the model kept (and by how much), the mapping error, the colour
+// classes with pixel counts and separability, the tolerances.
+std::string SetupReportText(const SetupResult& result);
+
+// The files a setup folder's setup.toml names, as paths (relative ones resolved against the
+// folder). InputError "file:line: ...; expected ..." for a missing file or key.
+struct SetupFiles {
+  std::string calibration, thresholds, settings;
+};
+SetupFiles LoadSetupFiles(const std::string& dir);
+
+// "name x y" lines of a field model's landmarks, for `patlab setup --list-landmarks`.
+std::string LandmarkListText(const calib::Field& field);
+
+// Parses "NAME=X,Y" (`--landmark`); InputError naming the flag.
+SetupLandmark ParseLandmark(const std::string& text);
+
+}  // namespace patlab::formats

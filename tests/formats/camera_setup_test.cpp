@@ -1,0 +1,106 @@
+// The pieces of patlab setup that need no frame: the tolerances chosen from the measured scale,
+// mapping error and patch size (formats/camera_setup.h), the --landmark form, setup folders.
+#include "patlab/formats/camera_setup.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "../expect_error.h"
+#include "../test_util.h"
+#include "patlab/formats/field_file.h"
+#include "patlab/formats/scene_file.h"
+#include "patlab/render/scene_render.h"
+
+namespace patlab::formats {
+namespace {
+
+TEST(SetupTolerances, FollowTheScaleTheMappingErrorAndThePatchSize) {
+  const detect::DetectorOptions base;
+  // A fine camera (1 mm/px), a good calibration, big patches: the floors of each bound.
+  detect::DetectorOptions t = SetupTolerances(base, 1.0, 0.5, 20.0);
+  EXPECT_DOUBLE_EQ(t.patch_sigma_mm, 2.0);
+  EXPECT_DOUBLE_EQ(t.reach_margin_mm, 20.0);
+  EXPECT_DOUBLE_EQ(t.area_ratio_min, 0.4);  // 0.5 (18.94 / 20)^2 = 0.45, capped
+  // A coarse camera (10 mm/px), 8 mm mapping error, 2.5 px patches.
+  t = SetupTolerances(base, 10.0, 8.0, 2.5);
+  EXPECT_DOUBLE_EQ(t.patch_sigma_mm, 4.0);            // 0.4 px
+  EXPECT_DOUBLE_EQ(t.reach_margin_mm, 3 * 8.0 + 20);  // 3 errors + 2 px
+  EXPECT_NEAR(t.area_ratio_min, 0.5 * std::pow(1.44 / 2.5, 2), 1e-12);
+  EXPECT_DOUBLE_EQ(t.area_ratio_max, 2.5);
+  // A patch a pixel across: the floor of 0.1; an unknown mapping error counts as 0.
+  t = SetupTolerances(base, 10.0, std::nan(""), 1.0);
+  EXPECT_DOUBLE_EQ(t.area_ratio_min, 0.1);
+  EXPECT_DOUBLE_EQ(t.reach_margin_mm, 20.0);
+  EXPECT_EQ(t.estimator, base.estimator);  // what setup does not choose stays
+}
+
+TEST(SetupLandmarks, ParseNameAndPixel) {
+  const SetupLandmark l = ParseLandmark("corner_pos_left=700.5,-3e1");
+  EXPECT_EQ(l.name, "corner_pos_left");
+  EXPECT_DOUBLE_EQ(l.pixel.x(), 700.5);
+  EXPECT_DOUBLE_EQ(l.pixel.y(), -30.0);
+  for (const char* bad : {"centre", "centre=1", "centre=1,2,3", "=1,2", "centre=x,2", "c=1,nan"}) {
+    EXPECT_INPUT_ERROR(ParseLandmark(bad), std::string("--landmark '") + bad +
+                                               "'; expected NAME=X,Y (a landmark of the field "
+                                               "and its pixel)");
+  }
+}
+
+TEST(SetupFolder, NamesItsFilesRelativeToTheFolder) {
+  testing::TempDir dir;
+  std::ofstream(dir.Path("setup.toml"))
+      << "calibration = \"c.toml\"\nthresholds = \"t.toml\"\nsettings = \"/abs/s.toml\"\n";
+  const SetupFiles f = LoadSetupFiles(dir.Path(""));
+  EXPECT_EQ(f.calibration, dir.Path("c.toml"));
+  EXPECT_EQ(f.thresholds, dir.Path("t.toml"));
+  EXPECT_EQ(f.settings, "/abs/s.toml");
+  std::ofstream(dir.Path("setup.toml")) << "calibration = \"c.toml\"\n";
+  EXPECT_INPUT_ERROR(LoadSetupFiles(dir.Path("")),
+                     dir.Path("setup.toml") +
+                         ":1: missing or non-text key 'thresholds'; expected calibration, "
+                         "thresholds and settings file names");
+  EXPECT_INPUT_ERROR(LoadSetupFiles(dir.Path("nowhere")),
+                     "--setup " + dir.Path("nowhere") +
+                         ": no setup.toml in it; expected a folder written by patlab setup");
+}
+
+// The --landmark fallback on the rendered half-field frame: six landmarks projected through the
+// known camera (the field's own lines not used) give a calibration within 5 mm of it; an unknown
+// landmark is an InputError naming the model's.
+TEST(SetupCamera, LandmarksReplaceTheLines) {
+  const std::string data = PATLAB_SOURCE_DIR "/tests/data/setup/";
+  const SceneFile scene = LoadSceneFile(data + "half-field.toml");
+  const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
+  SetupOptions o;
+  o.fields = {formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml")};
+  o.settings_path = PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml";
+  for (const char* name : {"centre", "halfway_left", "centre_circle_right", "corner_pos_left",
+                           "defense_front_left_pos", "defense_front_right_pos"}) {
+    const auto px = scene.calibration.camera.WorldToPixel(o.fields[0].FindPoint(name)->at_mm, 0.0);
+    ASSERT_TRUE(px) << name;
+    o.landmarks.push_back({name, *px});
+  }
+  const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
+  EXPECT_TRUE(r.from_landmarks);
+  const camera::CameraModel fitted = camera::CameraModel::Pinhole(r.calibration_fit.camera);
+  double sum = 0.0;
+  int n = 0;
+  for (int y = 5; y < frame.height_px; y += 10)
+    for (int x = 5; x < frame.width_px; x += 10) {
+      const auto a = scene.calibration.camera.PixelToWorld(Vec2(x, y), 0.0);
+      const auto b = fitted.PixelToWorld(Vec2(x, y), 0.0);
+      ASSERT_TRUE(a && b);
+      sum += (*a - *b).squaredNorm(), ++n;
+    }
+  EXPECT_LT(std::sqrt(sum / n), 5.0);
+  EXPECT_EQ(r.files.size(), 4u);
+  o.landmarks[0].name = "middle";
+  EXPECT_INPUT_ERROR(
+      SetupCamera({&frame}, {"frame.png"}, o),
+      "--landmark middle: not a landmark of ssl-2009; expected one of " + o.fields[0].PointNames());
+}
+
+}  // namespace
+}  // namespace patlab::formats
