@@ -173,6 +173,13 @@ void PrintStats(const live::LiveStats& s) {
             << s.reopens << "; packets " << s.packets << " detection, " << s.geometry_packets
             << " geometry, " << s.send_failures << " not sent, " << s.send_retries
             << " retries; ids held " << s.ids_held << "\n";
+  if (s.cameras.size() > 1) {
+    for (const live::CameraFrameCounts& c : s.cameras) {
+      std::cerr << "  camera " << c.camera_id << ": frames received " << c.received
+                << ", processed " << c.processed << ", dropped " << c.dropped
+                << ", skipped corrupt " << c.skipped << "\n";
+    }
+  }
   std::cerr << StringPrintf("  %-12s %9s %9s %9s\n", "stage", "p50 ms", "p99 ms", "max ms");
   for (const live::StageLatency& l : s.latency) {
     std::cerr << StringPrintf("  %-12s %9s %9s %9s\n", l.stage.c_str(),

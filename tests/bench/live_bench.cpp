@@ -1,13 +1,22 @@
 // The live path on one core, frame in memory -> packet sent: per-stage and end-to-end latency
-// (p50, p99, max) of `patlab live`'s detection thread for the 780x580 SSL test frame
-// (../shared/frames/ssl-field-2008.jpg with tests/data/vision/ssl-2008.*; the 640x480 golden
-// frame when the shared frames are absent). Stages as live_loop.h names them: 2 detect
-// (vision + detector), 3 packet (SSL structs + protobuf serialization), 4 send (one UDP datagram
-// to a socket of this program on 127.0.0.1, the SSL log write to a temporary file), and stage 2
-// split into the vision pipeline's stages (vision/pipeline.h: colour lookup, runs, regions, blobs
-// to mm, detector) from the FrameDetector's TimeProfile. Prints a table; run:
-//   build/bench/live_bench [frames, default 2000] [golden|ssl-2008, default ssl-2008 when the
-//   shared frames are there]
+// (p50, p99, max) of `patlab live`'s detection thread for one frame, its second argument:
+//   twelve    the performance target's frame (docs/live.md "Latency"): 780x580, 12 robots in the
+//             SSL standard pattern (6 blue, 6 yellow) and a ball, rendered at startup by the
+//             library's renderer (render::RenderScene) from tests/data/live/ssl-12-robots.toml,
+//             detected with tests/data/golden/ssl-frame.{thresholds,detector}.toml and the
+//             scene's calibration; needs nothing but the repository;
+//   ssl-2008  the real 780x580 SSL frame ../shared/frames/ssl-field-2008.jpg (5 robots, 5 balls)
+//             with tests/data/vision/ssl-2008.*; the golden frame when the shared frames are
+//             absent;
+//   golden    the 640x480 golden frame tests/data/golden/ssl-frame.png (10 robots, 1 ball).
+// Stages as live_loop.h names them: 2 detect (vision + detector), 3 packet (SSL structs + protobuf
+// serialization), 4 send (one UDP datagram to a socket of this program on 127.0.0.1, the SSL log
+// write to a temporary file), and stage 2 split into the vision pipeline's stages
+// (vision/pipeline.h: colour lookup, runs, regions, blobs to mm, detector) from the
+// FrameDetector's TimeProfile. Prints a table; run (scripts/bench_live.sh runs `twelve` pinned to
+// one core):
+//   build/bench/live_bench [frames, default 2000] [twelve|ssl-2008|golden, default ssl-2008 when
+//   the shared frames are there, else golden]
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -23,11 +32,13 @@
 #include "patlab/core/timeprofile.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
+#include "patlab/formats/scene_file.h"
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/live/live_loop.h"
 #include "patlab/live/packet.h"
 #include "patlab/live/ssl_log.h"
 #include "patlab/live/udp_sender.h"
+#include "patlab/render/scene_render.h"
 #include "patlab/vision/frame_io.h"
 
 namespace {
@@ -36,12 +47,27 @@ using namespace patlab;
 using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
 
+// `frame` is an image file, or for `twelve` a scene file rendered at startup.
 struct Inputs {
   std::string frame, thresholds, calibration, settings;
+  bool render = false;
 };
+
+constexpr const char* kUsage =
+    "usage: live_bench [frames, default 2000] [twelve|ssl-2008|golden]\n"
+    "  twelve    780x580, 12 robots and a ball, rendered from tests/data/live/ssl-12-robots.toml\n"
+    "  ssl-2008  ../shared/frames/ssl-field-2008.jpg, 780x580, 5 robots and 5 balls (golden when "
+    "absent)\n"
+    "  golden    tests/data/golden/ssl-frame.png, 640x480, 10 robots and a ball\n";
 
 Inputs Choose(const std::string& which) {
   const std::string root = PATLAB_SOURCE_DIR;
+  if (which == "twelve") {
+    const std::string golden = root + "/tests/data/golden/ssl-frame.";
+    const std::string live = root + "/tests/data/live/ssl-12-robots.";
+    return {live + "toml", golden + "thresholds.toml", live + "calibration.toml",
+            golden + "detector.toml", true};
+  }
   const std::string shared = root + "/../shared/frames/ssl-field-2008.jpg";
   if (which != "golden" && fs::exists(shared)) {
     const std::string data = root + "/tests/data/vision/ssl-2008.";
@@ -67,18 +93,42 @@ int BoundSocket(uint16_t* port) {
 
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
+// The frame count and the frame's name of the command line; false when they are not valid.
+bool ParseArguments(int argc, char** argv, int* frames, std::string* which) {
+  *which = argc > 2 ? argv[2] : "";
+  try {
+    *frames = argc > 1 ? std::stoi(argv[1]) : 2000;
+  } catch (const std::exception&) {
+    return false;
+  }
+  return argc <= 3 && *frames >= 1 &&
+         (which->empty() || *which == "twelve" || *which == "ssl-2008" || *which == "golden");
+}
+
+// The frame: read from its file, or rendered from its scene file.
+camera::Image FrameImage(const Inputs& in) {
+  if (!in.render) return vision::ReadFrame(in.frame);
+  const formats::SceneFile scene = formats::LoadSceneFile(in.frame);
+  return render::RenderScene(scene.scene, scene.calibration.camera);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int frames_to_run = argc > 1 ? std::stoi(argv[1]) : 2000;
-  const Inputs in = Choose(argc > 2 ? argv[2] : "");
+  int frames_to_run = 0;
+  std::string which;
+  if (!ParseArguments(argc, argv, &frames_to_run, &which)) {
+    std::fputs(kUsage, stderr);
+    return 2;
+  }
+  const Inputs in = Choose(which);
   vision::FrameDetectorOptions options;
   vision::ApplyFrameSettings(formats::LoadFrameSettings(in.settings), &options);
   options.collect_timing = true;  // per stage: a clock read per stage, tens of ns
   vision::FrameDetector frames(formats::LoadThresholds(in.thresholds),
                                formats::LoadCalibration(in.calibration),
                                formats::LoadDetectorSettings(in.settings), options);
-  const camera::Image image = vision::ReadFrame(in.frame);
+  const camera::Image image = FrameImage(in);
   uint16_t port = 0;
   const int receiver = BoundSocket(&port);
   live::UdpSender sender(live::ParseUdpAddress("127.0.0.1:" + std::to_string(port), "--send"), {});
@@ -117,9 +167,10 @@ int main(int argc, char** argv) {
   log.Close();
   fs::remove(log_path);
   close(receiver);
+  const std::string name =
+      fs::path(in.frame).filename().string() + (in.render ? " (rendered)" : "");
   std::printf("live_bench: %s, %dx%d, %zu robots and %zu balls per frame, %d frames, one thread\n",
-              fs::path(in.frame).filename().c_str(), image.width_px, image.height_px, robots, balls,
-              frames_to_run);
+              name.c_str(), image.width_px, image.height_px, robots, balls, frames_to_run);
   std::printf("  %-18s %9s %9s %9s\n", "stage", "p50 ms", "p99 ms", "max ms");
   const auto row = [](const std::string& name, std::vector<double>& v) {
     double max_ms = 0.0;

@@ -1,7 +1,7 @@
 // The live loop (live/live_loop.h) on the golden frame: every frame delivered is detected or
 // counted as dropped; the packets sent to 127.0.0.1, the log and the JSON lines carry the same
 // detections as a FrameDetector of the test's own; a stop request ends the loop with a valid
-// log.
+// log; each camera's frames are counted and the totals are their sums.
 #include "patlab/live/live_loop.h"
 
 #include <arpa/inet.h>
@@ -138,6 +138,33 @@ TEST(LiveLoop, StopRequestEndsWithAValidLog) {
   log.Close();
   EXPECT_EQ(stats.processed, 0);
   EXPECT_EQ(ReadSslLog(dir.Path("stopped.log")).truncated, 0);
+}
+
+TEST(LiveLoop, EachCameraIsCountedAndTheTotalsAreTheirSums) {
+  LiveOutputs outputs;
+  LiveOptions options;
+  options.source.list_rate_hz = 50.0;
+  options.source.loop = true;
+  options.max_frames = 4;
+  LiveCamera second = GoldenCamera();
+  second.camera_id = 3;
+  std::atomic<bool> stop{false};
+  const LiveStats stats = RunLive({GoldenCamera(), second}, options, outputs, stop);
+  ASSERT_EQ(stats.cameras.size(), 2u);
+  EXPECT_EQ(stats.cameras[0].camera_id, 0u);
+  EXPECT_EQ(stats.cameras[1].camera_id, 3u);
+  long received = 0, processed = 0, dropped = 0;
+  for (const CameraFrameCounts& c : stats.cameras) {
+    EXPECT_EQ(c.received, 4);
+    EXPECT_EQ(c.processed + c.dropped, c.received);
+    EXPECT_EQ(c.skipped, 0);
+    received += c.received;
+    processed += c.processed;
+    dropped += c.dropped;
+  }
+  EXPECT_EQ(received, stats.received);
+  EXPECT_EQ(processed, stats.processed);
+  EXPECT_EQ(dropped, stats.dropped);
 }
 
 TEST(LiveLoop, PercentileIsTheNearestRank) {

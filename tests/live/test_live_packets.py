@@ -1,13 +1,19 @@
 """patlab live's packets decoded by Python: the repository's proto/ files compiled with
 protoc --python_out into a temporary folder, the packets of `patlab live` on the golden frame
 received on 127.0.0.1 and decoded with python3-protobuf, every robot equal to `patlab detect`'s
-output for the same frame. Run by ctest (live_python) with PATLAB_BINARY and PATLAB_SOURCE_DIR."""
+output for the same frame; and `patlab live --log` stopped by SIGINT or SIGKILL at random moments,
+its log read back by an independent reader. Run by ctest (live_python) with PATLAB_BINARY and
+PATLAB_SOURCE_DIR."""
 import csv
 import io
 import os
+import random
+import signal
 import socket
+import struct
 import subprocess
 import sys
+import time
 
 SOURCE = os.environ["PATLAB_SOURCE_DIR"]
 BINARY = os.environ["PATLAB_BINARY"]
@@ -78,3 +84,56 @@ def test_packets_decode_to_detect_output(tmp_path):
                 seen += 1
         assert seen == 10
         assert len(frame.balls) == 1
+
+
+def read_log(path):
+    """The SSL log at `path` read by this file's own reader (docs/live.md, "SSL log files"):
+    (whole messages as (time_ns, type, bytes), bytes of a cut last record)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[:12] == b"SSL_LOG_FILE" and struct.unpack(">i", data[12:16])[0] == 1, data[:16]
+    messages, at = [], 16
+    while at + 16 <= len(data):
+        time_ns, kind, size = struct.unpack(">qii", data[at:at + 16])
+        if at + 16 + size > len(data):
+            break
+        messages.append((time_ns, kind, data[at + 16:at + 16 + size]))
+        at += 16 + size
+    return messages, len(data) - at
+
+
+def test_a_stopped_or_killed_live_leaves_a_log_of_whole_messages(tmp_path):
+    """SIGINT stops `patlab live` cleanly: exit 0 and a log of whole messages only. SIGKILL at
+    any moment leaves a log that reads back to its last whole message (at most the record being
+    written is cut), every whole message a wrapper packet with a detection. 16 rounds, seeded."""
+    wrapper = compile_protos(tmp_path)
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sock.bind(("127.0.0.1", 0))
+    port = sock.getsockname()[1]
+    rng = random.Random(7)
+    for round_ in range(16):
+        log = tmp_path / ("round%d.log" % round_)
+        process = subprocess.Popen(
+            [BINARY, "live", GOLDEN + "png", "--loop", "--list-rate", "200", "--log", str(log),
+             "--send", "127.0.0.1:%d" % port] + FILES,
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        time.sleep(rng.uniform(0.3, 1.2))
+        sig = signal.SIGINT if round_ % 2 == 0 else signal.SIGKILL
+        process.send_signal(sig)
+        _, stderr = process.communicate(timeout=30)
+        if sig == signal.SIGINT:
+            assert process.returncode == 0, (round_, process.returncode, stderr)
+        else:
+            assert process.returncode == -signal.SIGKILL, (round_, process.returncode, stderr)
+        if sig == signal.SIGKILL and log.stat().st_size == 0:
+            continue  # killed between creating the log and writing its header
+        messages, cut = read_log(log)
+        assert messages, (round_, sig)
+        assert cut == 0 or sig == signal.SIGKILL, (round_, cut)
+        for time_ns, kind, data in messages:
+            assert kind == 2 and time_ns > 0
+            packet = wrapper.SSL_WrapperPacket()
+            packet.ParseFromString(data)
+            assert packet.HasField("detection") or packet.HasField("geometry")
+        receive_all(sock)
+    sock.close()

@@ -119,6 +119,7 @@ void DetectFrames(vision::FrameDetector& frames, uint32_t camera_id, Mailbox& bo
                                                            Ms(sent - delivered)};
     for (size_t i = 0; i < ms.size(); ++i) shared.samples_ms[i].push_back(ms[i]);
     ++shared.stats.processed;
+    ++box.processed;
   }
 }
 
@@ -130,13 +131,18 @@ void DetectThread(vision::FrameDetector& frames, uint32_t camera_id, Mailbox& bo
   }
 }
 
-void Summarise(const std::vector<std::unique_ptr<Mailbox>>& boxes, Shared& shared) {
-  for (const auto& box : boxes) {
-    shared.stats.received += box->received;
+void Summarise(const std::vector<LiveCamera>& cameras,
+               const std::vector<std::unique_ptr<Mailbox>>& boxes, Shared& shared) {
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Mailbox& box = *boxes[i];
     // A frame still waiting when a stop request ended the loop was not processed either.
-    shared.stats.dropped += box->dropped + (box->full ? 1 : 0);
-    shared.stats.skipped += box->skipped;
-    shared.stats.reopens += box->reopens;
+    const CameraFrameCounts counts{cameras[i].camera_id, box.received, box.processed,
+                                   box.dropped + (box.full ? 1 : 0), box.skipped};
+    shared.stats.cameras.push_back(counts);
+    shared.stats.received += counts.received;
+    shared.stats.dropped += counts.dropped;
+    shared.stats.skipped += counts.skipped;
+    shared.stats.reopens += box.reopens;
   }
   for (size_t i = 0; i < kLiveStageNames.size(); ++i) {
     std::vector<double>& v = shared.samples_ms[i];
@@ -212,7 +218,7 @@ LiveStats RunLive(const std::vector<LiveCamera>& cameras, const LiveOptions& opt
     }
   }
   if (shared.error) std::rethrow_exception(shared.error);
-  Summarise(boxes, shared);
+  Summarise(cameras, boxes, shared);
   return shared.stats;
 }
 

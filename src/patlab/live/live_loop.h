@@ -106,6 +106,15 @@ struct StageLatency {
 inline constexpr std::array<std::string_view, 5> kLiveStageNames = {
     "1 hand-off", "2 detect", "3 packet", "4 send", "end to end"};
 
+// One camera's frame counts; LiveStats' totals are their sums.
+struct CameraFrameCounts {
+  uint32_t camera_id = 0;
+  long received = 0;   // frames its source delivered
+  long processed = 0;  // frames detected and sent
+  long dropped = 0;    // received = processed + dropped, as for the totals
+  long skipped = 0;    // corrupt frames its source skipped
+};
+
 struct LiveStats {
   long received = 0;   // frames the sources delivered
   long processed = 0;  // frames detected and sent
@@ -118,7 +127,8 @@ struct LiveStats {
   long send_failures = 0;  // packets the sender did not send after LiveOptions::send_attempts
   long send_retries = 0;   // tries that failed and were tried again
   long ids_held = 0;       // robots sent with an ID carried over (--hold-ids, id_hold.h)
-  std::vector<StageLatency> latency;  // kLiveStageNames, in order
+  std::vector<StageLatency> latency;       // kLiveStageNames, in order
+  std::vector<CameraFrameCounts> cameras;  // per camera, in the order of RunLive's `cameras`
 };
 
 // Cameras' ids must differ (InputError "--camera-id: ... twice; expected one id per camera").

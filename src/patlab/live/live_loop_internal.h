@@ -30,6 +30,7 @@ struct Mailbox {
   long dropped = 0;
   long skipped = 0;  // corrupt frames the source skipped
   long reopens = 0;
+  long processed = 0;  // written by the detection thread under Shared::mutex, read after join
 };
 
 // What the threads share: the outputs and the counters under one mutex, the first error.
