@@ -143,6 +143,21 @@ py::array_t<double> TrialErrors(const sim::Experiment& experiment) {
   return errors;
 }
 
+// What a run returns to Python, for the trial and the detect runs alike.
+py::dict RunDict(const sim::Experiment& experiment, py::object columns, std::string csv,
+                 int threads, int64_t total_trials, double wall_seconds, double simulate_seconds) {
+  py::dict out;
+  out["columns"] = std::move(columns);
+  out["csv"] = std::move(csv);
+  out["name"] = experiment.name;
+  out["seed"] = experiment.seed;
+  out["threads"] = threads;
+  out["total_trials"] = total_trials;
+  out["wall_seconds"] = wall_seconds;
+  out["simulate_seconds"] = simulate_seconds;
+  return out;
+}
+
 // correspondence = "detect": whole frames through the detector (sim::RunDetectExperiment), the
 // run `patlab simulate` makes; the CSV is the table (Python reads its columns).
 py::dict RunDetect(const sim::Experiment& experiment, const sim::RunOptions& options,
@@ -157,16 +172,8 @@ py::dict RunDetect(const sim::Experiment& experiment, const sim::RunOptions& opt
     const py::gil_scoped_release nogil;
     result = sim::RunDetectExperiment(experiment, options);
   }
-  py::dict out;
-  out["columns"] = py::none();
-  out["csv"] = sim::DetectResultsCsv(experiment, result);
-  out["name"] = experiment.name;
-  out["seed"] = experiment.seed;
-  out["threads"] = result.threads;
-  out["total_trials"] = result.total_frames;
-  out["wall_seconds"] = result.wall_seconds;
-  out["simulate_seconds"] = result.simulate_seconds;
-  return out;
+  return RunDict(experiment, py::none(), sim::DetectResultsCsv(experiment, result), result.threads,
+                 result.total_frames, result.wall_seconds, result.simulate_seconds);
 }
 
 py::dict Run(const sim::Experiment& experiment, int threads, bool keep_errors) {
@@ -183,15 +190,9 @@ py::dict Run(const sim::Experiment& experiment, int threads, bool keep_errors) {
     const py::gil_scoped_release nogil;
     result = sim::RunExperiment(experiment, options);
   }
-  py::dict out;
-  out["columns"] = SummaryColumns(experiment, result);
-  out["csv"] = sim::ResultsCsv(experiment, result);
-  out["name"] = experiment.name;
-  out["seed"] = experiment.seed;
-  out["threads"] = result.threads;
-  out["total_trials"] = result.total_trials;
-  out["wall_seconds"] = result.wall_seconds;
-  out["simulate_seconds"] = result.simulate_seconds;
+  py::dict out =
+      RunDict(experiment, SummaryColumns(experiment, result), sim::ResultsCsv(experiment, result),
+              result.threads, result.total_trials, result.wall_seconds, result.simulate_seconds);
   if (keep_errors) out["errors"] = TrialErrors(experiment);
   return out;
 }
