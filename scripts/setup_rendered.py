@@ -1,0 +1,258 @@
+#!/usr/bin/env python3
+"""Scores `patlab setup` + `patlab detect --setup` on rendered frames of random cameras.
+
+Each seed draws a scene nobody tuned anything on: an SSL field model of the `ssl` family, a
+camera 3-5 m up over a random point of it (random heading, a few degrees of tilt, focal length,
+principal point and barrel distortion short of folding inside the frame), random lighting (the
+scene's colours scaled by a brightness and a white balance, the carpet's shade), 6-10 robots in
+the SSL standard pattern with random teams, IDs, positions and headings where the camera sees
+them, a ball, and the colour camera of `patlab render --camera` (exposure, Bayer sensor noise,
+demosaicing, YUV 4:2:2). Then, with nothing but the frame and the shipped settings
+`ssl-frame.detector`:
+
+    patlab setup FRAME --field ssl --settings ssl-frame.detector -o CAM
+    patlab detect FRAME --setup CAM
+
+and each frame is scored against the render's truth: robots found with the right team and ID
+within 100 mm, false IDs (a team + ID the frame does not show there), and the position error of
+the robots found. The field's half-turn symmetry gives two equally valid world frames (setup
+picks one and says so): each frame is scored in the one that matches its truth.
+
+Usage: scripts/setup_rendered.py [--patlab build/patlab] [--seeds 1-12] [--out results/setup]
+Writes OUT/rendered.csv (one row per frame) and prints the table docs/setup.md quotes.
+"""
+import argparse
+import csv
+import math
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+WIDTH, HEIGHT = 780, 580
+ROBOT_TOP_MM = 140.0
+BASE_COLOURS = {  # tests/data/setup/half-field.toml's colours
+    "field": (40, 100, 50), "body": (30, 30, 34), "blue": (35, 75, 210),
+    "yellow": (235, 215, 45), "pink": (240, 95, 185), "green": (70, 215, 95),
+    "orange": (250, 125, 25)}
+MODELS = ["ssl-2008", "ssl-2009", "ssl-2012", "ssl-2014", "ssl-2015", "ssl-2018",
+          "ssl-2019-div-b", "ssl-div-a", "ssl-div-b"]
+MATCH_MM = 100.0
+
+
+def field_size(model):
+    """(length, width) in mm from the model's file."""
+    size = {}
+    with open(os.path.join(ROOT, "experiments", "fields", model + ".toml")) as f:
+        for line in f:
+            key = line.split("=")[0].strip()
+            if key in ("length_mm", "width_mm"):
+                size[key] = float(line.split("=")[1].split("#")[0])
+    return size["length_mm"], size["width_mm"]
+
+
+def draw_camera(rng, length, width):
+    """A downward camera over a random point of the field; returns its calibration values."""
+    f = rng.uniform(480.0, 640.0)
+    corner = math.hypot(WIDTH / 2, HEIGHT / 2) / f
+    # r (1 + k1 r^2) stops growing at r^2 = 1 / (3 |k1|), where it is (2/3) / sqrt(3 |k1|): keep
+    # that fold at least 10% beyond the frame's corner.
+    k1_fold = (2.0 / (3.0 * 1.1 * corner)) ** 2 / 3.0
+    k1 = -rng.uniform(0.02, 0.8 * k1_fold)
+    centre = np.array([rng.uniform(-0.4, 0.4) * length, rng.uniform(-0.4, 0.4) * width,
+                       rng.uniform(3000.0, 5000.0)])
+    down = Rotation.from_rotvec([math.pi, 0.0, 0.0])
+    heading = Rotation.from_rotvec([0.0, 0.0, rng.uniform(0.0, 2.0 * math.pi)])
+    tilt = Rotation.from_rotvec(np.radians(rng.normal(0.0, 2.0, 3)))
+    rotation = tilt * down * heading  # world -> camera
+    return {"fx": f, "fy": f, "cx": WIDTH / 2 + rng.normal(0, 8), "cy": HEIGHT / 2 + rng.normal(0, 8),
+            "k1": k1, "rotation": rotation, "centre": centre}
+
+
+def floor_point(cam, u, v, z):
+    """The point at height z seen at undistorted pixel (u, v)."""
+    ray = np.array([(u - cam["cx"]) / cam["fx"], (v - cam["cy"]) / cam["fy"], 1.0])
+    ray = cam["rotation"].inv().apply(ray)
+    s = (z - cam["centre"][2]) / ray[2]
+    return cam["centre"] + s * ray
+
+
+def draw_robots(rng, cam, length, width):
+    """6-10 robots where the camera sees them, inside the field lines, 300 mm apart."""
+    count = int(rng.integers(6, 11))
+    robots = []
+    for _ in range(400):
+        if len(robots) == count:
+            break
+        # Barrel distortion pulls every point towards the centre: an undistorted pixel in the
+        # inner 80% of the frame is inside it.
+        p = floor_point(cam, rng.uniform(0.1, 0.9) * WIDTH, rng.uniform(0.1, 0.9) * HEIGHT,
+                        ROBOT_TOP_MM)
+        if abs(p[0]) > length / 2 - 100 or abs(p[1]) > width / 2 - 100:
+            continue
+        if any(math.hypot(p[0] - r[1], p[1] - r[2]) < 300 for r in robots):
+            continue
+        robots.append((None, p[0], p[1], rng.uniform(-math.pi, math.pi)))
+    teams = ["blue", "yellow"]
+    ids = {t: list(rng.permutation(16)) for t in teams}
+    out = []
+    for i, (_, x, y, theta) in enumerate(robots):
+        team = teams[i % 2]
+        out.append((team, int(ids[team].pop()), x, y, theta))
+    return out
+
+
+def draw_colours(rng):
+    """Lighting: brightness, white balance and the carpet's shade."""
+    brightness = rng.uniform(0.75, 1.2)
+    balance = rng.uniform(0.9, 1.1, 3)
+    colours = {}
+    for name, rgb in BASE_COLOURS.items():
+        scale = brightness * balance * (rng.uniform(0.8, 1.25) if name == "field" else 1.0)
+        colours[name] = [int(min(255, max(0, round(c * s)))) for c, s in zip(rgb, scale)]
+    return brightness, colours
+
+
+def write_scene(folder, model, cam, robots, colours, seed):
+    rotvec = cam["rotation"].as_rotvec()
+    translation = -cam["rotation"].apply(cam["centre"])
+    with open(os.path.join(folder, "camera.toml"), "w") as f:
+        f.write('model = "pinhole"\nimage_size_px = [%d, %d]\n\n[pinhole]\n' % (WIDTH, HEIGHT))
+        f.write("fx_px = %.6f\nfy_px = %.6f\ncx_px = %.6f\ncy_px = %.6f\nk1 = %.6f\nk2 = 0.0\n"
+                % (cam["fx"], cam["fy"], cam["cx"], cam["cy"], cam["k1"]))
+        f.write("rotation_rodrigues = [%.9f, %.9f, %.9f]\n" % tuple(rotvec))
+        f.write("translation_mm = [%.6f, %.6f, %.6f]\n\n" % tuple(translation))
+        f.write("[heights]\ndefault_mm = %.1f\norange = 21.5\n" % ROBOT_TOP_MM)
+    with open(os.path.join(folder, "scene.toml"), "w") as f:
+        f.write('calibration = "camera.toml"\n')
+        f.write('field = "%s"\n' % os.path.join(ROOT, "experiments", "fields", model + ".toml"))
+        f.write('pattern = "%s"\n' % os.path.join(ROOT, "patterns", "ssl-standard.toml"))
+        f.write('codebook = "%s"\n\n' % os.path.join(ROOT, "patterns", "ssl-standard.codebook.toml"))
+        f.write("[render]\nrobot_height_mm = %.1f\nseed = %d\n\n[colours]\n" % (ROBOT_TOP_MM, seed))
+        for name, rgb in colours.items():
+            f.write("%s = [%d, %d, %d]\n" % (name, *rgb))
+        for team, rid, x, y, theta in robots:
+            f.write('\n[[robot]]\nteam = "%s"\nid = %d\nx_mm = %.1f\ny_mm = %.1f\ntheta_rad = %.4f\n'
+                    % (team, rid, x, y, theta))
+
+
+def run(arguments, log):
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    done = subprocess.run(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    with open(log, "a") as f:
+        f.write("$ " + " ".join(arguments) + "\n" + done.stdout + "\n")
+    return done, after.ru_utime - before.ru_utime
+
+
+def score(truth, detections):
+    """(right, false IDs, mean position error mm) in the better of the two world frames."""
+    best = None
+    for sign in (1.0, -1.0):  # identity or the half turn about the centre mark
+        right, errors = 0, []
+        for team, rid, x, y in truth:
+            near = [math.hypot(sign * d[2] - x, sign * d[3] - y) for d in detections
+                    if d[0] == team and d[1] == rid]
+            if near and min(near) <= MATCH_MM:
+                right += 1
+                errors.append(min(near))
+        false = sum(1 for d in detections if d[1] >= 0 and not any(
+            t[0] == d[0] and t[1] == d[1] and math.hypot(sign * d[2] - t[2], sign * d[3] - t[3])
+            <= MATCH_MM for t in truth))
+        key = (right - false, right)
+        if best is None or key > best[0]:
+            best = (key, right, false, float(np.mean(errors)) if errors else float("nan"))
+    return best[1:]
+
+
+def one_frame(patlab, seed, work, log):
+    rng = np.random.default_rng(seed)
+    model = MODELS[int(rng.integers(len(MODELS)))]
+    length, width = field_size(model)
+    cam = draw_camera(rng, length, width)
+    robots = draw_robots(rng, cam, length, width)
+    brightness, colours = draw_colours(rng)
+    exposure = rng.uniform(0.8, 1.25)
+    noise = rng.uniform(1.0, 4.0)
+    folder = os.path.join(work, "seed%d" % seed)
+    os.makedirs(folder)
+    write_scene(folder, model, cam, robots, colours, seed)
+    row = {"seed": seed, "model": model, "height_mm": round(cam["centre"][2]),
+           "f_px": round(cam["fx"], 1), "k1": round(cam["k1"], 3),
+           "brightness": round(brightness, 3), "exposure_gain": round(exposure, 3),
+           "read_noise_levels": round(noise, 2), "robots": len(robots)}
+    rendered, _ = run([patlab, "render", os.path.join(folder, "scene.toml"), "--camera",
+                       "--exposure-gain", "%.3f" % exposure, "--read-noise-levels", "%.2f" % noise,
+                       "--sensor-seed", str(seed), "-o", os.path.join(folder, "r")], log)
+    if rendered.returncode != 0:
+        return dict(row, outcome="render failed", model_kept="", right=0, false_ids=0,
+                    position_error_mm="", mapping_error_mm=""), 0.0
+    frame = os.path.join(folder, "r", "frame.png")
+    cam_dir = os.path.join(folder, "cam")
+    setup, cpu = run([patlab, "setup", frame, "--field", "ssl", "--settings", "ssl-frame.detector",
+                      "-o", cam_dir], log)
+    kept = next((line.split()[2] for line in setup.stdout.splitlines()
+                 if line.startswith("field model:")), "")
+    mapping = next((line.split()[2] for line in setup.stdout.splitlines()
+                    if line.startswith("mapping error:")), "")
+    if setup.returncode != 0:
+        return dict(row, outcome="setup refused (exit %d)" % setup.returncode, model_kept=kept,
+                    right=0, false_ids=0, position_error_mm="", mapping_error_mm=mapping), cpu
+    detect, _ = run([patlab, "detect", frame, "--setup", cam_dir], log)
+    detections = [(r["team"], int(r["id"]), float(r["x_mm"]), float(r["y_mm"]))
+                  for r in csv.DictReader(detect.stdout.splitlines()) if "team" in r]
+    truth = [(r["team"], int(r["id"]), float(r["x_mm"]), float(r["y_mm"]))
+             for r in csv.DictReader(open(os.path.join(folder, "r", "truth.csv")))]
+    right, false, error = score(truth, detections)
+    return dict(row, outcome="detected" if detect.returncode == 0 else "detect failed",
+                model_kept=kept, right=right, false_ids=false,
+                position_error_mm="" if math.isnan(error) else round(error, 1),
+                mapping_error_mm=mapping), cpu
+
+
+def parse_seeds(text):
+    first, _, last = text.partition("-")
+    return range(int(first), int(last or first) + 1)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--patlab", default=os.path.join(ROOT, "build", "patlab"))
+    parser.add_argument("--seeds", default="1-12", help="FIRST-LAST, default 1-12")
+    parser.add_argument("--out", default=os.path.join(ROOT, "results", "setup"))
+    parser.add_argument("--keep", help="keep the scenes, frames and logs in this folder")
+    args = parser.parse_args()
+    work = args.keep or tempfile.mkdtemp(prefix="setup_rendered.")
+    os.makedirs(work, exist_ok=True)
+    log = os.path.join(work, "log.txt")
+    rows = []
+    for seed in parse_seeds(args.seeds):
+        row, cpu = one_frame(os.path.abspath(args.patlab), seed, work, log)
+        rows.append(row)
+        print("seed %d: %s %s, kept %s, %d/%d right, %d false IDs, setup %.1f s CPU" % (
+            seed, row["model"], row["outcome"], row["model_kept"] or "-", row["right"],
+            row["robots"], row["false_ids"], cpu), flush=True)
+    os.makedirs(args.out, exist_ok=True)
+    path = os.path.join(args.out, "rendered.csv")
+    with open(path + ".tmp", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(path + ".tmp", path)
+    shown = sum(r["robots"] for r in rows)
+    right = sum(r["right"] for r in rows)
+    false = sum(r["false_ids"] for r in rows)
+    print("total: %d/%d robots right (%.1f%%), %d false IDs over %d frames; wrote %s" % (
+        right, shown, 100.0 * right / max(shown, 1), false, len(rows), os.path.relpath(path)))
+    if not args.keep:
+        subprocess.run(["rm", "-rf", work])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
