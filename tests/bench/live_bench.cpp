@@ -69,6 +69,10 @@ Inputs Choose(const std::string& which) {
             golden + "detector.toml", true};
   }
   const std::string shared = root + "/../shared/frames/ssl-field-2008.jpg";
+  if (which == "ssl-2008" && !fs::exists(shared)) {
+    std::fprintf(stderr, "live_bench: %s is not there; benchmarking the golden frame instead\n",
+                 shared.c_str());
+  }
   if (which != "golden" && fs::exists(shared)) {
     const std::string data = root + "/tests/data/vision/ssl-2008.";
     return {shared, data + "thresholds.toml", data + "calibration.toml", data + "detector.toml"};
@@ -169,8 +173,10 @@ int main(int argc, char** argv) {
   close(receiver);
   const std::string name =
       fs::path(in.frame).filename().string() + (in.render ? " (rendered)" : "");
-  std::printf("live_bench: %s, %dx%d, %zu robots and %zu balls per frame, %d frames, one thread\n",
-              name.c_str(), image.width_px, image.height_px, robots, balls, frames_to_run);
+  std::printf(
+      "live_bench: %s, %dx%d, %zu robot%s and %zu ball%s per frame, %d frames, one thread\n",
+      name.c_str(), image.width_px, image.height_px, robots, robots == 1 ? "" : "s", balls,
+      balls == 1 ? "" : "s", frames_to_run);
   std::printf("  %-18s %9s %9s %9s\n", "stage", "p50 ms", "p99 ms", "max ms");
   const auto row = [](const std::string& name, std::vector<double>& v) {
     double max_ms = 0.0;
