@@ -55,6 +55,22 @@ double Score(const std::vector<Vec2>& world, double spacing_px, const LineDistan
   return sum * spacing_px;
 }
 
+// The coarse score (tau kCoarseTauPx) of image points `base` shifted by `shift`: Score's sum
+// with the projection done once for every view of one scale and orientation.
+double ShiftedScore(const std::vector<Vec2>& base, const Vec2& shift, double spacing_px,
+                    const LineDistance& dt) {
+  const double w = dt.width() - 1, h = dt.height() - 1;
+  constexpr double kTau2 = kCoarseTauPx * kCoarseTauPx;
+  double sum = 0.0;
+  for (const Vec2& b : base) {
+    const Vec2 q = b + shift;
+    if (q.x() < 0 || q.y() < 0 || q.x() > w || q.y() > h) continue;
+    const double d = dt.At(q);
+    sum += d <= kCoarseTauPx ? 1.0 - (d * d) / kTau2 : -kPenalty;
+  }
+  return sum * spacing_px;
+}
+
 // The score of a view of the marks sampled at step_px / v.scale mm (`world`).
 double ViewScoreOf(const NadirView& v, const std::vector<Vec2>& world, const LineDistance& dt,
                    double step_px, double tau) {
@@ -398,15 +414,23 @@ void CoarseViews(const AxisPeaks& peaks, const Orientation& o, double psi, doubl
                  double s_max, const FieldMarks& marks, const LineDistance& dt,
                  std::vector<ScoredView>* all) {
   constexpr double kCoarseStepPx = 12.0;
+  const Vec2 middle(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
+  const double cp = std::cos(psi), sp = std::sin(psi);
+  std::vector<Vec2> base;
   for (double s : CandidateScales(peaks, o, s_min, s_max)) {
-    // The marks sampled once per scale: every view of this scale projects the same points.
-    const std::vector<Vec2> world = SampleMarks(marks, kCoarseStepPx / s, nullptr);
+    // The marks sampled once per scale, and mapped once through the views' common linear part
+    // (orientation, psi, scale; no distortion): each view's centre only shifts them.
+    const NadirView linear{o.k, psi, s, Vec2::Zero(), 0.0};
+    base.clear();
+    for (const Vec2& p : SampleMarks(marks, kCoarseStepPx / s, nullptr))
+      base.push_back(middle + Apply(linear, p, dt.width(), cp, sp));
     const std::vector<double> ca = Centres(peaks.a, *o.wa, o.sign_a, s);
     const std::vector<double> cb = Centres(peaks.b, *o.wb, o.sign_b, s);
     for (double a : ca)
       for (double b : cb) {
         NadirView v{o.k, psi, s, o.a_is_x ? Vec2(a, b) : Vec2(b, a), 0.0};
-        all->push_back(ScoredView{v, ViewScoreOf(v, world, dt, kCoarseStepPx, kCoarseTauPx), {}});
+        const Vec2 shift = -Apply(linear, v.centre_mm, dt.width(), cp, sp);
+        all->push_back(ScoredView{v, ShiftedScore(base, shift, kCoarseStepPx, dt), {}});
       }
   }
 }

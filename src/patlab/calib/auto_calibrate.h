@@ -93,6 +93,39 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
                               const std::string& source, const Field& field,
                               const AutoOptions& options = {});
 
+// A family of field models (`patlab setup --field ssl`): every model's search (steps 1-3) is a
+// cheap screen, its best camera's score ranking the models; the full fit (steps 4-5) is given
+// in that order to the first min_fitted models that search found a camera for, then to every
+// model whose screen reaches screen_ratio of the best fitted score. (A fitted camera explains
+// about as much line as its search's or more: a model screened below that cannot win.) Models
+// whose painted marks are the same as an earlier one's share its result. The fitted model of
+// the highest score is kept.
+struct FamilyOptions {
+  double screen_ratio = 0.8;  // in (0, 1]
+  int min_fitted = 2;         // >= 1: a runner-up to compare with
+};
+struct FamilyTry {
+  std::string field;                 // the model's name
+  double screen_px = 0.0;            // its search's best score (NaN: the search failed)
+  bool fitted = false;               // given the full fit
+  double score_px = 0.0;             // the full fit's score (NaN: not fitted or failed)
+  double held_out_mapping_mm = 0.0;  // the full fit's (NaN likewise)
+  std::string same_as;               // the earlier model of the same marks whose result it shares
+  std::string failure;               // why it failed or was not fitted ("" when fitted)
+};
+struct FamilyCalibration {
+  int kept = -1;                 // index of the kept model in `fields`
+  AutoCalibration calibration;   // the kept model's
+  std::vector<FamilyTry> tries;  // one per model, in the order of `fields`
+  double seconds = 0.0;
+};
+// InputError (the best-screened model's failure) when no model fits.
+FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int width_px,
+                                      int height_px, const std::string& source,
+                                      const std::vector<Field>& fields,
+                                      const AutoOptions& options = {},
+                                      const FamilyOptions& family = {});
+
 // The distance (mm) from the back-projection of `pixel` through `camera` on the floor to the
 // observation's line or circle; NaN when the pixel does not map onto the floor.
 double FloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,

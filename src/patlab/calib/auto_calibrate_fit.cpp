@@ -19,6 +19,7 @@ constexpr double kMaxAngle =
     0.42;                      // |sin| between a pixel's direction and its mark's, on the floor
 constexpr int kMinPixels = 8;  // an observation's pixels at least
 constexpr int kRun = 8;        // the held-out folds' run length along a mark
+constexpr double kLastGatePx = 3.0;  // the assignment's last (narrowest) gate
 
 struct Assigned {
   CalibrationInput input;
@@ -189,12 +190,14 @@ struct FitContext {
 };
 
 // The fit at one gate; the focal length held when the free fit leaves the camera model's range.
+// Only the last gate's fit computes the covariance (the only one whose numbers are kept).
 void FitAtGate(const FitContext& x, double gate, CalibrationInput& base, camera::PinholeCamera& cam,
                Candidate& c, std::vector<std::string>* notes) {
   c.assigned = Assign(cam, *x.pixels, *x.field, *x.marks, gate, x.options->max_fit_pixels, base);
   const std::string missing = WhatIsMissing(c.assigned.input);
   if (!missing.empty()) throw InputError(missing);
   c.assigned.input.options.start_camera = cam;
+  c.assigned.input.options.covariance = gate <= kLastGatePx;
   const bool focal_free = std::find(base.options.fixed.begin(), base.options.fixed.end(),
                                     FitParameter::kFocal) == base.options.fixed.end();
   bool hold = false;
@@ -231,7 +234,7 @@ Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, Calib
     }
   }
   try {
-    for (double gate : {12.0, 5.0, 3.0}) FitAtGate(x, gate, base, cam, c, notes);
+    for (double gate : {12.0, 5.0, kLastGatePx}) FitAtGate(x, gate, base, cam, c, notes);
     c.score = internal::CameraScore(cam, *x.marks, *x.dt);
   } catch (const InputError& e) {
     c.failure = e.what();
@@ -312,6 +315,7 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
     CalibrationInput train = Fold(assigned, fold);
     const CalibrationInput test = Fold(assigned, 1 - fold);
     train.options.start_camera = out.fit.camera;
+    train.options.covariance = false;  // only the fold's camera is used
     if (!WhatIsMissing(train).empty()) continue;
     const CalibrationFit f = FitCamera(train);
     for (const LineObservation& l : test.lines) h.AddMark(f.camera, l.pixels, &l, nullptr);
@@ -330,22 +334,44 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
 
 }  // namespace
 
+internal::Searched internal::SearchField(const std::vector<LinePixel>& pixels, int width_px,
+                                         int height_px, const std::string& source,
+                                         const Field& field, const AutoOptions& options) {
+  CheckAutoInput(pixels, width_px, height_px, source, options);
+  Searched s;
+  s.marks = PaintedMarks(field);
+  s.point_symmetric = PointSymmetric(field);
+  try {
+    s.views = SearchViews(pixels, width_px, height_px, s.marks, s.point_symmetric, &s.hypotheses);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  return s;
+}
+
 AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px, int height_px,
                               const std::string& source, const Field& field,
                               const AutoOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  CheckAutoInput(pixels, width_px, height_px, source, options);
+  const internal::Searched searched =
+      internal::SearchField(pixels, width_px, height_px, source, field, options);
+  AutoCalibration out =
+      internal::FitSearched(searched, pixels, width_px, height_px, source, field, options);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+AutoCalibration internal::FitSearched(const Searched& searched,
+                                      const std::vector<LinePixel>& pixels, int width_px,
+                                      int height_px, const std::string& source, const Field& field,
+                                      const AutoOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
   AutoCalibration out;
   out.line_pixels = static_cast<int>(pixels.size());
-  const FieldMarks marks = PaintedMarks(field);
-  out.point_symmetric = internal::PointSymmetric(field);
-  std::vector<internal::ScoredView> views;
-  try {
-    views = internal::SearchViews(pixels, width_px, height_px, marks, out.point_symmetric,
-                                  &out.hypotheses);
-  } catch (const InputError& e) {
-    throw InputError(source + ": " + e.what());
-  }
+  out.point_symmetric = searched.point_symmetric;
+  out.hypotheses = searched.hypotheses;
+  const FieldMarks& marks = searched.marks;
+  const std::vector<internal::ScoredView>& views = searched.views;
   const internal::LineDistance dt(pixels, width_px, height_px);
   // The base input: the frame and the fit's options.
   CalibrationInput base;
