@@ -19,9 +19,7 @@ namespace {
 
 constexpr int kWidth = 780, kHeight = 580;
 
-std::vector<calib::Field> SslFamily() {
-  return formats::FieldFamily("ssl", {PATLAB_SOURCE_DIR});
-}
+std::vector<calib::Field> SslFamily() { return formats::FieldFamily("ssl", {PATLAB_SOURCE_DIR}); }
 
 // A camera over (x, y) of the floor at `height_mm`, 600 px focal length, tilted `tilt_rad` about
 // the field's y axis, k1 -0.1.
@@ -89,8 +87,9 @@ TEST_P(FamilyRendered, KeepsTheTrueModelAndItsCamera) {
   int fitted = 0;
   for (const calib::FamilyTry& t : fc.tries) {
     fitted += t.fitted && t.same_as.empty() ? 1 : 0;
-    if (!t.fitted && std::isfinite(t.screen_px))
+    if (!t.fitted && std::isfinite(t.screen_px)) {
       EXPECT_NE(t.failure.find("not fitted"), std::string::npos) << t.field << ": " << t.failure;
+    }
   }
   EXPECT_GE(fitted, 2);
   EXPECT_LE(fitted, 4);
@@ -104,8 +103,9 @@ INSTANTIATE_TEST_SUITE_P(Models, FamilyRendered,
                          ::testing::Values("ssl-2009", "ssl-2015", "ssl-2018"));
 
 // One model alone: the family's kept camera is the automatic calibration's.
-TEST(FamilyRendered, OneModelIsTheAutomaticCalibration) {
-  const calib::Field field = formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
+TEST(FamilySearch, OneModelIsTheAutomaticCalibration) {
+  const calib::Field field =
+      formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
   const camera::PinholeCamera truth = CameraOver(Vec2(1500, 1000), 3000, 0.03);
   const camera::Image frame = Render(field, truth);
   const std::vector<calib::LinePixel> pixels = FindLinePixels(frame);
@@ -119,7 +119,7 @@ TEST(FamilyRendered, OneModelIsTheAutomaticCalibration) {
   EXPECT_TRUE(f.calibration.fit.camera.rotation.isApprox(a.fit.camera.rotation, 0.0));
 }
 
-TEST(FamilyRendered, NoModelIsAnInputError) {
+TEST(FamilySearch, NoModelIsAnInputError) {
   EXPECT_INPUT_ERROR(calib::AutoCalibrateFamily({}, kWidth, kHeight, "x.png", {}),
                      "no field model to fit; expected a model or a family");
 }
