@@ -80,8 +80,11 @@ struct AutoCalibration {
   // axis of the error, across the line: 1 / sqrt 2 of the 2-D error; a fold's camera is fitted to
   // half the pixels: sqrt 2 times the whole fit's error; the two cancel.) held_out_noise_mm is
   // the within-run spread (the finder's noise).
+  // held_out_resolution_mm: what the estimate can resolve, twice the RMS noise of a run's mean
+  // (held_out_noise_mm / sqrt 8 for full runs): an estimate below it says only that the camera's
+  // error is below it too (the report says so).
   double held_out_rms_mm = 0.0, held_out_worst_mm = 0.0;
-  double held_out_mapping_mm = 0.0, held_out_noise_mm = 0.0;
+  double held_out_mapping_mm = 0.0, held_out_noise_mm = 0.0, held_out_resolution_mm = 0.0;
   int held_out_count = 0;
   double seconds = 0.0;
   std::vector<std::string> notes;
@@ -130,6 +133,10 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
 // observation's line or circle; NaN when the pixel does not map onto the floor.
 double FloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,
                        const LineObservation* line, const CircleObservation* circle);
+
+// The held-out mapping error for people: "0.83 mm", or, below its resolution, "below 0.42 mm
+// (the line finder's resolution; estimate 0 mm)".
+std::string HeldOutText(const AutoCalibration& a);
 
 // The report: what was found, the symmetry, the held-out error, then FitReportText.
 std::string AutoReportText(const AutoCalibration& a);

@@ -327,6 +327,8 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
   out.held_out_worst_mm = h.worst;
   const double noise_var = h.within_dof > 0 ? h.within / h.within_dof : 0.0;
   out.held_out_noise_mm = std::sqrt(noise_var);
+  out.held_out_resolution_mm =
+      h.runs > 0 ? 2.0 * std::sqrt(noise_var * h.inverse_n / h.runs) : kNaN;
   out.held_out_mapping_mm =
       h.runs > 0 ? std::sqrt(std::max(0.0, h.run_sq / h.runs - noise_var * h.inverse_n / h.runs))
                  : kNaN;
@@ -413,6 +415,15 @@ AutoCalibration internal::FitSearched(const Searched& searched,
   return out;
 }
 
+std::string HeldOutText(const AutoCalibration& a) {
+  if (a.held_out_mapping_mm < a.held_out_resolution_mm) {
+    return "below " + FormatSignificant(a.held_out_resolution_mm, 2) +
+           " mm (the line finder's resolution; estimate " +
+           FormatSignificant(a.held_out_mapping_mm, 2) + " mm)";
+  }
+  return FormatSignificant(a.held_out_mapping_mm, 3) + " mm";
+}
+
 std::string AutoReportText(const AutoCalibration& a) {
   std::string s = "# automatic field calibration\n";
   s += "line pixels found: " + std::to_string(a.line_pixels) +
@@ -435,10 +446,11 @@ std::string AutoReportText(const AutoCalibration& a) {
   } else {
     s += "symmetry: none (the field is not the same rotated by 180 deg)\n";
   }
-  s += "held-out mapping error: " + FormatSignificant(a.held_out_mapping_mm, 3) +
-       " mm RMS on the floor (estimated from the run means of the held-out pixels, the line "
+  s += "held-out mapping error: " + HeldOutText(a) +
+       " RMS on the floor (estimated from the run means of the held-out pixels, the line "
        "finder's noise of " +
-       FormatSignificant(a.held_out_noise_mm, 3) + " mm removed)\n";
+       FormatSignificant(a.held_out_noise_mm, 3) + " mm removed; resolution " +
+       FormatSignificant(a.held_out_resolution_mm, 3) + " mm, twice the noise of a run's mean)\n";
   s += "held-out pixels: RMS " + FormatSignificant(a.held_out_rms_mm, 3) + " mm, worst " +
        FormatSignificant(a.held_out_worst_mm, 3) + " mm over " + std::to_string(a.held_out_count) +
        " line pixels (two folds of alternating runs of 8 along each mark; each pixel's floor "

@@ -75,6 +75,7 @@ void CalibrateFromLines(const camera::Image& frame, const std::string& name, con
   r->calibration_input = best.input;
   r->calibration_fit = best.fit;
   r->mapping_error_mm = best.held_out_mapping_mm;
+  r->mapping_resolution_mm = best.held_out_resolution_mm;
   r->calibration_report = calib::AutoReportText(best);
 }
 
@@ -209,8 +210,10 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
   r.mm_per_px = std::sqrt(camera.AreaScale(
       Vec2(0.5 * (first.width_px - 1), 0.5 * (first.height_px - 1)), options.robot_height_mm));
   r.smallest_patch_px = r.mm_per_px > 0.0 ? SmallestPatchMm(config) / r.mm_per_px : 0.0;
-  r.tolerances =
-      SetupTolerances(config.options, r.mm_per_px, r.mapping_error_mm, r.smallest_patch_px);
+  const double error_bound = std::isfinite(r.mapping_resolution_mm)
+                                 ? std::max(r.mapping_error_mm, r.mapping_resolution_mm)
+                                 : r.mapping_error_mm;
+  r.tolerances = SetupTolerances(config.options, r.mm_per_px, error_bound, r.smallest_patch_px);
   FitColours(frames, config, options, &r);
   const std::string made =
       "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
@@ -245,7 +248,13 @@ std::string SetupReportText(const SetupResult& r) {
   } else {
     s += "\n";
   }
-  s += "mapping error: " + FormatSignificant(r.mapping_error_mm, 3) + " mm RMS on the floor (" +
+  const bool below = r.mapping_error_mm < r.mapping_resolution_mm;
+  s += "mapping error: " +
+       (below ? "below " + FormatSignificant(r.mapping_resolution_mm, 2) +
+                    " mm (the line finder's resolution; estimate " +
+                    FormatSignificant(r.mapping_error_mm, 2) + " mm)"
+              : FormatSignificant(r.mapping_error_mm, 3) + " mm") +
+       " RMS on the floor (" +
        (r.from_landmarks ? "cross-validated over the landmarks" : "held-out line pixels") + "); " +
        FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
   s += "colour classes (pixels, separability, nearest):\n  carpet: " +

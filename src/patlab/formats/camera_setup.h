@@ -9,7 +9,7 @@
 // setup.toml naming them -- which `patlab detect --setup DIR` reads.
 //
 // Tolerances (SetupTolerances): with s the floor's mm per pixel at the image centre on the
-// robots' plane and e the calibration's held-out mapping error (mm),
+// robots' plane and e the calibration's held-out mapping error (mm; at least its resolution),
 //   patch_sigma_mm  = max(2, 0.4 s)  -- a thresholded patch's centroid is good to ~0.4 px;
 //   reach_margin_mm = max(20, 3 e + 2 s)  -- a patch may be found 3 mapping errors and 2 pixels
 //                     beyond the pattern's reach;
@@ -72,6 +72,10 @@ struct SetupResult {
   calib::CalibrationFit calibration_fit;
   std::string calibration_report;  // the automatic calibration's (or the fit's) report
   double mapping_error_mm = 0.0;   // held-out (lines) or cross-validated (landmarks)
+  // What the held-out estimate resolves (calib::AutoCalibration::held_out_resolution_mm; 0 for
+  // landmarks): an error below it is reported as "below" it, and the tolerances take it as the
+  // error's bound.
+  double mapping_resolution_mm = 0.0;
   double mm_per_px = 0.0;          // on the robots' plane at the image centre
   double smallest_patch_px = 0.0;  // the smallest patch's radius in px there
   vision::AutoThresholdsFit thresholds;
