@@ -399,13 +399,16 @@ std::vector<double> CandidateScales(const AxisPeaks& peaks, const Orientation& o
   return distinct;
 }
 
-// Candidate centres along one axis: a peak matched to a field line; none: the middle.
+// Candidate centres along one axis: a peak matched to a field line, and the field's middle. (A
+// view may show no field line along an axis -- a narrow view between the touch lines shows only
+// the halfway and goal lines -- while the arcs' tangents still give peaks there, which match no
+// line: the middle is the start the refinement needs then.)
 std::vector<double> Centres(const std::vector<double>& pk, const std::vector<double>& w,
                             double sign, double s) {
   std::vector<double> out;
   for (double p : pk)
     for (double v : w) out.push_back(v - p / (sign * s));
-  if (out.empty()) out.push_back(0.0);
+  out.push_back(0.0);
   return out;
 }
 
