@@ -399,25 +399,25 @@ std::vector<double> CandidateScales(const AxisPeaks& peaks, const Orientation& o
   return distinct;
 }
 
-// Candidate centres along one axis: a peak matched to a field line, and the field's middle. (A
-// view may show no field line along an axis -- a narrow view between the touch lines shows only
-// the halfway and goal lines -- while the arcs' tangents still give peaks there, which match no
-// line: the middle is the start the refinement needs then.)
+// Candidate centres along one axis: a peak matched to a field line; none: the middle.
 std::vector<double> Centres(const std::vector<double>& pk, const std::vector<double>& w,
                             double sign, double s) {
   std::vector<double> out;
   for (double p : pk)
     for (double v : w) out.push_back(v - p / (sign * s));
-  out.push_back(0.0);
+  if (out.empty()) out.push_back(0.0);
   return out;
 }
 
 // Every coarse hypothesis of one orientation, scored.
+// The views with the field's middle as the centre along an axis whose peaks gave centres (a
+// narrow view between the touch lines shows no line along that axis, while the arcs' tangents
+// give peaks there that match no line in view) go to `middle`.
 void CoarseViews(const AxisPeaks& peaks, const Orientation& o, double psi, double s_min,
                  double s_max, const FieldMarks& marks, const LineDistance& dt,
-                 std::vector<ScoredView>* all) {
+                 std::vector<ScoredView>* all, std::vector<ScoredView>* middle) {
   constexpr double kCoarseStepPx = 12.0;
-  const Vec2 middle(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
+  const Vec2 image_centre(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
   const double cp = std::cos(psi), sp = std::sin(psi);
   std::vector<Vec2> base;
   for (double s : CandidateScales(peaks, o, s_min, s_max)) {
@@ -426,14 +426,18 @@ void CoarseViews(const AxisPeaks& peaks, const Orientation& o, double psi, doubl
     const NadirView linear{o.k, psi, s, Vec2::Zero(), 0.0};
     base.clear();
     for (const Vec2& p : SampleMarks(marks, kCoarseStepPx / s, nullptr))
-      base.push_back(middle + Apply(linear, p, dt.width(), cp, sp));
-    const std::vector<double> ca = Centres(peaks.a, *o.wa, o.sign_a, s);
-    const std::vector<double> cb = Centres(peaks.b, *o.wb, o.sign_b, s);
-    for (double a : ca)
-      for (double b : cb) {
-        NadirView v{o.k, psi, s, o.a_is_x ? Vec2(a, b) : Vec2(b, a), 0.0};
+      base.push_back(image_centre + Apply(linear, p, dt.width(), cp, sp));
+    std::vector<double> ca = Centres(peaks.a, *o.wa, o.sign_a, s);
+    std::vector<double> cb = Centres(peaks.b, *o.wb, o.sign_b, s);
+    const size_t na = ca.size(), nb = cb.size();
+    if (!peaks.a.empty()) ca.push_back(0.0);
+    if (!peaks.b.empty()) cb.push_back(0.0);
+    for (size_t i = 0; i < ca.size(); ++i)
+      for (size_t j = 0; j < cb.size(); ++j) {
+        NadirView v{o.k, psi, s, o.a_is_x ? Vec2(ca[i], cb[j]) : Vec2(cb[j], ca[i]), 0.0};
         const Vec2 shift = -Apply(linear, v.centre_mm, dt.width(), cp, sp);
-        all->push_back(ScoredView{v, ShiftedScore(base, shift, kCoarseStepPx, dt), {}});
+        (i < na && j < nb ? all : middle)
+            ->push_back(ScoredView{v, ShiftedScore(base, shift, kCoarseStepPx, dt), {}});
       }
   }
 }
@@ -454,6 +458,17 @@ std::vector<ScoredView> BestDistinct(std::vector<ScoredView> all, size_t count) 
   return best;
 }
 
+void RefineView(ScoredView& b, const FieldMarks& marks, const LineDistance& dt, int width,
+                int height) {
+  b.score = ViewScore(b.view, marks, dt, 4.0, kCoarseTauPx);
+  Refine(b, marks, dt, kCoarseTauPx);
+  b.camera = PinholeOf(b.view, width, height);
+  RefineCamera(b, marks, dt, kCoarseTauPx);
+  RefineCamera(b, marks, dt, kTauPx);
+}
+
+constexpr double kMiddleGain = 1.5;
+
 }  // namespace
 
 std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int width, int height,
@@ -463,11 +478,11 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
   const AxisPeaks peaks = FindAxisPeaks(pixels, width, height, psi);
   const FieldAxes axes = AxesOf(marks);
   const double s_min = width / (3.0 * axes.size), s_max = width / (0.15 * axes.size);
-  std::vector<ScoredView> all;
+  std::vector<ScoredView> all, middle;
   for (int k = 0; k < (symmetric ? 2 : 4); ++k) {
-    CoarseViews(peaks, OrientationOf(k, axes), psi, s_min, s_max, marks, dt, &all);
+    CoarseViews(peaks, OrientationOf(k, axes), psi, s_min, s_max, marks, dt, &all, &middle);
   }
-  *hypotheses = static_cast<int>(all.size());
+  *hypotheses = static_cast<int>(all.size() + middle.size());
   std::vector<ScoredView> best = BestDistinct(std::move(all), 6);
   if (best.empty() || best.front().score <= 0.0) {
     throw InputError("no camera looking down at the field explains the " +
@@ -476,15 +491,18 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
                      " straight lines along the image's two axes); expected a frame showing at "
                      "least two crossing field lines of the field");
   }
-  for (ScoredView& b : best) {  // the best distinct ones, refined
-    b.score = ViewScore(b.view, marks, dt, 4.0, kCoarseTauPx);
-    Refine(b, marks, dt, kCoarseTauPx);
-    b.camera = PinholeOf(b.view, width, height);
-    RefineCamera(b, marks, dt, kCoarseTauPx);
-    RefineCamera(b, marks, dt, kTauPx);
+  for (ScoredView& b : best) RefineView(b, marks, dt, width, height);
+  // The views centred on the field's middle replace them only when their best, refined, explains
+  // clearly more (kMiddleGain times): where lines along both axes are in view the peaks' views
+  // are the search's, as before.
+  std::vector<ScoredView> mid = BestDistinct(std::move(middle), 2);
+  for (ScoredView& b : mid) RefineView(b, marks, dt, width, height);
+  const auto by_score = [](const ScoredView& x, const ScoredView& y) { return x.score > y.score; };
+  std::sort(mid.begin(), mid.end(), by_score);
+  if (!mid.empty() && mid.front().score > kMiddleGain * std::max(0.0, best.front().score)) {
+    best.insert(best.end(), mid.begin(), mid.end());
   }
-  std::sort(best.begin(), best.end(),
-            [](const ScoredView& x, const ScoredView& y) { return x.score > y.score; });
+  std::sort(best.begin(), best.end(), by_score);
   return best;
 }
 

@@ -20,6 +20,8 @@ constexpr double kMaxAngle =
 constexpr int kMinPixels = 8;  // an observation's pixels at least
 constexpr int kRun = 8;        // the held-out folds' run length along a mark
 constexpr double kLastGatePx = 3.0;  // the assignment's last (narrowest) gate
+// The search's best views given the fit (the second when it scores at least 80% of the first).
+constexpr size_t kFittedViews = 2;
 
 struct Assigned {
   CalibrationInput input;
@@ -317,7 +319,15 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
     train.options.start_camera = out.fit.camera;
     train.options.covariance = false;  // only the fold's camera is used
     if (!WhatIsMissing(train).empty()) continue;
-    const CalibrationFit f = FitCamera(train);
+    CalibrationFit f;
+    try {
+      f = FitCamera(train);
+    } catch (const InputError& e) {
+      // Half the pixels may not hold the camera inside the model's range: that fold says nothing.
+      out.notes.push_back("held-out fold " + std::to_string(fold + 1) +
+                          " left out: its camera was refused (" + e.what() + ")");
+      continue;
+    }
     for (const LineObservation& l : test.lines) h.AddMark(f.camera, l.pixels, &l, nullptr);
     for (const CircleObservation& c : test.circles) h.AddMark(f.camera, c.pixels, nullptr, &c);
   }
@@ -386,11 +396,11 @@ AutoCalibration internal::FitSearched(const Searched& searched,
   base.options.camera_height_mm = options.camera_height_mm;
   // The cross-validation of FitCamera is off: step 5 measures the held-out error on line pixels.
   base.options.holdout_folds = 0;
-  // Steps 3-4 from the two best views; the better final camera wins.
+  // Steps 3-4 from the best views; the best final camera wins.
   const FitContext context{&pixels,  &field,   &marks,    &dt,
                            &options, width_px, height_px, out.point_symmetric};
   std::vector<Candidate> candidates;
-  for (size_t v = 0; v < std::min<size_t>(views.size(), 2); ++v) {
+  for (size_t v = 0; v < std::min<size_t>(views.size(), kFittedViews); ++v) {
     if (v > 0 && views[v].score < 0.8 * views[0].score) break;  // clearly worse: not fitted
     candidates.push_back(FitView(context, views[v].camera, base, &out.notes));
   }
