@@ -96,10 +96,10 @@ TEST_P(HeldOutError, AgreesWithTheTruthOrSaysItIsBelowItsResolution) {
 
 INSTANTIATE_TEST_SUITE_P(Cameras, HeldOutError,
                          ::testing::Values(Case{3000, -0.05, 0.0, 0.05, Vec2(1400, 500)},
-                      Case{3800, -0.12, 0.0, 0.06, Vec2(1600, 300)},
-                      Case{4500, -0.18, 0.0, 0.1, Vec2(1000, 200)},
-                      Case{3300, -0.08, 0.0, 0.12, Vec2(1500, 400)},
-                      Case{4100, -0.15, 0.0, 0.03, Vec2(1200, 300)}));
+                                           Case{3800, -0.12, 0.0, 0.06, Vec2(1600, 300)},
+                                           Case{4500, -0.18, 0.0, 0.1, Vec2(1000, 200)},
+                                           Case{3300, -0.08, 0.0, 0.12, Vec2(1500, 400)},
+                                           Case{4100, -0.15, 0.0, 0.03, Vec2(1200, 300)}));
 
 }  // namespace
 }  // namespace patlab::vision

@@ -9,7 +9,10 @@
 //     px/mm, one of the four quarter-turns with the image's mirror, the floor point under the
 //     image centre); a pair of peaks matched to a pair of field lines along one axis gives s and
 //     one coordinate, one peak matched to one field line along the other axis the second (and
-//     a log-spaced sweep of s when an axis shows fewer than two lines).
+//     a log-spaced sweep of s when an axis shows fewer than two lines). Views centred on the
+//     field's middle along an axis whose peaks matched lines are scored apart and replace the
+//     others when the best of them, refined, explains 1.5 times more (a narrow view between the
+//     touch lines: its arcs' tangent peaks match only the touch lines, out of view).
 //  2. Scoring. Each hypothesis projects points along the field's painted marks (field_marks.h)
 //     into the image and is scored by the line length it explains (marks within a few px of a
 //     line pixel, by a distance transform of the line pixels) minus half the length it puts
