@@ -15,7 +15,7 @@ from ._results import (CompareResult, CrlbResult, DetectResult, EvaluationResult
 
 __version__ = _patlab.version
 __all__ = ["Pattern", "simulate", "simulate_experiment", "estimate", "crlb", "predicted_std",
-           "ids", "evaluate", "compare", "detect", "Detector", "read_frame", "render", "stats",
+           "ids", "evaluate", "compare", "detect", "Detector", "read_frame", "render", "setup", "stats",
            "SimulationResult", "ESTIMATORS"]
 
 ESTIMATORS = ("fast", "ml", "lsq", "key")
@@ -227,6 +227,30 @@ def render(scene):
     uint8 array, and its true poses as the CSV DIR/truth.csv. Returns (image, truth_csv)."""
     path = _data.find(scene, "settings")
     return _load_checked(_patlab._render, path)
+
+
+def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_width=4.0):
+    """`patlab setup FRAME... --field FIELD --settings S -o OUT` (formats::SetupCamera): a new
+    camera from its frames -- paths, or (H, W, 3) uint8 RGB arrays (named frame0, frame1, ...)
+    -- written into the folder ``out`` that ``detect(image, setup=out)`` reads. ``field``: a
+    field model or a family ("ssl", "vss"); ``settings``: detector settings (a path or a shipped
+    name); ``landmarks``: "NAME=X,Y" strings (four or more replace the lines); ``robot_height``
+    and ``line_width`` as --robot-height (mm) and --line-width (px). Returns the report as a
+    dict: field (the model kept), tried (each model: field, fitted, score_px, screen_px,
+    held_out_mapping_mm, same_as, failure; best first), mapping_error_mm,
+    mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
+    pixels, separability, nearest), tolerances, robots (per frame: frame, robots with team, id,
+    x_mm, y_mm, theta_rad), report (the CLI's text), seconds."""
+    if isinstance(frames, (str, os.PathLike)) or hasattr(frames, "__array_interface__"):
+        frames = [frames]
+    frames = [os.fspath(f) if isinstance(f, (str, os.PathLike)) else f for f in frames]
+    for f in frames:
+        if isinstance(f, str) and not os.path.exists(f):
+            raise FileNotFoundError(f"frame {f}: no such file; expected a PNG, JPEG or PPM frame")
+    settings_path = _data.find(settings, "settings")
+    return _patlab._setup(frames, os.fspath(field), _data._binary_dir(), settings_path,
+                          os.fspath(out), [str(mark) for mark in _iterable(landmarks)],
+                          float(robot_height), float(line_width))
 
 
 def _iterable(values):

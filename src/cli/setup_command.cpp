@@ -36,7 +36,8 @@ constexpr const char* kExamples = R"(examples:
   patlab setup --list-landmarks ssl-2009
 
 FIELD is a field model (patlab fields) or a family (ssl, vss): with a family every model is
-fitted to the first frame's lines and the one explaining the most line length is kept. The
+screened against the first frame's lines, the best few are fitted and the one explaining the
+most line length is kept. The
 settings (a shipped name or a file) give the palette and the patterns; their [detector]
 tolerances are replaced by the ones setup chooses. DIR receives calibration.toml,
 thresholds.toml, settings.toml and setup.toml (docs/setup.md). Exit status: 0 ok, 2 bad input or

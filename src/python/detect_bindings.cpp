@@ -1,11 +1,13 @@
 // patlab.detect, read_frame and render: vision::FrameDetector, the call `patlab detect` makes, on
 // a numpy (H, W, 3) uint8 image read in place through the buffer protocol with any strides (a
 // camera::ImageView of the array's memory: no copy), and its results as the CLI's CSV and JSON;
-// the scene renderer of `patlab render`.
+// the scene renderer of `patlab render`; `patlab setup` (formats::SetupCamera) with its report.
 #include <chrono>
 #include <climits>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <optional>
 
 #include "patlab/camera/image.h"
@@ -14,8 +16,11 @@
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/camera_setup.h"
 #include "patlab/formats/detector_settings.h"
+#include "patlab/formats/field_file.h"
 #include "patlab/formats/scene_file.h"
 #include "patlab/formats/thresholds_file.h"
+#include "patlab/io/atomic_file.h"
+#include "patlab/io/data_path.h"
 #include "patlab/render/scene_render.h"
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
@@ -173,9 +178,126 @@ py::tuple Render(const std::string& path) {
   return py::make_tuple(ArrayOfImage(frame), render::TruthCsv(file.scene));
 }
 
+// `patlab setup` (formats::SetupCamera): frames (paths, or (H, W, 3) uint8 arrays named frame0,
+// frame1, ...) and already resolved fields and settings; the files are written into `out`
+// atomically; the report as a dict.
+py::dict SetupTry(const formats::SetupFieldTry& t) {
+  py::dict d;
+  d["field"] = t.field;
+  d["fitted"] = t.fitted && t.failure.empty();
+  d["score_px"] = t.score_px;
+  d["screen_px"] = t.screen_px;
+  d["held_out_mapping_mm"] = t.held_out_mapping_mm;
+  d["same_as"] = t.same_as;
+  d["failure"] = t.failure;
+  return d;
+}
+
+py::dict SetupReport(const formats::SetupResult& r) {
+  py::dict out;
+  out["field"] = r.field.name;
+  out["from_landmarks"] = r.from_landmarks;
+  py::list tried;
+  for (const formats::SetupFieldTry& t : r.tried) tried.append(SetupTry(t));
+  out["tried"] = tried;
+  out["mapping_error_mm"] = r.mapping_error_mm;
+  out["mapping_resolution_mm"] = r.mapping_resolution_mm;
+  out["mm_per_px"] = r.mm_per_px;
+  out["smallest_patch_px"] = r.smallest_patch_px;
+  py::list classes;
+  for (const vision::AutoClassFit& c : r.thresholds.classes) {
+    py::dict d;
+    d["name"] = c.name;
+    d["pixels"] = c.pixels;
+    d["separability"] = c.separability;
+    d["nearest"] = c.nearest;
+    classes.append(d);
+  }
+  out["carpet_pixels"] = r.thresholds.carpet.pixels;
+  out["colour_classes"] = classes;
+  const detect::DetectorOptions& t = r.tolerances;
+  py::dict tolerances;
+  tolerances["patch_sigma_mm"] = t.patch_sigma_mm;
+  tolerances["reach_margin_mm"] = t.reach_margin_mm;
+  tolerances["area_ratio_min"] = t.area_ratio_min;
+  tolerances["area_ratio_max"] = t.area_ratio_max;
+  out["tolerances"] = tolerances;
+  out["report"] = formats::SetupReportText(r);
+  out["seconds"] = r.seconds;
+  return out;
+}
+
+py::dict Setup(const py::list& frames, const std::string& field, const std::string& binary_dir,
+               const std::string& settings, const std::string& out,
+               const std::vector<std::string>& landmarks, double robot_height_mm,
+               double line_width_px) {
+  formats::SetupOptions options;
+  // A family's every model, or one model (a shipped name or a file), as `patlab setup` reads it.
+  const std::vector<std::string> roots = io::DataRoots(binary_dir, std::getenv("PATLAB_DATA"));
+  options.fields = formats::FieldFamily(field, roots);
+  if (options.fields.empty())
+    options.fields.push_back(formats::LoadField(io::FindData(field, io::DataKind::kField, roots)));
+  options.settings_path = settings;
+  options.robot_height_mm = robot_height_mm;
+  options.line_width_px = line_width_px;
+  for (const std::string& l : landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
+  const std::filesystem::path dir(out);
+  io::CheckWritable({(dir / "setup.toml").string()});
+  std::vector<camera::Image> images;
+  std::vector<std::string> names;
+  for (const py::handle& f : frames) {
+    if (py::isinstance<py::str>(f)) {
+      const std::string path = f.cast<std::string>();
+      images.push_back(vision::ReadFrame(path));
+      names.push_back(std::filesystem::path(path).filename().string());
+    } else {
+      images.push_back(camera::ToRgb(ViewOf(RgbBuffer(f.cast<py::buffer>()))));
+      names.push_back("frame" + std::to_string(names.size()));
+    }
+  }
+  std::vector<const camera::Image*> pointers;
+  for (const camera::Image& f : images) pointers.push_back(&f);
+  formats::SetupResult r;
+  {
+    const py::gil_scoped_release nogil;
+    r = formats::SetupCamera(pointers, names, options);
+  }
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const auto& [name, text] : r.files) files.emplace_back((dir / name).string(), text);
+  io::WriteFilesAtomic(files);
+  py::dict report = SetupReport(r);
+  // The robots each frame shows through the files just written, as `patlab setup` prints them.
+  const formats::SetupFiles written = formats::LoadSetupFiles(out);
+  vision::FrameDetector detector =
+      LoadFrameDetector(written.thresholds, written.calibration, written.settings);
+  const std::vector<std::string>& palette = detector.detector().config().palette;
+  py::list robots;
+  for (size_t i = 0; i < images.size(); ++i) {
+    py::list in_frame;
+    for (const detect::Detection& d : detector.Detect(images[i], names[i]).detections) {
+      py::dict robot;
+      robot["team"] = d.team_colour >= 0 ? palette[static_cast<size_t>(d.team_colour)] : "?";
+      robot["id"] = d.id;
+      robot["x_mm"] = d.pose.x_mm;
+      robot["y_mm"] = d.pose.y_mm;
+      robot["theta_rad"] = d.pose.theta_rad;
+      in_frame.append(robot);
+    }
+    py::dict frame;
+    frame["frame"] = names[i];
+    frame["robots"] = in_frame;
+    robots.append(frame);
+  }
+  report["robots"] = robots;
+  return report;
+}
+
 }  // namespace
 
 void BindDetect(py::module_& m) {
+  m.def("_setup", &Setup, py::arg("frames"), py::arg("field"), py::arg("binary_dir"),
+        py::arg("settings"), py::arg("out"), py::arg("landmarks"), py::arg("robot_height_mm"),
+        py::arg("line_width_px"));
   py::class_<Detector>(m, "_Detector")
       .def(py::init<const std::string&, const std::string&, const std::string&>(),
            py::arg("thresholds"), py::arg("calibration"), py::arg("settings"))

@@ -55,6 +55,22 @@ double Score(const std::vector<Vec2>& world, double spacing_px, const LineDistan
   return sum * spacing_px;
 }
 
+// The coarse score (tau kCoarseTauPx) of image points `base` shifted by `shift`: Score's sum
+// with the projection done once for every view of one scale and orientation.
+double ShiftedScore(const std::vector<Vec2>& base, const Vec2& shift, double spacing_px,
+                    const LineDistance& dt) {
+  const double w = dt.width() - 1, h = dt.height() - 1;
+  constexpr double kTau2 = kCoarseTauPx * kCoarseTauPx;
+  double sum = 0.0;
+  for (const Vec2& b : base) {
+    const Vec2 q = b + shift;
+    if (q.x() < 0 || q.y() < 0 || q.x() > w || q.y() > h) continue;
+    const double d = dt.At(q);
+    sum += d <= kCoarseTauPx ? 1.0 - (d * d) / kTau2 : -kPenalty;
+  }
+  return sum * spacing_px;
+}
+
 // The score of a view of the marks sampled at step_px / v.scale mm (`world`).
 double ViewScoreOf(const NadirView& v, const std::vector<Vec2>& world, const LineDistance& dt,
                    double step_px, double tau) {
@@ -223,62 +239,6 @@ double CameraScore(const camera::PinholeCamera& camera, const FieldMarks& marks,
       world, 3.0, dt, [&](const Vec2& p) { return model.WorldToPixel(p, 0.0); }, tau_px);
 }
 
-camera::PinholeCamera PinholeOf(const NadirView& v, int width, int height) {
-  camera::PinholeCamera cam;
-  cam.fx_px = cam.fy_px = width;
-  cam.cx_px = 0.5 * (width - 1);
-  cam.cy_px = 0.5 * (height - 1);
-  cam.k1 = v.kd;
-  Eigen::Matrix2d a;
-  switch (v.k & 3) {
-    case 0:
-      a << 1, 0, 0, -1;
-      break;
-    case 1:
-      a << 0, 1, 1, 0;
-      break;
-    case 2:
-      a << -1, 0, 0, 1;
-      break;
-    default:
-      a << 0, -1, -1, 0;
-      break;
-  }
-  Eigen::Matrix2d rot;
-  rot << std::cos(v.psi), -std::sin(v.psi), std::sin(v.psi), std::cos(v.psi);
-  const Eigen::Matrix2d r2 = rot * a;
-  cam.rotation.setZero();
-  cam.rotation.topLeftCorner<2, 2>() = r2;
-  cam.rotation(2, 2) = -1.0;
-  const Eigen::Vector3d centre(v.centre_mm.x(), v.centre_mm.y(), width / v.scale);
-  cam.translation_mm = -cam.rotation * centre;
-  return cam;
-}
-
-camera::PinholeCamera Turned(const camera::PinholeCamera& camera) {
-  camera::PinholeCamera out = camera;
-  out.rotation = camera.rotation * Eigen::Vector3d(-1, -1, 1).asDiagonal();
-  return out;
-}
-
-bool PointSymmetric(const Field& field) {
-  auto near = [](const Vec2& a, const Vec2& b) { return (a - b).norm() < 1.0; };
-  for (const FieldLine& l : field.lines) {
-    bool found = false;
-    for (const FieldLine& m : field.lines)
-      found = found || (near(-l.from_mm, m.from_mm) && near(-l.to_mm, m.to_mm)) ||
-              (near(-l.from_mm, m.to_mm) && near(-l.to_mm, m.from_mm));
-    if (!found) return false;
-  }
-  for (const FieldCircle& c : field.circles) {
-    bool found = false;
-    for (const FieldCircle& d : field.circles)
-      found = found || (near(-c.centre_mm, d.centre_mm) && std::abs(c.radius_mm - d.radius_mm) < 1);
-    if (!found) return false;
-  }
-  return true;
-}
-
 namespace {
 
 // The dominant direction (rad) of the line pixels modulo 90 deg: the mean of exp(4 i theta).
@@ -394,19 +354,34 @@ std::vector<double> Centres(const std::vector<double>& pk, const std::vector<dou
 }
 
 // Every coarse hypothesis of one orientation, scored.
+// The views with the field's middle as the centre along an axis whose peaks gave centres (a
+// narrow view between the touch lines shows no line along that axis, while the arcs' tangents
+// give peaks there that match no line in view) go to `middle`.
 void CoarseViews(const AxisPeaks& peaks, const Orientation& o, double psi, double s_min,
                  double s_max, const FieldMarks& marks, const LineDistance& dt,
-                 std::vector<ScoredView>* all) {
+                 std::vector<ScoredView>* all, std::vector<ScoredView>* middle) {
   constexpr double kCoarseStepPx = 12.0;
+  const Vec2 image_centre(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
+  const double cp = std::cos(psi), sp = std::sin(psi);
+  std::vector<Vec2> base;
   for (double s : CandidateScales(peaks, o, s_min, s_max)) {
-    // The marks sampled once per scale: every view of this scale projects the same points.
-    const std::vector<Vec2> world = SampleMarks(marks, kCoarseStepPx / s, nullptr);
-    const std::vector<double> ca = Centres(peaks.a, *o.wa, o.sign_a, s);
-    const std::vector<double> cb = Centres(peaks.b, *o.wb, o.sign_b, s);
-    for (double a : ca)
-      for (double b : cb) {
-        NadirView v{o.k, psi, s, o.a_is_x ? Vec2(a, b) : Vec2(b, a), 0.0};
-        all->push_back(ScoredView{v, ViewScoreOf(v, world, dt, kCoarseStepPx, kCoarseTauPx), {}});
+    // The marks sampled once per scale, and mapped once through the views' common linear part
+    // (orientation, psi, scale; no distortion): each view's centre only shifts them.
+    const NadirView linear{o.k, psi, s, Vec2::Zero(), 0.0};
+    base.clear();
+    for (const Vec2& p : SampleMarks(marks, kCoarseStepPx / s, nullptr))
+      base.push_back(image_centre + Apply(linear, p, dt.width(), cp, sp));
+    std::vector<double> ca = Centres(peaks.a, *o.wa, o.sign_a, s);
+    std::vector<double> cb = Centres(peaks.b, *o.wb, o.sign_b, s);
+    const size_t na = ca.size(), nb = cb.size();
+    if (!peaks.a.empty()) ca.push_back(0.0);
+    if (!peaks.b.empty()) cb.push_back(0.0);
+    for (size_t i = 0; i < ca.size(); ++i)
+      for (size_t j = 0; j < cb.size(); ++j) {
+        NadirView v{o.k, psi, s, o.a_is_x ? Vec2(ca[i], cb[j]) : Vec2(cb[j], ca[i]), 0.0};
+        const Vec2 shift = -Apply(linear, v.centre_mm, dt.width(), cp, sp);
+        (i < na && j < nb ? all : middle)
+            ->push_back(ScoredView{v, ShiftedScore(base, shift, kCoarseStepPx, dt), {}});
       }
   }
 }
@@ -427,6 +402,17 @@ std::vector<ScoredView> BestDistinct(std::vector<ScoredView> all, size_t count) 
   return best;
 }
 
+void RefineView(ScoredView& b, const FieldMarks& marks, const LineDistance& dt, int width,
+                int height) {
+  b.score = ViewScore(b.view, marks, dt, 4.0, kCoarseTauPx);
+  Refine(b, marks, dt, kCoarseTauPx);
+  b.camera = PinholeOf(b.view, width, height);
+  RefineCamera(b, marks, dt, kCoarseTauPx);
+  RefineCamera(b, marks, dt, kTauPx);
+}
+
+constexpr double kMiddleGain = 1.5;
+
 }  // namespace
 
 std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int width, int height,
@@ -436,11 +422,11 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
   const AxisPeaks peaks = FindAxisPeaks(pixels, width, height, psi);
   const FieldAxes axes = AxesOf(marks);
   const double s_min = width / (3.0 * axes.size), s_max = width / (0.15 * axes.size);
-  std::vector<ScoredView> all;
+  std::vector<ScoredView> all, middle;
   for (int k = 0; k < (symmetric ? 2 : 4); ++k) {
-    CoarseViews(peaks, OrientationOf(k, axes), psi, s_min, s_max, marks, dt, &all);
+    CoarseViews(peaks, OrientationOf(k, axes), psi, s_min, s_max, marks, dt, &all, &middle);
   }
-  *hypotheses = static_cast<int>(all.size());
+  *hypotheses = static_cast<int>(all.size() + middle.size());
   std::vector<ScoredView> best = BestDistinct(std::move(all), 6);
   if (best.empty() || best.front().score <= 0.0) {
     throw InputError("no camera looking down at the field explains the " +
@@ -449,15 +435,18 @@ std::vector<ScoredView> SearchViews(const std::vector<LinePixel>& pixels, int wi
                      " straight lines along the image's two axes); expected a frame showing at "
                      "least two crossing field lines of the field");
   }
-  for (ScoredView& b : best) {  // the best distinct ones, refined
-    b.score = ViewScore(b.view, marks, dt, 4.0, kCoarseTauPx);
-    Refine(b, marks, dt, kCoarseTauPx);
-    b.camera = PinholeOf(b.view, width, height);
-    RefineCamera(b, marks, dt, kCoarseTauPx);
-    RefineCamera(b, marks, dt, kTauPx);
+  for (ScoredView& b : best) RefineView(b, marks, dt, width, height);
+  // The views centred on the field's middle replace them only when their best, refined, explains
+  // clearly more (kMiddleGain times): where lines along both axes are in view the peaks' views
+  // are the search's, as before.
+  std::vector<ScoredView> mid = BestDistinct(std::move(middle), 2);
+  for (ScoredView& b : mid) RefineView(b, marks, dt, width, height);
+  const auto by_score = [](const ScoredView& x, const ScoredView& y) { return x.score > y.score; };
+  std::sort(mid.begin(), mid.end(), by_score);
+  if (!mid.empty() && mid.front().score > kMiddleGain * std::max(0.0, best.front().score)) {
+    best.insert(best.end(), mid.begin(), mid.end());
   }
-  std::sort(best.begin(), best.end(),
-            [](const ScoredView& x, const ScoredView& y) { return x.score > y.score; });
+  std::sort(best.begin(), best.end(), by_score);
   return best;
 }
 

@@ -9,7 +9,10 @@
 //     px/mm, one of the four quarter-turns with the image's mirror, the floor point under the
 //     image centre); a pair of peaks matched to a pair of field lines along one axis gives s and
 //     one coordinate, one peak matched to one field line along the other axis the second (and
-//     a log-spaced sweep of s when an axis shows fewer than two lines).
+//     a log-spaced sweep of s when an axis shows fewer than two lines). Views centred on the
+//     field's middle along an axis whose peaks matched lines are scored apart and replace the
+//     others when the best of them, refined, explains 1.5 times more (a narrow view between the
+//     touch lines: its arcs' tangent peaks match only the touch lines, out of view).
 //  2. Scoring. Each hypothesis projects points along the field's painted marks (field_marks.h)
 //     into the image and is scored by the line length it explains (marks within a few px of a
 //     line pixel, by a distance transform of the line pixels) minus half the length it puts
@@ -80,8 +83,11 @@ struct AutoCalibration {
   // axis of the error, across the line: 1 / sqrt 2 of the 2-D error; a fold's camera is fitted to
   // half the pixels: sqrt 2 times the whole fit's error; the two cancel.) held_out_noise_mm is
   // the within-run spread (the finder's noise).
+  // held_out_resolution_mm: what the estimate can resolve, twice the RMS noise of a run's mean
+  // (held_out_noise_mm / sqrt 8 for full runs): an estimate below it says only that the camera's
+  // error is below it too (the report says so).
   double held_out_rms_mm = 0.0, held_out_worst_mm = 0.0;
-  double held_out_mapping_mm = 0.0, held_out_noise_mm = 0.0;
+  double held_out_mapping_mm = 0.0, held_out_noise_mm = 0.0, held_out_resolution_mm = 0.0;
   int held_out_count = 0;
   double seconds = 0.0;
   std::vector<std::string> notes;
@@ -93,10 +99,47 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
                               const std::string& source, const Field& field,
                               const AutoOptions& options = {});
 
+// A family of field models (`patlab setup --field ssl`): every model's search (steps 1-3) is a
+// cheap screen, its best camera's score ranking the models; the full fit (steps 4-5) is given
+// in that order to the first min_fitted models that search found a camera for, then to every
+// model whose screen reaches screen_ratio of the best fitted score. (A fitted camera explains
+// about as much line as its search's or more: a model screened below that cannot win.) Models
+// whose painted marks are the same as an earlier one's share its result. The fitted model of
+// the highest score is kept.
+struct FamilyOptions {
+  double screen_ratio = 0.8;  // in (0, 1]
+  int min_fitted = 2;         // >= 1: a runner-up to compare with
+};
+struct FamilyTry {
+  std::string field;                 // the model's name
+  double screen_px = 0.0;            // its search's best score (NaN: the search failed)
+  bool fitted = false;               // given the full fit
+  double score_px = 0.0;             // the full fit's score (NaN: not fitted or failed)
+  double held_out_mapping_mm = 0.0;  // the full fit's (NaN likewise)
+  std::string same_as;               // the earlier model of the same marks whose result it shares
+  std::string failure;               // why it failed or was not fitted ("" when fitted)
+};
+struct FamilyCalibration {
+  int kept = -1;                 // index of the kept model in `fields`
+  AutoCalibration calibration;   // the kept model's
+  std::vector<FamilyTry> tries;  // one per model, in the order of `fields`
+  double seconds = 0.0;
+};
+// InputError (the best-screened model's failure) when no model fits.
+FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int width_px,
+                                      int height_px, const std::string& source,
+                                      const std::vector<Field>& fields,
+                                      const AutoOptions& options = {},
+                                      const FamilyOptions& family = {});
+
 // The distance (mm) from the back-projection of `pixel` through `camera` on the floor to the
 // observation's line or circle; NaN when the pixel does not map onto the floor.
 double FloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,
                        const LineObservation* line, const CircleObservation* circle);
+
+// The held-out mapping error for people: "0.83 mm", or, below its resolution, "below 0.42 mm
+// (the line finder's resolution; estimate 0 mm)".
+std::string HeldOutText(const AutoCalibration& a);
 
 // The report: what was found, the symmetry, the held-out error, then FitReportText.
 std::string AutoReportText(const AutoCalibration& a);

@@ -19,6 +19,9 @@ constexpr double kMaxAngle =
     0.42;                      // |sin| between a pixel's direction and its mark's, on the floor
 constexpr int kMinPixels = 8;  // an observation's pixels at least
 constexpr int kRun = 8;        // the held-out folds' run length along a mark
+constexpr double kLastGatePx = 3.0;  // the assignment's last (narrowest) gate
+// The search's best views given the fit (the second when it scores at least 80% of the first).
+constexpr size_t kFittedViews = 2;
 
 struct Assigned {
   CalibrationInput input;
@@ -189,12 +192,14 @@ struct FitContext {
 };
 
 // The fit at one gate; the focal length held when the free fit leaves the camera model's range.
+// Only the last gate's fit computes the covariance (the only one whose numbers are kept).
 void FitAtGate(const FitContext& x, double gate, CalibrationInput& base, camera::PinholeCamera& cam,
                Candidate& c, std::vector<std::string>* notes) {
   c.assigned = Assign(cam, *x.pixels, *x.field, *x.marks, gate, x.options->max_fit_pixels, base);
   const std::string missing = WhatIsMissing(c.assigned.input);
   if (!missing.empty()) throw InputError(missing);
   c.assigned.input.options.start_camera = cam;
+  c.assigned.input.options.covariance = gate <= kLastGatePx;
   const bool focal_free = std::find(base.options.fixed.begin(), base.options.fixed.end(),
                                     FitParameter::kFocal) == base.options.fixed.end();
   bool hold = false;
@@ -231,7 +236,7 @@ Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, Calib
     }
   }
   try {
-    for (double gate : {12.0, 5.0, 3.0}) FitAtGate(x, gate, base, cam, c, notes);
+    for (double gate : {12.0, 5.0, kLastGatePx}) FitAtGate(x, gate, base, cam, c, notes);
     c.score = internal::CameraScore(cam, *x.marks, *x.dt);
   } catch (const InputError& e) {
     c.failure = e.what();
@@ -312,8 +317,17 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
     CalibrationInput train = Fold(assigned, fold);
     const CalibrationInput test = Fold(assigned, 1 - fold);
     train.options.start_camera = out.fit.camera;
+    train.options.covariance = false;  // only the fold's camera is used
     if (!WhatIsMissing(train).empty()) continue;
-    const CalibrationFit f = FitCamera(train);
+    CalibrationFit f;
+    try {
+      f = FitCamera(train);
+    } catch (const InputError& e) {
+      // Half the pixels may not hold the camera inside the model's range: that fold says nothing.
+      out.notes.push_back("held-out fold " + std::to_string(fold + 1) +
+                          " left out: its camera was refused (" + e.what() + ")");
+      continue;
+    }
     for (const LineObservation& l : test.lines) h.AddMark(f.camera, l.pixels, &l, nullptr);
     for (const CircleObservation& c : test.circles) h.AddMark(f.camera, c.pixels, nullptr, &c);
   }
@@ -323,6 +337,8 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
   out.held_out_worst_mm = h.worst;
   const double noise_var = h.within_dof > 0 ? h.within / h.within_dof : 0.0;
   out.held_out_noise_mm = std::sqrt(noise_var);
+  out.held_out_resolution_mm =
+      h.runs > 0 ? 2.0 * std::sqrt(noise_var * h.inverse_n / h.runs) : kNaN;
   out.held_out_mapping_mm =
       h.runs > 0 ? std::sqrt(std::max(0.0, h.run_sq / h.runs - noise_var * h.inverse_n / h.runs))
                  : kNaN;
@@ -330,22 +346,44 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
 
 }  // namespace
 
+internal::Searched internal::SearchField(const std::vector<LinePixel>& pixels, int width_px,
+                                         int height_px, const std::string& source,
+                                         const Field& field, const AutoOptions& options) {
+  CheckAutoInput(pixels, width_px, height_px, source, options);
+  Searched s;
+  s.marks = PaintedMarks(field);
+  s.point_symmetric = PointSymmetric(field);
+  try {
+    s.views = SearchViews(pixels, width_px, height_px, s.marks, s.point_symmetric, &s.hypotheses);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  return s;
+}
+
 AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px, int height_px,
                               const std::string& source, const Field& field,
                               const AutoOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  CheckAutoInput(pixels, width_px, height_px, source, options);
+  const internal::Searched searched =
+      internal::SearchField(pixels, width_px, height_px, source, field, options);
+  AutoCalibration out =
+      internal::FitSearched(searched, pixels, width_px, height_px, source, field, options);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+AutoCalibration internal::FitSearched(const Searched& searched,
+                                      const std::vector<LinePixel>& pixels, int width_px,
+                                      int height_px, const std::string& source, const Field& field,
+                                      const AutoOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
   AutoCalibration out;
   out.line_pixels = static_cast<int>(pixels.size());
-  const FieldMarks marks = PaintedMarks(field);
-  out.point_symmetric = internal::PointSymmetric(field);
-  std::vector<internal::ScoredView> views;
-  try {
-    views = internal::SearchViews(pixels, width_px, height_px, marks, out.point_symmetric,
-                                  &out.hypotheses);
-  } catch (const InputError& e) {
-    throw InputError(source + ": " + e.what());
-  }
+  out.point_symmetric = searched.point_symmetric;
+  out.hypotheses = searched.hypotheses;
+  const FieldMarks& marks = searched.marks;
+  const std::vector<internal::ScoredView>& views = searched.views;
   const internal::LineDistance dt(pixels, width_px, height_px);
   // The base input: the frame and the fit's options.
   CalibrationInput base;
@@ -358,11 +396,11 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
   base.options.camera_height_mm = options.camera_height_mm;
   // The cross-validation of FitCamera is off: step 5 measures the held-out error on line pixels.
   base.options.holdout_folds = 0;
-  // Steps 3-4 from the two best views; the better final camera wins.
+  // Steps 3-4 from the best views; the best final camera wins.
   const FitContext context{&pixels,  &field,   &marks,    &dt,
                            &options, width_px, height_px, out.point_symmetric};
   std::vector<Candidate> candidates;
-  for (size_t v = 0; v < std::min<size_t>(views.size(), 2); ++v) {
+  for (size_t v = 0; v < std::min<size_t>(views.size(), kFittedViews); ++v) {
     if (v > 0 && views[v].score < 0.8 * views[0].score) break;  // clearly worse: not fitted
     candidates.push_back(FitView(context, views[v].camera, base, &out.notes));
   }
@@ -387,6 +425,15 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
   return out;
 }
 
+std::string HeldOutText(const AutoCalibration& a) {
+  if (a.held_out_mapping_mm < a.held_out_resolution_mm) {
+    return "below " + FormatSignificant(a.held_out_resolution_mm, 2) +
+           " mm (the line finder's resolution; estimate " +
+           FormatSignificant(a.held_out_mapping_mm, 2) + " mm)";
+  }
+  return FormatSignificant(a.held_out_mapping_mm, 3) + " mm";
+}
+
 std::string AutoReportText(const AutoCalibration& a) {
   std::string s = "# automatic field calibration\n";
   s += "line pixels found: " + std::to_string(a.line_pixels) +
@@ -409,10 +456,11 @@ std::string AutoReportText(const AutoCalibration& a) {
   } else {
     s += "symmetry: none (the field is not the same rotated by 180 deg)\n";
   }
-  s += "held-out mapping error: " + FormatSignificant(a.held_out_mapping_mm, 3) +
-       " mm RMS on the floor (estimated from the run means of the held-out pixels, the line "
+  s += "held-out mapping error: " + HeldOutText(a) +
+       " RMS on the floor (estimated from the run means of the held-out pixels, the line "
        "finder's noise of " +
-       FormatSignificant(a.held_out_noise_mm, 3) + " mm removed)\n";
+       FormatSignificant(a.held_out_noise_mm, 3) + " mm removed; resolution " +
+       FormatSignificant(a.held_out_resolution_mm, 3) + " mm, twice the noise of a run's mean)\n";
   s += "held-out pixels: RMS " + FormatSignificant(a.held_out_rms_mm, 3) + " mm, worst " +
        FormatSignificant(a.held_out_worst_mm, 3) + " mm over " + std::to_string(a.held_out_count) +
        " line pixels (two folds of alternating runs of 8 along each mark; each pixel's floor "

@@ -2,6 +2,7 @@
 // auto_calibrate_fit.cpp (the assignment, the fit and the held-out error).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "patlab/calib/auto_calibrate.h"
@@ -53,5 +54,20 @@ double CameraScore(const camera::PinholeCamera& camera, const FieldMarks& marks,
                    const LineDistance& distance, double tau_px = 6.0);
 
 bool PointSymmetric(const Field& field);
+
+// Steps 1-3 of one field model (the search), and steps 4-5 from them (the fit): AutoCalibrate
+// is the two in turn; AutoCalibrateFamily screens every model by its search's best score and
+// fits only the best few.
+struct Searched {
+  FieldMarks marks;
+  bool point_symmetric = false;
+  int hypotheses = 0;
+  std::vector<ScoredView> views;  // best first; views.front().score screens the model
+};
+Searched SearchField(const std::vector<LinePixel>& pixels, int width_px, int height_px,
+                     const std::string& source, const Field& field, const AutoOptions& options);
+AutoCalibration FitSearched(const Searched& searched, const std::vector<LinePixel>& pixels,
+                            int width_px, int height_px, const std::string& source,
+                            const Field& field, const AutoOptions& options);
 
 }  // namespace patlab::calib::internal

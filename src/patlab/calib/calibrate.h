@@ -94,6 +94,11 @@ struct FitOptions {
   // A start camera of the caller's own (the automatic field calibration's, auto_calibrate.h):
   // when set, the fit starts from it alone and needs no known points.
   std::optional<camera::PinholeCamera> start_camera;
+  // Whether the fit's covariance (and so the standard errors and the mapping uncertainty) is
+  // computed: a dense SVD of the whole Jacobian, most of a line fit's time. Off for fits whose
+  // camera alone is used (the automatic calibration's intermediate gates and held-out folds):
+  // their covariance, standard errors and mapping uncertainty are NaN.
+  bool covariance = true;
 };
 
 struct CalibrationInput {

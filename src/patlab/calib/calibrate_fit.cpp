@@ -460,7 +460,11 @@ CalibrationFit FitCamera(const CalibrationInput& input) {
   fit.camera = internal::CameraOf(s);
   fit.rotation_rodrigues = Eigen::Vector3d(s.pose[0], s.pose[1], s.pose[2]);
   const double dof = 2.0 * fit.observations - fit.parameters;
-  fit.covariance = CameraCovariance(*problem, *best, 2.0 * summary.final_cost / dof);
+  if (input.options.covariance) {
+    fit.covariance = CameraCovariance(*problem, *best, 2.0 * summary.final_cost / dof);
+  } else {
+    fit.covariance.fill(std::numeric_limits<double>::quiet_NaN());
+  }
   fit.standard_error = StandardErrors(fit.covariance, s);
   for (int i : fixed) {
     if (i == 0) fit.standard_error[0] = fit.standard_error[1] = 0.0;
@@ -468,8 +472,14 @@ CalibrationFit FitCamera(const CalibrationInput& input) {
   }
   fit.camera_centre_mm = -fit.camera.rotation.transpose() * fit.camera.translation_mm;
   internal::FillResiduals(input, s, fit);
-  internal::FillMappingUncertainty(fit);
-  WarnIfFocalUndetermined(fixed, fit);
+  if (input.options.covariance) {
+    internal::FillMappingUncertainty(fit);
+    WarnIfFocalUndetermined(fixed, fit);
+  } else {
+    for (PlaneResiduals& plane : fit.planes)
+      plane.mapping_sd_rms_mm = plane.mapping_sd_worst_mm =
+          std::numeric_limits<double>::quiet_NaN();
+  }
   WarnIfBeyondTheFold(fit);
   // A folded or unphysical camera is refused before anyone spends time on its held-out error.
   const std::string unphysical =

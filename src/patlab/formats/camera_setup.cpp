@@ -45,40 +45,38 @@ void CheckSetupInput(const std::vector<const camera::Image*>& frames,
   Validate(o.thresholds);
 }
 
-// The calibration from the first frame's lines: every field model fitted, the best kept.
+// The calibration from the first frame's lines: the line pixels found once, every field model
+// screened, the best few fitted, the best kept.
 void CalibrateFromLines(const camera::Image& frame, const std::string& name, const SetupOptions& o,
                         SetupResult* r) {
   vision::LineFinderOptions finder;
   finder.line_width_px = o.line_width_px;
-  std::optional<calib::AutoCalibration> best;
-  for (const calib::Field& field : o.fields) {
-    SetupFieldTry t{field.name, 0.0, 0.0, ""};
-    try {
-      vision::FrameCalibration fc = vision::AutoCalibrateFrame(frame, name, field, finder);
-      t.score_px = fc.calibration.score_px;
-      t.held_out_mapping_mm = fc.calibration.held_out_mapping_mm;
-      if (!best || t.score_px > best->score_px) {
-        best = std::move(fc.calibration);
-        r->field = field;
-      }
-    } catch (const InputError& e) {
-      t.failure = e.what();
-    }
-    r->tried.push_back(t);
+  const std::vector<calib::LinePixel> pixels = vision::FindLinePixels(frame, finder);
+  calib::FamilyCalibration family;
+  try {
+    family = calib::AutoCalibrateFamily(pixels, frame.width_px, frame.height_px, name, o.fields);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) +
+                     "; or give four --landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");
+  }
+  for (const calib::FamilyTry& t : family.tries) {
+    r->tried.push_back(
+        {t.field, t.score_px, t.held_out_mapping_mm, t.failure, t.screen_px, t.fitted, t.same_as});
   }
   std::stable_sort(r->tried.begin(), r->tried.end(),
                    [](const SetupFieldTry& a, const SetupFieldTry& b) {
-                     return a.failure.empty() && (!b.failure.empty() || a.score_px > b.score_px);
+                     if (a.failure.empty() != b.failure.empty()) return a.failure.empty();
+                     if (a.failure.empty()) return a.score_px > b.score_px;
+                     return std::isfinite(a.screen_px) &&
+                            (!std::isfinite(b.screen_px) || a.screen_px > b.screen_px);
                    });
-  if (!best) {
-    throw InputError(r->tried.front().failure +
-                     (o.fields.size() > 1 ? " (and every other model of the family failed)" : "") +
-                     "; or give four --landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");
-  }
-  r->calibration_input = best->input;
-  r->calibration_fit = best->fit;
-  r->mapping_error_mm = best->held_out_mapping_mm;
-  r->calibration_report = calib::AutoReportText(*best);
+  const calib::AutoCalibration& best = family.calibration;
+  r->field = o.fields[static_cast<size_t>(family.kept)];
+  r->calibration_input = best.input;
+  r->calibration_fit = best.fit;
+  r->mapping_error_mm = best.held_out_mapping_mm;
+  r->mapping_resolution_mm = best.held_out_resolution_mm;
+  r->calibration_report = calib::AutoReportText(best);
 }
 
 // The calibration from clicked landmarks of the first field model.
@@ -105,7 +103,7 @@ void CalibrateFromLandmarks(const camera::Image& frame, const std::string& name,
   r->calibration_fit = calib::FitCamera(in);
   r->mapping_error_mm = r->calibration_fit.heldout_rms_mm;
   r->calibration_report = calib::FitReportText(in, r->calibration_fit);
-  r->tried.push_back({field.name, 0.0, r->mapping_error_mm, ""});
+  r->tried.push_back({field.name, 0.0, r->mapping_error_mm, "", 0.0, true, ""});
 }
 
 // The settings' text with relative pattern, codebook and patterns_dir paths made absolute (the
@@ -160,6 +158,26 @@ void FitColours(const std::vector<const camera::Image*>& frames,
   r->thresholds = vision::FitThresholdsAuto(frames, classes, vocabulary, o.thresholds);
 }
 
+// The models tried, one line each: the fitted ones' scores, why the others were dropped.
+std::string TriedText(const std::vector<SetupFieldTry>& tried) {
+  int fitted = 0;
+  for (const SetupFieldTry& t : tried) fitted += t.fitted && t.same_as.empty() ? 1 : 0;
+  std::string s = "  (" + std::to_string(tried.size()) +
+                  " models screened by their search's best camera (px of line explained); " +
+                  std::to_string(fitted) + " given the full fit)\n";
+  for (const SetupFieldTry& t : tried) {
+    s += "  " + t.field + ": ";
+    if (t.failure.empty()) {
+      s += FormatSignificant(t.score_px, 5) + " px of line explained (search " +
+           FormatSignificant(t.screen_px, 5) + " px)";
+    } else {
+      s += (!t.fitted && std::isfinite(t.screen_px) ? "" : "failed: ") + t.failure;
+    }
+    s += (t.same_as.empty() ? "" : " (the same lines as " + t.same_as + ")") + std::string("\n");
+  }
+  return s;
+}
+
 }  // namespace
 
 detect::DetectorOptions SetupTolerances(const detect::DetectorOptions& base, double mm_per_px,
@@ -192,8 +210,10 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
   r.mm_per_px = std::sqrt(camera.AreaScale(
       Vec2(0.5 * (first.width_px - 1), 0.5 * (first.height_px - 1)), options.robot_height_mm));
   r.smallest_patch_px = r.mm_per_px > 0.0 ? SmallestPatchMm(config) / r.mm_per_px : 0.0;
-  r.tolerances =
-      SetupTolerances(config.options, r.mm_per_px, r.mapping_error_mm, r.smallest_patch_px);
+  const double error_bound = std::isfinite(r.mapping_resolution_mm)
+                                 ? std::max(r.mapping_error_mm, r.mapping_resolution_mm)
+                                 : r.mapping_error_mm;
+  r.tolerances = SetupTolerances(config.options, r.mm_per_px, error_bound, r.smallest_patch_px);
   FitColours(frames, config, options, &r);
   const std::string made =
       "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
@@ -224,16 +244,17 @@ std::string SetupReportText(const SetupResult& r) {
                    second.field + " " + FormatSignificant(second.score_px, 5) + " px, " +
                    FormatSignificant(r.tried[0].score_px - second.score_px, 4) + " px less)\n"
              : " (the only model of " + std::to_string(r.tried.size()) + " that fitted)\n";
-    for (const SetupFieldTry& t : r.tried) {
-      s += "  " + t.field + ": " +
-           (t.failure.empty() ? FormatSignificant(t.score_px, 5) + " px of line explained"
-                              : "failed: " + t.failure) +
-           "\n";
-    }
+    s += TriedText(r.tried);
   } else {
     s += "\n";
   }
-  s += "mapping error: " + FormatSignificant(r.mapping_error_mm, 3) + " mm RMS on the floor (" +
+  const bool below = r.mapping_error_mm < r.mapping_resolution_mm;
+  s += "mapping error: " +
+       (below ? "below " + FormatSignificant(r.mapping_resolution_mm, 2) +
+                    " mm (the line finder's resolution; estimate " +
+                    FormatSignificant(r.mapping_error_mm, 2) + " mm)"
+              : FormatSignificant(r.mapping_error_mm, 3) + " mm") +
+       " RMS on the floor (" +
        (r.from_landmarks ? "cross-validated over the landmarks" : "held-out line pixels") + "); " +
        FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
   s += "colour classes (pixels, separability, nearest):\n  carpet: " +

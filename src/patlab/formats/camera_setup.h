@@ -1,6 +1,7 @@
 // A new camera set up from its frames, behind `patlab setup` (docs/setup.md): the field's lines
-// give the calibration (vision/field_lines.h AutoCalibrateFrame; with several field models, each
-// is fitted and the one whose camera explains the most line length is kept), or, as a fallback,
+// give the calibration (vision/field_lines.h FindLinePixels once, then
+// calib::AutoCalibrateFamily: every model screened by its search, the best few fitted, the one
+// whose camera explains the most line length kept), or, as a fallback,
 // landmarks the user clicked; the colour classes the settings' palette names give the
 // thresholds (vision/thresholds_auto.h); and the detector's tolerances are chosen from what was
 // measured. The result is four files in one folder -- calibration.toml, thresholds.toml,
@@ -8,7 +9,7 @@
 // setup.toml naming them -- which `patlab detect --setup DIR` reads.
 //
 // Tolerances (SetupTolerances): with s the floor's mm per pixel at the image centre on the
-// robots' plane and e the calibration's held-out mapping error (mm),
+// robots' plane and e the calibration's held-out mapping error (mm; at least its resolution),
 //   patch_sigma_mm  = max(2, 0.4 s)  -- a thresholded patch's centroid is good to ~0.4 px;
 //   reach_margin_mm = max(20, 3 e + 2 s)  -- a patch may be found 3 mapping errors and 2 pixels
 //                     beyond the pattern's reach;
@@ -51,12 +52,16 @@ struct SetupOptions {
   vision::AutoThresholdsOptions thresholds;
 };
 
-// One field model tried: its camera's score (px of line explained) or why it failed.
+// One field model tried: its search's score (the screen), its fitted camera's score (px of line
+// explained), or why it failed or was not fitted (calib::AutoCalibrateFamily).
 struct SetupFieldTry {
   std::string field;
   double score_px = 0.0;
   double held_out_mapping_mm = 0.0;
-  std::string failure;  // "" when it fitted
+  std::string failure;     // "" when it fitted
+  double screen_px = 0.0;  // the search's best score (NaN: the search failed; landmarks: 0)
+  bool fitted = true;      // given the full fit (false: screened out, or the search failed)
+  std::string same_as;     // the earlier model of the same lines whose result it shares
 };
 
 struct SetupResult {
@@ -67,6 +72,10 @@ struct SetupResult {
   calib::CalibrationFit calibration_fit;
   std::string calibration_report;  // the automatic calibration's (or the fit's) report
   double mapping_error_mm = 0.0;   // held-out (lines) or cross-validated (landmarks)
+  // What the held-out estimate resolves (calib::AutoCalibration::held_out_resolution_mm; 0 for
+  // landmarks): an error below it is reported as "below" it, and the tolerances take it as the
+  // error's bound.
+  double mapping_resolution_mm = 0.0;
   double mm_per_px = 0.0;          // on the robots' plane at the image centre
   double smallest_patch_px = 0.0;  // the smallest patch's radius in px there
   vision::AutoThresholdsFit thresholds;

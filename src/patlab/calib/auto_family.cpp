@@ -1,0 +1,158 @@
+// The automatic calibration against a family of field models (auto_calibrate.h,
+// AutoCalibrateFamily): every model searched, the best few fitted.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <optional>
+
+#include "patlab/calib/auto_calibrate_internal.h"
+#include "patlab/core/error.h"
+#include "patlab/core/format.h"
+
+namespace patlab::calib {
+namespace {
+
+bool SameMarks(const FieldMarks& a, const FieldMarks& b) {
+  auto same = [](const Vec2& p, const Vec2& q) { return (p - q).norm() < 1e-9; };
+  if (a.segments.size() != b.segments.size() || a.arcs.size() != b.arcs.size()) return false;
+  for (size_t i = 0; i < a.segments.size(); ++i) {
+    if (!same(a.segments[i].from_mm, b.segments[i].from_mm) ||
+        !same(a.segments[i].to_mm, b.segments[i].to_mm))
+      return false;
+  }
+  for (size_t i = 0; i < a.arcs.size(); ++i) {
+    const MarkArc &x = a.arcs[i], &y = b.arcs[i];
+    if (!same(x.centre_mm, y.centre_mm) || std::abs(x.radius_mm - y.radius_mm) > 1e-9 ||
+        std::abs(x.start_rad - y.start_rad) > 1e-12 || std::abs(x.sweep_rad - y.sweep_rad) > 1e-12)
+      return false;
+  }
+  return true;
+}
+
+// The index of an earlier model with the same painted marks and symmetry as `i`, or -1.
+int SameAs(const std::vector<Field>& fields, const std::vector<FieldMarks>& marks, size_t i) {
+  for (size_t j = 0; j < i; ++j) {
+    if (SameMarks(marks[i], marks[j]) &&
+        internal::PointSymmetric(fields[i]) == internal::PointSymmetric(fields[j]))
+      return static_cast<int>(j);
+  }
+  return -1;
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Frame {
+  const std::vector<LinePixel>* pixels;
+  int width_px, height_px;
+  const std::string* source;
+  const AutoOptions* options;
+};
+
+// The screen: each distinct geometry searched once (steps 1-3); `same` the twins.
+std::vector<std::optional<internal::Searched>> Screen(const Frame& f,
+                                                      const std::vector<Field>& fields,
+                                                      std::vector<int>* same,
+                                                      FamilyCalibration* out) {
+  std::vector<FieldMarks> marks;
+  for (const Field& field : fields) marks.push_back(PaintedMarks(field));
+  std::vector<std::optional<internal::Searched>> searched(fields.size());
+  same->assign(fields.size(), -1);
+  out->tries.resize(fields.size());
+  for (size_t i = 0; i < fields.size(); ++i) {
+    FamilyTry& t = out->tries[i];
+    t.field = fields[i].name;
+    t.screen_px = t.score_px = t.held_out_mapping_mm = kNaN;
+    (*same)[i] = SameAs(fields, marks, i);
+    if ((*same)[i] >= 0) continue;
+    try {
+      searched[i] = internal::SearchField(*f.pixels, f.width_px, f.height_px, *f.source, fields[i],
+                                          *f.options);
+      t.screen_px = searched[i]->views.front().score;
+    } catch (const InputError& e) {
+      t.failure = e.what();
+    }
+  }
+  return searched;
+}
+
+// The full fit (steps 4-5) in `order`: until min_fitted models fitted, then every model whose
+// screen reaches screen_ratio of the best fitted score.
+void FitInOrder(const Frame& f, const std::vector<Field>& fields,
+                const std::vector<std::optional<internal::Searched>>& searched,
+                const std::vector<size_t>& order, const FamilyOptions& family,
+                FamilyCalibration* out) {
+  int fitted = 0;
+  double best = -INFINITY;
+  for (size_t i : order) {
+    FamilyTry& t = out->tries[i];
+    if (!searched[i]) continue;
+    if (fitted >= family.min_fitted && t.screen_px < family.screen_ratio * best) {
+      t.failure = "not fitted: its best camera of the search explains " +
+                  FormatSignificant(t.screen_px, 5) + " px of line, below " +
+                  FormatSignificant(100.0 * family.screen_ratio, 3) + "% of " +
+                  fields[static_cast<size_t>(out->kept)].name + "'s fitted " +
+                  FormatSignificant(best, 5) + " px";
+      continue;
+    }
+    t.fitted = true;
+    try {
+      AutoCalibration a = internal::FitSearched(*searched[i], *f.pixels, f.width_px, f.height_px,
+                                                *f.source, fields[i], *f.options);
+      t.score_px = a.score_px;
+      t.held_out_mapping_mm = a.held_out_mapping_mm;
+      ++fitted;
+      if (a.score_px > best) {
+        best = a.score_px;
+        out->kept = static_cast<int>(i);
+        out->calibration = std::move(a);
+      }
+    } catch (const InputError& e) {
+      t.failure = e.what();
+    }
+  }
+}
+
+}  // namespace
+
+FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int width_px,
+                                      int height_px, const std::string& source,
+                                      const std::vector<Field>& fields, const AutoOptions& options,
+                                      const FamilyOptions& family) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (fields.empty()) throw InputError("no field model to fit; expected a model or a family");
+  if (!(family.screen_ratio > 0.0 && family.screen_ratio <= 1.0) || family.min_fitted < 1)
+    throw InputError("family calibration: screen_ratio must be in (0, 1] and min_fitted >= 1");
+  const Frame frame{&pixels, width_px, height_px, &source, &options};
+  FamilyCalibration out;
+  std::vector<int> same;
+  const auto searched = Screen(frame, fields, &same, &out);
+  std::vector<size_t> order(fields.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const double x = out.tries[a].screen_px, y = out.tries[b].screen_px;
+    return std::isfinite(x) && (!std::isfinite(y) || x > y);
+  });
+  FitInOrder(frame, fields, searched, order, family, &out);
+  // Models of the same geometry share their twin's result.
+  for (size_t i = 0; i < fields.size(); ++i) {
+    if (same[i] < 0) continue;
+    const FamilyTry& twin = out.tries[static_cast<size_t>(same[i])];
+    FamilyTry& t = out.tries[i];
+    t = twin;
+    t.field = fields[i].name;
+    t.same_as = twin.field;
+  }
+  if (out.kept < 0) {
+    const auto failed = std::find_if(order.begin(), order.end(),
+                                     [&](size_t i) { return !out.tries[i].failure.empty(); });
+    throw InputError(out.tries[*failed].failure +
+                     (fields.size() > 1 ? " (and every other model of the family failed)" : ""));
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.calibration.seconds = out.seconds;
+  return out;
+}
+
+}  // namespace patlab::calib
