@@ -17,6 +17,7 @@
 #include "../frame_test_util.h"
 #include "../test_util.h"
 #include "patlab/core/rng.h"
+#include "patlab/detect/codebook.h"
 #include "patlab/detect/detector.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
@@ -42,6 +43,19 @@ TEST(ShippedDesigns, EverySettingsFileLoadsWithoutTolerances) {
     EXPECT_EQ(config.options.reach_margin_mm, defaults.reach_margin_mm);
     for (const detect::DetectorPattern& p : config.patterns) {
       EXPECT_EQ(p.key_colours, (std::vector<std::string>{"blue", "yellow"}));
+    }
+  }
+  // Each VSS codebook file is every colouring GenerateCodebook finds for the pattern's symmetry,
+  // with the same numbers (LoadDetectorSettings has checked it against the pattern's rotations).
+  for (const detect::DetectorPattern& p :
+       formats::LoadDetectorSettings(kSettings + "vss.detector.toml").patterns) {
+    SCOPED_TRACE(p.pattern.name);
+    const detect::Codebook generated = detect::GenerateCodebook(
+        p.pattern, detect::FindSymmetry(p.pattern, p.symmetry_tolerance_mm), p.codebook.colours);
+    ASSERT_EQ(generated.entries.size(), p.codebook.entries.size());
+    for (size_t i = 0; i < generated.entries.size(); ++i) {
+      EXPECT_EQ(generated.entries[i].id, p.codebook.entries[i].id);
+      EXPECT_EQ(generated.entries[i].colour, p.codebook.entries[i].colour);
     }
   }
   EXPECT_EQ(formats::LoadDetectorSettings(kSettings + "ssl-standard.detector.toml")
