@@ -37,7 +37,7 @@ TEST(ShippedDesigns, EverySettingsFileLoadsWithoutTolerances) {
     const std::string path = kSettings + name + ".detector.toml";
     const detect::DetectorConfig config = formats::LoadDetectorSettings(path);
     EXPECT_FALSE(config.patterns.empty());
-    EXPECT_EQ(testing::ReadFile(path).find("[detector]"), std::string::npos);
+    EXPECT_EQ(patlab::testing::ReadFile(path).find("\n[detector]"), std::string::npos);
     const detect::DetectorOptions defaults;
     EXPECT_EQ(config.options.patch_sigma_mm, defaults.patch_sigma_mm);
     EXPECT_EQ(config.options.reach_margin_mm, defaults.reach_margin_mm);
@@ -73,7 +73,7 @@ TEST(ShippedDesigns, FamilySettingsFindEveryDesignTeamAndId) {
   RandomStream rng(17, 0, 0);
   for (size_t p = 0; p < config.patterns.size(); ++p) {
     const detect::DetectorPattern& dp = config.patterns[p];
-    const std::vector<int> slots = IdSlots(dp.pattern);
+    const std::vector<int> slots = detect::IdSlots(dp.pattern);
     for (const detect::CodebookEntry& entry : dp.codebook.entries) {
       for (int team = 0; team < 2; ++team) {
         const Pose2 pose{rng.Uniform(-700, 700), rng.Uniform(-600, 600), rng.Uniform(-3.1, 3.1)};
@@ -85,8 +85,8 @@ TEST(ShippedDesigns, FamilySettingsFindEveryDesignTeamAndId) {
             const size_t slot = std::find(slots.begin(), slots.end(), i) - slots.begin();
             colour = dp.codebook.colours[static_cast<size_t>(entry.colour[slot])];
           }
-          blobs.push_back({pose.Apply(patch.position_mm), detector.ColourLabel(colour),
-                           patch.Area()});
+          blobs.push_back(
+              {pose.Apply(patch.position_mm), detector.ColourLabel(colour), patch.Area()});
         }
         std::vector<detect::Detection> detections;
         detector.Detect(blobs, &detections);
@@ -109,14 +109,13 @@ TEST(ShippedDesigns, RealVssFrameFindsItsFiveRobotsWithTheFamilySettings) {
   const std::string frame = testing::SharedFrames() + "/vss-test-frame.png";
   if (!std::filesystem::exists(frame)) GTEST_SKIP() << "no shared frames";
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
-  testing::TempDir dir;
+  patlab::testing::TempDir dir;
   const std::string thresholds = dir.Path("vss.colors.txt");
-  std::ofstream(thresholds) << std::regex_replace(testing::ReadFile(data + "vss.colors.txt"),
-                                                  std::regex(" lime\n"), " yellow\n");
-  FrameDetector frames(formats::LoadThresholds(thresholds),
-                       formats::LoadCalibration(data + "vss.calibration.toml"),
-                       formats::LoadDetectorSettings(kSettings + "vss.detector.toml"),
-                       FrameDetectorOptions{});
+  std::ofstream(thresholds) << std::regex_replace(
+      patlab::testing::ReadFile(data + "vss.colors.txt"), std::regex(" lime\n"), " yellow\n");
+  FrameDetector frames(
+      formats::LoadThresholds(thresholds), formats::LoadCalibration(data + "vss.calibration.toml"),
+      formats::LoadDetectorSettings(kSettings + "vss.detector.toml"), FrameDetectorOptions{});
   const FrameResult& r = frames.Detect(ReadFrame(frame), "vss-test-frame.png");
   struct Robot {
     std::string pattern, team;
