@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <string>
 
@@ -92,6 +93,30 @@ TEST(ExplainCli, ReachChangeAcceptsTheRobot) {
 
 TEST(ExplainCli, GeometryChangeAcceptsTheRobot) {
   CheckEveryChangeAccepts("patch_sigma_mm", "0.3", "geometry");
+}
+
+// setup --explain: after the robots, one diagnosis line per key blob of the frame, each robot of
+// the rendered half field (tests/data/setup/half-field.toml, ten robots) detected with its ID.
+TEST(ExplainCli, SetupExplainsEveryKeyAfterTheRobots) {
+  testing::TempDir dir;
+  const auto render = RunCommand(kBinary + " render " + kSource +
+                                 "/tests/data/setup/half-field.toml -o " + dir.Path("r"));
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  const auto setup = RunCommand(kBinary + " setup " + dir.Path("r") +
+                                "/frame.png --field ssl-2009 --settings ssl-standard.detector "
+                                "--explain -o " +
+                                dir.Path("cam"));
+  ASSERT_EQ(setup.exit_code, 0) << setup.err << setup.out;
+  const size_t robots = setup.out.find("robots in frame.png: 10\n");
+  ASSERT_NE(robots, std::string::npos) << setup.out;
+  const std::string after = setup.out.substr(robots);
+  const std::regex detected(
+      "\nframe.png: key \\d+ (blue|yellow) at [^\n]*, ssl-standard: detected, "
+      "id \\d+ \\(ok\\)");
+  EXPECT_EQ(std::distance(std::sregex_iterator(after.begin(), after.end(), detected),
+                          std::sregex_iterator()),
+            10)
+      << after;
 }
 
 }  // namespace
