@@ -3,7 +3,7 @@
 // chooses them), and every VSS design is found with its team and ID from exact blobs at random
 // poses through the family settings (vss.detector) -- and the real VSS frame of ../shared/frames
 // (skipped when absent), with the hand thresholds and calibration of tests/data/vision, gives its
-// five robots with the team and ID of the real-frame tests.
+// five robots with the team and ID of the real-frame tests; the SSL standard sheet its 16 IDs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -139,6 +139,28 @@ TEST(ShippedDesigns, RealVssFrameFindsItsFiveRobotsWithTheFamilySettings) {
     }
     EXPECT_EQ(found, 1) << robot.pattern << " " << robot.team << " " << robot.id;
   }
+}
+
+// The SSL standard 16-ID sheet of ../shared/frames with the shipped ssl-standard settings (and the
+// sheet's thresholds and calibration of tests/data/vision): every ID 0..15 once, blue.
+TEST(ShippedDesigns, SslStandardSheetGivesItsSixteenIds) {
+  const std::string frame = testing::SharedFrames() + "/ssl-standard-pattern-2010-16ids.png";
+  if (!std::filesystem::exists(frame)) GTEST_SKIP() << "no shared frames";
+  const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
+  FrameDetector frames(formats::LoadThresholds(data + "ssl-standard-sheet.thresholds.toml"),
+                       formats::LoadCalibration(data + "ssl-standard-sheet.calibration.toml"),
+                       formats::LoadDetectorSettings(kSettings + "ssl-standard.detector.toml"),
+                       FrameDetectorOptions{});
+  const FrameResult& r = frames.Detect(ReadFrame(frame), "sheet");
+  std::vector<int> ids;
+  for (const detect::Detection& d : r.detections) {
+    EXPECT_EQ(frames.detector().config().palette[static_cast<size_t>(d.team_colour)], "blue");
+    ids.push_back(d.id);
+  }
+  std::sort(ids.begin(), ids.end());
+  std::vector<int> expected(16);
+  for (int i = 0; i < 16; ++i) expected[static_cast<size_t>(i)] = i;
+  EXPECT_EQ(ids, expected);
 }
 
 }  // namespace
