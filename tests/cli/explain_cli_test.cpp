@@ -46,7 +46,7 @@ ExplainRun Explain(const std::string& settings_path) {
   run.err = r.err;
   const std::regex line(
       ": key (\\d+) [^\n]*?, ssl-standard: (\\w+): [^\n]*?(; change ([a-z_]+) "
-      "[0-9.e+-]+ -> ([0-9.e+-]+))?\n");
+      "[0-9.e+-]+ -> ([0-9.e+-]+) \\(then id \\d+, ok\\))?\n");
   for (std::sregex_iterator it(r.err.begin(), r.err.end(), line), end; it != end; ++it) {
     if ((*it)[2] == "detected") continue;
     run.rejected.push_back({(*it)[1], (*it)[2], (*it)[4], (*it)[5]});

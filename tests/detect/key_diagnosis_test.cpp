@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "test_util.h"
@@ -111,7 +112,10 @@ TEST(KeyDiagnosis, NeighbourBeyondReachNamesItsDistanceAndTheMarginThatAdmitsIt)
   EXPECT_EQ(IdAfter(p, {"reach_margin_mm", 2, 7.43}), -2);  // 7.43 would not admit it
   EXPECT_EQ(DiagnosisText(d, p.config, p.blobs),
             "few_neighbours: neighbours within reach 3 < 4; not counted: blob 1 pink: distance "
-            "72.4 mm > reach 67 mm, area ratio 1 in range; change reach_margin_mm 2 -> 7.44");
+            "72.4 mm > reach 67 mm, area ratio 1 in range; change reach_margin_mm 2 -> 7.44 (then "
+            "id " +
+                std::to_string(p.expected_id) + ", ok)");
+  EXPECT_EQ(d.accepted.id, p.expected_id);
 }
 
 TEST(KeyDiagnosis, SmallKeyNamesItsAreaRatioAndTheBoundThatAdmitsIt) {
@@ -213,6 +217,78 @@ TEST(KeyDiagnosis, ConflictNamesTheWinnerAndTheBlob) {
   EXPECT_FALSE(simple.change);
   EXPECT_TRUE(ssl.nearest_pattern);
   EXPECT_FALSE(simple.nearest_pattern);
+}
+
+// Stage 2 recomputed here from the pattern and the options (the ring, reach and area bounds of
+// detector.h): the blobs of a neighbour colour within reach and area range of blob 0.
+int NeighboursWithinReach(const Planted& p) {
+  const DetectorOptions& o = p.config.options;
+  const Pattern& pattern = p.config.patterns[0].pattern;
+  const double ring = pattern.patches[1].position_mm.norm();  // every dot of the SSL pattern
+  const double dot = pattern.patches[1].Area();
+  int n = 0;
+  for (size_t j = 1; j < p.blobs.size(); ++j) {
+    const double d = (p.blobs[j].position_mm - p.blobs[0].position_mm).norm();
+    n += static_cast<int>((p.blobs[j].colour == kPink || p.blobs[j].colour == kGreen) &&
+                          d >= ring - o.reach_margin_mm && d <= ring + o.reach_margin_mm &&
+                          p.blobs[j].area_mm2 >= o.area_ratio_min * dot &&
+                          p.blobs[j].area_mm2 <= o.area_ratio_max * dot);
+  }
+  return n;
+}
+
+// Random defects of one robot (areas scaled, dots moved, colours kept): every rejection names the
+// first stage that an independent recomputation of stages 1 and 2 finds failing, and every change
+// named -- applied by the test -- gives the robot back with the ID the diagnosis states. A dot
+// moved so far (up to 42 mm) that a wrong rotation fits better than the right one is accepted with
+// another ID: the diagnosis says so (its `accepted` ID), and such cases are counted.
+TEST(KeyDiagnosis, RandomDefectsNameTheFirstFailingStageAndChangesThatAccept) {
+  RandomStream rng(2003, 7, 0);
+  int changes = 0, rejected = 0, other_id = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Planted p = Robot();
+    const int defect = static_cast<int>(rng.Uniform() * 3.0);
+    const size_t blob = static_cast<size_t>(rng.Uniform() * 5.0);
+    if (defect == 0) p.blobs[blob].area_mm2 *= rng.Uniform(0.1, 4.0);
+    if (defect >= 1 && blob > 0) {
+      p.blobs[blob].position_mm += Vec2(rng.Uniform(-30, 30), rng.Uniform(-30, 30));
+    }
+    const KeyDiagnosis d = Diagnose(p);
+    if (d.explanation.outcome == KeyOutcome::kDetected) continue;
+    ++rejected;
+    const double key_ratio = p.blobs[0].area_mm2 / (std::numbers::pi * 25.0 * 25.0);
+    const bool key_ok = key_ratio >= 0.4 && key_ratio <= 2.5;
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + DiagnosisText(d, p.config, p.blobs));
+    switch (d.explanation.outcome) {
+      case KeyOutcome::kKeyArea:
+        EXPECT_FALSE(key_ok);
+        break;
+      case KeyOutcome::kFewNeighbours:
+        EXPECT_TRUE(key_ok);
+        EXPECT_LT(NeighboursWithinReach(p), 4);
+        break;
+      case KeyOutcome::kGeometry:
+        EXPECT_TRUE(key_ok);
+        EXPECT_GE(NeighboursWithinReach(p), 4);
+        EXPECT_GT(d.explanation.best_e_mm2, d.explanation.tolerance_mm2);
+        break;
+      default:
+        ADD_FAILURE() << "a defect of areas and places rejected at "
+                      << NameOf(d.explanation.outcome, kKeyOutcomeNames);
+    }
+    if (!d.change) continue;
+    ++changes;
+    EXPECT_EQ(IdAfter(p, *d.change), d.accepted.id);
+    other_id += static_cast<int>(d.accepted.id != p.expected_id);
+    // Only a moved dot (geometry) can make another rotation fit better.
+    if (d.accepted.id != p.expected_id) {
+      EXPECT_EQ(d.explanation.outcome, KeyOutcome::kGeometry);
+    }
+  }
+  std::printf(
+      "random defects: %d rejected, %d with a change that accepts, %d of them as another ID\n",
+      rejected, changes, other_id);
+  EXPECT_GT(changes, 50);
 }
 
 }  // namespace

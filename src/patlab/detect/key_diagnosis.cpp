@@ -332,8 +332,11 @@ void FindChange(const DetectorConfig& config, std::span<const Blob> blobs,
   int checks = 0;
   for (const Candidate& c : candidates) {
     if (checks++ >= options.max_checks) break;
-    if (ChangeAccepts(config, blobs, e.pattern, e.key_blob, c.change, options)) {
+    const std::optional<Detection> accepted =
+        DetectWithChange(config, blobs, e.pattern, e.key_blob, c.change, options);
+    if (accepted) {
       d->change = c.change;
+      d->accepted = *accepted;
       return;
     }
   }
@@ -355,8 +358,9 @@ void FindChange(const DetectorConfig& config, std::span<const Blob> blobs,
 
 }  // namespace
 
-bool ChangeAccepts(const DetectorConfig& config, std::span<const Blob> blobs, int pattern,
-                   int key_blob, const SettingChange& change, const DiagnosisOptions& options) {
+std::optional<Detection> DetectWithChange(const DetectorConfig& config, std::span<const Blob> blobs,
+                                          int pattern, int key_blob, const SettingChange& change,
+                                          const DiagnosisOptions& options) {
   DetectorConfig changed = config;
   DetectorOptions& o = changed.options;
   if (change.key == "area_ratio_min") {
@@ -372,7 +376,7 @@ bool ChangeAccepts(const DetectorConfig& config, std::span<const Blob> blobs, in
   } else if (change.key == "geometry_confidence") {
     o.geometry_confidence = change.to;
   } else {
-    return false;
+    return std::nullopt;
   }
   std::vector<Detection> detections;
   std::vector<KeyExplanation> records;
@@ -380,11 +384,20 @@ bool ChangeAccepts(const DetectorConfig& config, std::span<const Blob> blobs, in
     Detector detector(std::move(changed));
     detector.Detect(blobs, &detections, nullptr, nullptr, &records);
   } catch (const InputError&) {
-    return false;
+    return std::nullopt;
   }
-  return std::any_of(records.begin(), records.end(), [&](const KeyExplanation& r) {
-    return r.pattern == pattern && r.key_blob == key_blob && r.outcome == KeyOutcome::kDetected;
-  });
+  for (const KeyExplanation& r : records) {
+    if (r.pattern == pattern && r.key_blob == key_blob && r.outcome == KeyOutcome::kDetected &&
+        r.detection >= 0) {
+      return detections[static_cast<size_t>(r.detection)];
+    }
+  }
+  return std::nullopt;
+}
+
+bool ChangeAccepts(const DetectorConfig& config, std::span<const Blob> blobs, int pattern,
+                   int key_blob, const SettingChange& change, const DiagnosisOptions& options) {
+  return DetectWithChange(config, blobs, pattern, key_blob, change, options).has_value();
 }
 
 std::vector<KeyDiagnosis> DiagnoseKeys(const DetectorConfig& config, std::span<const Blob> blobs,

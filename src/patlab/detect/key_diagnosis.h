@@ -70,6 +70,10 @@ struct KeyDiagnosis {
   // The cheapest single setting change that accepts the robot (checked), or none, and why none.
   std::optional<SettingChange> change;
   std::string no_change;
+  // With `change`: the detection it gives on this key -- its ID and status. The ID is what the
+  // colours of the rotation that then fits say: a patch moved so far that a wrong rotation fits
+  // better than the right one is accepted with another ID, and the text says which.
+  Detection accepted;
 };
 
 struct DiagnosisOptions {
@@ -91,6 +95,10 @@ std::vector<KeyDiagnosis> DiagnoseKeys(const DetectorConfig& config, std::span<c
 // invalid.
 bool ChangeAccepts(const DetectorConfig& config, std::span<const Blob> blobs, int pattern,
                    int key_blob, const SettingChange& change, const DiagnosisOptions& options = {});
+// The detection of pattern `pattern` on key blob `key_blob` with the change, or nullopt.
+std::optional<Detection> DetectWithChange(const DetectorConfig& config, std::span<const Blob> blobs,
+                                          int pattern, int key_blob, const SettingChange& change,
+                                          const DiagnosisOptions& options = {});
 
 // "reach_margin_mm 20 -> 27.4"
 std::string SettingChangeText(const SettingChange& change);

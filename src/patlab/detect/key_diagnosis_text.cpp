@@ -104,7 +104,9 @@ std::string DiagnosisText(const KeyDiagnosis& d, const DetectorConfig& config,
   if (e.nearest_rotation >= 0) text += "; " + RotationText(e, config);
   if (d.nearest_pattern && config.patterns.size() > 1) text += "; nearest pattern of this key";
   if (d.change) {
-    text += "; change " + SettingChangeText(*d.change);
+    text += "; change " + SettingChangeText(*d.change) + " (then id " +
+            std::to_string(d.accepted.id) + ", " +
+            std::string(NameOf(d.accepted.status, kDetectionStatusNames)) + ")";
   } else if (!d.no_change.empty()) {
     text += "; change: " + d.no_change;
   }

@@ -75,7 +75,13 @@ nlohmann::json DiagnosesJson(const FrameResult& frame, const detect::DetectorCon
       blobs.push_back(e.nearest_blob[static_cast<size_t>(i)]);
     }
     nlohmann::json change = nullptr;
-    if (d.change) change = {{"key", d.change->key}, {"from", d.change->from}, {"to", d.change->to}};
+    if (d.change) {
+      change = {{"key", d.change->key},
+                {"from", d.change->from},
+                {"to", d.change->to},
+                {"id", d.accepted.id},
+                {"status", std::string(NameOf(d.accepted.status, detect::kDetectionStatusNames))}};
+    }
     out.push_back({{"key_blob", e.key_blob},
                    {"pattern", config.patterns[static_cast<size_t>(e.pattern)].pattern.name},
                    {"outcome", std::string(NameOf(e.outcome, detect::kKeyOutcomeNames))},
