@@ -180,6 +180,21 @@ TEST(KeyDiagnosis, MisplacedDotNamesEAgainstTheToleranceAndTheSigmaThatAdmitsIt)
   }
 }
 
+// max_neighbours 4 and a pink decoy exactly on the ring beside a dot 3 mm off it: stage 2 keeps the
+// decoy and drops the dot, the fit fails; one more neighbour (4 -> 5) lets the dot back in.
+TEST(KeyDiagnosis, NeighboursCutNameMaxNeighbours) {
+  DetectorOptions options;
+  options.max_neighbours = 4;
+  Planted p = Robot(options);
+  p.blobs[1].position_mm = Radial(p.config.patterns[0].pattern, 1, 65.0 + 3.0);
+  p.blobs.push_back({kPose.Apply(Vec2(65.0, 0.0)), kPink, p.blobs[1].area_mm2});
+  const KeyDiagnosis d = Diagnose(p);
+  ASSERT_NE(d.explanation.outcome, KeyOutcome::kDetected);
+  ASSERT_TRUE(d.change);
+  EXPECT_EQ(SettingChangeText(*d.change), "max_neighbours 4 -> 5");
+  EXPECT_EQ(IdAfter(p, *d.change), p.expected_id);
+}
+
 // A colouring the codebook does not hold: the colours decide, no tolerance changes it; the
 // nearest ID is the codebook's colouring one patch away.
 TEST(KeyDiagnosis, ColoursThatAreNoIdNameTheNearestIdAndNoChange) {
