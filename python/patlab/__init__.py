@@ -179,16 +179,20 @@ def _detector_files(thresholds, calibration, settings, setup, settings_required)
 
 
 def detect(image, thresholds=None, calibration=None, settings=None, name="frame", blobs=False,
-           setup=None):
+           setup=None, explain=False):
     """`patlab detect` on one frame: an (H, W, 3) uint8 RGB array (any strides, read in place:
     the detector reads the array's own memory, no copy), with the thresholds and
     calibration files and, for detections, the detector settings (paths or shipped names), or
     instead of the three, ``setup``: a folder written by `patlab setup` (`detect --setup DIR`).
     Returns the CLI's CSV and JSON (`name` stands for the frame's path in them) and the table of
-    detections (or, with blobs=True or no settings, of the calibrated blobs)."""
+    detections (or, with blobs=True or no settings, of the calibrated blobs). With
+    explain=True the JSON frame also holds "explanations": per key blob and pattern the
+    rejecting stage, its measures against their bounds, the nearest rotation and the setting
+    change that accepts the robot (`patlab detect --explain --format json`)."""
     files = _detector_files(thresholds, calibration, settings, setup, settings_required=False)
     try:
-        return DetectResult(*_patlab._detect(image, *files, str(name), bool(blobs)))
+        return DetectResult(*_patlab._detect(image, *files, str(name), bool(blobs),
+                                             bool(explain)))
     except ValueError as error:
         if any(f and not os.path.exists(f) for f in files):
             raise FileNotFoundError(str(error)) from None

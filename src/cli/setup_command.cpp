@@ -50,11 +50,13 @@ struct SetupCommandOptions {
   std::vector<std::string> landmarks;
   double robot_height_mm = 140.0;
   double line_width_px = 4.0;
+  bool explain = false;
 };
 
 const OptionGroups kSetupGroups = {
     {"input", {"field", "settings", "robot-height", "line-width", "landmark"}},
     {"output", {"out"}},
+    {"diagnostics", {"explain"}},
     {"field models", {"list-landmarks"}}};
 
 std::vector<calib::Field> FieldsOf(const std::string& name) {
@@ -63,11 +65,13 @@ std::vector<calib::Field> FieldsOf(const std::string& name) {
   return {formats::LoadField(FindData(name, io::DataKind::kField))};
 }
 
-// The robots each frame shows, through the files just written (read back as detect reads them).
+// The robots each frame shows, through the files just written (read back as detect reads them);
+// with `explain`, every key candidate's diagnosis as patlab detect --explain prints it.
 void PrintDetections(const fs::path& dir, const std::vector<camera::Image>& frames,
-                     const std::vector<std::string>& names) {
+                     const std::vector<std::string>& names, bool explain) {
   const formats::SetupFiles f = formats::LoadSetupFiles(dir.string());
   vision::FrameDetectorOptions options;
+  options.explain = explain;
   vision::ApplyFrameSettings(formats::LoadFrameSettings(f.settings), &options);
   vision::FrameDetector detector(formats::LoadThresholds(f.thresholds),
                                  formats::LoadCalibration(f.calibration),
@@ -83,6 +87,7 @@ void PrintDetections(const fs::path& dir, const std::vector<camera::Image>& fram
       std::cout << "  " << team << " " << d.id << " at (" << FormatFixed(d.pose.x_mm, 0) << ", "
                 << FormatFixed(d.pose.y_mm, 0) << ") mm\n";
     }
+    std::cout << vision::ExplanationText(r, detector);
   }
 }
 
@@ -103,6 +108,9 @@ int RunSetup(const std::vector<std::string>& args) {
       "NAME=X,Y: a landmark of the field at pixel (X, Y) of the first frame; four or more "
       "replace the lines (repeat the flag)")("out,o", po::value(&o.out),
                                              "output folder (required)")(
+      "explain", po::bool_switch(&o.explain),
+      "after the robots, every key candidate and why it is a robot or not, with the setting "
+      "change that would accept it (as patlab detect --explain)")(
       "list-landmarks", po::value(&o.list_landmarks),
       "print the landmark names of a field model and exit");
   po::variables_map vm;
@@ -147,7 +155,7 @@ int RunSetup(const std::vector<std::string>& args) {
     return kExitFailure;
   }
   std::cout << formats::SetupReportText(r);
-  PrintDetections(dir, frames, names);
+  PrintDetections(dir, frames, names, o.explain);
   std::cout << "wrote " << (dir / "setup.toml").string()
             << " (calibration.toml, thresholds.toml, settings.toml)\n";
   return kExitOk;

@@ -63,12 +63,14 @@ camera::ImageView ViewOf(const py::buffer_info& info) {
 }
 
 // One frame through the detector with the thresholds, calibration and (optional) detector
-// settings files: (CSV, JSON) as `patlab detect` writes them; with `blobs` the calibrated blobs.
+// settings files: (CSV, JSON) as `patlab detect` writes them; with `blobs` the calibrated blobs;
+// with `explain` the JSON's frame carries "explanations" (detect::KeyDiagnosis, --explain).
 // The front end `patlab detect -t -c [-s]` builds from its files.
 vision::FrameDetector LoadFrameDetector(const std::string& thresholds,
-                                        const std::string& calibration,
-                                        const std::string& settings) {
+                                        const std::string& calibration, const std::string& settings,
+                                        bool explain = false) {
   vision::FrameDetectorOptions options;
+  options.explain = explain;
   std::optional<detect::DetectorConfig> config;
   if (!settings.empty()) {
     config = formats::LoadDetectorSettings(settings);
@@ -80,9 +82,9 @@ vision::FrameDetector LoadFrameDetector(const std::string& thresholds,
 
 py::tuple Detect(const py::buffer& frame, const std::string& thresholds,
                  const std::string& calibration, const std::string& settings,
-                 const std::string& name, bool blobs) {
+                 const std::string& name, bool blobs, bool explain) {
   const py::buffer_info info = RgbBuffer(frame);
-  vision::FrameDetector frames = LoadFrameDetector(thresholds, calibration, settings);
+  vision::FrameDetector frames = LoadFrameDetector(thresholds, calibration, settings, explain);
   vision::FrameResultsWriter writer(frames, blobs);
   const camera::ImageView view = ViewOf(info);
   {
@@ -306,7 +308,7 @@ void BindDetect(py::module_& m) {
       .def_property_readonly("palette", &Detector::Palette)
       .def_property_readonly("warnings", &Detector::Warnings);
   m.def("_detect", &Detect, py::arg("image"), py::arg("thresholds"), py::arg("calibration"),
-        py::arg("settings"), py::arg("name"), py::arg("blobs"));
+        py::arg("settings"), py::arg("name"), py::arg("blobs"), py::arg("explain") = false);
   m.def("_read_frame", &ReadFrame, py::arg("path"));
   // The thresholds, calibration and settings files a `patlab setup` folder names (its
   // setup.toml), as `patlab detect --setup DIR` reads them.

@@ -1,5 +1,8 @@
 """patlab.detect and read_frame on the golden frame: the CLI's detections, any strides read in
 place."""
+import json
+import os
+
 import numpy as np
 import pytest
 
@@ -18,6 +21,10 @@ def frame(root):
 @pytest.fixture
 def in_root(root, monkeypatch):
     monkeypatch.chdir(root)
+
+
+def in_root_path():
+    return os.getcwd()
 
 
 def png_pixels(path):
@@ -39,6 +46,29 @@ def test_detections_are_the_clis(cli, frame, in_root):
     result = patlab.detect(frame, name=f"{GOLDEN}.png", **FILES)
     assert result.csv == run.stdout
     assert len(result) > 0
+
+
+def test_explain_gives_the_clis_diagnoses(cli, frame, in_root, tmp_path):
+    """explain=True: the JSON's "explanations" are those of `detect --explain --format json`;
+    with reach_margin_mm 0.5 some robots are rejected at stage 2 with a reach_margin_mm change."""
+    settings = open(FILES["settings"]).read().replace("reach_margin_mm = 20.0",
+                                                      "reach_margin_mm = 0.5")
+    settings = settings.replace('"../../../patterns/', f'"{in_root_path()}/patterns/')
+    broken = tmp_path / "broken.toml"
+    broken.write_text(settings)
+    run = cli("detect", f"{GOLDEN}.png", "--thresholds", FILES["thresholds"], "--calibration",
+              FILES["calibration"], "--settings", str(broken), "--explain", "--format", "json")
+    assert run.returncode == 0, run.stderr
+    result = patlab.detect(frame, FILES["thresholds"], FILES["calibration"], str(broken),
+                           name=f"{GOLDEN}.png", explain=True)
+    assert result.json == json.loads(run.stdout)
+    explanations = result.json[0]["explanations"]
+    rejected = [e for e in explanations if e["outcome"] != "detected"]
+    assert rejected and all(e["outcome"] == "few_neighbours" for e in rejected)
+    assert all(e["change"]["key"] == "reach_margin_mm" and e["change"]["from"] == 0.5
+               and e["change"]["to"] > 0.5 for e in rejected)
+    assert "explanations" not in patlab.detect(frame, FILES["thresholds"], FILES["calibration"],
+                                               str(broken)).json[0]
 
 
 def test_blobs_are_the_clis(cli, frame, in_root):

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <tuple>
 
@@ -186,11 +187,14 @@ void Detector::Impl::FindKeyCandidates(std::span<const Blob> blobs) {
       const PatternRuntime& rt = runtimes[p];
       if (blobs[i].area_mm2 < rt.key_area_min || blobs[i].area_mm2 > rt.key_area_max) {
         if (explain != nullptr) {
-          explain->push_back({.pattern = p,
-                              .key_blob = i,
-                              .outcome = KeyOutcome::kKeyArea,
-                              .needed = rt.mk,
-                              .tolerance_mm2 = rt.e_max_full});
+          KeyExplanation& e = explain->emplace_back();
+          e.pattern = p;
+          e.key_blob = i;
+          e.outcome = KeyOutcome::kKeyArea;
+          e.needed = rt.mk;
+          e.best_e_mm2 = std::numeric_limits<double>::infinity();
+          e.tolerance_mm2 = rt.e_max_full;
+          e.nearest_blob.fill(-1);
         }
         continue;
       }
@@ -223,6 +227,9 @@ void Detector::Impl::ResolveConflicts(std::span<const Blob> blobs,
         e.outcome = KeyOutcome::kConflict;
         e.lost_to_key = candidates[taken_by - 1].key_blob;
         e.lost_to_pattern = candidates[taken_by - 1].pattern;
+        for (int i = 0; i < m && e.lost_blob < 0; ++i) {
+          if (c.blob[i] >= 0 && used[c.blob[i]] != 0) e.lost_blob = c.blob[i];
+        }
       }
       continue;
     }

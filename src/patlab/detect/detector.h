@@ -196,6 +196,12 @@ struct KeyExplanation {
   int detection = -1;        // kDetected: index into the detections
   int lost_to_key = -1;      // kConflict: the key blob of the candidate that won ...
   int lost_to_pattern = -1;  // ... and its pattern
+  int lost_blob = -1;        // ... and the blob it took
+  // The nearest rotation tried: the full fit with the smallest E (best_e_mm2), as the rotation
+  // (0 .. non-key patches - 1: the shift of the pattern's circular order against the neighbours
+  // in angular order) and the blob given to each pattern patch (-1: none); -1 when none was tried.
+  int nearest_rotation = -1;
+  std::array<int, kMaxPatches> nearest_blob{};
 };
 
 // P(chi-square with `dof` degrees of freedom >= e), dof >= 1: the detections' confidence.

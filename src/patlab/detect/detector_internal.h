@@ -1,6 +1,7 @@
 // Internals of detect::Detector shared by its source files: detector_build.cpp (the models,
-// precomputed once), detector_stages.cpp (stages 2-6 around one key candidate) and detector.cpp
-// (the frame: stages 1, 7 and 8). Not part of the public API: include detector.h instead.
+// precomputed once), detector_stages.cpp (stages 2-6 around one key candidate), detector.cpp
+// (the frame: stages 1, 7 and 8) and detector_explain.cpp (Detect's explain records). Not part
+// of the public API: include detector.h instead.
 #pragma once
 
 #include <array>
@@ -208,6 +209,9 @@ struct Detector::Impl {
   // Detect's explain output, or nullptr; the smallest full-fit E of the key being evaluated.
   std::vector<KeyExplanation>* explain = nullptr;
   double key_best_e = 0.0;
+  // Explain only: the choice of neighbours (indices into the key's Neighbours) with that E.
+  std::array<int, internal::kMaxNeighbours> key_best_pick{};
+  int key_best_r = 0;
   // Timed Detect only: nanoseconds per stage of this frame. Stages 2-6 are summed over the key
   // candidates; kFitRotations holds stages 4 and 5 of the full fits until Detect takes stage 5
   // (timed inside it) out.
@@ -237,7 +241,11 @@ struct Detector::Impl {
   void SortDetections(std::vector<Detection>* detections);          // stage 8's output order
   void LinkExplanations(const std::vector<Detection>& detections);  // explain: detection index
   // explain: the record of key `key` of pattern p after stages 2-6.
-  void ExplainKey(int p, int key, const Neighbours& nb, const DetectStats& before, bool found);
+  void ExplainKey(int p, int key, const Vec2& key_mm, const Neighbours& nb,
+                  const DetectStats& before, bool found);
+  // explain: the nearest rotation (the full fit of key_best_pick with the smallest E) into e.
+  void ExplainNearestRotation(int p, const Vec2& key_mm, const Neighbours& nb,
+                              KeyExplanation* e) const;
 
   // detector_stages.cpp: stages 2-6 for the key blob `key` of pattern p.
   template <bool kTiming>

@@ -410,7 +410,13 @@ bool Detector::Impl::FitAndIdentify(int p, int key, const Vec2& key_mm, const Ne
   do {
     CentreChoice(key_mm, nb, &ch);
     const SubsetVerdict v = FitRotations<kTiming>(rt, ch, nb, missing, e_max, identify_ns, &stats);
-    if (!missing) key_best_e = std::min(key_best_e, v.min_e);
+    if (!missing && v.min_e < key_best_e) {
+      key_best_e = v.min_e;
+      if (explain != nullptr) {
+        key_best_pick = ch.pick;
+        key_best_r = ch.r;
+      }
+    }
     if (v.ok == 0) continue;  // nothing passed geometry and fixed colours: nothing to decide
     ScopedTime<kTiming> identify_time(identify_ns);
     Candidate c;
@@ -435,12 +441,13 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
   DetectStats before;
   if (explain != nullptr) before = stats;
   key_best_e = std::numeric_limits<double>::infinity();
+  key_best_r = 0;
   Neighbours nb;
   FindNeighbours(p, key, blobs, &nb);
   stage_ns[internal::kNeighbours] += clock.Lap();
   const bool try_missing = rt.can_fit_missing && nb.n >= rt.mk - 1;
   if (nb.n < rt.mk && !try_missing) {
-    if (explain != nullptr) ExplainKey(p, key, nb, before, false);
+    if (explain != nullptr) ExplainKey(p, key, blobs[key].position_mm, nb, before, false);
     return;
   }
 
@@ -459,34 +466,7 @@ void Detector::Impl::EvaluateKey(int p, int key, std::span<const Blob> blobs) {
     stage_ns[internal::kMissingPatch] += clock.Lap();
   }
   if (found) candidates.push_back(best);
-  if (explain != nullptr) ExplainKey(p, key, nb, before, found);
-}
-
-// The outcome of stages 2-6 for one key; kDetected may still become kConflict in stage 7.
-void Detector::Impl::ExplainKey(int p, int key, const Neighbours& nb, const DetectStats& before,
-                                bool found) {
-  const PatternRuntime& rt = runtimes[p];
-  KeyExplanation e;
-  e.pattern = p;
-  e.key_blob = key;
-  e.neighbours = nb.n;
-  e.needed = rt.mk;
-  e.rotations = stats.correspondences - before.correspondences;
-  e.geometry_passed = stats.geometry_passed - before.geometry_passed;
-  e.best_e_mm2 = key_best_e;
-  e.tolerance_mm2 = rt.e_max_full;
-  const bool enough = nb.n >= rt.mk || (rt.can_fit_missing && nb.n >= rt.mk - 1);
-  if (found) {
-    e.outcome = KeyOutcome::kDetected;
-    candidates.back().explain = static_cast<int>(explain->size());
-  } else if (!enough) {
-    e.outcome = KeyOutcome::kFewNeighbours;
-  } else if (e.geometry_passed == 0) {
-    e.outcome = KeyOutcome::kGeometry;
-  } else {
-    e.outcome = KeyOutcome::kColours;
-  }
-  explain->push_back(e);
+  if (explain != nullptr) ExplainKey(p, key, key_mm, nb, before, found);
 }
 
 template void Detector::Impl::EvaluateKey<false>(int, int, std::span<const Blob>);

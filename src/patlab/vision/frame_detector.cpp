@@ -151,7 +151,11 @@ FrameDetector::FrameDetector(Thresholds thresholds, camera::Calibration calibrat
   if (!detector) return;
   // The calibration's recorded residual on the robot-top plane (default height) widens the
   // detector's geometric tolerance (detect::DetectorOptions::calibration_residual_mm).
+  const double file_area_ratio_min = detector->options.area_ratio_min;
   AdaptToCamera(*detector, pipeline_.calibration(), options_.edge_loss_px);
+  if (file_area_ratio_min > 0.0) {
+    area_ratio_min_scale_ = detector->options.area_ratio_min / file_area_ratio_min;
+  }
   if (options_.missing_patch) detector->options.missing_patch = *options_.missing_patch;
   detector_.emplace(std::move(*detector));
   for (const ColorClass& c : pipeline_.thresholds().classes) {
@@ -218,6 +222,7 @@ void FrameDetector::RunStages(const camera::ImageView& image) {
   r.detector_blob_source.clear();
   r.detections.clear();
   r.explanations.clear();
+  r.diagnoses.clear();
   r.detect_stats = detect::DetectStats{};
   if (!detector_) return;
   r.profile.Start();
@@ -231,6 +236,10 @@ void FrameDetector::RunStages(const camera::ImageView& image) {
   detector_->Detect(r.detector_blobs, &r.detections, &r.detect_stats, &r.detect_profile,
                     options_.explain ? &r.explanations : nullptr);
   LookAtMissingPatches();
+  if (options_.explain) {
+    r.diagnoses = detect::DiagnoseKeys(detector_->config(), r.detector_blobs, r.explanations,
+                                       {.area_ratio_min_scale = area_ratio_min_scale_});
+  }
   r.profile.Stamp(kFrameStageNames[5]);
 }
 

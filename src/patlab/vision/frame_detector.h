@@ -28,6 +28,7 @@
 #include "patlab/core/options.h"
 #include "patlab/core/timeprofile.h"
 #include "patlab/detect/detector.h"
+#include "patlab/detect/key_diagnosis.h"
 #include "patlab/detect/settings.h"
 #include "patlab/vision/pipeline.h"
 
@@ -133,6 +134,10 @@ struct FrameResult {
   // With FrameDetectorOptions::explain: why each key candidate became a detection or not; key
   // blob indices refer to detector_blobs.
   std::vector<detect::KeyExplanation> explanations;
+  // With FrameDetectorOptions::explain: one detect::KeyDiagnosis per explanation (same order):
+  // the measures against their bounds, the nearest rotation, and the cheapest setting change
+  // (in the settings file's terms) that the detector confirms accepts the robot.
+  std::vector<detect::KeyDiagnosis> diagnoses;
   VisionStats vision_stats;
   detect::DetectStats detect_stats;
   // With FrameDetectorOptions::collect_timing: this frame's stage times under kFrameStageNames,
@@ -185,6 +190,8 @@ class FrameDetector {
   std::vector<std::vector<uint64_t>> patch_colours_;
   std::vector<int> kept_;  // detection index -> index after the missing-patch check, or -1
   std::vector<std::string> warnings_;
+  // The detector's area_ratio_min over the settings' (AdaptToCamera's edge-loss factor).
+  double area_ratio_min_scale_ = 1.0;
   FrameResult result_;
 };
 

@@ -4,6 +4,7 @@
 
 #include "patlab/core/format.h"
 #include "patlab/detect/detector.h"
+#include "patlab/detect/key_diagnosis.h"
 #include "patlab/vision/frame_detector.h"
 
 namespace patlab::vision {
@@ -28,47 +29,32 @@ std::string LookText(const MissingPatchLook& look) {
          std::to_string(look.pixels) + " px";
 }
 
-std::string OutcomeText(const detect::KeyExplanation& e, const FrameResult& r,
-                        const detect::DetectorConfig& config) {
+// A detection's line (with what its missing patch shows), or the detector's diagnosis
+// (detect::DiagnosisText: measures against bounds, nearest rotation, the setting change).
+std::string OutcomeText(size_t index, const FrameResult& r, const detect::DetectorConfig& config) {
+  const detect::KeyExplanation& e = r.explanations[index];
   const std::string tolerance = FormatSignificant(e.tolerance_mm2, 4) + " mm^2";
-  switch (e.outcome) {
-    case detect::KeyOutcome::kDetected: {
-      const MissingPatchLook* look = LookOf(e, r);
-      if (look != nullptr && look->rejected) {
-        return "missing_patch_colour: fitted without patch " +
-               std::to_string(look->detection.missing_patch) + " (E " +
-               FormatSignificant(look->detection.residual_mm2, 4) + " mm^2 <= tolerance " +
-               tolerance + ") but " + LookText(*look) + ": another colour is there";
-      }
-      if (e.detection < 0) return "detected";
-      const detect::Detection& d = r.detections[static_cast<size_t>(e.detection)];
-      std::string text = "detected, id " + std::to_string(d.id) + " (" +
-                         std::string(detect::DetectionStatusName(d.status)) + "), E " +
-                         FormatSignificant(d.residual_mm2, 4) + " mm^2 <= tolerance " + tolerance;
-      if (look != nullptr) text.append("; ").append(LookText(*look));
-      return text;
+  if (e.outcome == detect::KeyOutcome::kDetected) {
+    const MissingPatchLook* look = LookOf(e, r);
+    if (look != nullptr && look->rejected) {
+      return "missing_patch_colour: fitted without patch " +
+             std::to_string(look->detection.missing_patch) + " (E " +
+             FormatSignificant(look->detection.residual_mm2, 4) + " mm^2 <= tolerance " +
+             tolerance + ") but " + LookText(*look) +
+             ": another colour is there; change: no tolerance (the thresholds of that colour)";
     }
-    case detect::KeyOutcome::kKeyArea:
-      return "key_area: " +
-             FormatSignificant(r.detector_blobs[static_cast<size_t>(e.key_blob)].area_mm2, 4) +
-             " mm^2 is outside the key patch's area range (area_ratio_min, area_ratio_max)";
-    case detect::KeyOutcome::kFewNeighbours:
-      return "few_neighbours: " + std::to_string(e.neighbours) + " within reach, " +
-             std::to_string(e.needed) +
-             " needed (check reach_margin_mm, the neighbours' areas and colours)";
-    case detect::KeyOutcome::kGeometry:
-      return "geometry: best rotation E " + FormatSignificant(e.best_e_mm2, 4) +
-             " mm^2 > tolerance " + tolerance + " (" + std::to_string(e.rotations) +
-             " rotations tried; check patch_sigma_mm and the calibration)";
-    case detect::KeyOutcome::kColours:
-      return "colours: " + std::to_string(e.geometry_passed) +
-             " rotation(s) passed geometry (best E " + FormatSignificant(e.best_e_mm2, 4) +
-             " mm^2) but their colours are no ID of the codebook";
-    case detect::KeyOutcome::kConflict:
-      return "conflict: lost a blob to key " + std::to_string(e.lost_to_key) + " (" +
-             config.patterns[static_cast<size_t>(e.lost_to_pattern)].pattern.name + ")";
+    if (e.detection < 0) return "detected";
+    const detect::Detection& d = r.detections[static_cast<size_t>(e.detection)];
+    std::string text = "detected, id " + std::to_string(d.id) + " (" +
+                       std::string(detect::DetectionStatusName(d.status)) + "), E " +
+                       FormatSignificant(d.residual_mm2, 4) + " mm^2 <= tolerance " + tolerance;
+    if (look != nullptr) text.append("; ").append(LookText(*look));
+    return text;
   }
-  return "";
+  if (index < r.diagnoses.size()) {
+    return detect::DiagnosisText(r.diagnoses[index], config, r.detector_blobs);
+  }
+  return std::string(NameOf(e.outcome, detect::kKeyOutcomeNames));
 }
 
 }  // namespace
@@ -77,7 +63,8 @@ std::string ExplanationText(const FrameResult& r, const FrameDetector& frames) {
   if (!frames.has_detector()) return "";
   const detect::DetectorConfig& config = frames.detector().config();
   std::string out;
-  for (const detect::KeyExplanation& e : r.explanations) {
+  for (size_t i = 0; i < r.explanations.size(); ++i) {
+    const detect::KeyExplanation& e = r.explanations[i];
     const detect::Blob& b = r.detector_blobs[static_cast<size_t>(e.key_blob)];
     const Region& region = r.blob_regions[static_cast<size_t>(
         r.detector_blob_source[static_cast<size_t>(e.key_blob)])];
@@ -97,7 +84,7 @@ std::string ExplanationText(const FrameResult& r, const FrameDetector& frames) {
         .append(") mm, ")
         .append(config.patterns[static_cast<size_t>(e.pattern)].pattern.name)
         .append(": ")
-        .append(OutcomeText(e, r, config))
+        .append(OutcomeText(i, r, config))
         .append("\n");
   }
   return out;

@@ -54,6 +54,50 @@ void FrameResultsWriter::AddBlobs(const FrameResult& frame) {
   json_->frames.push_back({{"frame", frame.frame}, {"blobs", list}});
 }
 
+namespace {
+
+// --explain's diagnoses (detect::KeyDiagnosis) as JSON: the same facts as the text, as data.
+nlohmann::json DiagnosesJson(const FrameResult& frame, const detect::DetectorConfig& config) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const detect::KeyDiagnosis& d : frame.diagnoses) {
+    const detect::KeyExplanation& e = d.explanation;
+    nlohmann::json measures = nlohmann::json::array();
+    for (const detect::StageMeasure& m : d.measures) {
+      measures.push_back({{"quantity", m.quantity},
+                          {"value", m.value},
+                          {"relation", m.relation},
+                          {"bound", m.bound},
+                          {"unit", m.unit}});
+    }
+    nlohmann::json blobs = nlohmann::json::array();
+    const int m = config.patterns[static_cast<size_t>(e.pattern)].pattern.size();
+    for (int i = 0; i < m && e.nearest_rotation >= 0; ++i) {
+      blobs.push_back(e.nearest_blob[static_cast<size_t>(i)]);
+    }
+    nlohmann::json change = nullptr;
+    if (d.change) {
+      change = {{"key", d.change->key},
+                {"from", d.change->from},
+                {"to", d.change->to},
+                {"id", d.accepted.id},
+                {"status", std::string(NameOf(d.accepted.status, detect::kDetectionStatusNames))}};
+    }
+    out.push_back({{"key_blob", e.key_blob},
+                   {"pattern", config.patterns[static_cast<size_t>(e.pattern)].pattern.name},
+                   {"outcome", std::string(NameOf(e.outcome, detect::kKeyOutcomeNames))},
+                   {"measures", measures},
+                   {"nearest_rotation", e.nearest_rotation},
+                   {"nearest_rotation_blobs", blobs},
+                   {"nearest_pattern", d.nearest_pattern},
+                   {"change", change},
+                   {"no_change", d.no_change},
+                   {"text", detect::DiagnosisText(d, config, frame.detector_blobs)}});
+  }
+  return out;
+}
+
+}  // namespace
+
 void FrameResultsWriter::AddDetections(const FrameResult& frame) {
   const detect::DetectorConfig& config = frames_.detector().config();
   nlohmann::json list = nlohmann::json::array();
@@ -79,7 +123,9 @@ void FrameResultsWriter::AddDetections(const FrameResult& frame) {
                     {"residual_mm2", d.residual_mm2},
                     {"confidence", d.confidence}});
   }
-  json_->frames.push_back({{"frame", frame.frame}, {"detections", list}});
+  nlohmann::json entry = {{"frame", frame.frame}, {"detections", list}};
+  if (!frame.diagnoses.empty()) entry["explanations"] = DiagnosesJson(frame, config);
+  json_->frames.push_back(std::move(entry));
 }
 
 std::string FrameResultsWriter::Csv() const { return csv_; }
