@@ -305,6 +305,13 @@ inline std::vector<MalformedCase> OutputAndValueMalformedCases() {
        "patlab detect: {dir}out/detections.csv: cannot write: File too large; expected a writable location"s,
        [](const std::string& dir) { std::filesystem::create_directories(dir + "out"); },
        kFullDisk},
+      {"CliSimulateNewOutFolderOnAFullDisk",  // the folders it made are removed again
+       {},
+       "simulate {src}/experiments/fig5.toml --trials 200 --sigmas 1 -q --out {dir}new/deep",
+       1,
+       "patlab simulate: {dir}new/deep/fig5.csv: cannot write: File too large; expected a writable location"s,
+       nullptr,
+       kFullDisk},
       {"CliDetectOutputCsvIsADirectory",
        {},
        "detect {src}/tests/data/golden/ssl-frame.png -t "

@@ -7,6 +7,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/io/made_folders.h"
 #include "patlab/render/draw.h"
 #include "patlab/vision/debug_image.h"
 #include "patlab/vision/frame_io.h"
@@ -386,13 +387,15 @@ void FrameDetector::WriteDebugImages(const camera::ImageView& image) const {
   const std::vector<std::string> names =
       DebugImageNames(fs::path(result_.frame).stem().string(), has_detector());
   const fs::path dir(options_.debug_dir);
-  std::error_code error;
-  fs::create_directories(dir, error);
-  if (error) {
+  // Made like `mkdir -p`, and removed again if the first image cannot be written
+  // (io/made_folders.h).
+  io::MadeFolders made({dir.string()});
+  if (const std::error_code error = made.Make(dir.string())) {
     throw InputError(options_.debug_dir + ": cannot create the debug directory (" +
                      error.message() + "); expected a writable directory");
   }
   WritePng(DrawClasses(pipeline_.segmenter(), thresholds), (dir / names[0]).string());
+  made.Keep();
   camera::Image regions = DrawRegions(image, pipeline_.segmenter(), thresholds);
   WritePng(regions, (dir / names[1]).string());
   WritePng(DrawBlobs(image, result_, thresholds, has_detector()), (dir / names[2]).string());
