@@ -186,6 +186,12 @@ const FrameResult& FrameDetector::DetectFile(const std::string& path) {
   TimeProfile& profile = result_.profile;
   profile.Clear();
   profile.Start();
+  // The size the header states, against the pixel budget and the calibration, before any pixel
+  // is decoded or allocated.
+  if (const std::optional<FrameHeaderSize> size =
+          ReadFrameHeaderSize(path, options_.raw_width_px, options_.raw_height_px)) {
+    pipeline_.CheckFrameSize(size->width_px, size->height_px, path);
+  }
   const camera::Image image = ReadFrameFile(path, options_.raw_width_px, options_.raw_height_px);
   profile.Stamp(kFrameStageNames[0]);
   Process(image, path);
