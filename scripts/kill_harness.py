@@ -23,10 +23,12 @@ samples and sub-samples (every pattern, sigma, diameter and file of the paper's 
 folders written as one result set, as the full run writes them).
 
 With --strace the kills are placed instead: strace injects SIGKILL at the N-th rename, fsync,
-unlink or openat of the run, for every N until the run no longer reaches it.
+unlink or openat of the run, for every N until the run no longer reaches it. --placed-calls
+fsync,rename,unlink adds such placed kills at the commit's calls after the random rounds (CI: a
+random delay seldom falls between two renames of a microsecond).
 
 Usage: kill_harness.py --patlab build/patlab --root . [--count N] [--commands a,b] [--seed S]
-                       [--jobs J] [--strace]
+                       [--jobs J] [--strace | --placed-calls CALLS]
 Exit status 0 when every round passed; 1 with the failing rounds listed.
 """
 
@@ -259,6 +261,20 @@ class Harness:
                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         return process.returncode != 0
 
+    def placed_rounds(self, name, arguments, sets, calls, outcomes):
+        """SIGKILL at the N-th of each call for every N the run reaches (at most --count); the
+        number of rounds."""
+        folder, reference, old = sets
+        rounds = 0
+        for call in calls:
+            for n in range(1, self.args.count + 1):
+                plant_old(folder, reference)
+                if not self.strace_round(name, arguments, folder, call, n):
+                    break
+                rounds += 1
+                outcomes[self.judge(name, f"{call}#{n}", folder, reference, old, None)] += 1
+        return rounds
+
     def command(self, name, arguments, reference, seconds):
         """All rounds of one command, in folders of its own; its summary line."""
         rng = random.Random(f"{self.args.seed}:{name}")  # the same kills whatever runs beside
@@ -266,16 +282,11 @@ class Harness:
         folder = f"{self.work}/{name}-out"
         outcomes = {"old": 0, "new": 0, "mixed": 0}
         killed = 0
+        placed = 0
         if self.args.strace:
             rounds = 0
-            for call in ("openat", "fsync", "rename", "unlink"):
-                for n in range(1, self.args.count + 1):
-                    plant_old(folder, reference)
-                    if not self.strace_round(name, arguments, folder, call, n):
-                        break
-                    rounds += 1
-                    killed += 1
-                    outcomes[self.judge(name, f"{call}#{n}", folder, reference, old, None)] += 1
+            placed = self.placed_rounds(name, arguments, (folder, reference, old),
+                                        ("openat", "fsync", "rename", "unlink"), outcomes)
         else:
             rounds = self.args.count
             for k in range(rounds):
@@ -289,14 +300,20 @@ class Harness:
                 # whole run, its commit included, whatever the load.
                 seconds *= math.exp(0.5 * (1.0 / 6.0 - (0.0 if was_killed else 1.0)))
                 outcomes[self.judge(name, k, folder, reference, old, pid, k % 10 == 0)] += 1
+        if self.args.placed_calls and not self.args.strace:
+            placed = self.placed_rounds(name, arguments, (folder, reference, old),
+                                        self.args.placed_calls.split(","), outcomes)
         line = (f"{name}: {rounds} rounds ({seconds:.2f} s a run, {killed} killed before their "
-                f"end): {outcomes['old']} old set, {outcomes['new']} new set, "
-                f"{outcomes['mixed']} mixed")
+                f"end), {placed} placed kills: {outcomes['old']} old set, {outcomes['new']} new "
+                f"set, {outcomes['mixed']} mixed")
         print(line, flush=True)
         return line
 
     def main(self):
         start = time.monotonic()
+        if (self.args.strace or self.args.placed_calls) and not shutil.which("strace"):
+            sys.exit("kill_harness: --strace / --placed-calls: no strace on PATH; expected the "
+                     "strace package (scripts/setup.sh installs it)")
         table = commands(self.root, self.work, self.patlab)
         names = self.args.commands.split(",") if self.args.commands else list(table)
         try:
@@ -337,6 +354,9 @@ def main():
     parser.add_argument("--commands", default="")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--strace", action="store_true")
+    parser.add_argument("--placed-calls", default="",
+                        help="after the random rounds, also SIGKILL at each of these calls "
+                             "(e.g. fsync,rename,unlink: the commit), as --strace does")
     parser.add_argument("--jobs", type=int, default=2,
                         help="commands run side by side (each command's rounds stay in order)")
     return Harness(parser.parse_args()).main()
