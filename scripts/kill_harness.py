@@ -6,7 +6,8 @@ the bytes of its result set, and three runs its duration (their median). Each ro
 "old" result set in the output folder (the reference files with a line appended, so old and new
 differ in every file), starts the command, sends it SIGKILL or SIGTERM after a random delay,
 uniform in [0, 1.2 times the command's duration] (so the kills fall anywhere in the run, its
-commit of fsyncs and renames included, and some after its end), and checks:
+commit of fsyncs and renames included, and some after its end; the duration's estimate follows
+the load so that one round in six ends before its kill), and checks:
 
   1. right after the kill: the folder holds the complete old set or the complete new set, or a
      commit journal of the killed process is there (its commit started, so the next writer rolls
@@ -33,8 +34,8 @@ Exit status 0 when every round passed; 1 with the failing rounds listed.
 """
 
 import argparse
-import math
 import concurrent.futures
+import math
 import os
 import random
 import re
@@ -329,12 +330,12 @@ class Harness:
                     table[name][0]()
                 references[name] = self.reference(name, table[name][1])
             # The commands side by side (--jobs), each in its own folders with its own random
-            # stream: a round mostly waits (its kill delay, its fsyncs), so this shortens the wall
-            # time without changing any round.
-            # The slowest (last in the table) start first.
+            # stream and its rounds in order: a round mostly waits (its kill delay, its fsyncs),
+            # so this shortens the wall time. The slowest (last in the table) start first.
             with concurrent.futures.ThreadPoolExecutor(max_workers=self.args.jobs) as pool:
-                lines = dict(zip(names[::-1], pool.map(lambda n: self.command(n, table[n][1], *references[n]),
-                                                       names[::-1])))
+                done = pool.map(lambda n: self.command(n, table[n][1], *references[n]),
+                                names[::-1])
+                lines = dict(zip(names[::-1], done))
         finally:
             shutil.rmtree(self.work, ignore_errors=True)
         print("summary:\n" + "\n".join(lines[n] for n in names))
