@@ -312,9 +312,6 @@ class Harness:
 
     def main(self):
         start = time.monotonic()
-        if (self.args.strace or self.args.placed_calls) and not shutil.which("strace"):
-            sys.exit("kill_harness: --strace / --placed-calls: no strace on PATH; expected the "
-                     "strace package (scripts/setup.sh installs it)")
         table = commands(self.root, self.work, self.patlab)
         names = self.args.commands.split(",") if self.args.commands else list(table)
         try:
@@ -360,7 +357,17 @@ def main():
                              "(e.g. fsync,rename,unlink: the commit), as --strace does")
     parser.add_argument("--jobs", type=int, default=2,
                         help="commands run side by side (each command's rounds stay in order)")
-    return Harness(parser.parse_args()).main()
+    args = parser.parse_args()
+    if args.strace or args.placed_calls:
+        # A strace that cannot trace (no ptrace in a container) would fail every run, which would
+        # read as a kill placed before anything was written.
+        works = shutil.which("strace") and subprocess.run(
+            ["strace", "-f", "-qq", "-o", "/dev/null", "true"], stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL).returncode == 0
+        if not works:
+            sys.exit("kill_harness: --strace / --placed-calls: 'strace true' failed; expected the "
+                     "strace package (scripts/setup.sh installs it) and ptrace allowed")
+    return Harness(args).main()
 
 
 if __name__ == "__main__":
