@@ -2,10 +2,12 @@
 """Kills patlab's writing commands at random moments and checks that results stay whole.
 
 For each command (simulate, merge, detect, calibrate, analyze, reproduce) a reference run gives
-the bytes of its result set. Each round then plants an "old" result set in the output folder (the
-reference files with a line appended, so old and new differ in every file), starts the command,
-sends it SIGKILL or SIGTERM after a random delay (up to 1.2 times the reference run's duration)
-and checks:
+the bytes of its result set, and three runs its duration (their median). Each round then plants an
+"old" result set in the output folder (the reference files with a line appended, so old and new
+differ in every file), starts the command, sends it SIGKILL or SIGTERM after a random delay,
+uniform in [0, 1.2 times the command's duration] (so the kills fall anywhere in the run, its
+commit of fsyncs and renames included, and some after its end; the duration's estimate follows
+the load so that one round in six ends before its kill), and checks:
 
   1. right after the kill: the folder holds the complete old set or the complete new set, or a
      commit journal of the killed process is there (its commit started, so the next writer rolls
@@ -14,15 +16,26 @@ and checks:
      killed writer left): the complete old set or the complete new set, no temporary, no
      moved-aside copy, no journal.
 
+Every command gets a small but real input, so that a round costs a fraction of a second: a 4,000
+trial experiment for simulate and its four shards for merge, the golden SSL frame for detect, the
+SSL 2008 calibration input, a 1,200-sample track for analyze, and for reproduce a root of its own
+whose experiments/fig5.toml and experiments/table1.toml are the checkout's with fewer trials, runs,
+samples and sub-samples (every pattern, sigma, diameter and file of the paper's run; 11 files in two
+folders written as one result set, as the full run writes them).
+
 With --strace the kills are placed instead: strace injects SIGKILL at the N-th rename, fsync,
-unlink or openat of the run, for every N until the run no longer reaches it.
+unlink or openat of the run, for every N until the run no longer reaches it. --placed-calls
+fsync,rename,unlink adds such placed kills at the commit's calls after the random rounds (CI: a
+random delay seldom falls between two renames of a microsecond).
 
 Usage: kill_harness.py --patlab build/patlab --root . [--count N] [--commands a,b] [--seed S]
-                       [--budget SECONDS] [--strace]
+                       [--jobs J] [--strace | --placed-calls CALLS]
 Exit status 0 when every round passed; 1 with the failing rounds listed.
 """
 
 import argparse
+import concurrent.futures
+import math
 import os
 import random
 import re
@@ -40,6 +53,29 @@ OLD_MARK = b"\nkill harness: the old result set\n"
 def tiny_experiment(root, name, trials):
     return (f'name = "{name}"\npatterns_dir = "{root}/patterns"\npatterns = ["butterfly"]\n'
             f"trials = {trials}\nseed = 1\n[sigma]\nvalues = [1, 2]\n")
+
+
+# The paper's experiments made small for reproduce: (key's line start, its value in the small run).
+SMALL_REPRODUCE = {"fig5.toml": [("trials = ", "300")],
+                   "table1.toml": [("runs = ", "2"), ("samples_per_run = ", "120"),
+                                   ("supersampling = ", "2")]}
+
+
+def small_reproduce_root(root, work):
+    """A root for reproduce: the checkout's patterns and its two experiments with smaller counts."""
+    small = f"{work}/reproduce-root"
+    os.makedirs(f"{small}/experiments")
+    os.symlink(f"{root}/patterns", f"{small}/patterns")
+    for name, keys in SMALL_REPRODUCE.items():
+        with open(f"{root}/experiments/{name}") as f:
+            text = f.read()
+        for key, value in keys:
+            text, n = re.subn(r"(?m)^" + re.escape(key) + r"\S+", key + value, text)
+            if n != 1:
+                sys.exit(f"kill_harness: experiments/{name}: expected one line '{key}...'")
+        with open(f"{small}/experiments/{name}", "w") as f:
+            f.write(text)
+    return small
 
 
 def track_csv():
@@ -84,8 +120,8 @@ def commands(root, work, patlab):
         "calibrate": (None, ["calibrate", f"{data}/vision/ssl-2008.calibration-input.toml",
                              "--out", "{out}"]),
         "analyze": (setup_analyze, ["analyze", f"{work}/track.csv", "--out", "{out}", "-q"]),
-        "reproduce": (None, ["reproduce", "--root", root, "--out", "{out}", "--no-figures",
-                             "-q"]),
+        "reproduce": (None, ["reproduce", "--root", small_reproduce_root(root, work), "--out",
+                             "{out}", "--no-figures", "-q"]),
     }
 
 
@@ -128,7 +164,6 @@ class Harness:
         self.patlab = os.path.abspath(args.patlab)
         self.root = os.path.abspath(args.root)
         self.work = tempfile.mkdtemp(prefix="patlab-kill.")
-        self.random = random.Random(args.seed)
         self.failures = []
         with open(f"{self.work}/probe.toml", "w") as f:
             f.write(tiny_experiment(self.root, "probe", 100))
@@ -143,8 +178,10 @@ class Harness:
             os.makedirs(folder, exist_ok=True)
             self.run(["simulate", f"{self.work}/probe.toml", "--out", folder, "-q"], check=True)
 
-    def judge(self, name, round_, folder, reference, old, after_kill_pid):
-        """Checks 1 and 2 of the module's text; returns 'old' or 'new'."""
+    def judge(self, name, round_, folder, reference, old, after_kill_pid, probe=True):
+        """Checks 1 and 2 of the module's text; returns 'old' or 'new'. Check 2's run is skipped
+        unless `probe` when the kill left nothing for it: the complete old or new set and no file
+        of patlab's naming (its sweep touches nothing else)."""
         probe_files = set()
         for here in self.folders(folder, reference):
             rel = os.path.relpath(here, folder)
@@ -160,6 +197,8 @@ class Harness:
             mixed = [r for r in sorted(set(now) | set(reference)) if now.get(r) != reference.get(r)]
             self.fail(name, round_, "after the kill: a mix of old and new files and no journal; "
                       "not new: " + ", ".join(mixed))
+        if not probe and now in (reference, old) and not leftovers(folder):
+            return "new" if now == reference else "old"
         self.probe(self.folders(folder, reference))
         now = snapshot(folder, probe_files)
         left = leftovers(folder)
@@ -183,26 +222,37 @@ class Harness:
         print(f"FAIL {name} round {round_}: {what}", file=sys.stderr)
 
     def reference(self, name, arguments):
-        folder = f"{self.work}/{name}-reference"
-        start = time.monotonic()
-        result = self.run(expand(arguments, folder))
-        seconds = time.monotonic() - start
-        if result.returncode != 0:
-            sys.exit(f"kill_harness: {name}: the reference run failed: "
-                     f"{result.stderr.decode(errors='replace')}")
-        return snapshot(folder), seconds
+        """The reference result set and the median duration of three runs."""
+        durations = []
+        for k in range(3):
+            folder = f"{self.work}/{name}-reference{k}"
+            start = time.monotonic()
+            result = self.run(expand(arguments, folder))
+            durations.append(time.monotonic() - start)
+            if result.returncode != 0:
+                sys.exit(f"kill_harness: {name}: the reference run failed: "
+                         f"{result.stderr.decode(errors='replace')}")
+            if k == 0:
+                reference = snapshot(folder)
+            elif snapshot(folder) != reference:
+                sys.exit(f"kill_harness: {name}: two runs wrote different results; expected "
+                         "byte-identical runs")
+        return reference, sorted(durations)[1]
 
-    def random_round(self, name, arguments, folder, seconds):
-        sig = self.random.choice([signal.SIGKILL, signal.SIGTERM])
-        delay = self.random.uniform(0.0, 1.2 * seconds)
-        process = subprocess.Popen([self.patlab] + expand(arguments, folder), cwd=self.root,
+    @staticmethod
+    def random_round(rng, arguments_folder, seconds, patlab, root):
+        arguments, folder = arguments_folder
+        sig = rng.choice([signal.SIGKILL, signal.SIGTERM])
+        delay = rng.uniform(0.0, 1.2 * seconds)
+        process = subprocess.Popen([patlab] + expand(arguments, folder), cwd=root,
                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         try:
             process.wait(timeout=delay)
+            return process.pid, False
         except subprocess.TimeoutExpired:
             process.send_signal(sig)
             process.wait()
-        return process.pid
+        return process.pid, True
 
     def strace_round(self, name, arguments, folder, call, n):
         """Runs under strace with SIGKILL injected at the n-th `call`; False when not reached."""
@@ -212,34 +262,56 @@ class Harness:
                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         return process.returncode != 0
 
-    def command(self, name, setup, arguments):
-        if setup:
-            setup()
-        reference, seconds = self.reference(name, arguments)
+    def placed_rounds(self, name, arguments, sets, calls, outcomes):
+        """SIGKILL at the N-th of each call for every N the run reaches (at most --count); the
+        number of rounds."""
+        folder, reference, old = sets
+        rounds = 0
+        for call in calls:
+            for n in range(1, self.args.count + 1):
+                plant_old(folder, reference)
+                if not self.strace_round(name, arguments, folder, call, n):
+                    break
+                rounds += 1
+                outcomes[self.judge(name, f"{call}#{n}", folder, reference, old, None)] += 1
+        return rounds
+
+    def command(self, name, arguments, reference, seconds):
+        """All rounds of one command, in folders of its own; its summary line."""
+        rng = random.Random(f"{self.args.seed}:{name}")  # the same kills whatever runs beside
         old = {rel: content + OLD_MARK for rel, content in reference.items()}
         folder = f"{self.work}/{name}-out"
         outcomes = {"old": 0, "new": 0, "mixed": 0}
+        killed = 0
+        placed = 0
         if self.args.strace:
             rounds = 0
-            for call in ("openat", "fsync", "rename", "unlink"):
-                for n in range(1, self.args.count + 1):
-                    plant_old(folder, reference)
-                    if not self.strace_round(name, arguments, folder, call, n):
-                        break
-                    rounds += 1
-                    outcomes[self.judge(name, f"{call}#{n}", folder, reference, old, None)] += 1
+            placed = self.placed_rounds(name, arguments, (folder, reference, old),
+                                        ("openat", "fsync", "rename", "unlink"), outcomes)
         else:
             rounds = self.args.count
-            if self.args.budget > 0:  # a slow command (reproduce) gets fewer rounds
-                rounds = min(rounds, max(2, int(self.args.budget / max(seconds, 1e-3))))
             for k in range(rounds):
                 plant_old(folder, reference)
-                pid = self.random_round(name, arguments, folder, seconds)
-                outcomes[self.judge(name, k, folder, reference, old, pid)] += 1
-        print(f"{name}: {rounds} rounds ({seconds:.2f} s a run): {outcomes['old']} old set, "
-              f"{outcomes['new']} new set, {outcomes['mixed']} mixed")
+                pid, was_killed = self.random_round(rng, (arguments, folder), seconds,
+                                                    self.patlab, self.root)
+                killed += was_killed
+                # The run's duration follows the machine's load (the other commands' rounds, other
+                # processes): the scale of the delays moves so that 1 round in 6 ends before its
+                # kill, as a uniform delay over 1.2 runs gives; so the kills stay spread over the
+                # whole run, its commit included, whatever the load.
+                seconds *= math.exp(0.5 * (1.0 / 6.0 - (0.0 if was_killed else 1.0)))
+                outcomes[self.judge(name, k, folder, reference, old, pid, k % 10 == 0)] += 1
+        if self.args.placed_calls and not self.args.strace:
+            placed = self.placed_rounds(name, arguments, (folder, reference, old),
+                                        self.args.placed_calls.split(","), outcomes)
+        line = (f"{name}: {rounds} rounds ({seconds:.2f} s a run, {killed} killed before their "
+                f"end), {placed} placed kills: {outcomes['old']} old set, {outcomes['new']} new "
+                f"set, {outcomes['mixed']} mixed")
+        print(line, flush=True)
+        return line
 
     def main(self):
+        start = time.monotonic()
         table = commands(self.root, self.work, self.patlab)
         names = self.args.commands.split(",") if self.args.commands else list(table)
         try:
@@ -247,9 +319,25 @@ class Harness:
                 if name not in table:
                     sys.exit(f"kill_harness: --commands: unknown command '{name}'; expected some "
                              f"of {','.join(table)}")
-                self.command(name, *table[name])
+            # The inputs and the reference runs first, one command after the other (merge's input
+            # uses simulate's; the durations are measured without the other commands' runs).
+            references = {}
+            for name in names:
+                if table[name][0]:
+                    table[name][0]()
+                references[name] = self.reference(name, table[name][1])
+            # The commands side by side (--jobs), each in its own folders with its own random
+            # stream and its rounds in order: a round mostly waits (its kill delay, its fsyncs),
+            # so this shortens the wall time. The slowest (last in the table) start first.
+            with concurrent.futures.ThreadPoolExecutor(max_workers=self.args.jobs) as pool:
+                done = pool.map(lambda n: self.command(n, table[n][1], *references[n]),
+                                names[::-1])
+                lines = dict(zip(names[::-1], done))
         finally:
             shutil.rmtree(self.work, ignore_errors=True)
+        print("summary:\n" + "\n".join(lines[n] for n in names))
+        print(f"{len(names)} commands in {time.monotonic() - start:.1f} s wall, "
+              f"{len(self.failures)} failing rounds")
         for failure in self.failures:
             print("FAIL " + failure, file=sys.stderr)
         return 1 if self.failures else 0
@@ -264,9 +352,22 @@ def main():
     parser.add_argument("--commands", default="")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--strace", action="store_true")
-    parser.add_argument("--budget", type=float, default=0,
-                        help="seconds of runs per command at most (0: no limit), at least 2 rounds")
-    return Harness(parser.parse_args()).main()
+    parser.add_argument("--placed-calls", default="",
+                        help="after the random rounds, also SIGKILL at each of these calls "
+                             "(e.g. fsync,rename,unlink: the commit), as --strace does")
+    parser.add_argument("--jobs", type=int, default=2,
+                        help="commands run side by side (each command's rounds stay in order)")
+    args = parser.parse_args()
+    if args.strace or args.placed_calls:
+        # A strace that cannot trace (no ptrace in a container) would fail every run, which would
+        # read as a kill placed before anything was written.
+        works = shutil.which("strace") and subprocess.run(
+            ["strace", "-f", "-qq", "-o", "/dev/null", "true"], stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL).returncode == 0
+        if not works:
+            sys.exit("kill_harness: --strace / --placed-calls: 'strace true' failed; expected the "
+                     "strace package (scripts/setup.sh installs it) and ptrace allowed")
+    return Harness(args).main()
 
 
 if __name__ == "__main__":

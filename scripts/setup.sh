@@ -13,7 +13,7 @@ packages=(
   libprotobuf-dev protobuf-compiler python3-protobuf libavformat-dev libavcodec-dev libswscale-dev
   libavutil-dev libv4l-dev
   pybind11-dev python3-pybind11 python3-dev python3-pandas python3-nbconvert python3-ipykernel
-  parallel slurm-wlm munge locales
+  parallel slurm-wlm munge locales strace
 )
 if [[ "${1:-}" == "--bench" ]]; then packages+=(libopencv-dev libspng-dev); fi
 

@@ -43,6 +43,33 @@ std::string Wrap(const std::string& text, size_t first, size_t indent) {
   return out;
 }
 
+// An option whose value is an unsigned integer: Boost reads "-1" into it as the largest value
+// (18446744073709551615), so Parse refuses a negative one first and the help says so.
+template <typename... T>
+bool IsAnyOf(const po::value_semantic* semantic) {
+  return (... || (dynamic_cast<const po::typed_value<T>*>(semantic) != nullptr));
+}
+bool IsUnsigned(const po::option_description& option) {
+  return IsAnyOf<unsigned char, unsigned short, unsigned int, unsigned long, unsigned long long>(
+      option.semantic().get());
+}
+constexpr const char* kUnsignedExpected = "an integer >= 0";
+
+// A negative value of an unsigned option: "--frame is '-1'; expected an integer >= 0".
+void RefuseNegativeUnsigned(const po::parsed_options& parsed, const po::options_description& all) {
+  for (const po::option& option : parsed.options) {
+    if (option.unregistered || option.string_key.empty()) continue;
+    const po::option_description* described = all.find_nothrow(option.string_key, false);
+    if (described == nullptr || !IsUnsigned(*described)) continue;
+    for (const std::string& value : option.value) {
+      const size_t start = value.find_first_not_of(" \t");
+      if (start == std::string::npos || value[start] != '-') continue;
+      throw InputError("--" + described->long_name() + " is '" + EscapeForMessage(value) +
+                       "'; expected " + kUnsignedExpected);
+    }
+  }
+}
+
 // "  -o, --out DIR" and "(default: results)" from one option.
 std::pair<std::string, std::string> FlagAndDefault(const po::option_description& option) {
   std::string parameter = option.format_parameter();
@@ -66,6 +93,7 @@ void PrintGroup(const std::string& title, const po::options_description& group, 
   for (const auto& option : group.options()) {
     auto [flag, fallback] = FlagAndDefault(*option);
     std::string description = option->description();
+    if (IsUnsigned(*option)) description += std::string(" (") + kUnsignedExpected + ")";
     if (!fallback.empty()) description += " (default: " + fallback + ")";
     if (flag.size() + 2 > kFlagColumn) {
       os << flag << "\n" << std::string(kFlagColumn, ' ');
@@ -205,9 +233,9 @@ bool CommandLine::Parse(const std::vector<std::string>& args, po::variables_map*
     positionals.add(positional_name_.c_str(), positional_max_);
   }
   const int style = po::command_line_style::default_style & ~po::command_line_style::allow_guessing;
+  po::parsed_options parsed(nullptr);
   try {
-    po::store(po::command_line_parser(args).options(all).positional(positionals).style(style).run(),
-              *vm);
+    parsed = po::command_line_parser(args).options(all).positional(positionals).style(style).run();
   } catch (const po::unknown_option& e) {
     const std::string flag = e.get_option_name();
     for (const auto& [old_flag, replacement] : removed_) {
@@ -220,6 +248,8 @@ bool CommandLine::Parse(const std::vector<std::string>& args, po::variables_map*
                      (close.empty() ? "" : " (did you mean " + QuotedAlternatives(close) + "?)") +
                      "; expected an option that 'patlab help " + command_ + "' lists");
   }
+  RefuseNegativeUnsigned(parsed, all);
+  po::store(parsed, *vm);
   if (vm->count("help")) {
     std::cout << Help();
     return false;

@@ -56,7 +56,7 @@ struct RenderCommandOptions {
 void AddCameraOptions(po::options_description* d, RenderCommandOptions* o) {
   d->add_options()("camera", po::bool_switch(&o->camera),
                    "render through the colour camera (the options below)")(
-      "frame", po::value(&o->frame), "frame identity F >= 0 (noise and jitter), default 0")(
+      "frame", po::value(&o->frame), "frame identity (noise and jitter), default 0")(
       "exposure-gain", po::value(&o->sensor.exposure_gain),
       "linear gain on the scene colours, (0, 16], default 1")(
       "read-noise-levels", po::value(&o->sensor.read_noise_levels),

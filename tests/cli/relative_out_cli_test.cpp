@@ -20,8 +20,8 @@ struct Case {
   std::vector<std::string> files;  // expected in a/b
 };
 
-TEST(RelativeOutCli, EveryCommandMakesARelativeOutFolderThatDoesNotExistYet) {
-  const std::vector<Case> cases = {
+std::vector<Case> Cases() {
+  return {
       {"simulate fig5 --trials 200 --sigmas 1 -q", {"fig5.csv", "fig5.json"}},
       {"track table1 --seed 3 -q", {"table1.csv", "table1_tests.csv", "track_errors.csv"}},
       {"compare simple linear --trials 200 --frames 2 --sigmas 1 -q",
@@ -37,15 +37,22 @@ TEST(RelativeOutCli, EveryCommandMakesARelativeOutFolderThatDoesNotExistYet) {
       {"camtrack track-scene -t track.thresholds --runs 1 --frames 20", {"camtrack.csv"}},
       {"analyze track.csv -q", {"analyze.csv", "analyze.json"}},
   };
-  // A straight track with a wobble for analyze.
+}
+
+// A straight track with a wobble for analyze.
+std::string Track() {
   std::string track = "frame,x_mm,y_mm\n";
   for (int f = 0; f < 300; ++f) {
     track += std::to_string(f) + "," + std::to_string(10 * f + (f * 7 % 5)) + "," +
              std::to_string(f * 3 % 4) + "\n";
   }
-  for (const Case& c : cases) {
+  return track;
+}
+
+TEST(RelativeOutCli, EveryCommandMakesARelativeOutFolderThatDoesNotExistYet) {
+  for (const Case& c : Cases()) {
     testing::TempDir dir;
-    dir.Write("track.csv", track);
+    dir.Write("track.csv", Track());
     const auto r =
         RunCommand("cd " + dir.Path() + " && " + kPatlab + " " + c.arguments + " -o a/b");
     EXPECT_EQ(r.exit_code, 0) << c.arguments << "\n" << r.err;
@@ -54,6 +61,29 @@ TEST(RelativeOutCli, EveryCommandMakesARelativeOutFolderThatDoesNotExistYet) {
           << c.arguments << ": no a/b/" << file;
     }
   }
+}
+
+// The same commands on a full disk (a file size limit of 1 KiB; SIGXFSZ ignored, so a write past
+// it fails with EFBIG): a command that fails before it commits its results leaves no folder it
+// made (io/made_folders.h), and one whose results fit commits them into the folders it made.
+TEST(RelativeOutCli, ACommandThatFailsBeforeItsCommitLeavesNoFolderItMade) {
+  int failed = 0;
+  for (const Case& c : Cases()) {
+    testing::TempDir dir;
+    dir.Write("track.csv", Track());
+    const auto r = RunCommand("cd " + dir.Path() + " && trap '' XFSZ && ulimit -f 2 && " + kPatlab +
+                              " " + c.arguments + " -o a/b");
+    if (r.exit_code == 0) {
+      EXPECT_TRUE(std::filesystem::is_directory(dir.Path("a/b"))) << c.arguments;
+      continue;
+    }
+    ++failed;
+    EXPECT_EQ(r.exit_code, 1) << c.arguments << "\n" << r.err;
+    EXPECT_NE(r.err.find("cannot write: File too large"), std::string::npos) << c.arguments << "\n"
+                                                                             << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.Path("a"))) << c.arguments << ": a/ was left";
+  }
+  EXPECT_GE(failed, 8);  // all but the commands whose results fit in 1 KiB
 }
 
 // simulate --shard into a relative folder, then merge into another.

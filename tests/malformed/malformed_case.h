@@ -40,6 +40,18 @@ inline void CopyPrefix(const std::string& from, const std::string& to, size_t n)
   WriteBytes(to, bytes);
 }
 
+// The golden frame's calibration with another image size, as {dir}c.toml: a frame of that size
+// passes detect's header check and reaches its decoder.
+inline void SizedCalibration(const std::string& dir, int width_px, int height_px) {
+  std::ifstream in(PATLAB_SOURCE_DIR "/tests/data/golden/ssl-frame.calibration.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string size = "image_size_px = [640, 480]";
+  text.replace(
+      text.find(size), size.size(),
+      "image_size_px = [" + std::to_string(width_px) + ", " + std::to_string(height_px) + "]");
+  WriteBytes(dir + "c.toml", text);
+}
+
 // A PNG whose header claims width x height RGB pixels but whose IDAT holds 10 bytes (CRCs are
 // not checked before the size is).
 inline std::string PngClaiming(uint32_t width, uint32_t height) {

@@ -305,6 +305,13 @@ inline std::vector<MalformedCase> OutputAndValueMalformedCases() {
        "patlab detect: {dir}out/detections.csv: cannot write: File too large; expected a writable location"s,
        [](const std::string& dir) { std::filesystem::create_directories(dir + "out"); },
        kFullDisk},
+      {"CliSimulateNewOutFolderOnAFullDisk",  // the folders it made are removed again
+       {},
+       "simulate {src}/experiments/fig5.toml --trials 200 --sigmas 1 -q --out {dir}new/deep",
+       1,
+       "patlab simulate: {dir}new/deep/fig5.csv: cannot write: File too large; expected a writable location"s,
+       nullptr,
+       kFullDisk},
       {"CliDetectOutputCsvIsADirectory",
        {},
        "detect {src}/tests/data/golden/ssl-frame.png -t "
@@ -320,15 +327,49 @@ inline std::vector<MalformedCase> OutputAndValueMalformedCases() {
        "detect {dir}f.jpg -t {src}/tests/data/golden/ssl-frame.thresholds.toml -c "
        "{src}/tests/data/golden/ssl-frame.calibration.toml --out {dir}out -q",
        2,
-       "patlab detect: {dir}f.jpg: byte 0: corrupt or truncated JPEG (libjpeg: image size 65500x65500 is too large); expected a complete JPEG image"s,
+       "patlab detect: {dir}f.jpg: image size 65500x65500; expected 1 to 268435456 pixels"s,
        [](const std::string& dir) { WriteBytes(dir + "f.jpg", JpegClaiming(65500, 65500)); }},
       {"ImageJpegClaimsMoreThanItsBytesHold",
        {},
        "detect {dir}f.jpg -t {src}/tests/data/golden/ssl-frame.thresholds.toml -c "
-       "{src}/tests/data/golden/ssl-frame.calibration.toml --out {dir}out -q",
+       "{dir}c.toml --out {dir}out -q",
        2,
        "patlab detect: {dir}f.jpg: byte 0: corrupt or truncated JPEG (libjpeg: image size 16384x16384 cannot be coded in 543 bytes, at most 2048 pixels a byte); expected a complete JPEG image"s,
-       [](const std::string& dir) { WriteBytes(dir + "f.jpg", JpegClaiming(16384, 16384)); }},
+       [](const std::string& dir) {
+         WriteBytes(dir + "f.jpg", JpegClaiming(16384, 16384));
+         SizedCalibration(dir, 16384, 16384);  // past the header check to the decoder
+       }},
+      // A frame whose header states another size than the calibration's is refused from its
+      // header: its pixel data is broken (a decoder would say so), so the message shows that
+      // nothing was decoded.
+      {"ImagePngSizeDiffersFromCalibration",
+       {},
+       "detect {dir}f.png -t {src}/tests/data/golden/ssl-frame.thresholds.toml -c "
+       "{src}/tests/data/golden/ssl-frame.calibration.toml --out {dir}out -q",
+       2,
+       "patlab detect: {dir}f.png: image is 64x48; expected 640x480 as in {src}/tests/data/golden/ssl-frame.calibration.toml"s,
+       [](const std::string& dir) { WriteBytes(dir + "f.png", PngClaiming(64, 48)); }},
+      {"ImageJpegSizeDiffersFromCalibration",
+       {},
+       "detect {dir}f.jpg -t {src}/tests/data/golden/ssl-frame.thresholds.toml -c "
+       "{src}/tests/data/golden/ssl-frame.calibration.toml --out {dir}out -q",
+       2,
+       "patlab detect: {dir}f.jpg: image is 1000x700; expected 640x480 as in {src}/tests/data/golden/ssl-frame.calibration.toml"s,
+       [](const std::string& dir) { WriteBytes(dir + "f.jpg", JpegClaiming(1000, 700)); }},
+      {"ImagePpmSizeDiffersFromCalibration",
+       {{"f.ppm", "P6\n# a comment\n641 480\n255\nabc"s}},
+       "detect {dir}f.ppm -t {src}/tests/data/golden/ssl-frame.thresholds.toml -c "
+       "{src}/tests/data/golden/ssl-frame.calibration.toml --out {dir}out -q",
+       2,
+       "patlab detect: {dir}f.ppm: image is 641x480; expected 640x480 as in {src}/tests/data/golden/ssl-frame.calibration.toml"s,
+       nullptr},
+      {"ImageRawSizeDiffersFromCalibration",
+       {{"f.yuv", "abcdefghij"s}},
+       "detect {dir}f.yuv -t {src}/tests/data/golden/ssl-frame.thresholds.toml -c "
+       "{src}/tests/data/golden/ssl-frame.calibration.toml --out {dir}out -q --raw-size 640x482",
+       2,
+       "patlab detect: {dir}f.yuv: image is 640x482; expected 640x480 as in {src}/tests/data/golden/ssl-frame.calibration.toml"s,
+       nullptr},
       {"RenderRobotOutsideField",
        {{"s.toml",
          "calibration = \"{src}/settings/ssl-frame.calibration.toml\"\npattern = "

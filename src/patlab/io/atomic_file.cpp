@@ -13,6 +13,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/io/atomic_file_internal.h"
+#include "patlab/io/made_folders.h"
 #include "patlab/io/name.h"
 
 namespace patlab::io {
@@ -29,9 +30,11 @@ using atomic_detail::Sibling;
 // What the signal handler may touch: only lock-free atomics and a null-terminated array of C
 // strings that stays alive while it is published (async-signal-safe: unlink, signal, raise).
 std::atomic<const char* const*> g_temp_paths{nullptr};
+std::atomic<const MadeFolders*> g_made_folders{nullptr};
 std::atomic<int> g_committing{0};
 std::atomic<int> g_pending_signal{0};
 static_assert(std::atomic<const char* const*>::is_always_lock_free);
+static_assert(std::atomic<const MadeFolders*>::is_always_lock_free);
 static_assert(std::atomic<int>::is_always_lock_free);
 
 void RemoveTemps(const char* const* paths) {
@@ -45,6 +48,7 @@ extern "C" void OnTerminatingSignal(int signal_number) {
     return;
   }
   RemoveTemps(g_temp_paths.load());
+  if (const MadeFolders* made = g_made_folders.load(); made != nullptr) made->RemoveMade();
   std::signal(signal_number, SIG_DFL);
   std::raise(signal_number);
 }
@@ -159,23 +163,33 @@ void Commit(std::vector<Slot>* slots) {
   }
 }
 
-void CreateParents(const std::string& path) {
+void CreateParents(const std::string& path, MadeFolders* made) {
   const fs::path parent = fs::path(path).parent_path();
   if (parent.empty()) return;
-  std::error_code ec;
-  fs::create_directories(parent, ec);
-  if (ec) Fail(path, ec.message());
+  if (const std::error_code ec = made->Make(parent.string())) Fail(path, ec.message());
 }
 
-// Publishes the temporary paths to the signal handler for the lifetime of this object.
+// The folders of the result set's files.
+std::vector<std::string> ParentsOf(const std::vector<std::string>& paths) {
+  std::vector<std::string> parents;
+  for (const std::string& path : paths) parents.push_back(fs::path(path).parent_path().string());
+  return parents;
+}
+
+// Publishes the temporary paths and the folders made for them to the signal handler for the
+// lifetime of this object.
 class PublishedTemps {
  public:
-  explicit PublishedTemps(const std::vector<Slot>& slots) {
+  PublishedTemps(const std::vector<Slot>& slots, const MadeFolders* made) {
     for (const Slot& s : slots) pointers_.push_back(s.temp.c_str());
     pointers_.push_back(nullptr);
     g_temp_paths.store(pointers_.data());
+    g_made_folders.store(made);
   }
-  ~PublishedTemps() { g_temp_paths.store(nullptr); }
+  ~PublishedTemps() {
+    g_made_folders.store(nullptr);
+    g_temp_paths.store(nullptr);
+  }
   PublishedTemps(const PublishedTemps&) = delete;
   PublishedTemps& operator=(const PublishedTemps&) = delete;
 
@@ -295,10 +309,13 @@ void WriteFilesAtomic(const std::vector<StreamedFile>& files) {
     slots.push_back({file.path, Sibling(file.path, kTempTag, ::getpid()),
                      Sibling(file.path, kOldTag, ::getpid())});
   }
-  const PublishedTemps published(slots);
+  // Folders made for the set are removed again, innermost first and only while empty, unless the
+  // commit below succeeds (made_folders.h).
+  MadeFolders made(ParentsOf(paths));
+  const PublishedTemps published(slots, &made);
   try {
     for (size_t k = 0; k < files.size(); ++k) {
-      CreateParents(files[k].path);
+      CreateParents(files[k].path, &made);
       TempFile temp(files[k].path, slots[k].temp);
       files[k].produce([&temp](std::string_view text) { temp.Write(text); });
       temp.Finish();
@@ -310,6 +327,8 @@ void WriteFilesAtomic(const std::vector<StreamedFile>& files) {
   const CommitGuard guard;
   const Journals journals(slots);
   Commit(&slots);
+  made.Keep();
+  g_made_folders.store(nullptr);  // a signal held back by the guard must not touch them
 }
 
 void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files) {

@@ -28,7 +28,9 @@
 
 namespace patlab::io {
 
-// Writes several files as one result set (see above), creating missing parent directories; the
+// Writes several files as one result set (see above), creating missing parent directories like
+// `mkdir -p` (removed again, innermost first and only while empty, when the set is not committed:
+// an exception, or a signal the handler of InstallSignalCleanup sees; made_folders.h); the
 // last file is the manifest and is committed last. Throws EnvironmentError
 // ("<path>: cannot write: <reason>; expected a writable location") on failure, with every target
 // as it was before the call and no temporary file left.

@@ -7,6 +7,7 @@
 
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
+#include "patlab/io/made_folders.h"
 #include "patlab/render/draw.h"
 #include "patlab/vision/debug_image.h"
 #include "patlab/vision/frame_io.h"
@@ -189,6 +190,12 @@ const FrameResult& FrameDetector::DetectFile(const std::string& path) {
   TimeProfile& profile = result_.profile;
   profile.Clear();
   profile.Start();
+  // The size the header states, against the pixel budget and the calibration, before any pixel
+  // is decoded or allocated.
+  if (const std::optional<FrameHeaderSize> size =
+          ReadFrameHeaderSize(path, options_.raw_width_px, options_.raw_height_px)) {
+    pipeline_.CheckFrameSize(size->width_px, size->height_px, path);
+  }
   const camera::Image image = ReadFrameFile(path, options_.raw_width_px, options_.raw_height_px);
   profile.Stamp(kFrameStageNames[0]);
   Process(image, path);
@@ -395,13 +402,15 @@ void FrameDetector::WriteDebugImages(const camera::ImageView& image) const {
   const std::vector<std::string> names =
       DebugImageNames(fs::path(result_.frame).stem().string(), has_detector());
   const fs::path dir(options_.debug_dir);
-  std::error_code error;
-  fs::create_directories(dir, error);
-  if (error) {
+  // Made like `mkdir -p`, and removed again if the first image cannot be written
+  // (io/made_folders.h).
+  io::MadeFolders made({dir.string()});
+  if (const std::error_code error = made.Make(dir.string())) {
     throw InputError(options_.debug_dir + ": cannot create the debug directory (" +
                      error.message() + "); expected a writable directory");
   }
   WritePng(DrawClasses(pipeline_.segmenter(), thresholds), (dir / names[0]).string());
+  made.Keep();
   camera::Image regions = DrawRegions(image, pipeline_.segmenter(), thresholds);
   WritePng(regions, (dir / names[1]).string());
   WritePng(DrawBlobs(image, result_, thresholds, has_detector()), (dir / names[2]).string());

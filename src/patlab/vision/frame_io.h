@@ -4,6 +4,7 @@
 // when no byte offset is known); nothing is returned for a bad file, so no partial frame leaks.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,20 @@ bool IsRawFrameFile(const std::string& path);
 // A frame file as patlab detect reads it: a raw UYVY file of raw_width_px x raw_height_px when
 // IsRawFrameFile(path) and a size is given (> 0), otherwise ReadFrame.
 camera::Image ReadFrameFile(const std::string& path, int raw_width_px, int raw_height_px);
+
+// The size a frame file states in its header, read from its first bytes without decoding any
+// pixel: a PNG's IHDR, a JPEG's first SOF segment (within the first MiB), a binary PPM's width and
+// height, and for a raw UYVY file (as ReadFrameFile reads it) raw_width_px x raw_height_px.
+// std::nullopt when no size can be read there (not a frame, a damaged header): the decoder then
+// says what is wrong. A stated size beyond the pixel budget is an InputError ("image size WxH;
+// expected 1 to 268435456 pixels"). `patlab detect` checks it against the calibration's image
+// size before it decodes the frame.
+struct FrameHeaderSize {
+  int width_px = 0;
+  int height_px = 0;
+};
+std::optional<FrameHeaderSize> ReadFrameHeaderSize(const std::string& path, int raw_width_px,
+                                                   int raw_height_px);
 
 // Decoders from memory; `name` is used in messages.
 camera::Image DecodePng(const std::vector<uint8_t>& bytes, const std::string& name);

@@ -40,14 +40,17 @@ VisionPipeline::VisionPipeline(Thresholds thresholds, camera::Calibration calibr
 
 void VisionPipeline::CheckFrameSize(const camera::ImageView& image,
                                     const std::string& frame_name) const {
+  CheckFrameSize(image.width_px, image.height_px, frame_name);
+}
+
+void VisionPipeline::CheckFrameSize(int width_px, int height_px,
+                                    const std::string& frame_name) const {
   if (calibration_.image_width_px == 0) return;
-  if (image.width_px != calibration_.image_width_px ||
-      image.height_px != calibration_.image_height_px) {
-    throw InputError(frame_name + ": image is " + std::to_string(image.width_px) + "x" +
-                     std::to_string(image.height_px) + "; expected " +
-                     std::to_string(calibration_.image_width_px) + "x" +
-                     std::to_string(calibration_.image_height_px) + " as in " +
-                     calibration_.source);
+  if (width_px != calibration_.image_width_px || height_px != calibration_.image_height_px) {
+    throw InputError(
+        frame_name + ": image is " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+        "; expected " + std::to_string(calibration_.image_width_px) + "x" +
+        std::to_string(calibration_.image_height_px) + " as in " + calibration_.source);
   }
 }
 

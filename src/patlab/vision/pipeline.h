@@ -51,6 +51,8 @@ class VisionPipeline {
   // InputError "frame: image is WxH; expected WxH as in calibration" when the calibration
   // names an image size and the frame differs.
   void CheckFrameSize(const camera::ImageView& image, const std::string& frame_name) const;
+  // The same from a size alone (a frame's header, before its pixels are decoded).
+  void CheckFrameSize(int width_px, int height_px, const std::string& frame_name) const;
 
   // Stages 2-5. `blobs` is cleared and filled in region order (class, then area); blob i
   // came from segmenter().regions()[blob_region()[i]]. Blob colours are class indices. `stats`
