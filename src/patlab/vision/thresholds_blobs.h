@@ -64,7 +64,7 @@ struct BlobThresholdsOptions {
   // along its noise. In (0, 10000].
   double segment_k = 60.0;
   // Blobs whose colours lie closer than this (weighted Delta E) join one cluster. In (0, 200].
-  double cluster_distance = 14.0;
+  double cluster_distance = 24.0;
   // How much a lightness difference counts against a chroma difference in blob distances
   // (light changes lightness first). In (0, 1].
   double lightness_weight = 0.5;

@@ -132,7 +132,7 @@ std::vector<BlobCluster> NameBlobClusters(const std::vector<const ColourEntry*>&
   std::vector<int> extra(nc, -1);
   for (size_t c = 0; c < nc; ++c) {
     if (clusters[c].name >= 0) continue;
-    double best = 2.0 * o.cluster_distance;
+    double best = o.cluster_distance;
     for (size_t k = 0; k < nk; ++k) {
       if (owner[k] < 0) continue;
       const double d = Distance(Feature(clusters[c].lab, o),
