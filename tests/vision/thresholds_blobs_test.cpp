@@ -1,7 +1,7 @@
 // The colour fit from patch blobs (vision/thresholds_blobs.h) on synthetic frames with known
-// answers: the light normalisation gives one colour to one patch wherever the light puts it, the
-// blobs are the discs drawn, two clusters competing for a name get the names that fit them best
-// together, clutter gets none, and the boxes classify every disc and no carpet.
+// answers: patches stand out from the carpet around them under a light that falls fourfold, the
+// blobs are the discs drawn and lines are none, two clusters competing for a name get the names
+// that fit them best together, clutter gets none, and the boxes classify every disc and no carpet.
 #include "patlab/vision/thresholds_blobs.h"
 
 #include <gtest/gtest.h>
@@ -45,29 +45,63 @@ double DeltaE(const std::array<double, 3>& a, const std::array<double, 3>& b) {
                    (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-TEST(ThresholdsBlobs, OnePatchColourWhereverTheLightPutsIt) {
+TEST(ThresholdsBlobs, PatchesStandOutFromTheCarpetAroundThemWhereverTheLightIs) {
+  // The light falls fourfold from left to right: the carpet's right end lies farther from its
+  // mean colour than the stand-out distance, yet no carpet pixel is a candidate, and the three
+  // discs are the three blobs.
   const std::array<uint8_t, 3> yellow = {200, 180, 40};
-  const camera::Image image =
-      Frame(240, 120, {{30, 60, 7, yellow}, {210, 60, 7, yellow}, {120, 30, 5, {40, 70, 200}}},
-            0.35);
+  const std::vector<Disc> discs = {
+      {30, 60, 7, yellow}, {210, 60, 7, yellow}, {120, 30, 5, {40, 70, 200}}};
+  const camera::Image image = Frame(240, 120, discs, 0.25);
   BlobThresholdsOptions o;
+  o.max_light_gain = 4.0;
+  o.standout_delta_e = 10.0;
   const NormalisedFrame f = NormaliseFrame(image, o);
   EXPECT_GT(f.carpet_pixels, 240 * 120 * 8 / 10);
+  const uint8_t* dark = image.Row(110) + 3 * 239;
+  std::array<double, 3> mean_raw{};
+  long n = 0;
+  for (size_t i = 0; i < f.lab.size(); ++i) {
+    if (f.carpet[i] == 0) continue;
+    for (int k = 0; k < 3; ++k) mean_raw[k] += f.lab[i][k];
+    ++n;
+  }
+  for (double& v : mean_raw) v /= static_cast<double>(n);
+  ASSERT_GT(DeltaE(SrgbToLab({dark[0], dark[1], dark[2]}), mean_raw), o.standout_delta_e);
+  long carpet_candidates = 0, disc_candidates = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 240; ++x) {
+      bool on_disc = false;
+      for (const Disc& d : discs) on_disc = on_disc || std::hypot(x - d.x, y - d.y) <= d.r;
+      const bool candidate = f.standout[static_cast<size_t>(y) * 240 + x] != 0;
+      (on_disc ? disc_candidates : carpet_candidates) += candidate ? 1 : 0;
+    }
+  EXPECT_EQ(carpet_candidates, 0);
+  EXPECT_GT(disc_candidates, static_cast<long>(0.9 * M_PI * (49 + 49 + 25)));
   const std::vector<ColourBlob> blobs = FindColourBlobs(f, 0, o);
   ASSERT_EQ(blobs.size(), 3u);
   // In the order of their first pixel: the blue disc (row 25), then the two yellow ones.
   EXPECT_NEAR(blobs[0].x_px, 120.0, 0.3);
   EXPECT_NEAR(blobs[0].y_px, 30.0, 0.3);
   EXPECT_NEAR(static_cast<double>(blobs[0].pixels.size()), M_PI * 25, 12.0);
+  EXPECT_NEAR(blobs[0].sigma_minor_px, 2.5, 0.3);
   EXPECT_NEAR(blobs[1].x_px, 30.0, 0.3);
   EXPECT_NEAR(blobs[2].x_px, 210.0, 0.3);
-  // The two yellow discs are 2.9 times apart in light; normalised they are one colour, which
-  // their raw colours are not.
-  EXPECT_LT(DeltaE(blobs[1].lab, blobs[2].lab), 3.0);
-  const std::array<double, 3> raw_left = SrgbToLab(yellow);
-  const uint8_t* right = image.Row(60) + 3 * 210;
-  const std::array<double, 3> raw_right = SrgbToLab({right[0], right[1], right[2]});
-  EXPECT_GT(DeltaE(raw_left, raw_right), 15.0);
+}
+
+TEST(ThresholdsBlobs, LinesAreNoBlobs) {
+  // A white line 3 px wide and 40 px long is of a patch's area but not its width.
+  camera::Image image = Frame(120, 80, {{90, 40, 6, {235, 215, 45}}}, 1.0);
+  for (int y = 20; y < 60; ++y)
+    for (int x = 20; x < 23; ++x)
+      for (int k = 0; k < 3; ++k) image.Row(y)[3 * x + k] = 240;
+  BlobThresholdsOptions o;
+  o.min_blob_sigma_px = 1.5;
+  const std::vector<ColourBlob> blobs = FindColourBlobs(NormaliseFrame(image, o), 0, o);
+  ASSERT_EQ(blobs.size(), 1u);
+  EXPECT_NEAR(blobs[0].x_px, 90.0, 0.3);
+  o.min_blob_sigma_px = 0.5;
+  EXPECT_EQ(FindColourBlobs(NormaliseFrame(image, o), 0, o).size(), 2u);
 }
 
 TEST(ThresholdsBlobs, CompetingClustersTakeTheNamesThatFitThemTogether) {
@@ -82,9 +116,14 @@ TEST(ThresholdsBlobs, CompetingClustersTakeTheNamesThatFitThemTogether) {
   const ColourEntry& orange = *vocabulary.Find("orange");
   ASSERT_LT(NameCost(salmon, orange, o), NameCost(salmon, pink, o));  // the trap
   std::vector<ColourBlob> blobs;
-  for (int i = 0; i < 5; ++i) blobs.push_back({0, {}, 0, 0, salmon});
-  blobs.push_back({0, {}, 0, 0, ball});
-  blobs.push_back({0, {}, 0, 0, SrgbToLab({140, 50, 200})});  // purple: clutter here
+  const auto blob = [](const std::array<double, 3>& lab) {
+    ColourBlob b;
+    b.lab = lab;
+    return b;
+  };
+  for (int i = 0; i < 5; ++i) blobs.push_back(blob(salmon));
+  blobs.push_back(blob(ball));
+  blobs.push_back(blob(SrgbToLab({0, 200, 220})));  // cyan: neither pink nor orange
   const std::vector<BlobCluster> clusters = NameBlobClusters({&pink, &orange}, o, &blobs);
   ASSERT_EQ(clusters.size(), 3u);
   for (int i = 0; i < 5; ++i) EXPECT_EQ(blobs[static_cast<size_t>(i)].name, 0) << i;
@@ -98,15 +137,16 @@ TEST(ThresholdsBlobs, AchromaticEntriesTakeLightnessNotHue) {
   const BlobThresholdsOptions o;
   const std::array<double, 3> grey_white = SrgbToLab({235, 238, 225});
   EXPECT_LT(NameCost(grey_white, *vocabulary.Find("white"), o), 1.0);
-  EXPECT_GT(NameCost(grey_white, *vocabulary.Find("black"), o), 9.0);
+  // Only the lightness (85 L* apart) tells white from black: over the 40 L* spread, 4.5.
+  EXPECT_GT(NameCost(grey_white, *vocabulary.Find("black"), o), 4.0);
   EXPECT_GT(NameCost(SrgbToLab({220, 200, 40}), *vocabulary.Find("white"), o), 9.0);
 }
 
 TEST(ThresholdsBlobs, BoxesClassifyEveryDiscAndNoCarpet) {
-  const std::vector<Disc> discs = {
-      {30, 30, 6, {235, 215, 45}},  {90, 30, 6, {35, 75, 210}},  {150, 30, 6, {240, 95, 185}},
-      {30, 90, 6, {235, 215, 45}},  {90, 90, 6, {35, 75, 210}},  {150, 90, 6, {240, 95, 185}},
-      {210, 60, 4, {250, 125, 25}}, {210, 100, 6, {140, 50, 200}}};
+  const std::vector<Disc> discs = {{30, 30, 6, {235, 215, 45}},  {90, 30, 6, {35, 75, 210}},
+                                   {150, 30, 6, {240, 95, 185}}, {30, 90, 6, {235, 215, 45}},
+                                   {90, 90, 6, {35, 75, 210}},   {150, 90, 6, {240, 95, 185}},
+                                   {210, 60, 4, {250, 125, 25}}, {210, 100, 6, {140, 50, 200}}};
   const camera::Image image = Frame(240, 120, discs, 0.5);
   std::vector<BlobCluster> clusters;
   const AutoThresholdsFit fit = FitThresholdsFromBlobs(

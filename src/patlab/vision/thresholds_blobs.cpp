@@ -38,8 +38,8 @@ std::vector<OptionsProblem> Check(const BlobThresholdsOptions& o) {
                "in (0, 10]")
       .Require("achromatic_chroma", o.achromatic_chroma,
                o.achromatic_chroma > 0.0 && o.achromatic_chroma <= 100.0, "in (0, 100]")
-      .Require("max_name_cost", o.max_name_cost,
-               o.max_name_cost > 0.0 && o.max_name_cost <= 1000.0, "in (0, 1000]")
+      .Require("max_name_cost", o.max_name_cost, o.max_name_cost > 0.0 && o.max_name_cost <= 1000.0,
+               "in (0, 1000]")
       .Require("lower_percentile", o.lower_percentile,
                o.lower_percentile >= 0.0 && o.lower_percentile < 50.0, "in [0, 50)")
       .Require("upper_percentile", o.upper_percentile,
@@ -118,7 +118,8 @@ std::vector<uint8_t> FindCarpetPixels(const std::vector<std::array<uint8_t, 3>>&
   std::vector<long> cells(16 * 32 * 32, 0);
   for (const auto& p : yuv) ++cells[(p[0] >> 4) * 1024 + (p[1] >> 3) * 32 + (p[2] >> 3)];
   const int mode = static_cast<int>(std::max_element(cells.begin(), cells.end()) - cells.begin());
-  double my = (mode / 1024) * 16 + 7.5, mu = ((mode / 32) % 32) * 8 + 3.5, mv = (mode % 32) * 8 + 3.5;
+  double my = (mode / 1024) * 16 + 7.5, mu = ((mode / 32) % 32) * 8 + 3.5,
+         mv = (mode % 32) * 8 + 3.5;
   double su = 6.0, sv = 6.0;
   std::vector<uint8_t> carpet(yuv.size(), 0);
   for (int round = 0; round < 4; ++round) {
@@ -152,7 +153,8 @@ struct LightGrid {
 double LightGrid::At(double x, double y) const {
   const double gx = std::clamp(x / cell - 0.5, 0.0, cols - 1.0);
   const double gy = std::clamp(y / cell - 0.5, 0.0, rows - 1.0);
-  const int x0 = std::min(static_cast<int>(gx), cols - 1), y0 = std::min(static_cast<int>(gy), rows - 1);
+  const int x0 = std::min(static_cast<int>(gx), cols - 1),
+            y0 = std::min(static_cast<int>(gy), rows - 1);
   const int x1 = std::min(x0 + 1, cols - 1), y1 = std::min(y0 + 1, rows - 1);
   const double fx = gx - x0, fy = gy - y0;
   const auto v = [&](int c, int r) { return value[static_cast<size_t>(r) * cols + c]; };
@@ -280,7 +282,8 @@ NormalisedFrame NormaliseFrame(const camera::Image& image, const BlobThresholdsO
   const double limit2 = options.standout_delta_e * options.standout_delta_e;
   for (size_t i = 0; i < n; ++i) {
     double d2 = 0;
-    for (int k = 0; k < 3; ++k) d2 += (scaled[i][k] - f.carpet_lab[k]) * (scaled[i][k] - f.carpet_lab[k]);
+    for (int k = 0; k < 3; ++k)
+      d2 += (scaled[i][k] - f.carpet_lab[k]) * (scaled[i][k] - f.carpet_lab[k]);
     f.standout[i] = d2 > limit2 ? 1 : 0;
   }
   return f;

@@ -112,12 +112,12 @@ NormalisedFrame NormaliseFrame(const camera::Image& image, const BlobThresholdsO
 // A region of one colour standing out from the carpet, of a patch's size.
 struct ColourBlob {
   int frame = 0;
-  std::vector<int> pixels;            // indices into the frame's pixels
-  double x_px = 0.0, y_px = 0.0;      // centroid
-  double sigma_minor_px = 0.0;        // spread across its narrowest direction
-  std::array<double, 3> lab = {};     // median CIELAB of its pixels
-  int cluster = -1;                   // after NameBlobClusters
-  int name = -1;                      // class index, -1 clutter
+  std::vector<int> pixels;         // indices into the frame's pixels
+  double x_px = 0.0, y_px = 0.0;   // centroid
+  double sigma_minor_px = 0.0;     // spread across its narrowest direction
+  std::array<double, 3> lab = {};  // median CIELAB of its pixels
+  int cluster = -1;                // after NameBlobClusters
+  int name = -1;                   // class index, -1 clutter
 };
 
 std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& frame, int frame_index,

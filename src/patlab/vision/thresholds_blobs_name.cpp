@@ -2,9 +2,9 @@
 // named by the vocabulary, and each class's box.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 #include "patlab/core/error.h"
 #include "patlab/core/portable_math.h"
@@ -37,8 +37,8 @@ double NameCost(const std::array<double, 3>& lab, const ColourEntry& entry,
   while (dh > 180.0) dh -= 360.0;
   while (dh < -180.0) dh += 360.0;
   const double h = dh / o.hue_spread_deg;
-  const double c = pmath::Log(std::max(chroma, 1.0) / std::max(Chroma(typical), 1.0)) /
-                   o.chroma_spread;
+  const double c =
+      pmath::Log(std::max(chroma, 1.0) / std::max(Chroma(typical), 1.0)) / o.chroma_spread;
   return h * h + dl * dl + c * c;
 }
 
@@ -156,7 +156,9 @@ constexpr int kBins = 64;  // 4 levels per bin and channel
 class BoxCounts {
  public:
   BoxCounts() : sum_(static_cast<size_t>(kBins + 1) * (kBins + 1) * (kBins + 1), 0) {}
-  void Add(const std::array<uint8_t, 3>& yuv) { ++At(yuv[0] / 4 + 1, yuv[1] / 4 + 1, yuv[2] / 4 + 1); }
+  void Add(const std::array<uint8_t, 3>& yuv) {
+    ++At(yuv[0] / 4 + 1, yuv[1] / 4 + 1, yuv[2] / 4 + 1);
+  }
   void Accumulate() {
     for (int a = 1; a <= kBins; ++a)
       for (int b = 0; b <= kBins; ++b)
@@ -171,8 +173,8 @@ class BoxCounts {
   // Pixels in bins lo..hi (inclusive) per channel.
   long Count(const std::array<int, 3>& lo, const std::array<int, 3>& hi) const {
     const int a0 = lo[0], a1 = hi[0] + 1, b0 = lo[1], b1 = hi[1] + 1, c0 = lo[2], c1 = hi[2] + 1;
-    return Get(a1, b1, c1) - Get(a0, b1, c1) - Get(a1, b0, c1) - Get(a1, b1, c0) +
-           Get(a0, b0, c1) + Get(a0, b1, c0) + Get(a1, b0, c0) - Get(a0, b0, c0);
+    return Get(a1, b1, c1) - Get(a0, b1, c1) - Get(a1, b0, c1) - Get(a1, b1, c0) + Get(a0, b0, c1) +
+           Get(a0, b1, c0) + Get(a1, b0, c0) - Get(a0, b0, c0);
   }
 
  private:
@@ -306,10 +308,14 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
   std::vector<BlobCluster> clusters = NameBlobClusters(entries, options, &blobs);
   if (std::getenv("RC_DEBUG") != nullptr) {  // SCRATCH
     for (const ColourBlob& b : blobs)
-      std::fprintf(stderr, "blob %d px=%zu at %.0f,%.0f lab %.1f %.1f %.1f cl %d name %d\n", b.frame, b.pixels.size(), b.x_px, b.y_px, b.lab[0], b.lab[1], b.lab[2], b.cluster, b.name);
+      std::fprintf(stderr, "blob %d px=%zu at %.0f,%.0f lab %.1f %.1f %.1f cl %d name %d\n",
+                   b.frame, b.pixels.size(), b.x_px, b.y_px, b.lab[0], b.lab[1], b.lab[2],
+                   b.cluster, b.name);
     for (size_t c = 0; c < clusters.size(); ++c)
-      std::fprintf(stderr, "cluster %zu n=%d lab %.1f %.1f %.1f name %d\n", c, clusters[c].blobs, clusters[c].lab[0], clusters[c].lab[1], clusters[c].lab[2], clusters[c].name);
-    std::fprintf(stderr, "carpet lab %.1f %.1f %.1f\n", normalised[0].carpet_lab[0], normalised[0].carpet_lab[1], normalised[0].carpet_lab[2]);
+      std::fprintf(stderr, "cluster %zu n=%d lab %.1f %.1f %.1f name %d\n", c, clusters[c].blobs,
+                   clusters[c].lab[0], clusters[c].lab[1], clusters[c].lab[2], clusters[c].name);
+    std::fprintf(stderr, "carpet lab %.1f %.1f %.1f\n", normalised[0].carpet_lab[0],
+                 normalised[0].carpet_lab[1], normalised[0].carpet_lab[2]);
   }
   fit.carpet.name = "carpet";
   Describe(carpet, &fit.carpet);
@@ -325,7 +331,8 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
     for (const ColourBlob& b : blobs) {
       if (b.name != static_cast<int>(k)) continue;
       ++c.blobs;
-      for (const int i : b.pixels) own.push_back(normalised[static_cast<size_t>(b.frame)].yuv[static_cast<size_t>(i)]);
+      for (const int i : b.pixels)
+        own.push_back(normalised[static_cast<size_t>(b.frame)].yuv[static_cast<size_t>(i)]);
     }
     Describe(own, &c);
     ColorClass cls;
