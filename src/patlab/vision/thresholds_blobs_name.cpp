@@ -2,8 +2,6 @@
 // named by the vocabulary, and each class's box.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 #include "patlab/core/error.h"
@@ -306,17 +304,6 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
       if (n.carpet[i] != 0) carpet.push_back(n.yuv[i]);
   }
   std::vector<BlobCluster> clusters = NameBlobClusters(entries, options, &blobs);
-  if (std::getenv("RC_DEBUG") != nullptr) {  // SCRATCH
-    for (const ColourBlob& b : blobs)
-      std::fprintf(stderr, "blob %d px=%zu at %.0f,%.0f lab %.1f %.1f %.1f cl %d name %d\n",
-                   b.frame, b.pixels.size(), b.x_px, b.y_px, b.lab[0], b.lab[1], b.lab[2],
-                   b.cluster, b.name);
-    for (size_t c = 0; c < clusters.size(); ++c)
-      std::fprintf(stderr, "cluster %zu n=%d lab %.1f %.1f %.1f name %d\n", c, clusters[c].blobs,
-                   clusters[c].lab[0], clusters[c].lab[1], clusters[c].lab[2], clusters[c].name);
-    std::fprintf(stderr, "carpet lab %.1f %.1f %.1f\n", normalised[0].carpet_lab[0],
-                 normalised[0].carpet_lab[1], normalised[0].carpet_lab[2]);
-  }
   fit.carpet.name = "carpet";
   Describe(carpet, &fit.carpet);
   BoxCounts all;
