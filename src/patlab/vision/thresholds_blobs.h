@@ -25,8 +25,8 @@
 //    the class's entry too. What is named nothing is clutter.
 // 4. Boxes: per class the percentiles of its blobs' pixels in YUV, stretched for light
 //    intensities lighting_min_gain..lighting_max_gain, plus margin_levels; each box's sides are
-//    then pulled in wherever that drops more pixels of everything else (carpet, lines, other
-//    classes, clutter) than negative_weight times... of the class's own (see FitBoxes).
+//    then pulled in wherever that drops more than negative_weight pixels of everything else
+//    (carpet, lines, other classes, clutter) per pixel of the class's own.
 #pragma once
 
 #include <array>
@@ -88,7 +88,7 @@ struct BlobThresholdsOptions {
   int margin_levels = 3;  // levels added on each side of every bound, in [0, 128]
   // A side of a box moves in while that removes more than this many other pixels per own pixel
   // lost. Lower: tighter boxes. In (0, 100].
-  double negative_weight = 1.0;
+  double negative_weight = 2.0;
 };
 
 std::vector<OptionsProblem> Check(const BlobThresholdsOptions& options);
