@@ -36,6 +36,19 @@ TEST(SetupTolerances, FollowTheScaleTheMappingErrorAndThePatchSize) {
   EXPECT_EQ(t.estimator, base.estimator);  // what setup does not choose stays
 }
 
+TEST(SetupBlobAreas, FollowThePatchRadiiInPixels) {
+  vision::BlobThresholdsOptions o;
+  SetupBlobAreas(4.0, 5.0, &o);
+  EXPECT_NEAR(o.min_blob_area_px, 0.2 * M_PI * 16.0, 1e-9);  // a patch's core, a fifth of it
+  EXPECT_NEAR(o.max_blob_area_px, 3.0 * M_PI * 25.0, 1e-9);
+  EXPECT_NEAR(o.min_blob_sigma_px, 1.2, 1e-12);
+  SetupBlobAreas(1.0, 1.0, &o);  // tiny patches: at least 3 px, and max never below min
+  EXPECT_EQ(o.min_blob_area_px, 3.0);
+  EXPECT_EQ(o.max_blob_area_px, 3.0 * M_PI);
+  SetupBlobAreas(1.0, 0.5, &o);
+  EXPECT_EQ(o.max_blob_area_px, 3.0);
+}
+
 TEST(SetupLandmarks, ParseNameAndPixel) {
   const SetupLandmark l = ParseLandmark("corner_pos_left=700.5,-3e1");
   EXPECT_EQ(l.name, "corner_pos_left");

@@ -43,6 +43,7 @@ void CheckSetupInput(const std::vector<const camera::Image*>& frames,
                      " times; expected at least 4 landmarks (or none: the lines decide)");
   }
   Validate(o.thresholds);
+  Validate(o.colours);
 }
 
 // The calibration from the first frame's lines: the line pixels found once, every field model
@@ -146,6 +147,13 @@ double SmallestPatchMm(const detect::DetectorConfig& config) {
   return std::isfinite(r) ? r : 0.0;
 }
 
+double LargestPatchMm(const detect::DetectorConfig& config) {
+  double r = 0.0;
+  for (const detect::DetectorPattern& p : config.patterns)
+    for (const Patch& patch : p.pattern.patches) r = std::max(r, patch.radius_mm);
+  return r;
+}
+
 void FitColours(const std::vector<const camera::Image*>& frames,
                 const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r) {
   const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
@@ -155,7 +163,12 @@ void FitColours(const std::vector<const camera::Image*>& frames,
     if (!c.known) throw InputError(o.settings_path + ": " + UnknownColourMessage(vocabulary, c));
     classes.push_back(name);
   }
-  r->thresholds = vision::FitThresholdsAuto(frames, classes, vocabulary, o.thresholds);
+  vision::BlobThresholdsOptions colours = o.colours;
+  if (r->mm_per_px > 0.0) {
+    SetupBlobAreas(r->smallest_patch_px, LargestPatchMm(config) / r->mm_per_px, &colours);
+  }
+  r->thresholds =
+      vision::FitThresholdsFromBlobs(frames, classes, vocabulary, colours, &r->colour_clusters);
 }
 
 // The models tried, one line each: the fitted ones' scores, why the others were dropped.
@@ -191,6 +204,15 @@ detect::DetectorOptions SetupTolerances(const detect::DetectorOptions& base, dou
   t.area_ratio_min = std::clamp(0.5 * core * core, 0.1, 0.4);
   t.area_ratio_max = 2.5;
   return t;
+}
+
+void SetupBlobAreas(double smallest_patch_px, double largest_patch_px,
+                    vision::BlobThresholdsOptions* options) {
+  constexpr double kPi = 3.14159265358979323846;
+  options->min_blob_area_px = std::max(3.0, 0.2 * kPi * smallest_patch_px * smallest_patch_px);
+  options->min_blob_sigma_px = 0.3 * smallest_patch_px;
+  options->max_blob_area_px =
+      std::max(options->min_blob_area_px, 3.0 * kPi * largest_patch_px * largest_patch_px);
 }
 
 SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
@@ -257,12 +279,15 @@ std::string SetupReportText(const SetupResult& r) {
        " RMS on the floor (" +
        (r.from_landmarks ? "cross-validated over the landmarks" : "held-out line pixels") + "); " +
        FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
-  s += "colour classes (pixels, separability, nearest):\n  carpet: " +
+  long clutter = 0;
+  for (const vision::BlobCluster& c : r.colour_clusters) clutter += c.name < 0 ? c.blobs : 0;
+  s += "colour classes (blobs, pixels, separability, nearest):\n  carpet: " +
        std::to_string(r.thresholds.carpet.pixels) + " px\n";
   for (const vision::AutoClassFit& c : r.thresholds.classes) {
-    s += "  " + c.name + ": " + std::to_string(c.pixels) + " px, separability " +
-         FormatSignificant(c.separability, 3) + " from " + c.nearest + "\n";
+    s += "  " + c.name + ": " + std::to_string(c.blobs) + " blobs, " + std::to_string(c.pixels) +
+         " px, separability " + FormatSignificant(c.separability, 3) + " from " + c.nearest + "\n";
   }
+  s += "  clutter (named no class): " + std::to_string(clutter) + " blobs\n";
   const detect::DetectorOptions& t = r.tolerances;
   s += "tolerances: patch_sigma_mm " + FormatSignificant(t.patch_sigma_mm, 3) +
        ", reach_margin_mm " + FormatSignificant(t.reach_margin_mm, 3) + ", area_ratio_min " +

@@ -29,6 +29,7 @@
 #include "patlab/camera/image.h"
 #include "patlab/detect/detector.h"
 #include "patlab/vision/thresholds_auto.h"
+#include "patlab/vision/thresholds_blobs.h"
 
 namespace patlab::formats {
 
@@ -49,7 +50,10 @@ struct SetupOptions {
   // When not empty (at least 4): the calibration is fitted to these in the first frame instead
   // of the lines, with the first field model.
   std::vector<SetupLandmark> landmarks;
-  vision::AutoThresholdsOptions thresholds;
+  vision::AutoThresholdsOptions thresholds;  // (not used by SetupCamera; kept for callers)
+  // The colour fit (vision/thresholds_blobs.h); its blob area range is set from the calibration
+  // and the patterns' patch sizes (SetupBlobAreas).
+  vision::BlobThresholdsOptions colours;
 };
 
 // One field model tried: its search's score (the screen), its fitted camera's score (px of line
@@ -79,6 +83,7 @@ struct SetupResult {
   double mm_per_px = 0.0;          // on the robots' plane at the image centre
   double smallest_patch_px = 0.0;  // the smallest patch's radius in px there
   vision::AutoThresholdsFit thresholds;
+  std::vector<vision::BlobCluster> colour_clusters;  // the blobs' clusters, named or clutter
   detect::DetectorOptions tolerances;  // the settings' options with the chosen tolerances
   // The files to write into the output folder (name, text): calibration.toml, thresholds.toml,
   // settings.toml, setup.toml.
@@ -95,6 +100,13 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
 // radius (px), starting from `base` (header comment).
 detect::DetectorOptions SetupTolerances(const detect::DetectorOptions& base, double mm_per_px,
                                         double mapping_error_mm, double smallest_patch_px);
+
+// The blob area range (px) the colour fit looks for, from the smallest and largest patch radius in
+// px on the robots' plane: [max(3, 0.2 pi r_min^2), 3 pi r_max^2] -- a blob may be a patch's
+// core eaten by blur or a third of it hidden, and not three times its size -- and its narrowest
+// spread at least 0.3 r_min (a patch's core has about 0.5 r).
+void SetupBlobAreas(double smallest_patch_px, double largest_patch_px,
+                    vision::BlobThresholdsOptions* options);
 
 // The report for people: the model kept (and by how much), the mapping error, the colour
 // classes with pixel counts and separability, the tolerances.

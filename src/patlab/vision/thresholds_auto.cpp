@@ -320,7 +320,9 @@ void CarveOutCarpet(const std::vector<Pixel>& pixels, int k, const AutoThreshold
   if (best_ch >= 0) (*range)[best_ch] = best;
 }
 
-void Separability(AutoThresholdsFit* fit) {
+}  // namespace
+
+void ComputeSeparability(AutoThresholdsFit* fit) {
   std::vector<AutoClassFit*> all;
   for (AutoClassFit& c : fit->classes) all.push_back(&c);
   all.push_back(&fit->carpet);
@@ -338,8 +340,6 @@ void Separability(AutoThresholdsFit* fit) {
     }
   }
 }
-
-}  // namespace
 
 namespace {
 
@@ -483,7 +483,7 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const camera::Image*>& fra
     fit.thresholds.classes.push_back(cls);
     fit.classes.push_back(c);
   }
-  Separability(&fit);
+  ComputeSeparability(&fit);
   return fit;
 }
 

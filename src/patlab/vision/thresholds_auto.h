@@ -75,6 +75,7 @@ struct AutoClassFit {
   std::string name;
   long pixels = 0;                         // pixels of the frames in the cluster
   long labelled = 0;                       // of those, labelled by hand
+  long blobs = 0;                          // blobs named this class (FitThresholdsFromBlobs)
   std::array<double, 3> mean_yuv = {};     // the cluster's mean (levels)
   double spread_levels = 0.0;              // RMS distance from the mean per channel (levels)
   double separability = 0.0;               // see the header comment; inf when alone
@@ -97,6 +98,9 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const camera::Image*>& fra
                                     const ColourVocabulary& vocabulary,
                                     const AutoThresholdsOptions& options,
                                     const std::vector<LabelledFrame>& labels = {});
+
+// Each class's separability and nearest class (or "carpet"): see the header comment.
+void ComputeSeparability(AutoThresholdsFit* fit);
 
 // The report for people: the carpet, then per class pixels, mean, spread, box, separability.
 std::string AutoThresholdsReport(const AutoThresholdsFit& fit);

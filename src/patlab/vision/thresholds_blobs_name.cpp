@@ -1,0 +1,345 @@
+// Colour classes from patch blobs (thresholds_blobs.h), stages 3 and 4: the blobs' clusters
+// named by the vocabulary, and each class's box.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "patlab/core/error.h"
+#include "patlab/core/portable_math.h"
+#include "patlab/vision/thresholds_blobs.h"
+
+namespace patlab::vision {
+
+namespace {
+
+constexpr double kDegPerRad = 57.29577951308232;
+
+// An entry is achromatic (white, black, grey) when its typical colour has almost no chroma.
+bool Achromatic(const ColourEntry& entry) { return entry.saturation < 0.15; }
+
+double Chroma(const std::array<double, 3>& lab) { return std::hypot(lab[1], lab[2]); }
+
+}  // namespace
+
+double NameCost(const std::array<double, 3>& lab, const ColourEntry& entry,
+                const BlobThresholdsOptions& o) {
+  const std::array<double, 3> typical = SrgbToLab(entry.rgb);
+  const double dl = (lab[0] - typical[0]) / o.lightness_spread;
+  const double chroma = Chroma(lab);
+  if (Achromatic(entry)) {
+    const double c = chroma / o.achromatic_chroma;
+    return c * c + dl * dl;
+  }
+  if (chroma < o.achromatic_chroma) return std::numeric_limits<double>::infinity();
+  double dh = (pmath::Atan2(lab[2], lab[1]) - pmath::Atan2(typical[2], typical[1])) * kDegPerRad;
+  while (dh > 180.0) dh -= 360.0;
+  while (dh < -180.0) dh += 360.0;
+  const double h = dh / o.hue_spread_deg;
+  const double c =
+      pmath::Log(std::max(chroma, 1.0) / std::max(Chroma(typical), 1.0)) / o.chroma_spread;
+  return h * h + dl * dl + c * c;
+}
+
+namespace {
+
+std::array<double, 3> Feature(const std::array<double, 3>& lab, const BlobThresholdsOptions& o) {
+  return {o.lightness_weight * lab[0], lab[1], lab[2]};
+}
+
+double Distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                   (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+// Centroid linkage: the closest two clusters (in features) merge while closer than the option.
+std::vector<BlobCluster> ClusterBlobs(const BlobThresholdsOptions& o,
+                                      std::vector<ColourBlob>* blobs) {
+  std::vector<BlobCluster> clusters;
+  std::vector<std::array<double, 3>> centre;
+  for (size_t i = 0; i < blobs->size(); ++i) {
+    (*blobs)[i].cluster = static_cast<int>(i);
+    clusters.push_back({(*blobs)[i].lab, 1, -1});
+    centre.push_back(Feature((*blobs)[i].lab, o));
+  }
+  std::vector<int> alias(clusters.size());
+  for (size_t i = 0; i < alias.size(); ++i) alias[i] = static_cast<int>(i);
+  std::vector<bool> alive(clusters.size(), true);
+  for (;;) {
+    int best_a = -1, best_b = -1;
+    double best = o.cluster_distance;
+    for (size_t a = 0; a < clusters.size(); ++a) {
+      if (!alive[a]) continue;
+      for (size_t b = a + 1; b < clusters.size(); ++b) {
+        if (!alive[b]) continue;
+        const double d = Distance(centre[a], centre[b]);
+        if (d < best) best = d, best_a = static_cast<int>(a), best_b = static_cast<int>(b);
+      }
+    }
+    if (best_a < 0) break;
+    BlobCluster& a = clusters[static_cast<size_t>(best_a)];
+    const BlobCluster& b = clusters[static_cast<size_t>(best_b)];
+    const double wa = a.blobs, wb = b.blobs;
+    for (int k = 0; k < 3; ++k) a.lab[k] = (wa * a.lab[k] + wb * b.lab[k]) / (wa + wb);
+    a.blobs += b.blobs;
+    centre[static_cast<size_t>(best_a)] = Feature(a.lab, o);
+    alive[static_cast<size_t>(best_b)] = false;
+    alias[static_cast<size_t>(best_b)] = best_a;
+  }
+  // Renumber the survivors in order and point every blob at its cluster.
+  std::vector<int> number(clusters.size(), -1);
+  std::vector<BlobCluster> out;
+  for (size_t i = 0; i < clusters.size(); ++i) {
+    if (alive[i]) number[i] = static_cast<int>(out.size()), out.push_back(clusters[i]);
+  }
+  for (ColourBlob& blob : *blobs) {
+    int c = blob.cluster;
+    while (!alive[static_cast<size_t>(c)]) c = alias[static_cast<size_t>(c)];
+    blob.cluster = number[static_cast<size_t>(c)];
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<BlobCluster> NameBlobClusters(const std::vector<const ColourEntry*>& entries,
+                                          const BlobThresholdsOptions& o,
+                                          std::vector<ColourBlob>* blobs) {
+  std::vector<BlobCluster> clusters = ClusterBlobs(o, blobs);
+  const size_t nc = clusters.size(), nk = entries.size();
+  std::vector<double> cost(nc * nk);
+  for (size_t c = 0; c < nc; ++c)
+    for (size_t k = 0; k < nk; ++k) cost[c * nk + k] = NameCost(clusters[c].lab, *entries[k], o);
+  // One cluster per class, the cheapest pairs first.
+  std::vector<int> owner(nk, -1);
+  for (;;) {
+    double best = o.max_name_cost;
+    int bc = -1, bk = -1;
+    for (size_t c = 0; c < nc; ++c) {
+      if (clusters[c].name >= 0) continue;
+      for (size_t k = 0; k < nk; ++k) {
+        if (owner[k] < 0 && cost[c * nk + k] <= best)
+          best = cost[c * nk + k], bc = static_cast<int>(c), bk = static_cast<int>(k);
+      }
+    }
+    if (bc < 0) break;
+    clusters[static_cast<size_t>(bc)].name = bk;
+    owner[static_cast<size_t>(bk)] = bc;
+  }
+  // Further clusters join the class of the nearest named cluster when close to it and fitting the
+  // class's entry.
+  std::vector<int> extra(nc, -1);
+  for (size_t c = 0; c < nc; ++c) {
+    if (clusters[c].name >= 0) continue;
+    double best = o.cluster_distance;
+    for (size_t k = 0; k < nk; ++k) {
+      if (owner[k] < 0) continue;
+      const double d = Distance(Feature(clusters[c].lab, o),
+                                Feature(clusters[static_cast<size_t>(owner[k])].lab, o));
+      if (d < best) best = d, extra[c] = static_cast<int>(k);
+    }
+    if (extra[c] >= 0 && cost[c * nk + static_cast<size_t>(extra[c])] > o.max_name_cost)
+      extra[c] = -1;
+  }
+  for (size_t c = 0; c < nc; ++c)
+    if (extra[c] >= 0) clusters[c].name = extra[c];
+  for (ColourBlob& b : *blobs) b.name = clusters[static_cast<size_t>(b.cluster)].name;
+  return clusters;
+}
+
+namespace {
+
+constexpr int kBins = 64;  // 4 levels per bin and channel
+
+// Counts of pixels per YUV bin, summed so that any box's count is 8 lookups.
+class BoxCounts {
+ public:
+  BoxCounts() : sum_(static_cast<size_t>(kBins + 1) * (kBins + 1) * (kBins + 1), 0) {}
+  void Add(const std::array<uint8_t, 3>& yuv) {
+    ++At(yuv[0] / 4 + 1, yuv[1] / 4 + 1, yuv[2] / 4 + 1);
+  }
+  void Accumulate() {
+    for (int a = 1; a <= kBins; ++a)
+      for (int b = 0; b <= kBins; ++b)
+        for (int c = 0; c <= kBins; ++c) At(a, b, c) += At(a - 1, b, c);
+    for (int a = 0; a <= kBins; ++a)
+      for (int b = 1; b <= kBins; ++b)
+        for (int c = 0; c <= kBins; ++c) At(a, b, c) += At(a, b - 1, c);
+    for (int a = 0; a <= kBins; ++a)
+      for (int b = 0; b <= kBins; ++b)
+        for (int c = 1; c <= kBins; ++c) At(a, b, c) += At(a, b, c - 1);
+  }
+  // Pixels in bins lo..hi (inclusive) per channel.
+  long Count(const std::array<int, 3>& lo, const std::array<int, 3>& hi) const {
+    const int a0 = lo[0], a1 = hi[0] + 1, b0 = lo[1], b1 = hi[1] + 1, c0 = lo[2], c1 = hi[2] + 1;
+    return Get(a1, b1, c1) - Get(a0, b1, c1) - Get(a1, b0, c1) - Get(a1, b1, c0) + Get(a0, b0, c1) +
+           Get(a0, b1, c0) + Get(a1, b0, c0) - Get(a0, b0, c0);
+  }
+
+ private:
+  long& At(int a, int b, int c) {
+    return sum_[(static_cast<size_t>(a) * (kBins + 1) + b) * (kBins + 1) + c];
+  }
+  long Get(int a, int b, int c) const {
+    return sum_[(static_cast<size_t>(a) * (kBins + 1) + b) * (kBins + 1) + c];
+  }
+  std::vector<long> sum_;
+};
+
+// The box of a class's pixels: percentiles per channel, stretched for the range of light, plus
+// the margin (as thresholds_auto.cpp's boxes).
+std::array<ChannelRange, 3> PercentileBox(const std::vector<std::array<uint8_t, 3>>& pixels,
+                                          const BlobThresholdsOptions& o) {
+  std::array<ChannelRange, 3> box{};
+  std::vector<int> values;
+  for (int ch = 0; ch < 3; ++ch) {
+    values.clear();
+    for (const auto& p : pixels) values.push_back(p[ch]);
+    std::sort(values.begin(), values.end());
+    const double last = static_cast<double>(values.size() - 1);
+    const int lo = values[static_cast<size_t>(std::floor(o.lower_percentile / 100.0 * last))];
+    const int hi = values[static_cast<size_t>(std::ceil(o.upper_percentile / 100.0 * last))];
+    const double offset = ch == 0 ? 0.0 : 128.0;
+    double a = 255, b = 0;
+    for (const double gain : {o.lighting_min_gain, o.lighting_max_gain}) {
+      for (const int v : {lo, hi}) {
+        const double scaled = offset + gain * (v - offset);
+        a = std::min(a, scaled), b = std::max(b, scaled);
+      }
+    }
+    box[ch].lo = std::clamp(static_cast<int>(std::floor(a)) - o.margin_levels, 0, 255);
+    box[ch].hi = std::clamp(static_cast<int>(std::ceil(b)) + o.margin_levels, 0, 255);
+  }
+  return box;
+}
+
+// The box's sides pulled in (in whole bins) while a move drops more other pixels than
+// negative_weight times the class's own: every side and position is tried, the best move taken.
+void TightenBox(const BoxCounts& own, const BoxCounts& all, double negative_weight,
+                std::array<ChannelRange, 3>* box) {
+  std::array<int, 3> lo{}, hi{};
+  for (int ch = 0; ch < 3; ++ch) lo[ch] = (*box)[ch].lo / 4, hi[ch] = (*box)[ch].hi / 4;
+  const auto score = [&](const std::array<int, 3>& l, const std::array<int, 3>& h) {
+    const long mine = own.Count(l, h);
+    return static_cast<double>(mine) -
+           static_cast<double>(all.Count(l, h) - mine) / negative_weight;
+  };
+  std::array<bool, 6> moved{};
+  double current = score(lo, hi);
+  for (int round = 0; round < 6 * kBins; ++round) {
+    int best_side = -1, best_at = 0;
+    double best = current;
+    for (int side = 0; side < 6; ++side) {
+      const int ch = side / 2;
+      for (int at = lo[ch]; at <= hi[ch]; ++at) {
+        std::array<int, 3> l = lo, h = hi;
+        (side % 2 == 0 ? l : h)[ch] = at;
+        const double s = score(l, h);
+        if (s > best + 1e-9) best = s, best_side = side, best_at = at;
+      }
+    }
+    if (best_side < 0) break;
+    (best_side % 2 == 0 ? lo : hi)[best_side / 2] = best_at;
+    moved[static_cast<size_t>(best_side)] = true;
+    current = best;
+  }
+  for (int ch = 0; ch < 3; ++ch) {
+    if (moved[2 * ch]) (*box)[ch].lo = 4 * lo[ch];
+    if (moved[2 * ch + 1]) (*box)[ch].hi = 4 * hi[ch] + 3;
+  }
+}
+
+void Describe(const std::vector<std::array<uint8_t, 3>>& pixels, AutoClassFit* c) {
+  c->pixels = static_cast<long>(pixels.size());
+  if (pixels.empty()) return;
+  std::array<double, 3> s{}, s2{};
+  for (const auto& p : pixels)
+    for (int ch = 0; ch < 3; ++ch) s[ch] += p[ch], s2[ch] += 1.0 * p[ch] * p[ch];
+  double var = 0;
+  for (int ch = 0; ch < 3; ++ch) {
+    c->mean_yuv[ch] = s[ch] / c->pixels;
+    var += std::max(0.0, s2[ch] / c->pixels - c->mean_yuv[ch] * c->mean_yuv[ch]);
+  }
+  c->spread_levels = std::sqrt(var / 3.0);
+}
+
+std::vector<const ColourEntry*> Entries(const std::vector<std::string>& class_names,
+                                        const ColourVocabulary& vocabulary) {
+  if (class_names.empty() || class_names.size() > static_cast<size_t>(kMaxColorClasses)) {
+    throw InputError(std::to_string(class_names.size()) + " colour classes; expected 1 to " +
+                     std::to_string(kMaxColorClasses));
+  }
+  std::vector<const ColourEntry*> entries;
+  for (const std::string& name : class_names) {
+    const ColourResolution r = ResolveColourName(vocabulary, name);
+    if (!r.known) throw InputError(UnknownColourMessage(vocabulary, r));
+    const ColourEntry* e = vocabulary.Find(r.name);
+    if (std::find(entries.begin(), entries.end(), e) != entries.end())
+      throw InputError("colour '" + r.name + "' asked for twice; expected distinct classes");
+    entries.push_back(e);
+  }
+  return entries;
+}
+
+}  // namespace
+
+AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>& frames,
+                                         const std::vector<std::string>& class_names,
+                                         const ColourVocabulary& vocabulary,
+                                         const BlobThresholdsOptions& options,
+                                         std::vector<BlobCluster>* clusters_out) {
+  Validate(options);
+  if (frames.empty()) throw InputError("no frames; expected at least one frame");
+  const std::vector<const ColourEntry*> entries = Entries(class_names, vocabulary);
+  std::vector<NormalisedFrame> normalised;
+  std::vector<ColourBlob> blobs;
+  AutoThresholdsFit fit;
+  std::vector<std::array<uint8_t, 3>> carpet;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    normalised.push_back(NormaliseFrame(*frames[f], options));
+    std::vector<ColourBlob> b = FindColourBlobs(normalised.back(), static_cast<int>(f), options);
+    blobs.insert(blobs.end(), std::make_move_iterator(b.begin()), std::make_move_iterator(b.end()));
+    const NormalisedFrame& n = normalised.back();
+    fit.frame_pixels += static_cast<long>(n.yuv.size());
+    for (size_t i = 0; i < n.yuv.size(); ++i)
+      if (n.carpet[i] != 0) carpet.push_back(n.yuv[i]);
+  }
+  std::vector<BlobCluster> clusters = NameBlobClusters(entries, options, &blobs);
+  fit.carpet.name = "carpet";
+  Describe(carpet, &fit.carpet);
+  BoxCounts all;
+  for (const NormalisedFrame& n : normalised)
+    for (const auto& p : n.yuv) all.Add(p);
+  all.Accumulate();
+  fit.thresholds.space = ColorSpace::kYuv;
+  for (size_t k = 0; k < entries.size(); ++k) {
+    AutoClassFit c;
+    c.name = entries[k]->name;
+    std::vector<std::array<uint8_t, 3>> own;
+    for (const ColourBlob& b : blobs) {
+      if (b.name != static_cast<int>(k)) continue;
+      ++c.blobs;
+      for (const int i : b.pixels)
+        own.push_back(normalised[static_cast<size_t>(b.frame)].yuv[static_cast<size_t>(i)]);
+    }
+    Describe(own, &c);
+    ColorClass cls;
+    cls.name = c.name;
+    cls.display_rgb = entries[k]->rgb;
+    cls.range = {ChannelRange{0, 0}, ChannelRange{0, 0}, ChannelRange{0, 0}};
+    if (!own.empty()) {
+      BoxCounts counts;
+      for (const auto& p : own) counts.Add(p);
+      counts.Accumulate();
+      cls.range = PercentileBox(own, options);
+      TightenBox(counts, all, options.negative_weight, &cls.range);
+    }
+    c.range = cls.range;
+    fit.thresholds.classes.push_back(cls);
+    fit.classes.push_back(c);
+  }
+  ComputeSeparability(&fit);
+  if (clusters_out != nullptr) *clusters_out = std::move(clusters);
+  return fit;
+}
+
+}  // namespace patlab::vision

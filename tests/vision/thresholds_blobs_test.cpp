@@ -1,0 +1,191 @@
+// The colour fit from patch blobs (vision/thresholds_blobs.h) on synthetic frames with known
+// answers: patches stand out from the carpet around them under a light that falls fourfold, the
+// blobs are the discs drawn and lines are none, two clusters competing for a name get the names
+// that fit them best together, clutter gets none, and the boxes classify every disc and no carpet.
+#include "patlab/vision/thresholds_blobs.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "patlab/io/colour_vocabulary.h"
+#include "patlab/vision/color_lut.h"
+
+namespace patlab::vision {
+namespace {
+
+struct Disc {
+  double x, y, r;
+  std::array<uint8_t, 3> rgb;
+};
+
+// A carpet (40, 100, 50) whose light falls from 1.0 at the left edge to `right_gain` at the right
+// (on linear intensities, approximated on levels by a gamma of 2.2), with discs under the same
+// light.
+camera::Image Frame(int w, int h, const std::vector<Disc>& discs, double right_gain) {
+  camera::Image image = camera::Image::Rgb(w, h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      std::array<uint8_t, 3> c = {40, 100, 50};
+      for (const Disc& d : discs) {
+        if (std::hypot(x - d.x, y - d.y) <= d.r) c = d.rgb;
+      }
+      const double gain = 1.0 + (right_gain - 1.0) * x / (w - 1.0);
+      const double level_gain = std::pow(gain, 1.0 / 2.2);
+      uint8_t* p = image.Row(y) + 3 * x;
+      for (int k = 0; k < 3; ++k)
+        p[k] = static_cast<uint8_t>(std::clamp(std::lround(c[k] * level_gain), 0L, 255L));
+    }
+  }
+  return image;
+}
+
+double DeltaE(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                   (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+TEST(ThresholdsBlobs, PatchesStandOutFromTheCarpetAroundThemWhereverTheLightIs) {
+  // The light falls fourfold from left to right: the carpet's right end lies farther from its
+  // mean colour than the stand-out distance, yet no carpet pixel is a candidate, and the three
+  // discs are the three blobs.
+  const std::array<uint8_t, 3> yellow = {200, 180, 40};
+  const std::vector<Disc> discs = {
+      {30, 60, 7, yellow}, {210, 60, 7, yellow}, {120, 30, 5, {40, 70, 200}}};
+  const camera::Image image = Frame(240, 120, discs, 0.25);
+  BlobThresholdsOptions o;
+  o.max_light_gain = 4.0;
+  o.standout_delta_e = 10.0;
+  const NormalisedFrame f = NormaliseFrame(image, o);
+  EXPECT_GT(f.carpet_pixels, 240 * 120 * 8 / 10);
+  const uint8_t* dark = image.Row(110) + 3 * 239;
+  std::array<double, 3> mean_raw{};
+  long n = 0;
+  for (size_t i = 0; i < f.lab.size(); ++i) {
+    if (f.carpet[i] == 0) continue;
+    for (int k = 0; k < 3; ++k) mean_raw[k] += f.lab[i][k];
+    ++n;
+  }
+  for (double& v : mean_raw) v /= static_cast<double>(n);
+  ASSERT_GT(DeltaE(SrgbToLab({dark[0], dark[1], dark[2]}), mean_raw), o.standout_delta_e);
+  long carpet_candidates = 0, disc_candidates = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 240; ++x) {
+      bool on_disc = false;
+      for (const Disc& d : discs) on_disc = on_disc || std::hypot(x - d.x, y - d.y) <= d.r;
+      const bool candidate = f.standout[static_cast<size_t>(y) * 240 + x] != 0;
+      (on_disc ? disc_candidates : carpet_candidates) += candidate ? 1 : 0;
+    }
+  EXPECT_EQ(carpet_candidates, 0);
+  EXPECT_GT(disc_candidates, static_cast<long>(0.9 * M_PI * (49 + 49 + 25)));
+  const std::vector<ColourBlob> blobs = FindColourBlobs(f, 0, o);
+  ASSERT_EQ(blobs.size(), 3u);
+  // In the order of their first pixel: the blue disc (row 25), then the two yellow ones.
+  EXPECT_NEAR(blobs[0].x_px, 120.0, 0.3);
+  EXPECT_NEAR(blobs[0].y_px, 30.0, 0.3);
+  EXPECT_NEAR(static_cast<double>(blobs[0].pixels.size()), M_PI * 25, 12.0);
+  EXPECT_NEAR(blobs[0].sigma_minor_px, 2.5, 0.3);
+  EXPECT_NEAR(blobs[1].x_px, 30.0, 0.3);
+  EXPECT_NEAR(blobs[2].x_px, 210.0, 0.3);
+}
+
+TEST(ThresholdsBlobs, LinesAreNoBlobs) {
+  // A white line 3 px wide and 40 px long is of a patch's area but not its width.
+  camera::Image image = Frame(120, 80, {{90, 40, 6, {235, 215, 45}}}, 1.0);
+  for (int y = 20; y < 60; ++y)
+    for (int x = 20; x < 23; ++x)
+      for (int k = 0; k < 3; ++k) image.Row(y)[3 * x + k] = 240;
+  BlobThresholdsOptions o;
+  o.min_blob_sigma_px = 1.5;
+  const std::vector<ColourBlob> blobs = FindColourBlobs(NormaliseFrame(image, o), 0, o);
+  ASSERT_EQ(blobs.size(), 1u);
+  EXPECT_NEAR(blobs[0].x_px, 90.0, 0.3);
+  o.min_blob_sigma_px = 0.5;
+  EXPECT_EQ(FindColourBlobs(NormaliseFrame(image, o), 0, o).size(), 2u);
+}
+
+TEST(ThresholdsBlobs, CompetingClustersTakeTheNamesThatFitThemTogether) {
+  // A salmon pink (the SSL frame's "pink" dots, hue near red) is nearer the vocabulary's orange
+  // than its pink by hue alone; with a real orange ball in the frame the pair is named pink and
+  // orange.
+  const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
+  const BlobThresholdsOptions o;
+  const std::array<double, 3> salmon = SrgbToLab({236, 137, 136});
+  const std::array<double, 3> ball = SrgbToLab({200, 90, 30});
+  const ColourEntry& pink = *vocabulary.Find("pink");
+  const ColourEntry& orange = *vocabulary.Find("orange");
+  ASSERT_LT(NameCost(salmon, orange, o), NameCost(salmon, pink, o));  // the trap
+  std::vector<ColourBlob> blobs;
+  const auto blob = [](const std::array<double, 3>& lab) {
+    ColourBlob b;
+    b.lab = lab;
+    return b;
+  };
+  for (int i = 0; i < 5; ++i) blobs.push_back(blob(salmon));
+  blobs.push_back(blob(ball));
+  blobs.push_back(blob(SrgbToLab({0, 200, 220})));  // cyan: neither pink nor orange
+  const std::vector<BlobCluster> clusters = NameBlobClusters({&pink, &orange}, o, &blobs);
+  ASSERT_EQ(clusters.size(), 3u);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(blobs[static_cast<size_t>(i)].name, 0) << i;
+  EXPECT_EQ(blobs[5].name, 1);
+  EXPECT_EQ(blobs[6].name, -1);
+  EXPECT_EQ(clusters[static_cast<size_t>(blobs[0].cluster)].blobs, 5);
+}
+
+TEST(ThresholdsBlobs, AchromaticEntriesTakeLightnessNotHue) {
+  const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
+  const BlobThresholdsOptions o;
+  const std::array<double, 3> grey_white = SrgbToLab({235, 238, 225});
+  EXPECT_LT(NameCost(grey_white, *vocabulary.Find("white"), o), 1.0);
+  // Only the lightness (85 L* apart) tells white from black: over the 40 L* spread, 4.5.
+  EXPECT_GT(NameCost(grey_white, *vocabulary.Find("black"), o), 4.0);
+  EXPECT_GT(NameCost(SrgbToLab({220, 200, 40}), *vocabulary.Find("white"), o), 9.0);
+}
+
+TEST(ThresholdsBlobs, BoxesClassifyEveryDiscAndNoCarpet) {
+  const std::vector<Disc> discs = {{30, 30, 6, {235, 215, 45}},  {90, 30, 6, {35, 75, 210}},
+                                   {150, 30, 6, {240, 95, 185}}, {30, 90, 6, {235, 215, 45}},
+                                   {90, 90, 6, {35, 75, 210}},   {150, 90, 6, {240, 95, 185}},
+                                   {210, 60, 4, {250, 125, 25}}, {210, 100, 6, {140, 50, 200}}};
+  const camera::Image image = Frame(240, 120, discs, 0.5);
+  std::vector<BlobCluster> clusters;
+  const AutoThresholdsFit fit = FitThresholdsFromBlobs(
+      {&image}, {"yellow", "blue", "pink", "orange"}, io::DefaultColourVocabulary(), {}, &clusters);
+  ASSERT_EQ(fit.classes.size(), 4u);
+  EXPECT_EQ(fit.classes[0].blobs, 2);
+  EXPECT_EQ(fit.classes[1].blobs, 2);
+  EXPECT_EQ(fit.classes[2].blobs, 2);
+  EXPECT_EQ(fit.classes[3].blobs, 1);
+  const ColorLut lut(fit.thresholds);
+  const auto classify = [&](int x, int y) {
+    const uint8_t* p = image.Row(y) + 3 * x;
+    int a, b, c;
+    camera::RgbToYuv(p[0], p[1], p[2], &a, &b, &c);
+    return lut.Classify(a, b, c);
+  };
+  const int expected[] = {0, 1, 2, 0, 1, 2, 3, -1};
+  for (size_t i = 0; i < discs.size(); ++i) {
+    EXPECT_EQ(classify(static_cast<int>(discs[i].x), static_cast<int>(discs[i].y)), expected[i])
+        << i;
+  }
+  long carpet_caught = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 240; ++x) {
+      bool on_disc = false;
+      for (const Disc& d : discs) on_disc = on_disc || std::hypot(x - d.x, y - d.y) <= d.r + 1.5;
+      if (!on_disc && classify(x, y) >= 0) ++carpet_caught;
+    }
+  EXPECT_EQ(carpet_caught, 0);
+}
+
+TEST(ThresholdsBlobs, BadOptionsNameTheField) {
+  BlobThresholdsOptions o;
+  o.max_blob_area_px = 2.0;
+  o.min_blob_area_px = 5.0;
+  const auto problems = Check(o);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].field, "max_blob_area_px");
+}
+
+}  // namespace
+}  // namespace patlab::vision
