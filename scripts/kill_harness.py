@@ -364,9 +364,15 @@ def main():
         works = shutil.which("strace") and subprocess.run(
             ["strace", "-f", "-qq", "-o", "/dev/null", "true"], stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL).returncode == 0
+        if not works and args.strace:
+            sys.exit("kill_harness: --strace: 'strace true' failed; expected the strace package "
+                     "(scripts/setup.sh installs it) and ptrace allowed")
         if not works:
-            sys.exit("kill_harness: --strace / --placed-calls: 'strace true' failed; expected the "
-                     "strace package (scripts/setup.sh installs it) and ptrace allowed")
+            # The placed kills are an addition to the random rounds (ctest kill_harness): where
+            # ptrace is not allowed they are left out, loudly, and the random rounds still run.
+            print("kill_harness: placed kills SKIPPED: 'strace true' failed (no strace, or ptrace "
+                  "not allowed here); only the random rounds run", file=sys.stderr, flush=True)
+            args.placed_calls = ""
     return Harness(args).main()
 
 

@@ -243,7 +243,9 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_w
     dict: field (the model kept), tried (each model: field, fitted, score_px, screen_px,
     held_out_mapping_mm, same_as, failure; best first), mapping_error_mm,
     mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
-    pixels, separability, nearest), tolerances, robots (per frame: frame, robots with team, id,
+    pixels, blobs, separability, nearest), colour_fit ("blobs" or "pixels", the one that decodes
+    more robots) with robots_by_blobs and robots_by_pixels, tolerances, robots (per frame:
+    frame, robots with team, id,
     x_mm, y_mm, theta_rad), report (the CLI's text), seconds."""
     if isinstance(frames, (str, os.PathLike)) or hasattr(frames, "__array_interface__"):
         frames = [frames]

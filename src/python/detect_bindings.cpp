@@ -211,12 +211,16 @@ py::dict SetupReport(const formats::SetupResult& r) {
     py::dict d;
     d["name"] = c.name;
     d["pixels"] = c.pixels;
+    d["blobs"] = c.blobs;
     d["separability"] = c.separability;
     d["nearest"] = c.nearest;
     classes.append(d);
   }
   out["carpet_pixels"] = r.thresholds.carpet.pixels;
   out["colour_classes"] = classes;
+  out["colour_fit"] = r.colour_fit;
+  out["robots_by_blobs"] = r.robots_by_blobs;
+  out["robots_by_pixels"] = r.robots_by_pixels;
   const detect::DetectorOptions& t = r.tolerances;
   py::dict tolerances;
   tolerances["patch_sigma_mm"] = t.patch_sigma_mm;

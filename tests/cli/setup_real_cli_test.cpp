@@ -105,6 +105,24 @@ TEST(SetupRealCli, VssFrameWithNoHandWrittenFile) {
   EXPECT_EQ(s.false_ids, 0);
 }
 
+// The same frame with nothing of it written by anyone: the field family `vss` and the shipped
+// family settings `vss.detector` (every shipped VSS design; team colours blue and yellow, the
+// frame's lime team keys read as yellow). Setup weighs the blob and pixel colour fits by the
+// robots each decodes (the blobs: 5, the pixels: 1) and keeps the blobs.
+TEST(SetupRealCli, VssFrameWithTheShippedFamilySettings) {
+  if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << kFrames;
+  const Score s =
+      SetupAndDetect("vss-test-frame.png", "--field vss --robot-height 0 --settings vss.detector",
+                     {{145, 28, "blue", 1},
+                      {540, 598, "yellow", 2},
+                      {133, 413, "yellow", 0},
+                      {276, 403, "yellow", 1},
+                      {209, 490, "yellow", 2}});
+  EXPECT_EQ(s.right, 5);
+  EXPECT_EQ(s.false_ids, 0);
+  EXPECT_EQ(s.detections, 5);
+}
+
 TEST(SetupRealCli, Ssl2008FrameWithNoHandWrittenFile) {
   if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << kFrames;
   const Score s = SetupAndDetect("ssl-field-2008.jpg",

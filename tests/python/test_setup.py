@@ -30,6 +30,9 @@ def test_setup_then_detect_finds_every_robot(scene, tmp_path, in_root):
     assert 0.0 <= report["mapping_error_mm"] < 2.0
     assert report["mm_per_px"] > 5.0
     assert {c["name"] for c in report["colour_classes"]} >= {"blue", "yellow"}
+    assert report["colour_fit"] in ("blobs", "pixels")
+    kept = report["robots_by_" + report["colour_fit"]]
+    assert kept >= max(report["robots_by_blobs"], report["robots_by_pixels"])
     assert report["tolerances"]["reach_margin_mm"] >= 20.0
     assert [f["frame"] for f in report["robots"]] == ["frame0"]
     assert len(report["robots"][0]["robots"]) == len(truth) == 10

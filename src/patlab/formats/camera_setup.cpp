@@ -2,11 +2,13 @@
 #include "patlab/formats/camera_setup.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include "patlab/calib/calibrate.h"
@@ -20,6 +22,7 @@
 #include "patlab/io/toml_util.h"
 #include "patlab/vision/field_lines.h"
 #include "patlab/vision/frame_detector.h"
+#include "patlab/vision/thresholds_auto.h"
 #include "patlab/vision/thresholds_fit.h"
 
 namespace patlab::formats {
@@ -154,8 +157,8 @@ double LargestPatchMm(const detect::DetectorConfig& config) {
   return r;
 }
 
-void FitColours(const std::vector<const camera::Image*>& frames,
-                const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r) {
+std::vector<std::string> PaletteClasses(const detect::DetectorConfig& config,
+                                        const SetupOptions& o) {
   const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
   std::vector<std::string> classes;
   for (const std::string& name : config.palette) {
@@ -163,12 +166,54 @@ void FitColours(const std::vector<const camera::Image*>& frames,
     if (!c.known) throw InputError(o.settings_path + ": " + UnknownColourMessage(vocabulary, c));
     classes.push_back(name);
   }
+  return classes;
+}
+
+void FitColours(const std::vector<const camera::Image*>& frames,
+                const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r) {
   vision::BlobThresholdsOptions colours = o.colours;
   if (r->mm_per_px > 0.0) {
     SetupBlobAreas(r->smallest_patch_px, LargestPatchMm(config) / r->mm_per_px, &colours);
   }
   r->thresholds =
-      vision::FitThresholdsFromBlobs(frames, classes, vocabulary, colours, &r->colour_clusters);
+      vision::FitThresholdsFromBlobs(frames, PaletteClasses(config, o),
+                                     io::DefaultColourVocabulary(), colours, &r->colour_clusters);
+}
+
+// The robots the detector decodes through `thresholds` and the files setup writes: per frame the
+// distinct (pattern, team, ID), less one for every further detection of one.
+int DecodedRobots(const std::vector<const camera::Image*>& frames,
+                  const vision::Thresholds& thresholds, const camera::Calibration& calibration,
+                  const std::string& settings_text) {
+  vision::FrameDetectorOptions options;
+  vision::ApplyFrameSettings(ParseFrameSettings(settings_text, "settings.toml"), &options);
+  vision::FrameDetector detector(
+      thresholds, calibration, ParseDetectorSettings(settings_text, "settings.toml", "."), options);
+  int score = 0;
+  for (const camera::Image* frame : frames) {
+    std::set<std::array<int, 3>> seen;
+    for (const detect::Detection& d : detector.Detect(*frame, "frame").detections) {
+      if (d.id >= 0) score += seen.insert({d.pattern, d.team_colour, d.id}).second ? 1 : -1;
+    }
+  }
+  return score;
+}
+
+// Weighs the pixel clustering against the blobs' fit by the robots each decodes (header).
+void ChooseColourFit(const std::vector<const camera::Image*>& frames,
+                     const detect::DetectorConfig& config, const SetupOptions& o,
+                     const std::string& calibration_text, const std::string& settings_text,
+                     SetupResult* r) {
+  const camera::Calibration calibration = ParseCalibration(calibration_text, "calibration.toml");
+  r->robots_by_blobs = DecodedRobots(frames, r->thresholds.thresholds, calibration, settings_text);
+  vision::AutoThresholdsFit pixels = vision::FitThresholdsAuto(
+      frames, PaletteClasses(config, o), io::DefaultColourVocabulary(), o.thresholds);
+  r->robots_by_pixels = DecodedRobots(frames, pixels.thresholds, calibration, settings_text);
+  if (r->robots_by_pixels > r->robots_by_blobs) {
+    r->thresholds = std::move(pixels);
+    r->colour_clusters.clear();
+    r->colour_fit = "pixels";
+  }
 }
 
 // The models tried, one line each: the fitted ones' scores, why the others were dropped.
@@ -239,18 +284,22 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
   FitColours(frames, config, options, &r);
   const std::string made =
       "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
-  r.files = {
-      {"calibration.toml", calib::CalibrationFileText(r.calibration_input, r.calibration_fit)},
-      {"thresholds.toml", vision::ThresholdsToml(r.thresholds.thresholds,
-                                                 "Made by patlab setup from " +
-                                                     std::to_string(frames.size()) + " frame(s).")},
-      {"settings.toml",
-       SettingsText(options.settings_path, r.tolerances,
-                    made + "# The detector settings " + options.settings_path +
-                        " with the tolerances setup chose ([detector], docs/setup.md).\n")},
-      {"setup.toml", made + "field = \"" + r.field.name +
-                         "\"\ncalibration = \"calibration.toml\"\nthresholds = "
-                         "\"thresholds.toml\"\nsettings = \"settings.toml\"\n"}};
+  const std::string calibration_text =
+      calib::CalibrationFileText(r.calibration_input, r.calibration_fit);
+  const std::string settings_text =
+      SettingsText(options.settings_path, r.tolerances,
+                   made + "# The detector settings " + options.settings_path +
+                       " with the tolerances setup chose ([detector], docs/setup.md).\n");
+  ChooseColourFit(frames, config, options, calibration_text, settings_text, &r);
+  r.files = {{"calibration.toml", calibration_text},
+             {"thresholds.toml",
+              vision::ThresholdsToml(r.thresholds.thresholds,
+                                     "Made by patlab setup from " + std::to_string(frames.size()) +
+                                         " frame(s), the " + r.colour_fit + " colour fit.")},
+             {"settings.toml", settings_text},
+             {"setup.toml", made + "field = \"" + r.field.name +
+                                "\"\ncalibration = \"calibration.toml\"\nthresholds = "
+                                "\"thresholds.toml\"\nsettings = \"settings.toml\"\n"}};
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
@@ -281,6 +330,9 @@ std::string SetupReportText(const SetupResult& r) {
        FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
   long clutter = 0;
   for (const vision::BlobCluster& c : r.colour_clusters) clutter += c.name < 0 ? c.blobs : 0;
+  s += "colour fit: " + r.colour_fit + " (robots decoded: by blobs " +
+       std::to_string(r.robots_by_blobs) + ", by pixels " + std::to_string(r.robots_by_pixels) +
+       "; the more wins, a tie keeps blobs)\n";
   s += "colour classes (blobs, pixels, separability, nearest):\n  carpet: " +
        std::to_string(r.thresholds.carpet.pixels) + " px\n";
   for (const vision::AutoClassFit& c : r.thresholds.classes) {

@@ -50,7 +50,9 @@ struct SetupOptions {
   // When not empty (at least 4): the calibration is fitted to these in the first frame instead
   // of the lines, with the first field model.
   std::vector<SetupLandmark> landmarks;
-  vision::AutoThresholdsOptions thresholds;  // (not used by SetupCamera; kept for callers)
+  // The pixel clustering's options (vision/thresholds_auto.h), the colour fit setup weighs
+  // against the blobs' (SetupResult::colour_fit).
+  vision::AutoThresholdsOptions thresholds;
   // The colour fit (vision/thresholds_blobs.h); its blob area range is set from the calibration
   // and the patterns' patch sizes (SetupBlobAreas).
   vision::BlobThresholdsOptions colours;
@@ -84,6 +86,13 @@ struct SetupResult {
   double smallest_patch_px = 0.0;  // the smallest patch's radius in px there
   vision::AutoThresholdsFit thresholds;
   std::vector<vision::BlobCluster> colour_clusters;  // the blobs' clusters, named or clutter
+  // The colour fit kept: "blobs" (vision::FitThresholdsFromBlobs) or "pixels"
+  // (vision::FitThresholdsAuto), whichever decodes more robots through the files setup writes:
+  // per frame the distinct (pattern, team, ID), a further detection of one counted against it;
+  // a tie keeps the blobs. The detector's geometry and codebook judge the colours, not a truth.
+  std::string colour_fit = "blobs";
+  int robots_by_blobs = 0;
+  int robots_by_pixels = 0;
   detect::DetectorOptions tolerances;  // the settings' options with the chosen tolerances
   // The files to write into the output folder (name, text): calibration.toml, thresholds.toml,
   // settings.toml, setup.toml.
