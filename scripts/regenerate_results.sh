@@ -38,3 +38,6 @@ $P compare simple linear triangle butterfly ssl-standard --out results/compare -
 bash scripts/team_designs.sh "$P"
 # patlab design on the SSL robot top, compared with the SSL standard.
 bash scripts/design_results.sh "$P"
+# patlab setup + detect --setup on rendered frames of random SSL cameras, lighting and the colour
+# camera, scored against the render's truth (docs/setup.md, "Measured"): ~1 CPU min.
+/usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 1-12 --out results/setup

@@ -141,6 +141,13 @@ def write_scene(folder, model, cam, robots, colours, seed):
                     % (team, rid, x, y, theta))
 
 
+def mapping_error(line):
+    """The held-out mapping error of setup's report line: "0.72", or "<0.29" when it is below
+    the line finder's resolution."""
+    words = line.split()
+    return "<" + words[3] if words[2] == "below" else words[2]
+
+
 def run(arguments, log):
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     done = subprocess.run(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -198,7 +205,7 @@ def one_frame(patlab, seed, work, log):
                       "-o", cam_dir], log)
     kept = next((line.split()[2] for line in setup.stdout.splitlines()
                  if line.startswith("field model:")), "")
-    mapping = next((line.split()[2] for line in setup.stdout.splitlines()
+    mapping = next((mapping_error(line) for line in setup.stdout.splitlines()
                     if line.startswith("mapping error:")), "")
     if setup.returncode != 0:
         return dict(row, outcome="setup refused (exit %d)" % setup.returncode, model_kept=kept,
