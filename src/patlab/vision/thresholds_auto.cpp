@@ -7,6 +7,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/core/portable_math.h"
+#include "patlab/vision/thresholds_options_internal.h"
 
 namespace patlab::vision {
 
@@ -17,18 +18,10 @@ std::vector<OptionsProblem> Check(const AutoThresholdsOptions& o) {
                o.min_chroma_levels >= 0.0 && o.min_chroma_levels <= 128.0, "in [0, 128]")
       .Require("gate_sigmas", o.gate_sigmas, o.gate_sigmas > 0.0 && o.gate_sigmas <= 10.0,
                "in (0, 10]")
-      .IntegerInRange("iterations", o.iterations, 0, 50)
-      .Require("lower_percentile", o.lower_percentile,
-               o.lower_percentile >= 0.0 && o.lower_percentile < 50.0, "in [0, 50)")
-      .Require("upper_percentile", o.upper_percentile,
-               o.upper_percentile > 50.0 && o.upper_percentile <= 100.0, "in (50, 100]")
-      .Require("lighting_min_gain", o.lighting_min_gain,
-               o.lighting_min_gain > 0.0 && o.lighting_min_gain <= 1.0, "in (0, 1]")
-      .Require("lighting_max_gain", o.lighting_max_gain,
-               o.lighting_max_gain >= 1.0 && o.lighting_max_gain <= 4.0, "in [1, 4]")
-      .IntegerInRange("margin_levels", o.margin_levels, 0, 128)
-      .Require("max_patch_fraction", o.max_patch_fraction,
-               o.max_patch_fraction > 0.0 && o.max_patch_fraction <= 1.0, "in (0, 1]");
+      .IntegerInRange("iterations", o.iterations, 0, 50);
+  internal::CheckBoxOptions(check, o).Require(
+      "max_patch_fraction", o.max_patch_fraction,
+      o.max_patch_fraction > 0.0 && o.max_patch_fraction <= 1.0, "in (0, 1]");
   return check.Take();
 }
 
@@ -343,27 +336,6 @@ void ComputeSeparability(AutoThresholdsFit* fit) {
 
 namespace {
 
-// The vocabulary's entries of the classes asked for, in their order.
-std::vector<const ColourEntry*> ClassEntries(const std::vector<std::string>& class_names,
-                                             const ColourVocabulary& vocabulary) {
-  if (class_names.empty() || class_names.size() > static_cast<size_t>(kMaxColorClasses)) {
-    throw InputError(std::to_string(class_names.size()) + " colour classes; expected 1 to " +
-                     std::to_string(kMaxColorClasses));
-  }
-  std::vector<const ColourEntry*> entries;
-  for (const std::string& name : class_names) {
-    const ColourResolution r = ResolveColourName(vocabulary, name);
-    if (!r.known) throw InputError(UnknownColourMessage(vocabulary, r));
-    for (const ColourEntry* e : entries) {
-      if (e->name == r.name) {
-        throw InputError("colour '" + r.name + "' asked for twice; expected distinct classes");
-      }
-    }
-    entries.push_back(vocabulary.Find(r.name));
-  }
-  return entries;
-}
-
 // Every frame's pixels, then every labelled frame's with its hand labels mapped to the classes.
 void CollectPixels(const std::vector<const camera::Image*>& frames,
                    const std::vector<LabelledFrame>& labels,
@@ -438,6 +410,26 @@ void AssignPixels(const std::vector<Centre>& centres, int carpet_class,
 
 }  // namespace
 
+std::vector<const ColourEntry*> PaletteEntries(const std::vector<std::string>& class_names,
+                                               const ColourVocabulary& vocabulary) {
+  if (class_names.empty() || class_names.size() > static_cast<size_t>(kMaxColorClasses)) {
+    throw InputError(std::to_string(class_names.size()) + " colour classes; expected 1 to " +
+                     std::to_string(kMaxColorClasses));
+  }
+  std::vector<const ColourEntry*> entries;
+  for (const std::string& name : class_names) {
+    const ColourResolution r = ResolveColourName(vocabulary, name);
+    if (!r.known) throw InputError(UnknownColourMessage(vocabulary, r));
+    for (const ColourEntry* e : entries) {
+      if (e->name == r.name) {
+        throw InputError("colour '" + r.name + "' asked for twice; expected distinct classes");
+      }
+    }
+    entries.push_back(vocabulary.Find(r.name));
+  }
+  return entries;
+}
+
 AutoThresholdsFit FitThresholdsAuto(const std::vector<const camera::Image*>& frames,
                                     const std::vector<std::string>& class_names,
                                     const ColourVocabulary& vocabulary,
@@ -445,7 +437,7 @@ AutoThresholdsFit FitThresholdsAuto(const std::vector<const camera::Image*>& fra
                                     const std::vector<LabelledFrame>& labels) {
   Validate(options);
   if (frames.empty() && labels.empty()) throw InputError("no frames; expected at least one frame");
-  const std::vector<const ColourEntry*> entries = ClassEntries(class_names, vocabulary);
+  const std::vector<const ColourEntry*> entries = PaletteEntries(class_names, vocabulary);
   const auto carpet_entry = std::find(entries.begin(), entries.end(), vocabulary.Find("carpet"));
   const int carpet_class =
       carpet_entry == entries.end() ? -1 : static_cast<int>(carpet_entry - entries.begin());

@@ -90,6 +90,11 @@ struct AutoThresholdsFit {
   long frame_pixels = 0;              // pixels looked at, over all frames
 };
 
+// The vocabulary's entries of the colour classes asked for, in their order (aliases resolved).
+// Throws InputError for none or more than kMaxColorClasses, an unknown name, or one asked twice.
+std::vector<const ColourEntry*> PaletteEntries(const std::vector<std::string>& class_names,
+                                               const ColourVocabulary& vocabulary);
+
 // `class_names` must be colours of `vocabulary` (InputError naming the unknown one) and distinct;
 // at most kMaxColorClasses. A class named "carpet" (or an alias) is the carpet cluster. Frames
 // may have any PixelFormat and size. InputError for no frames or a labelled class not asked for.

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "patlab/core/portable_math.h"
+#include "patlab/vision/thresholds_options_internal.h"
 
 namespace patlab::vision {
 
@@ -39,18 +40,10 @@ std::vector<OptionsProblem> Check(const BlobThresholdsOptions& o) {
       .Require("achromatic_chroma", o.achromatic_chroma,
                o.achromatic_chroma > 0.0 && o.achromatic_chroma <= 100.0, "in (0, 100]")
       .Require("max_name_cost", o.max_name_cost, o.max_name_cost > 0.0 && o.max_name_cost <= 1000.0,
-               "in (0, 1000]")
-      .Require("lower_percentile", o.lower_percentile,
-               o.lower_percentile >= 0.0 && o.lower_percentile < 50.0, "in [0, 50)")
-      .Require("upper_percentile", o.upper_percentile,
-               o.upper_percentile > 50.0 && o.upper_percentile <= 100.0, "in (50, 100]")
-      .Require("lighting_min_gain", o.lighting_min_gain,
-               o.lighting_min_gain > 0.0 && o.lighting_min_gain <= 1.0, "in (0, 1]")
-      .Require("lighting_max_gain", o.lighting_max_gain,
-               o.lighting_max_gain >= 1.0 && o.lighting_max_gain <= 4.0, "in [1, 4]")
-      .IntegerInRange("margin_levels", o.margin_levels, 0, 128)
-      .Require("negative_weight", o.negative_weight,
-               o.negative_weight > 0.0 && o.negative_weight <= 100.0, "in (0, 100]");
+               "in (0, 1000]");
+  internal::CheckBoxOptions(check, o).Require("negative_weight", o.negative_weight,
+                                              o.negative_weight > 0.0 && o.negative_weight <= 100.0,
+                                              "in (0, 100]");
   return check.Take();
 }
 

@@ -262,24 +262,6 @@ void Describe(const std::vector<std::array<uint8_t, 3>>& pixels, AutoClassFit* c
   c->spread_levels = std::sqrt(var / 3.0);
 }
 
-std::vector<const ColourEntry*> Entries(const std::vector<std::string>& class_names,
-                                        const ColourVocabulary& vocabulary) {
-  if (class_names.empty() || class_names.size() > static_cast<size_t>(kMaxColorClasses)) {
-    throw InputError(std::to_string(class_names.size()) + " colour classes; expected 1 to " +
-                     std::to_string(kMaxColorClasses));
-  }
-  std::vector<const ColourEntry*> entries;
-  for (const std::string& name : class_names) {
-    const ColourResolution r = ResolveColourName(vocabulary, name);
-    if (!r.known) throw InputError(UnknownColourMessage(vocabulary, r));
-    const ColourEntry* e = vocabulary.Find(r.name);
-    if (std::find(entries.begin(), entries.end(), e) != entries.end())
-      throw InputError("colour '" + r.name + "' asked for twice; expected distinct classes");
-    entries.push_back(e);
-  }
-  return entries;
-}
-
 }  // namespace
 
 AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>& frames,
@@ -289,7 +271,7 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
                                          std::vector<BlobCluster>* clusters_out) {
   Validate(options);
   if (frames.empty()) throw InputError("no frames; expected at least one frame");
-  const std::vector<const ColourEntry*> entries = Entries(class_names, vocabulary);
+  const std::vector<const ColourEntry*> entries = PaletteEntries(class_names, vocabulary);
   std::vector<NormalisedFrame> normalised;
   std::vector<ColourBlob> blobs;
   AutoThresholdsFit fit;
