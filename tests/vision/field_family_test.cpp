@@ -13,6 +13,7 @@
 #include "patlab/render/camera_render.h"
 #include "patlab/render/field_render.h"
 #include "patlab/vision/field_lines.h"
+#include "rendered_field.h"
 
 namespace patlab::vision {
 namespace {
@@ -29,38 +30,12 @@ camera::PinholeCamera CameraOver(const Vec2& over_mm, double height_mm, double t
   c.cx_px = 0.5 * (kWidth - 1) + 4.0;
   c.cy_px = 0.5 * (kHeight - 1) - 3.0;
   c.k1 = -0.1;
-  const Eigen::Matrix3d nadir = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ()).matrix();
-  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(tilt_rad, Eigen::Vector3d::UnitY()).matrix();
-  c.rotation = tilt * nadir * yaw;
-  c.translation_mm = -c.rotation * Eigen::Vector3d(over_mm.x(), over_mm.y(), height_mm);
-  return c;
+  return rendered::LookingDown(c, over_mm, height_mm, 0.05,
+                               Eigen::AngleAxisd(tilt_rad, Eigen::Vector3d::UnitY()).matrix());
 }
 
 camera::Image Render(const calib::Field& field, const camera::PinholeCamera& camera) {
-  const camera::Image clean =
-      render::RenderFieldLines(field, camera::CameraModel::Pinhole(camera), kWidth, kHeight);
-  render::CameraSensorOptions sensor;
-  sensor.seed = 11;
-  sensor.read_noise_levels = 3.0;
-  return camera::ToRgb(render::SimulateSensor(clean, sensor, 0));
-}
-
-// RMS (mm) between two cameras' floor maps over a 10 px grid of the frame.
-double MappingRmsMm(const camera::PinholeCamera& truth, const camera::PinholeCamera& fitted) {
-  const camera::CameraModel a = camera::CameraModel::Pinhole(truth),
-                            b = camera::CameraModel::Pinhole(fitted);
-  double sum = 0.0;
-  int n = 0;
-  for (int y = 5; y < kHeight; y += 10)
-    for (int x = 5; x < kWidth; x += 10) {
-      const auto qa = a.PixelToWorld(Vec2(x, y), 0.0);
-      const auto qb = b.PixelToWorld(Vec2(x, y), 0.0);
-      if (!qa) continue;
-      sum += qb ? (*qa - *qb).squaredNorm() : 1e12;
-      ++n;
-    }
-  return std::sqrt(sum / std::max(1, n));
+  return rendered::RenderLines(field, camera, kWidth, kHeight, 11);
 }
 
 class FamilyRendered : public ::testing::TestWithParam<std::string> {};
@@ -82,7 +57,7 @@ TEST_P(FamilyRendered, KeepsTheTrueModelAndItsCamera) {
       calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family);
   ASSERT_GE(fc.kept, 0);
   EXPECT_EQ(family[static_cast<size_t>(fc.kept)].name, GetParam());
-  EXPECT_LT(MappingRmsMm(truth, fc.calibration.fit.camera), 5.0);
+  EXPECT_LT(rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kWidth, kHeight), 5.0);
   // The screen: every model searched, few fitted; twins share their result.
   int fitted = 0;
   for (const calib::FamilyTry& t : fc.tries) {

@@ -17,6 +17,7 @@
 #include "patlab/render/camera_render.h"
 #include "patlab/render/field_render.h"
 #include "patlab/vision/field_lines.h"
+#include "rendered_field.h"
 
 namespace patlab::vision {
 namespace {
@@ -32,46 +33,24 @@ struct TrueCamera {
 
 constexpr int kWidth = 780, kHeight = 580;
 
+camera::Image Render(const camera::PinholeCamera& camera, uint64_t seed) {
+  return rendered::RenderLines(Ssl(), camera, kWidth, kHeight, seed);
+}
+
+// Over the pixels that show the field's area (within its lines, 200 mm margin).
+double MappingRmsMm(const camera::PinholeCamera& truth, const camera::PinholeCamera& fitted) {
+  return rendered::MappingRmsMm(truth, fitted, kWidth, kHeight, 3225, 2225);
+}
+
 camera::PinholeCamera MakeCamera(const TrueCamera& t) {
   camera::PinholeCamera c;
   c.fx_px = c.fy_px = t.focal_px;
   c.cx_px = 0.5 * (kWidth - 1) + t.principal_offset_px.x();
   c.cy_px = 0.5 * (kHeight - 1) + t.principal_offset_px.y();
   c.k1 = t.k1;
-  const Eigen::Matrix3d nadir = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(t.yaw_rad, Eigen::Vector3d::UnitZ()).matrix();
   const Eigen::Vector3d axis(std::cos(t.tilt_axis_rad), std::sin(t.tilt_axis_rad), 0.0);
-  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(t.tilt_rad, axis).matrix();
-  c.rotation = tilt * nadir * yaw;
-  c.translation_mm = -c.rotation * Eigen::Vector3d(t.over_mm.x(), t.over_mm.y(), t.height_mm);
-  return c;
-}
-
-camera::Image Render(const camera::PinholeCamera& camera, uint64_t seed) {
-  const camera::Image clean =
-      render::RenderFieldLines(Ssl(), camera::CameraModel::Pinhole(camera), kWidth, kHeight);
-  render::CameraSensorOptions sensor;
-  sensor.seed = seed;
-  sensor.read_noise_levels = 3.0;
-  return camera::ToRgb(render::SimulateSensor(clean, sensor, 0));
-}
-
-// RMS (mm) of the fitted camera's floor mapping against the true one over the pixels (10 px
-// grid) that show the field's area (within its lines, 200 mm margin).
-double MappingRmsMm(const camera::PinholeCamera& truth, const camera::PinholeCamera& fitted) {
-  const camera::CameraModel a = camera::CameraModel::Pinhole(truth),
-                            b = camera::CameraModel::Pinhole(fitted);
-  double sum = 0.0;
-  int n = 0;
-  for (int y = 5; y < kHeight; y += 10)
-    for (int x = 5; x < kWidth; x += 10) {
-      const auto qa = a.PixelToWorld(Vec2(x, y), 0.0);
-      if (!qa || std::abs(qa->x()) > 3225 || std::abs(qa->y()) > 2225) continue;
-      const auto qb = b.PixelToWorld(Vec2(x, y), 0.0);
-      sum += qb ? (*qa - *qb).squaredNorm() : 1e12;
-      ++n;
-    }
-  return std::sqrt(sum / std::max(1, n));
+  return rendered::LookingDown(c, t.over_mm, t.height_mm, t.yaw_rad,
+                               Eigen::AngleAxisd(t.tilt_rad, axis).matrix());
 }
 
 TEST(FieldLines, PixelsLieOnTheTrueLineCentres) {

@@ -15,6 +15,7 @@
 #include "patlab/render/camera_render.h"
 #include "patlab/render/field_render.h"
 #include "patlab/vision/field_lines.h"
+#include "rendered_field.h"
 
 namespace patlab::vision {
 namespace {
@@ -33,31 +34,15 @@ camera::PinholeCamera CameraOf(const Case& c) {
   cam.cy_px = 0.5 * (kHeight - 1) + 3.0;
   cam.k1 = c.k1;
   cam.k2 = c.k2;
-  const Eigen::Matrix3d nadir = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(-0.08, Eigen::Vector3d::UnitZ()).matrix();
-  const Eigen::Matrix3d tilt =
-      Eigen::AngleAxisd(c.tilt_rad, Eigen::Vector3d(0.6, 0.8, 0.0)).matrix();
-  cam.rotation = tilt * nadir * yaw;
-  cam.translation_mm = -cam.rotation * Eigen::Vector3d(c.over_mm.x(), c.over_mm.y(), c.height_mm);
-  return cam;
+  return rendered::LookingDown(
+      cam, c.over_mm, c.height_mm, -0.08,
+      Eigen::AngleAxisd(c.tilt_rad, Eigen::Vector3d(0.6, 0.8, 0.0)).matrix());
 }
 
 // RMS (mm) of the fitted camera's floor map against the true one over the pixels (10 px grid)
 // that show the field (within its lines, 200 mm margin).
 double TrueMappingRmsMm(const camera::PinholeCamera& truth, const camera::PinholeCamera& fitted) {
-  const camera::CameraModel a = camera::CameraModel::Pinhole(truth),
-                            b = camera::CameraModel::Pinhole(fitted);
-  double sum = 0.0;
-  int n = 0;
-  for (int y = 5; y < kHeight; y += 10)
-    for (int x = 5; x < kWidth; x += 10) {
-      const auto qa = a.PixelToWorld(Vec2(x, y), 0.0);
-      if (!qa || std::abs(qa->x()) > 3225 || std::abs(qa->y()) > 2225) continue;
-      const auto qb = b.PixelToWorld(Vec2(x, y), 0.0);
-      sum += qb ? (*qa - *qb).squaredNorm() : 1e12;
-      ++n;
-    }
-  return std::sqrt(sum / std::max(1, n));
+  return rendered::MappingRmsMm(truth, fitted, kWidth, kHeight, 3225, 2225);
 }
 
 class HeldOutError : public ::testing::TestWithParam<Case> {};
@@ -67,12 +52,7 @@ TEST_P(HeldOutError, AgreesWithTheTruthOrSaysItIsBelowItsResolution) {
   const calib::Field field =
       formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
   const camera::PinholeCamera truth = CameraOf(c);
-  const camera::Image clean =
-      render::RenderFieldLines(field, camera::CameraModel::Pinhole(truth), kWidth, kHeight);
-  render::CameraSensorOptions sensor;
-  sensor.seed = 5;
-  sensor.read_noise_levels = 3.0;
-  const camera::Image frame = camera::ToRgb(render::SimulateSensor(clean, sensor, 0));
+  const camera::Image frame = rendered::RenderLines(field, truth, kWidth, kHeight, 5);
   const FrameCalibration fc = AutoCalibrateFrame(frame, "rendered.png", field);
   const calib::AutoCalibration& a = fc.calibration;
   // The search keeps the camera looking at x >= 0: every case looks at the pos half.

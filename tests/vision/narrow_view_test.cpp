@@ -15,6 +15,7 @@
 #include "patlab/render/camera_render.h"
 #include "patlab/render/field_render.h"
 #include "patlab/vision/field_lines.h"
+#include "rendered_field.h"
 
 namespace patlab::vision {
 namespace {
@@ -32,29 +33,8 @@ camera::PinholeCamera CameraOf(const View& v) {
   c.cx_px = 392.0;
   c.cy_px = 287.0;
   c.k1 = v.k1;
-  const Eigen::Matrix3d nadir = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(v.yaw_rad, Eigen::Vector3d::UnitZ()).matrix();
-  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.035, Eigen::Vector3d(0.8, 0.6, 0.0)).matrix();
-  c.rotation = tilt * nadir * yaw;
-  c.translation_mm = -c.rotation * Eigen::Vector3d(v.over_mm.x(), v.over_mm.y(), v.height_mm);
-  return c;
-}
-
-// RMS (mm) between the two cameras' floor maps over a 10 px grid of the frame.
-double MappingRmsMm(const camera::PinholeCamera& truth, const camera::PinholeCamera& fitted) {
-  const camera::CameraModel a = camera::CameraModel::Pinhole(truth),
-                            b = camera::CameraModel::Pinhole(fitted);
-  double sum = 0.0;
-  int n = 0;
-  for (int y = 5; y < kHeight; y += 10)
-    for (int x = 5; x < kWidth; x += 10) {
-      const auto qa = a.PixelToWorld(Vec2(x, y), 0.0);
-      if (!qa) continue;
-      const auto qb = b.PixelToWorld(Vec2(x, y), 0.0);
-      sum += qb ? (*qa - *qb).squaredNorm() : 1e12;
-      ++n;
-    }
-  return std::sqrt(sum / std::max(1, n));
+  return rendered::LookingDown(c, v.over_mm, v.height_mm, v.yaw_rad,
+                               Eigen::AngleAxisd(0.035, Eigen::Vector3d(0.8, 0.6, 0.0)).matrix());
 }
 
 class NarrowView : public ::testing::TestWithParam<View> {};
@@ -72,13 +52,9 @@ TEST_P(NarrowView, IsCalibratedTheRightWayRound) {
     ASSERT_TRUE(q);
     ASSERT_LT(std::abs(q->y()), 2025.0 - 100.0) << "a touch line is in view";
   }
-  const camera::Image clean = render::RenderFieldLines(field, model, kWidth, kHeight);
-  render::CameraSensorOptions sensor;
-  sensor.seed = 3;
-  sensor.read_noise_levels = 3.0;
-  const camera::Image frame = camera::ToRgb(render::SimulateSensor(clean, sensor, 0));
+  const camera::Image frame = rendered::RenderLines(field, truth, kWidth, kHeight, 3);
   const FrameCalibration fc = AutoCalibrateFrame(frame, "narrow.png", field);
-  const double rms = MappingRmsMm(truth, fc.calibration.fit.camera);
+  const double rms = rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kWidth, kHeight);
   std::printf("over (%.0f, %.0f) at %.0f mm, yaw %.2f: mapping RMS %.2f mm vs the truth\n",
               v.over_mm.x(), v.over_mm.y(), v.height_mm, v.yaw_rad, rms);
   EXPECT_LT(rms, 5.0);
