@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../test_util.h"
+#include "help_listing.h"
 
 namespace patlab::cli {
 namespace {
@@ -21,28 +22,9 @@ using testing::RunCommand;
 
 const std::string kBinary = PATLAB_BINARY;
 
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
+using help_listing::Lines;
 
-// The command names `patlab help` lists under "commands:".
-std::vector<std::string> CommandNames() {
-  std::vector<std::string> names;
-  bool listing = false;
-  for (const std::string& line : Lines(RunCommand(kBinary + " help").out)) {
-    if (line == "commands:") {
-      listing = true;
-    } else if (listing && line.rfind("  ", 0) == 0) {
-      names.push_back(line.substr(2, line.find(' ', 2) - 2));
-    } else if (listing) {
-      break;
-    }
-  }
-  return names;
-}
+std::vector<std::string> CommandNames() { return help_listing::CommandNames(kBinary); }
 
 // (command, --flag) of every option whose help, continuation lines joined, says it takes an
 // integer >= 0 by its type.
