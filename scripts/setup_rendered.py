@@ -36,7 +36,7 @@ from scipy.spatial.transform import Rotation
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 WIDTH, HEIGHT = 780, 580
 ROBOT_TOP_MM = 140.0
-BASE_COLOURS = {  # tests/data/setup/half-field.toml's colours
+BASE_COLOURS = {  # settings/ssl-half-field.toml's colours
     "field": (40, 100, 50), "body": (30, 30, 34), "blue": (35, 75, 210),
     "yellow": (235, 215, 45), "pink": (240, 95, 185), "green": (70, 215, 95),
     "orange": (250, 125, 25)}

@@ -96,11 +96,11 @@ TEST(ExplainCli, GeometryChangeAcceptsTheRobot) {
 }
 
 // setup --explain: after the robots, one diagnosis line per key blob of the frame, each robot of
-// the rendered half field (tests/data/setup/half-field.toml, ten robots) detected with its ID.
+// the rendered half field (settings/ssl-half-field.toml, ten robots) detected with its ID.
 TEST(ExplainCli, SetupExplainsEveryKeyAfterTheRobots) {
   testing::TempDir dir;
   const auto render = RunCommand(kBinary + " render " + kSource +
-                                 "/tests/data/setup/half-field.toml -o " + dir.Path("r"));
+                                 "/settings/ssl-half-field.toml -o " + dir.Path("r"));
   ASSERT_EQ(render.exit_code, 0) << render.err;
   const auto setup = RunCommand(kBinary + " setup " + dir.Path("r") +
                                 "/frame.png --field ssl-2009 --settings ssl-standard.detector "

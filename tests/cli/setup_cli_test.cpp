@@ -1,4 +1,4 @@
-// patlab setup end to end: a frame rendered with a known camera (tests/data/setup/half-field.toml,
+// patlab setup end to end: a frame rendered with a known camera (settings/ssl-half-field.toml,
 // robots on an SSL 2009 field with its painted lines) -> setup -> detect --setup finds every
 // robot with its team and ID and no other; the calibration maps the floor within 5 mm of the true
 // camera. Bad input is exit 2 with nothing written.
@@ -19,7 +19,7 @@ namespace {
 using testing::RunCommand;
 
 const std::string kBinary = PATLAB_BINARY;
-const std::string kScene = std::string(PATLAB_SOURCE_DIR) + "/tests/data/setup/half-field.toml";
+const std::string kScene = std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-half-field.toml";
 
 // RMS (mm) between two cameras' floor points over the pixels (5 px grid) where the true camera
 // sees the field within its lines.
@@ -71,7 +71,7 @@ TEST(SetupCli, RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm) {
     EXPECT_TRUE(std::filesystem::exists(dir.Path("cam") + "/" + f)) << f;
   // The calibration against the known camera.
   const camera::Calibration truth = formats::LoadCalibration(
-      std::string(PATLAB_SOURCE_DIR) + "/tests/data/setup/half-field.calibration.toml");
+      std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-half-field.calibration.toml");
   const camera::Calibration fitted =
       formats::LoadCalibration(dir.Path("cam") + "/calibration.toml");
   const double rms = FloorRmsMm(truth.camera, fitted.camera, 780, 580);

@@ -138,13 +138,13 @@ TEST(SetupRealCli, Ssl2008FrameWithNoHandWrittenFile) {
 }
 
 // Fitted on one frame, detecting on another frame of the same camera: the rendered half field
-// (tests/data/setup/half-field.toml, ten robots) through the colour camera (Bayer mosaic, read
+// (settings/ssl-half-field.toml, ten robots) through the colour camera (Bayer mosaic, read
 // and shot noise) at exposure 1, set up there, and detected at exposure 1.6 with the same folder:
 // every robot with its team, ID and place (within 20 mm). (At exposure 0.6 the ID dots fall out
 // of the boxes: docs/setup.md, "What fails and why".)
 TEST(SetupRealCli, ColoursFittedOnOneExposureHoldOnABrighterOne) {
   testing::TempDir dir;
-  const std::string scene = std::string(PATLAB_SOURCE_DIR) + "/tests/data/setup/half-field.toml";
+  const std::string scene = std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-half-field.toml";
   for (const std::string gain : {"1", "1.6"}) {
     const auto render = RunCommand(kBinary + " render " + scene + " --camera --exposure-gain " +
                                    gain + " -o " + dir.Path("g" + gain));

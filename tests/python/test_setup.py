@@ -1,4 +1,4 @@
-"""patlab.setup on the rendered scene of tests/data/setup/half-field.toml (a known camera, ten
+"""patlab.setup on the rendered scene of settings/ssl-half-field.toml (a known camera, ten
 robots): the report as a dict, the folder `detect(image, setup=DIR)` reads finds every robot,
 the same files and report as `patlab setup` writes."""
 import csv
@@ -9,7 +9,7 @@ import pytest
 
 import patlab
 
-SCENE = "tests/data/setup/half-field.toml"
+SCENE = "settings/ssl-half-field.toml"
 
 
 @pytest.fixture(scope="module")
