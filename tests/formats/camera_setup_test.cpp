@@ -79,9 +79,9 @@ TEST(SetupFolder, NamesItsFilesRelativeToTheFolder) {
                          ": no setup.toml in it; expected a folder written by patlab setup");
 }
 
-// The --landmark fallback on the rendered half field (settings/ssl-half-field.toml): six landmarks projected through the
-// known camera (the field's own lines not used) give a calibration within 5 mm of it; an unknown
-// landmark is an InputError naming the model's.
+// The --landmark fallback on the rendered half field (settings/ssl-half-field.toml): six landmarks
+// projected through the known camera (the field's own lines not used) give a calibration within 5
+// mm of it; an unknown landmark is an InputError naming the model's.
 TEST(SetupCamera, LandmarksReplaceTheLines) {
   const SceneFile scene = LoadSceneFile(PATLAB_SOURCE_DIR "/settings/ssl-half-field.toml");
   const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
