@@ -236,22 +236,8 @@ AutoClassFit Summarise(const std::vector<Pixel>& pixels, int k, const AutoThresh
       if (seen <= hi_rank && seen + hist[ch][v] > hi_rank) hi = v;
       seen += hist[ch][v];
     }
-    // Another light intensity scales luma and the chroma's offset from neutral alike.
-    double a, b;
-    if (ch == 0) {
-      a = lo * o.lighting_min_gain, b = hi * o.lighting_max_gain;
-    } else {
-      const double g[2] = {o.lighting_min_gain, o.lighting_max_gain};
-      a = 255, b = 0;
-      for (double gain : g) {
-        for (int v : {lo, hi}) {
-          const double scaled = 128.0 + gain * (v - 128.0);
-          a = std::min(a, scaled), b = std::max(b, scaled);
-        }
-      }
-    }
-    f.range[ch].lo = std::clamp(static_cast<int>(std::floor(a)) - o.margin_levels, 0, 255);
-    f.range[ch].hi = std::clamp(static_cast<int>(std::ceil(b)) + o.margin_levels, 0, 255);
+    f.range[ch] = internal::StretchForLight(lo, hi, ch, o.lighting_min_gain, o.lighting_max_gain,
+                                            o.margin_levels);
   }
   return f;
 }

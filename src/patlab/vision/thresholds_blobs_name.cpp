@@ -7,6 +7,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/portable_math.h"
 #include "patlab/vision/thresholds_blobs.h"
+#include "patlab/vision/thresholds_options_internal.h"
 
 namespace patlab::vision {
 
@@ -198,16 +199,8 @@ std::array<ChannelRange, 3> PercentileBox(const std::vector<std::array<uint8_t, 
     const double last = static_cast<double>(values.size() - 1);
     const int lo = values[static_cast<size_t>(std::floor(o.lower_percentile / 100.0 * last))];
     const int hi = values[static_cast<size_t>(std::ceil(o.upper_percentile / 100.0 * last))];
-    const double offset = ch == 0 ? 0.0 : 128.0;
-    double a = 255, b = 0;
-    for (const double gain : {o.lighting_min_gain, o.lighting_max_gain}) {
-      for (const int v : {lo, hi}) {
-        const double scaled = offset + gain * (v - offset);
-        a = std::min(a, scaled), b = std::max(b, scaled);
-      }
-    }
-    box[ch].lo = std::clamp(static_cast<int>(std::floor(a)) - o.margin_levels, 0, 255);
-    box[ch].hi = std::clamp(static_cast<int>(std::ceil(b)) + o.margin_levels, 0, 255);
+    box[ch] = internal::StretchForLight(lo, hi, ch, o.lighting_min_gain, o.lighting_max_gain,
+                                        o.margin_levels);
   }
   return box;
 }
