@@ -177,7 +177,9 @@ def score(truth, detections):
     return best[1:]
 
 
-def one_frame(patlab, seed, work, log):
+def render_frame(patlab, seed, work, log):
+    """Draws seed's scene and renders it: (the row's scene columns, the frame, the truth as
+    (team, id, x_mm, y_mm)), or (row, None, None) when the render fails."""
     rng = np.random.default_rng(seed)
     model = MODELS[int(rng.integers(len(MODELS)))]
     length, width = field_size(model)
@@ -197,29 +199,42 @@ def one_frame(patlab, seed, work, log):
                        "--exposure-gain", "%.3f" % exposure, "--read-noise-levels", "%.2f" % noise,
                        "--sensor-seed", str(seed), "-o", os.path.join(folder, "r")], log)
     if rendered.returncode != 0:
-        return dict(row, outcome="render failed", model_kept="", right=0, false_ids=0,
-                    position_error_mm="", mapping_error_mm=""), 0.0
-    frame = os.path.join(folder, "r", "frame.png")
-    cam_dir = os.path.join(folder, "cam")
+        return row, None, None
+    truth = [(r["team"], int(r["id"]), float(r["x_mm"]), float(r["y_mm"]))
+             for r in csv.DictReader(open(os.path.join(folder, "r", "truth.csv")))]
+    return row, os.path.join(folder, "r", "frame.png"), truth
+
+
+def setup_and_score(patlab, frame, truth, cam_dir, log, setup_flags=()):
+    """setup (with the shipped settings and any further flags) and detect on one rendered
+    frame, scored against its truth: (the row's outcome columns, setup's CPU seconds)."""
     setup, cpu = run([patlab, "setup", frame, "--field", "ssl", "--settings", "ssl-frame.detector",
-                      "-o", cam_dir], log)
+                      "-o", cam_dir] + list(setup_flags), log)
     kept = next((line.split()[2] for line in setup.stdout.splitlines()
                  if line.startswith("field model:")), "")
     mapping = next((mapping_error(line) for line in setup.stdout.splitlines()
                     if line.startswith("mapping error:")), "")
     if setup.returncode != 0:
-        return dict(row, outcome="setup refused (exit %d)" % setup.returncode, model_kept=kept,
+        return dict(outcome="setup refused (exit %d)" % setup.returncode, model_kept=kept,
                     right=0, false_ids=0, position_error_mm="", mapping_error_mm=mapping), cpu
     detect, _ = run([patlab, "detect", frame, "--setup", cam_dir], log)
     detections = [(r["team"], int(r["id"]), float(r["x_mm"]), float(r["y_mm"]))
                   for r in csv.DictReader(detect.stdout.splitlines()) if "team" in r]
-    truth = [(r["team"], int(r["id"]), float(r["x_mm"]), float(r["y_mm"]))
-             for r in csv.DictReader(open(os.path.join(folder, "r", "truth.csv")))]
     right, false, error = score(truth, detections)
-    return dict(row, outcome="detected" if detect.returncode == 0 else "detect failed",
+    return dict(outcome="detected" if detect.returncode == 0 else "detect failed",
                 model_kept=kept, right=right, false_ids=false,
                 position_error_mm="" if math.isnan(error) else round(error, 1),
                 mapping_error_mm=mapping), cpu
+
+
+def one_frame(patlab, seed, work, log):
+    row, frame, truth = render_frame(patlab, seed, work, log)
+    if frame is None:
+        return dict(row, outcome="render failed", model_kept="", right=0, false_ids=0,
+                    position_error_mm="", mapping_error_mm=""), 0.0
+    outcome, cpu = setup_and_score(patlab, frame, truth,
+                                   os.path.join(work, "seed%d" % seed, "cam"), log)
+    return dict(row, **outcome), cpu
 
 
 def parse_seeds(text):

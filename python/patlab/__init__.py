@@ -8,6 +8,8 @@ See docs/python.md.
 """
 import os
 
+import numpy
+
 from . import _data, _patlab, stats
 from ._patlab import Pattern
 from ._results import (CompareResult, CrlbResult, DetectResult, EvaluationResult, IdsResult,
@@ -15,7 +17,8 @@ from ._results import (CompareResult, CrlbResult, DetectResult, EvaluationResult
 
 __version__ = _patlab.version
 __all__ = ["Pattern", "simulate", "simulate_experiment", "estimate", "crlb", "predicted_std",
-           "ids", "evaluate", "compare", "detect", "Detector", "read_frame", "render", "setup", "stats",
+           "ids", "evaluate", "compare", "detect", "Detector", "read_frame", "render", "setup",
+           "pixel_to_floor", "stats",
            "SimulationResult", "ESTIMATORS"]
 
 ESTIMATORS = ("fast", "ml", "lsq", "key")
@@ -233,13 +236,16 @@ def render(scene):
     return _load_checked(_patlab._render, path)
 
 
-def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_width=4.0):
+def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_width=4.0,
+          colour_options=None):
     """`patlab setup FRAME... --field FIELD --settings S -o OUT` (formats::SetupCamera): a new
     camera from its frames -- paths, or (H, W, 3) uint8 RGB arrays (named frame0, frame1, ...)
     -- written into the folder ``out`` that ``detect(image, setup=out)`` reads. ``field``: a
     field model or a family ("ssl", "vss"); ``settings``: detector settings (a path or a shipped
     name); ``landmarks``: "NAME=X,Y" strings (four or more replace the lines); ``robot_height``
-    and ``line_width`` as --robot-height (mm) and --line-width (px). Returns the report as a
+    and ``line_width`` as --robot-height (mm) and --line-width (px); ``colour_options``: a dict
+    NAME -> number of the colour fit's options (as --colour-option NAME=VALUE; docs/setup.md
+    lists them). Returns the report as a
     dict: field (the model kept), tried (each model: field, fitted, score_px, screen_px,
     held_out_mapping_mm, same_as, failure; best first), mapping_error_mm,
     mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
@@ -256,7 +262,18 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_w
     settings_path = _data.find(settings, "settings")
     return _patlab._setup(frames, os.fspath(field), _data._binary_dir(), settings_path,
                           os.fspath(out), [str(mark) for mark in _iterable(landmarks)],
-                          float(robot_height), float(line_width))
+                          float(robot_height), float(line_width),
+                          {str(k): float(v) for k, v in (colour_options or {}).items()})
+
+
+def pixel_to_floor(calibration, pixels, height_mm=None):
+    """Pixels to the floor through a calibration file (a path, e.g. a setup folder's
+    calibration.toml): ``pixels`` (N, 2) as (u, v) px -> (N, 2) as (x, y) mm on the plane
+    ``height_mm`` above the floor (default: the calibration's default height), NaN where a
+    pixel's ray does not reach the plane."""
+    pixels = numpy.asarray(pixels, dtype=float).reshape(-1, 2)
+    height = float("nan") if height_mm is None else float(height_mm)
+    return _patlab._pixel_to_floor(os.fspath(calibration), pixels, height)
 
 
 def _iterable(values):

@@ -47,7 +47,7 @@ frames that do not decide the camera, 1 the folder could not be written.
 struct SetupCommandOptions {
   std::vector<std::string> frames;
   std::string field, settings, out, list_landmarks;
-  std::vector<std::string> landmarks;
+  std::vector<std::string> landmarks, colour_options;
   double robot_height_mm = 140.0;
   double line_width_px = 4.0;
   bool explain = false;
@@ -55,6 +55,7 @@ struct SetupCommandOptions {
 
 const OptionGroups kSetupGroups = {
     {"input", {"field", "settings", "robot-height", "line-width", "landmark"}},
+    {"colour fit", {"colour-option"}},
     {"output", {"out"}},
     {"diagnostics", {"explain"}},
     {"field models", {"list-landmarks"}}};
@@ -106,8 +107,10 @@ int RunSetup(const std::vector<std::string>& args) {
       "the field lines' width in the frames (px), in [1, 30]")(
       "landmark", po::value(&o.landmarks),
       "NAME=X,Y: a landmark of the field at pixel (X, Y) of the first frame; four or more "
-      "replace the lines (repeat the flag)")("out,o", po::value(&o.out),
-                                             "output folder (required)")(
+      "replace the lines (repeat the flag)")(
+      "colour-option", po::value(&o.colour_options),
+      "NAME=VALUE: an option of the colour fit (docs/setup.md lists them, with their defaults; "
+      "repeat the flag)")("out,o", po::value(&o.out), "output folder (required)")(
       "explain", po::bool_switch(&o.explain),
       "after the robots, every key candidate and why it is a robot or not, with the setting "
       "change that would accept it (as patlab detect --explain)")(
@@ -134,6 +137,7 @@ int RunSetup(const std::vector<std::string>& args) {
   options.robot_height_mm = o.robot_height_mm;
   options.line_width_px = o.line_width_px;
   for (const std::string& l : o.landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
+  for (const std::string& c : o.colour_options) formats::ParseColourOption(c, &options.colours);
   const fs::path dir(o.out);
   io::CheckWritable({(dir / "setup.toml").string()});
   const std::vector<std::string> paths = vision::ExpandFrameList(o.frames);

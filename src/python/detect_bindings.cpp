@@ -4,10 +4,12 @@
 // the scene renderer of `patlab render`; `patlab setup` (formats::SetupCamera) with its report.
 #include <chrono>
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <optional>
 
 #include "patlab/camera/image.h"
@@ -25,6 +27,7 @@
 #include "patlab/vision/frame_detector.h"
 #include "patlab/vision/frame_io.h"
 #include "patlab/vision/frame_results.h"
+#include "patlab/vision/thresholds_blobs.h"
 #include "python/bindings.h"
 
 namespace patlab::python {
@@ -236,7 +239,7 @@ py::dict SetupReport(const formats::SetupResult& r) {
 py::dict Setup(const py::list& frames, const std::string& field, const std::string& binary_dir,
                const std::string& settings, const std::string& out,
                const std::vector<std::string>& landmarks, double robot_height_mm,
-               double line_width_px) {
+               double line_width_px, const std::map<std::string, double>& colour_options) {
   formats::SetupOptions options;
   // A family's every model, or one model (a shipped name or a file), as `patlab setup` reads it.
   const std::vector<std::string> roots = io::DataRoots(binary_dir, std::getenv("PATLAB_DATA"));
@@ -247,6 +250,10 @@ py::dict Setup(const py::list& frames, const std::string& field, const std::stri
   options.robot_height_mm = robot_height_mm;
   options.line_width_px = line_width_px;
   for (const std::string& l : landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
+  for (const auto& [name, value] : colour_options) {
+    vision::SetBlobThresholdsOption(name, value, &options.colours);
+  }
+  vision::Validate(options.colours);
   const std::filesystem::path dir(out);
   io::CheckWritable({(dir / "setup.toml").string()});
   std::vector<camera::Image> images;
@@ -298,12 +305,37 @@ py::dict Setup(const py::list& frames, const std::string& field, const std::stri
   return report;
 }
 
+// Pixels (N x 2) to the floor plane at a height (mm; NaN: the calibration's default height)
+// through a calibration file: (N x 2) mm, NaN where a pixel's ray does not reach the plane.
+py::array_t<double> PixelToFloor(
+    const std::string& calibration_path,
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& pixels,
+    double height_mm) {
+  if (pixels.ndim() != 2 || pixels.shape(1) != 2)
+    throw InputError("pixels: expected an (N, 2) array of (u, v) in px");
+  const camera::Calibration calibration = formats::LoadCalibration(calibration_path);
+  const double height = std::isnan(height_mm) ? calibration.default_height_mm : height_mm;
+  const py::ssize_t n = pixels.shape(0);
+  py::array_t<double> out({n, static_cast<py::ssize_t>(2)});
+  const auto in = pixels.unchecked<2>();
+  auto mm = out.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const std::optional<Vec2> world =
+        calibration.camera.PixelToWorld(Vec2(in(i, 0), in(i, 1)), height);
+    mm(i, 0) = world ? world->x() : std::nan("");
+    mm(i, 1) = world ? world->y() : std::nan("");
+  }
+  return out;
+}
+
 }  // namespace
 
 void BindDetect(py::module_& m) {
+  m.def("_pixel_to_floor", &PixelToFloor, py::arg("calibration"), py::arg("pixels"),
+        py::arg("height_mm"));
   m.def("_setup", &Setup, py::arg("frames"), py::arg("field"), py::arg("binary_dir"),
         py::arg("settings"), py::arg("out"), py::arg("landmarks"), py::arg("robot_height_mm"),
-        py::arg("line_width_px"));
+        py::arg("line_width_px"), py::arg("colour_options"));
   py::class_<Detector>(m, "_Detector")
       .def(py::init<const std::string&, const std::string&, const std::string&>(),
            py::arg("thresholds"), py::arg("calibration"), py::arg("settings"))

@@ -429,6 +429,41 @@ inline std::vector<MalformedCase> CommandMalformedCases() {
        "goal_back_right_pos, goal_post_left_neg, goal_post_right_neg, goal_back_left_neg, "
        "goal_back_right_neg, penalty_mark_pos, penalty_mark_neg"s,
        nullptr},
+      {"SetupUnknownColourOption",
+       {},
+       "setup {src}/settings/ssl-frame.png --field ssl-2009 --settings ssl-frame.detector "
+       "--colour-option segment=60 -o {dir}cam",
+       2,
+       "patlab setup: --colour-option 'segment=60': unknown colour option 'segment'; expected "
+       "one of light_cell_px, max_light_gain, standout_delta_e, segment_k, cluster_distance, "
+       "lightness_weight, hue_spread_deg, lightness_spread, chroma_spread, achromatic_chroma, "
+       "max_name_cost, lower_percentile, upper_percentile, lighting_min_gain, "
+       "lighting_max_gain, margin_levels, negative_weight"s,
+       nullptr},
+      {"SetupColourOptionOutOfRange",
+       {},
+       "setup {src}/settings/ssl-frame.png --field ssl-2009 --settings ssl-frame.detector "
+       "--colour-option standout_delta_e=0 -o {dir}cam",
+       2,
+       "patlab setup: --colour-option 'standout_delta_e=0': standout_delta_e is 0; expected in "
+       "(0, 200]"s,
+       nullptr},
+      {"SetupColourOptionNotANumber",
+       {},
+       "setup {src}/settings/ssl-frame.png --field ssl-2009 --settings ssl-frame.detector "
+       "--colour-option segment_k=wide -o {dir}cam",
+       2,
+       "patlab setup: --colour-option 'segment_k=wide'; expected NAME=VALUE (an option of the "
+       "colour fit and a number)"s,
+       nullptr},
+      {"SetupColourOptionNotAnInteger",
+       {},
+       "setup {src}/settings/ssl-frame.png --field ssl-2009 --settings ssl-frame.detector "
+       "--colour-option margin_levels=2.5 -o {dir}cam",
+       2,
+       "patlab setup: --colour-option 'margin_levels=2.5': margin_levels is 2.5; expected an "
+       "integer"s,
+       nullptr},
       {"DetectSetupWithoutSetupToml",
        {},
        "detect {src}/settings/ssl-frame.png --setup {dir}nowhere",

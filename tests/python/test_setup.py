@@ -78,3 +78,66 @@ def test_bad_input_is_a_value_error(scene, tmp_path, in_root):
         patlab.setup(str(tmp_path / "none.png"), field="ssl", settings="ssl-frame.detector",
                      out=tmp_path)
     assert not (tmp_path / "setup.toml").exists()
+
+
+def test_colour_options_are_the_clis(cli, root, tmp_path, in_root):
+    """colour_options={...} is --colour-option NAME=VALUE: the same files; another value of the
+    colour fit's segmentation writes other thresholds; a bad name or value is a ValueError."""
+    run = cli("render", SCENE, "--camera", "--out", tmp_path / "r")
+    assert run.returncode == 0, run.stderr
+    frame = tmp_path / "r" / "frame.png"
+    run = cli("setup", frame, "--field", "ssl-2009", "--settings", "ssl-frame.detector",
+              "--colour-option", "segment_k=200", "--colour-option", "standout_delta_e=14",
+              "-o", tmp_path / "cli")
+    assert run.returncode == 0, run.stderr
+    patlab.setup(str(frame), field="ssl-2009", settings="ssl-frame.detector",
+                 out=tmp_path / "py", colour_options={"segment_k": 200, "standout_delta_e": 14})
+    patlab.setup(str(frame), field="ssl-2009", settings="ssl-frame.detector",
+                 out=tmp_path / "defaults")
+    for name in ("calibration.toml", "thresholds.toml", "settings.toml", "setup.toml"):
+        assert (tmp_path / "py" / name).read_text() == (tmp_path / "cli" / name).read_text()
+    assert ((tmp_path / "py" / "thresholds.toml").read_text() !=
+            (tmp_path / "defaults" / "thresholds.toml").read_text())
+    with pytest.raises(ValueError, match=r"unknown colour option 'segment'; expected one of "
+                                         r"light_cell_px, .*segment_k"):
+        patlab.setup(str(frame), field="ssl-2009", settings="ssl-frame.detector",
+                     out=tmp_path / "bad", colour_options={"segment": 1})
+    with pytest.raises(ValueError, match=r"segment_k is -1; expected in \(0, 10000\]"):
+        patlab.setup(str(frame), field="ssl-2009", settings="ssl-frame.detector",
+                     out=tmp_path / "bad", colour_options={"segment_k": -1})
+    with pytest.raises(ValueError, match=r"margin_levels is 2.5; expected an integer"):
+        patlab.setup(str(frame), field="ssl-2009", settings="ssl-frame.detector",
+                     out=tmp_path / "bad", colour_options={"margin_levels": 2.5})
+    assert not (tmp_path / "bad").exists()
+
+
+def _project(calibration, world_mm):
+    """World points (N, 3) mm -> pixels (N, 2) by the calibration file's pinhole with radial
+    distortion, written out from docs/formats (x_cam = R x + t; x_d = x (1 + k1 r^2 + k2 r^4))."""
+    import tomllib
+    from scipy.spatial.transform import Rotation
+    with open(calibration, "rb") as f:
+        p = tomllib.load(f)["pinhole"]
+    cam = Rotation.from_rotvec(p["rotation_rodrigues"]).apply(world_mm) + p["translation_mm"]
+    x, y = cam[:, 0] / cam[:, 2], cam[:, 1] / cam[:, 2]
+    r2 = x * x + y * y
+    d = 1.0 + p["k1"] * r2 + p["k2"] * r2 * r2
+    return np.column_stack([p["fx_px"] * x * d + p["cx_px"], p["fy_px"] * y * d + p["cy_px"]])
+
+
+def test_pixel_to_floor_inverts_the_cameras_projection(root):
+    calibration = root / "settings" / "ssl-half-field.calibration.toml"
+    rng = np.random.default_rng(7)
+    for height in (None, 0.0, 21.5):
+        z = 140.0 if height is None else height  # the file's default_mm is 140
+        world = np.column_stack([rng.uniform(700, 2300, 50), rng.uniform(-400, 1000, 50),
+                                 np.full(50, z)])
+        pixels = _project(calibration, world)
+        floor = patlab.pixel_to_floor(calibration, pixels, height_mm=height)
+        assert floor.shape == (50, 2)
+        np.testing.assert_allclose(floor, world[:, :2], atol=1e-6)
+    # A pixel far outside the lens's valid range does not reach the floor: NaN, not a number.
+    beyond = patlab.pixel_to_floor(calibration, [[1e7, 1e7]])
+    assert np.isnan(beyond).all()
+    with pytest.raises(ValueError, match=r"no such file|cannot open|not found"):
+        patlab.pixel_to_floor(root / "none.toml", [[0, 0]])

@@ -407,4 +407,21 @@ SetupLandmark ParseLandmark(const std::string& text) {
   return {m[1].str(), Vec2(*x, *y)};
 }
 
+void ParseColourOption(const std::string& text, vision::BlobThresholdsOptions* options) {
+  static const std::regex kForm(R"(^([A-Za-z0-9_]+)=([-+0-9.eE]+)$)");
+  std::smatch m;
+  const std::optional<double> value =
+      std::regex_match(text, m, kForm) ? ParseDecimal(m[2].str()) : std::nullopt;
+  if (!value) {
+    throw InputError("--colour-option '" + text +
+                     "'; expected NAME=VALUE (an option of the colour fit and a number)");
+  }
+  try {
+    vision::SetBlobThresholdsOption(m[1].str(), *value, options);
+    vision::Validate(*options);
+  } catch (const InputError& e) {
+    throw InputError("--colour-option '" + text + "': " + e.what());
+  }
+}
+
 }  // namespace patlab::formats

@@ -134,4 +134,8 @@ std::string LandmarkListText(const calib::Field& field);
 // Parses "NAME=X,Y" (`--landmark`); InputError naming the flag.
 SetupLandmark ParseLandmark(const std::string& text);
 
+// Sets one colour fit option from "NAME=VALUE" (`--colour-option`, vision::
+// SetBlobThresholdsOption) and checks the options' ranges; InputError naming the flag.
+void ParseColourOption(const std::string& text, vision::BlobThresholdsOptions* options);
+
 }  // namespace patlab::formats

@@ -94,6 +94,13 @@ struct BlobThresholdsOptions {
 std::vector<OptionsProblem> Check(const BlobThresholdsOptions& options);
 void Validate(const BlobThresholdsOptions& options);
 
+// The options by name (`patlab setup --colour-option NAME=VALUE`, patlab.setup(colour_options=)):
+// every field above but the blob area range and spread, which setup sets from the calibration.
+// SetBlobThresholdsOption: InputError for another name (listing these) or a non-integer value of
+// an integer option; the range is Check's.
+std::vector<std::string> BlobThresholdsOptionNames();
+void SetBlobThresholdsOption(const std::string& name, double value, BlobThresholdsOptions* options);
+
 // A frame after stage 1: per pixel (row-major) its YUV as the lookup table sees it, its CIELAB
 // colour and whether it stands out from the carpet around it.
 struct NormalisedFrame {
