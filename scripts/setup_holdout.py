@@ -14,18 +14,18 @@ carry to a camera nobody looked at. Here every camera is scored on a grid of bot
   * the rendered random cameras of scripts/setup_rendered.py (seeds 1-12 by default, each its own
     camera).
 
-and then, for each camera in turn, the grid point with the best score on all the *other* cameras
-(robots right minus ten times the false IDs; a tie goes to the point nearer the defaults) is the
-one it is scored with. A camera's score with the constants its own frame did not choose is the
-held-out score; when every camera's choice is the default, the defaults were not tuned to any
-one of them.
+and then, for each camera in turn, the grid points with the best score on all the *other*
+cameras (robots right minus ten times the false IDs) are the ones it is scored with: its held-out
+score is its mean (and worst) score over those points. When the other cameras do not tell two
+points apart, neither point is preferred -- a tie is not broken towards the defaults -- so a
+camera whose result hangs on a constant its own frame chose shows it as a lower mean.
 
 The real frames' truth is the robots counted by eye (tests/cli/setup_real_cli_test.cpp): each
 robot's key patch centre in px, its team and ID (-1: team only), mapped to the floor through the
 calibration setup wrote (patlab.pixel_to_floor) and matched within 60 mm.
 
-Usage: PYTHONPATH=build/python scripts/setup_holdout.py [--patlab build/patlab] [--seeds 1-12]
-           [--out results/setup]
+Usage: scripts/setup_holdout.py [--patlab build/patlab] [--seeds 1-12] [--out results/setup]
+(the patlab module from build/python, else an installed one)
 Writes OUT/holdout_grid.csv (every camera at every grid point) and OUT/holdout.csv (each camera
 held out), and prints the table docs/setup.md quotes.
 """
@@ -38,10 +38,11 @@ import subprocess
 import sys
 import tempfile
 
-import patlab
-import setup_rendered
-
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "build", "python"))  # patlab's module, unless installed
+import patlab  # noqa: E402
+import setup_rendered  # noqa: E402
+
 FRAMES = os.path.join(os.path.dirname(ROOT), "shared", "frames")
 STANDOUT_DELTA_E = (14.0, 20.0, 28.0)
 SEGMENT_K = (40.0, 60.0, 90.0)
@@ -107,13 +108,13 @@ def run_real(patlab_bin, name, point, work, log):
 
 
 def choose(grid, cameras, held_out):
-    """The grid point with the best score on every camera but `held_out`."""
-    def key(point):
-        total = sum(grid[c, point][0] - FALSE_ID_COST * grid[c, point][1]
-                    for c in cameras if c != held_out)
-        distance = abs(math.log(point[0] / DEFAULT[0])) + abs(math.log(point[1] / DEFAULT[1]))
-        return (total, -distance)
-    return max(grid_points(), key=key)
+    """The grid points with the best score on every camera but `held_out` (all of them when
+    those cameras do not tell the points apart)."""
+    def total(point):
+        return sum(grid[c, point][0] - FALSE_ID_COST * grid[c, point][1]
+                   for c in cameras if c != held_out)
+    best = max(total(p) for p in grid_points())
+    return [p for p in grid_points() if total(p) == best]
 
 
 def grid_points():
@@ -169,25 +170,31 @@ def main():
     rows = []
     for c in cameras:
         chosen = choose(grid, cameras, c)
-        right, false, shown = grid[c, chosen]
-        rows.append({"camera": c, "standout_delta_e": chosen[0], "segment_k": chosen[1],
-                     "right": right, "false_ids": false, "robots": shown,
+        rights = [grid[c, p][0] for p in chosen]
+        falses = [grid[c, p][1] for p in chosen]
+        rows.append({"camera": c, "robots": grid[c, DEFAULT][2],
+                     "points_chosen": " ".join("%g/%g" % p for p in chosen),
+                     "right_mean": round(sum(rights) / len(rights), 2), "right_worst": min(rights),
+                     "false_ids_mean": round(sum(falses) / len(falses), 2),
+                     "false_ids_worst": max(falses),
                      "right_with_defaults": grid[c, DEFAULT][0],
                      "false_ids_with_defaults": grid[c, DEFAULT][1]})
     path = os.path.join(args.out, "holdout.csv")
     write_csv(path, rows)
-    print("\n| camera held out | chosen on the others (standout_delta_e, segment_k) "
-          "| right / shown | false IDs | with the defaults |")
+    print("\n| camera held out | points chosen on the others (of %d) | right / shown: mean, worst "
+          "| false IDs: mean, worst | with the defaults |" % len(grid_points()))
     print("|---|---|---|---|---|")
     for r in rows:
-        print("| %s | %g, %g | %d / %d | %d | %d / %d, %d false |" % (
-            r["camera"], r["standout_delta_e"], r["segment_k"], r["right"], r["robots"],
-            r["false_ids"], r["right_with_defaults"], r["robots"], r["false_ids_with_defaults"]))
-    right = sum(r["right"] for r in rows)
+        print("| %s | %d | %.2f, %d / %d | %.2f, %d | %d / %d, %d false |" % (
+            r["camera"], len(r["points_chosen"].split()), r["right_mean"], r["right_worst"],
+            r["robots"], r["false_ids_mean"], r["false_ids_worst"], r["right_with_defaults"],
+            r["robots"], r["false_ids_with_defaults"]))
+    right = sum(r["right_mean"] for r in rows)
+    worst = sum(r["right_worst"] for r in rows)
     shown = sum(r["robots"] for r in rows)
-    false = sum(r["false_ids"] for r in rows)
-    print("held out: %d/%d robots right (%.1f%%), %d false IDs; wrote %s" % (
-        right, shown, 100.0 * right / max(shown, 1), false, os.path.relpath(path)))
+    false = sum(r["false_ids_mean"] for r in rows)
+    print("held out: %.1f/%d robots right on average (%.1f%%; worst %d), %.1f false IDs; wrote %s"
+          % (right, shown, 100.0 * right / max(shown, 1), worst, false, os.path.relpath(path)))
     subprocess.run(["rm", "-rf", work])
     return 0
 
