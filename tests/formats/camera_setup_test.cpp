@@ -9,6 +9,7 @@
 
 #include "../expect_error.h"
 #include "../test_util.h"
+#include "patlab/formats/detector_settings.h"
 #include "patlab/formats/field_file.h"
 #include "patlab/formats/scene_file.h"
 #include "patlab/render/scene_render.h"
@@ -82,12 +83,25 @@ TEST(SetupFolder, NamesItsFilesRelativeToTheFolder) {
 // The --landmark fallback on the rendered half field (settings/ssl-half-field.toml): six landmarks
 // projected through the known camera (the field's own lines not used) give a calibration within 5
 // mm of it; an unknown landmark is an InputError naming the model's.
+// Landmarks replace the lines; and the settings.toml setup writes replaces the settings' [detector]
+// tolerances by its own but keeps their policies (here missing_patch = "fit", max_neighbours 6,
+// which settings/ssl-frame.detector.toml states as "reject" and 8).
 TEST(SetupCamera, LandmarksReplaceTheLines) {
   const SceneFile scene = LoadSceneFile(PATLAB_SOURCE_DIR "/settings/ssl-half-field.toml");
   const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
+  testing::TempDir dir;
+  std::string settings = testing::ReadFile(PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml");
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"\"../patterns/", "\"" PATLAB_SOURCE_DIR "/patterns/"},
+        {"missing_patch = \"reject\"", "missing_patch = \"fit\""},
+        {"max_neighbours = 8", "max_neighbours = 6"}}) {
+    for (size_t at = settings.find(from); at != std::string::npos; at = settings.find(from, at))
+      settings.replace(at, from.size(), to), at += to.size();
+  }
+  std::ofstream(dir.Path("settings.toml")) << settings;
   SetupOptions o;
   o.fields = {formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml")};
-  o.settings_path = PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml";
+  o.settings_path = dir.Path("settings.toml");
   for (const char* name : {"centre", "halfway_left", "centre_circle_right", "corner_pos_left",
                            "defense_front_left_pos", "defense_front_right_pos"}) {
     const auto px = scene.calibration.camera.WorldToPixel(o.fields[0].FindPoint(name)->at_mm, 0.0);
@@ -108,6 +122,13 @@ TEST(SetupCamera, LandmarksReplaceTheLines) {
     }
   EXPECT_LT(std::sqrt(sum / n), 5.0);
   EXPECT_EQ(r.files.size(), 4u);
+  for (const auto& [name, text] : r.files) {
+    if (name != "settings.toml") continue;
+    const detect::DetectorConfig written = ParseDetectorSettings(text, name, dir.Path(""));
+    EXPECT_EQ(written.options.missing_patch, detect::MissingPatchPolicy::kFit) << text;
+    EXPECT_EQ(written.options.max_neighbours, 6) << text;
+    EXPECT_DOUBLE_EQ(written.options.patch_sigma_mm, r.tolerances.patch_sigma_mm);
+  }
   o.landmarks[0].name = "middle";
   EXPECT_INPUT_ERROR(
       SetupCamera({&frame}, {"frame.png"}, o),

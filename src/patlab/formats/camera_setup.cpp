@@ -111,7 +111,9 @@ void CalibrateFromLandmarks(const camera::Image& frame, const std::string& name,
 }
 
 // The settings' text with relative pattern, codebook and patterns_dir paths made absolute (the
-// settings are written into another folder) and its [detector] table replaced by `detector`.
+// settings are written into another folder) and its [detector] table replaced by `t`: the
+// tolerances setup chose, and the settings' own policies (missing_patch, max_neighbours, the
+// estimator), which say how the user wants robots read, not how far this camera's blobs stray.
 std::string SettingsText(const std::string& path, const detect::DetectorOptions& t,
                          const std::string& comment) {
   const std::string text = io::ReadTextFile(path, "detector settings");
@@ -139,7 +141,11 @@ std::string SettingsText(const std::string& path, const detect::DetectorOptions&
          "\ngeometry_confidence = " + FormatRoundTrip(t.geometry_confidence) +
          "\nreach_margin_mm = " + FormatRoundTrip(t.reach_margin_mm) +
          "\narea_ratio_min = " + FormatRoundTrip(t.area_ratio_min) +
-         "\narea_ratio_max = " + FormatRoundTrip(t.area_ratio_max) + "\n";
+         "\narea_ratio_max = " + FormatRoundTrip(t.area_ratio_max) + "\nmissing_patch = \"" +
+         std::string(detect::MissingPatchPolicyName(t.missing_patch)) +
+         "\"\nmax_neighbours = " + std::to_string(t.max_neighbours) + "\nestimator = \"" +
+         std::string(estimate::EstimatorName(t.estimator)) +
+         "\"\nml_max_iterations = " + std::to_string(t.ml.max_iterations) + "\n";
   return out;
 }
 

@@ -5,7 +5,8 @@
 // landmarks the user clicked; the colour classes the settings' palette names give the
 // thresholds (vision/thresholds_auto.h); and the detector's tolerances are chosen from what was
 // measured. The result is four files in one folder -- calibration.toml, thresholds.toml,
-// settings.toml (the given settings with a [detector] table of the chosen tolerances) and
+// settings.toml (the given settings with a [detector] table of the chosen tolerances and the
+// settings' own missing_patch, max_neighbours and estimator) and
 // setup.toml naming them -- which `patlab detect --setup DIR` reads.
 //
 // Tolerances (SetupTolerances): with s the floor's mm per pixel at the image centre on the
