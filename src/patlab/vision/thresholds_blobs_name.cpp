@@ -312,9 +312,10 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
       counts.Accumulate();
       kept.Accumulate();
       cls.range = PercentileBox(own, options);
+      const std::array<ChannelRange, 3> wide = PercentileBox(clipped, options);
       for (int ch = 0; ch < 3; ++ch) {
-        const ChannelRange wide = PercentileBox(clipped, options)[ch];
-        cls.range[ch] = {std::min(cls.range[ch].lo, wide.lo), std::max(cls.range[ch].hi, wide.hi)};
+        cls.range[ch] = {std::min(cls.range[ch].lo, wide[ch].lo),
+                         std::max(cls.range[ch].hi, wide[ch].hi)};
       }
       TightenBox(counts, kept, all, options.negative_weight, &cls.range);
     }
