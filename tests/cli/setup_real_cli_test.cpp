@@ -145,10 +145,14 @@ TEST(SetupRealCli, Ssl2008FrameWithNoHandWrittenFile) {
 // and shot noise) at exposure 1, set up there, and detected at exposure 1.6 with the same folder:
 // every robot with its team, ID and place (within 20 mm). (At exposure 0.6 the ID dots fall out
 // of the boxes: docs/setup.md, "What fails and why".)
-TEST(SetupRealCli, ColoursFittedOnOneExposureHoldOnABrighterOne) {
+// One setup folder, frames of other exposures: the frame's light is scaled to the one the colours
+// were fitted at ([frame] light_luma), so the darker frame's ID dots, whose chroma shrank towards
+// neutral, are in their boxes again (before: 0 / 10 at 0.6), and the brighter one's clipped
+// colours are in the boxes the blob fit widened for clipping.
+TEST(SetupRealCli, ColoursFittedOnOneExposureHoldOnADarkerAndABrighterOne) {
   testing::TempDir dir;
   const std::string scene = std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-half-field.toml";
-  for (const std::string gain : {"1", "1.6"}) {
+  for (const std::string gain : {"1", "0.6", "1.6"}) {
     const auto render = RunCommand(kBinary + " render " + scene + " --camera --exposure-gain " +
                                    gain + " -o " + dir.Path("g" + gain));
     ASSERT_EQ(render.exit_code, 0) << render.err;
@@ -157,7 +161,7 @@ TEST(SetupRealCli, ColoursFittedOnOneExposureHoldOnABrighterOne) {
       RunCommand(kBinary + " setup " + dir.Path("g1/frame.png") +
                  " --field ssl-2009 --settings ssl-frame.detector -o " + dir.Path("cam"));
   ASSERT_EQ(setup.exit_code, 0) << setup.err;
-  for (const std::string gain : {"1", "1.6"}) {
+  for (const std::string gain : {"1", "0.6", "1.6"}) {
     const auto detect = RunCommand(kBinary + " detect " + dir.Path("g" + gain + "/frame.png") +
                                    " --setup " + dir.Path("cam") + " --format csv -q");
     ASSERT_EQ(detect.exit_code, 0) << detect.err;

@@ -111,17 +111,22 @@ TEST(Settings, BadFilesGiveTheirMessages) {
 // detector's own options.
 TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
   const std::string text = kHead + "[detector]\nmissing_patch = \"reject\"\n" +
-                           "[frame]\nedge_loss_px = 0.5\nmissing_patch = \"fit\"\n" + kPattern;
+                           "[frame]\nedge_loss_px = 0.5\nmissing_patch = \"fit\"\nlight_luma = "
+                           "76\n" +
+                           kPattern;
   const detect::FrameSettings frame = ParseFrameSettings(text, "s.toml");
   ASSERT_TRUE(frame.edge_loss_px.has_value());
   EXPECT_EQ(*frame.edge_loss_px, 0.5);
   ASSERT_TRUE(frame.missing_patch.has_value());
   EXPECT_EQ(*frame.missing_patch, detect::MissingPatchPolicy::kFit);
+  ASSERT_TRUE(frame.light_luma.has_value());
+  EXPECT_EQ(*frame.light_luma, 76.0);
   EXPECT_EQ(ParseDetectorSettings(text, "s.toml", kExperiments).options.missing_patch,
             detect::MissingPatchPolicy::kReject);
   const detect::FrameSettings none = ParseFrameSettings(kHead + kPattern, "s.toml");
   EXPECT_FALSE(none.edge_loss_px.has_value());
   EXPECT_FALSE(none.missing_patch.has_value());
+  EXPECT_FALSE(none.light_luma.has_value());
   // The shipped file: simulations keep "reject", camera frames fit (docs/detect.md).
   EXPECT_EQ(LoadFrameSettings(kExperiments + "/detector.toml").missing_patch,
             detect::MissingPatchPolicy::kFit);
@@ -143,7 +148,9 @@ TEST(Settings, BadFrameTablesGiveTheirMessages) {
               "bad.toml:3: missing_patch is \"sometimes\"; expected \"reject\" or \"fit\"");
   frame_error("edge_loss = 1\n",
               "bad.toml:3: unknown key 'edge_loss' in [frame]; expected one of: edge_loss_px, "
-              "missing_patch");
+              "missing_patch, light_luma");
+  frame_error("light_luma = 0\n", "bad.toml:3: light_luma is 0; expected in (0, 255]");
+  frame_error("light_luma = 300\n", "bad.toml:3: light_luma is 300; expected in (0, 255]");
   ExpectSettingsError(kHead + "frame = 1\n" + kPattern,
                       "bad.toml:2: frame is an integer; expected a table");
   detect::FrameSettings ok;

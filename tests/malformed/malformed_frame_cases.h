@@ -47,7 +47,7 @@ inline const std::vector<MalformedCase>& FrameSettingsMalformedCases() {
       FrameSettingsCase(
           "SettingsFrameUnknownKey", "edge_loss = 1", "",
           "patlab detect: {dir}s.toml:5: unknown key 'edge_loss' in [frame]; expected "
-          "one of: edge_loss_px, missing_patch"),
+          "one of: edge_loss_px, missing_patch, light_luma"),
       FrameSettingsCase("DetectEdgeLossFlagTooLarge", "edge_loss_px = 1", " --edge-loss-px 12",
                         "patlab detect: --edge-loss-px is 12; expected a number in [0, 10] (px)"),
   };

@@ -192,6 +192,24 @@ TEST(FrameDetector, FrameSettingsReachTheDetector) {
   options.edge_loss_px = -0.5;
   EXPECT_INPUT_ERROR(FrameDetector(Classes(), TwoMmPerPixel(), config, options),
                      "edge_loss_px is -0.5; expected a number in [0, 10] (px)");
+  options.edge_loss_px = 1.0;
+  ApplyFrameSettings(formats::ParseFrameSettings("[frame]\nlight_luma = 76\n", "s.toml"), &options);
+  EXPECT_EQ(options.light_luma, 76.0);
+  options.light_luma = -1.0;
+  EXPECT_INPUT_ERROR(FrameDetector(Classes(), TwoMmPerPixel(), config, options),
+                     "light_luma is -1; expected in (0, 255]");
+}
+
+// A frame's light is its median luma, in either pixel format: the carpet's where it covers most of
+// the view, whatever the few bright or dark pixels do.
+TEST(FrameDetector, FrameLightIsTheMedianLuma) {
+  camera::Image image = camera::Image::Rgb(64, 48);
+  for (size_t i = 0; i < image.data.size(); i += 3) {
+    image.data[i] = 40, image.data[i + 1] = 100, image.data[i + 2] = 50;  // luma 76
+  }
+  for (int y = 0; y < 12; ++y) std::fill_n(image.data.begin() + y * image.RowBytes(), 96, 255);
+  EXPECT_EQ(FrameLight(image), 76.0);
+  EXPECT_EQ(FrameLight(camera::ToUyvy(image)), 76.0);
 }
 
 // A missing-patch fit is checked where its missing patch should be (MissingPatchLook). Four

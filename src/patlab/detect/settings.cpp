@@ -19,6 +19,10 @@ std::vector<OptionsProblem> Check(const FrameSettings& settings) {
   if (settings.edge_loss_px) {
     check.InRange("edge_loss_px", *settings.edge_loss_px, 0.0, kMaxEdgeLossPx, "px");
   }
+  if (settings.light_luma) {
+    check.Require("light_luma", *settings.light_luma,
+                  *settings.light_luma > 0.0 && *settings.light_luma <= 255.0, "in (0, 255]");
+  }
   return check.Take();
 }
 

@@ -34,11 +34,15 @@ struct FrameSettings {
   // frame regularly loses one patch of a pattern (occlusion, a sector merged with the robot's
   // body, a colour the light does not show) where simulated blobs lose none unless asked to.
   std::optional<MissingPatchPolicy> missing_patch;
+  // The light the colour thresholds were fitted at, as vision::FrameLight measures a frame (the
+  // median luma, 0..255; vision::FrameDetectorOptions::light_luma): each frame's colours are
+  // scaled by it over the frame's own light before they are classified. In (0, 255].
+  std::optional<double> light_luma;
 };
 inline constexpr double kMaxEdgeLossPx = 10.0;
 
 // Every broken constraint (core/options.h): edge_loss_px, when set, finite and in
-// [0, kMaxEdgeLossPx].
+// [0, kMaxEdgeLossPx]; light_luma, when set, in (0, 255].
 std::vector<OptionsProblem> Check(const FrameSettings& settings);
 
 }  // namespace patlab::detect

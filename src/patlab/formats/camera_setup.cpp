@@ -111,21 +111,34 @@ void CalibrateFromLandmarks(const camera::Image& frame, const std::string& name,
 }
 
 // The settings' text with relative pattern, codebook and patterns_dir paths made absolute (the
-// settings are written into another folder) and its [detector] table replaced by `t`: the
+// settings are written into another folder), its [detector] table replaced by `t`: the
 // tolerances setup chose, and the settings' own policies (missing_patch, max_neighbours, the
-// estimator), which say how the user wants robots read, not how far this camera's blobs stray.
+// estimator), which say how the user wants robots read, not how far this camera's blobs stray;
+// and its [frame] light_luma set to the light the thresholds are fitted at.
 std::string SettingsText(const std::string& path, const detect::DetectorOptions& t,
-                         const std::string& comment) {
+                         double light_luma, const std::string& comment) {
   const std::string text = io::ReadTextFile(path, "detector settings");
   const fs::path base = fs::absolute(fs::path(path)).parent_path();
   static const std::regex kPath(R"(^(\s*(pattern|codebook|patterns_dir)\s*=\s*")([^"]+)(".*)$)");
   static const std::regex kTable(R"(^\s*\[.*)");
+  static const std::regex kFrame(R"(^\s*\[\s*frame\s*\].*)");
+  static const std::regex kLight(R"(^\s*light_luma\s*=.*)");
+  const std::string light_line = "light_luma = " + FormatRoundTrip(light_luma) +
+                                 "  # the frames' light the thresholds are fitted at\n";
   std::istringstream in(text);
   std::string out = comment, line;
-  bool in_detector = false;
+  bool in_detector = false, in_frame = false, frame_seen = false;
   while (std::getline(in, line)) {
-    if (std::regex_match(line, kTable)) in_detector = line.find("[detector]") != std::string::npos;
-    if (in_detector) continue;
+    if (std::regex_match(line, kTable)) {
+      in_detector = line.find("[detector]") != std::string::npos;
+      in_frame = std::regex_match(line, kFrame);
+      if (in_frame) {
+        out += line + "\n" + light_line;
+        frame_seen = true;
+        continue;
+      }
+    }
+    if (in_detector || (in_frame && std::regex_match(line, kLight))) continue;
     std::smatch m;
     // A pattern or codebook named without a folder or ".toml" is looked up in patterns_dir.
     const bool is_path =
@@ -137,6 +150,7 @@ std::string SettingsText(const std::string& path, const detect::DetectorOptions&
     }
     out += line + "\n";
   }
+  if (!frame_seen) out += "\n[frame]\n" + light_line;
   out += "\n[detector]\npatch_sigma_mm = " + FormatRoundTrip(t.patch_sigma_mm) +
          "\ngeometry_confidence = " + FormatRoundTrip(t.geometry_confidence) +
          "\nreach_margin_mm = " + FormatRoundTrip(t.reach_margin_mm) +
@@ -292,10 +306,13 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
       "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
   const std::string calibration_text =
       calib::CalibrationFileText(r.calibration_input, r.calibration_fit);
-  const std::string settings_text =
-      SettingsText(options.settings_path, r.tolerances,
-                   made + "# The detector settings " + options.settings_path +
-                       " with the tolerances setup chose ([detector], docs/setup.md).\n");
+  double light = 0.0;
+  for (const camera::Image* frame : frames) light += vision::FrameLight(*frame) / frames.size();
+  const std::string settings_text = SettingsText(
+      options.settings_path, r.tolerances, light,
+      made + "# The detector settings " + options.settings_path +
+          " with the tolerances setup chose ([detector]) and the frames' light ([frame] " +
+          "light_luma, docs/setup.md).\n");
   ChooseColourFit(frames, config, options, calibration_text, settings_text, &r);
   r.files = {{"calibration.toml", calibration_text},
              {"thresholds.toml",

@@ -131,8 +131,9 @@ detect::FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlR
     reader.Fail("frame", "frame is " + io::TypeName(*frame_node) + "; expected a table");
   }
   io::TomlReader fr(*frame_node->as_table(), file, "[frame]");
-  fr.CheckKeys({"edge_loss_px", "missing_patch"});
+  fr.CheckKeys({"edge_loss_px", "missing_patch", "light_luma"});
   f.edge_loss_px = fr.OptionalNumber("edge_loss_px");
+  f.light_luma = fr.OptionalNumber("light_luma");
   f.missing_patch = OptionalMissingPatch(fr);
   const std::vector<OptionsProblem> problems = detect::Check(f);
   if (!problems.empty()) fr.Fail(problems.front().field, problems.front().message);

@@ -25,7 +25,10 @@ std::vector<OptionsProblem> Check(const FrameDetectorOptions& o) {
                                         std::to_string(o.raw_height_px) +
                                         "; expected a positive even width and a positive height"});
   }
-  for (OptionsProblem& problem : detect::Check(detect::FrameSettings{o.edge_loss_px, {}})) {
+  for (OptionsProblem& problem : detect::Check(detect::FrameSettings{
+           o.edge_loss_px,
+           {},
+           o.light_luma != 0.0 ? std::optional<double>(o.light_luma) : std::nullopt})) {
     problems.push_back(std::move(problem));
   }
   return problems;
@@ -36,6 +39,32 @@ void Validate(const FrameDetectorOptions& options) { ThrowFirstProblem(Check(opt
 void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOptions* options) {
   if (settings.edge_loss_px) options->edge_loss_px = *settings.edge_loss_px;
   if (settings.missing_patch) options->missing_patch = settings.missing_patch;
+  if (settings.light_luma) options->light_luma = *settings.light_luma;
+}
+
+double FrameLight(const camera::ImageView& image) {
+  std::array<long, 256> histogram{};
+  long n = 0;
+  for (int y = 0; y < image.height_px; y += 4) {
+    const uint8_t* row = image.Row(y);
+    for (int x = 0; x < image.width_px; x += 4) {
+      const uint8_t* p = row + x * image.pixel_stride;
+      int luma = 0;
+      if (image.format == camera::PixelFormat::kUyvy) {
+        luma = p[image.channel_stride];  // U Y or V Y: the pixel's Y follows its chroma byte
+      } else {
+        int u = 0, v = 0;
+        camera::RgbToYuv(p[0], p[image.channel_stride], p[2 * image.channel_stride], &luma, &u, &v);
+      }
+      ++histogram[static_cast<size_t>(luma)], ++n;
+    }
+  }
+  long seen = 0;
+  for (int v = 0; v < 256; ++v) {
+    seen += histogram[static_cast<size_t>(v)];
+    if (2 * seen >= n) return std::max(v, 1);
+  }
+  return 255;
 }
 
 namespace {
@@ -211,8 +240,17 @@ const FrameResult& FrameDetector::Detect(const camera::ImageView& image, const s
 void FrameDetector::Process(const camera::ImageView& image, const std::string& name) {
   result_.frame = name;
   pipeline_.CheckFrameSize(image, name);
-  RunStages(image);
-  if (!options_.debug_dir.empty()) WriteDebugImages(image);
+  camera::ImageView classified = image;
+  if (options_.light_luma > 0.0) {
+    const double gain = options_.light_luma / FrameLight(image);
+    if (std::abs(gain - 1.0) > kLightTolerance) {
+      lit_ = camera::ToRgb(image);
+      for (uint8_t& c : lit_.data) c = static_cast<uint8_t>(std::min(255.0, std::round(gain * c)));
+      classified = lit_;
+    }
+  }
+  RunStages(classified);
+  if (!options_.debug_dir.empty()) WriteDebugImages(classified);
 }
 
 // Stages 2-5 (the pipeline) and 6: the blobs whose class is in the detector's palette, relabelled

@@ -62,7 +62,24 @@ struct FrameDetectorOptions {
   // missing_patch). A settings file's [frame] missing_patch (experiments/detector.toml: "fit";
   // docs/detect.md, "Settings that travel").
   std::optional<detect::MissingPatchPolicy> missing_patch;
+  // The light the thresholds were fitted at (FrameLight of the frames they come from); 0: none,
+  // every frame is classified as it is. Otherwise a frame whose own light differs from it by more
+  // than kLightTolerance has its R, G and B scaled by light_luma over its light (clipped at 255)
+  // before it is classified: an exposure or a lamp's intensity scales a colour's luma and its
+  // chroma's offset from neutral alike, along a ray through neutral, which a fixed YUV box holds
+  // only over a narrow range (docs/setup.md, "Lighting"). A settings file's [frame] light_luma,
+  // which patlab setup writes. In [0, 255].
+  double light_luma = 0.0;
 };
+
+// A frame's light: the median luma (BT.601 Y, 0..255) of every 4th pixel of every 4th row. The
+// carpet covers most of a field camera's view, so this is the carpet's brightness, which scales
+// with the exposure and the lamps; the robots and the lines moving leave it nearly alone.
+double FrameLight(const camera::ImageView& image);
+
+// Frames whose light is within this fraction of FrameDetectorOptions::light_luma are classified
+// as they are (no copy).
+inline constexpr double kLightTolerance = 0.02;
 
 // Every broken constraint (core/options.h): the segmenter's, a raw size that is either 0 x 0 or a
 // positive even width and a positive height, and edge_loss_px as detect::Check(FrameSettings).
@@ -185,6 +202,7 @@ class FrameDetector {
   FrameDetectorOptions options_;
   VisionPipeline pipeline_;
   std::optional<detect::Detector> detector_;
+  camera::Image lit_;  // the frame scaled to the thresholds' light (options_.light_luma)
   std::vector<int> palette_label_;  // class index -> detector palette label, or -1
   // [pattern][patch]: bit L set when the patch may have palette colour L (MissingPatchLook::own).
   std::vector<std::vector<uint64_t>> patch_colours_;

@@ -24,9 +24,12 @@
 //    together; a further cluster joins a class when it is near that class's cluster and fits
 //    the class's entry too. What is named nothing is clutter.
 // 4. Boxes: per class the percentiles of its blobs' pixels in YUV, stretched for light
-//    intensities lighting_min_gain..lighting_max_gain, plus margin_levels; each box's sides are
-//    then pulled in wherever that drops more than negative_weight pixels of everything else
-//    (carpet, lines, other classes, clutter) per pixel of the class's own.
+//    intensities lighting_min_gain..lighting_max_gain, plus margin_levels, and widened to the
+//    percentiles of those pixels as frames up to internal::kBrighterFramesGain times brighter
+//    clip them, scaled back (FrameDetector scales frames to the fitted light, [frame]
+//    light_luma); each box's sides are then pulled in wherever that drops more than
+//    negative_weight pixels of everything else (carpet, lines, other classes, clutter) per pixel
+//    of the class's own or of its clipped readings.
 #pragma once
 
 #include <array>

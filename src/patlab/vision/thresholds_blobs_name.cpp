@@ -207,14 +207,15 @@ std::array<ChannelRange, 3> PercentileBox(const std::vector<std::array<uint8_t, 
 
 // The box's sides pulled in (in whole bins) while a move drops more other pixels than
 // negative_weight times the class's own: every side and position is tried, the best move taken.
-void TightenBox(const BoxCounts& own, const BoxCounts& all, double negative_weight,
-                std::array<ChannelRange, 3>* box) {
+// `own`: the class's pixels as fitted; `kept`: those and what brighter frames' clipping makes of
+// them at each gain (internal::WithClipping), the pixels the box is to keep.
+void TightenBox(const BoxCounts& own, const BoxCounts& kept, const BoxCounts& all,
+                double negative_weight, std::array<ChannelRange, 3>* box) {
   std::array<int, 3> lo{}, hi{};
   for (int ch = 0; ch < 3; ++ch) lo[ch] = (*box)[ch].lo / 4, hi[ch] = (*box)[ch].hi / 4;
   const auto score = [&](const std::array<int, 3>& l, const std::array<int, 3>& h) {
-    const long mine = own.Count(l, h);
-    return static_cast<double>(mine) -
-           static_cast<double>(all.Count(l, h) - mine) / negative_weight;
+    return static_cast<double>(kept.Count(l, h)) -
+           static_cast<double>(all.Count(l, h) - own.Count(l, h)) / negative_weight;
   };
   std::array<bool, 6> moved{};
   double current = score(lo, hi);
@@ -302,11 +303,21 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
     cls.display_rgb = entries[k]->rgb;
     cls.range = {ChannelRange{0, 0}, ChannelRange{0, 0}, ChannelRange{0, 0}};
     if (!own.empty()) {
-      BoxCounts counts;
+      // What a brighter frame's clipping does to the class's colours, scaled back, is the class's.
+      const std::vector<std::array<uint8_t, 3>> clipped =
+          internal::WithClipping(own, internal::kBrighterFramesGain);
+      BoxCounts counts, kept;
       for (const auto& p : own) counts.Add(p);
+      for (const auto& p : clipped) kept.Add(p);
       counts.Accumulate();
+      kept.Accumulate();
       cls.range = PercentileBox(own, options);
-      TightenBox(counts, all, options.negative_weight, &cls.range);
+      const std::array<ChannelRange, 3> wide = PercentileBox(clipped, options);
+      for (int ch = 0; ch < 3; ++ch) {
+        cls.range[ch] = {std::min(cls.range[ch].lo, wide[ch].lo),
+                         std::max(cls.range[ch].hi, wide[ch].hi)};
+      }
+      TightenBox(counts, kept, all, options.negative_weight, &cls.range);
     }
     c.range = cls.range;
     fit.thresholds.classes.push_back(cls);
