@@ -70,9 +70,24 @@ struct SetupFieldTry {
   std::string same_as;     // the earlier model of the same lines whose result it shares
 };
 
+// A camera the lines do not decide from another (calib::FamilyOptions::keep_rivals): setup
+// writes the files through each and keeps the one that decodes the most robots (the patterns'
+// sizes in mm judge the scale); a tie keeps the one of the most line.
+struct SetupRival {
+  std::string field;                 // its model
+  double score_px = 0.0;             // the line length its camera explains
+  double floor_difference_mm = 0.0;  // how far its map of the frame is from the kept camera's
+  int robots = 0;                    // decoded through it (the better colour fit's count)
+};
+
 struct SetupResult {
   calib::Field field;                // the model kept
   std::vector<SetupFieldTry> tried;  // every model tried, best first
+  // The cameras the lines did not decide between, the kept one first (empty when the lines
+  // decided); robots_decided: the kept one decoded more robots than every other (false: a tie,
+  // kept by its line length).
+  std::vector<SetupRival> undecided;
+  bool robots_decided = false;
   bool from_landmarks = false;
   calib::CalibrationInput calibration_input;
   calib::CalibrationFit calibration_fit;
