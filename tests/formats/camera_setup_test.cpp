@@ -154,9 +154,9 @@ orange = [250, 125, 25]
     const char* team;
     int id;
     double x, y, theta;
-  } robots[] = {{"blue", 6, 922, -2594, 1.49},     {"yellow", 1, -1153, -4173, 0.93},
-                {"blue", 10, 1, -3845, -3.13},     {"yellow", 10, 1177, -1490, 0.54},
-                {"blue", 5, 593, -2036, -2.95},    {"yellow", 12, 2317, -1995, 2.71}};
+  } robots[] = {{"blue", 6, 922, -2594, 1.49},  {"yellow", 1, -1153, -4173, 0.93},
+                {"blue", 10, 1, -3845, -3.13},  {"yellow", 10, 1177, -1490, 0.54},
+                {"blue", 5, 593, -2036, -2.95}, {"yellow", 12, 2317, -1995, 2.71}};
   for (const auto& b : robots) {
     text += "[[robot]]\nteam = \"" + std::string(b.team) + "\"\nid = " + std::to_string(b.id) +
             "\nx_mm = " + std::to_string(b.x) + "\ny_mm = " + std::to_string(b.y) +
@@ -166,8 +166,8 @@ orange = [250, 125, 25]
   const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
   SetupOptions o;
   for (const char* model : {"ssl-div-b", "ssl-div-a"})
-    o.fields.push_back(LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" + std::string(model) +
-                                 ".toml"));
+    o.fields.push_back(
+        LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" + std::string(model) + ".toml"));
   o.settings_path = PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml";
   const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
   ASSERT_GE(r.undecided.size(), 2u);

@@ -154,8 +154,8 @@ TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
   for (const calib::FamilyRival& r : fc.rivals) {
     EXPECT_GT(r.calibration.score_px, 0.9 * fc.calibration.score_px);
     EXPECT_GT(r.floor_difference_mm, 100.0);
-    nearest = std::min(nearest, rendered::MappingRmsMm(truth, r.calibration.fit.camera, kWidth,
-                                                       kHeight));
+    nearest =
+        std::min(nearest, rendered::MappingRmsMm(truth, r.calibration.fit.camera, kWidth, kHeight));
   }
   EXPECT_LT(nearest, 10.0);
 }

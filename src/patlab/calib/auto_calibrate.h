@@ -24,14 +24,15 @@
 //     both axes) gives two equivalent cameras for every view; the one whose image centre looks
 //     at x >= 0 (at the pos half; on the halfway line, at y >= 0) is kept, and the report says
 //     whether the search's camera was turned to it.
-//  4. Fit. From each of the two best cameras (the second only when it scores at least 80% of
-//     the first), each line pixel is given to the painted mark nearest its back-projection on
-//     the floor (within a gate of 12, then 5, then 3 px, and within 25 deg of its direction),
-//     and calib::FitCamera fits every free parameter to the line and circle observations with a
-//     Huber loss, three rounds; a fit that leaves the camera model's range (the floor alone
-//     hardly separates focal length from height) is redone with the focal length held. The
-//     better final score wins; a different camera (not the equivalent one) scoring 90% of it
-//     makes the frame ambiguous.
+//  4. Fit. From the best cameras in turn, while they score at least 80% of the first, until two
+//     have fitted (one whose pixels match too few marks to fix a camera fails at once and takes
+//     no place: a T of two lines fits many places of a field), each line pixel is given to the
+//     painted mark nearest its back-projection on the floor (within a gate of 12, then 5, then 3
+//     px, and within 25 deg of its direction), and calib::FitCamera fits every free parameter to
+//     the line and circle observations with a Huber loss, three rounds; a fit that leaves the
+//     camera model's range (the floor alone hardly separates focal length from height) is redone
+//     with the focal length held. The better final score wins; a different camera (not the
+//     equivalent one) scoring 90% of it makes the frame ambiguous.
 //  5. Held-out error. The pixels of every observation, in runs of 8 along it, are split into
 //     two folds; the camera fitted to one fold back-projects the other's pixels, and their
 //     distance on the floor to their mark, in mm, is the held-out mapping error.

@@ -246,8 +246,9 @@ Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, Calib
 
 }  // namespace
 
-double internal::FloorDifferenceMm(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
-                         bool point_symmetric, int width_px, int height_px) {
+double internal::FloorDifferenceMm(const camera::PinholeCamera& first,
+                                   const camera::PinholeCamera& second, bool point_symmetric,
+                                   int width_px, int height_px) {
   const camera::CameraModel a = camera::CameraModel::Pinhole(first);
   double differ = INFINITY;
   for (int turn = 0; turn < (point_symmetric ? 2 : 1); ++turn) {

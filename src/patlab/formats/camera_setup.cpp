@@ -332,8 +332,7 @@ int RobotsDecoded(const SetupResult& r) { return std::max(r.robots_by_blobs, r.r
 SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
                            const std::vector<std::string>& names,
                            const detect::DetectorConfig& config, const SetupOptions& options) {
-  const calib::FamilyCalibration family =
-      CalibrateFamily(*frames.front(), names.front(), options);
+  const calib::FamilyCalibration family = CalibrateFamily(*frames.front(), names.front(), options);
   std::vector<SetupResult> results(1 + family.rivals.size());
   std::vector<SetupRival> undecided;
   for (size_t i = 0; i < results.size(); ++i) {

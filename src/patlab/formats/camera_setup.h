@@ -1,7 +1,9 @@
 // A new camera set up from its frames, behind `patlab setup` (docs/setup.md): the field's lines
 // give the calibration (vision/field_lines.h FindLinePixels once, then
 // calib::AutoCalibrateFamily: every model screened by its search, the best few fitted, the one
-// whose camera explains the most line length kept), or, as a fallback,
+// whose camera explains the most line length kept; where a second camera explains nearly as
+// much yet maps the frame differently, the one through which the most robots decode), or, as a
+// fallback,
 // landmarks the user clicked; the colour classes the settings' palette names give the
 // thresholds (vision/thresholds_auto.h); and the detector's tolerances are chosen from what was
 // measured. The result is four files in one folder -- calibration.toml, thresholds.toml,
