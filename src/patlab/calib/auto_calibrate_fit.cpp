@@ -20,6 +20,8 @@ constexpr double kMaxAngle =
 constexpr int kMinPixels = 8;  // an observation's pixels at least
 constexpr int kRun = 8;        // the held-out folds' run length along a mark
 constexpr double kLastGatePx = 3.0;  // the assignment's last (narrowest) gate
+// A fitted camera explains at most this many px of line per line pixel found (header of FitView).
+constexpr double kMaxExplainedPerPixel = 1.5;
 // The search's views fitted at most (the second when it scores at least 80% of the first).
 constexpr size_t kFittedViews = 2;
 
@@ -238,6 +240,17 @@ Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, Calib
   try {
     for (double gate : {12.0, 5.0, kLastGatePx}) FitAtGate(x, gate, base, cam, c, notes);
     c.score = internal::CameraScore(cam, *x.marks, *x.dt);
+    // The score is line length in px, about one line pixel per px of line: a camera that
+    // explains far more than was found piles the field's marks onto the lines (a far, degenerate
+    // view), however well its few observations fit.
+    const double found = static_cast<double>(x.pixels->size());
+    if (c.score > kMaxExplainedPerPixel * found) {
+      c.failure = "its camera explains " + FormatSignificant(c.score, 4) + " px of line from " +
+                  std::to_string(x.pixels->size()) +
+                  " line pixels (the field's marks piled onto "
+                  "the lines)";
+      c.score = -INFINITY;
+    }
   } catch (const InputError& e) {
     c.failure = e.what();
   }
