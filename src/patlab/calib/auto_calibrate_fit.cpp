@@ -247,8 +247,7 @@ Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, Calib
     if (c.score > kMaxExplainedPerPixel * found) {
       c.failure = "its camera explains " + FormatSignificant(c.score, 4) + " px of line from " +
                   std::to_string(x.pixels->size()) +
-                  " line pixels (the field's marks piled onto "
-                  "the lines)";
+                  " line pixels (the field's marks piled onto the lines)";
       c.score = -INFINITY;
     }
   } catch (const InputError& e) {
@@ -256,39 +255,6 @@ Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, Calib
   }
   return c;
 }
-
-}  // namespace
-
-double internal::FloorDifferenceMm(const camera::PinholeCamera& first,
-                                   const camera::PinholeCamera& second, bool point_symmetric,
-                                   int width_px, int height_px) {
-  const camera::CameraModel a = camera::CameraModel::Pinhole(first);
-  double differ = INFINITY;
-  for (int turn = 0; turn < (point_symmetric ? 2 : 1); ++turn) {
-    const camera::CameraModel b = camera::CameraModel::Pinhole(turn == 0 ? second : Turned(second));
-    double d = 0.0;
-    for (double fx : {0.25, 0.5, 0.75})
-      for (double fy : {0.25, 0.5, 0.75}) {
-        const Vec2 px(fx * width_px, fy * height_px);
-        const auto qa = a.PixelToWorld(px, 0.0), qb = b.PixelToWorld(px, 0.0);
-        if (qa && qb) d = std::max(d, (*qa - *qb).norm());
-      }
-    differ = std::min(differ, d);
-  }
-  return differ;
-}
-
-bool internal::Undecided(const camera::PinholeCamera& best, double best_score,
-                         const camera::PinholeCamera& second, double second_score,
-                         bool point_symmetric, int width_px, int height_px, double* differ_mm) {
-  if (!std::isfinite(second_score) || !(second_score > kUndecidedRatio * best_score)) return false;
-  *differ_mm = FloorDifferenceMm(best, second, point_symmetric, width_px, height_px);
-  const camera::CameraModel a = camera::CameraModel::Pinhole(best);
-  const double mm_per_px = std::sqrt(a.AreaScale(Vec2(0.5 * width_px, 0.5 * height_px), 0.0));
-  return *differ_mm > 20.0 * mm_per_px;
-}
-
-namespace {
 
 // Step 5's sums: the held-out pixels' floor distances in runs along their marks.
 struct HeldOutSums {
