@@ -247,7 +247,10 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_w
     NAME -> number of the colour fit's options (as --colour-option NAME=VALUE; docs/setup.md
     lists them). Returns the report as a
     dict: field (the model kept), tried (each model: field, fitted, score_px, screen_px,
-    held_out_mapping_mm, same_as, failure; best first), mapping_error_mm,
+    held_out_mapping_mm, same_as, failure; best first), undecided (the cameras the lines did
+    not decide between, the kept one first: field, score_px, floor_difference_mm, robots; empty
+    when the lines decided) and robots_decided (the kept one decoded the most robots),
+    mapping_error_mm,
     mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
     pixels, blobs, separability, nearest), colour_fit ("blobs" or "pixels", the one that decodes
     more robots) with robots_by_blobs and robots_by_pixels, tolerances, robots (per frame:

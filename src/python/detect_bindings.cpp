@@ -205,6 +205,17 @@ py::dict SetupReport(const formats::SetupResult& r) {
   py::list tried;
   for (const formats::SetupFieldTry& t : r.tried) tried.append(SetupTry(t));
   out["tried"] = tried;
+  py::list undecided;
+  for (const formats::SetupRival& u : r.undecided) {
+    py::dict d;
+    d["field"] = u.field;
+    d["score_px"] = u.score_px;
+    d["floor_difference_mm"] = u.floor_difference_mm;
+    d["robots"] = u.robots;
+    undecided.append(d);
+  }
+  out["undecided"] = undecided;
+  out["robots_decided"] = r.robots_decided;
   out["mapping_error_mm"] = r.mapping_error_mm;
   out["mapping_resolution_mm"] = r.mapping_resolution_mm;
   out["mm_per_px"] = r.mm_per_px;

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <string>
 
 #include "../expect_error.h"
 #include "../test_util.h"
@@ -133,6 +135,80 @@ TEST(SetupCamera, LandmarksReplaceTheLines) {
   EXPECT_INPUT_ERROR(
       SetupCamera({&frame}, {"frame.png"}, o),
       "--landmark middle: not a landmark of ssl-2009; expected one of " + o.fields[0].PointNames());
+}
+
+// A view the lines do not decide (ssl-div-a, the camera 1.6 m in from a touch line at the halfway
+// line: the touch line, the halfway line and a corner of the midline; every model whose touch and
+// midline are as far apart fits it at that scale, ssl-div-b at 2/3 of it). The robots decide:
+// their patterns have a size in mm, and only the true scale decodes them.
+TEST(SetupCamera, TheRobotsDecideWhereTheLinesDoNot) {
+  const testing::TempDir dir;
+  dir.Write("camera.toml", R"(model = "pinhole"
+image_size_px = [780, 580]
+[pinhole]
+fx_px = 517.9
+fy_px = 517.9
+cx_px = 391.8
+cy_px = 287.2
+k1 = -0.093
+rotation_rodrigues = [-0.384322, 3.088143, -0.015653]
+translation_mm = [-69.6, 3050.9, 3846.7]
+[heights]
+default_mm = 140
+)");
+  std::string text = R"(calibration = "camera.toml"
+field = ")" PATLAB_SOURCE_DIR R"(/experiments/fields/ssl-div-a.toml"
+pattern = ")" PATLAB_SOURCE_DIR R"(/patterns/ssl-standard.toml"
+codebook = ")" PATLAB_SOURCE_DIR R"(/patterns/ssl-standard.codebook.toml"
+[render]
+robot_height_mm = 140.0
+[colours]
+field = [40, 100, 50]
+body = [30, 30, 34]
+blue = [35, 75, 210]
+yellow = [235, 215, 45]
+pink = [240, 95, 185]
+green = [70, 215, 95]
+orange = [250, 125, 25]
+)";
+  const struct {
+    const char* team;
+    int id;
+    double x, y, theta;
+  } robots[] = {{"blue", 6, 922, -2594, 1.49},  {"yellow", 1, -1153, -4173, 0.93},
+                {"blue", 10, 1, -3845, -3.13},  {"yellow", 10, 1177, -1490, 0.54},
+                {"blue", 5, 593, -2036, -2.95}, {"yellow", 12, 2317, -1995, 2.71}};
+  for (const auto& b : robots) {
+    text += "[[robot]]\nteam = \"" + std::string(b.team) + "\"\nid = " + std::to_string(b.id) +
+            "\nx_mm = " + std::to_string(b.x) + "\ny_mm = " + std::to_string(b.y) +
+            "\ntheta_rad = " + std::to_string(b.theta) + "\n";
+  }
+  const SceneFile scene = ParseSceneFile(text, "scene.toml", dir.Path());
+  const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
+  SetupOptions o;
+  for (const char* model : {"ssl-div-b", "ssl-div-a"})
+    o.fields.push_back(
+        LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" + std::string(model) + ".toml"));
+  o.settings_path = PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml";
+  const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
+  ASSERT_GE(r.undecided.size(), 2u);
+  EXPECT_TRUE(r.robots_decided);
+  EXPECT_EQ(r.undecided.front().field, r.field.name);
+  EXPECT_GE(r.undecided.front().robots, 5);
+  // The kept camera maps the robots' plane where the true one does (either of the field's two
+  // equivalent frames).
+  const camera::CameraModel fitted = camera::CameraModel::Pinhole(r.calibration_fit.camera);
+  double worst = 0.0;
+  for (int y = 40; y < frame.height_px; y += 100)
+    for (int x = 40; x < frame.width_px; x += 100) {
+      const auto a = scene.calibration.camera.PixelToWorld(Vec2(x, y), 140.0);
+      const auto b = fitted.PixelToWorld(Vec2(x, y), 140.0);
+      ASSERT_TRUE(a && b);
+      worst = std::max(worst, std::min((*a - *b).norm(), (*a + *b).norm()));
+    }
+  EXPECT_LT(worst, 60.0);
+  EXPECT_NE(SetupReportText(r).find("the lines do not decide the camera; the robots do"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -63,6 +63,8 @@ def test_the_family_and_the_clis_report(cli, root, tmp_path, in_root):
     assert tried[1]["fitted"] and tried[1]["score_px"] < tried[0]["score_px"]
     assert any(t["same_as"] for t in tried)
     assert any(not t["fitted"] and t["failure"].startswith("not fitted") for t in tried)
+    # The lines decide this view: no other camera explains nearly as much line.
+    assert report["undecided"] == [] and not report["robots_decided"]
     for name in ("calibration.toml", "thresholds.toml", "settings.toml", "setup.toml"):
         assert (tmp_path / "py" / name).read_text() == (tmp_path / "cli" / name).read_text()
     text = report["report"]

@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "../expect_error.h"
 #include "patlab/calib/auto_calibrate.h"
@@ -117,6 +119,45 @@ TEST(FamilySearch, TheScreenKeepsWhatFittingEveryModelKeeps) {
   EXPECT_EQ(screened.calibration.score_px, all.calibration.score_px);
   EXPECT_TRUE(
       screened.calibration.fit.camera.rotation.isApprox(all.calibration.fit.camera.rotation, 0.0));
+}
+
+// A view of a touch line, the halfway line and a corner of the midline (ssl-div-a, the camera
+// 1.6 m in from the touch line): ssl-div-b, whose touch line and midline are 3000 mm apart
+// against 4500, fits it as well at 2/3 of the scale, and inside ssl-div-a the same T fits the goal
+// line and a side of the defence area. The lines do not decide: refused, or, with keep_rivals,
+// the kept camera and its rivals, the true one among them. (The first fitted views of ssl-div-a
+// used to match only the T and fail, and ssl-div-b's wrong scale was kept.)
+TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
+  std::vector<calib::Field> family;
+  for (const char* model : {"ssl-div-b", "ssl-div-a"})
+    family.push_back(formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" +
+                                        std::string(model) + ".toml"));
+  camera::PinholeCamera truth;
+  truth.fx_px = truth.fy_px = 517.9;
+  truth.cx_px = 391.8;
+  truth.cy_px = 287.2;
+  truth.k1 = -0.093;
+  truth.rotation = Eigen::AngleAxisd(Eigen::Vector3d(-0.384322, 3.088143, -0.015653).norm(),
+                                     Eigen::Vector3d(-0.384322, 3.088143, -0.015653).normalized())
+                       .matrix();
+  truth.translation_mm = Eigen::Vector3d(-69.6, 3050.9, 3846.7);
+  const std::vector<calib::LinePixel> pixels = FindLinePixels(Render(family[1], truth));
+  EXPECT_INPUT_ERROR_STARTS_WITH(
+      calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family),
+      "rendered.png: the line pixels do not decide the camera: two cameras ");
+  calib::FamilyOptions rivals;
+  rivals.keep_rivals = true;
+  const calib::FamilyCalibration fc =
+      calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family, {}, rivals);
+  ASSERT_GE(fc.rivals.size(), 1u);
+  double nearest = rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kWidth, kHeight);
+  for (const calib::FamilyRival& r : fc.rivals) {
+    EXPECT_GT(r.calibration.score_px, 0.9 * fc.calibration.score_px);
+    EXPECT_GT(r.floor_difference_mm, 100.0);
+    nearest =
+        std::min(nearest, rendered::MappingRmsMm(truth, r.calibration.fit.camera, kWidth, kHeight));
+  }
+  EXPECT_LT(nearest, 10.0);
 }
 
 TEST(FamilySearch, NoModelIsAnInputError) {

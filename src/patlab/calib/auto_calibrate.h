@@ -24,14 +24,15 @@
 //     both axes) gives two equivalent cameras for every view; the one whose image centre looks
 //     at x >= 0 (at the pos half; on the halfway line, at y >= 0) is kept, and the report says
 //     whether the search's camera was turned to it.
-//  4. Fit. From each of the two best cameras (the second only when it scores at least 80% of
-//     the first), each line pixel is given to the painted mark nearest its back-projection on
-//     the floor (within a gate of 12, then 5, then 3 px, and within 25 deg of its direction),
-//     and calib::FitCamera fits every free parameter to the line and circle observations with a
-//     Huber loss, three rounds; a fit that leaves the camera model's range (the floor alone
-//     hardly separates focal length from height) is redone with the focal length held. The
-//     better final score wins; a different camera (not the equivalent one) scoring 90% of it
-//     makes the frame ambiguous.
+//  4. Fit. From the best cameras in turn, while they score at least 80% of the first, until two
+//     have fitted (one whose pixels match too few marks to fix a camera fails at once and takes
+//     no place: a T of two lines fits many places of a field), each line pixel is given to the
+//     painted mark nearest its back-projection on the floor (within a gate of 12, then 5, then 3
+//     px, and within 25 deg of its direction), and calib::FitCamera fits every free parameter to
+//     the line and circle observations with a Huber loss, three rounds; a fit that leaves the
+//     camera model's range (the floor alone hardly separates focal length from height) is redone
+//     with the focal length held. The better final score wins; a different camera (not the
+//     equivalent one) scoring 90% of it makes the frame ambiguous.
 //  5. Held-out error. The pixels of every observation, in runs of 8 along it, are split into
 //     two folds; the camera fitted to one fold back-projects the other's pixels, and their
 //     distance on the floor to their mark, in mm, is the held-out mapping error.
@@ -106,9 +107,17 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
 // about as much line as its search's or more: a model screened below that cannot win.) Models
 // whose painted marks are the same as an earlier one's share its result. The fitted model of
 // the highest score is kept.
+//
+// Where the lines do not decide -- a second camera, of the same model or another, explains more
+// than 90% of the kept one's line length yet maps the frame differently (a view of a T of two
+// lines and a parallel one fits every model whose lines are alike there, each at its own scale)
+// -- AutoCalibrate refuses the frame. With keep_rivals those cameras are returned instead, best
+// first, for the caller to decide by evidence the lines do not hold (the robots, setup).
 struct FamilyOptions {
   double screen_ratio = 0.8;  // in (0, 1]
   int min_fitted = 2;         // >= 1: a runner-up to compare with
+  bool keep_rivals = false;
+  int max_rivals = 3;  // >= 0: the best this many rivals kept
 };
 struct FamilyTry {
   std::string field;                 // the model's name
@@ -119,10 +128,16 @@ struct FamilyTry {
   std::string same_as;               // the earlier model of the same marks whose result it shares
   std::string failure;               // why it failed or was not fitted ("" when fitted)
 };
+struct FamilyRival {
+  int model = -1;                    // index in `fields`
+  double floor_difference_mm = 0.0;  // from the kept camera's map (FloorDifferenceMm)
+  AutoCalibration calibration;
+};
 struct FamilyCalibration {
-  int kept = -1;                 // index of the kept model in `fields`
-  AutoCalibration calibration;   // the kept model's
-  std::vector<FamilyTry> tries;  // one per model, in the order of `fields`
+  int kept = -1;                    // index of the kept model in `fields`
+  AutoCalibration calibration;      // the kept model's
+  std::vector<FamilyTry> tries;     // one per model, in the order of `fields`
+  std::vector<FamilyRival> rivals;  // keep_rivals: the cameras the lines do not decide from it
   double seconds = 0.0;
 };
 // InputError (the best-screened model's failure) when no model fits.

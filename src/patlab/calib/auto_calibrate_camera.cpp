@@ -1,6 +1,8 @@
 // The automatic field calibration's cameras (auto_calibrate_internal.h): a nadir view as a
-// pinhole camera, the camera turned by 180 deg, and whether a field is the same turned.
+// pinhole camera, the camera turned by 180 deg, how far two cameras map a frame apart and
+// whether the lines decide between them, and whether a field is the same turned.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "patlab/calib/auto_calibrate_internal.h"
@@ -43,6 +45,34 @@ camera::PinholeCamera Turned(const camera::PinholeCamera& camera) {
   camera::PinholeCamera out = camera;
   out.rotation = camera.rotation * Eigen::Vector3d(-1, -1, 1).asDiagonal();
   return out;
+}
+
+double FloorDifferenceMm(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
+                         bool point_symmetric, int width_px, int height_px) {
+  const camera::CameraModel a = camera::CameraModel::Pinhole(first);
+  double differ = INFINITY;
+  for (int turn = 0; turn < (point_symmetric ? 2 : 1); ++turn) {
+    const camera::CameraModel b = camera::CameraModel::Pinhole(turn == 0 ? second : Turned(second));
+    double d = 0.0;
+    for (double fx : {0.25, 0.5, 0.75})
+      for (double fy : {0.25, 0.5, 0.75}) {
+        const Vec2 px(fx * width_px, fy * height_px);
+        const auto qa = a.PixelToWorld(px, 0.0), qb = b.PixelToWorld(px, 0.0);
+        if (qa && qb) d = std::max(d, (*qa - *qb).norm());
+      }
+    differ = std::min(differ, d);
+  }
+  return differ;
+}
+
+bool Undecided(const camera::PinholeCamera& best, double best_score,
+               const camera::PinholeCamera& second, double second_score, bool point_symmetric,
+               int width_px, int height_px, double* differ_mm) {
+  if (!std::isfinite(second_score) || !(second_score > kUndecidedRatio * best_score)) return false;
+  *differ_mm = FloorDifferenceMm(best, second, point_symmetric, width_px, height_px);
+  const camera::CameraModel a = camera::CameraModel::Pinhole(best);
+  const double mm_per_px = std::sqrt(a.AreaScale(Vec2(0.5 * width_px, 0.5 * height_px), 0.0));
+  return *differ_mm > 20.0 * mm_per_px;
 }
 
 bool PointSymmetric(const Field& field) {

@@ -20,7 +20,9 @@ constexpr double kMaxAngle =
 constexpr int kMinPixels = 8;  // an observation's pixels at least
 constexpr int kRun = 8;        // the held-out folds' run length along a mark
 constexpr double kLastGatePx = 3.0;  // the assignment's last (narrowest) gate
-// The search's best views given the fit (the second when it scores at least 80% of the first).
+// A fitted camera explains at most this many px of line per line pixel found (header of FitView).
+constexpr double kMaxExplainedPerPixel = 1.5;
+// The search's views fitted at most (the second when it scores at least 80% of the first).
 constexpr size_t kFittedViews = 2;
 
 struct Assigned {
@@ -238,47 +240,20 @@ Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, Calib
   try {
     for (double gate : {12.0, 5.0, kLastGatePx}) FitAtGate(x, gate, base, cam, c, notes);
     c.score = internal::CameraScore(cam, *x.marks, *x.dt);
+    // The score is line length in px, about one line pixel per px of line: a camera that
+    // explains far more than was found piles the field's marks onto the lines (a far, degenerate
+    // view), however well its few observations fit.
+    const double found = static_cast<double>(x.pixels->size());
+    if (c.score > kMaxExplainedPerPixel * found) {
+      c.failure = "its camera explains " + FormatSignificant(c.score, 4) + " px of line from " +
+                  std::to_string(x.pixels->size()) +
+                  " line pixels (the field's marks piled onto the lines)";
+      c.score = -INFINITY;
+    }
   } catch (const InputError& e) {
     c.failure = e.what();
   }
   return c;
-}
-
-// The largest floor distance (mm) between two cameras' maps over a 3 x 3 grid of the frame, the
-// second also turned by 180 deg when the field is point-symmetric (equivalents are equal).
-double FloorDifferenceMm(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
-                         bool point_symmetric, int width_px, int height_px) {
-  const camera::CameraModel a = camera::CameraModel::Pinhole(first);
-  double differ = INFINITY;
-  for (int turn = 0; turn < (point_symmetric ? 2 : 1); ++turn) {
-    const camera::CameraModel b = camera::CameraModel::Pinhole(turn == 0 ? second : Turned(second));
-    double d = 0.0;
-    for (double fx : {0.25, 0.5, 0.75})
-      for (double fy : {0.25, 0.5, 0.75}) {
-        const Vec2 px(fx * width_px, fy * height_px);
-        const auto qa = a.PixelToWorld(px, 0.0), qb = b.PixelToWorld(px, 0.0);
-        if (qa && qb) d = std::max(d, (*qa - *qb).norm());
-      }
-    differ = std::min(differ, d);
-  }
-  return differ;
-}
-
-// Throws when a second camera maps the frame differently yet explains it nearly as well.
-void CheckDecided(const Candidate& best, const Candidate& second, bool point_symmetric,
-                  int width_px, int height_px, const std::string& source) {
-  if (!std::isfinite(second.score)) return;
-  const double differ =
-      FloorDifferenceMm(best.fit.camera, second.fit.camera, point_symmetric, width_px, height_px);
-  const camera::CameraModel a = camera::CameraModel::Pinhole(best.fit.camera);
-  const double mm_per_px = std::sqrt(a.AreaScale(Vec2(0.5 * width_px, 0.5 * height_px), 0.0));
-  if (differ > 20.0 * mm_per_px && second.score > 0.9 * best.score) {
-    throw InputError(source + ": the line pixels do not decide the camera: two cameras " +
-                     FormatSignificant(differ, 3) + " mm apart on the floor explain " +
-                     FormatSignificant(best.score, 4) + " and " +
-                     FormatSignificant(second.score, 4) +
-                     " px of line; expected a frame showing more of the field's lines");
-  }
 }
 
 // Step 5's sums: the held-out pixels' floor distances in runs along their marks.
@@ -344,6 +319,16 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
                  : kNaN;
 }
 
+// A fitted candidate's camera, observations and held-out error into `out`.
+void Keep(const Candidate& c, AutoCalibration& out) {
+  out.score_px = c.score;
+  out.turned = c.turned;
+  out.input = c.assigned.input;
+  out.fit = c.fit;
+  out.assigned_pixels = c.assigned.count;
+  HeldOutError(c.assigned, out);
+}
+
 }  // namespace
 
 internal::Searched internal::SearchField(const std::vector<LinePixel>& pixels, int width_px,
@@ -376,7 +361,8 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
 AutoCalibration internal::FitSearched(const Searched& searched,
                                       const std::vector<LinePixel>& pixels, int width_px,
                                       int height_px, const std::string& source, const Field& field,
-                                      const AutoOptions& options) {
+                                      const AutoOptions& options,
+                                      std::vector<AutoCalibration>* undecided) {
   const auto t0 = std::chrono::steady_clock::now();
   AutoCalibration out;
   out.line_pixels = static_cast<int>(pixels.size());
@@ -399,10 +385,15 @@ AutoCalibration internal::FitSearched(const Searched& searched,
   // Steps 3-4 from the best views; the best final camera wins.
   const FitContext context{&pixels,  &field,   &marks,    &dt,
                            &options, width_px, height_px, out.point_symmetric};
+  // A view whose lines match too few marks to fix a camera (a T of two lines fits many places
+  // of a field) fails at once and takes no place: the next view scoring 80% of the best is
+  // fitted instead, until kFittedViews have fitted.
   std::vector<Candidate> candidates;
-  for (size_t v = 0; v < std::min<size_t>(views.size(), kFittedViews); ++v) {
+  size_t fitted = 0;
+  for (size_t v = 0; v < views.size() && fitted < kFittedViews; ++v) {
     if (v > 0 && views[v].score < 0.8 * views[0].score) break;  // clearly worse: not fitted
     candidates.push_back(FitView(context, views[v].camera, base, &out.notes));
+    if (std::isfinite(candidates.back().score)) ++fitted;
   }
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
@@ -412,15 +403,23 @@ AutoCalibration internal::FitSearched(const Searched& searched,
                      " line pixels, but no camera fits them to the field " + field.name + " (" +
                      best.failure + "); expected a frame whose lines cross");
   }
-  out.score_px = best.score;
   const bool second = candidates.size() > 1 && std::isfinite(candidates[1].score);
   out.runner_up_px = second ? candidates[1].score : 0.0;
-  if (second) CheckDecided(best, candidates[1], out.point_symmetric, width_px, height_px, source);
-  out.turned = best.turned;
-  out.input = best.assigned.input;
-  out.fit = best.fit;
-  out.assigned_pixels = best.assigned.count;
-  HeldOutError(best.assigned, out);
+  double differ = 0.0;
+  if (second && Undecided(best.fit.camera, best.score, candidates[1].fit.camera,
+                          candidates[1].score, out.point_symmetric, width_px, height_px, &differ)) {
+    if (undecided == nullptr) {
+      throw InputError(source + ": the line pixels do not decide the camera: two cameras " +
+                       FormatSignificant(differ, 3) + " mm apart on the floor explain " +
+                       FormatSignificant(best.score, 4) + " and " +
+                       FormatSignificant(candidates[1].score, 4) +
+                       " px of line; expected a frame showing more of the field's lines");
+    }
+    AutoCalibration other = out;
+    Keep(candidates[1], other);
+    undecided->push_back(std::move(other));
+  }
+  Keep(best, out);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

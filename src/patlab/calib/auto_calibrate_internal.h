@@ -66,8 +66,25 @@ struct Searched {
 };
 Searched SearchField(const std::vector<LinePixel>& pixels, int width_px, int height_px,
                      const std::string& source, const Field& field, const AutoOptions& options);
+// A second camera that maps the frame differently yet explains nearly as much line makes the
+// frame undecided: an InputError, or, with `undecided` given, that camera's calibration appended
+// to it (the caller decides by other evidence).
 AutoCalibration FitSearched(const Searched& searched, const std::vector<LinePixel>& pixels,
                             int width_px, int height_px, const std::string& source,
-                            const Field& field, const AutoOptions& options);
+                            const Field& field, const AutoOptions& options,
+                            std::vector<AutoCalibration>* undecided = nullptr);
+
+// The largest floor distance (mm) between two cameras' maps over a 3 x 3 grid of the frame, the
+// second also turned by 180 deg when the field is point-symmetric (equivalents are equal).
+double FloorDifferenceMm(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
+                         bool point_symmetric, int width_px, int height_px);
+
+// Whether the lines do not decide between two fitted cameras: the second explains more than
+// kUndecidedRatio of the first's line length and maps the frame more than 20 px (at the first's
+// floor scale at the image centre) apart; `differ_mm` receives FloorDifferenceMm then.
+constexpr double kUndecidedRatio = 0.9;
+bool Undecided(const camera::PinholeCamera& best, double best_score,
+               const camera::PinholeCamera& second, double second_score, bool point_symmetric,
+               int width_px, int height_px, double* differ_mm);
 
 }  // namespace patlab::calib::internal

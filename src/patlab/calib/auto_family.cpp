@@ -85,6 +85,7 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
                 FamilyCalibration* out) {
   int fitted = 0;
   double best = -INFINITY;
+  std::vector<FamilyRival> pool;  // every fitted camera, rivals to be
   for (size_t i : order) {
     FamilyTry& t = out->tries[i];
     if (!searched[i]) continue;
@@ -98,19 +99,46 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
     }
     t.fitted = true;
     try {
-      AutoCalibration a = internal::FitSearched(*searched[i], *f.pixels, f.width_px, f.height_px,
-                                                *f.source, fields[i], *f.options);
+      std::vector<AutoCalibration> undecided;
+      AutoCalibration a =
+          internal::FitSearched(*searched[i], *f.pixels, f.width_px, f.height_px, *f.source,
+                                fields[i], *f.options, family.keep_rivals ? &undecided : nullptr);
       t.score_px = a.score_px;
       t.held_out_mapping_mm = a.held_out_mapping_mm;
       ++fitted;
+      const int model = static_cast<int>(i);
       if (a.score_px > best) {
         best = a.score_px;
-        out->kept = static_cast<int>(i);
-        out->calibration = std::move(a);
+        out->kept = model;
+        out->calibration = a;
       }
+      pool.push_back({model, 0.0, std::move(a)});
+      for (AutoCalibration& u : undecided) pool.push_back({model, 0.0, std::move(u)});
     } catch (const InputError& e) {
       t.failure = e.what();
     }
+  }
+  if (!family.keep_rivals || out->kept < 0) return;
+  // The rivals: the cameras the lines do not decide from the kept one, best first, each mapping
+  // the frame differently from the kept one and from every rival kept before it.
+  std::stable_sort(pool.begin(), pool.end(), [](const FamilyRival& a, const FamilyRival& b) {
+    return a.calibration.score_px > b.calibration.score_px;
+  });
+  const AutoCalibration& kept = out->calibration;
+  for (FamilyRival& r : pool) {
+    if (out->rivals.size() >= static_cast<size_t>(family.max_rivals)) break;
+    const AutoCalibration& c = r.calibration;
+    double differ = 0.0;
+    if (!internal::Undecided(kept.fit.camera, kept.score_px, c.fit.camera, c.score_px,
+                             kept.point_symmetric, f.width_px, f.height_px, &differ))
+      continue;
+    r.floor_difference_mm = differ;
+    const bool new_map = std::all_of(out->rivals.begin(), out->rivals.end(), [&](const auto& o) {
+      double d = 0.0;
+      return internal::Undecided(o.calibration.fit.camera, o.calibration.score_px, c.fit.camera,
+                                 c.score_px, kept.point_symmetric, f.width_px, f.height_px, &d);
+    });
+    if (new_map) out->rivals.push_back(std::move(r));
   }
 }
 
@@ -122,8 +150,11 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
                                       const FamilyOptions& family) {
   const auto t0 = std::chrono::steady_clock::now();
   if (fields.empty()) throw InputError("no field model to fit; expected a model or a family");
-  if (!(family.screen_ratio > 0.0 && family.screen_ratio <= 1.0) || family.min_fitted < 1)
-    throw InputError("family calibration: screen_ratio must be in (0, 1] and min_fitted >= 1");
+  if (!(family.screen_ratio > 0.0 && family.screen_ratio <= 1.0) || family.min_fitted < 1 ||
+      family.max_rivals < 0) {
+    throw InputError(
+        "family calibration: screen_ratio must be in (0, 1], min_fitted >= 1 and max_rivals >= 0");
+  }
   const Frame frame{&pixels, width_px, height_px, &source, &options};
   FamilyCalibration out;
   std::vector<int> same;

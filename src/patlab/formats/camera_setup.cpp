@@ -49,20 +49,26 @@ void CheckSetupInput(const std::vector<const camera::Image*>& frames,
   Validate(o.colours);
 }
 
-// The calibration from the first frame's lines: the line pixels found once, every field model
-// screened, the best few fitted, the best kept.
-void CalibrateFromLines(const camera::Image& frame, const std::string& name, const SetupOptions& o,
-                        SetupResult* r) {
+// The first frame's lines: the line pixels found once, every field model screened, the best few
+// fitted, the best kept, with the cameras the lines do not decide from it (its rivals).
+calib::FamilyCalibration CalibrateFamily(const camera::Image& frame, const std::string& name,
+                                         const SetupOptions& o) {
   vision::LineFinderOptions finder;
   finder.line_width_px = o.line_width_px;
   const std::vector<calib::LinePixel> pixels = vision::FindLinePixels(frame, finder);
-  calib::FamilyCalibration family;
+  calib::FamilyOptions family;
+  family.keep_rivals = true;
   try {
-    family = calib::AutoCalibrateFamily(pixels, frame.width_px, frame.height_px, name, o.fields);
+    return calib::AutoCalibrateFamily(pixels, frame.width_px, frame.height_px, name, o.fields, {},
+                                      family);
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) +
                      "; or give four --landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");
   }
+}
+
+// The models tried, best first: fitted ones by their score, then the others by their screen.
+void TriedOf(const calib::FamilyCalibration& family, SetupResult* r) {
   for (const calib::FamilyTry& t : family.tries) {
     r->tried.push_back(
         {t.field, t.score_px, t.held_out_mapping_mm, t.failure, t.screen_px, t.fitted, t.same_as});
@@ -74,13 +80,16 @@ void CalibrateFromLines(const camera::Image& frame, const std::string& name, con
                      return std::isfinite(a.screen_px) &&
                             (!std::isfinite(b.screen_px) || a.screen_px > b.screen_px);
                    });
-  const calib::AutoCalibration& best = family.calibration;
-  r->field = o.fields[static_cast<size_t>(family.kept)];
-  r->calibration_input = best.input;
-  r->calibration_fit = best.fit;
-  r->mapping_error_mm = best.held_out_mapping_mm;
-  r->mapping_resolution_mm = best.held_out_resolution_mm;
-  r->calibration_report = calib::AutoReportText(best);
+}
+
+// One camera of the lines (the kept one or a rival) as setup's calibration.
+void UseCalibration(const calib::AutoCalibration& a, const calib::Field& field, SetupResult* r) {
+  r->field = field;
+  r->calibration_input = a.input;
+  r->calibration_fit = a.fit;
+  r->mapping_error_mm = a.held_out_mapping_mm;
+  r->mapping_resolution_mm = a.held_out_resolution_mm;
+  r->calibration_report = calib::AutoReportText(a);
 }
 
 // The calibration from clicked landmarks of the first field model.
@@ -256,6 +265,23 @@ std::string TriedText(const std::vector<SetupFieldTry>& tried) {
   return s;
 }
 
+// The cameras the lines did not decide between and the robots each decoded.
+std::string UndecidedText(const SetupResult& r) {
+  std::string s = r.robots_decided
+                      ? " (the lines do not decide the camera; the robots do)\n"
+                      : " (neither the lines nor the robots decide the camera: kept by its line "
+                        "length; name the model with --field MODEL, or give --landmark)\n";
+  s += "  cameras the lines do not decide between (px of line explained, robots decoded through "
+       "each, how far apart they map the frame from the lines' best):\n";
+  for (size_t i = 0; i < r.undecided.size(); ++i) {
+    const SetupRival& u = r.undecided[i];
+    s += "  " + u.field + ": " + FormatSignificant(u.score_px, 5) + " px, " +
+         std::to_string(u.robots) + " robots, " + FormatSignificant(u.floor_difference_mm, 3) +
+         " mm" + (i == 0 ? " (kept)" : "") + "\n";
+  }
+  return s;
+}
+
 }  // namespace
 
 detect::DetectorOptions SetupTolerances(const detect::DetectorOptions& base, double mm_per_px,
@@ -280,17 +306,13 @@ void SetupBlobAreas(double smallest_patch_px, double largest_patch_px,
       std::max(options->min_blob_area_px, 3.0 * kPi * largest_patch_px * largest_patch_px);
 }
 
-SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
-                        const std::vector<std::string>& names, const SetupOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  CheckSetupInput(frames, names, options);
-  const detect::DetectorConfig config = formats::LoadDetectorSettings(options.settings_path);
-  SetupResult r;
-  if (options.landmarks.empty()) {
-    CalibrateFromLines(*frames.front(), names.front(), options, &r);
-  } else {
-    CalibrateFromLandmarks(*frames.front(), names.front(), options, &r);
-  }
+namespace {
+
+// Everything after the calibration: the tolerances, the colour classes chosen by the robots they
+// decode, the files.
+void FinishSetup(const std::vector<const camera::Image*>& frames,
+                 const std::vector<std::string>& names, const detect::DetectorConfig& config,
+                 const SetupOptions& options, SetupResult& r) {
   r.calibration_input.default_height_mm = options.robot_height_mm;
   const camera::CameraModel camera = camera::CameraModel::Pinhole(r.calibration_fit.camera);
   const camera::Image& first = *frames.front();
@@ -323,6 +345,59 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
              {"setup.toml", made + "field = \"" + r.field.name +
                                 "\"\ncalibration = \"calibration.toml\"\nthresholds = "
                                 "\"thresholds.toml\"\nsettings = \"settings.toml\"\n"}};
+}
+
+int RobotsDecoded(const SetupResult& r) { return std::max(r.robots_by_blobs, r.robots_by_pixels); }
+
+// The lines' camera, or, where they do not decide, the one of the kept camera and its rivals that
+// decodes the most robots (a tie keeps the more line): the robots' patterns, of known size,
+// measure the floor's scale the lines left open.
+SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
+                           const std::vector<std::string>& names,
+                           const detect::DetectorConfig& config, const SetupOptions& options) {
+  const calib::FamilyCalibration family = CalibrateFamily(*frames.front(), names.front(), options);
+  std::vector<SetupResult> results(1 + family.rivals.size());
+  std::vector<SetupRival> undecided;
+  for (size_t i = 0; i < results.size(); ++i) {
+    const calib::FamilyRival* rival = i == 0 ? nullptr : &family.rivals[i - 1];
+    const int model = rival == nullptr ? family.kept : rival->model;
+    const calib::AutoCalibration& a = rival == nullptr ? family.calibration : rival->calibration;
+    UseCalibration(a, options.fields[static_cast<size_t>(model)], &results[i]);
+    FinishSetup(frames, names, config, options, results[i]);
+    undecided.push_back({results[i].field.name, a.score_px,
+                         rival == nullptr ? 0.0 : rival->floor_difference_mm,
+                         RobotsDecoded(results[i])});
+  }
+  size_t chosen = 0;
+  for (size_t i = 1; i < results.size(); ++i)
+    if (undecided[i].robots > undecided[chosen].robots) chosen = i;
+  SetupResult r = std::move(results[chosen]);
+  TriedOf(family, &r);
+  if (undecided.size() > 1) {
+    std::rotate(undecided.begin(), undecided.begin() + static_cast<long>(chosen),
+                undecided.begin() + static_cast<long>(chosen) + 1);
+    r.robots_decided = std::all_of(undecided.begin() + 1, undecided.end(), [&](const auto& u) {
+      return u.robots < undecided.front().robots;
+    });
+    r.undecided = std::move(undecided);
+  }
+  return r;
+}
+
+}  // namespace
+
+SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
+                        const std::vector<std::string>& names, const SetupOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CheckSetupInput(frames, names, options);
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(options.settings_path);
+  SetupResult r;
+  if (options.landmarks.empty()) {
+    r = SetupFromLines(frames, names, config, options);
+  } else {
+    CalibrateFromLandmarks(*frames.front(), names.front(), options, &r);
+    FinishSetup(frames, names, config, options, r);
+  }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
@@ -331,6 +406,8 @@ std::string SetupReportText(const SetupResult& r) {
   std::string s = "field model: " + r.field.name;
   if (r.from_landmarks) {
     s += " (from " + std::to_string(r.calibration_input.points.size()) + " landmarks)\n";
+  } else if (!r.undecided.empty()) {
+    s += UndecidedText(r) + TriedText(r.tried);
   } else if (r.tried.size() > 1) {
     const SetupFieldTry& second = r.tried[1];
     s += second.failure.empty()

@@ -1,7 +1,9 @@
 // A new camera set up from its frames, behind `patlab setup` (docs/setup.md): the field's lines
 // give the calibration (vision/field_lines.h FindLinePixels once, then
 // calib::AutoCalibrateFamily: every model screened by its search, the best few fitted, the one
-// whose camera explains the most line length kept), or, as a fallback,
+// whose camera explains the most line length kept; where a second camera explains nearly as
+// much yet maps the frame differently, the one through which the most robots decode), or, as a
+// fallback,
 // landmarks the user clicked; the colour classes the settings' palette names give the
 // thresholds (vision/thresholds_auto.h); and the detector's tolerances are chosen from what was
 // measured. The result is four files in one folder -- calibration.toml, thresholds.toml,
@@ -71,9 +73,24 @@ struct SetupFieldTry {
   std::string same_as;     // the earlier model of the same lines whose result it shares
 };
 
+// A camera the lines do not decide from another (calib::FamilyOptions::keep_rivals): setup
+// writes the files through each and keeps the one that decodes the most robots (the patterns'
+// sizes in mm judge the scale); a tie keeps the one of the most line.
+struct SetupRival {
+  std::string field;                 // its model
+  double score_px = 0.0;             // the line length its camera explains
+  double floor_difference_mm = 0.0;  // how far its map of the frame is from the kept camera's
+  int robots = 0;                    // decoded through it (the better colour fit's count)
+};
+
 struct SetupResult {
   calib::Field field;                // the model kept
   std::vector<SetupFieldTry> tried;  // every model tried, best first
+  // The cameras the lines did not decide between, the kept one first (empty when the lines
+  // decided); robots_decided: the kept one decoded more robots than every other (false: a tie,
+  // kept by its line length).
+  std::vector<SetupRival> undecided;
+  bool robots_decided = false;
   bool from_landmarks = false;
   calib::CalibrationInput calibration_input;
   calib::CalibrationFit calibration_fit;
