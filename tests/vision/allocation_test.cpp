@@ -62,24 +62,30 @@ TEST(VisionAllocation, WarmPipelineDoesNotAllocate) {
 }
 
 // Stages 2-6 on the real SSL 2008 frame, as patlab detect runs them per frame (FrameDetector),
-// with and without timing.
+// with and without timing, and with the frame scaled to a light 30% brighter than its own (setup's
+// [frame] light_luma): the scaled copy reuses its buffer.
 TEST(VisionAllocation, WarmRealFrameLoopDoesNotAllocate) {
   if (!std::filesystem::exists(testing::SharedFrames()))
     GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
   const camera::Image image = ReadFrame(testing::SharedFrames() + "/ssl-field-2008.jpg");
-  for (bool timing : {false, true}) {
+  for (const auto& [timing, scaled] : {std::pair(false, false), {true, false}, {false, true}}) {
     FrameDetectorOptions options;
     options.collect_timing = timing;
+    if (scaled) options.light_luma = 1.3 * FrameLight(image);
     FrameDetector frames(formats::LoadThresholds(data + "ssl-2008.thresholds.toml"),
                          formats::LoadCalibration(data + "ssl-2008.calibration.toml"),
                          formats::LoadDetectorSettings(data + "ssl-2008.detector.toml"), options);
     const std::string name = "ssl-field-2008.jpg";
-    ASSERT_EQ(frames.Detect(image, name).detections.size(), 5u);
+    const size_t found = frames.Detect(image, name).detections.size();
+    if (!scaled) {
+      ASSERT_EQ(found, 5u);
+    }
     const long before = patlab::testing::AllocationCount();
     const FrameResult& result = frames.Detect(image, name);
-    EXPECT_EQ(patlab::testing::AllocationCount() - before, 0) << "timing " << timing;
-    EXPECT_EQ(result.detections.size(), 5u);
+    EXPECT_EQ(patlab::testing::AllocationCount() - before, 0)
+        << "timing " << timing << ", scaled " << scaled;
+    EXPECT_EQ(result.detections.size(), found);
   }
 }
 
