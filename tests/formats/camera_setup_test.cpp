@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "../expect_error.h"
 #include "../test_util.h"
@@ -18,6 +19,24 @@
 
 namespace patlab::formats {
 namespace {
+
+// The distances (mm) between where two cameras map a grid of pixels (every `step` px from
+// `first`) on the plane `height_mm` up; with `either_frame`, to the nearer of the point and its
+// half turn (the field's two equivalent world frames). A pixel either leaves off the plane fails.
+std::vector<double> MapDistances(const camera::CameraModel& truth,
+                                 const camera::CameraModel& fitted, const camera::Image& frame,
+                                 int first, int step, double height_mm, bool either_frame) {
+  std::vector<double> d;
+  for (int y = first; y < frame.height_px; y += step)
+    for (int x = first; x < frame.width_px; x += step) {
+      const auto a = truth.PixelToWorld(Vec2(x, y), height_mm);
+      const auto b = fitted.PixelToWorld(Vec2(x, y), height_mm);
+      EXPECT_TRUE(a && b) << "pixel (" << x << ", " << y << ")";
+      if (!a || !b) continue;
+      d.push_back(either_frame ? std::min((*a - *b).norm(), (*a + *b).norm()) : (*a - *b).norm());
+    }
+  return d;
+}
 
 TEST(SetupTolerances, FollowTheScaleTheMappingErrorAndThePatchSize) {
   const detect::DetectorOptions base;
@@ -114,15 +133,11 @@ TEST(SetupCamera, LandmarksReplaceTheLines) {
   EXPECT_TRUE(r.from_landmarks);
   const camera::CameraModel fitted = camera::CameraModel::Pinhole(r.calibration_fit.camera);
   double sum = 0.0;
-  int n = 0;
-  for (int y = 5; y < frame.height_px; y += 10)
-    for (int x = 5; x < frame.width_px; x += 10) {
-      const auto a = scene.calibration.camera.PixelToWorld(Vec2(x, y), 0.0);
-      const auto b = fitted.PixelToWorld(Vec2(x, y), 0.0);
-      ASSERT_TRUE(a && b);
-      sum += (*a - *b).squaredNorm(), ++n;
-    }
-  EXPECT_LT(std::sqrt(sum / n), 5.0);
+  const std::vector<double> d =
+      MapDistances(scene.calibration.camera, fitted, frame, 5, 10, 0.0, false);
+  ASSERT_FALSE(d.empty());
+  for (double mm : d) sum += mm * mm;
+  EXPECT_LT(std::sqrt(sum / static_cast<double>(d.size())), 5.0);
   EXPECT_EQ(r.files.size(), 4u);
   for (const auto& [name, text] : r.files) {
     if (name != "settings.toml") continue;
@@ -198,15 +213,10 @@ orange = [250, 125, 25]
   // The kept camera maps the robots' plane where the true one does (either of the field's two
   // equivalent frames).
   const camera::CameraModel fitted = camera::CameraModel::Pinhole(r.calibration_fit.camera);
-  double worst = 0.0;
-  for (int y = 40; y < frame.height_px; y += 100)
-    for (int x = 40; x < frame.width_px; x += 100) {
-      const auto a = scene.calibration.camera.PixelToWorld(Vec2(x, y), 140.0);
-      const auto b = fitted.PixelToWorld(Vec2(x, y), 140.0);
-      ASSERT_TRUE(a && b);
-      worst = std::max(worst, std::min((*a - *b).norm(), (*a + *b).norm()));
-    }
-  EXPECT_LT(worst, 60.0);
+  const std::vector<double> d =
+      MapDistances(scene.calibration.camera, fitted, frame, 40, 100, 140.0, true);
+  ASSERT_FALSE(d.empty());
+  EXPECT_LT(*std::max_element(d.begin(), d.end()), 60.0);
   EXPECT_NE(SetupReportText(r).find("the lines do not decide the camera; the robots do"),
             std::string::npos);
 }
