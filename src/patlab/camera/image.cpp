@@ -6,43 +6,41 @@ namespace patlab::camera {
 
 Image ToRgb(const Image& image) {
   if (image.format == PixelFormat::kRgb8) return image;
-  Image rgb = Image::Rgb(image.width_px, image.height_px);
-  for (int y = 0; y < image.height_px; ++y) {
-    const uint8_t* in = image.Row(y);
-    uint8_t* out = rgb.Row(y);
-    for (int x = 0; x + 1 < image.width_px; x += 2, in += 4, out += 6) {
-      for (int k = 0; k < 2; ++k) {
-        int r, g, b;
-        YuvToRgb(in[1 + 2 * k], in[0], in[2], &r, &g, &b);
-        out[3 * k + 0] = static_cast<uint8_t>(r);
-        out[3 * k + 1] = static_cast<uint8_t>(g);
-        out[3 * k + 2] = static_cast<uint8_t>(b);
-      }
-    }
-  }
-  return rgb;
+  return ToRgb(ImageView(image));
 }
 
 Image ToRgb(const ImageView& view) {
-  Image packed;
-  packed.width_px = view.width_px;
-  packed.height_px = view.height_px;
-  packed.format = view.format;
-  packed.data.resize(static_cast<size_t>(view.width_px) * view.height_px * view.BytesPerPixel());
-  const int channels = view.format == PixelFormat::kRgb8 ? 3 : 1;
-  const int per_row = view.format == PixelFormat::kRgb8 ? view.width_px : view.width_px * 2;
-  const std::ptrdiff_t step = view.format == PixelFormat::kRgb8 ? view.pixel_stride : 1;
+  Image rgb;
+  ToRgb(view, &rgb);
+  return rgb;
+}
+
+void ToRgb(const ImageView& view, Image* out) {
+  out->width_px = view.width_px;
+  out->height_px = view.height_px;
+  out->format = PixelFormat::kRgb8;
+  out->data.resize(static_cast<std::size_t>(view.width_px) * view.height_px * 3);
   for (int y = 0; y < view.height_px; ++y) {
     const uint8_t* in = view.Row(y);
-    uint8_t* out = packed.Row(y);
-    for (int x = 0; x < per_row; ++x) {
-      for (int c = 0; c < channels; ++c) {
-        out[channels * x + c] = in[x * step + c * view.channel_stride];
+    uint8_t* row = out->Row(y);
+    if (view.format == PixelFormat::kRgb8) {
+      for (int x = 0; x < view.width_px; ++x) {
+        for (int c = 0; c < 3; ++c)
+          row[3 * x + c] = in[x * view.pixel_stride + c * view.channel_stride];
+      }
+      continue;
+    }
+    // UYVY views have packed pixel pairs: U Y0 V Y1.
+    for (int x = 0; x + 1 < view.width_px; x += 2, in += 4, row += 6) {
+      for (int k = 0; k < 2; ++k) {
+        int r, g, b;
+        YuvToRgb(in[1 + 2 * k], in[0], in[2], &r, &g, &b);
+        row[3 * k + 0] = static_cast<uint8_t>(r);
+        row[3 * k + 1] = static_cast<uint8_t>(g);
+        row[3 * k + 2] = static_cast<uint8_t>(b);
       }
     }
   }
-  if (packed.format == PixelFormat::kRgb8) return packed;
-  return ToRgb(packed);
 }
 
 Image ToUyvy(const Image& image) {

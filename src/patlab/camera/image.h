@@ -92,6 +92,9 @@ inline void YuvToRgb(int y, int u, int v, int* r, int* g, int* b) {
 Image ToRgb(const Image& image);
 // The viewed frame as a packed RGB image of its own (a copy, converted from UYVY).
 Image ToRgb(const ImageView& view);
+// The same into `out`, whose buffer is reused: once it has held a frame of this size, converting
+// the next allocates nothing.
+void ToRgb(const ImageView& view, Image* out);
 // Converts an RGB frame to UYVY (U and V averaged over each pixel pair); width must be even.
 Image ToUyvy(const Image& image);
 

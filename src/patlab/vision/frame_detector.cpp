@@ -72,36 +72,8 @@ namespace {
 // The frame as RGB with every channel scaled by `gain` (clipped at 255), into `out`, whose buffer
 // is reused: once it has held a frame of this size, scaling the next allocates nothing.
 void ScaleToLight(const camera::ImageView& image, double gain, camera::Image* out) {
-  out->width_px = image.width_px;
-  out->height_px = image.height_px;
-  out->format = camera::PixelFormat::kRgb8;
-  out->data.resize(static_cast<size_t>(image.width_px) * image.height_px * 3);
-  const auto scaled = [gain](int level) {
-    return static_cast<uint8_t>(std::min(255.0, std::round(gain * level)));
-  };
-  for (int y = 0; y < image.height_px; ++y) {
-    const uint8_t* in = image.Row(y);
-    uint8_t* row = out->Row(y);
-    if (image.format == camera::PixelFormat::kRgb8) {
-      for (int x = 0; x < image.width_px; ++x) {
-        for (int c = 0; c < 3; ++c) {
-          row[3 * x + c] = scaled(in[x * image.pixel_stride + c * image.channel_stride]);
-        }
-      }
-      continue;
-    }
-    for (int x = 0; x + 1 < image.width_px; x += 2) {  // UYVY: U Y0 V Y1 per pixel pair
-      const uint8_t* pair = in + 2 * x;
-      for (int k = 0; k < 2; ++k) {
-        int r, g, b;
-        camera::YuvToRgb(pair[1 + 2 * k], pair[0], pair[2], &r, &g, &b);
-        uint8_t* px = row + 3 * (x + k);
-        px[0] = scaled(r);
-        px[1] = scaled(g);
-        px[2] = scaled(b);
-      }
-    }
-  }
+  camera::ToRgb(image, out);
+  for (uint8_t& c : out->data) c = static_cast<uint8_t>(std::min(255.0, std::round(gain * c)));
 }
 
 // "6 detect" -> "6_detect": a stage name as a file name part.
