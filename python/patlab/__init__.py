@@ -252,7 +252,8 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_w
     when the lines decided) and robots_decided (the kept one decoded the most robots),
     mapping_error_mm,
     mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
-    pixels, blobs, separability, nearest), colour_fit ("blobs" or "pixels", the one that decodes
+    pixels, blobs, separability, nearest, widened_levels: Y, U, V levels the blob fit widened
+    the box by towards the noise), colour_noise_levels (the camera's noise, Y, U, V), colour_fit ("blobs" or "pixels", the one that decodes
     more robots) with robots_by_blobs and robots_by_pixels, tolerances, robots (per frame:
     frame, robots with team, id,
     x_mm, y_mm, theta_rad), report (the CLI's text), seconds."""

@@ -228,9 +228,13 @@ py::dict SetupReport(const formats::SetupResult& r) {
     d["blobs"] = c.blobs;
     d["separability"] = c.separability;
     d["nearest"] = c.nearest;
+    d["widened_levels"] =
+        py::make_tuple(c.widened_levels[0], c.widened_levels[1], c.widened_levels[2]);
     classes.append(d);
   }
   out["carpet_pixels"] = r.thresholds.carpet.pixels;
+  const std::array<int, 3>& noise = r.thresholds.noise_levels;
+  out["colour_noise_levels"] = py::make_tuple(noise[0], noise[1], noise[2]);
   out["colour_classes"] = classes;
   out["colour_fit"] = r.colour_fit;
   out["robots_by_blobs"] = r.robots_by_blobs;

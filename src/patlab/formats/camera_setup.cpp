@@ -244,6 +244,14 @@ void ChooseColourFit(const std::vector<const camera::Image*>& frames,
   }
 }
 
+// ", box widened towards the noise by Y +a, U +b, V +c levels" for a class whose box the blob fit
+// widened (vision::AutoClassFit::widened_levels), else nothing.
+std::string WidenedText(const std::array<int, 3>& levels) {
+  if (levels == std::array<int, 3>{}) return "";
+  return ", box widened towards the noise by Y +" + std::to_string(levels[0]) + ", U +" +
+         std::to_string(levels[1]) + ", V +" + std::to_string(levels[2]) + " levels";
+}
+
 // The models tried, one line each: the fitted ones' scores, why the others were dropped.
 std::string TriedText(const std::vector<SetupFieldTry>& tried) {
   int fitted = 0;
@@ -434,9 +442,18 @@ std::string SetupReportText(const SetupResult& r) {
        "; the more wins, a tie keeps blobs)\n";
   s += "colour classes (blobs, pixels, separability, nearest):\n  carpet: " +
        std::to_string(r.thresholds.carpet.pixels) + " px\n";
+  const std::array<int, 3>& noise = r.thresholds.noise_levels;
+  if (noise != std::array<int, 3>{}) {
+    s += "  camera noise (the carpet about its median per light cell, box percentiles): Y " +
+         std::to_string(noise[0]) + ", U " + std::to_string(noise[1]) + ", V " +
+         std::to_string(noise[2]) +
+         " levels; a box narrower than its class's median spread by this is widened 1 / (1 + "
+         "blobs) of the way\n";
+  }
   for (const vision::AutoClassFit& c : r.thresholds.classes) {
     s += "  " + c.name + ": " + std::to_string(c.blobs) + " blobs, " + std::to_string(c.pixels) +
-         " px, separability " + FormatSignificant(c.separability, 3) + " from " + c.nearest + "\n";
+         " px, separability " + FormatSignificant(c.separability, 3) + " from " + c.nearest +
+         WidenedText(c.widened_levels) + "\n";
   }
   s += "  clutter (named no class): " + std::to_string(clutter) + " blobs\n";
   const detect::DetectorOptions& t = r.tolerances;

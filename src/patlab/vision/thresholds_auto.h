@@ -81,6 +81,10 @@ struct AutoClassFit {
   double separability = 0.0;               // see the header comment; inf when alone
   std::string nearest;                     // the class (or "carpet") it is nearest to
   std::array<ChannelRange, 3> range = {};  // its box (Y, U, V)
+  // Levels the blob fit widened the box by per channel (both sides together) to hold the
+  // class's median colour spread by the camera's noise (AutoThresholdsFit::noise_levels) and the
+  // margin; 0: not widened.
+  std::array<int, 3> widened_levels = {};
 };
 
 struct AutoThresholdsFit {
@@ -88,6 +92,10 @@ struct AutoThresholdsFit {
   AutoClassFit carpet;                // the dominant colour (not a class unless asked for)
   std::vector<AutoClassFit> classes;  // in the order asked for
   long frame_pixels = 0;              // pixels looked at, over all frames
+  // The blob fit's measure of the camera's noise: per channel the range (levels) that the box
+  // percentiles span of the carpet's pixels about its median per light cell; 0 for the pixel
+  // clustering.
+  std::array<int, 3> noise_levels = {};
 };
 
 // The vocabulary's entries of the colour classes asked for, in their order (aliases resolved).

@@ -7,6 +7,7 @@
 #include "patlab/core/error.h"
 #include "patlab/core/portable_math.h"
 #include "patlab/vision/thresholds_blobs.h"
+#include "patlab/vision/thresholds_noise_internal.h"
 #include "patlab/vision/thresholds_options_internal.h"
 
 namespace patlab::vision {
@@ -287,6 +288,8 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
     for (const auto& p : n.yuv) all.Add(p);
   all.Accumulate();
   fit.thresholds.space = ColorSpace::kYuv;
+  const internal::CameraNoise noise = internal::MeasureCarpetNoise(normalised, options);
+  for (int ch = 0; ch < 3; ++ch) fit.noise_levels[ch] = noise.below[ch] + noise.above[ch];
   for (size_t k = 0; k < entries.size(); ++k) {
     AutoClassFit c;
     c.name = entries[k]->name;
@@ -318,6 +321,9 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
                          std::max(cls.range[ch].hi, wide[ch].hi)};
       }
       TightenBox(counts, kept, all, options.negative_weight, &cls.range);
+      // The noise's box weighs as one blob against the class's own (a shrinkage towards it).
+      c.widened_levels =
+          internal::WidenToNoise(own, noise, 1.0 / (1.0 + c.blobs), options, &cls.range);
     }
     c.range = cls.range;
     fit.thresholds.classes.push_back(cls);

@@ -1,0 +1,83 @@
+// The blob fit's boxes no narrower than the camera's noise (thresholds_noise_internal.h).
+#include <algorithm>
+#include <cmath>
+
+#include "patlab/vision/thresholds_noise_internal.h"
+
+namespace patlab::vision::internal {
+
+namespace {
+
+int Median(std::vector<int>* values) {
+  auto mid = values->begin() + static_cast<std::ptrdiff_t>(values->size() / 2);
+  std::nth_element(values->begin(), mid, values->end());
+  return *mid;
+}
+
+}  // namespace
+
+CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
+                               const BlobThresholdsOptions& options) {
+  CameraNoise noise;
+  const int cell = options.light_cell_px;
+  std::array<std::vector<int>, 3> residuals;
+  std::vector<size_t> in_cell;
+  std::vector<int> values;
+  for (const NormalisedFrame& f : frames) {
+    for (int y0 = 0; y0 < f.height_px; y0 += cell) {
+      for (int x0 = 0; x0 < f.width_px; x0 += cell) {
+        in_cell.clear();
+        for (int y = y0; y < std::min(f.height_px, y0 + cell); ++y) {
+          for (int x = x0; x < std::min(f.width_px, x0 + cell); ++x) {
+            const size_t i = static_cast<size_t>(y) * f.width_px + x;
+            if (f.carpet[i] != 0) in_cell.push_back(i);
+          }
+        }
+        if (in_cell.empty() || in_cell.size() * 8 < static_cast<size_t>(cell) * cell) continue;
+        for (int ch = 0; ch < 3; ++ch) {
+          values.clear();
+          for (const size_t i : in_cell) values.push_back(f.yuv[i][ch]);
+          const int median = Median(&values);
+          for (const int v : values) residuals[ch].push_back(v - median);
+        }
+      }
+    }
+  }
+  if (residuals[0].empty()) return noise;
+  for (int ch = 0; ch < 3; ++ch) {
+    std::vector<int>& r = residuals[ch];
+    std::sort(r.begin(), r.end());
+    const double last = static_cast<double>(r.size() - 1);
+    noise.below[ch] = -r[static_cast<size_t>(std::floor(options.lower_percentile / 100.0 * last))];
+    noise.above[ch] = r[static_cast<size_t>(std::ceil(options.upper_percentile / 100.0 * last))];
+  }
+  noise.pixels = static_cast<long>(residuals[0].size());
+  return noise;
+}
+
+std::array<int, 3> WidenToNoise(const std::vector<std::array<uint8_t, 3>>& pixels,
+                                const CameraNoise& noise, double weight,
+                                const BlobThresholdsOptions& options,
+                                std::array<ChannelRange, 3>* box) {
+  std::array<int, 3> widened{};
+  if (noise.pixels == 0 || pixels.empty()) return widened;
+  std::vector<int> values;
+  for (int ch = 0; ch < 3; ++ch) {
+    values.clear();
+    for (const auto& p : pixels) values.push_back(p[ch]);
+    const int median = Median(&values);
+    const ChannelRange noise_box = {
+        std::clamp(median - noise.below[ch] - options.margin_levels, 0, 255),
+        std::clamp(median + noise.above[ch] + options.margin_levels, 0, 255)};
+    ChannelRange& r = (*box)[ch];
+    const int lo =
+        std::min(r.lo, static_cast<int>(std::floor(r.lo + weight * (noise_box.lo - r.lo))));
+    const int hi =
+        std::max(r.hi, static_cast<int>(std::ceil(r.hi + weight * (noise_box.hi - r.hi))));
+    widened[ch] = (r.lo - lo) + (hi - r.hi);
+    r.lo = lo, r.hi = hi;
+  }
+  return widened;
+}
+
+}  // namespace patlab::vision::internal
