@@ -14,6 +14,27 @@ int Median(std::vector<int>* values) {
   return *mid;
 }
 
+// The carpet's pixels of the cell at (x0, y0) about their median, per channel, added to
+// `residuals`, when at least an eighth of the cell is carpet.
+void AddCellResiduals(const NormalisedFrame& f, int x0, int y0, int cell,
+                      std::array<std::vector<int>, 3>* residuals) {
+  std::vector<size_t> in_cell;
+  for (int y = y0; y < std::min(f.height_px, y0 + cell); ++y) {
+    for (int x = x0; x < std::min(f.width_px, x0 + cell); ++x) {
+      const size_t i = static_cast<size_t>(y) * f.width_px + x;
+      if (f.carpet[i] != 0) in_cell.push_back(i);
+    }
+  }
+  if (in_cell.empty() || in_cell.size() * 8 < static_cast<size_t>(cell) * cell) return;
+  std::vector<int> values;
+  for (int ch = 0; ch < 3; ++ch) {
+    values.clear();
+    for (const size_t i : in_cell) values.push_back(f.yuv[i][ch]);
+    const int median = Median(&values);
+    for (const int v : values) (*residuals)[ch].push_back(v - median);
+  }
+}
+
 }  // namespace
 
 CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
@@ -21,27 +42,9 @@ CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
   CameraNoise noise;
   const int cell = options.light_cell_px;
   std::array<std::vector<int>, 3> residuals;
-  std::vector<size_t> in_cell;
-  std::vector<int> values;
   for (const NormalisedFrame& f : frames) {
-    for (int y0 = 0; y0 < f.height_px; y0 += cell) {
-      for (int x0 = 0; x0 < f.width_px; x0 += cell) {
-        in_cell.clear();
-        for (int y = y0; y < std::min(f.height_px, y0 + cell); ++y) {
-          for (int x = x0; x < std::min(f.width_px, x0 + cell); ++x) {
-            const size_t i = static_cast<size_t>(y) * f.width_px + x;
-            if (f.carpet[i] != 0) in_cell.push_back(i);
-          }
-        }
-        if (in_cell.empty() || in_cell.size() * 8 < static_cast<size_t>(cell) * cell) continue;
-        for (int ch = 0; ch < 3; ++ch) {
-          values.clear();
-          for (const size_t i : in_cell) values.push_back(f.yuv[i][ch]);
-          const int median = Median(&values);
-          for (const int v : values) residuals[ch].push_back(v - median);
-        }
-      }
-    }
+    for (int y0 = 0; y0 < f.height_px; y0 += cell)
+      for (int x0 = 0; x0 < f.width_px; x0 += cell) AddCellResiduals(f, x0, y0, cell, &residuals);
   }
   if (residuals[0].empty()) return noise;
   for (int ch = 0; ch < 3; ++ch) {
