@@ -29,9 +29,10 @@
 //    clip them, scaled back (FrameDetector scales frames to the fitted light, [frame]
 //    light_luma); each box's sides are then pulled in wherever that drops more than
 //    negative_weight pixels of everything else (carpet, lines, other classes, clutter) per pixel
-//    of the class's own or of its clipped readings; but never narrower than the class's median
-//    colour spread by the camera's noise (measured on the carpet, thresholds_noise_internal.h),
-//    so that a class seen in one or two blobs still holds its colour's other patches.
+//    of the class's own or of its clipped readings. Last, a box narrower than the class's median
+//    colour spread by the camera's noise (measured on the carpet) is widened towards that, by
+//    1 / (1 + its blobs) of the gap (thresholds_noise_internal.h), so that a class seen in one or
+//    two blobs still holds its colour's other patches.
 #pragma once
 
 #include <array>

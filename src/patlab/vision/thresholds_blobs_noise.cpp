@@ -1,4 +1,4 @@
-// The blob fit's boxes no narrower than the camera's noise (thresholds_noise_internal.h).
+// The blob fit's boxes widened towards the camera's noise (thresholds_noise_internal.h).
 #include <algorithm>
 #include <cmath>
 

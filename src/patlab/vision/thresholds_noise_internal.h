@@ -1,4 +1,4 @@
-// The blob fit's boxes no narrower than the camera's noise (thresholds_blobs.h, stage 4;
+// The blob fit's boxes widened towards the camera's noise (thresholds_blobs.h, stage 4;
 // thresholds_blobs_noise.cpp). A class seen in one or two blobs has a box as narrow as the noise
 // of those few pixels or, once its sides are pulled in against the frame's other pixels (among
 // them its own colour's patches that made no blob), narrower: another patch of that colour,
@@ -32,8 +32,8 @@ CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
 // stretch is a prior that the box's tightening trims against the frame's other pixels, while the
 // noise is measured.) Each side of `box` narrower than it moves `weight` of the way out to it:
 // the fit gives 1 / (1 + the class's blobs), the noise's box weighing as one blob against the
-// class's own, so a class seen in one blob takes half the gap and one seen in many keeps its
-// box. Returns the levels added per channel, both sides together.
+// class's own, so a class seen in one blob takes half the gap and one seen in many keeps nearly
+// its box. Returns the levels added per channel, both sides together.
 std::array<int, 3> WidenToNoise(const std::vector<std::array<uint8_t, 3>>& pixels,
                                 const CameraNoise& noise, double weight,
                                 const BlobThresholdsOptions& options,
