@@ -92,6 +92,96 @@ std::string DecidedBy(const SetupHeight& h) {
   return lines ? "lines" : "undetermined";
 }
 
+// The scan: the lines' camera (first) and, from the height of the shortest focal length the fit
+// allows (or twice the robots' height) to that of the longest (or kHighestCameraMm), the camera
+// Scaled to each height, each with what decodes through it (the colours kept); h->scan lists them.
+std::vector<HeightCandidate> ScanHeights(const std::vector<const camera::Image*>& frames,
+                                         const std::vector<std::string>& names,
+                                         const detect::DetectorConfig& config,
+                                         const SetupOptions& options, const SetupResult& r,
+                                         const internal::Decoded& at_lines, SetupHeight* h) {
+  const camera::PinholeCamera& lines = r.calibration_fit.camera;
+  const double width = frames.front()->width_px;
+  const double low = std::max(h->lines_height_mm * calib::kMinFocalWidths * width / lines.fx_px,
+                              2.0 * options.robot_height_mm);
+  const double high =
+      std::min(h->lines_height_mm * calib::kMaxFocalWidths * width / lines.fx_px, kHighestCameraMm);
+  std::vector<HeightCandidate> candidates;
+  candidates.push_back({r, at_lines});
+  for (double height = low; height <= high; height *= kScanStep) {
+    if (std::abs(std::log(height / h->lines_height_mm)) < 0.5 * std::log(kScanStep)) continue;
+    HeightCandidate c{r, {}};
+    c.setup.calibration_fit.camera = Scaled(lines, height / h->lines_height_mm);
+    // A lens of the lines' bend at that scale may need a k1 beyond the camera model's range.
+    if (!camera::Check(c.setup.calibration_fit.camera).empty()) continue;
+    internal::FinishSetup(frames, names, config, options, c.setup, false);
+    c.decoded = internal::DecodeThroughFiles(frames, config, c.setup, options.robot_height_mm);
+    candidates.push_back(std::move(c));
+  }
+  for (const HeightCandidate& c : candidates) {
+    h->scan.push_back({HeightOf(c.setup.calibration_fit.camera),
+                       c.setup.calibration_fit.camera.fx_px, c.decoded.robots,
+                       c.decoded.residual_mm2});
+  }
+  std::sort(h->scan.begin(), h->scan.end(), [](const SetupHeightTry& a, const SetupHeightTry& b) {
+    return a.height_mm < b.height_mm;
+  });
+  return candidates;
+}
+
+// The candidate decoding the most robots; a tie keeps the lines' camera (the first) if it is among
+// them, else the lowest mean pattern residual.
+size_t MostRobots(const std::vector<HeightCandidate>& candidates) {
+  size_t best = 0;
+  for (size_t i = 1; i < candidates.size(); ++i) {
+    const internal::Decoded& a = candidates[i].decoded;
+    const internal::Decoded& b = candidates[best].decoded;
+    if (a.robots > b.robots ||
+        (a.robots == b.robots && best != 0 && a.residual_mm2 < b.residual_mm2)) {
+      best = i;
+    }
+  }
+  return best;
+}
+
+// The robots' patches of `chosen` and the lines fitted together (FitWithRobots): the calibration
+// written into r (its residuals on the robots' plane are the patches', measured) when it measures
+// the height more finely than the scan's step and decodes as many robots. Whether it was kept;
+// h->fitted says why not.
+bool KeepFitWithRobots(const std::vector<const camera::Image*>& frames,
+                       const std::vector<std::string>& names, const detect::DetectorConfig& config,
+                       const SetupOptions& options, const HeightCandidate& chosen, SetupResult& r,
+                       SetupHeight* h) {
+  SetupResult joint = chosen.setup;
+  h->patterns = static_cast<int>(chosen.decoded.patterns.size());
+  try {
+    joint.calibration_fit =
+        FitWithRobots(r, chosen.setup.calibration_fit.camera, chosen.decoded.patterns);
+  } catch (const InputError& e) {
+    h->fitted = std::string("failed: ") + e.what();
+    return false;
+  }
+  h->fitted_height_mm = HeightOf(joint.calibration_fit.camera);
+  h->fitted_sd_mm = HeightSd(joint.calibration_fit);
+  if (!(h->fitted_sd_mm < (kScanStep - 1.0) * h->fitted_height_mm)) {
+    h->fitted = "not kept: its standard error is over " +
+                FormatSignificant(100.0 * (kScanStep - 1.0), 2) + "%, the scan's step";
+    return false;
+  }
+  internal::FinishSetup(frames, names, config, options, joint, true);
+  const int robots = std::max(joint.robots_by_blobs, joint.robots_by_pixels);
+  if (robots < chosen.decoded.robots) {
+    h->fitted = "not kept: " + std::to_string(robots) + " robots decode through it, " +
+                std::to_string(chosen.decoded.robots) + " through the scan's";
+    return false;
+  }
+  h->fitted = "kept";
+  h->robots = robots;
+  h->sd_mm = h->fitted_sd_mm;
+  r = std::move(joint);
+  return true;
+}
+
 }  // namespace
 
 // The robots the detector decodes through `thresholds` and the files setup writes: per frame the
@@ -179,79 +269,16 @@ void internal::ChooseHeight(const std::vector<const camera::Image*>& frames,
     r.height = h;
     return;
   }
-  // The scan: from the height of the shortest focal length the fit allows (or twice the robots'
-  // height) to that of the longest (or kHighestCameraMm), the lines' own camera among them.
-  const double width = frames.front()->width_px;
-  const double low = std::max(h.lines_height_mm * calib::kMinFocalWidths * width / lines.fx_px,
-                              2.0 * options.robot_height_mm);
-  const double high =
-      std::min(h.lines_height_mm * calib::kMaxFocalWidths * width / lines.fx_px, kHighestCameraMm);
-  std::vector<HeightCandidate> candidates;
-  candidates.push_back({r, at_lines});
-  for (double height = low; height <= high; height *= kScanStep) {
-    if (std::abs(std::log(height / h.lines_height_mm)) < 0.5 * std::log(kScanStep)) continue;
-    HeightCandidate c{r, {}};
-    c.setup.calibration_fit.camera = Scaled(lines, height / h.lines_height_mm);
-    // A lens of the lines' bend at that scale may need a k1 beyond the camera model's range.
-    if (!camera::Check(c.setup.calibration_fit.camera).empty()) continue;
-    FinishSetup(frames, names, config, options, c.setup, false);
-    c.decoded = DecodeThroughFiles(frames, config, c.setup, options.robot_height_mm);
-    candidates.push_back(std::move(c));
-  }
-  for (const HeightCandidate& c : candidates) {
-    h.scan.push_back({HeightOf(c.setup.calibration_fit.camera),
-                      c.setup.calibration_fit.camera.fx_px, c.decoded.robots,
-                      c.decoded.residual_mm2});
-  }
-  std::sort(h.scan.begin(), h.scan.end(), [](const SetupHeightTry& a, const SetupHeightTry& b) {
-    return a.height_mm < b.height_mm;
-  });
-  // The most robots; a tie keeps the lines' camera (the first) if it is among them, else the
-  // lowest mean pattern residual.
-  size_t best = 0;
-  for (size_t i = 1; i < candidates.size(); ++i) {
-    const Decoded& a = candidates[i].decoded;
-    const Decoded& b = candidates[best].decoded;
-    if (a.robots > b.robots ||
-        (a.robots == b.robots && best != 0 && a.residual_mm2 < b.residual_mm2)) {
-      best = i;
-    }
-  }
+  const std::vector<HeightCandidate> candidates =
+      ScanHeights(frames, names, config, options, r, at_lines, &h);
+  const size_t best = MostRobots(candidates);
   const HeightCandidate& chosen = candidates[best];
   if (chosen.decoded.robots <= 0) {
     h.decided_by = "undetermined";
     r.height = h;
     return;
   }
-  // The robots' patches and the lines fitted together: the calibration written (its residuals on
-  // the robots' plane are the patches', measured) when it measures the height more finely than
-  // the scan's step and decodes as many robots; else the scan's camera.
-  SetupResult joint = chosen.setup;
-  h.patterns = static_cast<int>(chosen.decoded.patterns.size());
-  try {
-    joint.calibration_fit =
-        FitWithRobots(r, chosen.setup.calibration_fit.camera, chosen.decoded.patterns);
-    h.fitted_height_mm = HeightOf(joint.calibration_fit.camera);
-    h.fitted_sd_mm = HeightSd(joint.calibration_fit);
-    if (!(h.fitted_sd_mm < (kScanStep - 1.0) * h.fitted_height_mm)) {
-      h.fitted = "not kept: its standard error is over " +
-                 FormatSignificant(100.0 * (kScanStep - 1.0), 2) + "% (the scan's step)";
-    } else {
-      FinishSetup(frames, names, config, options, joint, true);
-      const int robots = std::max(joint.robots_by_blobs, joint.robots_by_pixels);
-      if (robots >= chosen.decoded.robots) {
-        h.fitted = "kept";
-        h.robots = robots;
-        h.sd_mm = h.fitted_sd_mm;
-        r = std::move(joint);
-      } else {
-        h.fitted = "not kept: " + std::to_string(robots) + " robots decode through it";
-      }
-    }
-  } catch (const InputError& e) {
-    h.fitted = std::string("failed: ") + e.what();
-  }
-  if (h.fitted != "kept") {
+  if (!KeepFitWithRobots(frames, names, config, options, chosen, r, &h)) {
     r = chosen.setup;
     h.robots = chosen.decoded.robots;
     h.sd_mm = best == 0 ? h.lines_sd_mm : NAN;
@@ -267,8 +294,8 @@ std::string internal::HeightText(const SetupHeight& h) {
   const auto plus_minus = [&](double sd) {
     return std::isfinite(sd) ? " +- " + metres(sd) : std::string(" (not determined by them)");
   };
-  const std::string lines = metres(h.lines_height_mm) + " with f " +
-                            FormatFixed(h.lines_focal_px, 0) + " px" + plus_minus(h.lines_sd_mm);
+  const std::string lines = metres(h.lines_height_mm) + plus_minus(h.lines_sd_mm) + ", f " +
+                            FormatFixed(h.lines_focal_px, 0) + " px";
   const std::string ratio = FormatSignificant(h.lines_focal_px / h.lines_height_mm, 3);
   std::string s = "camera height: ";
   if (h.decided_by == "given") {
@@ -296,8 +323,8 @@ std::string internal::HeightText(const SetupHeight& h) {
     }
     s += "; give --camera-height if the robots' positions matter\n";
   } else {
-    s += metres(h.height_mm) + ", f " + FormatFixed(h.focal_px, 0) + " px" +
-         plus_minus(h.sd_mm).replace(0, 1, " ") + " (the " + h.decided_by + " decide; " +
+    s += metres(h.height_mm) + (std::isfinite(h.sd_mm) ? " +- " + metres(h.sd_mm) : "") + ", f " +
+         FormatFixed(h.focal_px, 0) + " px (the " + h.decided_by + " decide; " +
          std::to_string(h.robots) + " robots decoded through it)\n";
     s += "  the lines alone: " + lines + ", " + std::to_string(h.lines_robots) +
          " robots decoded through it; they fix f over the height, " + ratio + " px per mm\n";
