@@ -78,18 +78,26 @@ calib::CalibrationFit FitWithRobots(const SetupResult& r, const camera::PinholeC
   return calib::FitCamera(in);
 }
 
-// What set the height: the robots when they decode more through it than through the lines'
-// camera, or measure it (a finite standard error) beyond the lines' own uncertainty or more than
-// twice as finely; else the lines if they measure it; else nothing did.
-std::string DecidedBy(const SetupHeight& h) {
-  const bool lines = std::isfinite(h.lines_sd_mm);
-  if (h.robots > h.lines_robots) return "robots";
-  if (std::isfinite(h.sd_mm) &&
-      (!lines || std::abs(h.height_mm - h.lines_height_mm) > 2.0 * h.lines_sd_mm ||
-       h.sd_mm < 0.5 * h.lines_sd_mm)) {
-    return "robots";
+// Whether a height's standard error measures it: below the scan's step.
+bool Measures(double sd_mm, double height_mm) { return sd_mm < (kScanStep - 1.0) * height_mm; }
+
+// The fit's standard error of the height from the robots' patches: HeightSd scaled from the fit's
+// residual variance (over every pixel, mostly line pixels) to the patches' own, whose centroids
+// stray several times further than a line pixel from a line: the height is measured by them.
+double RobotsHeightSd(const calib::CalibrationFit& fit, double robot_height_mm) {
+  double ratio = 1.0;
+  for (const calib::PlaneResiduals& p : fit.planes) {
+    if (std::abs(p.height_mm - robot_height_mm) <= camera::kHeightToleranceMm && fit.rms_px > 0.0)
+      ratio = std::max(ratio, p.rms_px / fit.rms_px);
   }
-  return lines ? "lines" : "undetermined";
+  return HeightSd(fit) * ratio;
+}
+
+// What set the height: the robots when the fit with them was kept, or more robots decode through
+// the scan's camera than through the lines'; else the lines if they measure it; else nothing did.
+std::string DecidedBy(const SetupHeight& h) {
+  if (h.fitted == "kept" || h.robots > h.lines_robots) return "robots";
+  return Measures(h.lines_sd_mm, h.lines_height_mm) ? "lines" : "undetermined";
 }
 
 // The scan: the lines' camera (first) and, from the height of the shortest focal length the fit
@@ -146,12 +154,13 @@ size_t MostRobots(const std::vector<HeightCandidate>& candidates) {
 
 // The robots' patches of `chosen` and the lines fitted together (FitWithRobots): the calibration
 // written into r (its residuals on the robots' plane are the patches', measured) when it measures
-// the height more finely than the scan's step and decodes as many robots. Whether it was kept;
-// h->fitted says why not.
+// the height more finely than the scan's step, more finely than the lines where `chosen` is the
+// lines' own camera (`lines_camera`), and decodes as many robots. Whether it was kept; h->fitted
+// says why not.
 bool KeepFitWithRobots(const std::vector<const camera::Image*>& frames,
                        const std::vector<std::string>& names, const detect::DetectorConfig& config,
-                       const SetupOptions& options, const HeightCandidate& chosen, SetupResult& r,
-                       SetupHeight* h) {
+                       const SetupOptions& options, const HeightCandidate& chosen,
+                       bool lines_camera, SetupResult& r, SetupHeight* h) {
   SetupResult joint = chosen.setup;
   h->patterns = static_cast<int>(chosen.decoded.patterns.size());
   try {
@@ -162,10 +171,17 @@ bool KeepFitWithRobots(const std::vector<const camera::Image*>& frames,
     return false;
   }
   h->fitted_height_mm = HeightOf(joint.calibration_fit.camera);
-  h->fitted_sd_mm = HeightSd(joint.calibration_fit);
-  if (!(h->fitted_sd_mm < (kScanStep - 1.0) * h->fitted_height_mm)) {
+  h->fitted_sd_mm = RobotsHeightSd(joint.calibration_fit, options.robot_height_mm);
+  if (!Measures(h->fitted_sd_mm, h->fitted_height_mm)) {
     h->fitted = "not kept: its standard error is over " +
                 FormatSignificant(100.0 * (kScanStep - 1.0), 2) + "%, the scan's step";
+    return false;
+  }
+  // Where the robots decode as many through the lines' own camera, the lines' height stands unless
+  // the robots measure it more finely.
+  if (lines_camera && Measures(h->lines_sd_mm, h->lines_height_mm) &&
+      !(h->fitted_sd_mm < h->lines_sd_mm)) {
+    h->fitted = "not kept: the lines measure the height more finely";
     return false;
   }
   internal::FinishSetup(frames, names, config, options, joint, true);
@@ -278,7 +294,7 @@ void internal::ChooseHeight(const std::vector<const camera::Image*>& frames,
     r.height = h;
     return;
   }
-  if (!KeepFitWithRobots(frames, names, config, options, chosen, r, &h)) {
+  if (!KeepFitWithRobots(frames, names, config, options, chosen, best == 0, r, &h)) {
     r = chosen.setup;
     h.robots = chosen.decoded.robots;
     h.sd_mm = best == 0 ? h.lines_sd_mm : NAN;
