@@ -3,8 +3,9 @@
 // calib::AutoCalibrateFamily: every model screened by its search, the best few fitted, the one
 // whose camera explains the most line length kept; where a second camera explains nearly as
 // much yet maps the frame differently, the one through which the most robots decode), or, as a
-// fallback,
-// landmarks the user clicked; the colour classes the settings' palette names give the
+// fallback, landmarks the user clicked; the camera's height, which a view of the floor leaves
+// nearly open, given (--camera-height) or measured by the robots' patterns (SetupHeight,
+// camera_setup_height.cpp); the colour classes the settings' palette names give the
 // thresholds (vision/thresholds_auto.h); and the detector's tolerances are chosen from what was
 // measured. The result is four files in one folder -- calibration.toml, thresholds.toml,
 // settings.toml (the given settings with a [detector] table of the chosen tolerances and the
