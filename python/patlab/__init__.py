@@ -236,20 +236,24 @@ def render(scene):
     return _load_checked(_patlab._render, path)
 
 
-def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_width=4.0,
-          colour_options=None):
+def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera_height=None,
+          line_width=4.0, colour_options=None):
     """`patlab setup FRAME... --field FIELD --settings S -o OUT` (formats::SetupCamera): a new
     camera from its frames -- paths, or (H, W, 3) uint8 RGB arrays (named frame0, frame1, ...)
     -- written into the folder ``out`` that ``detect(image, setup=out)`` reads. ``field``: a
     field model or a family ("ssl", "vss"); ``settings``: detector settings (a path or a shipped
-    name); ``landmarks``: "NAME=X,Y" strings (four or more replace the lines); ``robot_height``
-    and ``line_width`` as --robot-height (mm) and --line-width (px); ``colour_options``: a dict
+    name); ``landmarks``: "NAME=X,Y" strings (four or more replace the lines); ``robot_height``,
+    ``camera_height`` and ``line_width`` as --robot-height (mm), --camera-height (mm; None:
+    unknown, the lines or the robots decide) and --line-width (px); ``colour_options``: a dict
     NAME -> number of the colour fit's options (as --colour-option NAME=VALUE; docs/setup.md
     lists them). Returns the report as a
     dict: field (the model kept), tried (each model: field, fitted, score_px, screen_px,
     held_out_mapping_mm, same_as, failure; best first), undecided (the cameras the lines did
     not decide between, the kept one first: field, score_px, floor_difference_mm, robots; empty
     when the lines decided) and robots_decided (the kept one decoded the most robots),
+    camera_height (decided_by: "given", "lines", "robots" or "undetermined"; height_mm,
+    focal_px, sd_mm, robots; lines_height_mm, lines_focal_px, lines_sd_mm, lines_robots: the
+    lines' own camera; scan: the heights tried, each height_mm, focal_px, robots),
     mapping_error_mm,
     mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
     pixels, blobs, separability, nearest, widened_levels: Y, U, V levels the blob fit widened
@@ -266,7 +270,9 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, line_w
     settings_path = _data.find(settings, "settings")
     return _patlab._setup(frames, os.fspath(field), _data._binary_dir(), settings_path,
                           os.fspath(out), [str(mark) for mark in _iterable(landmarks)],
-                          float(robot_height), float(line_width),
+                          float(robot_height),
+                          None if camera_height is None else float(camera_height),
+                          float(line_width),
                           {str(k): float(v) for k, v in (colour_options or {}).items()})
 
 

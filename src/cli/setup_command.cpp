@@ -49,12 +49,13 @@ struct SetupCommandOptions {
   std::string field, settings, out, list_landmarks;
   std::vector<std::string> landmarks, colour_options;
   double robot_height_mm = 140.0;
+  double camera_height_mm = 0.0;
   double line_width_px = 4.0;
   bool explain = false;
 };
 
 const OptionGroups kSetupGroups = {
-    {"input", {"field", "settings", "robot-height", "line-width", "landmark"}},
+    {"input", {"field", "settings", "robot-height", "camera-height", "line-width", "landmark"}},
     {"colour fit", {"colour-option"}},
     {"output", {"out"}},
     {"diagnostics", {"explain"}},
@@ -103,6 +104,9 @@ int RunSetup(const std::vector<std::string>& args) {
       "detector settings: palette and patterns (a shipped name or a file; required)")(
       "robot-height", po::value(&o.robot_height_mm)->default_value(140.0),
       "the patterns' plane above the floor (mm), in [0, 1000]")(
+      "camera-height", po::value(&o.camera_height_mm)->default_value(0.0),
+      "the camera's measured height above the floor (mm; 0 = unknown: the lines, or the robots "
+      "where the lines leave it open, decide)")(
       "line-width", po::value(&o.line_width_px)->default_value(4.0),
       "the field lines' width in the frames (px), in [1, 30]")(
       "landmark", po::value(&o.landmarks),
@@ -135,6 +139,9 @@ int RunSetup(const std::vector<std::string>& args) {
   options.fields = FieldsOf(o.field);
   options.settings_path = FindData(o.settings, io::DataKind::kSettings);
   options.robot_height_mm = o.robot_height_mm;
+  if (o.camera_height_mm < 0.0)
+    throw InputError("--camera-height: negative; expected mm above the floor, or 0 for unknown");
+  if (o.camera_height_mm > 0.0) options.camera_height_mm = o.camera_height_mm;
   options.line_width_px = o.line_width_px;
   for (const std::string& l : o.landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
   for (const std::string& c : o.colour_options) formats::ParseColourOption(c, &options.colours);

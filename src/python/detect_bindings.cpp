@@ -216,6 +216,27 @@ py::dict SetupReport(const formats::SetupResult& r) {
   }
   out["undecided"] = undecided;
   out["robots_decided"] = r.robots_decided;
+  const formats::SetupHeight& h = r.height;
+  py::dict height;
+  height["decided_by"] = h.decided_by;
+  height["height_mm"] = h.height_mm;
+  height["focal_px"] = h.focal_px;
+  height["sd_mm"] = h.sd_mm;
+  height["robots"] = h.robots;
+  height["lines_height_mm"] = h.lines_height_mm;
+  height["lines_focal_px"] = h.lines_focal_px;
+  height["lines_sd_mm"] = h.lines_sd_mm;
+  height["lines_robots"] = h.lines_robots;
+  py::list scan;
+  for (const formats::SetupHeightTry& t : h.scan) {
+    py::dict d;
+    d["height_mm"] = t.height_mm;
+    d["focal_px"] = t.focal_px;
+    d["robots"] = t.robots;
+    scan.append(d);
+  }
+  height["scan"] = scan;
+  out["camera_height"] = height;
   out["mapping_error_mm"] = r.mapping_error_mm;
   out["mapping_resolution_mm"] = r.mapping_resolution_mm;
   out["mm_per_px"] = r.mm_per_px;
@@ -254,7 +275,8 @@ py::dict SetupReport(const formats::SetupResult& r) {
 py::dict Setup(const py::list& frames, const std::string& field, const std::string& binary_dir,
                const std::string& settings, const std::string& out,
                const std::vector<std::string>& landmarks, double robot_height_mm,
-               double line_width_px, const std::map<std::string, double>& colour_options) {
+               std::optional<double> camera_height_mm, double line_width_px,
+               const std::map<std::string, double>& colour_options) {
   formats::SetupOptions options;
   // A family's every model, or one model (a shipped name or a file), as `patlab setup` reads it.
   const std::vector<std::string> roots = io::DataRoots(binary_dir, std::getenv("PATLAB_DATA"));
@@ -263,6 +285,7 @@ py::dict Setup(const py::list& frames, const std::string& field, const std::stri
     options.fields.push_back(formats::LoadField(io::FindData(field, io::DataKind::kField, roots)));
   options.settings_path = settings;
   options.robot_height_mm = robot_height_mm;
+  options.camera_height_mm = camera_height_mm;
   options.line_width_px = line_width_px;
   for (const std::string& l : landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
   for (const auto& [name, value] : colour_options) {
@@ -350,7 +373,7 @@ void BindDetect(py::module_& m) {
         py::arg("height_mm"));
   m.def("_setup", &Setup, py::arg("frames"), py::arg("field"), py::arg("binary_dir"),
         py::arg("settings"), py::arg("out"), py::arg("landmarks"), py::arg("robot_height_mm"),
-        py::arg("line_width_px"), py::arg("colour_options"));
+        py::arg("camera_height_mm"), py::arg("line_width_px"), py::arg("colour_options"));
   py::class_<Detector>(m, "_Detector")
       .def(py::init<const std::string&, const std::string&, const std::string&>(),
            py::arg("thresholds"), py::arg("calibration"), py::arg("settings"))

@@ -93,6 +93,27 @@ TEST(SetupCli, RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm) {
   }
 }
 
+// --camera-height: the calibration is fitted with the given height (2.5 m, where the known camera
+// is 3.8 m up: the user's word over the lines' and the robots') and the report says it was given.
+TEST(SetupCli, TheGivenCameraHeightIsTheCalibrations) {
+  testing::TempDir dir;
+  const auto render = RunCommand(kBinary + " render " + kScene + " -o " + dir.Path("r"));
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  const std::string frame = dir.Path("r") + "/frame.png";
+  for (const double given : {2500.0}) {
+    const std::string cam = dir.Path("cam");
+    const auto setup = RunCommand(kBinary + " setup " + frame +
+                                  " --field ssl-2009 --settings ssl-frame.detector -o " + cam +
+                                  " --camera-height " + std::to_string(given));
+    ASSERT_EQ(setup.exit_code, 0) << setup.err << setup.out;
+    EXPECT_NE(setup.out.find("(given: --camera-height;"), std::string::npos) << setup.out;
+    const camera::Calibration fitted = formats::LoadCalibration(cam + "/calibration.toml");
+    const camera::PinholeCamera& c = fitted.camera.pinhole();
+    const double height = (-c.rotation.transpose() * c.translation_mm).z();
+    EXPECT_NEAR(height, given, 30.0);
+  }
+}
+
 TEST(SetupCli, BadInputIsExit2WithNothingWritten) {
   testing::TempDir dir;
   const std::string frame = std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-frame.png";
@@ -110,6 +131,12 @@ TEST(SetupCli, BadInputIsExit2WithNothingWritten) {
        "--landmark given 1 times; expected at least 4"},
       {frame + " --field ssl-2009 --settings ssl-frame.detector --robot-height -5" + out,
        "--robot-height is -5 mm; expected 0 to 1000"},
+      {frame + " --field ssl-2009 --settings ssl-frame.detector --camera-height -5" + out,
+       "--camera-height: negative; expected mm above the floor"},
+      {frame + " --field ssl-2009 --settings ssl-frame.detector --camera-height 100" + out,
+       "--camera-height is 100 mm; expected above the robots' height (140 mm)"},
+      {frame + " --field ssl-2009 --settings ssl-frame.detector --camera-height high" + out,
+       "for option '--camera-height' is invalid"},
       // The golden frame shows no field lines.
       {frame + " --field ssl-2009 --settings ssl-frame.detector" + out,
        "give four --landmark NAME=X,Y"},

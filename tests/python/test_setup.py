@@ -34,6 +34,10 @@ def test_setup_then_detect_finds_every_robot(scene, tmp_path, in_root):
     kept = report["robots_by_" + report["colour_fit"]]
     assert kept >= max(report["robots_by_blobs"], report["robots_by_pixels"])
     assert report["tolerances"]["reach_margin_mm"] >= 20.0
+    height = report["camera_height"]
+    assert height["decided_by"] in ("lines", "robots", "undetermined")
+    assert 2000.0 < height["height_mm"] < 6000.0  # the known camera is 3.8 m up
+    assert height["robots"] == 10 and height["scan"]
     assert [f["frame"] for f in report["robots"]] == ["frame0"]
     assert len(report["robots"][0]["robots"]) == len(truth) == 10
     assert (tmp_path / "setup.toml").is_file()
@@ -79,7 +83,21 @@ def test_bad_input_is_a_value_error(scene, tmp_path, in_root):
     with pytest.raises(FileNotFoundError, match=r"no such file"):
         patlab.setup(str(tmp_path / "none.png"), field="ssl", settings="ssl-frame.detector",
                      out=tmp_path)
+    with pytest.raises(ValueError, match=r"--camera-height is 100 mm; expected above the robots'"):
+        patlab.setup(image, field="ssl-2009", settings="ssl-frame.detector", out=tmp_path,
+                     camera_height=100)
     assert not (tmp_path / "setup.toml").exists()
+
+
+def test_camera_height_is_the_clis(scene, tmp_path, in_root):
+    """camera_height=MM is --camera-height MM: the calibration's height, reported as given."""
+    image, _ = scene
+    report = patlab.setup(image, field="ssl-2009", settings="ssl-frame.detector", out=tmp_path,
+                          camera_height=2500)
+    height = report["camera_height"]
+    assert height["decided_by"] == "given" and height["scan"] == []
+    assert abs(height["height_mm"] - 2500.0) < 30.0
+    assert "(given: --camera-height;" in report["report"]
 
 
 def test_colour_options_are_the_clis(cli, root, tmp_path, in_root):

@@ -9,12 +9,14 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "patlab/calib/calibrate.h"
 #include "patlab/core/colour_names.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 #include "patlab/formats/calibration_file.h"
+#include "patlab/formats/camera_setup_internal.h"
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/io/colour_vocabulary.h"
@@ -40,6 +42,12 @@ void CheckSetupInput(const std::vector<const camera::Image*>& frames,
     throw InputError("--robot-height is " + FormatNumber(o.robot_height_mm) +
                      " mm; expected 0 to 1000");
   }
+  if (o.camera_height_mm && !(*o.camera_height_mm > o.robot_height_mm &&
+                              *o.camera_height_mm <= camera::kMaxCameraHeightMm)) {
+    throw InputError("--camera-height is " + FormatNumber(*o.camera_height_mm) +
+                     " mm; expected above the robots' height (" + FormatNumber(o.robot_height_mm) +
+                     " mm) and at most " + FormatNumber(camera::kMaxCameraHeightMm) + " mm");
+  }
   if (!o.landmarks.empty() && o.landmarks.size() < 4) {
     throw InputError("--landmark given " + std::to_string(o.landmarks.size()) +
                      " times; expected at least 4 landmarks (or none: the lines decide)");
@@ -57,9 +65,11 @@ calib::FamilyCalibration CalibrateFamily(const camera::Image& frame, const std::
   const std::vector<calib::LinePixel> pixels = vision::FindLinePixels(frame, finder);
   calib::FamilyOptions family;
   family.keep_rivals = true;
+  calib::AutoOptions options;
+  options.camera_height_mm = o.camera_height_mm;
   try {
-    return calib::AutoCalibrateFamily(pixels, frame.width_px, frame.height_px, name, o.fields, {},
-                                      family);
+    return calib::AutoCalibrateFamily(pixels, frame.width_px, frame.height_px, name, o.fields,
+                                      options, family);
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) +
                      "; or give four --landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");
@@ -109,6 +119,7 @@ void CalibrateFromLandmarks(const camera::Image& frame, const std::string& name,
     in.points.push_back({l.name, l.pixel, p->at_mm, 0.0, in.loc});
   }
   in.options.holdout_folds = std::min<int>(5, static_cast<int>(o.landmarks.size()));
+  in.options.camera_height_mm = o.camera_height_mm;
   r->field = field;
   r->from_landmarks = true;
   r->calibration_input = in;
@@ -208,35 +219,18 @@ void FitColours(const std::vector<const camera::Image*>& frames,
                                      io::DefaultColourVocabulary(), colours, &r->colour_clusters);
 }
 
-// The robots the detector decodes through `thresholds` and the files setup writes: per frame the
-// distinct (pattern, team, ID), less one for every further detection of one.
-int DecodedRobots(const std::vector<const camera::Image*>& frames,
-                  const vision::Thresholds& thresholds, const camera::Calibration& calibration,
-                  const std::string& settings_text) {
-  vision::FrameDetectorOptions options;
-  vision::ApplyFrameSettings(ParseFrameSettings(settings_text, "settings.toml"), &options);
-  vision::FrameDetector detector(
-      thresholds, calibration, ParseDetectorSettings(settings_text, "settings.toml", "."), options);
-  int score = 0;
-  for (const camera::Image* frame : frames) {
-    std::set<std::array<int, 3>> seen;
-    for (const detect::Detection& d : detector.Detect(*frame, "frame").detections) {
-      if (d.id >= 0) score += seen.insert({d.pattern, d.team_colour, d.id}).second ? 1 : -1;
-    }
-  }
-  return score;
-}
-
 // Weighs the pixel clustering against the blobs' fit by the robots each decodes (header).
 void ChooseColourFit(const std::vector<const camera::Image*>& frames,
                      const detect::DetectorConfig& config, const SetupOptions& o,
                      const std::string& calibration_text, const std::string& settings_text,
                      SetupResult* r) {
   const camera::Calibration calibration = ParseCalibration(calibration_text, "calibration.toml");
-  r->robots_by_blobs = DecodedRobots(frames, r->thresholds.thresholds, calibration, settings_text);
+  r->robots_by_blobs =
+      internal::DecodedRobots(frames, r->thresholds.thresholds, calibration, settings_text);
   vision::AutoThresholdsFit pixels = vision::FitThresholdsAuto(
       frames, PaletteClasses(config, o), io::DefaultColourVocabulary(), o.thresholds);
-  r->robots_by_pixels = DecodedRobots(frames, pixels.thresholds, calibration, settings_text);
+  r->robots_by_pixels =
+      internal::DecodedRobots(frames, pixels.thresholds, calibration, settings_text);
   if (r->robots_by_pixels > r->robots_by_blobs) {
     r->thresholds = std::move(pixels);
     r->colour_clusters.clear();
@@ -313,13 +307,10 @@ void SetupBlobAreas(double smallest_patch_px, double largest_patch_px,
       std::max(options->min_blob_area_px, 3.0 * kPi * largest_patch_px * largest_patch_px);
 }
 
-namespace {
-
-// Everything after the calibration: the tolerances, the colour classes chosen by the robots they
-// decode, the files.
-void FinishSetup(const std::vector<const camera::Image*>& frames,
-                 const std::vector<std::string>& names, const detect::DetectorConfig& config,
-                 const SetupOptions& options, SetupResult& r) {
+void internal::FinishSetup(const std::vector<const camera::Image*>& frames,
+                           const std::vector<std::string>& names,
+                           const detect::DetectorConfig& config, const SetupOptions& options,
+                           SetupResult& r, bool fit_colours) {
   r.calibration_input.default_height_mm = options.robot_height_mm;
   const camera::CameraModel camera = camera::CameraModel::Pinhole(r.calibration_fit.camera);
   const camera::Image& first = *frames.front();
@@ -330,7 +321,7 @@ void FinishSetup(const std::vector<const camera::Image*>& frames,
                                  ? std::max(r.mapping_error_mm, r.mapping_resolution_mm)
                                  : r.mapping_error_mm;
   r.tolerances = SetupTolerances(config.options, r.mm_per_px, error_bound, r.smallest_patch_px);
-  FitColours(frames, config, options, &r);
+  if (fit_colours) FitColours(frames, config, options, &r);
   const std::string made =
       "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
   const std::string calibration_text =
@@ -342,7 +333,7 @@ void FinishSetup(const std::vector<const camera::Image*>& frames,
       made + "# The detector settings " + options.settings_path +
           " with the tolerances setup chose ([detector]) and the frames' light ([frame] " +
           "light_luma, docs/setup.md).\n");
-  ChooseColourFit(frames, config, options, calibration_text, settings_text, &r);
+  if (fit_colours) ChooseColourFit(frames, config, options, calibration_text, settings_text, &r);
   r.files = {{"calibration.toml", calibration_text},
              {"thresholds.toml",
               vision::ThresholdsToml(r.thresholds.thresholds,
@@ -353,6 +344,8 @@ void FinishSetup(const std::vector<const camera::Image*>& frames,
                                 "\"\ncalibration = \"calibration.toml\"\nthresholds = "
                                 "\"thresholds.toml\"\nsettings = \"settings.toml\"\n"}};
 }
+
+namespace {
 
 int RobotsDecoded(const SetupResult& r) { return std::max(r.robots_by_blobs, r.robots_by_pixels); }
 
@@ -370,7 +363,7 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     const int model = rival == nullptr ? family.kept : rival->model;
     const calib::AutoCalibration& a = rival == nullptr ? family.calibration : rival->calibration;
     UseCalibration(a, options.fields[static_cast<size_t>(model)], &results[i]);
-    FinishSetup(frames, names, config, options, results[i]);
+    internal::FinishSetup(frames, names, config, options, results[i]);
     undecided.push_back({results[i].field.name, a.score_px,
                          rival == nullptr ? 0.0 : rival->floor_difference_mm,
                          RobotsDecoded(results[i])});
@@ -388,6 +381,7 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     });
     r.undecided = std::move(undecided);
   }
+  internal::ChooseHeight(frames, names, config, options, r);
   return r;
 }
 
@@ -403,7 +397,8 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
     r = SetupFromLines(frames, names, config, options);
   } else {
     CalibrateFromLandmarks(*frames.front(), names.front(), options, &r);
-    FinishSetup(frames, names, config, options, r);
+    internal::FinishSetup(frames, names, config, options, r);
+    internal::ChooseHeight(frames, names, config, options, r);
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
@@ -435,6 +430,7 @@ std::string SetupReportText(const SetupResult& r) {
        " RMS on the floor (" +
        (r.from_landmarks ? "cross-validated over the landmarks" : "held-out line pixels") + "); " +
        FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
+  s += internal::HeightText(r.height);
   long clutter = 0;
   for (const vision::BlobCluster& c : r.colour_clusters) clutter += c.name < 0 ? c.blobs : 0;
   s += "colour fit: " + r.colour_fit + " (robots decoded: by blobs " +

@@ -3,8 +3,9 @@
 // calib::AutoCalibrateFamily: every model screened by its search, the best few fitted, the one
 // whose camera explains the most line length kept; where a second camera explains nearly as
 // much yet maps the frame differently, the one through which the most robots decode), or, as a
-// fallback,
-// landmarks the user clicked; the colour classes the settings' palette names give the
+// fallback, landmarks the user clicked; the camera's height, which a view of the floor leaves
+// nearly open, given (--camera-height) or measured by the robots' patterns (SetupHeight,
+// camera_setup_height.cpp); the colour classes the settings' palette names give the
 // thresholds (vision/thresholds_auto.h); and the detector's tolerances are chosen from what was
 // measured. The result is four files in one folder -- calibration.toml, thresholds.toml,
 // settings.toml (the given settings with a [detector] table of the chosen tolerances and the
@@ -23,6 +24,8 @@
 //   area_ratio_max  = 2.5.
 #pragma once
 
+#include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +53,11 @@ struct SetupOptions {
   // in [0, 1000].
   double robot_height_mm = 140.0;
   double line_width_px = 4.0;  // the field lines' width in the frames, in [1, 30]
+  // The camera's measured height above the floor (mm; `--camera-height`, as calibrate --auto's):
+  // the calibration is fitted with it (calib::FitOptions::camera_height_mm) and the robots do not
+  // choose the height. Unset: the lines' camera, or the robots' where the lines leave it open
+  // (SetupHeight). In (robot_height_mm, 100000].
+  std::optional<double> camera_height_mm;
   // When not empty (at least 4): the calibration is fitted to these in the first frame instead
   // of the lines, with the first field model.
   std::vector<SetupLandmark> landmarks;
@@ -83,6 +91,37 @@ struct SetupRival {
   int robots = 0;                    // decoded through it (the better colour fit's count)
 };
 
+// The camera's height above the floor and what set it. A view of the floor fixes the focal length
+// over the height (f / h), not each: the robots' patterns, at the robots' height and of a known
+// size in mm, measure the rest. setup scans heights with the focal length scaled with them (the
+// floor's map kept), detects through each, keeps the one decoding the most robots (a tie: the
+// lines' own height if it is among them, else the lowest mean pattern residual), then fits the
+// camera to the lines and the decoded robots' patches together and takes that fit's height.
+struct SetupHeightTry {
+  double height_mm = 0.0;
+  double focal_px = 0.0;
+  int robots = 0;             // decoded through it (DecodedRobots' count)
+  double residual_mm2 = 0.0;  // their mean pattern residual E (NaN: none decoded)
+};
+struct SetupHeight {
+  // "given" (--camera-height), "lines" (the robots agree with the lines' height and add little),
+  // "robots" (they moved it, or measure it better than the lines), "undetermined" (no robots
+  // decoded, or the robots are on the floor: the lines' height kept, whatever it is worth).
+  std::string decided_by = "lines";
+  double height_mm = 0.0, focal_px = 0.0;
+  double sd_mm = 0.0;  // its standard error (NaN: the fit does not determine it)
+  int robots = 0;      // decoded through the kept camera
+  double lines_height_mm = 0.0, lines_focal_px = 0.0;
+  double lines_sd_mm = 0.0;  // the lines' fit's standard error of the height (NaN: undetermined)
+  int lines_robots = 0;      // decoded through the lines' camera
+  // The fit of the lines and the decoded robots' patches together (patterns: the robots in it; 0:
+  // none made): its height and standard error, and whether it was kept ("kept", or why not).
+  int patterns = 0;
+  double fitted_height_mm = NAN, fitted_sd_mm = NAN;
+  std::string fitted;
+  std::vector<SetupHeightTry> scan;  // by increasing height
+};
+
 struct SetupResult {
   calib::Field field;                // the model kept
   std::vector<SetupFieldTry> tried;  // every model tried, best first
@@ -91,6 +130,7 @@ struct SetupResult {
   // kept by its line length).
   std::vector<SetupRival> undecided;
   bool robots_decided = false;
+  SetupHeight height;
   bool from_landmarks = false;
   calib::CalibrationInput calibration_input;
   calib::CalibrationFit calibration_fit;

@@ -1,0 +1,51 @@
+// What camera_setup.cpp and camera_setup_height.cpp share (camera_setup.h): the files written
+// through one camera and the robots the detector decodes through them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "patlab/calib/calibrate.h"
+#include "patlab/camera/camera.h"
+#include "patlab/camera/image.h"
+#include "patlab/detect/detector.h"
+#include "patlab/formats/camera_setup.h"
+#include "patlab/vision/color_lut.h"
+
+namespace patlab::formats::internal {
+
+// Everything after the calibration: the tolerances of r's camera, the colour classes (fitted and
+// chosen by the robots they decode when `fit_colours`; else r's kept), the files.
+void FinishSetup(const std::vector<const camera::Image*>& frames,
+                 const std::vector<std::string>& names, const detect::DetectorConfig& config,
+                 const SetupOptions& options, SetupResult& r, bool fit_colours = true);
+
+// The robots the detector decodes through r's files: DecodedRobots' count (per frame the distinct
+// pattern, team and ID, less one for every further detection of one), the decoded robots' mean
+// pattern residual E (mm^2; NaN when none) and, per decoded robot, its patches' pixel centroids
+// as a pattern observation at `robot_height_mm` (for a fit of the camera to them).
+struct Decoded {
+  int robots = 0;
+  double residual_mm2 = 0.0;
+  std::vector<calib::PatternObservation> patterns;
+};
+// The count alone through given thresholds, calibration and settings text; with `decoded`, the rest
+// too (`config` gives the patterns).
+int DecodedRobots(const std::vector<const camera::Image*>& frames,
+                  const vision::Thresholds& thresholds, const camera::Calibration& calibration,
+                  const std::string& settings_text, const detect::DetectorConfig* config = nullptr,
+                  double robot_height_mm = 0.0, Decoded* decoded = nullptr);
+Decoded DecodeThroughFiles(const std::vector<const camera::Image*>& frames,
+                           const detect::DetectorConfig& config, const SetupResult& r,
+                           double robot_height_mm);
+
+// The camera's height (SetupHeight): given, or, from the lines' camera in r, chosen by the robots
+// where the lines leave it open; r's calibration, tolerances, colours and files follow it.
+void ChooseHeight(const std::vector<const camera::Image*>& frames,
+                  const std::vector<std::string>& names, const detect::DetectorConfig& config,
+                  const SetupOptions& options, SetupResult& r);
+
+// The report's lines on the camera's height: the height kept, what decided it, with the numbers.
+std::string HeightText(const SetupHeight& h);
+
+}  // namespace patlab::formats::internal
