@@ -16,20 +16,22 @@
 //    Huttenlocher's graph segmentation (IJCV 2004; 4-neighbour edges weighted by CIELAB Delta E,
 //    threshold segment_k / size); regions of a patch's size and width are the blobs, each with
 //    its median colour.
-// 3. Names (NameBlobClusters): blobs of one colour are clustered (average linkage on a weighted
-//    Delta E in which lightness, the first thing light changes, counts less), and the clusters
-//    are named: each class of the palette takes the cluster nearest its vocabulary entry (hue,
-//    chroma and lightness over the spreads below), one cluster per class, the cheapest pairs
-//    first, so two clusters competing for one name go to the two names that fit them best
-//    together; a further cluster joins a class when it is near that class's cluster and fits
-//    the class's entry too. What is named nothing is clutter.
+// 3. Names (NameBlobClusters): blobs of one colour are clustered (complete linkage on a weighted
+//    Delta E in which lightness, the first thing light changes, counts less: a cluster's blobs
+//    all lie within cluster_distance of each other, so dark blobs do not chain through the dull
+//    ones between them), and the clusters are named: each class of the palette takes the
+//    cluster nearest its vocabulary entry (hue, chroma and lightness over the spreads below), one
+//    cluster per class, the cheapest pairs first, so two clusters competing for one name go to
+//    the two names that fit them best together; a further cluster joins a class when it is near
+//    that class's cluster (for white and black, lightness counting in full) and fits the class's
+//    entry, and no other class's better. What is named nothing is clutter.
 // 4. Boxes: per class the percentiles of its blobs' pixels in YUV, stretched for light
 //    intensities lighting_min_gain..lighting_max_gain, plus margin_levels, and widened to the
 //    percentiles of those pixels as frames up to internal::kBrighterFramesGain times brighter
 //    clip them, scaled back (FrameDetector scales frames to the fitted light, [frame]
 //    light_luma); each box's sides are then pulled in wherever that drops more than
 //    negative_weight pixels of everything else (carpet, lines, other classes, clutter) per pixel
-//    of the class's own or of its clipped readings.
+//    of the class's own or of its clipped readings, never past the class's median colour.
 #pragma once
 
 #include <array>
