@@ -139,8 +139,8 @@ TEST(SetupRealCli, Ssl2008FrameWithNoHandWrittenFile) {
   // neighbours (its white sector, yellowish there, and its black one are cut by their boxes), and
   // no false ID. Before the blob clusters stopped chaining (complete linkage) and the black box
   // kept its class's median colour, the dark blobs were one black cluster, the blob fit decoded
-  // none and the pixel clustering found 2 with 1 false ID. setup keeps the settings' missing_patch
-  // = "fit" (every robot here is read with one sector missing).
+  // no robot and setup kept the pixel clustering's classes: no robot right, 1 false ID. setup
+  // keeps the settings' missing_patch = "fit" (every robot here is read with one sector missing).
   EXPECT_EQ(s.right, 4);
   EXPECT_EQ(s.false_ids, 0);
 }

@@ -122,6 +122,26 @@ double JoinDistance(const std::array<double, 3>& cluster, const std::array<doubl
   return Distance(cluster, named);
 }
 
+// The class a further (unnamed) cluster joins, or -1: that of the named cluster nearest it, when
+// within cluster_distance (JoinDistance), fitting the class's entry (`cost`: the cluster's name
+// cost per class) and no other class's better.
+int FurtherClusterClass(const std::array<double, 3>& lab, const double* cost,
+                        const std::vector<BlobCluster>& clusters, const std::vector<int>& owner,
+                        const std::vector<const ColourEntry*>& entries,
+                        const BlobThresholdsOptions& o) {
+  int joins = -1;
+  double best = o.cluster_distance;
+  for (size_t k = 0; k < entries.size(); ++k) {
+    if (owner[k] < 0) continue;
+    const double d = JoinDistance(lab, clusters[static_cast<size_t>(owner[k])].lab, *entries[k], o);
+    if (d < best) best = d, joins = static_cast<int>(k);
+  }
+  if (joins < 0 || cost[joins] > o.max_name_cost) return -1;
+  for (size_t k = 0; k < entries.size(); ++k)
+    if (cost[k] < cost[joins]) return -1;
+  return joins;
+}
+
 }  // namespace
 
 std::vector<BlobCluster> NameBlobClusters(const std::vector<const ColourEntry*>& entries,
@@ -152,19 +172,9 @@ std::vector<BlobCluster> NameBlobClusters(const std::vector<const ColourEntry*>&
   // class's entry.
   std::vector<int> extra(nc, -1);
   for (size_t c = 0; c < nc; ++c) {
-    if (clusters[c].name >= 0) continue;
-    double best = o.cluster_distance;
-    for (size_t k = 0; k < nk; ++k) {
-      if (owner[k] < 0) continue;
-      const double d = JoinDistance(clusters[c].lab, clusters[static_cast<size_t>(owner[k])].lab,
-                                    *entries[k], o);
-      if (d < best) best = d, extra[c] = static_cast<int>(k);
+    if (clusters[c].name < 0) {
+      extra[c] = FurtherClusterClass(clusters[c].lab, &cost[c * nk], clusters, owner, entries, o);
     }
-    if (extra[c] < 0) continue;
-    // It must fit the class's entry, and no other class's better.
-    const double own = cost[c * nk + static_cast<size_t>(extra[c])];
-    for (size_t k = 0; k < nk; ++k)
-      if (own > o.max_name_cost || cost[c * nk + k] < own) extra[c] = -1;
   }
   for (size_t c = 0; c < nc; ++c)
     if (extra[c] >= 0) clusters[c].name = extra[c];
