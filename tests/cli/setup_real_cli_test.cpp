@@ -135,13 +135,13 @@ TEST(SetupRealCli, Ssl2008FrameWithNoHandWrittenFile) {
        {258, 82, "yellow", -1},
        {434, 559, "blue", 6},
        {478, 564, "blue", 15}});
-  // 4 of 5 (docs/setup.md, "What fails and why"): the yellow robot at (343, 58) px keeps too few
-  // neighbours (its white sector, yellowish there, and its black one are cut by their boxes), and
-  // no false ID. Before the blob clusters stopped chaining (complete linkage) and the black box
-  // kept its class's median colour, the dark blobs were one black cluster, the blob fit decoded
-  // no robot and setup kept the pixel clustering's classes: no robot right, 1 false ID. setup
-  // keeps the settings' missing_patch = "fit" (every robot here is read with one sector missing).
-  EXPECT_EQ(s.right, 4);
+  // All 5 with their team (the two at the top by team only), and no false ID. Before the blob
+  // clusters stopped chaining (complete linkage), the black box kept its class's median colour
+  // and the boxes stopped being pulled in against regions larger than a patch (field lines, the
+  // frame's dark margins), the dark blobs were one black cluster, the blob fit decoded no robot
+  // and setup kept the pixel clustering's classes: no robot right, 1 false ID. setup keeps the
+  // settings' missing_patch = "fit" (every robot here is read with one sector missing).
+  EXPECT_EQ(s.right, 5);
   EXPECT_EQ(s.false_ids, 0);
 }
 

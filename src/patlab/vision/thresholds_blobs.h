@@ -30,8 +30,10 @@
 //    percentiles of those pixels as frames up to internal::kBrighterFramesGain times brighter
 //    clip them, scaled back (FrameDetector scales frames to the fitted light, [frame]
 //    light_luma); each box's sides are then pulled in wherever that drops more than
-//    negative_weight pixels of everything else (carpet, lines, other classes, clutter) per pixel
-//    of the class's own or of its clipped readings, never past the class's median colour.
+//    negative_weight pixels of everything else (carpet, other classes, clutter; not the pixels
+//    of regions larger than a patch, such as field lines, walls and the frame's dark margins,
+//    whose blobs the detector rejects by their area) per pixel of the class's own or of its
+//    clipped readings, never past the class's median colour.
 #pragma once
 
 #include <array>
@@ -91,8 +93,8 @@ struct BlobThresholdsOptions {
   double lighting_min_gain = 0.7;
   double lighting_max_gain = 1.4;
   int margin_levels = 3;  // levels added on each side of every bound, in [0, 128]
-  // A side of a box moves in while that removes more than this many other pixels per own pixel
-  // lost. Lower: tighter boxes. In (0, 100].
+  // A side of a box moves in while that removes more than this many other pixels (but those of
+  // regions larger than a patch) per own pixel lost. Lower: tighter boxes. In (0, 100].
   double negative_weight = 2.0;
 };
 
@@ -132,8 +134,10 @@ struct ColourBlob {
   int name = -1;                   // class index, -1 clutter
 };
 
+// `oversize` (optional) receives 1 for every pixel of a region larger than a patch.
 std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& frame, int frame_index,
-                                        const BlobThresholdsOptions& options);
+                                        const BlobThresholdsOptions& options,
+                                        std::vector<uint8_t>* oversize = nullptr);
 
 // CIELAB (D65) of an sRGB colour.
 std::array<double, 3> SrgbToLab(const std::array<uint8_t, 3>& rgb);

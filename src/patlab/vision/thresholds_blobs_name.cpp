@@ -311,6 +311,22 @@ void Describe(const std::vector<std::array<uint8_t, 3>>& pixels, AutoClassFit* c
   c->spread_levels = std::sqrt(var / 3.0);
 }
 
+// The pixels a box is pulled in against: every pixel of the frames but those of regions larger
+// than a patch (field lines, walls, people, the frame's dark margins), whose blobs the detector's
+// area test rejects whatever their class. Counting them, a class that shares a colour with them
+// lost its patches: the real SSL frame's white box cut the sectors whose white is yellowish
+// (the lines' tint) and its black box the darkest sector pixels (the dark margins' levels).
+BoxCounts NegativeCounts(const std::vector<NormalisedFrame>& frames,
+                         const std::vector<std::vector<uint8_t>>& oversize) {
+  BoxCounts counts;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    for (size_t i = 0; i < frames[f].yuv.size(); ++i)
+      if (oversize[f][i] == 0) counts.Add(frames[f].yuv[i]);
+  }
+  counts.Accumulate();
+  return counts;
+}
+
 }  // namespace
 
 AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>& frames,
@@ -322,12 +338,15 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
   if (frames.empty()) throw InputError("no frames; expected at least one frame");
   const std::vector<const ColourEntry*> entries = PaletteEntries(class_names, vocabulary);
   std::vector<NormalisedFrame> normalised;
+  std::vector<std::vector<uint8_t>> oversize;
   std::vector<ColourBlob> blobs;
   AutoThresholdsFit fit;
   std::vector<std::array<uint8_t, 3>> carpet;
   for (size_t f = 0; f < frames.size(); ++f) {
     normalised.push_back(NormaliseFrame(*frames[f], options));
-    std::vector<ColourBlob> b = FindColourBlobs(normalised.back(), static_cast<int>(f), options);
+    oversize.emplace_back();
+    std::vector<ColourBlob> b =
+        FindColourBlobs(normalised.back(), static_cast<int>(f), options, &oversize.back());
     blobs.insert(blobs.end(), std::make_move_iterator(b.begin()), std::make_move_iterator(b.end()));
     const NormalisedFrame& n = normalised.back();
     fit.frame_pixels += static_cast<long>(n.yuv.size());
@@ -337,10 +356,7 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
   std::vector<BlobCluster> clusters = NameBlobClusters(entries, options, &blobs);
   fit.carpet.name = "carpet";
   Describe(carpet, &fit.carpet);
-  BoxCounts all;
-  for (const NormalisedFrame& n : normalised)
-    for (const auto& p : n.yuv) all.Add(p);
-  all.Accumulate();
+  const BoxCounts all = NegativeCounts(normalised, oversize);
   fit.thresholds.space = ColorSpace::kYuv;
   for (size_t k = 0; k < entries.size(); ++k) {
     AutoClassFit c;
