@@ -238,6 +238,37 @@ TEST(ThresholdsBlobs, ABlackBoxKeepsItsPatchesBesideADarkMargin) {
   }
 }
 
+TEST(ThresholdsBlobs, AWhiteBoxKeepsThePatchesOfALinesTint) {
+  // Four white discs and one of the field line's yellowish white: the line holds far more pixels
+  // of that tint than the disc, and the box, pulled in against them, used to lose the disc. The
+  // line is one region larger than a patch, which the detector's area test rejects whatever its
+  // class: it no longer counts against a box.
+  const std::array<uint8_t, 3> white = {245, 245, 245}, tint = {235, 228, 190};
+  const std::vector<Disc> discs = {{30, 25, 6, white},
+                                   {90, 25, 6, white},
+                                   {150, 25, 6, white},
+                                   {210, 25, 6, white},
+                                   {120, 95, 6, tint}};
+  camera::Image image = Frame(240, 120, discs, 1.0);
+  for (int y = 58; y < 62; ++y)
+    for (int x = 0; x < 240; ++x)
+      for (int k = 0; k < 3; ++k) image.Row(y)[3 * x + k] = tint[static_cast<size_t>(k)];
+  BlobThresholdsOptions o;
+  o.max_blob_area_px = 300.0;
+  o.min_blob_sigma_px = 1.5;
+  const AutoThresholdsFit fit =
+      FitThresholdsFromBlobs({&image}, {"white"}, io::DefaultColourVocabulary(), o);
+  ASSERT_EQ(fit.classes.size(), 1u);
+  EXPECT_EQ(fit.classes[0].blobs, 5);
+  const ColorLut lut(fit.thresholds);
+  for (const Disc& d : discs) {
+    const uint8_t* p = image.Row(static_cast<int>(d.y)) + 3 * static_cast<int>(d.x);
+    int a, b, c;
+    camera::RgbToYuv(p[0], p[1], p[2], &a, &b, &c);
+    EXPECT_EQ(lut.Classify(a, b, c), 0) << d.x << ", " << d.y;
+  }
+}
+
 TEST(ThresholdsBlobs, BadOptionsNameTheField) {
   BlobThresholdsOptions o;
   o.max_blob_area_px = 2.0;
