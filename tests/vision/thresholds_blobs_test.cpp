@@ -134,6 +134,38 @@ TEST(ThresholdsBlobs, CompetingClustersTakeTheNamesThatFitThemTogether) {
   EXPECT_EQ(clusters[static_cast<size_t>(blobs[0].cluster)].blobs, 5);
 }
 
+TEST(ThresholdsBlobs, DarkBlobsDoNotChainIntoOneBlackCluster) {
+  // The dark blobs of the real SSL frame, rounded: black sectors and shadows (L* 6-23, almost no
+  // chroma), beige walls and dark rims (L* 34-46), a dull orange ball between them, white
+  // sectors. Each blob lies within the cluster distance of the next darker one, so clusters whose
+  // centre follows what they take in chained them into one cluster spanning 40 L*, named black:
+  // the ball was black and orange named nothing. Now black is the dark blobs, the ball orange
+  // and the walls, a grey 20 L* above black's, nothing.
+  const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
+  const BlobThresholdsOptions o;
+  const std::vector<std::array<double, 3>> dark = {{6, 0, 2},   {8, 1, 3},  {10, -1, 1},
+                                                   {11, -7, 1}, {21, 3, 6}, {23, -2, 5}};
+  const std::vector<std::array<double, 3>> walls = {{34, -2, 10}, {37, -2, 12}, {39, -1, 12},
+                                                    {42, 0, 19},  {44, -6, 16}, {46, 7, 16}};
+  std::vector<ColourBlob> blobs;
+  const auto add = [&](const std::array<double, 3>& lab) {
+    ColourBlob b;
+    b.lab = lab;
+    blobs.push_back(b);
+  };
+  for (const auto& lab : dark) add(lab);
+  for (const auto& lab : walls) add(lab);
+  add({37, 18, 29});  // the ball
+  for (int i = 0; i < 3; ++i) add({96, -2, 9});
+  NameBlobClusters({vocabulary.Find("black"), vocabulary.Find("white"), vocabulary.Find("orange")},
+                   o, &blobs);
+  for (size_t i = 0; i < dark.size(); ++i) EXPECT_EQ(blobs[i].name, 0) << i;
+  for (size_t i = dark.size(); i < dark.size() + walls.size(); ++i)
+    EXPECT_EQ(blobs[i].name, -1) << i;
+  EXPECT_EQ(blobs[12].name, 2);
+  for (size_t i = 13; i < 16; ++i) EXPECT_EQ(blobs[i].name, 1) << i;
+}
+
 TEST(ThresholdsBlobs, AchromaticEntriesTakeLightnessNotHue) {
   const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
   const BlobThresholdsOptions o;
@@ -250,6 +282,63 @@ TEST(ThresholdsBlobs, AClassFittedFromOneBlobHoldsItsColoursOtherPatchesUnderThe
     }
   }
   EXPECT_EQ(carpet_caught, 0);
+TEST(ThresholdsBlobs, ABlackBoxKeepsItsPatchesBesideADarkMargin) {
+  // Black discs on the carpet beside a dark margin (a wall in shadow, levels 5-70 down the frame)
+  // of twenty times their pixels: every box that holds the discs holds more of the margin, and the
+  // box, pulled in by its best single move, used to shut on a bin that holds neither (the black
+  // class caught nothing). A tightened box keeps the class's median colour.
+  const std::vector<Disc> discs = {{120, 30, 6, {18, 18, 20}},
+                                   {180, 30, 6, {18, 18, 20}},
+                                   {120, 90, 6, {18, 18, 20}},
+                                   {180, 90, 6, {18, 18, 20}},
+                                   {150, 60, 6, {235, 215, 45}}};
+  camera::Image image = Frame(240, 120, discs, 1.0);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 60; ++x)
+      for (int k = 0; k < 3; ++k)
+        image.Row(y)[3 * x + k] = static_cast<uint8_t>(5 + (65 * y) / 119 + (x + k) % 3);
+  const AutoThresholdsFit fit =
+      FitThresholdsFromBlobs({&image}, {"black", "yellow"}, io::DefaultColourVocabulary(), {});
+  ASSERT_EQ(fit.classes.size(), 2u);
+  EXPECT_EQ(fit.classes[0].blobs, 4);
+  const ColorLut lut(fit.thresholds);
+  for (const Disc& d : discs) {
+    const uint8_t* p = image.Row(static_cast<int>(d.y)) + 3 * static_cast<int>(d.x);
+    int a, b, c;
+    camera::RgbToYuv(p[0], p[1], p[2], &a, &b, &c);
+    EXPECT_EQ(lut.Classify(a, b, c), d.rgb[0] == 18 ? 0 : 1) << d.x << ", " << d.y;
+  }
+}
+
+TEST(ThresholdsBlobs, AWhiteBoxKeepsThePatchesOfALinesTint) {
+  // Four white discs and one of the field line's yellowish white: the line holds far more pixels
+  // of that tint than the disc, and the box, pulled in against them, used to lose the disc. The
+  // line is one region larger than a patch, which the detector's area test rejects whatever its
+  // class: it no longer counts against a box.
+  const std::array<uint8_t, 3> white = {245, 245, 245}, tint = {235, 228, 190};
+  const std::vector<Disc> discs = {{30, 25, 6, white},
+                                   {90, 25, 6, white},
+                                   {150, 25, 6, white},
+                                   {210, 25, 6, white},
+                                   {120, 95, 6, tint}};
+  camera::Image image = Frame(240, 120, discs, 1.0);
+  for (int y = 58; y < 62; ++y)
+    for (int x = 0; x < 240; ++x)
+      for (int k = 0; k < 3; ++k) image.Row(y)[3 * x + k] = tint[static_cast<size_t>(k)];
+  BlobThresholdsOptions o;
+  o.max_blob_area_px = 300.0;
+  o.min_blob_sigma_px = 1.5;
+  const AutoThresholdsFit fit =
+      FitThresholdsFromBlobs({&image}, {"white"}, io::DefaultColourVocabulary(), o);
+  ASSERT_EQ(fit.classes.size(), 1u);
+  EXPECT_EQ(fit.classes[0].blobs, 5);
+  const ColorLut lut(fit.thresholds);
+  for (const Disc& d : discs) {
+    const uint8_t* p = image.Row(static_cast<int>(d.y)) + 3 * static_cast<int>(d.x);
+    int a, b, c;
+    camera::RgbToYuv(p[0], p[1], p[2], &a, &b, &c);
+    EXPECT_EQ(lut.Classify(a, b, c), 0) << d.x << ", " << d.y;
+  }
 }
 
 TEST(ThresholdsBlobs, BadOptionsNameTheField) {

@@ -355,8 +355,10 @@ double MinorSigma(const std::vector<int>& pixels, int width, double cx, double c
 }  // namespace
 
 std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& f, int frame_index,
-                                        const BlobThresholdsOptions& options) {
+                                        const BlobThresholdsOptions& options,
+                                        std::vector<uint8_t>* oversize) {
   const size_t n = f.lab.size();
+  if (oversize != nullptr) oversize->assign(n, 0);
   const std::vector<uint8_t>& candidate = f.standout;
   const std::vector<int> root = Segment(f, candidate, options.segment_k);
   // Components in the order of their first pixel.
@@ -372,6 +374,8 @@ std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& f, int frame_inde
   std::vector<double> channel;
   for (std::vector<int>& m : members) {
     const double area = static_cast<double>(m.size());
+    if (oversize != nullptr && area > options.max_blob_area_px)
+      for (const int i : m) (*oversize)[static_cast<size_t>(i)] = 1;
     if (area < options.min_blob_area_px || area > options.max_blob_area_px) continue;
     ColourBlob b;
     b.frame = frame_index;

@@ -16,23 +16,27 @@
 //    Huttenlocher's graph segmentation (IJCV 2004; 4-neighbour edges weighted by CIELAB Delta E,
 //    threshold segment_k / size); regions of a patch's size and width are the blobs, each with
 //    its median colour.
-// 3. Names (NameBlobClusters): blobs of one colour are clustered (average linkage on a weighted
-//    Delta E in which lightness, the first thing light changes, counts less), and the clusters
-//    are named: each class of the palette takes the cluster nearest its vocabulary entry (hue,
-//    chroma and lightness over the spreads below), one cluster per class, the cheapest pairs
-//    first, so two clusters competing for one name go to the two names that fit them best
-//    together; a further cluster joins a class when it is near that class's cluster and fits
-//    the class's entry too. What is named nothing is clutter.
+// 3. Names (NameBlobClusters): blobs of one colour are clustered (complete linkage on a weighted
+//    Delta E in which lightness, the first thing light changes, counts less: a cluster's blobs
+//    all lie within cluster_distance of each other, so dark blobs do not chain through the dull
+//    ones between them), and the clusters are named: each class of the palette takes the
+//    cluster nearest its vocabulary entry (hue, chroma and lightness over the spreads below), one
+//    cluster per class, the cheapest pairs first, so two clusters competing for one name go to
+//    the two names that fit them best together; a further cluster joins a class when it is near
+//    that class's cluster (for white and black, lightness counting in full) and fits the class's
+//    entry, and no other class's better. What is named nothing is clutter.
 // 4. Boxes: per class the percentiles of its blobs' pixels in YUV, stretched for light
 //    intensities lighting_min_gain..lighting_max_gain, plus margin_levels, and widened to the
 //    percentiles of those pixels as frames up to internal::kBrighterFramesGain times brighter
 //    clip them, scaled back (FrameDetector scales frames to the fitted light, [frame]
 //    light_luma); each box's sides are then pulled in wherever that drops more than
-//    negative_weight pixels of everything else (carpet, lines, other classes, clutter) per pixel
-//    of the class's own or of its clipped readings. Last, a box narrower than the class's median
-//    colour spread by the camera's noise (measured on the carpet) is widened towards that, by
-//    1 / (1 + its blobs) of the gap (thresholds_noise_internal.h), so that a class seen in one or
-//    two blobs still holds its colour's other patches.
+//    negative_weight pixels of everything else (carpet, other classes, clutter; not the pixels
+//    of regions larger than a patch, such as field lines, walls and the frame's dark margins,
+//    whose blobs the detector rejects by their area) per pixel of the class's own or of its
+//    clipped readings, never past the class's median colour. Last, a box narrower than the
+//    class's median colour spread by the camera's noise (measured on the carpet) is widened
+//    towards that, by 1 / (1 + its blobs) of the gap (thresholds_noise_internal.h), so that a
+//    class seen in one or two blobs still holds its colour's other patches.
 #pragma once
 
 #include <array>
@@ -92,8 +96,8 @@ struct BlobThresholdsOptions {
   double lighting_min_gain = 0.7;
   double lighting_max_gain = 1.4;
   int margin_levels = 3;  // levels added on each side of every bound, in [0, 128]
-  // A side of a box moves in while that removes more than this many other pixels per own pixel
-  // lost. Lower: tighter boxes. In (0, 100].
+  // A side of a box moves in while that removes more than this many other pixels (but those of
+  // regions larger than a patch) per own pixel lost. Lower: tighter boxes. In (0, 100].
   double negative_weight = 2.0;
 };
 
@@ -133,8 +137,10 @@ struct ColourBlob {
   int name = -1;                   // class index, -1 clutter
 };
 
+// `oversize` (optional) receives 1 for every pixel of a region larger than a patch.
 std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& frame, int frame_index,
-                                        const BlobThresholdsOptions& options);
+                                        const BlobThresholdsOptions& options,
+                                        std::vector<uint8_t>* oversize = nullptr);
 
 // CIELAB (D65) of an sRGB colour.
 std::array<double, 3> SrgbToLab(const std::array<uint8_t, 3>& rgb);

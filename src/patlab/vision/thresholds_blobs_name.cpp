@@ -53,44 +53,55 @@ double Distance(const std::array<double, 3>& a, const std::array<double, 3>& b) 
                    (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-// Centroid linkage: the closest two clusters (in features) merge while closer than the option.
+// Complete linkage: the two clusters whose farthest blobs lie closest merge while those lie
+// closer than the option, so every cluster's blobs lie within cluster_distance of each other.
+// (Centroid linkage chained: a cluster's centre drifted towards what it had taken in and took in
+// what lay beyond, until the dark sectors, dull rims, shadows, walls and a dull orange ball of
+// a real frame were one cluster spanning 60 L*.) A cluster's colour is its blobs' mean.
 std::vector<BlobCluster> ClusterBlobs(const BlobThresholdsOptions& o,
                                       std::vector<ColourBlob>* blobs) {
+  const size_t n = blobs->size();
+  std::vector<double> far(n * n, 0.0);  // the farthest pair's distance between two clusters
+  for (size_t a = 0; a < n; ++a) {
+    for (size_t b = a + 1; b < n; ++b) {
+      far[a * n + b] = far[b * n + a] =
+          Distance(Feature((*blobs)[a].lab, o), Feature((*blobs)[b].lab, o));
+    }
+  }
   std::vector<BlobCluster> clusters;
-  std::vector<std::array<double, 3>> centre;
-  for (size_t i = 0; i < blobs->size(); ++i) {
+  for (size_t i = 0; i < n; ++i) {
     (*blobs)[i].cluster = static_cast<int>(i);
     clusters.push_back({(*blobs)[i].lab, 1, -1});
-    centre.push_back(Feature((*blobs)[i].lab, o));
   }
-  std::vector<int> alias(clusters.size());
-  for (size_t i = 0; i < alias.size(); ++i) alias[i] = static_cast<int>(i);
-  std::vector<bool> alive(clusters.size(), true);
+  std::vector<int> alias(n);
+  for (size_t i = 0; i < n; ++i) alias[i] = static_cast<int>(i);
+  std::vector<bool> alive(n, true);
   for (;;) {
-    int best_a = -1, best_b = -1;
+    size_t best_a = n, best_b = n;
     double best = o.cluster_distance;
-    for (size_t a = 0; a < clusters.size(); ++a) {
+    for (size_t a = 0; a < n; ++a) {
       if (!alive[a]) continue;
-      for (size_t b = a + 1; b < clusters.size(); ++b) {
-        if (!alive[b]) continue;
-        const double d = Distance(centre[a], centre[b]);
-        if (d < best) best = d, best_a = static_cast<int>(a), best_b = static_cast<int>(b);
+      for (size_t b = a + 1; b < n; ++b) {
+        if (alive[b] && far[a * n + b] < best) best = far[a * n + b], best_a = a, best_b = b;
       }
     }
-    if (best_a < 0) break;
-    BlobCluster& a = clusters[static_cast<size_t>(best_a)];
-    const BlobCluster& b = clusters[static_cast<size_t>(best_b)];
+    if (best_a == n) break;
+    BlobCluster& a = clusters[best_a];
+    const BlobCluster& b = clusters[best_b];
     const double wa = a.blobs, wb = b.blobs;
     for (int k = 0; k < 3; ++k) a.lab[k] = (wa * a.lab[k] + wb * b.lab[k]) / (wa + wb);
     a.blobs += b.blobs;
-    centre[static_cast<size_t>(best_a)] = Feature(a.lab, o);
-    alive[static_cast<size_t>(best_b)] = false;
-    alias[static_cast<size_t>(best_b)] = best_a;
+    for (size_t c = 0; c < n; ++c) {
+      far[best_a * n + c] = far[c * n + best_a] =
+          std::max(far[best_a * n + c], far[best_b * n + c]);
+    }
+    alive[best_b] = false;
+    alias[best_b] = static_cast<int>(best_a);
   }
   // Renumber the survivors in order and point every blob at its cluster.
-  std::vector<int> number(clusters.size(), -1);
+  std::vector<int> number(n, -1);
   std::vector<BlobCluster> out;
-  for (size_t i = 0; i < clusters.size(); ++i) {
+  for (size_t i = 0; i < n; ++i) {
     if (alive[i]) number[i] = static_cast<int>(out.size()), out.push_back(clusters[i]);
   }
   for (ColourBlob& blob : *blobs) {
@@ -99,6 +110,37 @@ std::vector<BlobCluster> ClusterBlobs(const BlobThresholdsOptions& o,
     blob.cluster = number[static_cast<size_t>(c)];
   }
   return out;
+}
+
+// How far a further cluster lies from a class's named cluster. Lightness counts less than chroma
+// (lightness_weight: light changes it first) for a colour; for white and black it is what the
+// name says (a grey is neither), so it counts in full: a wall's or a shadow's grey 26-37 L*
+// above a real frame's black sectors joined black, and the black box, pulled to the greys' middle,
+// held none of the sectors.
+double JoinDistance(const std::array<double, 3>& cluster, const std::array<double, 3>& named,
+                    const ColourEntry& entry, const BlobThresholdsOptions& o) {
+  if (!Achromatic(entry)) return Distance(Feature(cluster, o), Feature(named, o));
+  return Distance(cluster, named);
+}
+
+// The class a further (unnamed) cluster joins, or -1: that of the named cluster nearest it, when
+// within cluster_distance (JoinDistance), fitting the class's entry (`cost`: the cluster's name
+// cost per class) and no other class's better.
+int FurtherClusterClass(const std::array<double, 3>& lab, const double* cost,
+                        const std::vector<BlobCluster>& clusters, const std::vector<int>& owner,
+                        const std::vector<const ColourEntry*>& entries,
+                        const BlobThresholdsOptions& o) {
+  int joins = -1;
+  double best = o.cluster_distance;
+  for (size_t k = 0; k < entries.size(); ++k) {
+    if (owner[k] < 0) continue;
+    const double d = JoinDistance(lab, clusters[static_cast<size_t>(owner[k])].lab, *entries[k], o);
+    if (d < best) best = d, joins = static_cast<int>(k);
+  }
+  if (joins < 0 || cost[joins] > o.max_name_cost) return -1;
+  for (size_t k = 0; k < entries.size(); ++k)
+    if (cost[k] < cost[joins]) return -1;
+  return joins;
 }
 
 }  // namespace
@@ -131,16 +173,9 @@ std::vector<BlobCluster> NameBlobClusters(const std::vector<const ColourEntry*>&
   // class's entry.
   std::vector<int> extra(nc, -1);
   for (size_t c = 0; c < nc; ++c) {
-    if (clusters[c].name >= 0) continue;
-    double best = o.cluster_distance;
-    for (size_t k = 0; k < nk; ++k) {
-      if (owner[k] < 0) continue;
-      const double d = Distance(Feature(clusters[c].lab, o),
-                                Feature(clusters[static_cast<size_t>(owner[k])].lab, o));
-      if (d < best) best = d, extra[c] = static_cast<int>(k);
+    if (clusters[c].name < 0) {
+      extra[c] = FurtherClusterClass(clusters[c].lab, &cost[c * nk], clusters, owner, entries, o);
     }
-    if (extra[c] >= 0 && cost[c * nk + static_cast<size_t>(extra[c])] > o.max_name_cost)
-      extra[c] = -1;
   }
   for (size_t c = 0; c < nc; ++c)
     if (extra[c] >= 0) clusters[c].name = extra[c];
@@ -207,11 +242,13 @@ std::array<ChannelRange, 3> PercentileBox(const std::vector<std::array<uint8_t, 
 }
 
 // The box's sides pulled in (in whole bins) while a move drops more other pixels than
-// negative_weight times the class's own: every side and position is tried, the best move taken.
+// negative_weight times the class's own: every side and position short of the class's median colour
+// (`median`, bins per channel) is tried, the best move taken.
 // `own`: the class's pixels as fitted; `kept`: those and what brighter frames' clipping makes of
 // them at each gain (internal::WithClipping), the pixels the box is to keep.
 void TightenBox(const BoxCounts& own, const BoxCounts& kept, const BoxCounts& all,
-                double negative_weight, std::array<ChannelRange, 3>* box) {
+                double negative_weight, const std::array<int, 3>& median,
+                std::array<ChannelRange, 3>* box) {
   std::array<int, 3> lo{}, hi{};
   for (int ch = 0; ch < 3; ++ch) lo[ch] = (*box)[ch].lo / 4, hi[ch] = (*box)[ch].hi / 4;
   const auto score = [&](const std::array<int, 3>& l, const std::array<int, 3>& h) {
@@ -225,7 +262,9 @@ void TightenBox(const BoxCounts& own, const BoxCounts& kept, const BoxCounts& al
     double best = current;
     for (int side = 0; side < 6; ++side) {
       const int ch = side / 2;
-      for (int at = lo[ch]; at <= hi[ch]; ++at) {
+      const int first = side % 2 == 0 ? lo[ch] : std::max(lo[ch], median[ch]);
+      const int last = side % 2 == 0 ? std::min(hi[ch], median[ch]) : hi[ch];
+      for (int at = first; at <= last; ++at) {
         std::array<int, 3> l = lo, h = hi;
         (side % 2 == 0 ? l : h)[ch] = at;
         const double s = score(l, h);
@@ -243,6 +282,22 @@ void TightenBox(const BoxCounts& own, const BoxCounts& kept, const BoxCounts& al
   }
 }
 
+// The bins of the class's median colour, per channel: a tightened box keeps them. (Where every
+// box of a dark class holds more of the frame's dark margins and shadows than of the class, the
+// best single move used to shut the box on a bin that holds nothing: the class caught no pixel.)
+std::array<int, 3> MedianBins(const std::vector<std::array<uint8_t, 3>>& pixels) {
+  std::array<int, 3> bins{};
+  std::vector<int> values;
+  for (int ch = 0; ch < 3; ++ch) {
+    values.clear();
+    for (const auto& p : pixels) values.push_back(p[ch]);
+    auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+    std::nth_element(values.begin(), mid, values.end());
+    bins[ch] = *mid / 4;
+  }
+  return bins;
+}
+
 void Describe(const std::vector<std::array<uint8_t, 3>>& pixels, AutoClassFit* c) {
   c->pixels = static_cast<long>(pixels.size());
   if (pixels.empty()) return;
@@ -257,6 +312,22 @@ void Describe(const std::vector<std::array<uint8_t, 3>>& pixels, AutoClassFit* c
   c->spread_levels = std::sqrt(var / 3.0);
 }
 
+// The pixels a box is pulled in against: every pixel of the frames but those of regions larger
+// than a patch (field lines, walls, people, the frame's dark margins), whose blobs the detector's
+// area test rejects whatever their class. Counting them, a class that shares a colour with them
+// lost its patches: the real SSL frame's white box cut the sectors whose white is yellowish
+// (the lines' tint) and its black box the darkest sector pixels (the dark margins' levels).
+BoxCounts NegativeCounts(const std::vector<NormalisedFrame>& frames,
+                         const std::vector<std::vector<uint8_t>>& oversize) {
+  BoxCounts counts;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    for (size_t i = 0; i < frames[f].yuv.size(); ++i)
+      if (oversize[f][i] == 0) counts.Add(frames[f].yuv[i]);
+  }
+  counts.Accumulate();
+  return counts;
+}
+
 }  // namespace
 
 AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>& frames,
@@ -268,12 +339,15 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
   if (frames.empty()) throw InputError("no frames; expected at least one frame");
   const std::vector<const ColourEntry*> entries = PaletteEntries(class_names, vocabulary);
   std::vector<NormalisedFrame> normalised;
+  std::vector<std::vector<uint8_t>> oversize;
   std::vector<ColourBlob> blobs;
   AutoThresholdsFit fit;
   std::vector<std::array<uint8_t, 3>> carpet;
   for (size_t f = 0; f < frames.size(); ++f) {
     normalised.push_back(NormaliseFrame(*frames[f], options));
-    std::vector<ColourBlob> b = FindColourBlobs(normalised.back(), static_cast<int>(f), options);
+    oversize.emplace_back();
+    std::vector<ColourBlob> b =
+        FindColourBlobs(normalised.back(), static_cast<int>(f), options, &oversize.back());
     blobs.insert(blobs.end(), std::make_move_iterator(b.begin()), std::make_move_iterator(b.end()));
     const NormalisedFrame& n = normalised.back();
     fit.frame_pixels += static_cast<long>(n.yuv.size());
@@ -283,10 +357,7 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
   std::vector<BlobCluster> clusters = NameBlobClusters(entries, options, &blobs);
   fit.carpet.name = "carpet";
   Describe(carpet, &fit.carpet);
-  BoxCounts all;
-  for (const NormalisedFrame& n : normalised)
-    for (const auto& p : n.yuv) all.Add(p);
-  all.Accumulate();
+  const BoxCounts all = NegativeCounts(normalised, oversize);
   fit.thresholds.space = ColorSpace::kYuv;
   const internal::CameraNoise noise = internal::MeasureCarpetNoise(normalised, options);
   for (int ch = 0; ch < 3; ++ch) fit.noise_levels[ch] = noise.below[ch] + noise.above[ch];
@@ -320,7 +391,7 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
         cls.range[ch] = {std::min(cls.range[ch].lo, wide[ch].lo),
                          std::max(cls.range[ch].hi, wide[ch].hi)};
       }
-      TightenBox(counts, kept, all, options.negative_weight, &cls.range);
+      TightenBox(counts, kept, all, options.negative_weight, MedianBins(own), &cls.range);
       // The noise's box weighs as one blob against the class's own (a shrinkage towards it).
       c.widened_levels =
           internal::WidenToNoise(own, noise, 1.0 / (1.0 + c.blobs), options, &cls.range);
