@@ -282,6 +282,8 @@ TEST(ThresholdsBlobs, AClassFittedFromOneBlobHoldsItsColoursOtherPatchesUnderThe
     }
   }
   EXPECT_EQ(carpet_caught, 0);
+}
+
 TEST(ThresholdsBlobs, ABlackBoxKeepsItsPatchesBesideADarkMargin) {
   // Black discs on the carpet beside a dark margin (a wall in shadow, levels 5-70 down the frame)
   // of twenty times their pixels: every box that holds the discs holds more of the margin, and the
