@@ -9,8 +9,8 @@ carry to a camera nobody looked at. Here every camera is scored on a grid of bot
 
   * the real VSS frame (../shared/frames/vss-test-frame.png, family `vss`, the shipped
     `vss.detector`, robots 0 mm above the floor);
-  * the real SSL frame (../shared/frames/ssl-field-2008.jpg, family `ssl`, the frame's pattern
-    settings tests/data/vision/ssl-2008.detector.toml);
+  * the real SSL frame (../shared/frames/ssl-field-2008.jpg, family `ssl`, the settings of the
+    robots' pattern as the team's sheet draws it, tests/data/vision/ssl-2008-sheet.detector.toml);
   * the rendered random cameras of scripts/setup_rendered.py (seeds 1-12 by default, each its own
     camera).
 
@@ -58,7 +58,7 @@ REAL = {
                   (276, 403, "yellow", 1), (209, 490, "yellow", 2)]),
     "ssl-real": ("ssl-field-2008.jpg",
                  ["--field", "ssl", "--settings",
-                  os.path.join(ROOT, "tests", "data", "vision", "ssl-2008.detector.toml")],
+                  os.path.join(ROOT, "tests", "data", "vision", "ssl-2008-sheet.detector.toml")],
                  [(557, 200, "yellow", 5), (343, 58, "yellow", -1), (258, 82, "yellow", -1),
                   (434, 559, "blue", 6), (478, 564, "blue", 15)]),
 }
