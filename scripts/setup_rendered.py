@@ -19,16 +19,20 @@ the robots found. The field's half-turn symmetry gives two equally valid world f
 picks one and says so): each frame is scored in the one that matches its truth.
 
 Usage: scripts/setup_rendered.py [--patlab build/patlab] [--seeds 1-12] [--out results/setup]
-Writes OUT/rendered.csv (one row per frame) and prints the table docs/setup.md quotes.
+Writes OUT/rendered.csv (one row per frame: the scene drawn, the outcome, and the camera setup
+wrote: its centre's height over the floor, its focal length and what decided the height -- the
+lines, the robots, or neither) and prints the table docs/setup.md quotes.
 """
 import argparse
 import csv
 import math
 import os
 import resource
+import re
 import subprocess
 import sys
 import tempfile
+import tomllib
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -205,6 +209,24 @@ def render_frame(patlab, seed, work, log):
     return row, os.path.join(folder, "r", "frame.png"), truth
 
 
+def camera_height(cam_dir, report):
+    """(height of the camera's centre over the floor in mm, focal length in px, what decided the
+    height: lines, robots, given or undetermined) from the calibration setup wrote and its
+    report's `camera height:` line."""
+    try:
+        with open(os.path.join(cam_dir, "calibration.toml"), "rb") as f:
+            pinhole = tomllib.load(f)["pinhole"]
+    except (OSError, KeyError, tomllib.TOMLDecodeError):
+        return "", "", ""
+    rotation = Rotation.from_rotvec(pinhole["rotation_rodrigues"]).as_matrix()
+    centre = -rotation.T @ np.array(pinhole["translation_mm"])
+    line = next((line for line in report.splitlines() if line.startswith("camera height:")), "")
+    decided = re.search(r"\(the (\w+) decide", line)
+    by = ("undetermined" if "undetermined" in line.split(",")[0] else
+          decided.group(1) if decided else "given" if "given" in line else "")
+    return round(float(centre[2])), round(float(pinhole["fx_px"]), 1), by
+
+
 def setup_and_score(patlab, frame, truth, cam_dir, log, setup_flags=()):
     """setup (with the shipped settings and any further flags) and detect on one rendered
     frame, scored against its truth: (the row's outcome columns, setup's CPU seconds)."""
@@ -216,7 +238,9 @@ def setup_and_score(patlab, frame, truth, cam_dir, log, setup_flags=()):
                     if line.startswith("mapping error:")), "")
     if setup.returncode != 0:
         return dict(outcome="setup refused (exit %d)" % setup.returncode, model_kept=kept,
-                    right=0, false_ids=0, position_error_mm="", mapping_error_mm=mapping), cpu
+                    right=0, false_ids=0, position_error_mm="", mapping_error_mm=mapping,
+                    setup_height_mm="", setup_f_px="", height_decided_by=""), cpu
+    height, focal, decided_by = camera_height(cam_dir, setup.stdout)
     detect, _ = run([patlab, "detect", frame, "--setup", cam_dir], log)
     detections = [(r["team"], int(r["id"]), float(r["x_mm"]), float(r["y_mm"]))
                   for r in csv.DictReader(detect.stdout.splitlines()) if "team" in r]
@@ -224,14 +248,16 @@ def setup_and_score(patlab, frame, truth, cam_dir, log, setup_flags=()):
     return dict(outcome="detected" if detect.returncode == 0 else "detect failed",
                 model_kept=kept, right=right, false_ids=false,
                 position_error_mm="" if math.isnan(error) else round(error, 1),
-                mapping_error_mm=mapping), cpu
+                mapping_error_mm=mapping, setup_height_mm=height, setup_f_px=focal,
+                height_decided_by=decided_by), cpu
 
 
 def one_frame(patlab, seed, work, log):
     row, frame, truth = render_frame(patlab, seed, work, log)
     if frame is None:
         return dict(row, outcome="render failed", model_kept="", right=0, false_ids=0,
-                    position_error_mm="", mapping_error_mm=""), 0.0
+                    position_error_mm="", mapping_error_mm="", setup_height_mm="", setup_f_px="",
+                    height_decided_by=""), 0.0
     outcome, cpu = setup_and_score(patlab, frame, truth,
                                    os.path.join(work, "seed%d" % seed, "cam"), log)
     return dict(row, **outcome), cpu
