@@ -101,6 +101,33 @@ TEST(SetupFolder, NamesItsFilesRelativeToTheFolder) {
                          ": no setup.toml in it; expected a folder written by patlab setup");
 }
 
+// A rendered scene of SSL standard-pattern robots 140 mm high on `model`'s field, seen through
+// `camera_toml` (written into `dir`), in the scene's `colours` (a [colours] table's lines).
+struct SceneRobot {
+  const char* team;
+  int id;
+  double x, y, theta;
+};
+SceneFile SslRobotScene(const testing::TempDir& dir, const char* camera_toml, const char* model,
+                        const char* colours, const std::vector<SceneRobot>& robots) {
+  dir.Write("camera.toml", camera_toml);
+  std::string text = std::string(R"(calibration = "camera.toml"
+field = ")" PATLAB_SOURCE_DIR "/experiments/fields/") +
+                     model + R"(.toml"
+pattern = ")" PATLAB_SOURCE_DIR R"(/patterns/ssl-standard.toml"
+codebook = ")" PATLAB_SOURCE_DIR R"(/patterns/ssl-standard.codebook.toml"
+[render]
+robot_height_mm = 140.0
+[colours]
+)" + colours;
+  for (const auto& b : robots) {
+    text += "[[robot]]\nteam = \"" + std::string(b.team) + "\"\nid = " + std::to_string(b.id) +
+            "\nx_mm = " + std::to_string(b.x) + "\ny_mm = " + std::to_string(b.y) +
+            "\ntheta_rad = " + std::to_string(b.theta) + "\n";
+  }
+  return ParseSceneFile(text, "scene.toml", dir.Path());
+}
+
 // The --landmark fallback on the rendered half field (settings/ssl-half-field.toml): six landmarks
 // projected through the known camera (the field's own lines not used) give a calibration within 5
 // mm of it; an unknown landmark is an InputError naming the model's.
@@ -158,7 +185,7 @@ TEST(SetupCamera, LandmarksReplaceTheLines) {
 // their patterns have a size in mm, and only the true scale decodes them.
 TEST(SetupCamera, TheRobotsDecideWhereTheLinesDoNot) {
   const testing::TempDir dir;
-  dir.Write("camera.toml", R"(model = "pinhole"
+  const SceneFile scene = SslRobotScene(dir, R"(model = "pinhole"
 image_size_px = [780, 580]
 [pinhole]
 fx_px = 517.9
@@ -170,35 +197,21 @@ rotation_rodrigues = [-0.384322, 3.088143, -0.015653]
 translation_mm = [-69.6, 3050.9, 3846.7]
 [heights]
 default_mm = 140
-)");
-  std::string text = R"(calibration = "camera.toml"
-field = ")" PATLAB_SOURCE_DIR R"(/experiments/fields/ssl-div-a.toml"
-pattern = ")" PATLAB_SOURCE_DIR R"(/patterns/ssl-standard.toml"
-codebook = ")" PATLAB_SOURCE_DIR R"(/patterns/ssl-standard.codebook.toml"
-[render]
-robot_height_mm = 140.0
-[colours]
-field = [40, 100, 50]
+)",
+                                        "ssl-div-a", R"(field = [40, 100, 50]
 body = [30, 30, 34]
 blue = [35, 75, 210]
 yellow = [235, 215, 45]
 pink = [240, 95, 185]
 green = [70, 215, 95]
 orange = [250, 125, 25]
-)";
-  const struct {
-    const char* team;
-    int id;
-    double x, y, theta;
-  } robots[] = {{"blue", 6, 922, -2594, 1.49},  {"yellow", 1, -1153, -4173, 0.93},
-                {"blue", 10, 1, -3845, -3.13},  {"yellow", 10, 1177, -1490, 0.54},
-                {"blue", 5, 593, -2036, -2.95}, {"yellow", 12, 2317, -1995, 2.71}};
-  for (const auto& b : robots) {
-    text += "[[robot]]\nteam = \"" + std::string(b.team) + "\"\nid = " + std::to_string(b.id) +
-            "\nx_mm = " + std::to_string(b.x) + "\ny_mm = " + std::to_string(b.y) +
-            "\ntheta_rad = " + std::to_string(b.theta) + "\n";
-  }
-  const SceneFile scene = ParseSceneFile(text, "scene.toml", dir.Path());
+)",
+                                        {{"blue", 6, 922, -2594, 1.49},
+                                         {"yellow", 1, -1153, -4173, 0.93},
+                                         {"blue", 10, 1, -3845, -3.13},
+                                         {"yellow", 10, 1177, -1490, 0.54},
+                                         {"blue", 5, 593, -2036, -2.95},
+                                         {"yellow", 12, 2317, -1995, 2.71}});
   const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
   SetupOptions o;
   for (const char* model : {"ssl-div-b", "ssl-div-a"})
@@ -229,7 +242,7 @@ orange = [250, 125, 25]
 // decode, the fit of the lines and their patches together measures it.
 TEST(SetupCamera, TheRobotsSetTheCameraHeightTheLinesLeaveOpen) {
   const testing::TempDir dir;
-  dir.Write("camera.toml", R"(model = "pinhole"
+  const SceneFile scene = SslRobotScene(dir, R"(model = "pinhole"
 image_size_px = [780, 580]
 [pinhole]
 fx_px = 548.919
@@ -241,36 +254,23 @@ rotation_rodrigues = [-2.86715369, -1.17005725, 0.00297086]
 translation_mm = [430.82276, 1056.95985, 3081.49222]
 [heights]
 default_mm = 140
-)");
-  std::string text = R"(calibration = "camera.toml"
-field = ")" PATLAB_SOURCE_DIR R"(/experiments/fields/ssl-2015.toml"
-pattern = ")" PATLAB_SOURCE_DIR R"(/patterns/ssl-standard.toml"
-codebook = ")" PATLAB_SOURCE_DIR R"(/patterns/ssl-standard.codebook.toml"
-[render]
-robot_height_mm = 140.0
-[colours]
-field = [39, 100, 50]
+)",
+                                        "ssl-2015", R"(field = [39, 100, 50]
 body = [29, 30, 34]
 blue = [34, 74, 207]
 yellow = [229, 213, 44]
 pink = [234, 94, 183]
 green = [68, 213, 94]
 orange = [244, 124, 25]
-)";
-  const struct {
-    const char* team;
-    int id;
-    double x, y, theta;
-  } robots[] = {{"blue", 0, -1476, -669, 2.88},  {"yellow", 1, 433, 1312, -2.11},
-                {"blue", 4, -1612, 628, 2.86},   {"yellow", 13, -1356, -94, -0.58},
-                {"blue", 11, -2040, -154, 1.69}, {"yellow", 5, -880, -38, 0.51},
-                {"blue", 12, -49, 352, -2.21},   {"yellow", 15, 771, 934, 2.53}};
-  for (const auto& b : robots) {
-    text += "[[robot]]\nteam = \"" + std::string(b.team) + "\"\nid = " + std::to_string(b.id) +
-            "\nx_mm = " + std::to_string(b.x) + "\ny_mm = " + std::to_string(b.y) +
-            "\ntheta_rad = " + std::to_string(b.theta) + "\n";
-  }
-  const SceneFile scene = ParseSceneFile(text, "scene.toml", dir.Path());
+)",
+                                        {{"blue", 0, -1476, -669, 2.88},
+                                         {"yellow", 1, 433, 1312, -2.11},
+                                         {"blue", 4, -1612, 628, 2.86},
+                                         {"yellow", 13, -1356, -94, -0.58},
+                                         {"blue", 11, -2040, -154, 1.69},
+                                         {"yellow", 5, -880, -38, 0.51},
+                                         {"blue", 12, -49, 352, -2.21},
+                                         {"yellow", 15, 771, 934, 2.53}});
   const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
   SetupOptions o;
   o.fields = {LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2015.toml")};
