@@ -282,22 +282,6 @@ void TightenBox(const BoxCounts& own, const BoxCounts& kept, const BoxCounts& al
   }
 }
 
-// The bins of the class's median colour, per channel: a tightened box keeps them. (Where every
-// box of a dark class holds more of the frame's dark margins and shadows than of the class, the
-// best single move used to shut the box on a bin that holds nothing: the class caught no pixel.)
-std::array<int, 3> MedianBins(const std::vector<std::array<uint8_t, 3>>& pixels) {
-  std::array<int, 3> bins{};
-  std::vector<int> values;
-  for (int ch = 0; ch < 3; ++ch) {
-    values.clear();
-    for (const auto& p : pixels) values.push_back(p[ch]);
-    auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), mid, values.end());
-    bins[ch] = *mid / 4;
-  }
-  return bins;
-}
-
 void Describe(const std::vector<std::array<uint8_t, 3>>& pixels, AutoClassFit* c) {
   c->pixels = static_cast<long>(pixels.size());
   if (pixels.empty()) return;
@@ -391,10 +375,15 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
         cls.range[ch] = {std::min(cls.range[ch].lo, wide[ch].lo),
                          std::max(cls.range[ch].hi, wide[ch].hi)};
       }
-      TightenBox(counts, kept, all, options.negative_weight, MedianBins(own), &cls.range);
+      // A tightened box keeps the bins of the class's median colour. (Where every box of a dark
+      // class holds more of the frame's dark margins and shadows than of the class, the best
+      // single move used to shut the box on a bin that holds nothing: the class caught no pixel.)
+      const std::array<int, 3> median = internal::MedianColour(own);
+      TightenBox(counts, kept, all, options.negative_weight,
+                 {median[0] / 4, median[1] / 4, median[2] / 4}, &cls.range);
       // The noise's box weighs as one blob against the class's own (a shrinkage towards it).
       c.widened_levels =
-          internal::WidenToNoise(own, noise, 1.0 / (1.0 + c.blobs), options, &cls.range);
+          internal::WidenToNoise(median, noise, 1.0 / (1.0 + c.blobs), options, &cls.range);
     }
     c.range = cls.range;
     fit.thresholds.classes.push_back(cls);

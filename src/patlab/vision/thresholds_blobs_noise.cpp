@@ -58,20 +58,26 @@ CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
   return noise;
 }
 
-std::array<int, 3> WidenToNoise(const std::vector<std::array<uint8_t, 3>>& pixels,
-                                const CameraNoise& noise, double weight,
-                                const BlobThresholdsOptions& options,
-                                std::array<ChannelRange, 3>* box) {
-  std::array<int, 3> widened{};
-  if (noise.pixels == 0 || pixels.empty()) return widened;
+std::array<int, 3> MedianColour(const std::vector<std::array<uint8_t, 3>>& pixels) {
+  std::array<int, 3> median{};
   std::vector<int> values;
   for (int ch = 0; ch < 3; ++ch) {
     values.clear();
     for (const auto& p : pixels) values.push_back(p[ch]);
-    const int median = Median(&values);
+    median[ch] = Median(&values);
+  }
+  return median;
+}
+
+std::array<int, 3> WidenToNoise(const std::array<int, 3>& median, const CameraNoise& noise,
+                                double weight, const BlobThresholdsOptions& options,
+                                std::array<ChannelRange, 3>* box) {
+  std::array<int, 3> widened{};
+  if (noise.pixels == 0) return widened;
+  for (int ch = 0; ch < 3; ++ch) {
     const ChannelRange noise_box = {
-        std::clamp(median - noise.below[ch] - options.margin_levels, 0, 255),
-        std::clamp(median + noise.above[ch] + options.margin_levels, 0, 255)};
+        std::clamp(median[ch] - noise.below[ch] - options.margin_levels, 0, 255),
+        std::clamp(median[ch] + noise.above[ch] + options.margin_levels, 0, 255)};
     ChannelRange& r = (*box)[ch];
     const int lo =
         std::min(r.lo, static_cast<int>(std::floor(r.lo + weight * (noise_box.lo - r.lo))));

@@ -26,7 +26,11 @@ struct CameraNoise {
 CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
                                const BlobThresholdsOptions& options);
 
-// The noise's box of a class: the median of its `pixels` less noise.below and plus noise.above,
+// The per-channel median of `pixels` (not empty): a class's typical colour, which its box's
+// tightening keeps inside and its noise's box is centred on.
+std::array<int, 3> MedianColour(const std::vector<std::array<uint8_t, 3>>& pixels);
+
+// The noise's box of a class: its `median` colour less noise.below and plus noise.above,
 // plus margin_levels on each side, what a patch of the class's colour reads as under the light
 // its blobs were seen in. (Not stretched for the range of light, as the percentile box is: that
 // stretch is a prior that the box's tightening trims against the frame's other pixels, while the
@@ -34,9 +38,8 @@ CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
 // the fit gives 1 / (1 + the class's blobs), the noise's box weighing as one blob against the
 // class's own, so a class seen in one blob takes half the gap and one seen in many keeps nearly
 // its box. Returns the levels added per channel, both sides together.
-std::array<int, 3> WidenToNoise(const std::vector<std::array<uint8_t, 3>>& pixels,
-                                const CameraNoise& noise, double weight,
-                                const BlobThresholdsOptions& options,
+std::array<int, 3> WidenToNoise(const std::array<int, 3>& median, const CameraNoise& noise,
+                                double weight, const BlobThresholdsOptions& options,
                                 std::array<ChannelRange, 3>* box);
 
 }  // namespace patlab::vision::internal
