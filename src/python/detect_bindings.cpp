@@ -259,6 +259,10 @@ py::dict SetupReport(const formats::SetupResult& r) {
   out["colour_classes"] = classes;
   out["colour_fit"] = r.colour_fit;
   out["robots_by_blobs"] = r.robots_by_blobs;
+  out["segment_k"] = r.segment_k;
+  py::list by_k;
+  for (const auto& [k, robots] : r.robots_by_segment_k) by_k.append(py::make_tuple(k, robots));
+  out["robots_by_segment_k"] = by_k;
   out["robots_by_pixels"] = r.robots_by_pixels;
   const detect::DetectorOptions& t = r.tolerances;
   py::dict tolerances;

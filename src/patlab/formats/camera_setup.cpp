@@ -189,55 +189,6 @@ double SmallestPatchMm(const detect::DetectorConfig& config) {
   return std::isfinite(r) ? r : 0.0;
 }
 
-double LargestPatchMm(const detect::DetectorConfig& config) {
-  double r = 0.0;
-  for (const detect::DetectorPattern& p : config.patterns)
-    for (const Patch& patch : p.pattern.patches) r = std::max(r, patch.radius_mm);
-  return r;
-}
-
-std::vector<std::string> PaletteClasses(const detect::DetectorConfig& config,
-                                        const SetupOptions& o) {
-  const ColourVocabulary& vocabulary = io::DefaultColourVocabulary();
-  std::vector<std::string> classes;
-  for (const std::string& name : config.palette) {
-    const ColourResolution c = ResolveColourName(vocabulary, name);
-    if (!c.known) throw InputError(o.settings_path + ": " + UnknownColourMessage(vocabulary, c));
-    classes.push_back(name);
-  }
-  return classes;
-}
-
-void FitColours(const std::vector<const camera::Image*>& frames,
-                const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r) {
-  vision::BlobThresholdsOptions colours = o.colours;
-  if (r->mm_per_px > 0.0) {
-    SetupBlobAreas(r->smallest_patch_px, LargestPatchMm(config) / r->mm_per_px, &colours);
-  }
-  r->thresholds =
-      vision::FitThresholdsFromBlobs(frames, PaletteClasses(config, o),
-                                     io::DefaultColourVocabulary(), colours, &r->colour_clusters);
-}
-
-// Weighs the pixel clustering against the blobs' fit by the robots each decodes (header).
-void ChooseColourFit(const std::vector<const camera::Image*>& frames,
-                     const detect::DetectorConfig& config, const SetupOptions& o,
-                     const std::string& calibration_text, const std::string& settings_text,
-                     SetupResult* r) {
-  const camera::Calibration calibration = ParseCalibration(calibration_text, "calibration.toml");
-  r->robots_by_blobs =
-      internal::DecodedRobots(frames, r->thresholds.thresholds, calibration, settings_text);
-  vision::AutoThresholdsFit pixels = vision::FitThresholdsAuto(
-      frames, PaletteClasses(config, o), io::DefaultColourVocabulary(), o.thresholds);
-  r->robots_by_pixels =
-      internal::DecodedRobots(frames, pixels.thresholds, calibration, settings_text);
-  if (r->robots_by_pixels > r->robots_by_blobs) {
-    r->thresholds = std::move(pixels);
-    r->colour_clusters.clear();
-    r->colour_fit = "pixels";
-  }
-}
-
 // ", box widened towards the noise by Y +a, U +b, V +c levels" for a class whose box the blob fit
 // widened (vision::AutoClassFit::widened_levels), else nothing.
 std::string WidenedText(const std::array<int, 3>& levels) {
@@ -321,7 +272,7 @@ void internal::FinishSetup(const std::vector<const camera::Image*>& frames,
                                  ? std::max(r.mapping_error_mm, r.mapping_resolution_mm)
                                  : r.mapping_error_mm;
   r.tolerances = SetupTolerances(config.options, r.mm_per_px, error_bound, r.smallest_patch_px);
-  if (fit_colours) FitColours(frames, config, options, &r);
+  if (fit_colours) internal::FitColours(frames, config, options, &r);
   const std::string made =
       "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
   const std::string calibration_text =
@@ -333,7 +284,8 @@ void internal::FinishSetup(const std::vector<const camera::Image*>& frames,
       made + "# The detector settings " + options.settings_path +
           " with the tolerances setup chose ([detector]) and the frames' light ([frame] " +
           "light_luma, docs/setup.md).\n");
-  if (fit_colours) ChooseColourFit(frames, config, options, calibration_text, settings_text, &r);
+  if (fit_colours)
+    internal::ChooseColourFit(frames, config, options, calibration_text, settings_text, &r);
   r.files = {{"calibration.toml", calibration_text},
              {"thresholds.toml",
               vision::ThresholdsToml(r.thresholds.thresholds,
@@ -433,9 +385,15 @@ std::string SetupReportText(const SetupResult& r) {
   s += internal::HeightText(r.height);
   long clutter = 0;
   for (const vision::BlobCluster& c : r.colour_clusters) clutter += c.name < 0 ? c.blobs : 0;
-  s += "colour fit: " + r.colour_fit + " (robots decoded: by blobs " +
-       std::to_string(r.robots_by_blobs) + ", by pixels " + std::to_string(r.robots_by_pixels) +
-       "; the more wins, a tie keeps blobs)\n";
+  std::string by_k;
+  for (const auto& [k, robots] : r.robots_by_segment_k)
+    by_k += (by_k.empty() ? "" : ", ") + FormatSignificant(k, 3) + ": " + std::to_string(robots);
+  s += "colour fit: " + r.colour_fit +
+       (r.colour_fit == "blobs" ? " at segment_k " + FormatSignificant(r.segment_k, 3)
+                                : std::string()) +
+       " (robots decoded: by blobs at segment_k " + by_k + "; by pixels " +
+       std::to_string(r.robots_by_pixels) +
+       "; the most wins, a tie keeps the given segment_k, then blobs)\n";
   s += "colour classes (blobs, pixels, separability, nearest):\n  carpet: " +
        std::to_string(r.thresholds.carpet.pixels) + " px\n";
   const std::array<int, 3>& noise = r.thresholds.noise_levels;

@@ -148,7 +148,14 @@ struct SetupResult {
   // (vision::FitThresholdsAuto), whichever decodes more robots through the files setup writes:
   // per frame the distinct (pattern, team, ID), a further detection of one counted against it;
   // a tie keeps the blobs. The detector's geometry and codebook judge the colours, not a truth.
+  // The blobs' fit is made at the settings' segment_k (vision::BlobThresholdsOptions) and at 2/3
+  // and 3/2 of it, and the scale decoding the most robots kept (a tie keeps the given one): how
+  // readily the segmentation joins pixels depends on the patches' size in px, their blur and the
+  // colours beside them, which the frame shows and no constant knows. robots_by_segment_k: each
+  // scale tried and the robots it decoded; robots_by_blobs: the kept scale's.
   std::string colour_fit = "blobs";
+  double segment_k = 0.0;
+  std::vector<std::pair<double, int>> robots_by_segment_k;
   int robots_by_blobs = 0;
   int robots_by_pixels = 0;
   detect::DetectorOptions tolerances;  // the settings' options with the chosen tolerances

@@ -20,6 +20,17 @@ void FinishSetup(const std::vector<const camera::Image*>& frames,
                  const std::vector<std::string>& names, const detect::DetectorConfig& config,
                  const SetupOptions& options, SetupResult& r, bool fit_colours = true);
 
+// The colour classes (camera_setup_colours.cpp): FitColours fits the blobs' classes at the
+// settings' segment_k into r; ChooseColourFit, once r's calibration and settings are written,
+// keeps of those, the blobs' fits at the neighbouring segmentation scales and the pixel
+// clustering the one that decodes the most robots (SetupResult::colour_fit).
+void FitColours(const std::vector<const camera::Image*>& frames,
+                const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r);
+void ChooseColourFit(const std::vector<const camera::Image*>& frames,
+                     const detect::DetectorConfig& config, const SetupOptions& o,
+                     const std::string& calibration_text, const std::string& settings_text,
+                     SetupResult* r);
+
 // The robots the detector decodes through r's files: DecodedRobots' count (per frame the distinct
 // pattern, team and ID, less one for every further detection of one), the decoded robots' mean
 // pattern residual E (mm^2; NaN when none) and, per decoded robot, its patches' pixel centroids
