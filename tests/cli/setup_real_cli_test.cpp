@@ -100,8 +100,9 @@ TEST(SetupRealCli, VssFrameWithNoHandWrittenFile) {
                                   {133, 413, "light-green", 0},
                                   {276, 403, "light-green", 1},
                                   {209, 490, "light-green", 2}});
-  // 4 of 5: the robot at (540, 598) px is missed, its dark red square (Y ~70) named no class.
-  EXPECT_EQ(s.right, 4);
+  // All 5. At segment_k 60 the robot at (540, 598) px is missed, its dark red square (Y ~70)
+  // named no class (4 decoded); setup keeps the blobs' fit at 90, which decodes all 5.
+  EXPECT_EQ(s.right, 5);
   EXPECT_EQ(s.false_ids, 0);
 }
 
