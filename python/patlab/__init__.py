@@ -257,9 +257,11 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     mapping_error_mm,
     mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
     pixels, blobs, separability, nearest, widened_levels: Y, U, V levels the blob fit widened
-    the box by towards the noise), colour_noise_levels (the camera's noise, Y, U, V), colour_fit ("blobs" or "pixels", the one that decodes
-    more robots) with robots_by_blobs and robots_by_pixels, segment_k (the blobs' segmentation
-    scale kept) and robots_by_segment_k (each scale tried: segment_k, robots), tolerances, robots (per frame:
+    the box by towards the noise, thin_alike: pixels of regions too narrow for a blob, holding
+    the class's colour within the noise, not counted against its box), colour_noise_levels (the
+    camera's noise, Y, U, V), colour_fit ("blobs" or "pixels", the one that decodes more robots)
+    with robots_by_blobs and robots_by_pixels, segment_k (the blobs' segmentation scale kept)
+    and robots_by_segment_k (each scale tried: segment_k, robots), tolerances, robots (per frame:
     frame, robots with team, id,
     x_mm, y_mm, theta_rad), report (the CLI's text), seconds."""
     if isinstance(frames, (str, os.PathLike)) or hasattr(frames, "__array_interface__"):

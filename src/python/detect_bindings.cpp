@@ -251,6 +251,7 @@ py::dict SetupReport(const formats::SetupResult& r) {
     d["nearest"] = c.nearest;
     d["widened_levels"] =
         py::make_tuple(c.widened_levels[0], c.widened_levels[1], c.widened_levels[2]);
+    d["thin_alike"] = c.thin_alike;
     classes.append(d);
   }
   out["carpet_pixels"] = r.thresholds.carpet.pixels;

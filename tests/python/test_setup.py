@@ -30,6 +30,7 @@ def test_setup_then_detect_finds_every_robot(scene, tmp_path, in_root):
     assert 0.0 <= report["mapping_error_mm"] < 2.0
     assert report["mm_per_px"] > 5.0
     assert {c["name"] for c in report["colour_classes"]} >= {"blue", "yellow"}
+    assert all(c["thin_alike"] >= 0 for c in report["colour_classes"])
     assert report["colour_fit"] in ("blobs", "pixels")
     kept = report["robots_by_" + report["colour_fit"]]
     assert kept >= max(report["robots_by_blobs"], report["robots_by_pixels"])

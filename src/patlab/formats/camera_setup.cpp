@@ -197,6 +197,14 @@ std::string WidenedText(const std::array<int, 3>& levels) {
          std::to_string(levels[1]) + ", V +" + std::to_string(levels[2]) + " levels";
 }
 
+// ", N px of regions too narrow for a blob spared" for a class whose box the blob fit did not
+// pull in against its colour's patches too narrow for a blob (vision::AutoClassFit::thin_alike),
+// else nothing.
+std::string ThinAlikeText(long pixels) {
+  if (pixels == 0) return "";
+  return ", " + std::to_string(pixels) + " px of regions too narrow for a blob spared";
+}
+
 // The models tried, one line each: the fitted ones' scores, why the others were dropped.
 std::string TriedText(const std::vector<SetupFieldTry>& tried) {
   int fitted = 0;
@@ -407,7 +415,7 @@ std::string SetupReportText(const SetupResult& r) {
   for (const vision::AutoClassFit& c : r.thresholds.classes) {
     s += "  " + c.name + ": " + std::to_string(c.blobs) + " blobs, " + std::to_string(c.pixels) +
          " px, separability " + FormatSignificant(c.separability, 3) + " from " + c.nearest +
-         WidenedText(c.widened_levels) + "\n";
+         WidenedText(c.widened_levels) + ThinAlikeText(c.thin_alike) + "\n";
   }
   s += "  clutter (named no class): " + std::to_string(clutter) + " blobs\n";
   const detect::DetectorOptions& t = r.tolerances;

@@ -85,6 +85,10 @@ struct AutoClassFit {
   // class's median colour spread by the camera's noise (AutoThresholdsFit::noise_levels) and the
   // margin; 0: not widened.
   std::array<int, 3> widened_levels = {};
+  // Pixels of regions too narrow for a blob that the blob fit did not count against the class's
+  // box, the regions holding a pixel of its median colour spread by the camera's noise: its
+  // colour's patches whose cores the segmentation cut to slivers. 0: none.
+  long thin_alike = 0;
 };
 
 struct AutoThresholdsFit {

@@ -356,9 +356,11 @@ double MinorSigma(const std::vector<int>& pixels, int width, double cx, double c
 
 std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& f, int frame_index,
                                         const BlobThresholdsOptions& options,
-                                        std::vector<uint8_t>* oversize) {
+                                        std::vector<uint8_t>* oversize,
+                                        std::vector<std::vector<int>>* narrow) {
   const size_t n = f.lab.size();
   if (oversize != nullptr) oversize->assign(n, 0);
+  if (narrow != nullptr) narrow->clear();
   const std::vector<uint8_t>& candidate = f.standout;
   const std::vector<int> root = Segment(f, candidate, options.segment_k);
   // Components in the order of their first pixel.
@@ -382,7 +384,10 @@ std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& f, int frame_inde
     for (const int i : m) b.x_px += i % f.width_px, b.y_px += i / f.width_px;
     b.x_px /= area, b.y_px /= area;
     b.sigma_minor_px = MinorSigma(m, f.width_px, b.x_px, b.y_px);
-    if (b.sigma_minor_px < options.min_blob_sigma_px) continue;
+    if (b.sigma_minor_px < options.min_blob_sigma_px) {
+      if (narrow != nullptr) narrow->push_back(std::move(m));
+      continue;
+    }
     for (int k = 0; k < 3; ++k) {
       channel.clear();
       for (const int i : m) channel.push_back(f.lab[static_cast<size_t>(i)][k]);

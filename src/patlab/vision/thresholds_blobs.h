@@ -32,7 +32,9 @@
 //    light_luma); each box's sides are then pulled in wherever that drops more than
 //    negative_weight pixels of everything else (carpet, other classes, clutter; not the pixels
 //    of regions larger than a patch, such as field lines, walls and the frame's dark margins,
-//    whose blobs the detector rejects by their area) per pixel of the class's own or of its
+//    whose blobs the detector rejects by their area; nor, for a class, the regions of a patch's
+//    area too narrow for a blob that hold a pixel of the class's noise box, below: its own small
+//    patches whose cores the segmentation cut to slivers) per pixel of the class's own or of its
 //    clipped readings, never past the class's median colour. Last, a box narrower than the
 //    class's median colour spread by the camera's noise (measured on the carpet) is widened
 //    towards that, by 1 / (1 + its blobs) of the gap (thresholds_noise_internal.h), so that a
@@ -137,10 +139,14 @@ struct ColourBlob {
   int name = -1;                   // class index, -1 clutter
 };
 
-// `oversize` (optional) receives 1 for every pixel of a region larger than a patch.
+// `oversize` (optional) receives 1 for every pixel of a region larger than a patch; `narrow`
+// (optional) the regions of a patch's area too narrow for a blob (spread under
+// min_blob_sigma_px), each as its pixels' indices: among them a small patch's core that the
+// segmentation cut to a sliver.
 std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& frame, int frame_index,
                                         const BlobThresholdsOptions& options,
-                                        std::vector<uint8_t>* oversize = nullptr);
+                                        std::vector<uint8_t>* oversize = nullptr,
+                                        std::vector<std::vector<int>>* narrow = nullptr);
 
 // CIELAB (D65) of an sRGB colour.
 std::array<double, 3> SrgbToLab(const std::array<uint8_t, 3>& rgb);

@@ -69,20 +69,28 @@ std::array<int, 3> MedianColour(const std::vector<std::array<uint8_t, 3>>& pixel
   return median;
 }
 
+std::array<ChannelRange, 3> NoiseBox(const std::array<int, 3>& median, const CameraNoise& noise,
+                                     const BlobThresholdsOptions& options) {
+  std::array<ChannelRange, 3> box{};
+  for (int ch = 0; ch < 3; ++ch) {
+    box[ch] = {std::clamp(median[ch] - noise.below[ch] - options.margin_levels, 0, 255),
+               std::clamp(median[ch] + noise.above[ch] + options.margin_levels, 0, 255)};
+  }
+  return box;
+}
+
 std::array<int, 3> WidenToNoise(const std::array<int, 3>& median, const CameraNoise& noise,
                                 double weight, const BlobThresholdsOptions& options,
                                 std::array<ChannelRange, 3>* box) {
   std::array<int, 3> widened{};
   if (noise.pixels == 0) return widened;
+  const std::array<ChannelRange, 3> noise_box = NoiseBox(median, noise, options);
   for (int ch = 0; ch < 3; ++ch) {
-    const ChannelRange noise_box = {
-        std::clamp(median[ch] - noise.below[ch] - options.margin_levels, 0, 255),
-        std::clamp(median[ch] + noise.above[ch] + options.margin_levels, 0, 255)};
     ChannelRange& r = (*box)[ch];
     const int lo =
-        std::min(r.lo, static_cast<int>(std::floor(r.lo + weight * (noise_box.lo - r.lo))));
+        std::min(r.lo, static_cast<int>(std::floor(r.lo + weight * (noise_box[ch].lo - r.lo))));
     const int hi =
-        std::max(r.hi, static_cast<int>(std::ceil(r.hi + weight * (noise_box.hi - r.hi))));
+        std::max(r.hi, static_cast<int>(std::ceil(r.hi + weight * (noise_box[ch].hi - r.hi))));
     widened[ch] = (r.lo - lo) + (hi - r.hi);
     r.lo = lo, r.hi = hi;
   }

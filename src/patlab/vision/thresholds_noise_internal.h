@@ -31,10 +31,14 @@ CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
 std::array<int, 3> MedianColour(const std::vector<std::array<uint8_t, 3>>& pixels);
 
 // The noise's box of a class: its `median` colour less noise.below and plus noise.above,
-// plus margin_levels on each side, what a patch of the class's colour reads as under the light
-// its blobs were seen in. (Not stretched for the range of light, as the percentile box is: that
-// stretch is a prior that the box's tightening trims against the frame's other pixels, while the
-// noise is measured.) Each side of `box` narrower than it moves `weight` of the way out to it:
+// plus margin_levels on each side (clamped to 0..255), what a patch of the class's colour reads
+// as under the light its blobs were seen in. (Not stretched for the range of light, as the
+// percentile box is: that stretch is a prior that the box's tightening trims against the frame's
+// other pixels, while the noise is measured.)
+std::array<ChannelRange, 3> NoiseBox(const std::array<int, 3>& median, const CameraNoise& noise,
+                                     const BlobThresholdsOptions& options);
+
+// Each side of `box` narrower than the noise's box (NoiseBox) moves `weight` of the way out to it:
 // the fit gives 1 / (1 + the class's blobs), the noise's box weighing as one blob against the
 // class's own, so a class seen in one blob takes half the gap and one seen in many keeps nearly
 // its box. Returns the levels added per channel, both sides together.
