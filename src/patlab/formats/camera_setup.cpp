@@ -59,10 +59,8 @@ void CheckSetupInput(const std::vector<const camera::Image*>& frames,
 // The first frame's lines: the line pixels found once, every field model screened, the best few
 // fitted, the best kept, with the cameras the lines do not decide from it (its rivals).
 calib::FamilyCalibration CalibrateFamily(const camera::Image& frame, const std::string& name,
+                                         const std::vector<calib::LinePixel>& pixels,
                                          const SetupOptions& o) {
-  vision::LineFinderOptions finder;
-  finder.line_width_px = o.line_width_px;
-  const std::vector<calib::LinePixel> pixels = vision::FindLinePixels(frame, finder);
   calib::FamilyOptions family;
   family.keep_rivals = true;
   calib::AutoOptions options;
@@ -208,8 +206,11 @@ std::vector<std::string> PaletteClasses(const detect::DetectorConfig& config,
   return classes;
 }
 
-void FitColours(const std::vector<const camera::Image*>& frames,
-                const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r) {
+}  // namespace
+
+void internal::FitColours(const std::vector<const camera::Image*>& frames,
+                          const detect::DetectorConfig& config, const SetupOptions& o,
+                          SetupResult* r) {
   vision::BlobThresholdsOptions colours = o.colours;
   if (r->mm_per_px > 0.0) {
     SetupBlobAreas(r->smallest_patch_px, LargestPatchMm(config) / r->mm_per_px, &colours);
@@ -218,6 +219,8 @@ void FitColours(const std::vector<const camera::Image*>& frames,
       vision::FitThresholdsFromBlobs(frames, PaletteClasses(config, o),
                                      io::DefaultColourVocabulary(), colours, &r->colour_clusters);
 }
+
+namespace {
 
 // Weighs the pixel clustering against the blobs' fit by the robots each decodes (header).
 void ChooseColourFit(const std::vector<const camera::Image*>& frames,
@@ -321,7 +324,7 @@ void internal::FinishSetup(const std::vector<const camera::Image*>& frames,
                                  ? std::max(r.mapping_error_mm, r.mapping_resolution_mm)
                                  : r.mapping_error_mm;
   r.tolerances = SetupTolerances(config.options, r.mm_per_px, error_bound, r.smallest_patch_px);
-  if (fit_colours) FitColours(frames, config, options, &r);
+  if (fit_colours) internal::FitColours(frames, config, options, &r);
   const std::string made =
       "# Made by patlab setup from " + names.front() + " (field " + r.field.name + ").\n";
   const std::string calibration_text =
@@ -355,7 +358,17 @@ int RobotsDecoded(const SetupResult& r) { return std::max(r.robots_by_blobs, r.r
 SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
                            const std::vector<std::string>& names,
                            const detect::DetectorConfig& config, const SetupOptions& options) {
-  const calib::FamilyCalibration family = CalibrateFamily(*frames.front(), names.front(), options);
+  vision::LineFinderOptions finder;
+  finder.line_width_px = options.line_width_px;
+  const std::vector<calib::LinePixel> pixels = vision::FindLinePixels(*frames.front(), finder);
+  calib::FamilyCalibration family;
+  try {
+    family = CalibrateFamily(*frames.front(), names.front(), pixels, options);
+  } catch (const InputError& e) {
+    // A corner and a line: the robots' patterns may fix what the lines leave open.
+    if (!internal::MatchedTooFewMarks(e.what())) throw;
+    return internal::SetupFromRobots(frames, names, config, options, pixels, e.what());
+  }
   std::vector<SetupResult> results(1 + family.rivals.size());
   std::vector<SetupRival> undecided;
   for (size_t i = 0; i < results.size(); ++i) {
@@ -406,7 +419,9 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
 
 std::string SetupReportText(const SetupResult& r) {
   std::string s = "field model: " + r.field.name;
-  if (r.from_landmarks) {
+  if (r.few_lines.used) {
+    s += internal::FewLinesText(r.few_lines);
+  } else if (r.from_landmarks) {
     s += " (from " + std::to_string(r.calibration_input.points.size()) + " landmarks)\n";
   } else if (!r.undecided.empty()) {
     s += UndecidedText(r) + TriedText(r.tried);
@@ -428,9 +443,11 @@ std::string SetupReportText(const SetupResult& r) {
                     FormatSignificant(r.mapping_error_mm, 2) + " mm)"
               : FormatSignificant(r.mapping_error_mm, 3) + " mm") +
        " RMS on the floor (" +
-       (r.from_landmarks ? "cross-validated over the landmarks" : "held-out line pixels") + "); " +
-       FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
-  s += internal::HeightText(r.height);
+       (r.few_lines.used   ? "the stated error of a robot's position, above"
+        : r.from_landmarks ? "cross-validated over the landmarks"
+                           : "held-out line pixels") +
+       "); " + FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
+  s += r.few_lines.used ? internal::FewLinesHeightText(r.height) : internal::HeightText(r.height);
   long clutter = 0;
   for (const vision::BlobCluster& c : r.colour_clusters) clutter += c.name < 0 ? c.blobs : 0;
   s += "colour fit: " + r.colour_fit + " (robots decoded: by blobs " +
