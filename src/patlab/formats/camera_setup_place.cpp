@@ -16,7 +16,10 @@ namespace {
 constexpr int kFloorScales = 41;
 constexpr double kLeastMmPerPx = 0.5, kMostMmPerPx = 20.0;
 constexpr double kDefaultBoundaryMm = 1000.0;
-constexpr double kSameMapMm = 100.0;  // placements mapping the frame closer are the same
+constexpr double kSameMapMm = 100.0;
+// A different placement explaining more than this share of the kept one's line leaves it undecided
+// (calib's kUndecidedRatio for the lines' cameras).
+constexpr double kUndecidedRatio = 0.9;  // placements mapping the frame closer are the same
 // The assignment's gates, the placement's first (the floor camera's tilt is unknown).
 constexpr double kGatesPx[] = {12.0, 5.0, 3.0};
 
@@ -184,7 +187,7 @@ std::string internal::FewLinesHeightText(const SetupHeight& h) {
   if (h.decided_by == "given")
     return s + " (given: --camera-height), f " + FormatFixed(h.focal_px, 0) + " px\n";
   return s + (std::isfinite(h.sd_mm) ? " +- " + metres(h.sd_mm) : std::string()) + ", f " +
-         FormatFixed(h.focal_px, 0) + " px (the fit of the lines and " +
+         FormatFixed(h.focal_px, 0) + " px (the robots decide: the fit of the lines and " +
          std::to_string(h.patterns) + " decoded robots' patches together; --camera-height MM " +
          "fixes it and the robots' positions better)\n";
 }
@@ -278,6 +281,19 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
         FormatSignificant(few.position_sd_mm, 3) + " mm (one standard error, the camera's height " +
         "included), more than a pattern's radius (" + FormatSignificant(few.limit_mm, 3) +
         " mm); give --camera-height MM (the camera's measured height above the floor)");
+  }
+  // Another corner that keeps the robots on the field and explains nearly as much line (a view
+  // of robots near the corner alone, mirrored): neither the lines nor the robots decide.
+  if (few.runner_up_px >= kUndecidedRatio * few.score_px) {
+    throw InputError(
+        failed + std::to_string(few.on_field) + " of " + std::to_string(few.placements) +
+        " placements of the fields' crossing lines keep the " +
+        std::to_string(decoded.patterns.size()) + " decoded robots on the field, " +
+        kept->crossing + " of " + field.name + " explaining " + FormatSignificant(few.score_px, 4) +
+        " px of line and another, mapping the frame elsewhere, " +
+        FormatSignificant(few.runner_up_px, 4) +
+        " px; expected a frame showing more of the field's lines, or give four "
+        "--landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");
   }
   r.mapping_error_mm = few.position_sd_mm;
   r.mapping_resolution_mm = 0.0;
