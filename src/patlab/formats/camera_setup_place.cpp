@@ -268,7 +268,22 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
   const calib::Field& field = options.fields[static_cast<size_t>(kept->model)];
   SetupResult r = base;
   r.field = field;
-  r.calibration_fit = FitPlacement(*kept, pixels, field, decoded.patterns, auto_options, &r);
+  try {
+    r.calibration_fit = FitPlacement(*kept, pixels, field, decoded.patterns, auto_options, &r);
+  } catch (const InputError& e) {
+    throw InputError(failed + "the fit of the lines and the robots' patches from " +
+                     kept->crossing + " of " + field.name + " failed (" + e.what() +
+                     "); expected a frame showing more of the field's lines, or give four "
+                     "--landmark NAME=X,Y");
+  }
+  // A fit that leaves the camera model's range (a lens bent beyond any real one) is no camera.
+  if (const auto problems = camera::Check(r.calibration_fit.camera); !problems.empty()) {
+    throw InputError(failed + "the fit of the lines and the robots' patches from " +
+                     kept->crossing + " of " + field.name + " leaves the camera model's range (" +
+                     problems.front().message +
+                     "); expected a frame showing more of the field's lines, or give four "
+                     "--landmark NAME=X,Y");
+  }
   few.crossing = kept->crossing;
   few.score_px = kept->score_px;
   few.position_sd_mm = PositionSdMm(r.calibration_fit, decoded.patterns, options.robot_height_mm);
