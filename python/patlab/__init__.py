@@ -254,6 +254,11 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     camera_height (decided_by: "given", "lines", "robots" or "undetermined"; height_mm,
     focal_px, sd_mm, robots; lines_height_mm, lines_focal_px, lines_sd_mm, lines_robots: the
     lines' own camera; scan: the heights tried, each height_mm, focal_px, robots),
+    few_lines (where the lines matched too few marks and the robots placed the field: used;
+    lines_failure; floor_mm_per_px and robots, the floor scale the robots decoded at;
+    placements and on_field, the crossings placed and those keeping the robots on the field;
+    crossing, score_px, runner_up_px of the one kept; position_sd_mm, the stated error of a
+    robot's position, and limit_mm, a pattern's radius; used False otherwise),
     mapping_error_mm,
     mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
     pixels, blobs, separability, nearest, widened_levels: Y, U, V levels the blob fit widened

@@ -237,6 +237,20 @@ py::dict SetupReport(const formats::SetupResult& r) {
   }
   height["scan"] = scan;
   out["camera_height"] = height;
+  const formats::SetupFewLines& f = r.few_lines;
+  py::dict few;
+  few["used"] = f.used;
+  few["lines_failure"] = f.lines_failure;
+  few["floor_mm_per_px"] = f.floor_mm_per_px;
+  few["robots"] = f.robots;
+  few["placements"] = f.placements;
+  few["on_field"] = f.on_field;
+  few["crossing"] = f.crossing;
+  few["score_px"] = f.score_px;
+  few["runner_up_px"] = f.runner_up_px;
+  few["position_sd_mm"] = f.position_sd_mm;
+  few["limit_mm"] = f.limit_mm;
+  out["few_lines"] = few;
   out["mapping_error_mm"] = r.mapping_error_mm;
   out["mapping_resolution_mm"] = r.mapping_resolution_mm;
   out["mm_per_px"] = r.mm_per_px;

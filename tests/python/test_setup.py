@@ -39,6 +39,7 @@ def test_setup_then_detect_finds_every_robot(scene, tmp_path, in_root):
     assert height["decided_by"] in ("lines", "robots", "undetermined")
     assert 2000.0 < height["height_mm"] < 6000.0  # the known camera is 3.8 m up
     assert height["robots"] == 10 and height["scan"]
+    assert report["few_lines"]["used"] is False  # the lines fixed the camera
     assert [f["frame"] for f in report["robots"]] == ["frame0"]
     assert len(report["robots"][0]["robots"]) == len(truth) == 10
     assert (tmp_path / "setup.toml").is_file()

@@ -147,6 +147,37 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
                                       const AutoOptions& options = {},
                                       const FamilyOptions& family = {});
 
+// Where the lines match too few marks to fix a camera (a corner and a line: every corner of a
+// field fits them, at any scale) but the floor's scale is known otherwise -- `floor_camera`, a
+// camera looking straight down whose map of the floor has the right scale, its position and
+// turn about the vertical free (setup measures it by the robots' patterns, of known size) --
+// each pair of crossing field lines of each model is placed on the line pixels
+// (auto_calibrate_place.cpp): the pixels put on the floor through floor_camera, their dominant
+// direction (modulo 90 deg) turned onto the field's axes, the strongest line along each axis
+// found by a histogram across it, their crossing put on the model's crossing in each of the four
+// quarter turns. Each placement is floor_camera moved there, scored like the search's cameras
+// (CameraScore), with the line pixels assigned to its model's marks (within gate_px). Best first;
+// empty when the pixels show no two crossing lines.
+struct Placement {
+  int model = -1;                // index in `fields`
+  std::string crossing;          // "LINE x LINE"
+  camera::PinholeCamera camera;  // floor_camera moved onto the crossing
+  double score_px = 0.0;         // CameraScore's
+  CalibrationInput input;        // the line pixels assigned to the model's marks through it
+};
+std::vector<Placement> PlaceCrossings(const std::vector<LinePixel>& pixels, int width_px,
+                                      int height_px, const std::string& source,
+                                      const std::vector<Field>& fields,
+                                      const camera::PinholeCamera& floor_camera,
+                                      double gate_px = 12.0, const AutoOptions& options = {});
+
+// The line pixels assigned through `camera` to the nearest painted mark of `field` within gate_px
+// and of their direction (the automatic calibration's assignment), as observations of `base`
+// (its lines and circles replaced). Marks with too few pixels are left out.
+CalibrationInput AssignToMarks(const camera::PinholeCamera& camera,
+                               const std::vector<LinePixel>& pixels, const Field& field,
+                               double gate_px, int max_pixels, const CalibrationInput& base);
+
 // The distance (mm) from the back-projection of `pixel` through `camera` on the floor to the
 // observation's line or circle; NaN when the pixel does not map onto the floor.
 double FloorDistanceMm(const camera::PinholeCamera& camera, const Vec2& pixel,

@@ -424,6 +424,14 @@ AutoCalibration internal::FitSearched(const Searched& searched,
   return out;
 }
 
+CalibrationInput AssignToMarks(const camera::PinholeCamera& camera,
+                               const std::vector<LinePixel>& pixels, const Field& field,
+                               double gate_px, int max_pixels, const CalibrationInput& base) {
+  CalibrationInput in = base;
+  in.lines.clear(), in.circles.clear();
+  return Assign(camera, pixels, field, PaintedMarks(field), gate_px, max_pixels, in).input;
+}
+
 std::string HeldOutText(const AutoCalibration& a) {
   if (a.held_out_mapping_mm < a.held_out_resolution_mm) {
     return "below " + FormatSignificant(a.held_out_resolution_mm, 2) +

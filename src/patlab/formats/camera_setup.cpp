@@ -59,10 +59,8 @@ void CheckSetupInput(const std::vector<const camera::Image*>& frames,
 // The first frame's lines: the line pixels found once, every field model screened, the best few
 // fitted, the best kept, with the cameras the lines do not decide from it (its rivals).
 calib::FamilyCalibration CalibrateFamily(const camera::Image& frame, const std::string& name,
+                                         const std::vector<calib::LinePixel>& pixels,
                                          const SetupOptions& o) {
-  vision::LineFinderOptions finder;
-  finder.line_width_px = o.line_width_px;
-  const std::vector<calib::LinePixel> pixels = vision::FindLinePixels(frame, finder);
   calib::FamilyOptions family;
   family.keep_rivals = true;
   calib::AutoOptions options;
@@ -315,7 +313,17 @@ int RobotsDecoded(const SetupResult& r) { return std::max(r.robots_by_blobs, r.r
 SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
                            const std::vector<std::string>& names,
                            const detect::DetectorConfig& config, const SetupOptions& options) {
-  const calib::FamilyCalibration family = CalibrateFamily(*frames.front(), names.front(), options);
+  vision::LineFinderOptions finder;
+  finder.line_width_px = options.line_width_px;
+  const std::vector<calib::LinePixel> pixels = vision::FindLinePixels(*frames.front(), finder);
+  calib::FamilyCalibration family;
+  try {
+    family = CalibrateFamily(*frames.front(), names.front(), pixels, options);
+  } catch (const InputError& e) {
+    // A corner and a line: the robots' patterns may fix what the lines leave open.
+    if (!internal::MatchedTooFewMarks(e.what())) throw;
+    return internal::SetupFromRobots(frames, names, config, options, pixels, e.what());
+  }
   std::vector<SetupResult> results(1 + family.rivals.size());
   std::vector<SetupRival> undecided;
   for (size_t i = 0; i < results.size(); ++i) {
@@ -366,7 +374,9 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
 
 std::string SetupReportText(const SetupResult& r) {
   std::string s = "field model: " + r.field.name;
-  if (r.from_landmarks) {
+  if (r.few_lines.used) {
+    s += internal::FewLinesText(r.few_lines);
+  } else if (r.from_landmarks) {
     s += " (from " + std::to_string(r.calibration_input.points.size()) + " landmarks)\n";
   } else if (!r.undecided.empty()) {
     s += UndecidedText(r) + TriedText(r.tried);
@@ -388,9 +398,11 @@ std::string SetupReportText(const SetupResult& r) {
                     FormatSignificant(r.mapping_error_mm, 2) + " mm)"
               : FormatSignificant(r.mapping_error_mm, 3) + " mm") +
        " RMS on the floor (" +
-       (r.from_landmarks ? "cross-validated over the landmarks" : "held-out line pixels") + "); " +
-       FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
-  s += internal::HeightText(r.height);
+       (r.few_lines.used   ? "the stated error of a robot's position, above"
+        : r.from_landmarks ? "cross-validated over the landmarks"
+                           : "held-out line pixels") +
+       "); " + FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
+  s += r.few_lines.used ? internal::FewLinesHeightText(r.height) : internal::HeightText(r.height);
   long clutter = 0;
   for (const vision::BlobCluster& c : r.colour_clusters) clutter += c.name < 0 ? c.blobs : 0;
   std::string by_k;

@@ -122,6 +122,30 @@ struct SetupHeight {
   std::vector<SetupHeightTry> scan;  // by increasing height
 };
 
+// Where the lines match too few marks to fix a camera (a corner and a line): the robots' patterns
+// of known size measure the floor's scale -- a camera looking straight down is tried at
+// kFloorScales floor scales, log-spaced over [kLeastMmPerPx, kMostMmPerPx], the one decoding the
+// most robots kept (colours fitted from the blobs alone first) -- each pair of crossing field lines
+// of each model is placed on the line pixels through it (calib::PlaceCrossings), placements that
+// put a decoded robot off the field and its run-off (the model's boundary, else 1000 mm) are
+// dropped, the best of the rest by line length is fitted to the lines and the decoded robots'
+// patches together (principal point at the image centre). Kept only when every decoded robot's
+// position is known within a pattern's radius at one standard error (position_sd_mm: the worst
+// robot's, along its worst axis, the fit's covariance scaled to the patches' residuals).
+struct SetupFewLines {
+  bool used = false;
+  std::string lines_failure;     // what the lines alone matched
+  double floor_mm_per_px = 0.0;  // the scan's kept floor scale
+  int robots = 0;                // decoded through it
+  int placements = 0;            // crossings placed (scoring at least half the best)
+  int on_field = 0;              // of them, keeping every decoded robot on the field
+  std::string crossing;          // the placement kept: "LINE x LINE" of its model
+  double score_px = 0.0;         // its line length explained (CameraScore)
+  double runner_up_px = 0.0;  // the best other placement on the field mapping differently (0: none)
+  double position_sd_mm = 0.0;  // the stated error of a robot's position
+  double limit_mm = 0.0;        // a pattern's radius: the most accepted
+};
+
 struct SetupResult {
   calib::Field field;                // the model kept
   std::vector<SetupFieldTry> tried;  // every model tried, best first
@@ -131,6 +155,7 @@ struct SetupResult {
   std::vector<SetupRival> undecided;
   bool robots_decided = false;
   SetupHeight height;
+  SetupFewLines few_lines;
   bool from_landmarks = false;
   calib::CalibrationInput calibration_input;
   calib::CalibrationFit calibration_fit;

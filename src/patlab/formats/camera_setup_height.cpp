@@ -25,9 +25,7 @@ constexpr double kScanStep = 1.15;
 // no longer tell heights apart anyway.
 constexpr double kHighestCameraMm = 12000.0;
 
-double HeightOf(const camera::PinholeCamera& c) {
-  return (-c.rotation.transpose() * c.translation_mm).z();
-}
+using internal::HeightOf;
 
 // The height's standard error from the fit's: the lines fix f / h, so the height moves with the
 // focal length, h se(f) / f. NaN when the fit held f or has no covariance.
@@ -60,13 +58,16 @@ struct HeightCandidate {
   internal::Decoded decoded;
 };
 
+}  // namespace
+
 // The calibration fitted again from `start` to the lines and the decoded robots' patches together:
 // each robot a pattern observation on the robots' plane, its pose free (calib::FitCamera). The
 // patterns' size in mm measures the plane's scale, so the height; where they are, their shapes
 // pin the map the lines leave loose far from them (the lens' distortion). InputError when it
 // fails.
-calib::CalibrationFit FitWithRobots(const SetupResult& r, const camera::PinholeCamera& start,
-                                    const std::vector<calib::PatternObservation>& patterns) {
+calib::CalibrationFit internal::FitWithRobots(
+    const SetupResult& r, const camera::PinholeCamera& start,
+    const std::vector<calib::PatternObservation>& patterns) {
   calib::CalibrationInput in = r.calibration_input;
   in.patterns = patterns;
   in.options.start_camera = start;
@@ -78,13 +79,17 @@ calib::CalibrationFit FitWithRobots(const SetupResult& r, const camera::PinholeC
   return calib::FitCamera(in);
 }
 
+namespace {
+
 // Whether a height's standard error measures it: below the scan's step.
 bool Measures(double sd_mm, double height_mm) { return sd_mm < (kScanStep - 1.0) * height_mm; }
+
+}  // namespace
 
 // The fit's standard error of the height from the robots' patches: HeightSd scaled from the fit's
 // residual variance (over every pixel, mostly line pixels) to the patches' own, whose centroids
 // stray several times further than a line pixel from a line: the height is measured by them.
-double RobotsHeightSd(const calib::CalibrationFit& fit, double robot_height_mm) {
+double internal::RobotsHeightSd(const calib::CalibrationFit& fit, double robot_height_mm) {
   double ratio = 1.0;
   for (const calib::PlaneResiduals& p : fit.planes) {
     if (std::abs(p.height_mm - robot_height_mm) <= camera::kHeightToleranceMm && fit.rms_px > 0.0)
@@ -92,6 +97,8 @@ double RobotsHeightSd(const calib::CalibrationFit& fit, double robot_height_mm) 
   }
   return HeightSd(fit) * ratio;
 }
+
+namespace {
 
 // What set the height: the robots when the fit with them was kept, or more robots decode through
 // the scan's camera than through the lines'; else the lines if they measure it; else nothing did.
@@ -165,13 +172,13 @@ bool KeepFitWithRobots(const std::vector<const camera::Image*>& frames,
   h->patterns = static_cast<int>(chosen.decoded.patterns.size());
   try {
     joint.calibration_fit =
-        FitWithRobots(r, chosen.setup.calibration_fit.camera, chosen.decoded.patterns);
+        internal::FitWithRobots(r, chosen.setup.calibration_fit.camera, chosen.decoded.patterns);
   } catch (const InputError& e) {
     h->fitted = std::string("failed: ") + e.what();
     return false;
   }
   h->fitted_height_mm = HeightOf(joint.calibration_fit.camera);
-  h->fitted_sd_mm = RobotsHeightSd(joint.calibration_fit, options.robot_height_mm);
+  h->fitted_sd_mm = internal::RobotsHeightSd(joint.calibration_fit, options.robot_height_mm);
   if (!Measures(h->fitted_sd_mm, h->fitted_height_mm)) {
     h->fitted = "not kept: its standard error is over " +
                 FormatSignificant(100.0 * (kScanStep - 1.0), 2) + "%, the scan's step";

@@ -21,7 +21,9 @@ void FinishSetup(const std::vector<const camera::Image*>& frames,
                  const SetupOptions& options, SetupResult& r, bool fit_colours = true);
 
 // The colour classes (camera_setup_colours.cpp): FitColours fits the blobs' classes at the
-// settings' segment_k into r; ChooseColourFit, once r's calibration and settings are written,
+// settings' segment_k into r->thresholds and r->colour_clusters (vision::FitThresholdsFromBlobs;
+// the blob area range from r's floor scale, SetupBlobAreas, when r->mm_per_px > 0, else the
+// options' own: no camera yet); ChooseColourFit, once r's calibration and settings are written,
 // keeps of those, the blobs' fits at the neighbouring segmentation scales and the pixel
 // clustering the one that decodes the most robots (SetupResult::colour_fit).
 void FitColours(const std::vector<const camera::Image*>& frames,
@@ -55,6 +57,40 @@ Decoded DecodeThroughFiles(const std::vector<const camera::Image*>& frames,
 void ChooseHeight(const std::vector<const camera::Image*>& frames,
                   const std::vector<std::string>& names, const detect::DetectorConfig& config,
                   const SetupOptions& options, SetupResult& r);
+
+// The camera's height above the floor.
+inline double HeightOf(const camera::PinholeCamera& c) {
+  return (-c.rotation.transpose() * c.translation_mm).z();
+}
+
+// r's calibration fitted again from `start` to r's lines and `patterns` (decoded robots' patches,
+// each pose free) together, the focal length free, with the covariance. InputError when it fails.
+calib::CalibrationFit FitWithRobots(const SetupResult& r, const camera::PinholeCamera& start,
+                                    const std::vector<calib::PatternObservation>& patterns);
+
+// The height's standard error of a fit with the robots' patches, scaled from the fit's residual
+// variance to the patches' own (they measure the height); NaN when the fit does not determine it.
+double RobotsHeightSd(const calib::CalibrationFit& fit, double robot_height_mm);
+
+// Where the line pixels match too few marks to fix a camera (calib::AutoCalibrateFamily's
+// InputError `lines_failure`): the robots' patterns measure the floor's scale and the lines'
+// crossing is placed on the field's (camera_setup_place.cpp, SetupFewLines). InputError naming
+// the numbers when the robots do not fix the camera either.
+SetupResult SetupFromRobots(const std::vector<const camera::Image*>& frames,
+                            const std::vector<std::string>& names,
+                            const detect::DetectorConfig& config, const SetupOptions& options,
+                            const std::vector<calib::LinePixel>& pixels,
+                            const std::string& lines_failure);
+
+// The report's lines on what decided where the lines matched too few marks (SetupFewLines).
+std::string FewLinesText(const SetupFewLines& f);
+
+// The report's line on the camera's height where the robots placed the field: given, or the fit
+// of the lines and the robots' patches together.
+std::string FewLinesHeightText(const SetupHeight& h);
+
+// Whether an automatic calibration's failure says its lines matched too few marks.
+bool MatchedTooFewMarks(const std::string& failure);
 
 // The report's lines on the camera's height: the height kept, what decided it, with the numbers.
 std::string HeightText(const SetupHeight& h);
