@@ -14,7 +14,9 @@ its focal length chosen so that the frame spans about 2.4 m of floor. Then
 and the robots are scored against the truth (scripts/setup_rendered.py's score).
 
 Usage: scripts/setup_few_lines.py [--patlab build/patlab] [--views 1-8] [--measured-height]
+                                  [--keep DIR]
   --measured-height: pass the camera's true height as --camera-height.
+  --keep DIR: keep the scenes, frames, setup folders and the log in DIR.
 """
 import argparse
 import csv
@@ -67,15 +69,19 @@ def draw_camera(rng, corner, inward):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--patlab", default=os.path.join(rendered.ROOT, "build", "patlab"))
-    parser.add_argument("--views", default="1-8")
+    parser.add_argument("--views", default="1-8", help="FIRST-LAST or one view, default 1-8")
     parser.add_argument("--measured-height", action="store_true")
+    parser.add_argument("--keep", help="keep the scenes, frames and logs in this folder")
     args = parser.parse_args()
-    first, last = (int(v) for v in args.views.split("-"))
+    views = rendered.parse_seeds(args.views)
     patlab = os.path.abspath(args.patlab)
     kept = right = total = 0
-    with tempfile.TemporaryDirectory(prefix="setup_few_lines.") as work:
+    with tempfile.TemporaryDirectory(prefix="setup_few_lines.") as scratch:
+        work = args.keep or scratch
+        os.makedirs(work, exist_ok=True)
         log = os.path.join(work, "log.txt")
-        for view in range(first, last + 1):
+        open(log, "a").close()
+        for view in views:
             rng = np.random.default_rng(1000 + view)
             model = MODELS[int(rng.integers(len(MODELS)))]
             length, width = rendered.field_size(model)
@@ -84,7 +90,7 @@ def main():
             robots = rendered.draw_robots(rng, cam, length, width)
             _, colours = rendered.draw_colours(rng)
             folder = os.path.join(work, "view%d" % view)
-            os.makedirs(folder)
+            os.makedirs(folder, exist_ok=True)
             rendered.write_scene(folder, model, cam, robots, colours, view)
             rendered.run([patlab, "render", os.path.join(folder, "scene.toml"), "--camera",
                           "--sensor-seed", str(view), "-o", os.path.join(folder, "r")], log)
@@ -112,7 +118,7 @@ def main():
             print(head + "%d right, %d false IDs, mean error %s mm, stated +- %s mm, setup %.1f s "
                   "CPU" % (row["right"], row["false_ids"], row["position_error_mm"],
                            stated.group(1) if stated else "-", cpu))
-    print("kept %d / %d views, %d / %d robots right" % (kept, last - first + 1, right, total))
+    print("kept %d / %d views, %d / %d robots right" % (kept, len(views), right, total))
 
 
 if __name__ == "__main__":

@@ -268,6 +268,15 @@ void internal::FinishSetup(const std::vector<const camera::Image*>& frames,
                            const std::vector<std::string>& names,
                            const detect::DetectorConfig& config, const SetupOptions& options,
                            SetupResult& r, bool fit_colours) {
+  // A camera outside the model's range (a lens bent beyond any real one) would be written into a
+  // calibration that `detect` refuses: it is refused here, with the numbers.
+  if (const auto problems = camera::Check(r.calibration_fit.camera); !problems.empty()) {
+    throw InputError(names.front() + ": the camera fitted to " + r.field.name + "'s " +
+                     (r.from_landmarks ? "landmarks" : "lines") +
+                     " leaves the camera model's range (" + problems.front().message +
+                     "); expected a frame showing more of the field's lines, or give four "
+                     "--landmark NAME=X,Y");
+  }
   r.calibration_input.default_height_mm = options.robot_height_mm;
   const camera::CameraModel camera = camera::CameraModel::Pinhole(r.calibration_fit.camera);
   const camera::Image& first = *frames.front();
