@@ -425,5 +425,55 @@ TEST(SetupCamera, ACornerAndTenRobotsWithoutTheHeightDoNotFixTheCamera) {
   }
 }
 
+// Fresh rendered seed 59: a camera 3.3 m up over ssl-div-a that sees one touch line and eight
+// robots. The models with arc-shaped defence areas fitted a camera 0.42 m up to that single
+// straight line, matching it to a short piece of arc and a line; setup wrote it, no robot decoded
+// through it, and it exited 0. An arc whose pixels do not bend in the image now measures no
+// curvature, the lines fix no camera, and setup refuses, saying so.
+TEST(SetupCamera, OneStraightLineFixesNoCameraThoughItFitsAPieceOfArc) {
+  const testing::TempDir dir;
+  const SceneFile scene = SslRobotScene(dir, R"(model = "pinhole"
+image_size_px = [780, 580]
+[pinhole]
+fx_px = 612.17
+fy_px = 612.17
+cx_px = 398.13
+cy_px = 294.40
+k1 = -0.0358
+rotation_rodrigues = [3.099729, -0.043016, -0.116124]
+translation_mm = [1363.8, -2163.4, 3312.6]
+[heights]
+default_mm = 140
+)",
+                                        "ssl-div-a", R"(field = [48, 114, 62]
+body = [31, 30, 37]
+blue = [36, 74, 227]
+yellow = [244, 213, 49]
+pink = [249, 94, 200]
+green = [73, 213, 103]
+orange = [255, 124, 27]
+)",
+                                        {{"blue", 2, -2772, -2082, 1.91},
+                                         {"yellow", 11, -2788, -1418, -2.45},
+                                         {"blue", 6, -1956, -1723, -1.94},
+                                         {"yellow", 10, -2737, -3037, 1.79},
+                                         {"blue", 4, -932, -1485, -2.75},
+                                         {"yellow", 2, -1030, -3175, 2.86},
+                                         {"blue", 1, -592, -3280, -3.01},
+                                         {"yellow", 6, -2157, -3231, -2.18}});
+  const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
+  SetupOptions o;
+  for (const char* model : {"ssl-2008", "ssl-2009", "ssl-2014", "ssl-div-a"})
+    o.fields.push_back(
+        LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" + std::string(model) + ".toml"));
+  o.settings_path = PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml";
+  try {
+    const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
+    ADD_FAILURE() << "accepted:\n" << SetupReportText(r);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("straight in the image"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace patlab::formats

@@ -93,4 +93,20 @@ bool PointSymmetric(const Field& field) {
   return true;
 }
 
+double BendPx(const std::vector<Vec2>& px) {
+  Vec2 mean = Vec2::Zero();
+  for (const Vec2& p : px) mean += p;
+  mean /= static_cast<double>(px.size());
+  double sxx = 0, syy = 0, sxy = 0;
+  for (const Vec2& p : px) {
+    const Vec2 d = p - mean;
+    sxx += d.x() * d.x(), syy += d.y() * d.y(), sxy += d.x() * d.y();
+  }
+  const double n = static_cast<double>(px.size());
+  sxx /= n, syy /= n, sxy /= n;
+  // The smaller eigenvalue of the scatter: the mean squared distance from the best line.
+  const double half = std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+  return std::sqrt(std::max(0.0, 0.5 * (sxx + syy) - half));
+}
+
 }  // namespace patlab::calib::internal

@@ -18,7 +18,10 @@ using internal::Turned;
 constexpr double kMaxAngle =
     0.42;                      // |sin| between a pixel's direction and its mark's, on the floor
 constexpr int kMinPixels = 8;  // an observation's pixels at least
-constexpr int kRun = 8;        // the held-out folds' run length along a mark
+// An arc's pixels bend at least this far (RMS px from their best straight line) to measure a
+// curvature; line pixels lie within about 0.5 px of their line.
+constexpr double kMinBendPx = 1.0;
+constexpr int kRun = 8;              // the held-out folds' run length along a mark
 constexpr double kLastGatePx = 3.0;  // the assignment's last (narrowest) gate
 // A fitted camera explains at most this many px of line per line pixel found (header of FitView).
 constexpr double kMaxExplainedPerPixel = 1.5;
@@ -107,18 +110,27 @@ Assigned Assign(const camera::PinholeCamera& camera, const std::vector<LinePixel
 }
 
 // Whether the observations fix a camera: straight lines in two directions, or a circle and a
-// line, with enough pixels.
+// line, with enough pixels. An arc whose pixels do not bend in the image (within kMinBendPx of a
+// straight line) measures no curvature: it counts as a line (a single straight field line
+// otherwise fits a small camera matching it to a short piece of arc and a line).
 std::string WhatIsMissing(const CalibrationInput& in) {
   std::vector<Vec2> dirs;
   for (const LineObservation& l : in.lines) dirs.push_back((l.to_mm - l.from_mm).normalized());
+  size_t bending = 0;
+  for (const CircleObservation& c : in.circles)
+    bending += internal::BendPx(c.pixels) >= kMinBendPx ? 1 : 0;
   bool crossing = false;
   for (size_t i = 0; i < dirs.size(); ++i)
     for (size_t j = i + 1; j < dirs.size(); ++j)
       crossing = crossing || std::abs(dirs[i].x() * dirs[j].y() - dirs[i].y() * dirs[j].x()) > 0.5;
   if (crossing && in.lines.size() + in.circles.size() >= 3) return "";
-  if (!in.circles.empty() && in.lines.size() + in.circles.size() >= 2) return "";
+  if (bending > 0 && in.lines.size() + in.circles.size() >= 2) return "";
   return "the line pixels matched " + std::to_string(in.lines.size()) + " field line(s) and " +
-         std::to_string(in.circles.size()) + " circle(s)";
+         std::to_string(in.circles.size()) + " circle(s)" +
+         (bending < in.circles.size() ? " (" + std::to_string(in.circles.size() - bending) +
+                                            " of them straight in the image: their pixels within " +
+                                            FormatSignificant(kMinBendPx, 2) + " px of a line)"
+                                      : std::string());
 }
 
 // The two folds of `in`: runs of kRun pixels along each observation alternate.

@@ -87,4 +87,8 @@ bool Undecided(const camera::PinholeCamera& best, double best_score,
                const camera::PinholeCamera& second, double second_score, bool point_symmetric,
                int width_px, int height_px, double* differ_mm);
 
+// The RMS distance (px) of pixels from their best straight line (total least squares): how far
+// an arc's pixels bend in the image.
+double BendPx(const std::vector<Vec2>& px);
+
 }  // namespace patlab::calib::internal

@@ -291,11 +291,14 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
     throw InputError(
         failed + std::to_string(decoded.patterns.size()) + " robots decode at " +
         FormatSignificant(scale, 3) + " mm per px and place the crossing " + kept->crossing +
-        " of " + field.name +
-        ", but the fit of the lines and their patches knows a robot's position only to +- " +
-        FormatSignificant(few.position_sd_mm, 3) + " mm (one standard error, the camera's height " +
-        "included), more than a pattern's radius (" + FormatSignificant(few.limit_mm, 3) +
-        " mm); give --camera-height MM (the camera's measured height above the floor)");
+        " of " + field.name + ", but the fit of the lines and their patches " +
+        (std::isfinite(few.position_sd_mm)
+             ? "knows a robot's position only to +- " + FormatSignificant(few.position_sd_mm, 3) +
+                   " mm (one standard error, the camera's height included), more than a "
+                   "pattern's radius (" +
+                   FormatSignificant(few.limit_mm, 3) + " mm)"
+             : std::string("does not determine a robot's position (no finite standard error)")) +
+        "; give --camera-height MM (the camera's measured height above the floor)");
   }
   // Another corner that keeps the robots on the field and explains nearly as much line (a view
   // of robots near the corner alone, mirrored): neither the lines nor the robots decide.
