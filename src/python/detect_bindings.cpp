@@ -198,25 +198,7 @@ py::dict SetupTry(const formats::SetupFieldTry& t) {
   return d;
 }
 
-py::dict SetupReport(const formats::SetupResult& r) {
-  py::dict out;
-  out["field"] = r.field.name;
-  out["from_landmarks"] = r.from_landmarks;
-  py::list tried;
-  for (const formats::SetupFieldTry& t : r.tried) tried.append(SetupTry(t));
-  out["tried"] = tried;
-  py::list undecided;
-  for (const formats::SetupRival& u : r.undecided) {
-    py::dict d;
-    d["field"] = u.field;
-    d["score_px"] = u.score_px;
-    d["floor_difference_mm"] = u.floor_difference_mm;
-    d["robots"] = u.robots;
-    undecided.append(d);
-  }
-  out["undecided"] = undecided;
-  out["robots_decided"] = r.robots_decided;
-  const formats::SetupHeight& h = r.height;
+py::dict SetupHeightReport(const formats::SetupHeight& h) {
   py::dict height;
   height["decided_by"] = h.decided_by;
   height["height_mm"] = h.height_mm;
@@ -236,8 +218,10 @@ py::dict SetupReport(const formats::SetupResult& r) {
     scan.append(d);
   }
   height["scan"] = scan;
-  out["camera_height"] = height;
-  const formats::SetupFewLines& f = r.few_lines;
+  return height;
+}
+
+py::dict SetupFewLinesReport(const formats::SetupFewLines& f) {
   py::dict few;
   few["used"] = f.used;
   few["lines_failure"] = f.lines_failure;
@@ -250,13 +234,12 @@ py::dict SetupReport(const formats::SetupResult& r) {
   few["runner_up_px"] = f.runner_up_px;
   few["position_sd_mm"] = f.position_sd_mm;
   few["limit_mm"] = f.limit_mm;
-  out["few_lines"] = few;
-  out["mapping_error_mm"] = r.mapping_error_mm;
-  out["mapping_resolution_mm"] = r.mapping_resolution_mm;
-  out["mm_per_px"] = r.mm_per_px;
-  out["smallest_patch_px"] = r.smallest_patch_px;
+  return few;
+}
+
+py::list ColourClassesReport(const std::vector<vision::AutoClassFit>& classes_fit) {
   py::list classes;
-  for (const vision::AutoClassFit& c : r.thresholds.classes) {
+  for (const vision::AutoClassFit& c : classes_fit) {
     py::dict d;
     d["name"] = c.name;
     d["pixels"] = c.pixels;
@@ -268,10 +251,37 @@ py::dict SetupReport(const formats::SetupResult& r) {
     d["thin_alike"] = c.thin_alike;
     classes.append(d);
   }
+  return classes;
+}
+
+py::dict SetupReport(const formats::SetupResult& r) {
+  py::dict out;
+  out["field"] = r.field.name;
+  out["from_landmarks"] = r.from_landmarks;
+  py::list tried;
+  for (const formats::SetupFieldTry& t : r.tried) tried.append(SetupTry(t));
+  out["tried"] = tried;
+  py::list undecided;
+  for (const formats::SetupRival& u : r.undecided) {
+    py::dict d;
+    d["field"] = u.field;
+    d["score_px"] = u.score_px;
+    d["floor_difference_mm"] = u.floor_difference_mm;
+    d["robots"] = u.robots;
+    undecided.append(d);
+  }
+  out["undecided"] = undecided;
+  out["robots_decided"] = r.robots_decided;
+  out["camera_height"] = SetupHeightReport(r.height);
+  out["few_lines"] = SetupFewLinesReport(r.few_lines);
+  out["mapping_error_mm"] = r.mapping_error_mm;
+  out["mapping_resolution_mm"] = r.mapping_resolution_mm;
+  out["mm_per_px"] = r.mm_per_px;
+  out["smallest_patch_px"] = r.smallest_patch_px;
   out["carpet_pixels"] = r.thresholds.carpet.pixels;
   const std::array<int, 3>& noise = r.thresholds.noise_levels;
   out["colour_noise_levels"] = py::make_tuple(noise[0], noise[1], noise[2]);
-  out["colour_classes"] = classes;
+  out["colour_classes"] = ColourClassesReport(r.thresholds.classes);
   out["colour_fit"] = r.colour_fit;
   out["robots_by_blobs"] = r.robots_by_blobs;
   out["segment_k"] = r.segment_k;

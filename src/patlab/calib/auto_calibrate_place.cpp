@@ -52,10 +52,11 @@ std::vector<double> Peaks(const std::vector<Vec2>& turned, const std::vector<Vec
   for (size_t i = 0; i < turned.size(); ++i)
     if (std::abs(directions[i][across]) < kMaxSin) values.push_back(turned[i][across]);
   if (values.empty()) return {};
-  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-  const int bins = static_cast<int>((*hi - *lo) / kBinMm) + 1;
+  const auto range = std::minmax_element(values.begin(), values.end());
+  const double lo = *range.first, hi = *range.second;
+  const int bins = static_cast<int>((hi - lo) / kBinMm) + 1;
   std::vector<int> count(static_cast<size_t>(bins), 0);
-  const auto bin = [&](double v) { return static_cast<int>((v - *lo) / kBinMm); };
+  const auto bin = [lo](double v) { return static_cast<int>((v - lo) / kBinMm); };
   for (double v : values) ++count[static_cast<size_t>(bin(v))];
   std::vector<double> peaks;
   std::vector<bool> used(count.size(), false);

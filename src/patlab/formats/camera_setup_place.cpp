@@ -161,6 +161,117 @@ calib::CalibrationFit FitPlacement(const calib::Placement& placement,
   return fit;
 }
 
+// What the lines matched, without the family's hints.
+std::string MatchedText(const std::string& lines_failure) {
+  static const std::regex kMatched(
+      R"(\d+ line pixels|the line pixels matched \d+ field line\(s\) and \d+ circle\(s\))");
+  std::string text;
+  for (auto m = std::sregex_iterator(lines_failure.begin(), lines_failure.end(), kMatched);
+       m != std::sregex_iterator(); ++m)
+    text += (text.empty() ? "" : "; ") + m->str();
+  return text.empty() ? lines_failure : text;
+}
+
+// The colours before any camera (from the blobs alone) and the calibration input the fit starts
+// from.
+SetupResult ColoursWithoutCamera(const std::vector<const camera::Image*>& frames,
+                                 const std::vector<std::string>& names,
+                                 const detect::DetectorConfig& config, const SetupOptions& options,
+                                 const calib::AutoOptions& auto_options) {
+  const camera::Image& first = *frames.front();
+  SetupResult base;
+  base.field = options.fields.front();
+  base.calibration_input.source = names.front();
+  base.calibration_input.loc = FileLoc{names.front(), 0};
+  base.calibration_input.image_width_px = first.width_px;
+  base.calibration_input.image_height_px = first.height_px;
+  base.calibration_input.options.fixed = auto_options.fixed;
+  base.calibration_input.options.huber_px = auto_options.huber_px;
+  base.calibration_input.options.camera_height_mm = options.camera_height_mm;
+  internal::FitColours(frames, config, options, &base);
+  return base;
+}
+
+// The best placement (they come best first) that keeps the decoded robots on its field; counts
+// those in few->on_field and notes the best one mapping the frame elsewhere in few->runner_up_px.
+const calib::Placement* BestOnField(const std::vector<calib::Placement>& placements,
+                                    const SetupOptions& options,
+                                    const std::vector<calib::PatternObservation>& patterns,
+                                    int width_px, int height_px, SetupFewLines* few) {
+  const calib::Placement* kept = nullptr;
+  for (const calib::Placement& p : placements) {
+    const calib::Field& field = options.fields[static_cast<size_t>(p.model)];
+    if (p.input.lines.empty() || !RobotsOnField(p.camera, field, patterns, options.robot_height_mm))
+      continue;
+    ++few->on_field;
+    if (kept == nullptr) {
+      kept = &p;
+    } else if (few->runner_up_px == 0.0 &&
+               FloorDifferenceMm(kept->camera, p.camera, width_px, height_px) > kSameMapMm) {
+      few->runner_up_px = p.score_px;
+    }
+  }
+  return kept;
+}
+
+// The fit of the lines and the robots' patches is refused (InputError after `failed`, with the
+// numbers) when its camera leaves the model's range, when it knows a robot's position less
+// finely than a pattern's radius, or when another placement mapping the frame elsewhere explains
+// nearly as much line.
+void RefuseUnfixed(const calib::CalibrationFit& fit, const SetupFewLines& few,
+                   const calib::Placement& kept, const calib::Field& field, size_t robots,
+                   double scale, const std::string& failed) {
+  // A fit that leaves the camera model's range (a lens bent beyond any real one) is no camera.
+  if (const auto problems = camera::Check(fit.camera); !problems.empty()) {
+    throw InputError(failed + "the fit of the lines and the robots' patches from " + kept.crossing +
+                     " of " + field.name + " leaves the camera model's range (" +
+                     problems.front().message +
+                     "); expected a frame showing more of the field's lines, or give four "
+                     "--landmark NAME=X,Y");
+  }
+  if (!(few.position_sd_mm <= few.limit_mm)) {
+    throw InputError(
+        failed + std::to_string(robots) + " robots decode at " + FormatSignificant(scale, 3) +
+        " mm per px and place the crossing " + kept.crossing + " of " + field.name +
+        ", but the fit of the lines and their patches " +
+        (std::isfinite(few.position_sd_mm)
+             ? "knows a robot's position only to +- " + FormatSignificant(few.position_sd_mm, 3) +
+                   " mm (one standard error, the camera's height included), more than a "
+                   "pattern's radius (" +
+                   FormatSignificant(few.limit_mm, 3) + " mm)"
+             : std::string("does not determine a robot's position (no finite standard error)")) +
+        "; give --camera-height MM (the camera's measured height above the floor)");
+  }
+  // Another corner that keeps the robots on the field and explains nearly as much line (a view
+  // of robots near the corner alone, mirrored): neither the lines nor the robots decide.
+  if (few.runner_up_px >= kUndecidedRatio * few.score_px) {
+    throw InputError(failed + std::to_string(few.on_field) + " of " +
+                     std::to_string(few.placements) +
+                     " placements of the fields' crossing lines keep the " +
+                     std::to_string(robots) + " decoded robots on the field, " + kept.crossing +
+                     " of " + field.name + " explaining " + FormatSignificant(few.score_px, 4) +
+                     " px of line and another, mapping the frame elsewhere, " +
+                     FormatSignificant(few.runner_up_px, 4) +
+                     " px; expected a frame showing more of the field's lines, or give four "
+                     "--landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");
+  }
+}
+
+// The camera's height as the few-lines fit of r's `patterns` decoded robots left it: given, or
+// the robots'.
+void FewLinesHeight(const SetupOptions& options, int patterns, SetupResult* r) {
+  SetupHeight& h = r->height;
+  h.decided_by = options.camera_height_mm ? "given" : "robots";
+  h.height_mm = h.lines_height_mm = internal::HeightOf(r->calibration_fit.camera);
+  h.focal_px = h.lines_focal_px = r->calibration_fit.camera.fx_px;
+  h.sd_mm = h.fitted_sd_mm = internal::RobotsHeightSd(r->calibration_fit, options.robot_height_mm);
+  h.lines_sd_mm = NAN;
+  h.fitted_height_mm = h.height_mm;
+  h.patterns = patterns;
+  h.fitted = "kept";
+  h.robots = h.lines_robots = std::max(r->robots_by_blobs, r->robots_by_pixels);
+}
+
 }  // namespace
 
 // What decided where the lines alone matched too few marks.
@@ -205,28 +316,12 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
   const camera::Image& first = *frames.front();
   SetupFewLines few;
   few.used = true;
-  // What the lines matched, without the family's hints.
-  static const std::regex kMatched(
-      R"(\d+ line pixels|the line pixels matched \d+ field line\(s\) and \d+ circle\(s\))");
-  for (auto m = std::sregex_iterator(lines_failure.begin(), lines_failure.end(), kMatched);
-       m != std::sregex_iterator(); ++m)
-    few.lines_failure += (few.lines_failure.empty() ? "" : "; ") + m->str();
-  if (few.lines_failure.empty()) few.lines_failure = lines_failure;
+  few.lines_failure = MatchedText(lines_failure);
   few.limit_mm = PatternRadiusMm(config);
   calib::AutoOptions auto_options;
   auto_options.camera_height_mm = options.camera_height_mm;
   auto_options.fixed.push_back(calib::FitParameter::kPrincipalPoint);
-  // The colours before any camera: from the blobs alone.
-  SetupResult base;
-  base.field = options.fields.front();
-  base.calibration_input.source = names.front();
-  base.calibration_input.loc = FileLoc{names.front(), 0};
-  base.calibration_input.image_width_px = first.width_px;
-  base.calibration_input.image_height_px = first.height_px;
-  base.calibration_input.options.fixed = auto_options.fixed;
-  base.calibration_input.options.huber_px = auto_options.huber_px;
-  base.calibration_input.options.camera_height_mm = options.camera_height_mm;
-  internal::FitColours(frames, config, options, &base);
+  const SetupResult base = ColoursWithoutCamera(frames, names, config, options, auto_options);
   auto [scale, decoded] = ScanFloorScales(frames, names, config, options, base);
   few.floor_mm_per_px = scale;
   few.robots = decoded.robots;
@@ -244,20 +339,8 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
       pixels, first.width_px, first.height_px, names.front(), options.fields,
       FloorCamera(scale, first.width_px, first.height_px), kGatesPx[0], auto_options);
   few.placements = static_cast<int>(placements.size());
-  const calib::Placement* kept = nullptr;
-  for (const calib::Placement& p : placements) {
-    const calib::Field& field = options.fields[static_cast<size_t>(p.model)];
-    if (p.input.lines.empty() ||
-        !RobotsOnField(p.camera, field, decoded.patterns, options.robot_height_mm))
-      continue;
-    ++few.on_field;
-    if (kept == nullptr) {
-      kept = &p;
-    } else if (few.runner_up_px == 0.0 && FloorDifferenceMm(kept->camera, p.camera, first.width_px,
-                                                            first.height_px) > kSameMapMm) {
-      few.runner_up_px = p.score_px;
-    }
-  }
+  const calib::Placement* kept =
+      BestOnField(placements, options, decoded.patterns, first.width_px, first.height_px, &few);
   if (kept == nullptr) {
     throw InputError(failed + "of " + std::to_string(few.placements) +
                      " placements of the fields' crossing lines on them, none keeps the " +
@@ -276,58 +359,16 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
                      "); expected a frame showing more of the field's lines, or give four "
                      "--landmark NAME=X,Y");
   }
-  // A fit that leaves the camera model's range (a lens bent beyond any real one) is no camera.
-  if (const auto problems = camera::Check(r.calibration_fit.camera); !problems.empty()) {
-    throw InputError(failed + "the fit of the lines and the robots' patches from " +
-                     kept->crossing + " of " + field.name + " leaves the camera model's range (" +
-                     problems.front().message +
-                     "); expected a frame showing more of the field's lines, or give four "
-                     "--landmark NAME=X,Y");
-  }
   few.crossing = kept->crossing;
   few.score_px = kept->score_px;
   few.position_sd_mm = PositionSdMm(r.calibration_fit, decoded.patterns, options.robot_height_mm);
-  if (!(few.position_sd_mm <= few.limit_mm)) {
-    throw InputError(
-        failed + std::to_string(decoded.patterns.size()) + " robots decode at " +
-        FormatSignificant(scale, 3) + " mm per px and place the crossing " + kept->crossing +
-        " of " + field.name + ", but the fit of the lines and their patches " +
-        (std::isfinite(few.position_sd_mm)
-             ? "knows a robot's position only to +- " + FormatSignificant(few.position_sd_mm, 3) +
-                   " mm (one standard error, the camera's height included), more than a "
-                   "pattern's radius (" +
-                   FormatSignificant(few.limit_mm, 3) + " mm)"
-             : std::string("does not determine a robot's position (no finite standard error)")) +
-        "; give --camera-height MM (the camera's measured height above the floor)");
-  }
-  // Another corner that keeps the robots on the field and explains nearly as much line (a view
-  // of robots near the corner alone, mirrored): neither the lines nor the robots decide.
-  if (few.runner_up_px >= kUndecidedRatio * few.score_px) {
-    throw InputError(
-        failed + std::to_string(few.on_field) + " of " + std::to_string(few.placements) +
-        " placements of the fields' crossing lines keep the " +
-        std::to_string(decoded.patterns.size()) + " decoded robots on the field, " +
-        kept->crossing + " of " + field.name + " explaining " + FormatSignificant(few.score_px, 4) +
-        " px of line and another, mapping the frame elsewhere, " +
-        FormatSignificant(few.runner_up_px, 4) +
-        " px; expected a frame showing more of the field's lines, or give four "
-        "--landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");
-  }
+  RefuseUnfixed(r.calibration_fit, few, *kept, field, decoded.patterns.size(), scale, failed);
   r.mapping_error_mm = few.position_sd_mm;
   r.mapping_resolution_mm = 0.0;
   r.tried.push_back({field.name, kept->score_px, r.mapping_error_mm, "", kept->score_px, true, ""});
   r.calibration_report = calib::FitReportText(r.calibration_input, r.calibration_fit);
   internal::FinishSetup(frames, names, config, options, r, true);
-  SetupHeight& h = r.height;
-  h.decided_by = options.camera_height_mm ? "given" : "robots";
-  h.height_mm = h.lines_height_mm = internal::HeightOf(r.calibration_fit.camera);
-  h.focal_px = h.lines_focal_px = r.calibration_fit.camera.fx_px;
-  h.sd_mm = h.fitted_sd_mm = internal::RobotsHeightSd(r.calibration_fit, options.robot_height_mm);
-  h.lines_sd_mm = NAN;
-  h.fitted_height_mm = h.height_mm;
-  h.patterns = static_cast<int>(decoded.patterns.size());
-  h.fitted = "kept";
-  h.robots = h.lines_robots = std::max(r.robots_by_blobs, r.robots_by_pixels);
+  FewLinesHeight(options, static_cast<int>(decoded.patterns.size()), &r);
   r.few_lines = few;
   return r;
 }

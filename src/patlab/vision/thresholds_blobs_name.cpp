@@ -347,6 +347,44 @@ long SpareNarrowAlike(const std::vector<NarrowRegion>& narrow,
   return count;
 }
 
+// A class's box from its blobs' pixels `own` (stage 4 of thresholds_blobs.h): the percentile
+// box widened for clipping, tightened against the frames' other pixels (`all`) but those of
+// narrow regions alike to the class, widened towards the camera's noise; c gets the pixels spared
+// and the levels widened.
+std::array<ChannelRange, 3> FitClassBox(const std::vector<std::array<uint8_t, 3>>& own,
+                                        const std::vector<NarrowRegion>& narrow,
+                                        const std::vector<NormalisedFrame>& normalised,
+                                        const BoxCounts& all, const internal::CameraNoise& noise,
+                                        const BlobThresholdsOptions& options, AutoClassFit* c) {
+  // What a brighter frame's clipping does to the class's colours, scaled back, is the class's.
+  const std::vector<std::array<uint8_t, 3>> clipped =
+      internal::WithClipping(own, internal::kBrighterFramesGain);
+  BoxCounts counts, kept;
+  for (const auto& p : own) counts.Add(p);
+  for (const auto& p : clipped) kept.Add(p);
+  counts.Accumulate();
+  kept.Accumulate();
+  std::array<ChannelRange, 3> box = PercentileBox(own, options);
+  const std::array<ChannelRange, 3> wide = PercentileBox(clipped, options);
+  for (int ch = 0; ch < 3; ++ch) {
+    box[ch] = {std::min(box[ch].lo, wide[ch].lo), std::max(box[ch].hi, wide[ch].hi)};
+  }
+  // A tightened box keeps the bins of the class's median colour. (Where every box of a dark
+  // class holds more of the frame's dark margins and shadows than of the class, the best
+  // single move used to shut the box on a bin that holds nothing: the class caught no pixel.)
+  const std::array<int, 3> median = internal::MedianColour(own);
+  BoxCounts spared;
+  if (noise.pixels > 0) {
+    c->thin_alike =
+        SpareNarrowAlike(narrow, normalised, internal::NoiseBox(median, noise, options), &spared);
+  }
+  TightenBox(counts, kept, all, spared, options.negative_weight,
+             {median[0] / 4, median[1] / 4, median[2] / 4}, &box);
+  // The noise's box weighs as one blob against the class's own (a shrinkage towards it).
+  c->widened_levels = internal::WidenToNoise(median, noise, 1.0 / (1.0 + c->blobs), options, &box);
+  return box;
+}
+
 }  // namespace
 
 AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>& frames,
@@ -398,36 +436,7 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
     cls.name = c.name;
     cls.display_rgb = entries[k]->rgb;
     cls.range = {ChannelRange{0, 0}, ChannelRange{0, 0}, ChannelRange{0, 0}};
-    if (!own.empty()) {
-      // What a brighter frame's clipping does to the class's colours, scaled back, is the class's.
-      const std::vector<std::array<uint8_t, 3>> clipped =
-          internal::WithClipping(own, internal::kBrighterFramesGain);
-      BoxCounts counts, kept;
-      for (const auto& p : own) counts.Add(p);
-      for (const auto& p : clipped) kept.Add(p);
-      counts.Accumulate();
-      kept.Accumulate();
-      cls.range = PercentileBox(own, options);
-      const std::array<ChannelRange, 3> wide = PercentileBox(clipped, options);
-      for (int ch = 0; ch < 3; ++ch) {
-        cls.range[ch] = {std::min(cls.range[ch].lo, wide[ch].lo),
-                         std::max(cls.range[ch].hi, wide[ch].hi)};
-      }
-      // A tightened box keeps the bins of the class's median colour. (Where every box of a dark
-      // class holds more of the frame's dark margins and shadows than of the class, the best
-      // single move used to shut the box on a bin that holds nothing: the class caught no pixel.)
-      const std::array<int, 3> median = internal::MedianColour(own);
-      BoxCounts spared;
-      if (noise.pixels > 0) {
-        c.thin_alike = SpareNarrowAlike(narrow, normalised,
-                                        internal::NoiseBox(median, noise, options), &spared);
-      }
-      TightenBox(counts, kept, all, spared, options.negative_weight,
-                 {median[0] / 4, median[1] / 4, median[2] / 4}, &cls.range);
-      // The noise's box weighs as one blob against the class's own (a shrinkage towards it).
-      c.widened_levels =
-          internal::WidenToNoise(median, noise, 1.0 / (1.0 + c.blobs), options, &cls.range);
-    }
+    if (!own.empty()) cls.range = FitClassBox(own, narrow, normalised, all, noise, options, &c);
     c.range = cls.range;
     fit.thresholds.classes.push_back(cls);
     fit.classes.push_back(c);
