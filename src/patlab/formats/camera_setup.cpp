@@ -223,12 +223,30 @@ std::string TriedText(const std::vector<SetupFieldTry>& tried) {
   return s;
 }
 
+// Neither the lines nor the robots decide between cameras that map the frame differently: the
+// line length kept was a coin toss (fresh rendered seed 87: two models' cameras 2.6 m apart,
+// 1976.4 and 1974.3 px of line, 8 robots each; the one kept put every robot 2.6 m off), so setup
+// refuses with the numbers rather than write either.
+void RefuseUndecided(const std::string& frame, const std::vector<SetupRival>& undecided) {
+  std::string cameras;
+  for (size_t i = 0; i < undecided.size(); ++i) {
+    const SetupRival& u = undecided[i];
+    if (i > 0 && u.robots < undecided.front().robots) continue;
+    cameras += (cameras.empty() ? "" : "; ") + u.field + " explaining " +
+               FormatSignificant(u.score_px, 5) + " px of line, " + std::to_string(u.robots) +
+               " robots decoded, mapping the frame " + FormatSignificant(u.floor_difference_mm, 3) +
+               " mm from the lines' best camera";
+  }
+  throw InputError(frame + ": neither the lines nor the robots decide the camera (" + cameras +
+                   "); expected a frame showing more of the field's lines, or name the model "
+                   "with --field MODEL, or give four --landmark NAME=X,Y (patlab setup "
+                   "--list-landmarks FIELD)");
+}
+
 // The cameras the lines did not decide between and the robots each decoded.
 std::string UndecidedText(const SetupResult& r) {
-  std::string s = r.robots_decided
-                      ? " (the lines do not decide the camera; the robots do)\n"
-                      : " (neither the lines nor the robots decide the camera: kept by its line "
-                        "length; name the model with --field MODEL, or give --landmark)\n";
+  // (Where the robots do not decide either, setup refuses: RefuseUndecided.)
+  std::string s = " (the lines do not decide the camera; the robots do)\n";
   s += "  cameras the lines do not decide between (px of line explained, robots decoded through "
        "each, how far apart they map the frame from the lines' best):\n";
   for (size_t i = 0; i < r.undecided.size(); ++i) {
@@ -357,6 +375,7 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
       return u.robots < undecided.front().robots;
     });
     r.undecided = std::move(undecided);
+    if (!r.robots_decided) RefuseUndecided(names.front(), r.undecided);
   }
   internal::ChooseHeight(frames, names, config, options, r);
   return r;

@@ -150,8 +150,8 @@ struct SetupResult {
   calib::Field field;                // the model kept
   std::vector<SetupFieldTry> tried;  // every model tried, best first
   // The cameras the lines did not decide between, the kept one first (empty when the lines
-  // decided); robots_decided: the kept one decoded more robots than every other (false: a tie,
-  // kept by its line length).
+  // decided); robots_decided: the kept one decoded more robots than every other (always, where
+  // there are such cameras: a tie is refused, SetupCamera throws).
   std::vector<SetupRival> undecided;
   bool robots_decided = false;
   SetupHeight height;
