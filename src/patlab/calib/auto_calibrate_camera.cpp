@@ -109,4 +109,18 @@ double BendPx(const std::vector<Vec2>& px) {
   return std::sqrt(std::max(0.0, 0.5 * (sxx + syy) - half));
 }
 
+CalibrationInput BaseInput(const std::string& source, int width_px, int height_px,
+                           const AutoOptions& options) {
+  CalibrationInput base;
+  base.source = source;
+  base.image_width_px = width_px;
+  base.image_height_px = height_px;
+  base.loc = FileLoc{source, 0};
+  base.options.fixed = options.fixed;
+  base.options.huber_px = options.huber_px;
+  base.options.camera_height_mm = options.camera_height_mm;
+  base.options.holdout_folds = 0;
+  return base;
+}
+
 }  // namespace patlab::calib::internal

@@ -383,17 +383,8 @@ AutoCalibration internal::FitSearched(const Searched& searched,
   const FieldMarks& marks = searched.marks;
   const std::vector<internal::ScoredView>& views = searched.views;
   const internal::LineDistance dt(pixels, width_px, height_px);
-  // The base input: the frame and the fit's options.
-  CalibrationInput base;
-  base.source = source;
-  base.image_width_px = width_px;
-  base.image_height_px = height_px;
-  base.loc = FileLoc{source, 0};
-  base.options.fixed = options.fixed;
-  base.options.huber_px = options.huber_px;
-  base.options.camera_height_mm = options.camera_height_mm;
-  // The cross-validation of FitCamera is off: step 5 measures the held-out error on line pixels.
-  base.options.holdout_folds = 0;
+  // The base input: the frame and the fit's options (step 5 measures the held-out error).
+  CalibrationInput base = internal::BaseInput(source, width_px, height_px, options);
   // Steps 3-4 from the best views; the best final camera wins.
   const FitContext context{&pixels,  &field,   &marks,    &dt,
                            &options, width_px, height_px, out.point_symmetric};

@@ -91,4 +91,10 @@ bool Undecided(const camera::PinholeCamera& best, double best_score,
 // an arc's pixels bend in the image.
 double BendPx(const std::vector<Vec2>& px);
 
+// The calibration input every automatic fit starts from: the frame (`source`, its size) and the
+// options' held parameters, Huber scale and camera height; FitCamera's own cross-validation off
+// (the automatic calibration measures its held-out error on line pixels).
+CalibrationInput BaseInput(const std::string& source, int width_px, int height_px,
+                           const AutoOptions& options);
+
 }  // namespace patlab::calib::internal

@@ -143,15 +143,7 @@ std::vector<Placement> PlaceCrossings(const std::vector<LinePixel>& pixels, int 
   }
   const std::vector<double> across_y = Peaks(turned, directions, 0);  // lines along x: their y
   const std::vector<double> across_x = Peaks(turned, directions, 1);  // lines along y: their x
-  CalibrationInput base;
-  base.source = source;
-  base.image_width_px = width_px;
-  base.image_height_px = height_px;
-  base.loc = FileLoc{source, 0};
-  base.options.fixed = options.fixed;
-  base.options.huber_px = options.huber_px;
-  base.options.camera_height_mm = options.camera_height_mm;
-  base.options.holdout_folds = 0;
+  const CalibrationInput base = internal::BaseInput(source, width_px, height_px, options);
   const internal::LineDistance distance(pixels, width_px, height_px);
   std::vector<Placement> out;
   for (size_t m = 0; m < fields.size(); ++m) {
