@@ -124,6 +124,13 @@ TEST(SetupRealCli, VssFrameWithTheShippedFamilySettings) {
   EXPECT_EQ(s.detections, 5);
 }
 
+// The SSL 2008 frame's robots counted by eye: key patch centre (px), team, ID (-1: team only).
+const std::vector<Robot> kSsl2008Robots = {{557, 200, "yellow", 5},
+                                           {343, 58, "yellow", -1},
+                                           {258, 82, "yellow", -1},
+                                           {434, 559, "blue", 6},
+                                           {478, 564, "blue", 15}};
+
 // The settings' pattern geometry from the team's own sheet (ssl-2008-sheet.detector.toml:
 // patterns/kiks-sheet.toml, measured on team-patterns/kiks.png), not from this frame through the
 // hand calibration, whose floor is ~20% too small (ssl-2008.detector.toml's kiks-sectors.toml).
@@ -131,11 +138,7 @@ TEST(SetupRealCli, Ssl2008FrameWithNoHandWrittenFile) {
   if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << kFrames;
   const Score s = SetupAndDetect(
       "ssl-field-2008.jpg", "--field ssl-2009 --settings " + kData + "ssl-2008-sheet.detector.toml",
-      {{557, 200, "yellow", 5},
-       {343, 58, "yellow", -1},
-       {258, 82, "yellow", -1},
-       {434, 559, "blue", 6},
-       {478, 564, "blue", 15}});
+      kSsl2008Robots);
   // All 5 with their team (the two at the top by team only), and no false ID. Before the blob
   // clusters stopped chaining (complete linkage), the black box kept its class's median colour
   // and the boxes stopped being pulled in against regions larger than a patch (field lines, the
@@ -156,11 +159,7 @@ TEST(SetupRealCli, Ssl2008FrameFromASegmentationScaleThatJoinsItsPatches) {
   const Score s = SetupAndDetect("ssl-field-2008.jpg",
                                  "--field ssl-2009 --colour-option segment_k=90 --settings " +
                                      kData + "ssl-2008-sheet.detector.toml",
-                                 {{557, 200, "yellow", 5},
-                                  {343, 58, "yellow", -1},
-                                  {258, 82, "yellow", -1},
-                                  {434, 559, "blue", 6},
-                                  {478, 564, "blue", 15}});
+                                 kSsl2008Robots);
   EXPECT_EQ(s.right, 5);
   EXPECT_EQ(s.false_ids, 0);
 }
