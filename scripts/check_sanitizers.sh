@@ -3,7 +3,7 @@
 # One clang build in build-san/ serves this check and the fuzzers (scripts/check_fuzz.sh):
 # -DPATLAB_FUZZ=ON compiles every library, the tool, the tests and the harnesses with
 # -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all, so the first report fails
-# its test (leak checking on). Every test ctest knows runs as in the Release build, but six below.
+# its test (leak checking on). Every test ctest knows runs as in the Release build, but those listed below.
 # CI runs it from scripts/test.sh; locally after scripts/setup.sh. ccache is used when present.
 # Other sanitizers (TSan, MSan) use -DPATLAB_SANITIZE=... in a build of their own: docs/hardening.md.
 set -euo pipefail
@@ -22,21 +22,43 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 # between compilers in the last bits included: reproduce --check's per-column rules accept
 # another compiler's knife-edge cells (docs/reproduce.md), and the calibration tests check each
 # fit against its own covariance (docs/calibrate.md).
-# Release only: the slowest tests (10-20x slower here, 710 of 2,167 test-seconds), each of
-# which repeats on more data the code paths a test that does run here already takes.
+# Release only: the slowest tests (10-20x slower here; 40 tests of over 2 s in Release make nine
+# tenths of this check's test time), each of which repeats on more data or other cameras the code
+# paths a test that does run here already takes. Every suite keeps at least one test here.
 release_only=(
-  # fits every model of the ssl family; FamilySearch.OneModelIsTheAutomaticCalibration and
-  # FamilyRendered "ssl-2009" run the same screen and fits
+  # fits every model of the ssl family; FamilySearch.OneModelIsTheAutomaticCalibration runs the
+  # same screen and fits here
   'FamilySearch.TheScreenKeepsWhatFittingEveryModelKeeps'
-  # the family search on two more models; "ssl-2009" runs here
+  'FamilySearch.WhereTheLinesDoNotDecideTheRivalsAreKept'
+  # the family search on rendered frames of three models: FamilySearch above covers it
+  'Models/FamilyRendered.KeepsTheTrueModelAndItsCamera/"ssl-2009"'
   'Models/FamilyRendered.KeepsTheTrueModelAndItsCamera/"ssl-2015"'
   'Models/FamilyRendered.KeepsTheTrueModelAndItsCamera/"ssl-2018"'
-  # the VSS frame through the family of four designs; VssFrameWithNoHandWrittenFile runs setup
-  # and detect on the same frame here
+  # the automatic calibration on more rendered cameras: seed 5 and At3000mm run here
+  'Seeds/AutoCalibrateRendered.MapsTheFloorWithin5MmAndKnowsItsError/1'
+  'Seeds/AutoCalibrateRendered.MapsTheFloorWithin5MmAndKnowsItsError/2'
+  'Seeds/AutoCalibrateRendered.MapsTheFloorWithin5MmAndKnowsItsError/3'
+  'Seeds/AutoCalibrateRendered.MapsTheFloorWithin5MmAndKnowsItsError/4'
+  'Seeds/AutoCalibrateRendered.MapsTheFloorWithin5MmAndKnowsItsError/6'
+  'Cameras/HeldOutError.AgreesWithTheTruthOrSaysItIsBelowItsResolution/At3300mm'
+  'Cameras/HeldOutError.AgreesWithTheTruthOrSaysItIsBelowItsResolution/At3800mm'
+  'Cameras/HeldOutError.AgreesWithTheTruthOrSaysItIsBelowItsResolution/At4100mm'
+  'Cameras/HeldOutError.AgreesWithTheTruthOrSaysItIsBelowItsResolution/At4500mm'
+  # refits a camera 200 times through the fit Calibrate's other tests run here
+  'Calibrate.TheMappingCovarianceIsTheSpreadOfRefits'
+  # setup's robot paths on more rendered scenes: TheRobotsACornerAndTheHeightFixTheCamera... (the
+  # robots place the field), cli.SetupCli.RenderedFrameToDetections... (the robots set the
+  # height) and LandmarksReplaceTheLines run here
+  'SetupCamera.TheRobotsDecideWhereTheLinesDoNot'
+  'SetupCamera.TheRobotsSetTheCameraHeightTheLinesLeaveOpen'
+  'SetupCamera.ACornerAndTenRobotsWithoutTheHeightDoNotFixTheCamera'
+  'SetupCamera.CamerasNeitherTheLinesNorTheRobotsDecideAreRefused'
+  # setup and detect on the real frames at more exposures and through the family of four VSS
+  # designs; cli.SetupRealCli.VssFrameWithNoHandWrittenFile and Ssl2008Frame... run here
+  'cli.SetupRealCli.ColoursFittedOnOneExposureHoldOnADarkerAndABrighterOne'
   'cli.SetupRealCli.VssFrameWithTheShippedFamilySettings'
   # setup and detect on rendered frames of every shipped VSS design; the same commands run here
   # on the rendered SSL frame (cli.SetupCli.*) and on the real VSS frame
-  # (cli.SetupRealCli.VssFrameWithNoHandWrittenFile)
   'cli.VssDesignsCli.EveryShippedDesignTeamAndIdOnRenderedFrames'
   # replays every trial of a run; Replay.SampledTrialsOfEveryEstimatorAndNoiseModelAreTheRunsBits
   # replays a sample of each estimator and noise model here

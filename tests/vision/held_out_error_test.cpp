@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 
 #include "patlab/calib/auto_calibrate.h"
 #include "patlab/formats/field_file.h"
@@ -26,6 +27,9 @@ struct Case {
   double height_mm, k1, k2, tilt_rad;
   Vec2 over_mm;
 };
+
+// The case's name in the test's (ctest names a parameterised test by its printed parameter).
+void PrintTo(const Case& c, std::ostream* os) { *os << "At" << c.height_mm << "mm"; }
 
 camera::PinholeCamera CameraOf(const Case& c) {
   camera::PinholeCamera cam;
