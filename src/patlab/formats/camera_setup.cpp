@@ -234,8 +234,8 @@ void RefuseUndecided(const std::string& frame, const std::vector<SetupRival>& un
     if (i > 0 && u.robots < undecided.front().robots) continue;
     cameras += (cameras.empty() ? "" : "; ") + u.field + " explaining " +
                FormatSignificant(u.score_px, 5) + " px of line, " + std::to_string(u.robots) +
-               " robots decoded, mapping the frame " + FormatSignificant(u.floor_difference_mm, 3) +
-               " mm from the lines' best camera";
+               " robots decoded where its height is measured, mapping the frame " +
+               FormatSignificant(u.floor_difference_mm, 3) + " mm from the lines' best camera";
   }
   throw InputError(frame + ": neither the lines nor the robots decide the camera (" + cameras +
                    "); expected a frame showing more of the field's lines, or name the model "
@@ -248,7 +248,8 @@ std::string UndecidedText(const SetupResult& r) {
   // (Where the robots do not decide either, setup refuses: RefuseUndecided.)
   std::string s = " (the lines do not decide the camera; the robots do)\n";
   s += "  cameras the lines do not decide between (px of line explained, robots decoded through "
-       "each, how far apart they map the frame from the lines' best):\n";
+       "each where its height is measured, how far apart they map the frame from the lines' "
+       "best):\n";
   for (size_t i = 0; i < r.undecided.size(); ++i) {
     const SetupRival& u = r.undecided[i];
     s += "  " + u.field + ": " + FormatSignificant(u.score_px, 5) + " px, " +
@@ -335,8 +336,8 @@ namespace {
 int RobotsDecoded(const SetupResult& r) { return std::max(r.robots_by_blobs, r.robots_by_pixels); }
 
 // The lines' camera, or, where they do not decide, the one of the kept camera and its rivals that
-// decodes the most robots (a tie keeps the more line): the robots' patterns, of known size,
-// measure the floor's scale the lines left open.
+// decodes the most robots at its chosen height where something measures that height (a tie is
+// refused): the robots' patterns, of known size, measure the floor's scale the lines left open.
 SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
                            const std::vector<std::string>& names,
                            const detect::DetectorConfig& config, const SetupOptions& options) {
@@ -359,9 +360,15 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     const calib::AutoCalibration& a = rival == nullptr ? family.calibration : rival->calibration;
     UseCalibration(a, options.fields[static_cast<size_t>(model)], &results[i]);
     internal::FinishSetup(frames, names, config, options, results[i]);
+    // Rivals are compared by the robots each is credited with at its chosen height: through the
+    // lines' height of a camera whose height they do not measure, the robots decoded tell its
+    // scale's luck, not its place (few-lines view 8: 5 robots through one corner's camera, 3 and
+    // 0 through the others', 10 through each at some height; the 5 kept: 10 false IDs).
+    if (results.size() > 1) internal::ChooseHeight(frames, names, config, options, results[i]);
     undecided.push_back({results[i].field.name, a.score_px,
                          rival == nullptr ? 0.0 : rival->floor_difference_mm,
-                         RobotsDecoded(results[i])});
+                         results.size() > 1 ? internal::CreditedRobots(results[i].height)
+                                            : RobotsDecoded(results[i])});
   }
   size_t chosen = 0;
   for (size_t i = 1; i < results.size(); ++i)
@@ -376,8 +383,9 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     });
     r.undecided = std::move(undecided);
     if (!r.robots_decided) RefuseUndecided(names.front(), r.undecided);
+  } else {
+    internal::ChooseHeight(frames, names, config, options, r);
   }
-  internal::ChooseHeight(frames, names, config, options, r);
   return r;
 }
 

@@ -82,13 +82,14 @@ struct SetupFieldTry {
 };
 
 // A camera the lines do not decide from another (calib::FamilyOptions::keep_rivals): setup
-// writes the files through each and keeps the one that decodes the most robots (the patterns'
-// sizes in mm judge the scale); a tie keeps the one of the most line.
+// writes the files through each, chooses each one's height (SetupHeight), and keeps the one that
+// decodes the most robots there, counting only heights something measures (the patterns' sizes in
+// mm judge the scale; docs/setup.md); a tie is refused.
 struct SetupRival {
   std::string field;                 // its model
   double score_px = 0.0;             // the line length its camera explains
   double floor_difference_mm = 0.0;  // how far its map of the frame is from the kept camera's
-  int robots = 0;                    // decoded through it (the better colour fit's count)
+  int robots = 0;  // decoded through it at its chosen height (SetupHeight::robots)
 };
 
 // The camera's height above the floor and what set it. A view of the floor fixes the focal length

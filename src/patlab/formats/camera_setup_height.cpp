@@ -312,6 +312,17 @@ void internal::ChooseHeight(const std::vector<const camera::Image*>& frames,
   r.height = h;
 }
 
+int internal::CreditedRobots(const SetupHeight& h) {
+  if (h.decided_by == "given") return h.robots;
+  const bool lines_measure = Measures(h.lines_sd_mm, h.lines_height_mm);
+  if (h.fitted == "kept") {
+    const bool agree = !lines_measure || std::abs(h.height_mm - h.lines_height_mm) <=
+                                             kHeightAgreement * std::hypot(h.sd_mm, h.lines_sd_mm);
+    return agree ? h.robots : 0;
+  }
+  return lines_measure ? h.lines_robots : 0;
+}
+
 std::string internal::HeightText(const SetupHeight& h) {
   const auto metres = [](double mm) { return FormatFixed(mm / 1000.0, 2) + " m"; };
   const auto plus_minus = [&](double sd) {

@@ -1,0 +1,70 @@
+// Which robots decide between cameras the lines leave open (internal::CreditedRobots): only those
+// decoded at a height something measures.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "patlab/formats/camera_setup.h"
+#include "patlab/formats/camera_setup_internal.h"
+
+namespace patlab::formats {
+namespace {
+
+// The lines measure 3.75 +- 0.13 m and decode 6 robots there; the scan and the fit with the
+// robots chose `height_mm` +- `sd_mm`, where `robots` decode.
+SetupHeight Chosen(double height_mm, double sd_mm, int robots, const char* fitted) {
+  SetupHeight h;
+  h.decided_by = "robots";
+  h.lines_height_mm = 3750.0;
+  h.lines_sd_mm = 130.0;
+  h.lines_robots = 6;
+  h.height_mm = height_mm;
+  h.sd_mm = sd_mm;
+  h.robots = robots;
+  h.fitted = fitted;
+  return h;
+}
+
+TEST(CreditedRobots, AHeightTheRobotsMeasureAndTheLinesAgreeWithCountsItsRobots) {
+  // 0.40 m apart, 0.18 m combined standard error: 2.2 of them.
+  EXPECT_EQ(internal::CreditedRobots(Chosen(3350.0, 130.0, 9, "kept")), 9);
+}
+
+TEST(CreditedRobots, AHeightTheLinesContradictCountsNoRobot) {
+  // Fresh seed 15's ssl-2018 camera: the lines 5.95 +- 0.44 m, the robots 1.01 +- 0.12 m.
+  SetupHeight h = Chosen(1010.0, 120.0, 9, "kept");
+  h.lines_height_mm = 5950.0;
+  h.lines_sd_mm = 440.0;
+  EXPECT_EQ(internal::CreditedRobots(h), 0);
+  // Just inside kHeightAgreement combined standard errors it counts.
+  h.height_mm = h.lines_height_mm - 0.99 * internal::kHeightAgreement * std::hypot(120.0, 440.0);
+  EXPECT_EQ(internal::CreditedRobots(h), 9);
+}
+
+TEST(CreditedRobots, WithoutTheFitWithTheRobotsTheLinesHeightsRobotsCount) {
+  EXPECT_EQ(internal::CreditedRobots(Chosen(11040.0, NAN, 9, "failed: unphysical")), 6);
+}
+
+TEST(CreditedRobots, AHeightNothingMeasuresCountsNoRobot) {
+  // Fresh seed 58's ssl-2014 camera: the lines 0.78 +- 19.45 m, the fit with the robots failed.
+  SetupHeight h = Chosen(11040.0, NAN, 7, "failed: unphysical");
+  h.lines_height_mm = 780.0;
+  h.lines_sd_mm = 19450.0;
+  EXPECT_EQ(internal::CreditedRobots(h), 0);
+  h.lines_sd_mm = NAN;  // the lines' fit has no covariance
+  EXPECT_EQ(internal::CreditedRobots(h), 0);
+  // The robots' fit measures it, and the lines say nothing against it.
+  h.fitted = "kept";
+  h.sd_mm = 240.0;
+  EXPECT_EQ(internal::CreditedRobots(h), 7);
+}
+
+TEST(CreditedRobots, AGivenHeightCountsItsRobots) {
+  SetupHeight h = Chosen(3437.0, NAN, 10, "");
+  h.decided_by = "given";
+  h.lines_sd_mm = NAN;
+  EXPECT_EQ(internal::CreditedRobots(h), 10);
+}
+
+}  // namespace
+}  // namespace patlab::formats
