@@ -315,11 +315,14 @@ void internal::ChooseHeight(const std::vector<const camera::Image*>& frames,
 int internal::CreditedRobots(const SetupHeight& h) {
   if (h.decided_by == "given") return h.robots;
   const bool lines_measure = Measures(h.lines_sd_mm, h.lines_height_mm);
-  if (h.fitted == "kept") {
-    const bool agree = !lines_measure || std::abs(h.height_mm - h.lines_height_mm) <=
-                                             kHeightAgreement * std::hypot(h.sd_mm, h.lines_sd_mm);
-    return agree ? h.robots : 0;
+  const bool robots_measure = Measures(h.fitted_sd_mm, h.fitted_height_mm);
+  // The fit with the robots (kept or not) and the lines, each measuring the height, disagree.
+  if (lines_measure && robots_measure &&
+      std::abs(h.fitted_height_mm - h.lines_height_mm) >
+          kHeightAgreement * std::hypot(h.fitted_sd_mm, h.lines_sd_mm)) {
+    return 0;
   }
+  if (h.fitted == "kept") return h.robots;
   return lines_measure ? h.lines_robots : 0;
 }
 
