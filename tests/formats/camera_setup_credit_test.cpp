@@ -62,14 +62,28 @@ TEST(CreditedRobots, WithoutTheFitWithTheRobotsTheLinesHeightsRobotsCount) {
   EXPECT_EQ(internal::CreditedRobots(Chosen(11040.0, NAN, 9, "failed: unphysical")), 6);
 }
 
-TEST(CreditedRobots, AHeightNothingMeasuresCountsNoRobot) {
-  // Fresh seed 58's ssl-2014 camera: the lines 0.78 +- 19.45 m, the fit with the robots failed.
+TEST(CreditedRobots, AHeightNothingMeasuresCountsTheLinesRobotsOnlyWhereNoHeightDecodesMore) {
+  // Fresh seed 58's ssl-2014 camera: the lines 0.78 +- 19.45 m and no robot through them, 7 from
+  // 2.7 m up; the fit with the robots failed.
   SetupHeight h = Chosen(11040.0, NAN, 7, "failed: unphysical");
   h.lines_height_mm = 780.0;
   h.lines_sd_mm = 19450.0;
+  h.lines_robots = 0;
+  h.scan = {{780.0, 156.0, 0, NAN}, {2730.0, 546.0, 7, 4.0}, {11040.0, 2220.0, 7, 4.0}};
   EXPECT_EQ(internal::CreditedRobots(h), 0);
-  h.lines_sd_mm = NAN;  // the lines' fit has no covariance
+  // 5 through the lines' camera, 10 at other heights (few-lines view 8): luck, not the scale.
+  h.lines_robots = 5;
+  h.scan[0].robots = 5;
+  h.scan[1].robots = h.scan[2].robots = 10;
   EXPECT_EQ(internal::CreditedRobots(h), 0);
+  // 6 through the lines' camera and at every height (fresh seed 3 at standout_delta_e 14,
+  // segment_k 40): the floor's scale decodes them, whatever the height.
+  h.lines_robots = 6;
+  for (SetupHeightTry& t : h.scan) t.robots = 6;
+  EXPECT_EQ(internal::CreditedRobots(h), 6);
+  h.lines_sd_mm = NAN;  // the lines' fit has no covariance: the same
+  EXPECT_EQ(internal::CreditedRobots(h), 6);
+  h.lines_robots = 0;
   // The robots' fit measures it, and the lines say nothing against it.
   h.fitted = "kept";
   h.sd_mm = 240.0;
