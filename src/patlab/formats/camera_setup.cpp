@@ -359,6 +359,7 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     const int model = rival == nullptr ? family.kept : rival->model;
     const calib::AutoCalibration& a = rival == nullptr ? family.calibration : rival->calibration;
     UseCalibration(a, options.fields[static_cast<size_t>(model)], &results[i]);
+    results[i].normalised_frames = results.front().normalised_frames;  // the same frames
     internal::FinishSetup(frames, names, config, options, results[i]);
     // Rivals are compared by the robots each is credited with at its chosen height: through the
     // lines' height of a camera whose height they do not measure, the robots decoded tell its
@@ -404,6 +405,7 @@ SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
     internal::FinishSetup(frames, names, config, options, r);
     internal::ChooseHeight(frames, names, config, options, r);
   }
+  r.normalised_frames.reset();  // the frames are the caller's: no longer ours to point at
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

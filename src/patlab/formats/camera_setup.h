@@ -25,6 +25,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -184,6 +185,17 @@ struct SetupResult {
   std::vector<std::pair<double, int>> robots_by_segment_k;
   int robots_by_blobs = 0;
   int robots_by_pixels = 0;
+  // The frames normalised for the blobs' fits (vision::NormaliseFrame) and the options they were
+  // normalised with: made by the first fit and shared by every later fit of one setup and every
+  // copy of this result -- a rival's, a height's -- since they depend on the frames and three
+  // colour options, never on the camera. Written to no file; SetupCamera's result drops them.
+  struct NormalisedFrames {
+    std::vector<const camera::Image*> frames;
+    int light_cell_px = 0;
+    double max_light_gain = 0.0, standout_delta_e = 0.0;
+    std::vector<vision::NormalisedFrame> normalised;
+  };
+  std::shared_ptr<const NormalisedFrames> normalised_frames;
   detect::DetectorOptions tolerances;  // the settings' options with the chosen tolerances
   // The files to write into the output folder (name, text): calibration.toml, thresholds.toml,
   // settings.toml, setup.toml.

@@ -3,6 +3,7 @@
 // decodes through the files setup writes.
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,6 +42,27 @@ std::vector<std::string> PaletteClasses(const detect::DetectorConfig& config,
 // The segmentation scales the blobs' fit also tries, relative to the given segment_k (header).
 constexpr std::array<double, 2> kSegmentScales = {2.0 / 3.0, 1.5};
 
+// The frames normalised for the blobs' fits: r's shared ones where they were normalised from
+// these frames with these options, else normalised now and kept in r for the next fit.
+const std::vector<vision::NormalisedFrame>& NormalisedFrames(
+    const std::vector<const camera::Image*>& frames, const vision::BlobThresholdsOptions& o,
+    SetupResult* r) {
+  const SetupResult::NormalisedFrames* kept = r->normalised_frames.get();
+  if (kept != nullptr && kept->frames == frames && kept->light_cell_px == o.light_cell_px &&
+      kept->max_light_gain == o.max_light_gain && kept->standout_delta_e == o.standout_delta_e) {
+    return kept->normalised;
+  }
+  auto made = std::make_shared<SetupResult::NormalisedFrames>();
+  made->frames = frames;
+  made->light_cell_px = o.light_cell_px;
+  made->max_light_gain = o.max_light_gain;
+  made->standout_delta_e = o.standout_delta_e;
+  for (const camera::Image* frame : frames)
+    made->normalised.push_back(vision::NormaliseFrame(*frame, o));
+  r->normalised_frames = std::move(made);
+  return r->normalised_frames->normalised;
+}
+
 vision::AutoThresholdsFit FitBlobColours(const std::vector<const camera::Image*>& frames,
                                          const detect::DetectorConfig& config,
                                          const SetupOptions& o, double segment_k, SetupResult* r,
@@ -50,8 +72,9 @@ vision::AutoThresholdsFit FitBlobColours(const std::vector<const camera::Image*>
   if (r->mm_per_px > 0.0) {
     SetupBlobAreas(r->smallest_patch_px, LargestPatchMm(config) / r->mm_per_px, &colours);
   }
-  return vision::FitThresholdsFromBlobs(frames, PaletteClasses(config, o),
-                                        io::DefaultColourVocabulary(), colours, clusters);
+  return vision::FitThresholdsFromBlobs(NormalisedFrames(frames, colours, r),
+                                        PaletteClasses(config, o), io::DefaultColourVocabulary(),
+                                        colours, clusters);
 }
 
 }  // namespace

@@ -176,5 +176,13 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
                                          const ColourVocabulary& vocabulary,
                                          const BlobThresholdsOptions& options,
                                          std::vector<BlobCluster>* clusters = nullptr);
+// The same on frames already normalised (NormaliseFrame with these options' light_cell_px,
+// max_light_gain and standout_delta_e): fits of one frame at several segmentation scales or
+// blob area ranges share its normalisation.
+AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<NormalisedFrame>& normalised,
+                                         const std::vector<std::string>& class_names,
+                                         const ColourVocabulary& vocabulary,
+                                         const BlobThresholdsOptions& options,
+                                         std::vector<BlobCluster>* clusters = nullptr);
 
 }  // namespace patlab::vision

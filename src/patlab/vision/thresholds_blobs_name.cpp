@@ -394,22 +394,32 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
                                          std::vector<BlobCluster>* clusters_out) {
   Validate(options);
   if (frames.empty()) throw InputError("no frames; expected at least one frame");
-  const std::vector<const ColourEntry*> entries = PaletteEntries(class_names, vocabulary);
   std::vector<NormalisedFrame> normalised;
+  for (const camera::Image* frame : frames) normalised.push_back(NormaliseFrame(*frame, options));
+  return FitThresholdsFromBlobs(normalised, class_names, vocabulary, options, clusters_out);
+}
+
+AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<NormalisedFrame>& normalised,
+                                         const std::vector<std::string>& class_names,
+                                         const ColourVocabulary& vocabulary,
+                                         const BlobThresholdsOptions& options,
+                                         std::vector<BlobCluster>* clusters_out) {
+  Validate(options);
+  if (normalised.empty()) throw InputError("no frames; expected at least one frame");
+  const std::vector<const ColourEntry*> entries = PaletteEntries(class_names, vocabulary);
   std::vector<std::vector<uint8_t>> oversize;
   std::vector<ColourBlob> blobs;
   std::vector<NarrowRegion> narrow;
   AutoThresholdsFit fit;
   std::vector<std::array<uint8_t, 3>> carpet;
-  for (size_t f = 0; f < frames.size(); ++f) {
-    normalised.push_back(NormaliseFrame(*frames[f], options));
+  for (size_t f = 0; f < normalised.size(); ++f) {
+    const NormalisedFrame& n = normalised[f];
     oversize.emplace_back();
     std::vector<std::vector<int>> thin;
     std::vector<ColourBlob> b =
-        FindColourBlobs(normalised.back(), static_cast<int>(f), options, &oversize.back(), &thin);
+        FindColourBlobs(n, static_cast<int>(f), options, &oversize.back(), &thin);
     for (std::vector<int>& t : thin) narrow.push_back({f, std::move(t)});
     blobs.insert(blobs.end(), std::make_move_iterator(b.begin()), std::make_move_iterator(b.end()));
-    const NormalisedFrame& n = normalised.back();
     fit.frame_pixels += static_cast<long>(n.yuv.size());
     for (size_t i = 0; i < n.yuv.size(); ++i)
       if (n.carpet[i] != 0) carpet.push_back(n.yuv[i]);
