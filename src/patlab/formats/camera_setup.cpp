@@ -353,6 +353,7 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     return internal::SetupFromRobots(frames, names, config, options, pixels, e.what());
   }
   std::vector<SetupResult> results(1 + family.rivals.size());
+  const bool rivals = results.size() > 1;
   std::vector<SetupRival> undecided;
   for (size_t i = 0; i < results.size(); ++i) {
     const calib::FamilyRival* rival = i == 0 ? nullptr : &family.rivals[i - 1];
@@ -365,18 +366,17 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     // lines' height of a camera whose height they do not measure, the robots decoded tell its
     // scale's luck, not its place (few-lines view 8: 5 robots through one corner's camera, 3 and
     // 0 through the others', 10 through each at some height; the 5 kept: 10 false IDs).
-    if (results.size() > 1) internal::ChooseHeight(frames, names, config, options, results[i]);
-    undecided.push_back({results[i].field.name, a.score_px,
-                         rival == nullptr ? 0.0 : rival->floor_difference_mm,
-                         results.size() > 1 ? internal::CreditedRobots(results[i].height)
-                                            : RobotsDecoded(results[i])});
+    if (rivals) internal::ChooseHeight(frames, names, config, options, results[i]);
+    undecided.push_back(
+        {results[i].field.name, a.score_px, rival == nullptr ? 0.0 : rival->floor_difference_mm,
+         rivals ? internal::CreditedRobots(results[i].height) : RobotsDecoded(results[i])});
   }
   size_t chosen = 0;
   for (size_t i = 1; i < results.size(); ++i)
     if (undecided[i].robots > undecided[chosen].robots) chosen = i;
   SetupResult r = std::move(results[chosen]);
   TriedOf(family, &r);
-  if (undecided.size() > 1) {
+  if (rivals) {
     std::rotate(undecided.begin(), undecided.begin() + static_cast<long>(chosen),
                 undecided.begin() + static_cast<long>(chosen) + 1);
     r.robots_decided = std::all_of(undecided.begin() + 1, undecided.end(), [&](const auto& u) {

@@ -90,7 +90,7 @@ struct SetupRival {
   std::string field;                 // its model
   double score_px = 0.0;             // the line length its camera explains
   double floor_difference_mm = 0.0;  // how far its map of the frame is from the kept camera's
-  int robots = 0;  // decoded through it at its chosen height (SetupHeight::robots)
+  int robots = 0;  // credited: decoded where its height is measured (internal::CreditedRobots)
 };
 
 // The camera's height above the floor and what set it. A view of the floor fixes the focal length

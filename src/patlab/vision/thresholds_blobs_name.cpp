@@ -392,8 +392,7 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
                                          const ColourVocabulary& vocabulary,
                                          const BlobThresholdsOptions& options,
                                          std::vector<BlobCluster>* clusters_out) {
-  Validate(options);
-  if (frames.empty()) throw InputError("no frames; expected at least one frame");
+  Validate(options);  // before NormaliseFrame uses them
   std::vector<NormalisedFrame> normalised;
   for (const camera::Image* frame : frames) normalised.push_back(NormaliseFrame(*frame, options));
   return FitThresholdsFromBlobs(normalised, class_names, vocabulary, options, clusters_out);
