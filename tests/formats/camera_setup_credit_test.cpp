@@ -90,11 +90,19 @@ TEST(CreditedRobots, AHeightNothingMeasuresCountsTheLinesRobotsOnlyWhereNoHeight
   EXPECT_EQ(internal::CreditedRobots(h), 7);
 }
 
-TEST(CreditedRobots, AGivenHeightCountsItsRobots) {
+TEST(CreditedRobots, AGivenHeightCountsItsRobotsWhereTheLinesMeasureTheFocalLength) {
+  // The lines fix f / h to 4 %: the given height fixes f, and the robots through it count.
   SetupHeight h = Chosen(3437.0, NAN, 10, "");
   h.decided_by = "given";
-  h.lines_sd_mm = NAN;
+  h.lines_height_mm = 3437.0;
+  h.lines_sd_mm = 130.0;
   EXPECT_EQ(internal::CreditedRobots(h), 10);
+  // Few-lines view 8: a corner's lines leave f / h open, so the focal length the given height
+  // implies is the fit's luck, and so are the 8 robots decoded through it.
+  h.lines_sd_mm = 1900.0;
+  EXPECT_EQ(internal::CreditedRobots(h), 0);
+  h.lines_sd_mm = NAN;  // no covariance: nothing measured
+  EXPECT_EQ(internal::CreditedRobots(h), 0);
 }
 
 }  // namespace

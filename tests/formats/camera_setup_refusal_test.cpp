@@ -13,6 +13,7 @@
 #include "patlab/camera/camera.h"
 #include "patlab/core/error.h"
 #include "patlab/formats/camera_setup.h"
+#include "patlab/formats/camera_setup_internal.h"
 #include "patlab/render/camera_render.h"
 #include "patlab/render/scene_render.h"
 #include "ssl_robot_scene.h"
@@ -124,17 +125,15 @@ double FloorOffsetMm(const camera::CameraModel& truth, const camera::PinholeCame
 }
 
 // Few-lines view 8 (scripts/setup_few_lines.py): a camera 3.4 m up over a corner of
-// ssl-2019-div-b's defence area, ten robots. The two lines fit several corners of several models
-// and measure no camera's height; through the lines' heights 5, 3 and 0 robots decoded, and setup
-// kept the 5 (another corner, 4.2 m off: 10 false IDs). Nothing measures any of those cameras'
-// heights (the fits with their robots are unphysical), so the robots decide nothing: refused.
-// (The same view rendered without the sensor's noise still keeps a wrong camera: ssl-2018's,
-// 0.70 m up, where its larger defence area and the robots' parallax explain the frame as the true
-// 3.4 m over ssl-div-b's do, and the fit with the robots measures that height; the true model's
-// lines camera is 20% off in scale and decodes no robot.)
-TEST(SetupCamera, RobotsDecideBetweenCamerasOnlyWhereAHeightIsMeasured) {
-  const testing::TempDir dir;
-  const SceneFile scene = SslRobotScene(dir, R"(model = "pinhole"
+// ssl-2019-div-b's defence area, ten robots, rendered as the script renders it (the colour
+// camera's sensor, its noise seeded by the view).
+struct ViewEight {
+  SceneFile scene;
+  camera::Image frame;
+};
+
+ViewEight FewLinesViewEight(const testing::TempDir& dir) {
+  SceneFile scene = SslRobotScene(dir, R"(model = "pinhole"
 image_size_px = [780, 580]
 [pinhole]
 fx_px = 1116.331339
@@ -147,7 +146,7 @@ translation_mm = [2892.014625, 1698.080868, 3437.325768]
 [heights]
 default_mm = 140
 )",
-                                        "ssl-2019-div-b", R"(field = [43, 109, 49]
+                                  "ssl-2019-div-b", R"(field = [43, 109, 49]
 body = [27, 28, 28]
 blue = [31, 69, 173]
 yellow = [211, 198, 37]
@@ -155,33 +154,62 @@ pink = [215, 88, 152]
 green = [63, 198, 78]
 orange = [224, 115, 21]
 )",
-                                        {{"blue", 13, -2680.8, -1846.2, -0.3040},
-                                         {"yellow", 9, -2696.7, -804.3, -1.1152},
-                                         {"blue", 3, -2523.8, -1278.2, -1.5477},
-                                         {"yellow", 1, -3307.1, -1560.2, -1.7024},
-                                         {"blue", 1, -3624.8, -2042.1, -1.4892},
-                                         {"yellow", 8, -3011.8, -2452.0, -2.7229},
-                                         {"blue", 7, -3645.4, -1456.9, -2.9260},
-                                         {"yellow", 5, -3037.4, -749.0, -2.8470},
-                                         {"blue", 2, -4038.8, -1864.6, 2.4805},
-                                         {"yellow", 3, -3227.3, -1924.1, 0.5738}});
+                                  {{"blue", 13, -2680.8, -1846.2, -0.3040},
+                                   {"yellow", 9, -2696.7, -804.3, -1.1152},
+                                   {"blue", 3, -2523.8, -1278.2, -1.5477},
+                                   {"yellow", 1, -3307.1, -1560.2, -1.7024},
+                                   {"blue", 1, -3624.8, -2042.1, -1.4892},
+                                   {"yellow", 8, -3011.8, -2452.0, -2.7229},
+                                   {"blue", 7, -3645.4, -1456.9, -2.9260},
+                                   {"yellow", 5, -3037.4, -749.0, -2.8470},
+                                   {"blue", 2, -4038.8, -1864.6, 2.4805},
+                                   {"yellow", 3, -3227.3, -1924.1, 0.5738}});
   // As the script renders it: the colour camera's sensor, its noise seeded by the view.
   render::CameraSensorOptions sensor;
   sensor.seed = 8;
-  const camera::Image frame =
+  camera::Image frame =
       camera::ToRgb(render::RenderCameraFrame(scene.scene, scene.calibration.camera, sensor, 0));
-  const SetupOptions o = SslModels({"ssl-2018", "ssl-div-b"});
+  return {std::move(scene), std::move(frame)};
+}
+
+// The camera setup kept is the true one (or its half-turn, the field's symmetry: the robots within
+// 100 mm of where they are), or setup refused it because nothing decides.
+void KeptOnlyIfTrue(const ViewEight& view, const SetupOptions& o) {
   try {
-    const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
-    // Kept only if it is the true camera (or its half-turn, the field's symmetry): the robots
-    // within 100 mm of where they are.
-    EXPECT_LT(FloorOffsetMm(scene.calibration.camera, r.calibration_fit.camera), 100.0)
+    const SetupResult r = SetupCamera({&view.frame}, {"frame.png"}, o);
+    EXPECT_LT(FloorOffsetMm(view.scene.calibration.camera, r.calibration_fit.camera), 100.0)
         << SetupReportText(r);
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("neither the lines nor the robots decide the camera"),
               std::string::npos)
         << e.what();
   }
+}
+
+// Few-lines view 8. The two lines fit several corners of several models and measure no camera's
+// height; through the lines' heights 5, 3 and 0 robots decoded, and setup kept the 5 (another
+// corner, 4.2 m off: 10 false IDs). Nothing measures any of those cameras' heights (the fits with
+// their robots are unphysical), so the robots decide nothing: refused. (The same view rendered
+// without the sensor's noise still keeps a wrong camera: ssl-2018's, 0.70 m up, where its larger
+// defence area and the robots' parallax explain the frame as the true 3.4 m over ssl-div-b's do,
+// and the fit with the robots measures that height; the true model's lines camera is 20% off in
+// scale and decodes no robot.)
+TEST(SetupCamera, RobotsDecideBetweenCamerasOnlyWhereAHeightIsMeasured) {
+  const testing::TempDir dir;
+  KeptOnlyIfTrue(FewLinesViewEight(dir), SslModels({"ssl-2018", "ssl-div-b"}));
+}
+
+// Few-lines view 8 with its true height given (--camera-height): the height fixes the focal
+// length only through the lines' f / h, which a corner leaves open. Through the focal lengths the
+// fits happened on, 8 robots decoded through another corner's camera 1.4 m off and none through
+// the lines' best; setup kept the 8 (8 false IDs). A given height credits a camera's robots only
+// where its lines measure f / h: refused.
+TEST(SetupCamera, AGivenHeightDecidesBetweenCamerasOnlyWhereTheLinesFixTheFocalLength) {
+  const testing::TempDir dir;
+  const ViewEight view = FewLinesViewEight(dir);
+  SetupOptions o = SslModels({"ssl-2018", "ssl-div-b"});
+  o.camera_height_mm = internal::HeightOf(view.scene.calibration.camera.pinhole());
+  KeptOnlyIfTrue(view, o);
 }
 
 }  // namespace

@@ -313,8 +313,11 @@ void internal::ChooseHeight(const std::vector<const camera::Image*>& frames,
 }
 
 int internal::CreditedRobots(const SetupHeight& h) {
-  if (h.decided_by == "given") return h.robots;
   const bool lines_measure = Measures(h.lines_sd_mm, h.lines_height_mm);
+  // A given height fixes the focal length only through the lines' f / h: where they do not
+  // measure it, the robots decoded at that focal length are luck (few-lines view 8 with its true
+  // height: 8 through a corner's camera 1.4 m off, none through the lines' best).
+  if (h.decided_by == "given") return lines_measure ? h.robots : 0;
   const bool robots_measure = Measures(h.fitted_sd_mm, h.fitted_height_mm);
   // The fit with the robots (kept or not) and the lines, each measuring the height, disagree.
   if (lines_measure && robots_measure &&

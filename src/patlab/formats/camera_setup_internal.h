@@ -60,16 +60,16 @@ void ChooseHeight(const std::vector<const camera::Image*>& frames,
 
 // The robots a camera of several the lines leave open (SetupRival) is credited with, once its
 // height is chosen (ChooseHeight): those decoded at its height where something measures that
-// height -- it was given; the fit of its lines and robots together measures it; or, that fit not
-// kept, its lines measure it (the robots through the lines' camera); or, nothing measuring it, no
-// height of the scan decodes more than the lines' camera (the count then tells the floor's scale,
-// not the height) -- and none otherwise, or where its lines and that fit (kept or not) each
-// measure it and disagree by more than kHeightAgreement combined standard errors. A wrong model's
-// camera at a height that makes its floor's scale the robots' decodes every robot too (fresh seed
-// 15: ssl-2018's lines measure 5.95 +- 0.44 m, its robots choose 1.01 m; seed 1: ssl-2014's
-// lines 5.02 +- 0.23 m, the fit with the robots 3.34 +- 0.25 m), as does one at a height nothing
-// measures (seed 58: 11 m, the fit with the robots unphysical): the robots decide between cameras
-// only where a height is measured.
+// height -- it was given and its lines measure f / h (so the focal length); the fit of its lines
+// and robots together measures it; or, that fit not kept, its lines measure it (the robots through
+// the lines' camera); or, nothing measuring it, no height of the scan decodes more than the lines'
+// camera (the count then tells the floor's scale, not the height) -- and none otherwise, or where
+// its lines and that fit (kept or not) each measure it and disagree by more than kHeightAgreement
+// combined standard errors. A wrong model's camera at a height that makes its floor's scale the
+// robots' decodes every robot too (fresh seed 15: ssl-2018's lines measure 5.95 +- 0.44 m, its
+// robots choose 1.01 m; seed 1: ssl-2014's lines 5.02 +- 0.23 m, the fit with the robots 3.34 +-
+// 0.25 m), as does one at a height nothing measures (seed 58: 11 m, the fit with the robots
+// unphysical): the robots decide between cameras only where a height is measured.
 int CreditedRobots(const SetupHeight& h);
 inline constexpr double kHeightAgreement = 3.0;
 
