@@ -46,6 +46,9 @@ release_only=(
   'Cameras/HeldOutError.AgreesWithTheTruthOrSaysItIsBelowItsResolution/At4500mm'
   # refits a camera 200 times through the fit Calibrate's other tests run here
   'Calibrate.TheMappingCovarianceIsTheSpreadOfRefits'
+  # the fit with robots' patterns on more random cameras: AMeasuredCameraHeightDeterminesTheFocal-
+  # Length fits field and robots here, and so does every setup test that decodes robots
+  'Calibrate.RecoversRandomCamerasFromFieldAndRobots'
   # setup's robot paths on more rendered scenes: TheRobotsACornerAndTheHeightFixTheCamera... (the
   # robots place the field), cli.SetupCli.RenderedFrameToDetections... (the robots set the
   # height) and LandmarksReplaceTheLines run here
@@ -53,6 +56,12 @@ release_only=(
   'SetupCamera.TheRobotsSetTheCameraHeightTheLinesLeaveOpen'
   'SetupCamera.ACornerAndTenRobotsWithoutTheHeightDoNotFixTheCamera'
   'SetupCamera.CamerasNeitherTheLinesNorTheRobotsDecideAreRefused'
+  # few-lines view 8 again, with its height given: RobotsDecideBetweenCamerasOnlyWhereAHeightIs-
+  # Measured runs the same scene and cameras here, CreditedRobots.* the given height's rule
+  'SetupCamera.AGivenHeightDecidesBetweenCamerasOnlyWhereTheLinesFixTheFocalLength'
+  # the rendered SSL frame again, with its height given: cli.SetupCli.RenderedFrameToDetections...
+  # runs the same commands on it here, TheRobotsACornerAndTheHeightFix... a given height
+  'cli.SetupCli.TheGivenCameraHeightIsTheCalibrations'
   # setup and detect on the real frames at more exposures and through the family of four VSS
   # designs; cli.SetupRealCli.VssFrameWithNoHandWrittenFile and Ssl2008Frame... run here
   'cli.SetupRealCli.ColoursFittedOnOneExposureHoldOnADarkerAndABrighterOne'
@@ -63,6 +72,9 @@ release_only=(
   # replays every trial of a run; Replay.SampledTrialsOfEveryEstimatorAndNoiseModelAreTheRunsBits
   # replays a sample of each estimator and noise model here
   'Replay.EveryTrialReplayedGivesTheRunsStatistics'
+  # reruns every committed experiment of the paper; the comparison's own tests (Reproduce.*,
+  # ReproduceCompare.*) and the command's malformed input (CliReproduce...) run here
+  'cli.ReproduceCli.CheckPassesOnTheCommittedResultsAndNamesAnEditedFile'
 )
 exclude=$(printf '%s\n' "${release_only[@]}" | sed 's/[][\\.*^$+?(){}|/]/\\&/g; s/.*/^&$/' | paste -sd'|')
 tests=$(ctest --test-dir "$build" -N -E "$exclude" | sed -n 's/^Total Tests: //p')
