@@ -59,6 +59,9 @@ release_only=(
   # few-lines view 8 again, with its height given: RobotsDecideBetweenCamerasOnlyWhereAHeightIs-
   # Measured runs the same scene and cameras here, CreditedRobots.* the given height's rule
   'SetupCamera.AGivenHeightDecidesBetweenCamerasOnlyWhereTheLinesFixTheFocalLength'
+  # few-lines view 5 handed to the robots' path: FocalAtItsBound.* runs the rule here, and
+  # TheRobotsACornerAndTheHeightFix... the robots' path
+  'SetupCamera.LinesThatFitOnlyAtTheFocalLengthsBoundLeaveTheCameraToTheRobots'
   # the rendered SSL frame again, with its height given: cli.SetupCli.RenderedFrameToDetections...
   # runs the same commands on it here, TheRobotsACornerAndTheHeightFix... a given height
   'cli.SetupCli.TheGivenCameraHeightIsTheCalibrations'

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "../test_util.h"
@@ -124,16 +126,25 @@ double FloorOffsetMm(const camera::CameraModel& truth, const camera::PinholeCame
   return std::min((*t - *f).norm(), (*t + *f).norm());
 }
 
-// Few-lines view 8 (scripts/setup_few_lines.py): a camera 3.4 m up over a corner of
-// ssl-2019-div-b's defence area, ten robots, rendered as the script renders it (the colour
-// camera's sensor, its noise seeded by the view).
-struct ViewEight {
+struct RenderedView {
   SceneFile scene;
   camera::Image frame;
 };
 
-ViewEight FewLinesViewEight(const testing::TempDir& dir) {
-  SceneFile scene = SslRobotScene(dir, R"(model = "pinhole"
+// The scene rendered as scripts/setup_few_lines.py renders it: the colour camera's sensor, its
+// noise seeded by the view.
+RenderedView RenderedAsTheScriptDoes(SceneFile scene, int view) {
+  render::CameraSensorOptions sensor;
+  sensor.seed = static_cast<uint64_t>(view);
+  camera::Image frame =
+      camera::ToRgb(render::RenderCameraFrame(scene.scene, scene.calibration.camera, sensor, 0));
+  return {std::move(scene), std::move(frame)};
+}
+
+// Few-lines view 8 (scripts/setup_few_lines.py): a camera 3.4 m up over a corner of
+// ssl-2019-div-b's defence area, ten robots.
+RenderedView FewLinesViewEight(const testing::TempDir& dir) {
+  return RenderedAsTheScriptDoes(SslRobotScene(dir, R"(model = "pinhole"
 image_size_px = [780, 580]
 [pinhole]
 fx_px = 1116.331339
@@ -146,7 +157,7 @@ translation_mm = [2892.014625, 1698.080868, 3437.325768]
 [heights]
 default_mm = 140
 )",
-                                  "ssl-2019-div-b", R"(field = [43, 109, 49]
+                                               "ssl-2019-div-b", R"(field = [43, 109, 49]
 body = [27, 28, 28]
 blue = [31, 69, 173]
 yellow = [211, 198, 37]
@@ -154,35 +165,31 @@ pink = [215, 88, 152]
 green = [63, 198, 78]
 orange = [224, 115, 21]
 )",
-                                  {{"blue", 13, -2680.8, -1846.2, -0.3040},
-                                   {"yellow", 9, -2696.7, -804.3, -1.1152},
-                                   {"blue", 3, -2523.8, -1278.2, -1.5477},
-                                   {"yellow", 1, -3307.1, -1560.2, -1.7024},
-                                   {"blue", 1, -3624.8, -2042.1, -1.4892},
-                                   {"yellow", 8, -3011.8, -2452.0, -2.7229},
-                                   {"blue", 7, -3645.4, -1456.9, -2.9260},
-                                   {"yellow", 5, -3037.4, -749.0, -2.8470},
-                                   {"blue", 2, -4038.8, -1864.6, 2.4805},
-                                   {"yellow", 3, -3227.3, -1924.1, 0.5738}});
-  // As the script renders it: the colour camera's sensor, its noise seeded by the view.
-  render::CameraSensorOptions sensor;
-  sensor.seed = 8;
-  camera::Image frame =
-      camera::ToRgb(render::RenderCameraFrame(scene.scene, scene.calibration.camera, sensor, 0));
-  return {std::move(scene), std::move(frame)};
+                                               {{"blue", 13, -2680.8, -1846.2, -0.3040},
+                                                {"yellow", 9, -2696.7, -804.3, -1.1152},
+                                                {"blue", 3, -2523.8, -1278.2, -1.5477},
+                                                {"yellow", 1, -3307.1, -1560.2, -1.7024},
+                                                {"blue", 1, -3624.8, -2042.1, -1.4892},
+                                                {"yellow", 8, -3011.8, -2452.0, -2.7229},
+                                                {"blue", 7, -3645.4, -1456.9, -2.9260},
+                                                {"yellow", 5, -3037.4, -749.0, -2.8470},
+                                                {"blue", 2, -4038.8, -1864.6, 2.4805},
+                                                {"yellow", 3, -3227.3, -1924.1, 0.5738}}),
+                                 8);
 }
 
 // The camera setup kept is the true one (or its half-turn, the field's symmetry: the robots within
-// 100 mm of where they are), or setup refused it because nothing decides.
-void KeptOnlyIfTrue(const ViewEight& view, const SetupOptions& o) {
+// 100 mm of where they are), or setup refused it saying `refusal`.
+void KeptOnlyIfTrue(const RenderedView& view, const SetupOptions& o,
+                    const std::string& refusal =
+                        "neither the lines nor the robots decide the "
+                        "camera") {
   try {
     const SetupResult r = SetupCamera({&view.frame}, {"frame.png"}, o);
     EXPECT_LT(FloorOffsetMm(view.scene.calibration.camera, r.calibration_fit.camera), 100.0)
         << SetupReportText(r);
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("neither the lines nor the robots decide the camera"),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find(refusal), std::string::npos) << e.what();
   }
 }
 
@@ -206,10 +213,55 @@ TEST(SetupCamera, RobotsDecideBetweenCamerasOnlyWhereAHeightIsMeasured) {
 // where its lines measure f / h: refused.
 TEST(SetupCamera, AGivenHeightDecidesBetweenCamerasOnlyWhereTheLinesFixTheFocalLength) {
   const testing::TempDir dir;
-  const ViewEight view = FewLinesViewEight(dir);
+  const RenderedView view = FewLinesViewEight(dir);
   SetupOptions o = SslModels({"ssl-2018", "ssl-div-b"});
   o.camera_height_mm = internal::HeightOf(view.scene.calibration.camera.pinhole());
   KeptOnlyIfTrue(view, o);
+}
+
+// Few-lines view 5: a camera 3.5 m up over a corner of ssl-2019-div-b's defence area, ten robots.
+// Of the models, the lines fit ssl-2015's alone, and only with the focal length at the fit's lower
+// bound (156 px, 0.2 image widths); no robot decoded through that camera at any height from 1.55
+// to 8.31 m, and setup wrote it. A camera the lines push to the bound, through which nothing
+// decodes at any height, is no measurement: the robots' path runs, and it refuses (the corner and
+// its mirror image keep the robots on the field alike).
+TEST(SetupCamera, LinesThatFitOnlyAtTheFocalLengthsBoundLeaveTheCameraToTheRobots) {
+  const testing::TempDir dir;
+  const RenderedView view =
+      RenderedAsTheScriptDoes(SslRobotScene(dir, R"(model = "pinhole"
+image_size_px = [780, 580]
+[pinhole]
+fx_px = 1161.734618
+fy_px = 1161.734618
+cx_px = 387.457944
+cy_px = 293.313940
+k1 = -0.008529
+rotation_rodrigues = [3.129682755, 0.174220030, -0.054650885]
+translation_mm = [3049.349445, 1816.422435, 3456.260593]
+[heights]
+default_mm = 140
+)",
+                                            "ssl-2019-div-b", R"(field = [32, 81, 48]
+body = [21, 21, 28]
+blue = [24, 52, 171]
+yellow = [162, 149, 37]
+pink = [165, 66, 151]
+green = [48, 149, 78]
+orange = [172, 87, 20]
+)",
+                                            {{"blue", 14, -2916.5, 1516.4, -0.3326},
+                                             {"yellow", 4, -2360.7, 1238.9, -2.0941},
+                                             {"blue", 2, -2642.8, 1086.2, 0.0833},
+                                             {"yellow", 3, -4051.5, 888.1, 1.8365},
+                                             {"blue", 11, -2538.5, 1947.8, 2.7735},
+                                             {"yellow", 12, -3252.0, 1381.3, -0.7632},
+                                             {"blue", 1, -3145.6, 1093.9, -2.6384},
+                                             {"yellow", 1, -3967.7, 1549.1, -1.1295},
+                                             {"blue", 15, -3660.9, 1836.8, -1.9110},
+                                             {"yellow", 7, -4083.9, 2024.4, -0.2280}}),
+                              5);
+  KeptOnlyIfTrue(view, SslModels({"ssl-2015", "ssl-2019-div-b"}),
+                 "only with the focal length at the fit's lower bound");
 }
 
 }  // namespace

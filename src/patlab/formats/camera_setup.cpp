@@ -386,6 +386,10 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     if (!r.robots_decided) RefuseUndecided(names.front(), r.undecided);
   } else {
     internal::ChooseHeight(frames, names, config, options, r);
+    const std::string at_bound = internal::FocalAtItsBound(family, options.fields, names.front(),
+                                                           frames.front()->width_px, r.height);
+    if (!at_bound.empty())
+      return internal::SetupFromRobots(frames, names, config, options, pixels, at_bound);
   }
   return r;
 }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "patlab/calib/auto_calibrate.h"
 #include "patlab/calib/calibrate.h"
 #include "patlab/camera/camera.h"
 #include "patlab/camera/image.h"
@@ -87,6 +88,17 @@ calib::CalibrationFit FitWithRobots(const SetupResult& r, const camera::PinholeC
 // variance to the patches' own (they measure the height); NaN when the fit does not determine it.
 double RobotsHeightSd(const calib::CalibrationFit& fit, double robot_height_mm);
 
+// Where the lines fit one camera only (no rival), only with its focal length at the fit's lower
+// bound (calib::kMinFocalWidths image widths: they pushed it as short as it goes), and no robot
+// decodes through it at any height (`height`, ChooseHeight's), the text saying so, for
+// SetupFromRobots; "" otherwise. Few-lines view 5: ssl-2015's lines camera at 156 px decoded no
+// robot from 1.55 to 8.31 m, and setup wrote it. At the bound alone the lines still fix f / h:
+// rendered seeds 16, 46, 63 and 104 have their lines' camera there, and the robots choose its
+// height.
+std::string FocalAtItsBound(const calib::FamilyCalibration& family,
+                            const std::vector<calib::Field>& fields, const std::string& name,
+                            int width_px, const SetupHeight& height);
+
 // Where the line pixels match too few marks to fix a camera (calib::AutoCalibrateFamily's
 // InputError `lines_failure`): the robots' patterns measure the floor's scale and the lines'
 // crossing is placed on the field's (camera_setup_place.cpp, SetupFewLines). InputError naming
@@ -97,7 +109,7 @@ SetupResult SetupFromRobots(const std::vector<const camera::Image*>& frames,
                             const std::vector<calib::LinePixel>& pixels,
                             const std::string& lines_failure);
 
-// The report's lines on what decided where the lines matched too few marks (SetupFewLines).
+// The report's lines on what decided where the lines did not fix the camera (SetupFewLines).
 std::string FewLinesText(const SetupFewLines& f);
 
 // The report's line on the camera's height where the robots placed the field: given, or the fit

@@ -164,7 +164,8 @@ calib::CalibrationFit FitPlacement(const calib::Placement& placement,
 // What the lines matched, without the family's hints.
 std::string MatchedText(const std::string& lines_failure) {
   static const std::regex kMatched(
-      R"(\d+ line pixels|the line pixels matched \d+ field line\(s\) and \d+ circle\(s\))");
+      R"(\d+ line pixels|the line pixels matched \d+ field line\(s\) and \d+ circle\(s\))"
+      R"(|the focal length at the fit's lower bound \([^)]*\)[^:]*)");
   std::string text;
   for (auto m = std::sregex_iterator(lines_failure.begin(), lines_failure.end(), kMatched);
        m != std::sregex_iterator(); ++m)
@@ -276,7 +277,7 @@ void FewLinesHeight(const SetupOptions& options, int patterns, SetupResult* r) {
 
 // What decided where the lines alone matched too few marks.
 std::string internal::FewLinesText(const SetupFewLines& f) {
-  return " (the lines matched too few marks to fix the camera -- " + f.lines_failure +
+  return " (the lines do not fix the camera -- " + f.lines_failure +
          " -- and the robots placed the field)\n  " + std::to_string(f.robots) +
          " robots decode through a camera looking straight down at " +
          FormatSignificant(f.floor_mm_per_px, 3) + " mm per px on the floor; of " +
@@ -305,6 +306,28 @@ std::string internal::FewLinesHeightText(const SetupHeight& h) {
 
 bool internal::MatchedTooFewMarks(const std::string& failure) {
   return failure.find("the line pixels matched") != std::string::npos;
+}
+
+std::string internal::FocalAtItsBound(const calib::FamilyCalibration& family,
+                                      const std::vector<calib::Field>& fields,
+                                      const std::string& name, int width_px,
+                                      const SetupHeight& height) {
+  const double bound = calib::kMinFocalWidths * width_px;
+  const double f = family.calibration.fit.camera.fx_px;
+  if (!family.rivals.empty() || f > bound * (1.0 + 1e-6)) return "";
+  int robots = std::max(height.robots, height.lines_robots);
+  for (const SetupHeightTry& t : height.scan) robots = std::max(robots, t.robots);
+  if (robots > 0) return "";
+  std::string heights;
+  if (!height.scan.empty()) {
+    heights = " at any height from " + FormatFixed(height.scan.front().height_mm / 1000.0, 2) +
+              " to " + FormatFixed(height.scan.back().height_mm / 1000.0, 2) + " m";
+  }
+  return name + ": " + std::to_string(family.calibration.line_pixels) + " line pixels fit " +
+         fields[static_cast<size_t>(family.kept)].name + " only with the focal length at the " +
+         "fit's lower bound (" + FormatFixed(f, 0) + " px, " +
+         FormatSignificant(calib::kMinFocalWidths, 2) + " image widths), and no robot decodes " +
+         "through that camera" + heights + ": the lines do not fix the camera";
 }
 
 SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& frames,
