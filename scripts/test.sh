@@ -6,13 +6,20 @@
 # 20 s of libFuzzer per parser (docs/hardening.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-bash scripts/build.sh
-ctest --test-dir build --output-on-failure -j"$(nproc)"
-bash scripts/check_main_job.sh
-bash scripts/check_install.sh
-bash scripts/check_style.sh
-bash scripts/check_cluster.sh
-bash scripts/check_reproduce.sh
-bash scripts/check_sanitizers.sh
-bash scripts/check_fuzz.sh
+# Each step's wall time, printed when it ends (CI's time budget: docs/hardening.md).
+step() {
+  local start=$SECONDS
+  "$@"
+  echo "test.sh: '$*' took $((SECONDS - start)) s"
+}
+step bash scripts/setup.sh
+step bash scripts/build.sh
+step ctest --test-dir build --output-on-failure -j"$(nproc)"
+step bash scripts/check_main_job.sh
+step bash scripts/check_install.sh
+step bash scripts/check_style.sh
+step bash scripts/check_cluster.sh
+step bash scripts/check_reproduce.sh
+step bash scripts/check_sanitizers.sh
+step bash scripts/check_fuzz.sh
+echo "test.sh: every check passed in $SECONDS s"
