@@ -331,22 +331,28 @@ int internal::CreditedRobots(const SetupHeight& h) {
   // lines fix only where no height of the scan decodes more (fresh seed 3: 6 robots from 1.5 m to
   // 10.9 m); where one does, the count at the lines' arbitrary height is luck (few-lines view 8:
   // 5 there, 10 from 3.7 m up).
-  int most = h.lines_robots;
-  for (const SetupHeightTry& t : h.scan) most = std::max(most, t.robots);
-  return h.lines_robots == most ? h.lines_robots : 0;
+  return h.lines_robots == MostRobotsTried(h) ? h.lines_robots : 0;
 }
 
+int internal::MostRobotsTried(const SetupHeight& h) {
+  int most = h.lines_robots;
+  for (const SetupHeightTry& t : h.scan) most = std::max(most, t.robots);
+  return most;
+}
+
+std::string internal::Metres(double mm) { return FormatFixed(mm / 1000.0, 2) + " m"; }
+
 std::string internal::HeightText(const SetupHeight& h) {
-  const auto metres = [](double mm) { return FormatFixed(mm / 1000.0, 2) + " m"; };
+  using internal::Metres;
   const auto plus_minus = [&](double sd) {
-    return std::isfinite(sd) ? " +- " + metres(sd) : std::string(" (not determined by them)");
+    return std::isfinite(sd) ? " +- " + Metres(sd) : std::string(" (not determined by them)");
   };
-  const std::string lines = metres(h.lines_height_mm) + plus_minus(h.lines_sd_mm) + ", f " +
+  const std::string lines = Metres(h.lines_height_mm) + plus_minus(h.lines_sd_mm) + ", f " +
                             FormatFixed(h.lines_focal_px, 0) + " px";
   const std::string ratio = FormatSignificant(h.lines_focal_px / h.lines_height_mm, 3);
   std::string s = "camera height: ";
   if (h.decided_by == "given") {
-    return s + metres(h.height_mm) + ", f " + FormatFixed(h.focal_px, 0) +
+    return s + Metres(h.height_mm) + ", f " + FormatFixed(h.focal_px, 0) +
            " px (given: --camera-height; " + std::to_string(h.robots) + " robots decoded)\n";
   }
   int most = 0;
@@ -362,15 +368,15 @@ std::string internal::HeightText(const SetupHeight& h) {
     if (h.scan.empty()) {
       s += "the robots, on the floor or seen from the side, do not measure it";
     } else if (most <= 0) {
-      s += "no robots decode at any height from " + metres(h.scan.front().height_mm) + " to " +
-           metres(h.scan.back().height_mm) + " to measure it";
+      s += "no robots decode at any height from " + Metres(h.scan.front().height_mm) + " to " +
+           Metres(h.scan.back().height_mm) + " to measure it";
     } else {
-      s += std::to_string(most) + " robots decode alike from " + metres(from) + " to " +
-           metres(to) + " and their patches do not measure it";
+      s += std::to_string(most) + " robots decode alike from " + Metres(from) + " to " +
+           Metres(to) + " and their patches do not measure it";
     }
     s += "; give --camera-height if the robots' positions matter\n";
   } else {
-    s += metres(h.height_mm) + (std::isfinite(h.sd_mm) ? " +- " + metres(h.sd_mm) : "") + ", f " +
+    s += Metres(h.height_mm) + (std::isfinite(h.sd_mm) ? " +- " + Metres(h.sd_mm) : "") + ", f " +
          FormatFixed(h.focal_px, 0) + " px (the " + h.decided_by + " decide; " +
          std::to_string(h.robots) + " robots decoded through it)\n";
     s += "  the lines alone: " + lines + ", " + std::to_string(h.lines_robots) +
@@ -381,7 +387,7 @@ std::string internal::HeightText(const SetupHeight& h) {
          " decoded robots' patches fitted together: " +
          (h.fitted.starts_with("failed")
               ? h.fitted
-              : metres(h.fitted_height_mm) + plus_minus(h.fitted_sd_mm) + " (" + h.fitted + ")") +
+              : Metres(h.fitted_height_mm) + plus_minus(h.fitted_sd_mm) + " (" + h.fitted + ")") +
          "\n";
   }
   if (!h.scan.empty()) {

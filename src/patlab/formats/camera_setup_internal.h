@@ -74,6 +74,13 @@ void ChooseHeight(const std::vector<const camera::Image*>& frames,
 int CreditedRobots(const SetupHeight& h);
 inline constexpr double kHeightAgreement = 3.0;
 
+// The most robots decoded through a camera ChooseHeight scaled: the lines' (at a given height too)
+// and the scan's.
+int MostRobotsTried(const SetupHeight& h);
+
+// A height in metres for the report: "3.43 m".
+std::string Metres(double mm);
+
 // The camera's height above the floor.
 inline double HeightOf(const camera::PinholeCamera& c) {
   return (-c.rotation.transpose() * c.translation_mm).z();

@@ -294,11 +294,11 @@ std::string internal::FewLinesText(const SetupFewLines& f) {
 }
 
 std::string internal::FewLinesHeightText(const SetupHeight& h) {
-  const auto metres = [](double mm) { return FormatFixed(mm / 1000.0, 2) + " m"; };
-  std::string s = "camera height: " + metres(h.height_mm);
+  using internal::Metres;
+  std::string s = "camera height: " + Metres(h.height_mm);
   if (h.decided_by == "given")
     return s + " (given: --camera-height), f " + FormatFixed(h.focal_px, 0) + " px\n";
-  return s + (std::isfinite(h.sd_mm) ? " +- " + metres(h.sd_mm) : std::string()) + ", f " +
+  return s + (std::isfinite(h.sd_mm) ? " +- " + Metres(h.sd_mm) : std::string()) + ", f " +
          FormatFixed(h.focal_px, 0) + " px (the robots decide: the fit of the lines and " +
          std::to_string(h.patterns) + " decoded robots' patches together; --camera-height MM " +
          "fixes it and the robots' positions better)\n";
@@ -315,13 +315,11 @@ std::string internal::FocalAtItsBound(const calib::FamilyCalibration& family,
   const double bound = calib::kMinFocalWidths * width_px;
   const double f = family.calibration.fit.camera.fx_px;
   if (!family.rivals.empty() || f > bound * (1.0 + 1e-6)) return "";
-  int robots = std::max(height.robots, height.lines_robots);
-  for (const SetupHeightTry& t : height.scan) robots = std::max(robots, t.robots);
-  if (robots > 0) return "";
+  if (internal::MostRobotsTried(height) > 0) return "";
   std::string heights;
   if (!height.scan.empty()) {
     heights = " at any height from " + FormatFixed(height.scan.front().height_mm / 1000.0, 2) +
-              " to " + FormatFixed(height.scan.back().height_mm / 1000.0, 2) + " m";
+              " to " + internal::Metres(height.scan.back().height_mm);
   }
   return name + ": " + std::to_string(family.calibration.line_pixels) + " line pixels fit " +
          fields[static_cast<size_t>(family.kept)].name + " only with the focal length at the " +
