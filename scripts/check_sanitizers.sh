@@ -62,6 +62,9 @@ release_only=(
   # few-lines view 5 handed to the robots' path: FocalAtItsBound.* runs the rule here, and
   # TheRobotsACornerAndTheHeightFix... the robots' path
   'SetupCamera.LinesThatFitOnlyAtTheFocalLengthsBoundLeaveTheCameraToTheRobots'
+  # fresh seed 89's three cameras and dim patches: every setup test that fits colours runs the six
+  # blobs' fits here, RobotsDecideBetweenCamerasOnlyWhereAHeightIsMeasured the rivals' path
+  'SetupCamera.DullPatchesNearTheCarpetsColourStandOutAtTheLowerThreshold'
   # the rendered SSL frame again, with its height given: cli.SetupCli.RenderedFrameToDetections...
   # runs the same commands on it here, TheRobotsACornerAndTheHeightFix... a given height
   'cli.SetupCli.TheGivenCameraHeightIsTheCalibrations'

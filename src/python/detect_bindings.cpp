@@ -285,9 +285,11 @@ py::dict SetupReport(const formats::SetupResult& r) {
   out["colour_fit"] = r.colour_fit;
   out["robots_by_blobs"] = r.robots_by_blobs;
   out["segment_k"] = r.segment_k;
-  py::list by_k;
-  for (const auto& [k, robots] : r.robots_by_segment_k) by_k.append(py::make_tuple(k, robots));
-  out["robots_by_segment_k"] = by_k;
+  out["standout_delta_e"] = r.standout_delta_e;
+  py::list fits;
+  for (const formats::SetupResult::BlobFitTry& t : r.blob_fits)
+    fits.append(py::make_tuple(t.standout_delta_e, t.segment_k, t.robots));
+  out["blob_fits"] = fits;
   out["robots_by_pixels"] = r.robots_by_pixels;
   const detect::DetectorOptions& t = r.tolerances;
   py::dict tolerances;

@@ -116,31 +116,6 @@ orange = [238, 126, 25]
   }
 }
 
-// How far (mm) the fitted camera maps the frame's centre from where the true one does, the field's
-// half-turn symmetry allowed.
-double FloorOffsetMm(const camera::CameraModel& truth, const camera::PinholeCamera& fitted) {
-  const Vec2 centre(390.0, 290.0);
-  const auto t = truth.PixelToWorld(centre, 0.0);
-  const auto f = camera::CameraModel::Pinhole(fitted).PixelToWorld(centre, 0.0);
-  if (!t || !f) return INFINITY;
-  return std::min((*t - *f).norm(), (*t + *f).norm());
-}
-
-struct RenderedView {
-  SceneFile scene;
-  camera::Image frame;
-};
-
-// The scene rendered as scripts/setup_few_lines.py renders it: the colour camera's sensor, its
-// noise seeded by the view.
-RenderedView RenderedAsTheScriptDoes(SceneFile scene, int view) {
-  render::CameraSensorOptions sensor;
-  sensor.seed = static_cast<uint64_t>(view);
-  camera::Image frame =
-      camera::ToRgb(render::RenderCameraFrame(scene.scene, scene.calibration.camera, sensor, 0));
-  return {std::move(scene), std::move(frame)};
-}
-
 // Few-lines view 8 (scripts/setup_few_lines.py): a camera 3.4 m up over a corner of
 // ssl-2019-div-b's defence area, ten robots.
 RenderedView FewLinesViewEight(const testing::TempDir& dir) {

@@ -1,15 +1,21 @@
 // Rendered SSL scenes for the tests of patlab setup (camera_setup_test.cpp,
-// camera_setup_refusal_test.cpp).
+// camera_setup_refusal_test.cpp, camera_setup_colours_test.cpp).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "../test_util.h"
+#include "patlab/camera/camera.h"
 #include "patlab/formats/camera_setup.h"
 #include "patlab/formats/field_file.h"
 #include "patlab/formats/scene_file.h"
+#include "patlab/render/camera_render.h"
 
 namespace patlab::formats {
 
@@ -49,6 +55,35 @@ inline SetupOptions SslModels(std::initializer_list<const char*> models) {
         LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" + std::string(model) + ".toml"));
   o.settings_path = PATLAB_SOURCE_DIR "/settings/ssl-frame.detector.toml";
   return o;
+}
+
+// How far (mm) the fitted camera maps the frame's centre from where the true one does, the field's
+// half-turn symmetry allowed.
+inline double FloorOffsetMm(const camera::CameraModel& truth, const camera::PinholeCamera& fitted) {
+  const Vec2 centre(390.0, 290.0);
+  const auto t = truth.PixelToWorld(centre, 0.0);
+  const auto f = camera::CameraModel::Pinhole(fitted).PixelToWorld(centre, 0.0);
+  if (!t || !f) return INFINITY;
+  return std::min((*t - *f).norm(), (*t + *f).norm());
+}
+
+struct RenderedView {
+  SceneFile scene;
+  camera::Image frame;
+};
+
+// The scene rendered as scripts/setup_few_lines.py and scripts/setup_rendered.py render it: the
+// colour camera's sensor, its noise seeded by the view (the seed), at the exposure and read noise
+// the view drew (setup_few_lines.py keeps the sensor's defaults).
+inline RenderedView RenderedAsTheScriptDoes(SceneFile scene, int view, double exposure_gain = 1.0,
+                                            double read_noise_levels = 2.0) {
+  render::CameraSensorOptions sensor;
+  sensor.seed = static_cast<uint64_t>(view);
+  sensor.exposure_gain = exposure_gain;
+  sensor.read_noise_levels = read_noise_levels;
+  camera::Image frame =
+      camera::ToRgb(render::RenderCameraFrame(scene.scene, scene.calibration.camera, sensor, 0));
+  return {std::move(scene), std::move(frame)};
 }
 
 }  // namespace patlab::formats

@@ -34,6 +34,12 @@ def test_setup_then_detect_finds_every_robot(scene, tmp_path, in_root):
     assert report["colour_fit"] in ("blobs", "pixels")
     kept = report["robots_by_" + report["colour_fit"]]
     assert kept >= max(report["robots_by_blobs"], report["robots_by_pixels"])
+    # Six blobs' fits: the given stand-out threshold and 0.7 of it, each at three scales.
+    fits = report["blob_fits"]
+    assert [f[0] for f in fits] == pytest.approx([20.0] * 3 + [14.0] * 3)
+    assert [f[1] for f in fits] == pytest.approx([60.0, 40.0, 90.0] * 2)
+    assert report["robots_by_blobs"] == max(f[2] for f in fits)
+    assert (report["standout_delta_e"], report["segment_k"]) in [(f[0], f[1]) for f in fits]
     assert report["tolerances"]["reach_margin_mm"] >= 20.0
     height = report["camera_height"]
     assert height["decided_by"] in ("lines", "robots", "undetermined")

@@ -75,7 +75,8 @@ TEST(ThresholdsBlobs, PatchesStandOutFromTheCarpetAroundThemWhereverTheLightIs) 
     for (int x = 0; x < 240; ++x) {
       bool on_disc = false;
       for (const Disc& d : discs) on_disc = on_disc || std::hypot(x - d.x, y - d.y) <= d.r;
-      const bool candidate = f.standout[static_cast<size_t>(y) * 240 + x] != 0;
+      const bool candidate = f.standout_delta_e2[static_cast<size_t>(y) * 240 + x] >
+                             o.standout_delta_e * o.standout_delta_e;
       (on_disc ? disc_candidates : carpet_candidates) += candidate ? 1 : 0;
     }
   EXPECT_EQ(carpet_candidates, 0);

@@ -447,15 +447,7 @@ std::string SetupReportText(const SetupResult& r) {
   s += r.few_lines.used ? internal::FewLinesHeightText(r.height) : internal::HeightText(r.height);
   long clutter = 0;
   for (const vision::BlobCluster& c : r.colour_clusters) clutter += c.name < 0 ? c.blobs : 0;
-  std::string by_k;
-  for (const auto& [k, robots] : r.robots_by_segment_k)
-    by_k += (by_k.empty() ? "" : ", ") + FormatSignificant(k, 3) + ": " + std::to_string(robots);
-  s += "colour fit: " + r.colour_fit +
-       (r.colour_fit == "blobs" ? " at segment_k " + FormatSignificant(r.segment_k, 3)
-                                : std::string()) +
-       " (robots decoded: by blobs at segment_k " + by_k + "; by pixels " +
-       std::to_string(r.robots_by_pixels) +
-       "; the most wins, a tie keeps the given segment_k, then blobs)\n";
+  s += internal::ColourFitText(r);
   s += "colour classes (blobs, pixels, separability, nearest):\n  carpet: " +
        std::to_string(r.thresholds.carpet.pixels) + " px\n";
   const std::array<int, 3>& noise = r.thresholds.noise_levels;

@@ -176,23 +176,31 @@ struct SetupResult {
   // per frame the distinct (pattern, team, ID), a further detection of one counted against it;
   // a tie keeps the blobs. The detector's geometry and codebook judge the colours, not a truth.
   // The blobs' fit is made at the settings' segment_k (vision::BlobThresholdsOptions) and at 2/3
-  // and 3/2 of it, and the scale decoding the most robots kept (a tie keeps the given one): how
-  // readily the segmentation joins pixels depends on the patches' size in px, their blur and the
-  // colours beside them, which the frame shows and no constant knows. robots_by_segment_k: each
-  // scale tried and the robots it decoded; robots_by_blobs: the kept scale's.
+  // and 3/2 of it, each at the settings' standout_delta_e and at 0.7 times it, and the fit
+  // decoding the most robots kept (a tie keeps the earlier: the given threshold before the lower,
+  // the given scale first): how readily the segmentation joins pixels depends on the patches' size
+  // in px, their blur and the colours beside them, and how far a dull patch stands out from the
+  // carpet on the light (seed 89: dim green ID patches on a green carpet, Delta E 14-20 from it),
+  // which the frame shows and no constant knows. blob_fits: each fit tried and the robots it
+  // decoded; robots_by_blobs: the kept one's.
   std::string colour_fit = "blobs";
   double segment_k = 0.0;
-  std::vector<std::pair<double, int>> robots_by_segment_k;
+  double standout_delta_e = 0.0;
+  struct BlobFitTry {
+    double standout_delta_e = 0.0, segment_k = 0.0;
+    int robots = 0;
+  };
+  std::vector<BlobFitTry> blob_fits;
   int robots_by_blobs = 0;
   int robots_by_pixels = 0;
   // The frames normalised for the blobs' fits (vision::NormaliseFrame) and the options they were
   // normalised with: made by the first fit and shared by every later fit of one setup and every
-  // copy of this result -- a rival's, a height's -- since they depend on the frames and three
+  // copy of this result -- a rival's, a height's -- since they depend on the frames and two
   // colour options, never on the camera. Written to no file; SetupCamera's result drops them.
   struct NormalisedFrames {
     std::vector<const camera::Image*> frames;
     int light_cell_px = 0;
-    double max_light_gain = 0.0, standout_delta_e = 0.0;
+    double max_light_gain = 0.0;
     std::vector<vision::NormalisedFrame> normalised;
   };
   std::shared_ptr<const NormalisedFrames> normalised_frames;

@@ -1,6 +1,6 @@
 // The colour classes of `patlab setup` (camera_setup.h): the blobs' fit at the settings'
-// segment_k and at its neighbouring scales, and the pixel clustering, weighed by the robots each
-// decodes through the files setup writes.
+// segment_k and standout_delta_e and at their neighbouring values, and the pixel clustering,
+// weighed by the robots each decodes through the files setup writes.
 #include <algorithm>
 #include <array>
 #include <memory>
@@ -10,6 +10,7 @@
 
 #include "patlab/core/colour_names.h"
 #include "patlab/core/error.h"
+#include "patlab/core/format.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/camera_setup_internal.h"
 #include "patlab/io/colour_vocabulary.h"
@@ -39,8 +40,10 @@ std::vector<std::string> PaletteClasses(const detect::DetectorConfig& config,
   return classes;
 }
 
-// The segmentation scales the blobs' fit also tries, relative to the given segment_k (header).
-constexpr std::array<double, 2> kSegmentScales = {2.0 / 3.0, 1.5};
+// The blobs' fits tried, relative to the given standout_delta_e and segment_k (header), in the
+// order a tie keeps: the given stand-out threshold before the lower one, the given scale first.
+constexpr std::array<double, 2> kStandoutScales = {1.0, 0.7};
+constexpr std::array<double, 3> kSegmentScales = {1.0, 2.0 / 3.0, 1.5};
 
 // The frames normalised for the blobs' fits: r's shared ones where they were normalised from
 // these frames with these options, else normalised now and kept in r for the next fit.
@@ -49,14 +52,13 @@ const std::vector<vision::NormalisedFrame>& NormalisedFrames(
     SetupResult* r) {
   const SetupResult::NormalisedFrames* kept = r->normalised_frames.get();
   if (kept != nullptr && kept->frames == frames && kept->light_cell_px == o.light_cell_px &&
-      kept->max_light_gain == o.max_light_gain && kept->standout_delta_e == o.standout_delta_e) {
+      kept->max_light_gain == o.max_light_gain) {
     return kept->normalised;
   }
   auto made = std::make_shared<SetupResult::NormalisedFrames>();
   made->frames = frames;
   made->light_cell_px = o.light_cell_px;
   made->max_light_gain = o.max_light_gain;
-  made->standout_delta_e = o.standout_delta_e;
   for (const camera::Image* frame : frames)
     made->normalised.push_back(vision::NormaliseFrame(*frame, o));
   r->normalised_frames = std::move(made);
@@ -65,9 +67,11 @@ const std::vector<vision::NormalisedFrame>& NormalisedFrames(
 
 vision::AutoThresholdsFit FitBlobColours(const std::vector<const camera::Image*>& frames,
                                          const detect::DetectorConfig& config,
-                                         const SetupOptions& o, double segment_k, SetupResult* r,
+                                         const SetupOptions& o, double standout_delta_e,
+                                         double segment_k, SetupResult* r,
                                          std::vector<vision::BlobCluster>* clusters) {
   vision::BlobThresholdsOptions colours = o.colours;
+  colours.standout_delta_e = standout_delta_e;
   colours.segment_k = segment_k;
   if (r->mm_per_px > 0.0) {
     SetupBlobAreas(r->smallest_patch_px, LargestPatchMm(config) / r->mm_per_px, &colours);
@@ -83,7 +87,9 @@ void internal::FitColours(const std::vector<const camera::Image*>& frames,
                           const detect::DetectorConfig& config, const SetupOptions& o,
                           SetupResult* r) {
   r->segment_k = o.colours.segment_k;
-  r->thresholds = FitBlobColours(frames, config, o, r->segment_k, r, &r->colour_clusters);
+  r->standout_delta_e = o.colours.standout_delta_e;
+  r->thresholds =
+      FitBlobColours(frames, config, o, r->standout_delta_e, r->segment_k, r, &r->colour_clusters);
 }
 
 void internal::ChooseColourFit(const std::vector<const camera::Image*>& frames,
@@ -91,19 +97,23 @@ void internal::ChooseColourFit(const std::vector<const camera::Image*>& frames,
                                const std::string& calibration_text,
                                const std::string& settings_text, SetupResult* r) {
   const camera::Calibration calibration = ParseCalibration(calibration_text, "calibration.toml");
+  const double given_delta_e = r->standout_delta_e, given_k = r->segment_k;
   r->robots_by_blobs =
       internal::DecodedRobots(frames, r->thresholds.thresholds, calibration, settings_text);
-  r->robots_by_segment_k = {{r->segment_k, r->robots_by_blobs}};
-  const double given_k = r->segment_k;
-  for (const double scale : kSegmentScales) {
-    std::vector<vision::BlobCluster> clusters;
-    vision::AutoThresholdsFit fit =
-        FitBlobColours(frames, config, o, given_k * scale, r, &clusters);
-    const int robots = internal::DecodedRobots(frames, fit.thresholds, calibration, settings_text);
-    r->robots_by_segment_k.push_back({given_k * scale, robots});
-    if (robots <= r->robots_by_blobs) continue;
-    r->robots_by_blobs = robots, r->segment_k = given_k * scale;
-    r->thresholds = std::move(fit), r->colour_clusters = std::move(clusters);
+  r->blob_fits = {{given_delta_e, given_k, r->robots_by_blobs}};
+  for (const double standout_scale : kStandoutScales) {
+    for (const double segment_scale : kSegmentScales) {
+      if (standout_scale == 1.0 && segment_scale == 1.0) continue;  // FitColours' fit, above
+      const double delta_e = given_delta_e * standout_scale, k = given_k * segment_scale;
+      std::vector<vision::BlobCluster> clusters;
+      vision::AutoThresholdsFit fit = FitBlobColours(frames, config, o, delta_e, k, r, &clusters);
+      const int robots =
+          internal::DecodedRobots(frames, fit.thresholds, calibration, settings_text);
+      r->blob_fits.push_back({delta_e, k, robots});
+      if (robots <= r->robots_by_blobs) continue;
+      r->robots_by_blobs = robots, r->standout_delta_e = delta_e, r->segment_k = k;
+      r->thresholds = std::move(fit), r->colour_clusters = std::move(clusters);
+    }
   }
   vision::AutoThresholdsFit pixels = vision::FitThresholdsAuto(
       frames, PaletteClasses(config, o), io::DefaultColourVocabulary(), o.thresholds);
@@ -114,6 +124,26 @@ void internal::ChooseColourFit(const std::vector<const camera::Image*>& frames,
     r->colour_clusters.clear();
     r->colour_fit = "pixels";
   }
+}
+
+std::string internal::ColourFitText(const SetupResult& r) {
+  std::string s = "colour fit: " + r.colour_fit;
+  if (r.colour_fit == "blobs") {
+    s += " at standout_delta_e " + FormatSignificant(r.standout_delta_e, 3) + ", segment_k " +
+         FormatSignificant(r.segment_k, 3);
+  }
+  s += " (robots decoded by the blobs";
+  double delta_e = -1.0;
+  for (const SetupResult::BlobFitTry& t : r.blob_fits) {
+    const bool first = t.standout_delta_e != delta_e;
+    s += first ? (delta_e < 0.0 ? " at standout_delta_e " : "; at standout_delta_e ") +
+                     FormatSignificant(t.standout_delta_e, 3) + ", segment_k "
+               : ", ";
+    s += FormatSignificant(t.segment_k, 3) + ": " + std::to_string(t.robots);
+    delta_e = t.standout_delta_e;
+  }
+  return s + "; by pixels " + std::to_string(r.robots_by_pixels) +
+         "; the most wins, a tie keeps the earlier, then blobs)\n";
 }
 
 }  // namespace patlab::formats

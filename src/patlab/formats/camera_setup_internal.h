@@ -22,17 +22,21 @@ void FinishSetup(const std::vector<const camera::Image*>& frames,
                  const SetupOptions& options, SetupResult& r, bool fit_colours = true);
 
 // The colour classes (camera_setup_colours.cpp): FitColours fits the blobs' classes at the
-// settings' segment_k into r->thresholds and r->colour_clusters (vision::FitThresholdsFromBlobs;
-// the blob area range from r's floor scale, SetupBlobAreas, when r->mm_per_px > 0, else the
-// options' own: no camera yet); ChooseColourFit, once r's calibration and settings are written,
-// keeps of those, the blobs' fits at the neighbouring segmentation scales and the pixel
-// clustering the one that decodes the most robots (SetupResult::colour_fit).
+// settings' segment_k and standout_delta_e into r->thresholds and r->colour_clusters
+// (vision::FitThresholdsFromBlobs; the blob area range from r's floor scale, SetupBlobAreas, when
+// r->mm_per_px > 0, else the options' own: no camera yet); ChooseColourFit, once r's calibration
+// and settings are written, keeps of those, the blobs' fits at the neighbouring segmentation
+// scales and the lower stand-out threshold, and the pixel clustering the one that decodes the
+// most robots (SetupResult::colour_fit).
 void FitColours(const std::vector<const camera::Image*>& frames,
                 const detect::DetectorConfig& config, const SetupOptions& o, SetupResult* r);
 void ChooseColourFit(const std::vector<const camera::Image*>& frames,
                      const detect::DetectorConfig& config, const SetupOptions& o,
                      const std::string& calibration_text, const std::string& settings_text,
                      SetupResult* r);
+
+// The report's "colour fit:" line: the fit kept, and the robots each fit tried decoded.
+std::string ColourFitText(const SetupResult& r);
 
 // The robots the detector decodes through r's files: DecodedRobots' count (per frame the distinct
 // pattern, team and ID, less one for every further detection of one), the decoded robots' mean

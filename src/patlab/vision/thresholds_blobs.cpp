@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "patlab/core/portable_math.h"
+#include "patlab/vision/thresholds_noise_internal.h"
 #include "patlab/vision/thresholds_options_internal.h"
 
 namespace patlab::vision {
@@ -271,14 +272,11 @@ NormalisedFrame NormaliseFrame(const camera::Image& image, const BlobThresholdsO
     f.carpet_lab[k] = f.carpet_pixels > 0 ? lab_sum[k] / f.carpet_pixels : 0.0;
     f.carpet_yuv[k] = f.carpet_pixels > 0 ? yuv_sum[k] / f.carpet_pixels : 0.0;
   }
-  f.standout.assign(n, 0);
-  const double limit2 = options.standout_delta_e * options.standout_delta_e;
-  for (size_t i = 0; i < n; ++i) {
-    double d2 = 0;
+  f.standout_delta_e2.assign(n, 0.0);
+  for (size_t i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k)
-      d2 += (scaled[i][k] - f.carpet_lab[k]) * (scaled[i][k] - f.carpet_lab[k]);
-    f.standout[i] = d2 > limit2 ? 1 : 0;
-  }
+      f.standout_delta_e2[i] += (scaled[i][k] - f.carpet_lab[k]) * (scaled[i][k] - f.carpet_lab[k]);
+  internal::CountCarpetResiduals(options.light_cell_px, &f);
   return f;
 }
 
@@ -361,7 +359,9 @@ std::vector<ColourBlob> FindColourBlobs(const NormalisedFrame& f, int frame_inde
   const size_t n = f.lab.size();
   if (oversize != nullptr) oversize->assign(n, 0);
   if (narrow != nullptr) narrow->clear();
-  const std::vector<uint8_t>& candidate = f.standout;
+  const double limit2 = options.standout_delta_e * options.standout_delta_e;
+  std::vector<uint8_t> candidate(n);
+  for (size_t i = 0; i < n; ++i) candidate[i] = f.standout_delta_e2[i] > limit2 ? 1 : 0;
   const std::vector<int> root = Segment(f, candidate, options.segment_k);
   // Components in the order of their first pixel.
   std::vector<int> slot(n, -1);

@@ -114,16 +114,21 @@ std::vector<std::string> BlobThresholdsOptionNames();
 void SetBlobThresholdsOption(const std::string& name, double value, BlobThresholdsOptions* options);
 
 // A frame after stage 1: per pixel (row-major) its YUV as the lookup table sees it, its CIELAB
-// colour and whether it stands out from the carpet around it.
+// colour and how far it stands out from the carpet around it (FindColourBlobs takes the pixels
+// farther than its options' standout_delta_e, so fits at several thresholds share one frame).
 struct NormalisedFrame {
   int width_px = 0, height_px = 0;
   std::vector<std::array<uint8_t, 3>> yuv;
   std::vector<std::array<float, 3>> lab;
-  std::vector<uint8_t> standout;          // 1: a candidate for a blob
+  // The squared Delta E of each pixel's light-normalised colour from the carpet's.
+  std::vector<double> standout_delta_e2;
   std::array<double, 3> carpet_lab = {};  // the carpet's mean colour (light-normalised)
   std::array<double, 3> carpet_yuv = {};  // the carpet's mean YUV
   long carpet_pixels = 0;
   std::vector<uint8_t> carpet;  // 1 where a pixel is the carpet's
+  // The camera's noise on the carpet (thresholds_noise_internal.h): per YUV channel, how many of
+  // the carpet's pixels lie d levels from their light cell's carpet median, at index d + 255.
+  std::array<std::vector<long>, 3> carpet_residual_counts;
 };
 
 NormalisedFrame NormaliseFrame(const camera::Image& image, const BlobThresholdsOptions& options);
@@ -176,8 +181,8 @@ AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<const camera::Image*>
                                          const ColourVocabulary& vocabulary,
                                          const BlobThresholdsOptions& options,
                                          std::vector<BlobCluster>* clusters = nullptr);
-// The same on frames already normalised (NormaliseFrame with these options' light_cell_px,
-// max_light_gain and standout_delta_e): fits of one frame at several segmentation scales or
+// The same on frames already normalised (NormaliseFrame with these options' light_cell_px and
+// max_light_gain): fits of one frame at several stand-out thresholds, segmentation scales or
 // blob area ranges share its normalisation.
 AutoThresholdsFit FitThresholdsFromBlobs(const std::vector<NormalisedFrame>& normalised,
                                          const std::vector<std::string>& class_names,

@@ -14,47 +14,68 @@ int Median(std::vector<int>* values) {
   return *mid;
 }
 
-// The carpet's pixels of the cell at (x0, y0) about their median, per channel, added to
-// `residuals`, when at least an eighth of the cell is carpet.
-void AddCellResiduals(const NormalisedFrame& f, int x0, int y0, int cell,
-                      std::array<std::vector<int>, 3>* residuals) {
+constexpr int kLevels = 256;  // a residual d is counted at index d + kLevels - 1
+
+// The carpet's pixels of the cell at (x0, y0) about their median, per channel, counted into the
+// frame's carpet_residual_counts, when at least an eighth of the cell is carpet.
+void CountCellResiduals(int x0, int y0, int cell, NormalisedFrame* f) {
   std::vector<size_t> in_cell;
-  for (int y = y0; y < std::min(f.height_px, y0 + cell); ++y) {
-    for (int x = x0; x < std::min(f.width_px, x0 + cell); ++x) {
-      const size_t i = static_cast<size_t>(y) * f.width_px + x;
-      if (f.carpet[i] != 0) in_cell.push_back(i);
+  for (int y = y0; y < std::min(f->height_px, y0 + cell); ++y) {
+    for (int x = x0; x < std::min(f->width_px, x0 + cell); ++x) {
+      const size_t i = static_cast<size_t>(y) * f->width_px + x;
+      if (f->carpet[i] != 0) in_cell.push_back(i);
     }
   }
   if (in_cell.empty() || in_cell.size() * 8 < static_cast<size_t>(cell) * cell) return;
   std::vector<int> values;
   for (int ch = 0; ch < 3; ++ch) {
     values.clear();
-    for (const size_t i : in_cell) values.push_back(f.yuv[i][ch]);
+    for (const size_t i : in_cell) values.push_back(f->yuv[i][ch]);
     const int median = Median(&values);
-    for (const int v : values) (*residuals)[ch].push_back(v - median);
+    for (const int v : values) ++f->carpet_residual_counts[ch][v - median + kLevels - 1];
   }
+}
+
+// The residual of the given rank (0: the lowest) among `counts`' residuals.
+int ResidualOfRank(const std::vector<long>& counts, long rank) {
+  long seen = 0;
+  for (size_t d = 0; d < counts.size(); ++d) {
+    seen += counts[d];
+    if (seen > rank) return static_cast<int>(d) - (kLevels - 1);
+  }
+  return 0;
 }
 
 }  // namespace
 
+void CountCarpetResiduals(int light_cell_px, NormalisedFrame* frame) {
+  for (std::vector<long>& counts : frame->carpet_residual_counts) counts.assign(2 * kLevels - 1, 0);
+  for (int y0 = 0; y0 < frame->height_px; y0 += light_cell_px)
+    for (int x0 = 0; x0 < frame->width_px; x0 += light_cell_px)
+      CountCellResiduals(x0, y0, light_cell_px, frame);
+}
+
 CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
                                const BlobThresholdsOptions& options) {
   CameraNoise noise;
-  const int cell = options.light_cell_px;
-  std::array<std::vector<int>, 3> residuals;
-  for (const NormalisedFrame& f : frames) {
-    for (int y0 = 0; y0 < f.height_px; y0 += cell)
-      for (int x0 = 0; x0 < f.width_px; x0 += cell) AddCellResiduals(f, x0, y0, cell, &residuals);
-  }
-  if (residuals[0].empty()) return noise;
+  std::array<std::vector<long>, 3> counts;
+  for (std::vector<long>& c : counts) c.assign(2 * kLevels - 1, 0);
+  for (const NormalisedFrame& f : frames)
+    for (int ch = 0; ch < 3; ++ch)
+      for (size_t d = 0; d < f.carpet_residual_counts[ch].size(); ++d)
+        counts[ch][d] += f.carpet_residual_counts[ch][d];
+  long pixels = 0;
+  for (const long c : counts[0]) pixels += c;
+  if (pixels == 0) return noise;
+  // The box percentiles of the residuals sorted: ranks floor(p last) and ceil(p last).
+  const double last = static_cast<double>(pixels - 1);
   for (int ch = 0; ch < 3; ++ch) {
-    std::vector<int>& r = residuals[ch];
-    std::sort(r.begin(), r.end());
-    const double last = static_cast<double>(r.size() - 1);
-    noise.below[ch] = -r[static_cast<size_t>(std::floor(options.lower_percentile / 100.0 * last))];
-    noise.above[ch] = r[static_cast<size_t>(std::ceil(options.upper_percentile / 100.0 * last))];
+    noise.below[ch] = -ResidualOfRank(
+        counts[ch], static_cast<long>(std::floor(options.lower_percentile / 100.0 * last)));
+    noise.above[ch] = ResidualOfRank(
+        counts[ch], static_cast<long>(std::ceil(options.upper_percentile / 100.0 * last)));
   }
-  noise.pixels = static_cast<long>(residuals[0].size());
+  noise.pixels = pixels;
   return noise;
 }
 

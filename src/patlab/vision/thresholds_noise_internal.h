@@ -25,6 +25,9 @@ struct CameraNoise {
 };
 CameraNoise MeasureCarpetNoise(const std::vector<NormalisedFrame>& frames,
                                const BlobThresholdsOptions& options);
+// The counts MeasureCarpetNoise reads (NormalisedFrame::carpet_residual_counts), made once per
+// frame by NormaliseFrame: every fit of a normalised frame shares them.
+void CountCarpetResiduals(int light_cell_px, NormalisedFrame* frame);
 
 // The per-channel median of `pixels` (not empty): a class's typical colour, which its box's
 // tightening keeps inside and its noise's box is centred on.
