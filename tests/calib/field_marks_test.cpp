@@ -53,5 +53,25 @@ TEST(FieldMarks, SamplesCoverEveryMarkAtTheStep) {
   EXPECT_EQ(mark.back(), static_cast<int>(m.segments.size() + m.arcs.size()) - 1);
 }
 
+TEST(FieldMarks, ASamplerGivesSampleMarksPointsAtEveryStep) {
+  // Steps that keep every mark's count (10.0 -> 10.001), change some (12, 30) and come back: each
+  // time the sampler's points are SampleMarks' own, bit for bit.
+  const Field f = formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
+  const FieldMarks m = PaintedMarks(f);
+  MarkSampler sampler(m);
+  for (const double step : {10.0, 10.001, 12.0, 30.0, 10.0, 9.999, 250.0, 10.0}) {
+    const std::vector<Vec2> want = SampleMarks(m, step, nullptr);
+    const std::vector<Vec2>& got = sampler.Sample(step);
+    ASSERT_EQ(got.size(), want.size()) << step;
+    for (size_t i = 0; i < want.size(); ++i) {
+      EXPECT_EQ(got[i].x(), want[i].x()) << step << " " << i;
+      EXPECT_EQ(got[i].y(), want[i].y()) << step << " " << i;
+    }
+  }
+  const FieldMarks no_marks;
+  MarkSampler none(no_marks);
+  EXPECT_TRUE(none.Sample(10.0).empty());
+}
+
 }  // namespace
 }  // namespace patlab::calib

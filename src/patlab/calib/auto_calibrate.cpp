@@ -82,9 +82,9 @@ double ViewScoreOf(const NadirView& v, const std::vector<Vec2>& world, const Lin
       tau);
 }
 
-double ViewScore(const NadirView& v, const FieldMarks& marks, const LineDistance& dt,
-                 double step_px, double tau = kTauPx) {
-  return ViewScoreOf(v, SampleMarks(marks, step_px / v.scale, nullptr), dt, step_px, tau);
+double ViewScore(const NadirView& v, MarkSampler& marks, const LineDistance& dt, double step_px,
+                 double tau = kTauPx) {
+  return ViewScoreOf(v, marks.Sample(step_px / v.scale), dt, step_px, tau);
 }
 
 // Peaks of a histogram of positions across one image axis: (position px, weight).
@@ -114,7 +114,7 @@ std::vector<double> Peaks(const std::vector<double>& positions, double extent) {
   return out;
 }
 
-void Refine(ScoredView& sv, const FieldMarks& marks, const LineDistance& dt, double tau) {
+void Refine(ScoredView& sv, MarkSampler& marks, const LineDistance& dt, double tau) {
   double steps[5] = {0.02, 0.01, 4.0 / sv.view.scale, 4.0 / sv.view.scale, 0.04};
   auto with = [&](int i, double d) {
     NadirView v = sv.view;
@@ -143,7 +143,7 @@ void Refine(ScoredView& sv, const FieldMarks& marks, const LineDistance& dt, dou
 
 // The camera refined by coordinate descent on the score: rotation about its own axes, centre,
 // height and k1 (the focal length stays: the floor alone hardly separates it from the height).
-void RefineCamera(ScoredView& sv, const FieldMarks& marks, const LineDistance& dt, double tau) {
+void RefineCamera(ScoredView& sv, MarkSampler& marks, const LineDistance& dt, double tau) {
   const double height = (-sv.camera.rotation.transpose() * sv.camera.translation_mm).z();
   const double mm_per_px = height / sv.camera.fx_px;
   double steps[7] = {0.02, 0.02, 0.02, 6 * mm_per_px, 6 * mm_per_px, 0.03, 0.04};
@@ -227,16 +227,22 @@ double LineDistance::At(const Vec2& q) const {
   return d_[static_cast<size_t>(y) * w_ + x];
 }
 
-double CameraScore(const camera::PinholeCamera& camera, const FieldMarks& marks,
-                   const LineDistance& dt, double tau_px) {
+double CameraScore(const camera::PinholeCamera& camera, MarkSampler& marks, const LineDistance& dt,
+                   double tau_px) {
   const camera::CameraModel model = camera::CameraModel::Pinhole(camera);
   // Points about 3 px apart where the camera sees them: the step from the mm per px at the
   // image centre.
   const Vec2 c(0.5 * (dt.width() - 1), 0.5 * (dt.height() - 1));
   const double scale = std::sqrt(std::max(1e-9, model.AreaScale(c, 0.0)));
-  const std::vector<Vec2> world = SampleMarks(marks, 3.0 * scale, nullptr);
   return Score(
-      world, 3.0, dt, [&](const Vec2& p) { return model.WorldToPixel(p, 0.0); }, tau_px);
+      marks.Sample(3.0 * scale), 3.0, dt, [&](const Vec2& p) { return model.WorldToPixel(p, 0.0); },
+      tau_px);
+}
+
+double CameraScore(const camera::PinholeCamera& camera, const FieldMarks& marks,
+                   const LineDistance& dt, double tau_px) {
+  MarkSampler sampler(marks);
+  return CameraScore(camera, sampler, dt, tau_px);
 }
 
 namespace {
@@ -402,8 +408,9 @@ std::vector<ScoredView> BestDistinct(std::vector<ScoredView> all, size_t count) 
   return best;
 }
 
-void RefineView(ScoredView& b, const FieldMarks& marks, const LineDistance& dt, int width,
+void RefineView(ScoredView& b, const FieldMarks& field_marks, const LineDistance& dt, int width,
                 int height) {
+  MarkSampler marks(field_marks);
   b.score = ViewScore(b.view, marks, dt, 4.0, kCoarseTauPx);
   Refine(b, marks, dt, kCoarseTauPx);
   b.camera = PinholeOf(b.view, width, height);

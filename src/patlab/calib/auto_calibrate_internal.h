@@ -52,6 +52,9 @@ class LineDistance {
 };
 double CameraScore(const camera::PinholeCamera& camera, const FieldMarks& marks,
                    const LineDistance& distance, double tau_px = 6.0);
+// The same through a sampler of the marks, for a run of cameras of nearly one scale.
+double CameraScore(const camera::PinholeCamera& camera, MarkSampler& marks,
+                   const LineDistance& distance, double tau_px = 6.0);
 
 bool PointSymmetric(const Field& field);
 

@@ -147,7 +147,8 @@ std::vector<Placement> PlaceCrossings(const std::vector<LinePixel>& pixels, int 
   const internal::LineDistance distance(pixels, width_px, height_px);
   std::vector<Placement> out;
   for (size_t m = 0; m < fields.size(); ++m) {
-    const FieldMarks marks = PaintedMarks(fields[m]);
+    const FieldMarks field_marks = PaintedMarks(fields[m]);
+    MarkSampler marks(field_marks);
     for (const Crossing& c : Crossings(fields[m])) {
       for (double y : across_y) {
         for (double x : across_x) {

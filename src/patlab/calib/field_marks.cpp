@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace patlab::calib {
 namespace {
@@ -105,12 +106,27 @@ double DistanceToMark(const MarkArc& a, const Vec2& p) {
   return std::min((end(a.start_rad) - p).norm(), (end(a.start_rad + a.sweep_rad) - p).norm());
 }
 
-std::vector<Vec2> SampleMarks(const FieldMarks& marks, double step_mm, std::vector<int>* mark) {
+namespace {
+
+// Each mark's number of sample intervals at `step_mm`: segments first, then arcs.
+std::vector<int> SampleCounts(const FieldMarks& marks, double step_mm) {
+  std::vector<int> counts;
+  counts.reserve(marks.segments.size() + marks.arcs.size());
+  for (const MarkSegment& s : marks.segments)
+    counts.push_back(
+        std::max(1, static_cast<int>(std::ceil((s.to_mm - s.from_mm).norm() / step_mm))));
+  for (const MarkArc& a : marks.arcs)
+    counts.push_back(std::max(1, static_cast<int>(std::ceil(a.radius_mm * a.sweep_rad / step_mm))));
+  return counts;
+}
+
+std::vector<Vec2> SamplePoints(const FieldMarks& marks, const std::vector<int>& counts,
+                               std::vector<int>* mark) {
   std::vector<Vec2> out;
   if (mark != nullptr) mark->clear();
   int index = 0;
   for (const MarkSegment& s : marks.segments) {
-    const int n = std::max(1, static_cast<int>(std::ceil((s.to_mm - s.from_mm).norm() / step_mm)));
+    const int n = counts[static_cast<size_t>(index)];
     for (int k = 0; k <= n; ++k) {
       out.push_back(s.from_mm + (s.to_mm - s.from_mm) * (static_cast<double>(k) / n));
       if (mark != nullptr) mark->push_back(index);
@@ -118,7 +134,7 @@ std::vector<Vec2> SampleMarks(const FieldMarks& marks, double step_mm, std::vect
     ++index;
   }
   for (const MarkArc& a : marks.arcs) {
-    const int n = std::max(1, static_cast<int>(std::ceil(a.radius_mm * a.sweep_rad / step_mm)));
+    const int n = counts[static_cast<size_t>(index)];
     for (int k = 0; k <= n; ++k) {
       const double phi = a.start_rad + a.sweep_rad * k / n;
       out.push_back(a.centre_mm + a.radius_mm * Vec2(std::cos(phi), std::sin(phi)));
@@ -127,6 +143,21 @@ std::vector<Vec2> SampleMarks(const FieldMarks& marks, double step_mm, std::vect
     ++index;
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<Vec2> SampleMarks(const FieldMarks& marks, double step_mm, std::vector<int>* mark) {
+  return SamplePoints(marks, SampleCounts(marks, step_mm), mark);
+}
+
+const std::vector<Vec2>& MarkSampler::Sample(double step_mm) {
+  std::vector<int> counts = SampleCounts(marks_, step_mm);
+  if (counts != counts_ || (points_.empty() && !counts.empty())) {
+    points_ = SamplePoints(marks_, counts, nullptr);
+    counts_ = std::move(counts);
+  }
+  return points_;
 }
 
 }  // namespace patlab::calib

@@ -46,4 +46,20 @@ double DistanceToMark(const MarkArc& a, const Vec2& p);
 // mark: segments first (0 .. segments - 1), then arcs.
 std::vector<Vec2> SampleMarks(const FieldMarks& marks, double step_mm, std::vector<int>* mark);
 
+// SampleMarks over a run of steps: its points depend on the step only through each mark's number
+// of samples, so a step that gives every mark the counts of the previous one gives the previous
+// points, kept here (a search scores hundreds of cameras of nearly one scale). `marks` must
+// outlive the sampler.
+class MarkSampler {
+ public:
+  explicit MarkSampler(const FieldMarks& marks) : marks_(marks) {}
+  explicit MarkSampler(const FieldMarks&& marks) = delete;  // a temporary would not outlive it
+  const std::vector<Vec2>& Sample(double step_mm);
+
+ private:
+  const FieldMarks& marks_;
+  std::vector<int> counts_;
+  std::vector<Vec2> points_;
+};
+
 }  // namespace patlab::calib
