@@ -153,7 +153,7 @@ std::vector<Vec2> SampleMarks(const FieldMarks& marks, double step_mm, std::vect
 
 const std::vector<Vec2>& MarkSampler::Sample(double step_mm) {
   std::vector<int> counts = SampleCounts(marks_, step_mm);
-  if (counts != counts_ || (points_.empty() && !counts.empty())) {
+  if (counts != counts_) {  // the first call too: no counts kept yet (none for no marks)
     points_ = SamplePoints(marks_, counts, nullptr);
     counts_ = std::move(counts);
   }

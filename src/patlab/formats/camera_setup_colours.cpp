@@ -133,14 +133,15 @@ std::string internal::ColourFitText(const SetupResult& r) {
          FormatSignificant(r.segment_k, 3);
   }
   s += " (robots decoded by the blobs";
-  double delta_e = -1.0;
-  for (const SetupResult::BlobFitTry& t : r.blob_fits) {
-    const bool first = t.standout_delta_e != delta_e;
-    s += first ? (delta_e < 0.0 ? " at standout_delta_e " : "; at standout_delta_e ") +
-                     FormatSignificant(t.standout_delta_e, 3) + ", segment_k "
-               : ", ";
+  for (size_t i = 0; i < r.blob_fits.size(); ++i) {
+    const SetupResult::BlobFitTry& t = r.blob_fits[i];
+    if (i == 0 || t.standout_delta_e != r.blob_fits[i - 1].standout_delta_e) {
+      s += (i == 0 ? " at standout_delta_e " : "; at standout_delta_e ") +
+           FormatSignificant(t.standout_delta_e, 3) + ", segment_k ";
+    } else {
+      s += ", ";
+    }
     s += FormatSignificant(t.segment_k, 3) + ": " + std::to_string(t.robots);
-    delta_e = t.standout_delta_e;
   }
   return s + "; by pixels " + std::to_string(r.robots_by_pixels) +
          "; the most wins, a tie keeps the earlier, then blobs)\n";
