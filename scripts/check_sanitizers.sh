@@ -65,6 +65,9 @@ release_only=(
   # fresh seed 89's three cameras and dim patches: every setup test that fits colours runs the six
   # blobs' fits here, RobotsDecideBetweenCamerasOnlyWhereAHeightIsMeasured the rivals' path
   'SetupCamera.DullPatchesNearTheCarpetsColourStandOutAtTheLowerThreshold'
+  # fresh seed 20's centre view, decided by a piece of touch line: FamilySearch.ExclusiveLine-
+  # PixelsAreThoseOneCameraAloneExplains runs the rule here on the same camera's lines
+  'SetupCamera.APieceOfTouchLineInACornerDecidesACentreView'
   # the rendered SSL frame again, with its height given: cli.SetupCli.RenderedFrameToDetections...
   # runs the same commands on it here, TheRobotsACornerAndTheHeightFix... a given height
   'cli.SetupCli.TheGivenCameraHeightIsTheCalibrations'

@@ -75,6 +75,45 @@ bool Undecided(const camera::PinholeCamera& best, double best_score,
   return *differ_mm > 20.0 * mm_per_px;
 }
 
+namespace {
+
+// The distance (px) from every pixel of the frame to a camera's marks, projected about 1 px
+// apart.
+LineDistance MarksDistance(const camera::PinholeCamera& camera, const FieldMarks& marks,
+                           int width_px, int height_px) {
+  const camera::CameraModel model = camera::CameraModel::Pinhole(camera);
+  const Vec2 c(0.5 * (width_px - 1), 0.5 * (height_px - 1));
+  const double mm_per_px = std::sqrt(std::max(1e-9, model.AreaScale(c, 0.0)));
+  std::vector<LinePixel> projected;
+  for (const Vec2& p : SampleMarks(marks, mm_per_px, nullptr)) {
+    if (const auto q = model.WorldToPixel(p, 0.0)) projected.push_back({*q, Vec2(1, 0), 0.0});
+  }
+  return LineDistance(projected, width_px, height_px);
+}
+
+}  // namespace
+
+ExclusiveLines ExclusiveLinePixels(const camera::PinholeCamera& first,
+                                   const FieldMarks& first_marks,
+                                   const camera::PinholeCamera& second,
+                                   const FieldMarks& second_marks,
+                                   const std::vector<LinePixel>& pixels, int width_px,
+                                   int height_px) {
+  const LineDistance a = MarksDistance(first, first_marks, width_px, height_px);
+  const LineDistance b = MarksDistance(second, second_marks, width_px, height_px);
+  ExclusiveLines e;
+  for (const LinePixel& p : pixels) {
+    const double da = a.At(p.pixel), db = b.At(p.pixel);
+    e.first += da <= kOwnPx && db > kOtherPx ? 1 : 0;
+    e.second += db <= kOwnPx && da > kOtherPx ? 1 : 0;
+  }
+  return e;
+}
+
+bool OwnLinesDecide(const ExclusiveLines& e) {
+  return e.first >= kDecidingPixels && 4 * e.second <= e.first;
+}
+
 bool PointSymmetric(const Field& field) {
   auto near = [](const Vec2& a, const Vec2& b) { return (a - b).norm() < 1.0; };
   for (const FieldLine& l : field.lines) {

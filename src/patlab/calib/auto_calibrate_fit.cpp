@@ -409,8 +409,11 @@ AutoCalibration internal::FitSearched(const Searched& searched,
   const bool second = candidates.size() > 1 && std::isfinite(candidates[1].score);
   out.runner_up_px = second ? candidates[1].score : 0.0;
   double differ = 0.0;
-  if (second && Undecided(best.fit.camera, best.score, candidates[1].fit.camera,
-                          candidates[1].score, out.point_symmetric, width_px, height_px, &differ)) {
+  if (second &&
+      Undecided(best.fit.camera, best.score, candidates[1].fit.camera, candidates[1].score,
+                out.point_symmetric, width_px, height_px, &differ) &&
+      !OwnLinesDecide(ExclusiveLinePixels(best.fit.camera, marks, candidates[1].fit.camera, marks,
+                                          pixels, width_px, height_px))) {
     if (undecided == nullptr) {
       throw InputError(source + ": the line pixels do not decide the camera: two cameras " +
                        FormatSignificant(differ, 3) + " mm apart on the floor explain " +

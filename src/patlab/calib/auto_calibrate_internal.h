@@ -70,8 +70,9 @@ struct Searched {
 Searched SearchField(const std::vector<LinePixel>& pixels, int width_px, int height_px,
                      const std::string& source, const Field& field, const AutoOptions& options);
 // A second camera that maps the frame differently yet explains nearly as much line makes the
-// frame undecided: an InputError, or, with `undecided` given, that camera's calibration appended
-// to it (the caller decides by other evidence).
+// frame undecided, unless a piece of line only the first explains decides (OwnLinesDecide): an
+// InputError, or, with `undecided` given, that camera's calibration appended to it (the caller
+// decides by other evidence).
 AutoCalibration FitSearched(const Searched& searched, const std::vector<LinePixel>& pixels,
                             int width_px, int height_px, const std::string& source,
                             const Field& field, const AutoOptions& options,
@@ -89,6 +90,27 @@ constexpr double kUndecidedRatio = 0.9;
 bool Undecided(const camera::PinholeCamera& best, double best_score,
                const camera::PinholeCamera& second, double second_score, bool point_symmetric,
                int width_px, int height_px, double* differ_mm);
+
+// The line pixels one camera's marks explain and another's leave unexplained: within kOwnPx of
+// the first's projected marks and more than kOtherPx from the second's (`first`), and the same
+// the other way round (`second`). Two cameras the lines do not decide by length still differ
+// when one explains a piece of painted line the other leaves bare and the other explains
+// nothing of its own (fresh rendered seed 20: a centre view whose corner shows 30 px of touch
+// line, 3.0 m from the mid-line, that a quarter-turned or Division A camera leaves bare).
+struct ExclusiveLines {
+  int first = 0, second = 0;
+};
+constexpr double kOwnPx = 2.5, kOtherPx = 6.0;
+ExclusiveLines ExclusiveLinePixels(const camera::PinholeCamera& first,
+                                   const FieldMarks& first_marks,
+                                   const camera::PinholeCamera& second,
+                                   const FieldMarks& second_marks,
+                                   const std::vector<LinePixel>& pixels, int width_px,
+                                   int height_px);
+// Whether such pixels decide for the first camera: at least kDecidingPixels of its own and at
+// most a quarter as many of the second's.
+constexpr int kDecidingPixels = 24;
+bool OwnLinesDecide(const ExclusiveLines& e);
 
 // The RMS distance (px) of pixels from their best straight line (total least squares): how far
 // an arc's pixels bend in the image.

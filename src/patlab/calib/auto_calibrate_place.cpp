@@ -13,7 +13,8 @@ namespace {
 
 constexpr double kMaxSin = 0.42;   // |sin| between a pixel's direction and an axis, on the floor
 constexpr double kBinMm = 20.0;    // the histograms' bin across the lines
-constexpr int kMinLinePixels = 8;  // a histogram peak's pixels at least
+constexpr int kMinLinePixels = 8;  // a histogram peak's run of pixels at least
+constexpr double kGapPx = 3.0;     // the most between neighbours of a run along a line
 constexpr int kPeaksPerAxis = 2;   // the strongest lines along each axis tried
 
 // A line pixel on the floor through the floor camera: its point and unit direction.
@@ -43,43 +44,70 @@ double DominantAngle(const std::vector<FloorPixel>& pixels) {
   return 0.25 * std::arg(sum);
 }
 
+// The longest run of `along` (sorted) with no gap over gap_mm between neighbours: [first, last).
+std::pair<size_t, size_t> LongestRun(const std::vector<double>& along, double gap_mm) {
+  std::pair<size_t, size_t> best{0, 0};
+  size_t first = 0;
+  for (size_t i = 1; i <= along.size(); ++i) {
+    if (i < along.size() && along[i] - along[i - 1] <= gap_mm) continue;
+    if (i - first > best.second - best.first) best = {first, i};
+    first = i;
+  }
+  return best;
+}
+
 // The strongest lines across one axis (the coordinate `across` of the pixels running along the
-// other), each the mean coordinate of a histogram peak's pixels.
+// other), each the mean coordinate of a histogram peak's pixels, where they hold a run along the
+// line of kMinLinePixels (neighbours at most gap_mm apart): a line is a run, not pixels strewn
+// along a band of the floor
+// (fresh rendered seed 115: one touch line in view, and 11-19 pixels strewn over up to 2 m in a
+// band across it made a second "line" and a crossing that placed the robots 2.5 m off).
 std::vector<double> Peaks(const std::vector<Vec2>& turned, const std::vector<Vec2>& directions,
-                          int along_axis) {
+                          int along_axis, double gap_mm) {
   const int across = 1 - along_axis;
-  std::vector<double> values;
+  std::vector<Vec2> values;  // (across, along)
   for (size_t i = 0; i < turned.size(); ++i)
-    if (std::abs(directions[i][across]) < kMaxSin) values.push_back(turned[i][across]);
+    if (std::abs(directions[i][across]) < kMaxSin)
+      values.emplace_back(turned[i][across], turned[i][along_axis]);
   if (values.empty()) return {};
-  const auto range = std::minmax_element(values.begin(), values.end());
-  const double lo = *range.first, hi = *range.second;
+  const auto range = std::minmax_element(
+      values.begin(), values.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x(); });
+  const double lo = range.first->x(), hi = range.second->x();
   const int bins = static_cast<int>((hi - lo) / kBinMm) + 1;
   std::vector<int> count(static_cast<size_t>(bins), 0);
   const auto bin = [lo](double v) { return static_cast<int>((v - lo) / kBinMm); };
-  for (double v : values) ++count[static_cast<size_t>(bin(v))];
+  for (const Vec2& v : values) ++count[static_cast<size_t>(bin(v.x()))];
+  const auto near = [&](int b) {
+    return count[static_cast<size_t>(b)] + (b > 0 ? count[static_cast<size_t>(b - 1)] : 0) +
+           (b + 1 < bins ? count[static_cast<size_t>(b + 1)] : 0);
+  };
   std::vector<double> peaks;
   std::vector<bool> used(count.size(), false);
-  for (int k = 0; k < kPeaksPerAxis; ++k) {
+  while (static_cast<int>(peaks.size()) < kPeaksPerAxis) {
     int best = -1;
     for (int b = 0; b < bins; ++b) {
-      const int n = count[static_cast<size_t>(b)] +
-                    (b > 0 ? count[static_cast<size_t>(b - 1)] : 0) +
-                    (b + 1 < bins ? count[static_cast<size_t>(b + 1)] : 0);
-      if (!used[static_cast<size_t>(b)] && n >= kMinLinePixels &&
-          (best < 0 || n > count[static_cast<size_t>(best)] +
-                               (best > 0 ? count[static_cast<size_t>(best - 1)] : 0) +
-                               (best + 1 < bins ? count[static_cast<size_t>(best + 1)] : 0)))
+      if (!used[static_cast<size_t>(b)] && near(b) >= kMinLinePixels &&
+          (best < 0 || near(b) > near(best)))
         best = b;
     }
     if (best < 0) break;
-    double sum = 0.0;
-    int n = 0;
-    for (double v : values)
-      if (std::abs(bin(v) - best) <= 1) sum += v, ++n;
-    peaks.push_back(sum / n);
-    for (int b = std::max(0, best - 3); b <= std::min(bins - 1, best + 3); ++b)
-      used[static_cast<size_t>(b)] = true;
+    std::vector<Vec2> band;
+    for (const Vec2& v : values)
+      if (std::abs(bin(v.x()) - best) <= 1) band.push_back(v);
+    std::sort(band.begin(), band.end(), [](const Vec2& a, const Vec2& b) { return a.y() < b.y(); });
+    std::vector<double> along;
+    for (const Vec2& v : band) along.push_back(v.y());
+    const auto [first, last] = LongestRun(along, gap_mm);
+    if (last - first >= static_cast<size_t>(kMinLinePixels)) {
+      double sum = 0.0;
+      for (const Vec2& v : values)  // the band's pixels in their histogram order
+        if (std::abs(bin(v.x()) - best) <= 1) sum += v.x();
+      peaks.push_back(sum / static_cast<double>(band.size()));
+      for (int b = std::max(0, best - 3); b <= std::min(bins - 1, best + 3); ++b)
+        used[static_cast<size_t>(b)] = true;
+    } else {
+      used[static_cast<size_t>(best)] = true;  // strewn pixels: no line here
+    }
   }
   return peaks;
 }
@@ -141,8 +169,14 @@ std::vector<Placement> PlaceCrossings(const std::vector<LinePixel>& pixels, int 
     turned.push_back(unturn * p.at);
     directions.push_back(unturn * p.direction);
   }
-  const std::vector<double> across_y = Peaks(turned, directions, 0);  // lines along x: their y
-  const std::vector<double> across_x = Peaks(turned, directions, 1);  // lines along y: their x
+  // Neighbours along a line are about a pixel apart: gaps up to kGapPx at the image centre's
+  // floor scale (a robot across a line breaks it into two runs).
+  const camera::CameraModel floor_model = camera::CameraModel::Pinhole(floor_camera);
+  const double mm_per_px = std::sqrt(std::max(
+      1e-9, floor_model.AreaScale(Vec2(0.5 * (width_px - 1), 0.5 * (height_px - 1)), 0.0)));
+  const double gap_mm = kGapPx * mm_per_px;
+  const std::vector<double> across_y = Peaks(turned, directions, 0, gap_mm);  // along x: their y
+  const std::vector<double> across_x = Peaks(turned, directions, 1, gap_mm);  // along y: their x
   const CalibrationInput base = internal::BaseInput(source, width_px, height_px, options);
   const internal::LineDistance distance(pixels, width_px, height_px);
   std::vector<Placement> out;

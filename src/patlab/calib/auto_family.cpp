@@ -119,8 +119,9 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
     }
   }
   if (!family.keep_rivals || out->kept < 0) return;
-  // The rivals: the cameras the lines do not decide from the kept one, best first, each mapping
-  // the frame differently from the kept one and from every rival kept before it.
+  // The rivals: the cameras the lines do not decide from the kept one (by length, or by a piece
+  // of line only the kept one explains), best first, each mapping the frame differently from the
+  // kept one and from every rival kept before it.
   std::stable_sort(pool.begin(), pool.end(), [](const FamilyRival& a, const FamilyRival& b) {
     return a.calibration.score_px > b.calibration.score_px;
   });
@@ -132,6 +133,10 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
     if (!internal::Undecided(kept.fit.camera, kept.score_px, c.fit.camera, c.score_px,
                              kept.point_symmetric, f.width_px, f.height_px, &differ))
       continue;
+    const internal::ExclusiveLines own = internal::ExclusiveLinePixels(
+        kept.fit.camera, searched[static_cast<size_t>(out->kept)]->marks, c.fit.camera,
+        searched[static_cast<size_t>(r.model)]->marks, *f.pixels, f.width_px, f.height_px);
+    if (internal::OwnLinesDecide(own)) continue;
     r.floor_difference_mm = differ;
     const bool new_map = std::all_of(out->rivals.begin(), out->rivals.end(), [&](const auto& o) {
       double d = 0.0;

@@ -362,6 +362,13 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
   few.placements = static_cast<int>(placements.size());
   const calib::Placement* kept =
       BestOnField(placements, options, decoded.patterns, first.width_px, first.height_px, &few);
+  if (placements.empty()) {
+    throw InputError(failed +
+                     "the line pixels show no two crossing lines (each a run of at "
+                     "least 8 pixels) to place a crossing of the fields' lines on; "
+                     "expected a frame showing more of the field's lines, or give four "
+                     "--landmark NAME=X,Y");
+  }
   if (kept == nullptr) {
     throw InputError(failed + "of " + std::to_string(few.placements) +
                      " placements of the fields' crossing lines on them, none keeps the " +
