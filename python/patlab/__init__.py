@@ -253,7 +253,7 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     when the lines decided) and robots_decided (the kept one decoded the most robots),
     camera_height (decided_by: "given", "lines", "robots" or "undetermined"; height_mm,
     focal_px, sd_mm, robots; lines_height_mm, lines_focal_px, lines_sd_mm, lines_robots: the
-    lines' own camera; lines_at_focal_bound: its focal length rests on the fit's bound; scan: the heights tried, each height_mm, focal_px, robots),
+    lines' own camera; scan: the heights tried, each height_mm, focal_px, robots),
     few_lines (where the lines matched too few marks and the robots placed the field: used;
     lines_failure; floor_mm_per_px and robots, the floor scale the robots decoded at;
     placements and on_field, the crossings placed and those keeping the robots on the field;

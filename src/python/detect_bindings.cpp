@@ -209,7 +209,6 @@ py::dict SetupHeightReport(const formats::SetupHeight& h) {
   height["lines_focal_px"] = h.lines_focal_px;
   height["lines_sd_mm"] = h.lines_sd_mm;
   height["lines_robots"] = h.lines_robots;
-  height["lines_at_focal_bound"] = h.lines_at_focal_bound;
   py::list scan;
   for (const formats::SetupHeightTry& t : h.scan) {
     py::dict d;

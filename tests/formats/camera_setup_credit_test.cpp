@@ -86,8 +86,12 @@ TEST(CreditedRobots, AHeightNothingMeasuresCountsTheLinesRobotsOnlyWhereNoHeight
   h.lines_robots = 0;
   // The robots' fit measures it, and the lines say nothing against it.
   h.fitted = "kept";
-  h.sd_mm = 240.0;
+  h.sd_mm = h.fitted_sd_mm = 240.0;
   EXPECT_EQ(internal::CreditedRobots(h), 7);
+  // Kept however coarse (the lines do not measure the height): it credits what the lines' camera
+  // would, here nothing (7 robots decode higher up than the lines' camera).
+  h.sd_mm = h.fitted_sd_mm = 3000.0;
+  EXPECT_EQ(internal::CreditedRobots(h), 0);
 }
 
 TEST(CreditedRobots, AGivenHeightCountsItsRobotsWhereTheLinesMeasureTheFocalLength) {

@@ -116,10 +116,6 @@ struct SetupHeight {
   double lines_height_mm = 0.0, lines_focal_px = 0.0;
   double lines_sd_mm = 0.0;  // the lines' fit's standard error of the height (NaN: undetermined)
   int lines_robots = 0;      // decoded through the lines' camera
-  // The lines' focal length rests on a bound of the fit's range (calib::kMinFocalWidths,
-  // kMaxFocalWidths): their height is the bound's, no estimate, and the fit with the robots is
-  // kept however coarsely it measures the height.
-  bool lines_at_focal_bound = false;
   // The fit of the lines and the decoded robots' patches together (patterns: the robots in it; 0:
   // none made): its height and standard error, and whether it was kept ("kept", or why not).
   int patterns = 0;

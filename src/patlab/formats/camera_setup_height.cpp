@@ -161,10 +161,9 @@ size_t MostRobots(const std::vector<HeightCandidate>& candidates) {
 
 // The robots' patches of `chosen` and the lines fitted together (FitWithRobots): the calibration
 // written into r (its residuals on the robots' plane are the patches', measured) when it measures
-// the height more finely than the scan's step (or at all, where the lines' focal length rests on
-// its bound: h->lines_at_focal_bound), more finely than the lines where `chosen` is the lines' own
-// camera (`lines_camera`), and decodes as many robots. Whether it was kept; h->fitted says why
-// not.
+// the height more finely than the scan's step, or at all where the lines do not measure it (below),
+// more finely than the lines where `chosen` is the lines' own camera (`lines_camera`), and decodes
+// as many robots. Whether it was kept; h->fitted says why not.
 bool KeepFitWithRobots(const std::vector<const camera::Image*>& frames,
                        const std::vector<std::string>& names, const detect::DetectorConfig& config,
                        const SetupOptions& options, const HeightCandidate& chosen,
@@ -180,11 +179,15 @@ bool KeepFitWithRobots(const std::vector<const camera::Image*>& frames,
   }
   h->fitted_height_mm = HeightOf(joint.calibration_fit.camera);
   h->fitted_sd_mm = internal::RobotsHeightSd(joint.calibration_fit, options.robot_height_mm);
-  // A coarse measure beats none: where the lines' height is their focal length's bound (fresh
-  // rendered seed 122: 1.23 m, f 156 px, for a true 4.01 m; 10 robots decode alike at every
-  // height, and the parallax of their 140 mm put 6 of them over 100 mm off), the fit's 5.62 +-
-  // 1.21 m puts all ten within 27 mm.
-  const bool coarse_kept = h->lines_at_focal_bound && std::isfinite(h->fitted_sd_mm);
+  // A coarse measure beats none. Where the lines do not measure the height either, theirs is
+  // wherever their fit stopped, and a low one maps the robots' plane with several times the true
+  // parallax: fresh rendered seeds 122 (1.23 m, the focal length's bound, for a true 4.01 m) and
+  // 145 (1.67 +- 11.9 m for 4.36 m), 10 and 9 robots decoding alike at every height, 6 and 4 of
+  // them put over 100 mm off. The fit with the robots measures what the robots' positions need,
+  // the plane's parallax h_r / h: at 5.62 +- 1.21 m and 9.26 +- 3.06 m every robot is within
+  // 27 and 45 mm. (Too high a height errs by at most the true parallax, too low by any amount.)
+  const bool coarse_kept =
+      !Measures(h->lines_sd_mm, h->lines_height_mm) && std::isfinite(h->fitted_sd_mm);
   if (!Measures(h->fitted_sd_mm, h->fitted_height_mm) && !coarse_kept) {
     h->fitted = "not kept: its standard error is over " +
                 FormatSignificant(100.0 * (kScanStep - 1.0), 2) + "%, the scan's step";
@@ -284,9 +287,6 @@ void internal::ChooseHeight(const std::vector<const camera::Image*>& frames,
   h.lines_height_mm = h.height_mm = HeightOf(lines);
   h.lines_focal_px = h.focal_px = lines.fx_px;
   h.lines_sd_mm = h.sd_mm = HeightSd(r.calibration_fit);
-  const double width = frames.front()->width_px;
-  h.lines_at_focal_bound = lines.fx_px <= calib::kMinFocalWidths * width * (1.0 + 1e-6) ||
-                           lines.fx_px >= calib::kMaxFocalWidths * width * (1.0 - 1e-6);
   const Decoded at_lines = DecodeThroughFiles(frames, config, r, options.robot_height_mm);
   h.lines_robots = h.robots = at_lines.robots;
   const Eigen::Vector3d axis = lines.rotation.transpose() * Eigen::Vector3d(0.0, 0.0, 1.0);
@@ -334,7 +334,9 @@ int internal::CreditedRobots(const SetupHeight& h) {
           kHeightAgreement * std::hypot(h.fitted_sd_mm, h.lines_sd_mm)) {
     return 0;
   }
-  if (h.fitted == "kept") return h.robots;
+  // A fit kept however coarse (the lines not measuring the height) credits no more than the
+  // lines' camera would: its height is no measure a rival's can be told from.
+  if (h.fitted == "kept" && robots_measure) return h.robots;
   if (lines_measure) return h.lines_robots;
   // Nothing measures the height: the robots through the lines' camera tell the floor's scale the
   // lines fix only where no height of the scan decodes more (fresh seed 3: 6 robots from 1.5 m to
@@ -389,19 +391,18 @@ std::string internal::HeightText(const SetupHeight& h) {
          FormatFixed(h.focal_px, 0) + " px (the " + h.decided_by + " decide; " +
          std::to_string(h.robots) + " robots decoded through it)\n";
     s += "  the lines alone: " + lines + ", " + std::to_string(h.lines_robots) +
-         " robots decoded through it; they fix f over the height, " + ratio + " px per mm" +
-         (h.lines_at_focal_bound
-              ? " (their focal length rests on the fit's bound: the height is the bound's, no "
-                "estimate, and the robots' fit is kept however coarse)"
-              : "") +
-         "\n";
+         " robots decoded through it; they fix f over the height, " + ratio + " px per mm\n";
   }
   if (h.patterns > 0) {
     s += "  the lines and " + std::to_string(h.patterns) +
          " decoded robots' patches fitted together: " +
          (h.fitted.starts_with("failed")
               ? h.fitted
-              : Metres(h.fitted_height_mm) + plus_minus(h.fitted_sd_mm) + " (" + h.fitted + ")") +
+              : Metres(h.fitted_height_mm) + plus_minus(h.fitted_sd_mm) + " (" + h.fitted +
+                    (h.fitted == "kept" && !Measures(h.fitted_sd_mm, h.fitted_height_mm)
+                         ? ": coarse, but the lines do not measure the height at all"
+                         : "") +
+                    ")") +
          "\n";
   }
   if (!h.scan.empty()) {
