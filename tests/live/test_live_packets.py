@@ -102,6 +102,13 @@ def read_log(path):
     return messages, len(data) - at
 
 
+def whole_messages_so_far(path):
+    """The whole messages in the log being written at `path` (0 before its header is whole)."""
+    if not os.path.exists(path) or os.path.getsize(path) < 16:
+        return 0
+    return len(read_log(path)[0])
+
+
 def test_a_stopped_or_killed_live_leaves_a_log_of_whole_messages(tmp_path):
     """SIGINT stops `patlab live` cleanly: exit 0 and a log of whole messages only. SIGKILL at
     any moment leaves a log that reads back to its last whole message (at most the record being
@@ -117,7 +124,12 @@ def test_a_stopped_or_killed_live_leaves_a_log_of_whole_messages(tmp_path):
             [BINARY, "live", GOLDEN + "png", "--loop", "--list-rate", "200", "--log", str(log),
              "--send", "127.0.0.1:%d" % port] + FILES,
             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        time.sleep(rng.uniform(0.3, 1.2))
+        # The signal lands a random moment after the first whole message, not after the start: a
+        # loaded machine may take longer than any fixed delay to write one.
+        deadline = time.monotonic() + 30.0
+        while time.monotonic() < deadline and whole_messages_so_far(log) == 0:
+            time.sleep(0.02)
+        time.sleep(rng.uniform(0.0, 0.9))
         sig = signal.SIGINT if round_ % 2 == 0 else signal.SIGKILL
         process.send_signal(sig)
         _, stderr = process.communicate(timeout=30)
