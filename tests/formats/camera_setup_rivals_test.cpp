@@ -1,6 +1,7 @@
 // Cameras the lines explain nearly alike, decided by a piece of line only one of them explains
-// (calib::internal::OwnLinesDecide). The scene is a fresh rendered seed of
-// scripts/setup_rendered.py (docs/setup.md), rendered as the script renders it.
+// (calib::internal::OwnLinesDecide), and a rival camera that explains more line than the true
+// one but sees above the horizon (calib::internal::AboveHorizon). The scenes are fresh rendered
+// seeds of scripts/setup_rendered.py (docs/setup.md), rendered as the script renders them.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -60,6 +61,57 @@ TEST(SetupCamera, APieceOfTouchLineInACornerDecidesACentreView) {
   EXPECT_TRUE(r.undecided.empty()) << report;  // the lines decided
   EXPECT_LT(FloorOffsetMm(view.scene.calibration.camera, r.calibration_fit.camera), 30.0) << report;
   EXPECT_EQ(std::max(r.robots_by_blobs, r.robots_by_pixels), 7) << report;
+}
+
+// Fresh rendered seed 196: a camera 2.9 m over an ssl-2012 corner (defence arc, goal and touch
+// lines, a piece of the centre circle). ssl-2009's fit ran off from its overhead start to a
+// camera 42 mm over the floor, tilted 86 deg, whose marks piled near the horizon explained 2161
+// px of line against the true camera's 1666: kept, it found no robot. A camera whose horizon
+// crosses the image is no camera over the field (calib::internal::AboveHorizon).
+RenderedView FreshSeed196(const testing::TempDir& dir) {
+  return RenderedAsTheScriptDoes(SslRobotScene(dir, R"(model = "pinhole"
+image_size_px = [780, 580]
+[pinhole]
+fx_px = 546.728231
+fy_px = 546.728231
+cx_px = 384.716917
+cy_px = 296.884241
+k1 = -0.095593
+rotation_rodrigues = [3.054081639, -0.701903090, 0.073068234]
+translation_mm = [-2536.143760, -179.640137, 2921.256834]
+[heights]
+default_mm = 140
+)",
+                                               "ssl-2012", R"(field = [60, 159, 69]
+body = [36, 39, 38]
+blue = [42, 97, 237]
+yellow = [255, 255, 51]
+pink = [255, 123, 209]
+green = [85, 255, 107]
+orange = [255, 161, 28]
+)",
+                                               {{"blue", 11, 2384.4, -1744.8, 1.8789},
+                                                {"yellow", 9, 2594.4, -123.8, 1.3787},
+                                                {"blue", 7, 1718.8, -1433.8, 1.0208},
+                                                {"yellow", 2, 1972.2, -645.3, -1.0433},
+                                                {"blue", 12, 1818.1, 196.0, -2.9825},
+                                                {"yellow", 13, 1162.3, -1743.7, 1.4202},
+                                                {"blue", 1, 1674.8, -1896.8, -3.0544},
+                                                {"yellow", 15, 1377.8, 325.2, 2.0864},
+                                                {"blue", 9, 584.2, -1032.9, 1.4505},
+                                                {"yellow", 12, 954.7, -438.7, -2.0284}}),
+                                 196, 0.921, 2.08);
+}
+
+TEST(SetupCamera, ACameraThatSeesAboveTheHorizonIsNoFieldCamera) {
+  const testing::TempDir dir;
+  const RenderedView view = FreshSeed196(dir);
+  const SetupResult r =
+      SetupCamera({&view.frame}, {"frame.png"}, SslModels({"ssl-2012", "ssl-2009"}));
+  const std::string report = SetupReportText(r);
+  EXPECT_EQ(r.field.name, "ssl-2012") << report;
+  EXPECT_LT(FloorOffsetMm(view.scene.calibration.camera, r.calibration_fit.camera), 30.0) << report;
+  EXPECT_EQ(std::max(r.robots_by_blobs, r.robots_by_pixels), 10) << report;
 }
 
 }  // namespace

@@ -31,8 +31,9 @@
 //     px, and within 25 deg of its direction), and calib::FitCamera fits every free parameter to
 //     the line and circle observations with a Huber loss, three rounds; a fit that leaves the
 //     camera model's range (the floor alone hardly separates focal length from height) is redone
-//     with the focal length held. The better final score wins; a different camera (not the
-//     equivalent one) scoring 90% of it makes the frame ambiguous.
+//     with the focal length held. A fitted camera whose horizon crosses the image is no fit
+//     (a camera over the field sees the floor in every pixel). The better final score wins; a
+//     different camera (not the equivalent one) scoring 90% of it makes the frame ambiguous.
 //  5. Held-out error. The pixels of every observation, in runs of 8 along it, are split into
 //     two folds; the camera fitted to one fold back-projects the other's pixels, and their
 //     distance on the floor to their mark, in mm, is the held-out mapping error.

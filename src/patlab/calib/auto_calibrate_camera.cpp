@@ -1,6 +1,7 @@
 // The automatic field calibration's cameras (auto_calibrate_internal.h): a nadir view as a
 // pinhole camera, the camera turned by 180 deg, how far two cameras map a frame apart and
-// whether the lines decide between them, and whether a field is the same turned.
+// whether the lines decide between them, whether a field is the same turned, and whether a
+// camera sees above the horizon.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -160,6 +161,21 @@ CalibrationInput BaseInput(const std::string& source, int width_px, int height_p
   base.options.camera_height_mm = options.camera_height_mm;
   base.options.holdout_folds = 0;
   return base;
+}
+
+std::optional<Vec2> AboveHorizon(const camera::PinholeCamera& camera, int width_px, int height_px) {
+  const camera::CameraModel model = camera::CameraModel::Pinhole(camera);
+  const double right = width_px - 1.0, bottom = height_px - 1.0;
+  const Vec2 corners[] = {Vec2(0, 0), Vec2(right, 0), Vec2(right, bottom), Vec2(0, bottom)};
+  for (int side = 0; side < 4; ++side) {
+    const Vec2 from = corners[side], to = corners[(side + 1) % 4];
+    const int steps = std::max(1, static_cast<int>(std::ceil((to - from).norm() / kHorizonStepPx)));
+    for (int i = 0; i < steps; ++i) {
+      const Vec2 pixel = from + (to - from) * (static_cast<double>(i) / steps);
+      if (!model.PixelToWorld(pixel, 0.0)) return pixel;
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace patlab::calib::internal

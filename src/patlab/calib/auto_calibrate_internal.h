@@ -2,6 +2,7 @@
 // auto_calibrate_fit.cpp (the assignment, the fit and the held-out error).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -111,6 +112,16 @@ ExclusiveLines ExclusiveLinePixels(const camera::PinholeCamera& first,
 // most a quarter as many of the second's.
 constexpr int kDecidingPixels = 24;
 bool OwnLinesDecide(const ExclusiveLines& e);
+
+// The first pixel on the image's border (every kHorizonStepPx, the corners included) whose ray
+// does not meet the floor in front of the camera, or nullopt when every one does. A camera over
+// the field sees the floor in every pixel; one whose horizon crosses the image lies near the
+// floor looking along it, a fit run off from an overhead start (fresh rendered seed 196: 42 mm
+// up, tilted 86 deg, its marks piled near the horizon explained 2161 px of line against the
+// true camera's 1666). Inside the image the horizon, a straight line before distortion, crosses
+// the border wherever it crosses the image, so the border decides.
+constexpr double kHorizonStepPx = 4.0;
+std::optional<Vec2> AboveHorizon(const camera::PinholeCamera& camera, int width_px, int height_px);
 
 // The RMS distance (px) of pixels from their best straight line (total least squares): how far
 // an arc's pixels bend in the image.
