@@ -66,14 +66,19 @@ double FloorDifferenceMm(const camera::PinholeCamera& first, const camera::Pinho
   return differ;
 }
 
+bool SameMap(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
+             bool point_symmetric, int width_px, int height_px, double* differ_mm) {
+  *differ_mm = FloorDifferenceMm(first, second, point_symmetric, width_px, height_px);
+  const camera::CameraModel a = camera::CameraModel::Pinhole(first);
+  const double mm_per_px = std::sqrt(a.AreaScale(Vec2(0.5 * width_px, 0.5 * height_px), 0.0));
+  return !(*differ_mm > 20.0 * mm_per_px);
+}
+
 bool Undecided(const camera::PinholeCamera& best, double best_score,
                const camera::PinholeCamera& second, double second_score, bool point_symmetric,
                int width_px, int height_px, double* differ_mm) {
   if (!std::isfinite(second_score) || !(second_score > kUndecidedRatio * best_score)) return false;
-  *differ_mm = FloorDifferenceMm(best, second, point_symmetric, width_px, height_px);
-  const camera::CameraModel a = camera::CameraModel::Pinhole(best);
-  const double mm_per_px = std::sqrt(a.AreaScale(Vec2(0.5 * width_px, 0.5 * height_px), 0.0));
-  return *differ_mm > 20.0 * mm_per_px;
+  return !SameMap(best, second, point_symmetric, width_px, height_px, differ_mm);
 }
 
 namespace {

@@ -1,5 +1,5 @@
 // The automatic field calibration's fit (auto_calibrate.h steps 3-5): line pixels assigned to
-// the painted marks, FitCamera, the held-out error and the report.
+// the painted marks, FitCamera and the held-out error (the report: auto_calibrate_report.cpp).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -398,14 +398,36 @@ AutoCalibration internal::FitSearched(const Searched& searched,
   const FitContext context{&pixels,  &field,   &marks,    &dt,
                            &options, width_px, height_px, out.point_symmetric};
   // A view whose lines match too few marks to fix a camera (a T of two lines fits many places
-  // of a field) fails at once and takes no place: the next view scoring 80% of the best is
-  // fitted instead, until kFittedViews have fitted.
+  // of a field) fails at once and takes no place; a view that starts where a camera fitted
+  // before maps the frame (SameMap) is not fitted, and one whose fit lands there keeps only the
+  // better of the two: the next view scoring 80% of the best is fitted instead, until
+  // kFittedViews different cameras have fitted. Fresh rendered seed 263: the three best views of
+  // a centre view converged to one quarter-turned camera, which took both places, and the true
+  // camera, the fourth view, was never fitted.
   std::vector<Candidate> candidates;
+  const auto fitted_before = [&](const camera::PinholeCamera& camera) {
+    return std::find_if(candidates.begin(), candidates.end(), [&](const Candidate& o) {
+      double differ = 0.0;
+      return std::isfinite(o.score) &&
+             SameMap(o.fit.camera, camera, out.point_symmetric, width_px, height_px, &differ);
+    });
+  };
   size_t fitted = 0;
   for (size_t v = 0; v < views.size() && fitted < kFittedViews; ++v) {
     if (v > 0 && views[v].score < 0.8 * views[0].score) break;  // clearly worse: not fitted
-    candidates.push_back(FitView(context, views[v].camera, base, &out.notes));
-    if (std::isfinite(candidates.back().score)) ++fitted;
+    if (fitted_before(views[v].camera) != candidates.end()) continue;
+    Candidate c = FitView(context, views[v].camera, base, &out.notes);
+    if (!std::isfinite(c.score)) {
+      candidates.push_back(std::move(c));
+      continue;
+    }
+    const auto repeat = fitted_before(c.fit.camera);
+    if (repeat == candidates.end()) {
+      candidates.push_back(std::move(c));
+      ++fitted;
+    } else if (c.score > repeat->score) {
+      *repeat = std::move(c);
+    }
   }
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
@@ -445,51 +467,6 @@ CalibrationInput AssignToMarks(const camera::PinholeCamera& camera,
   CalibrationInput in = base;
   in.lines.clear(), in.circles.clear();
   return Assign(camera, pixels, field, PaintedMarks(field), gate_px, max_pixels, in).input;
-}
-
-std::string HeldOutText(const AutoCalibration& a) {
-  if (a.held_out_mapping_mm < a.held_out_resolution_mm) {
-    return "below " + FormatSignificant(a.held_out_resolution_mm, 2) +
-           " mm (the line finder's resolution; estimate " +
-           FormatSignificant(a.held_out_mapping_mm, 2) + " mm)";
-  }
-  return FormatSignificant(a.held_out_mapping_mm, 3) + " mm";
-}
-
-std::string AutoReportText(const AutoCalibration& a) {
-  std::string s = "# automatic field calibration\n";
-  s += "line pixels found: " + std::to_string(a.line_pixels) +
-       "; assigned to the field's marks: " + std::to_string(a.assigned_pixels) + "\n";
-  s += "observations: " + std::to_string(a.input.lines.size()) + " lines (";
-  for (size_t i = 0; i < a.input.lines.size(); ++i) s += (i ? ", " : "") + a.input.lines[i].name;
-  s += "), " + std::to_string(a.input.circles.size()) + " circles (";
-  for (size_t i = 0; i < a.input.circles.size(); ++i)
-    s += (i ? ", " : "") + a.input.circles[i].name;
-  s += ")\n";
-  s += "hypotheses scored: " + std::to_string(a.hypotheses) + "; best explains " +
-       FormatSignificant(a.score_px, 5) + " px of line, the other refined one " +
-       FormatSignificant(a.runner_up_px, 5) + " px\n";
-  if (a.point_symmetric) {
-    s += std::string(
-             "symmetry: the field is the same rotated by 180 deg (mirrored about both "
-             "axes); of the two equivalent cameras the one whose image centre looks at "
-             "x >= 0 is kept") +
-         (a.turned ? " (the search's camera was turned to it)" : "") + "\n";
-  } else {
-    s += "symmetry: none (the field is not the same rotated by 180 deg)\n";
-  }
-  s += "held-out mapping error: " + HeldOutText(a) +
-       " RMS on the floor (estimated from the run means of the held-out pixels, the line "
-       "finder's noise of " +
-       FormatSignificant(a.held_out_noise_mm, 3) + " mm removed; resolution " +
-       FormatSignificant(a.held_out_resolution_mm, 3) + " mm, twice the noise of a run's mean)\n";
-  s += "held-out pixels: RMS " + FormatSignificant(a.held_out_rms_mm, 3) + " mm, worst " +
-       FormatSignificant(a.held_out_worst_mm, 3) + " mm over " + std::to_string(a.held_out_count) +
-       " line pixels (two folds of alternating runs of 8 along each mark; each pixel's floor "
-       "distance to its mark through the camera fitted to the other fold)\n";
-  for (const std::string& n : a.notes) s += "note: " + n + "\n";
-  s += "seconds: " + FormatSignificant(a.seconds, 3) + "\n\n";
-  return s + FitReportText(a.input, a.fit);
 }
 
 }  // namespace patlab::calib

@@ -84,9 +84,14 @@ AutoCalibration FitSearched(const Searched& searched, const std::vector<LinePixe
 double FloorDifferenceMm(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
                          bool point_symmetric, int width_px, int height_px);
 
+// Whether two cameras map the frame alike: FloorDifferenceMm at most 20 px at the first's floor
+// scale at the image centre; `differ_mm` receives FloorDifferenceMm.
+bool SameMap(const camera::PinholeCamera& first, const camera::PinholeCamera& second,
+             bool point_symmetric, int width_px, int height_px, double* differ_mm);
+
 // Whether the lines do not decide between two fitted cameras: the second explains more than
-// kUndecidedRatio of the first's line length and maps the frame more than 20 px (at the first's
-// floor scale at the image centre) apart; `differ_mm` receives FloorDifferenceMm then.
+// kUndecidedRatio of the first's line length and maps the frame differently (not SameMap);
+// `differ_mm` receives FloorDifferenceMm then.
 constexpr double kUndecidedRatio = 0.9;
 bool Undecided(const camera::PinholeCamera& best, double best_score,
                const camera::PinholeCamera& second, double second_score, bool point_symmetric,
