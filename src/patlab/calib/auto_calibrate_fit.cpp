@@ -25,7 +25,8 @@ constexpr int kRun = 8;              // the held-out folds' run length along a m
 constexpr double kLastGatePx = 3.0;  // the assignment's last (narrowest) gate
 // A fitted camera explains at most this many px of line per line pixel found (header of FitView).
 constexpr double kMaxExplainedPerPixel = 1.5;
-// The search's views fitted at most (the second when it scores at least 80% of the first).
+// The different cameras fitted from the search's views at most (a further view is fitted while it
+// scores at least 80% of the first; FitSearched).
 constexpr size_t kFittedViews = 2;
 
 struct Assigned {
