@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "patlab/calib/auto_calibrate_internal.h"
+#include "patlab/calib/calibrate_internal.h"
 #include "patlab/core/error.h"
 #include "patlab/core/format.h"
 
@@ -264,10 +265,9 @@ Candidate FitView(const FitContext& x, const camera::PinholeCamera& start, Calib
       c.score = -INFINITY;
     } else if (const auto sky = internal::AboveHorizon(cam, x.width_px, x.height_px)) {
       const Eigen::Vector3d centre = -cam.rotation.transpose() * cam.translation_mm;
-      const Eigen::Vector3d axis = cam.rotation.transpose() * Eigen::Vector3d(0, 0, 1);
-      const double tilt = std::acos(std::clamp(-axis.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
       c.failure = "its camera, " + FormatFixed(centre.z(), 0) + " mm over the floor and " +
-                  FormatFixed(tilt, 1) + " deg from straight down, sees above the horizon at (" +
+                  FormatFixed(internal::TiltDeg(cam), 1) +
+                  " deg from straight down, sees above the horizon at (" +
                   FormatFixed(sky->x(), 0) + ", " + FormatFixed(sky->y(), 0) +
                   ") px (a camera over the field sees the floor in every pixel)";
       c.score = -INFINITY;

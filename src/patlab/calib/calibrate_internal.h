@@ -1,5 +1,5 @@
 // Pieces of the camera fit shared by calibrate_fit.cpp, calibrate_start.cpp and
-// calibrate_report.cpp.
+// calibrate_report.cpp (and the automatic calibration's fit, for a camera's tilt).
 #pragma once
 
 #include <array>
@@ -59,5 +59,8 @@ void FillHeldOut(const CalibrationInput& in, const std::vector<int>& fixed,
 // Each plane's mapping_sd_* from fit.covariance (calibrate_uncertainty.cpp).
 void FillMappingUncertainty(CalibrationFit& fit);
 double WorstAxisSd(const std::array<double, 4>& covariance);
+
+// The angle (deg) between a camera's optical axis and straight down (calibrate_report.cpp).
+double TiltDeg(const camera::PinholeCamera& c);
 
 }  // namespace patlab::calib::internal

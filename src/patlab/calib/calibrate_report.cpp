@@ -126,6 +126,11 @@ void FillResiduals(const CalibrationInput& in, const FitState& s, CalibrationFit
   FileResiduals(in, cam, fit);
 }
 
+double TiltDeg(const camera::PinholeCamera& c) {
+  const Eigen::Vector3d axis_world = c.rotation.transpose() * Eigen::Vector3d(0, 0, 1);
+  return std::acos(std::clamp(-axis_world.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+}
+
 }  // namespace internal
 
 namespace {
@@ -136,12 +141,6 @@ std::string Vector3(const Eigen::Vector3d& v) {
   out.append(FormatRoundTrip(v.x())).append(", ").append(FormatRoundTrip(v.y()));
   out.append(", ").append(FormatRoundTrip(v.z())).append("]");
   return out;
-}
-
-// The angle (deg) between the optical axis and straight down.
-double TiltDeg(const camera::PinholeCamera& c) {
-  const Eigen::Vector3d axis_world = c.rotation.transpose() * Eigen::Vector3d(0, 0, 1);
-  return std::acos(std::clamp(-axis_world.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
 
 std::string PlaneLines(const CalibrationFit& fit, const std::string& prefix) {
@@ -182,7 +181,7 @@ std::string CalibrationFileText(const CalibrationInput& input, const Calibration
       "# plane_mm  pixels  rms_px  worst_px  rms_mm  heldout_mm  worst_mm\n";
   out += PlaneLines(fit, "# ");
   out += "# Camera centre " + Vector3(fit.camera_centre_mm) + " mm, tilt " +
-         FormatFixed(TiltDeg(c), 2) + " deg from straight down.\n";
+         FormatFixed(internal::TiltDeg(c), 2) + " deg from straight down.\n";
   out += "model = \"pinhole\"\nimage_size_px = [" + std::to_string(input.image_width_px) + ", " +
          std::to_string(input.image_height_px) + "]\n\n[pinhole]\n";
   out += "fx_px = " + FormatRoundTrip(c.fx_px) + "\nfy_px = " + FormatRoundTrip(c.fy_px) +
@@ -218,7 +217,7 @@ std::string FitReportText(const CalibrationInput& input, const CalibrationFit& f
          Parameter("cx_px", c.cx_px, se[2]) + Parameter("cy_px", c.cy_px, se[3]) +
          Parameter("k1", c.k1, se[4]) + Parameter("k2", c.k2, se[5]);
   out += "  camera centre " + Vector3(fit.camera_centre_mm) + " mm, tilt " +
-         FormatFixed(TiltDeg(c), 2) + " deg\n";
+         FormatFixed(internal::TiltDeg(c), 2) + " deg\n";
   out += "residuals: RMS " + FormatFixed(fit.rms_px, 3) + " px, worst " +
          FormatFixed(fit.worst_px, 3) + " px; " +
          (fit.heldout_folds > 0
