@@ -72,6 +72,18 @@ TEST_P(FamilyRendered, KeepsTheTrueModelAndItsCamera) {
   }
   EXPECT_GE(fitted, 2);
   EXPECT_LE(fitted, 4);
+  // The held-out error is measured for the kept camera only (two more fits per camera): the
+  // other fitted models report NaN.
+  for (size_t i = 0; i < fc.tries.size(); ++i) {
+    const calib::FamilyTry& t = fc.tries[i];
+    if (static_cast<int>(i) == fc.kept) {
+      EXPECT_TRUE(std::isfinite(t.held_out_mapping_mm)) << t.field;
+      EXPECT_EQ(t.held_out_mapping_mm, fc.calibration.held_out_mapping_mm);
+    } else if (t.same_as.empty()) {
+      EXPECT_TRUE(std::isnan(t.held_out_mapping_mm)) << t.field;
+    }
+  }
+  EXPECT_GT(fc.calibration.held_out_count, 0);
   const calib::FamilyTry& twin = fc.tries[2];  // ssl-2019-div-b: the lines of ssl-div-b
   EXPECT_EQ(twin.field, "ssl-2019-div-b");
   EXPECT_EQ(twin.same_as, "ssl-div-b");
@@ -155,6 +167,9 @@ TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
   double nearest = rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kWidth, kHeight);
   for (const calib::FamilyRival& r : fc.rivals) {
     EXPECT_GT(r.calibration.score_px, 0.9 * fc.calibration.score_px);
+    // A rival may be written instead of the kept camera: its held-out error is measured too.
+    EXPECT_GT(r.calibration.held_out_count, 0);
+    EXPECT_TRUE(std::isfinite(r.calibration.held_out_mapping_mm));
     EXPECT_GT(r.floor_difference_mm, 100.0);
     nearest =
         std::min(nearest, rendered::MappingRmsMm(truth, r.calibration.fit.camera, kWidth, kHeight));

@@ -120,12 +120,14 @@ struct FamilyOptions {
   bool keep_rivals = false;
   int max_rivals = 3;  // >= 0: the best this many rivals kept
 };
+// held_out_mapping_mm is measured for the cameras kept only, the kept one and its rivals (two
+// more fits each): the other models' tries report NaN.
 struct FamilyTry {
   std::string field;                 // the model's name
   double screen_px = 0.0;            // its search's best score (NaN: the search failed)
   bool fitted = false;               // given the full fit
   double score_px = 0.0;             // the full fit's score (NaN: not fitted or failed)
-  double held_out_mapping_mm = 0.0;  // the full fit's (NaN likewise)
+  double held_out_mapping_mm = 0.0;  // the kept model's full fit's (NaN for the others)
   std::string same_as;               // the earlier model of the same marks whose result it shares
   std::string failure;               // why it failed or was not fitted ("" when fitted)
 };

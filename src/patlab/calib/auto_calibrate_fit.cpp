@@ -135,9 +135,9 @@ std::string WhatIsMissing(const CalibrationInput& in) {
                                       : std::string());
 }
 
-// The two folds of `in`: runs of kRun pixels along each observation alternate.
-CalibrationInput Fold(const Assigned& a, int fold) {
-  CalibrationInput in = a.input;
+// The two folds of `all`: runs of kRun pixels along each observation alternate.
+CalibrationInput Fold(const CalibrationInput& all, int fold) {
+  CalibrationInput in = all;
   auto keep = [&](std::vector<Vec2>& px) {
     std::vector<Vec2> out;
     for (size_t i = 0; i < px.size(); ++i)
@@ -307,12 +307,27 @@ struct HeldOutSums {
   }
 };
 
-// Step 5: the held-out error, each fold fitted from the final camera.
-void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
+// A fitted candidate's camera and observations into `out`; the held-out error is measured
+// later, for the cameras kept only (MeasureHeldOut).
+void Keep(const Candidate& c, AutoCalibration& out) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  out.score_px = c.score;
+  out.turned = c.turned;
+  out.input = c.assigned.input;
+  out.fit = c.fit;
+  out.assigned_pixels = c.assigned.count;
+  out.held_out_rms_mm = out.held_out_worst_mm = kNaN;
+  out.held_out_mapping_mm = out.held_out_noise_mm = out.held_out_resolution_mm = kNaN;
+  out.held_out_count = 0;
+}
+
+}  // namespace
+
+void internal::MeasureHeldOut(AutoCalibration& out) {
   HeldOutSums h;
   for (int fold = 0; fold < 2; ++fold) {
-    CalibrationInput train = Fold(assigned, fold);
-    const CalibrationInput test = Fold(assigned, 1 - fold);
+    CalibrationInput train = Fold(out.input, fold);
+    const CalibrationInput test = Fold(out.input, 1 - fold);
     train.options.start_camera = out.fit.camera;
     train.options.covariance = false;  // only the fold's camera is used
     if (!WhatIsMissing(train).empty()) continue;
@@ -341,18 +356,6 @@ void HeldOutError(const Assigned& assigned, AutoCalibration& out) {
                  : kNaN;
 }
 
-// A fitted candidate's camera, observations and held-out error into `out`.
-void Keep(const Candidate& c, AutoCalibration& out) {
-  out.score_px = c.score;
-  out.turned = c.turned;
-  out.input = c.assigned.input;
-  out.fit = c.fit;
-  out.assigned_pixels = c.assigned.count;
-  HeldOutError(c.assigned, out);
-}
-
-}  // namespace
-
 internal::Searched internal::SearchField(const std::vector<LinePixel>& pixels, int width_px,
                                          int height_px, const std::string& source,
                                          const Field& field, const AutoOptions& options) {
@@ -376,6 +379,7 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
       internal::SearchField(pixels, width_px, height_px, source, field, options);
   AutoCalibration out =
       internal::FitSearched(searched, pixels, width_px, height_px, source, field, options);
+  internal::MeasureHeldOut(out);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

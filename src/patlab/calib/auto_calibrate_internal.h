@@ -73,11 +73,16 @@ Searched SearchField(const std::vector<LinePixel>& pixels, int width_px, int hei
 // A second camera that maps the frame differently yet explains nearly as much line makes the
 // frame undecided, unless a piece of line only the first explains decides (OwnLinesDecide): an
 // InputError, or, with `undecided` given, that camera's calibration appended to it (the caller
-// decides by other evidence).
+// decides by other evidence). The held-out error is not measured (NaN): MeasureHeldOut does it
+// for the cameras the caller keeps (two more fits each; a family fits many it drops).
 AutoCalibration FitSearched(const Searched& searched, const std::vector<LinePixel>& pixels,
                             int width_px, int height_px, const std::string& source,
                             const Field& field, const AutoOptions& options,
                             std::vector<AutoCalibration>* undecided = nullptr);
+
+// Step 5: the held-out error of `a`'s camera into its held_out_* fields, each of two folds of
+// its observations fitted from that camera and measured on the other.
+void MeasureHeldOut(AutoCalibration& a);
 
 // The largest floor distance (mm) between two cameras' maps over a 3 x 3 grid of the frame, the
 // second also turned by 180 deg when the field is point-symmetric (equivalents are equal).

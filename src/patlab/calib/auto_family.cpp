@@ -104,7 +104,6 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
           internal::FitSearched(*searched[i], *f.pixels, f.width_px, f.height_px, *f.source,
                                 fields[i], *f.options, family.keep_rivals ? &undecided : nullptr);
       t.score_px = a.score_px;
-      t.held_out_mapping_mm = a.held_out_mapping_mm;
       ++fitted;
       const int model = static_cast<int>(i);
       if (a.score_px > best) {
@@ -118,7 +117,11 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
       t.failure = e.what();
     }
   }
-  if (!family.keep_rivals || out->kept < 0) return;
+  if (out->kept < 0) return;
+  internal::MeasureHeldOut(out->calibration);
+  out->tries[static_cast<size_t>(out->kept)].held_out_mapping_mm =
+      out->calibration.held_out_mapping_mm;
+  if (!family.keep_rivals) return;
   // The rivals: the cameras the lines do not decide from the kept one (by length, or by a piece
   // of line only the kept one explains), best first, each mapping the frame differently from the
   // kept one and from every rival kept before it.
@@ -145,6 +148,7 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
     });
     if (new_map) out->rivals.push_back(std::move(r));
   }
+  for (FamilyRival& r : out->rivals) internal::MeasureHeldOut(r.calibration);
 }
 
 }  // namespace
