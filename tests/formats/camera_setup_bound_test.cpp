@@ -1,7 +1,7 @@
 // Lines that fit a camera only with its focal length at the fit's lower bound, through which no
 // robot decodes at any height, fix no camera (internal::FocalAtItsBound): setup hands such a frame
-// to the robots' path. Where robots decode at every height, the lines' height is the bound's, no
-// measure, and the fit with the robots is kept however coarse.
+// to the robots' path. Where robots decode at every height and the lines do not measure the
+// height, the fit with the robots is kept however coarse.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -60,11 +60,14 @@ TEST(FocalAtItsBound, TheOnlyCameraAtTheLowerBoundThroughWhichNothingDecodesIsNa
 }
 
 // Fresh rendered seed 122 (scripts/setup_rendered.py): 4.0 m over a corner of ssl-div-a's
-// defence area. Its lines fit ssl-div-a only with the focal length at the bound (156 px, 1.23 m
-// up), and the ten robots decode alike at every height scanned, 1.23 to 11.5 m. Kept at 1.23 m,
+// defence area. Its lines leave the height open: they fit ssl-div-a anywhere along the valley of
+// focal length against height (3.08 +- 25.4 m, f 391 px, where the fit stops once the floor's
+// image has settled; it crawled to the focal length's bound, 156 px, 1.23 m up, before), and the
+// ten robots decode alike at every height scanned. Kept at the bound's 1.23 m,
 // the robots' plane, 140 mm up, was mapped with three times the true parallax: 6 of them over
-// 100 mm off (6 false IDs). The fit with the robots measures 5.6 +- 1.2 m, over the 15 % it needs
-// where the lines measure the height, and is kept where they do not.
+// 100 mm off (6 false IDs). The fit with the robots measures 4.7 +- 0.8 m (5.6 +- 1.2 m from
+// the bound), over the 15 % it needs where the lines measure the height, and is kept where they
+// do not.
 RenderedView FreshSeed122(const testing::TempDir& dir) {
   return RenderedAsTheScriptDoes(SslRobotScene(dir, R"(model = "pinhole"
 image_size_px = [780, 580]
@@ -122,7 +125,7 @@ TEST(SetupCamera, LinesThatDoNotMeasureTheHeightLeaveItToTheRobotsHoweverCoarse)
   const SetupResult r = SetupCamera({&view.frame}, {"frame.png"}, SslModels({"ssl-div-a"}));
   const std::string report = SetupReportText(r);
   const SetupHeight& h = r.height;
-  EXPECT_NEAR(h.lines_focal_px, 156.0, 0.01) << report;
+  EXPECT_GT(h.lines_sd_mm, h.lines_height_mm) << report;  // the lines leave the height open
   EXPECT_EQ(h.fitted, "kept") << report;
   EXPECT_EQ(h.decided_by, "robots") << report;
   EXPECT_GT(h.sd_mm, 0.15 * h.height_mm) << report;  // coarse: kept only at the bound

@@ -61,6 +61,10 @@ struct LinePixel {
 struct AutoOptions {
   double huber_px = 1.0;     // the fit's Huber scale, > 0
   int max_fit_pixels = 300;  // the line pixels the fit uses at most (evenly along each mark)
+  // Each fit stops once the camera's image of the floor has settled to a hundredth of a pixel
+  // over 10 iterations (FitOptions::settle_px; 0: off): it would crawl along the valley of focal
+  // length against height to its last iteration otherwise.
+  double settle_px = 0.01;
   // Held fixed in the fit (calibrate.h FitOptions::fixed).
   std::vector<FitParameter> fixed = {FitParameter::kAspect, FitParameter::kK2};
   // The camera's height above the floor, if measured: separates focal length from height,

@@ -165,6 +165,7 @@ CalibrationInput BaseInput(const std::string& source, int width_px, int height_p
   base.options.huber_px = options.huber_px;
   base.options.camera_height_mm = options.camera_height_mm;
   base.options.holdout_folds = 0;
+  base.options.settle_px = options.settle_px;
   return base;
 }
 

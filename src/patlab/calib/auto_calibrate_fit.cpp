@@ -178,8 +178,9 @@ void CheckAutoInput(const std::vector<LinePixel>& pixels, int width_px, int heig
   if (width_px < 16 || height_px < 16)
     throw InputError(source + ": a " + std::to_string(width_px) + " x " +
                      std::to_string(height_px) + " frame; expected at least 16 x 16 px");
-  if (!(options.huber_px > 0.0) || options.max_fit_pixels < 50)
-    throw InputError("auto calibration: huber_px must be > 0 and max_fit_pixels >= 50");
+  if (!(options.huber_px > 0.0) || options.max_fit_pixels < 50 || !(options.settle_px >= 0.0))
+    throw InputError(
+        "auto calibration: huber_px must be > 0, max_fit_pixels >= 50 and settle_px >= 0");
   constexpr size_t kMinLinePixels = 100;
   if (pixels.size() < kMinLinePixels) {
     throw InputError(source + ": found " + std::to_string(pixels.size()) +

@@ -72,6 +72,8 @@ inline constexpr EnumNames<FitParameter, 5> kFitParameterNames{{{
     {FitParameter::kK2, "k2"},
 }}};
 
+inline constexpr int kSettleIterations = 10;  // FitOptions::settle_px's window
+
 struct FitOptions {
   // Held fixed (at the start value): by default the pixel aspect (fy = fx) and k2, which one
   // view of a nearly planar scene rarely determines; the principal point is fitted.
@@ -86,6 +88,13 @@ struct FitOptions {
   std::optional<double> camera_height_mm;
   double camera_height_sd_mm = 10.0;
   int max_iterations = 200;
+  // > 0: the fit also stops once the camera's image of the floor (z = 0) has settled: over
+  // kSettleIterations successful iterations no floor point seen at a 5 x 5 grid of the start
+  // camera's image moved by more than settle_px. Lines on the floor alone leave a valley of focal
+  // length against height along which that image hardly changes, and the solver crawls along
+  // it, each step lowering the cost by a few parts in 10^7, to max_iterations. 0: Ceres' own
+  // tolerances alone.
+  double settle_px = 0.0;
   // Folds of the cross-validated mapping error (CalibrationFit::heldout_rms_mm): every k-th
   // point, line pixel and circle pixel is held out in turn, the camera refitted without it (from
   // the full fit) and its back-projection measured against its target. More folds: each refit

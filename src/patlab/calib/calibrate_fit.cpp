@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <vector>
 
 #include "patlab/calib/calibrate.h"
 #include "patlab/calib/calibrate_internal.h"
@@ -327,8 +328,33 @@ void WarnIfBeyondTheFold(CalibrationFit& fit) {
                       "edge");
 }
 
-ceres::Problem::Options ProblemOptions();
-ceres::Solver::Summary Solve(ceres::Problem& problem, int max_iterations);
+// Minimises over the problem's free parameters (`s` its parameter blocks); Ceres' summary.
+ceres::Solver::Summary Solve(const CalibrationInput& in, const FitState& s, ceres::Problem& problem,
+                             int max_iterations) {
+  ceres::Solver::Options so;
+  std::unique_ptr<ceres::IterationCallback> settled;
+  if (in.options.settle_px > 0.0) {
+    settled = internal::FloorImageSettled(in, s);
+    so.callbacks.push_back(settled.get());
+    so.update_state_every_iteration = true;
+  }
+  so.linear_solver_type = ceres::DENSE_SCHUR;
+  so.max_num_iterations = max_iterations;
+  so.function_tolerance = 1e-12;
+  so.gradient_tolerance = 1e-12;
+  so.parameter_tolerance = 1e-12;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return summary;
+}
+
+ceres::Problem::Options ProblemOptions() {
+  ceres::Problem::Options po;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return po;
+}
 
 // The observed pixels and the free parameters (camera and nuisance); refuses data with fewer
 // equations than unknowns.
@@ -365,7 +391,7 @@ std::vector<FitState> FirstStage(const CalibrationInput& in, const std::vector<i
     BuildProblem(in, s, loss, stage1, problem);
     if (std::find(stage1.begin(), stage1.end(), 0) == stage1.end())
       problem.SetParameterLowerBound(s.intrinsics.data(), 0, kMinFocalWidths * in.image_width_px);
-    const ceres::Solver::Summary summary = Solve(problem, 50);
+    const ceres::Solver::Summary summary = Solve(in, s, problem, 50);
     if (summary.IsSolutionUsable()) ranked.emplace_back(summary.final_cost, s);
   }
   if (ranked.empty()) {
@@ -386,28 +412,7 @@ ceres::Solver::Summary FullStage(const CalibrationInput& in, const std::vector<i
   BuildProblem(in, s, loss, fixed, problem);
   if (std::find(fixed.begin(), fixed.end(), 0) == fixed.end())
     problem.SetParameterLowerBound(s.intrinsics.data(), 0, kMinFocalWidths * in.image_width_px);
-  return Solve(problem, in.options.max_iterations);
-}
-
-// Minimises over the problem's free parameters; Ceres' summary.
-ceres::Solver::Summary Solve(ceres::Problem& problem, int max_iterations) {
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_SCHUR;
-  so.max_num_iterations = max_iterations;
-  so.function_tolerance = 1e-12;
-  so.gradient_tolerance = 1e-12;
-  so.parameter_tolerance = 1e-12;
-  so.num_threads = 1;
-  so.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  return summary;
-}
-
-ceres::Problem::Options ProblemOptions() {
-  ceres::Problem::Options po;
-  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  return po;
+  return Solve(in, s, problem, in.options.max_iterations);
 }
 
 }  // namespace

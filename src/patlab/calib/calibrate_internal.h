@@ -3,13 +3,15 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "patlab/calib/calibrate.h"
 
 namespace ceres {
+class IterationCallback;
 class LossFunction;
-}
+}  // namespace ceres
 
 namespace patlab::calib::internal {
 
@@ -48,6 +50,14 @@ void FillResiduals(const CalibrationInput& input, const FitState& s, Calibration
 
 // The full model refitted from `s` (its parameters and nuisance unknowns as they stand) to `in`,
 // with `fixed` intrinsics held: false when Ceres finds no usable solution (calibrate_fit.cpp).
+// FitOptions::settle_px's stop (calibrate_settle.cpp): a solver callback that ends the solve
+// once the image of the floor through `s`'s camera has settled, kSettleIterations successful
+// iterations moving no point of it by more than in.options.settle_px. The points: the floor seen
+// at a 5 x 5 grid of the start camera's image. `s` must hold the problem's parameter blocks, and
+// the solver must update them every iteration.
+std::unique_ptr<ceres::IterationCallback> FloorImageSettled(const CalibrationInput& in,
+                                                            const FitState& s);
+
 bool RefitFrom(const CalibrationInput& in, const std::vector<int>& fixed, ceres::LossFunction* loss,
                FitState& s);
 
