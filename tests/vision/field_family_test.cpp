@@ -146,15 +146,9 @@ TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
   for (const char* model : {"ssl-div-b", "ssl-div-a"})
     family.push_back(formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" +
                                         std::string(model) + ".toml"));
-  camera::PinholeCamera truth;
-  truth.fx_px = truth.fy_px = 517.9;
-  truth.cx_px = 391.8;
-  truth.cy_px = 287.2;
-  truth.k1 = -0.093;
-  truth.rotation = Eigen::AngleAxisd(Eigen::Vector3d(-0.384322, 3.088143, -0.015653).norm(),
-                                     Eigen::Vector3d(-0.384322, 3.088143, -0.015653).normalized())
-                       .matrix();
-  truth.translation_mm = Eigen::Vector3d(-69.6, 3050.9, 3846.7);
+  const camera::PinholeCamera truth = rendered::CameraOfFile(
+      517.9, Vec2(391.8, 287.2), -0.093, Eigen::Vector3d(-0.384322, 3.088143, -0.015653),
+      Eigen::Vector3d(-69.6, 3050.9, 3846.7));
   const std::vector<calib::LinePixel> pixels = FindLinePixels(Render(family[1], truth));
   EXPECT_INPUT_ERROR_STARTS_WITH(
       calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family),
@@ -181,15 +175,9 @@ TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
 // ssl-div-b, 3.1 m up: the circle and the two lines crossing in it look the same a quarter turn
 // round, but the frame's corner shows about 30 px of touch line.
 camera::PinholeCamera SeedTwentysCamera() {
-  camera::PinholeCamera c;
-  c.fx_px = c.fy_px = 553.783474;
-  c.cx_px = 389.549665;
-  c.cy_px = 291.026233;
-  c.k1 = -0.033045;
-  const Eigen::Vector3d r(2.987052464, -0.906660521, 0.066805311);
-  c.rotation = Eigen::AngleAxisd(r.norm(), r.normalized()).matrix();
-  c.translation_mm = Eigen::Vector3d(-488.665728, -175.068769, 3134.859850);
-  return c;
+  return rendered::CameraOfFile(553.783474, Vec2(389.549665, 291.026233), -0.033045,
+                                Eigen::Vector3d(2.987052464, -0.906660521, 0.066805311),
+                                Eigen::Vector3d(-488.665728, -175.068769, 3134.859850));
 }
 
 // The pixels each camera explains alone, against a count by brute force over the marks' points:

@@ -1,6 +1,7 @@
 // Frames of a field's painted lines seen by known cameras, and how far a fitted camera's floor
 // map lies from the true one: what the automatic calibration's tests (field_lines_test.cpp,
-// field_family_test.cpp, held_out_error_test.cpp, narrow_view_test.cpp) share.
+// field_family_test.cpp, held_out_error_test.cpp, narrow_view_test.cpp, settled_fit_test.cpp)
+// share.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -16,6 +17,22 @@
 #include "patlab/render/field_render.h"
 
 namespace patlab::vision::rendered {
+
+// A camera as a calibration file gives it (camera.toml's [pinhole], as scripts/setup_rendered.py
+// writes its random cameras): square pixels of focal length f_px, the principal point, k1, the
+// rotation as a Rodrigues vector and the translation.
+inline camera::PinholeCamera CameraOfFile(double f_px, const Vec2& principal_px, double k1,
+                                          const Eigen::Vector3d& rodrigues,
+                                          const Eigen::Vector3d& translation_mm) {
+  camera::PinholeCamera c;
+  c.fx_px = c.fy_px = f_px;
+  c.cx_px = principal_px.x();
+  c.cy_px = principal_px.y();
+  c.k1 = k1;
+  c.rotation = Eigen::AngleAxisd(rodrigues.norm(), rodrigues.normalized()).matrix();
+  c.translation_mm = translation_mm;
+  return c;
+}
 
 // `intrinsics` looking straight down from `height_mm` over `over_mm` (the image's x along the
 // floor's x and its y against the floor's y, before the turn by `yaw_rad` about the vertical),

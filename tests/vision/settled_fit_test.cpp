@@ -22,15 +22,9 @@ constexpr int kWidth = 780, kHeight = 580;
 
 // Seed 58's camera (scripts/setup_rendered.py, tests/bench/setup_bench.cpp): 3.3 m over ssl-2015.
 camera::PinholeCamera Seed58Camera() {
-  camera::PinholeCamera cam;
-  cam.fx_px = cam.fy_px = 620.773377;
-  cam.cx_px = 388.2586;
-  cam.cy_px = 287.504088;
-  cam.k1 = -0.053985;
-  const Eigen::Vector3d r(-1.781230243, 2.570248600, -0.008345282);
-  cam.rotation = Eigen::AngleAxisd(r.norm(), r.normalized()).matrix();
-  cam.translation_mm = Eigen::Vector3d(768.181397, -2561.128992, 3283.150133);
-  return cam;
+  return rendered::CameraOfFile(620.773377, Vec2(388.2586, 287.504088), -0.053985,
+                                Eigen::Vector3d(-1.781230243, 2.570248600, -0.008345282),
+                                Eigen::Vector3d(768.181397, -2561.128992, 3283.150133));
 }
 
 // The true model's last fit on seed 58's lines crawls along the valley to its 200th iteration,
