@@ -48,8 +48,6 @@ std::vector<FitState> StartCandidates(const CalibrationInput& in);
 // Residuals of every pixel, per-plane summaries and totals into `fit`.
 void FillResiduals(const CalibrationInput& input, const FitState& s, CalibrationFit& fit);
 
-// The full model refitted from `s` (its parameters and nuisance unknowns as they stand) to `in`,
-// with `fixed` intrinsics held: false when Ceres finds no usable solution (calibrate_fit.cpp).
 // FitOptions::settle_px's stop (calibrate_settle.cpp): a solver callback that ends the solve
 // once the image of the floor through `s`'s camera has settled, kSettleIterations successful
 // iterations moving no point of it by more than in.options.settle_px. The points: the floor seen
@@ -58,6 +56,8 @@ void FillResiduals(const CalibrationInput& input, const FitState& s, Calibration
 std::unique_ptr<ceres::IterationCallback> FloorImageSettled(const CalibrationInput& in,
                                                             const FitState& s);
 
+// The full model refitted from `s` (its parameters and nuisance unknowns as they stand) to `in`,
+// with `fixed` intrinsics held: false when Ceres finds no usable solution (calibrate_fit.cpp).
 bool RefitFrom(const CalibrationInput& in, const std::vector<int>& fixed, ceres::LossFunction* loss,
                FitState& s);
 

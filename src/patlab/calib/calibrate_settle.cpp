@@ -4,7 +4,6 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
-#include <array>
 #include <memory>
 #include <vector>
 
