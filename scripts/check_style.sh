@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # The style guard rails (docs/contributing.md): the rooms' layering and file sizes
 # (scripts/check_layering.sh), the source paths the docs mention (scripts/check_doc_paths.py),
+# docs/setup.md's per-frame tables against results/setup (scripts/check_setup_tables.py),
 # every C++ file formatted by the committed .clang-format, and the .clang-tidy limits (function size 80 lines, cognitive complexity 40) on every source file.
 # Needs build/compile_commands.json (scripts/build.sh writes it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/check_layering.sh  # the rooms' includes and links, cycles, no file over 500 lines
 /usr/bin/python3 scripts/check_doc_paths.py  # every source path the docs mention exists
+/usr/bin/python3 scripts/check_setup_tables.py  # docs/setup.md's per-frame rows are the CSVs'
 mapfile -t files < <(git ls-files '*.cpp' '*.h')
 echo "clang-format: ${#files[@]} files"
 clang-format --dry-run -Werror "${files[@]}"

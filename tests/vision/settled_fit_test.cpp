@@ -57,6 +57,11 @@ TEST(SettledFit, StopsTheCrawlAlongTheValleyAtTheSameFloorMap) {
   EXPECT_GT(std::abs(settled.fit.camera.fx_px - full.fit.camera.fx_px), 50.0);
   EXPECT_LT(between_mm, 0.1 * mm_per_px);
   EXPECT_NEAR(settled.score_px, full.score_px, 1e-3 * full.score_px);
+  // The report names the stop: the settle's rule, not Ceres' "user callback".
+  EXPECT_EQ(settled.fit.termination,
+            "SETTLED: no floor point's image moved more than 0.01 px over the last 10 successful "
+            "iterations");
+  EXPECT_EQ(full.fit.termination.rfind("NO_CONVERGENCE", 0), 0u) << full.fit.termination;
 }
 
 }  // namespace

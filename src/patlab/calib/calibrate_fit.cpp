@@ -456,8 +456,10 @@ CalibrationFit FitCamera(const CalibrationInput& input) {
                       " first stages refined; the best has focal " +
                       FormatSignificant(s.intrinsics[0], 5) + " px");
   fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  fit.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
-                    summary.message;
+  fit.termination = summary.termination_type == ceres::USER_SUCCESS  // only the settle's stop
+                        ? internal::SettledTermination(input.options)
+                        : ceres::TerminationTypeToString(summary.termination_type) +
+                              std::string(": ") + summary.message;
   if (!summary.IsSolutionUsable()) {
     throw InputError(input.loc, "the camera fit failed (" + fit.termination +
                                     "); expected observations a pinhole camera can explain");

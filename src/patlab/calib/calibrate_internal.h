@@ -4,6 +4,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "patlab/calib/calibrate.h"
@@ -55,6 +56,9 @@ void FillResiduals(const CalibrationInput& input, const FitState& s, Calibration
 // the solver must update them every iteration.
 std::unique_ptr<ceres::IterationCallback> FloorImageSettled(const CalibrationInput& in,
                                                             const FitState& s);
+
+// CalibrationFit::termination of a solve FloorImageSettled ended: "SETTLED" and the rule it met.
+std::string SettledTermination(const FitOptions& options);
 
 // The full model refitted from `s` (its parameters and nuisance unknowns as they stand) to `in`,
 // with `fixed` intrinsics held: false when Ceres finds no usable solution (calibrate_fit.cpp).

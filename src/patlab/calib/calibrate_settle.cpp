@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "patlab/calib/calibrate_internal.h"
 #include "patlab/camera/camera.h"
+#include "patlab/core/format.h"
 
 namespace patlab::calib::internal {
 namespace {
@@ -55,6 +57,12 @@ class Settled : public ceres::IterationCallback {
 std::unique_ptr<ceres::IterationCallback> FloorImageSettled(const CalibrationInput& in,
                                                             const FitState& s) {
   return std::make_unique<Settled>(in, s);
+}
+
+std::string SettledTermination(const FitOptions& options) {
+  return "SETTLED: no floor point's image moved more than " +
+         FormatSignificant(options.settle_px, 3) + " px over the last " +
+         std::to_string(kSettleIterations) + " successful iterations";
 }
 
 }  // namespace patlab::calib::internal
