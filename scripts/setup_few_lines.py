@@ -99,8 +99,8 @@ def main():
                      for r in csv.DictReader(open(os.path.join(folder, "r", "truth.csv")))]
             flags = ["--camera-height", "%.0f" % cam["centre"][2]] if args.measured_height else []
             start = os.path.getsize(log)
-            row, cpu = rendered.setup_and_score(patlab, frame, truth, os.path.join(folder, "cam"),
-                                                log, flags)
+            row, cpu = rendered.setup_and_score(patlab, frame, truth, model,
+                                                os.path.join(folder, "cam"), log, flags)
             with open(log) as f:
                 f.seek(start)
                 text = f.read()

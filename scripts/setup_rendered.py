@@ -19,9 +19,11 @@ the robots found. The field's half-turn symmetry gives two equally valid world f
 picks one and says so): each frame is scored in the one that matches its truth.
 
 Usage: scripts/setup_rendered.py [--patlab build/patlab] [--seeds 1-12] [--out results/setup]
-Writes OUT/rendered.csv (one row per frame: the scene drawn, the outcome, and the camera setup
-wrote: its centre's height over the floor, its focal length and what decided the height -- the
-lines, the robots, or neither) and prints the table docs/setup.md quotes.
+Writes OUT/rendered.csv (one row per frame: the scene drawn, the outcome, setup's held-out
+mapping error and the true one -- where setup's camera and the true camera put the floor that
+every 10th pixel shows inside the field's lines, RMS in mm -- and the camera setup wrote: its
+centre's height over the floor, its focal length and what decided the height: the lines, the
+robots, or neither) and prints the table docs/setup.md quotes.
 """
 import argparse
 import csv
@@ -145,6 +147,56 @@ def write_scene(folder, model, cam, robots, colours, seed):
                     % (team, rid, x, y, theta))
 
 
+def floor_points(pinhole, pixels):
+    """The floor (z = 0) points in mm that `pixels` (N x 2) see through a calibration's
+    [pinhole] table, as src/patlab/camera/camera.cpp's PixelToWorld maps them (the radial
+    distortion undone by Newton's method); NaN where a pixel does not reach the floor."""
+    k1, k2 = pinhole.get("k1", 0.0), pinhole.get("k2", 0.0)
+    xd = (pixels[:, 0] - pinhole["cx_px"]) / pinhole["fx_px"]
+    yd = (pixels[:, 1] - pinhole["cy_px"]) / pinhole["fy_px"]
+    rd = np.hypot(xd, yd)
+    r = rd.copy()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for _ in range(20):
+            r2 = r * r
+            slope = 1.0 + 3.0 * k1 * r2 + 5.0 * k2 * r2 * r2
+            r = r - (r * (1.0 + k1 * r2 + k2 * r2 * r2) - rd) / slope
+        r2 = r * r
+        valid = (r >= 0.0) & (1.0 + 3.0 * k1 * r2 + 5.0 * k2 * r2 * r2 > 0.0)
+        scale = np.where(rd > 0.0, r / np.where(rd > 0.0, rd, 1.0), 1.0)
+        rotation = Rotation.from_rotvec(pinhole["rotation_rodrigues"]).as_matrix()
+        centre = -rotation.T @ np.array(pinhole["translation_mm"], dtype=float)
+        rays = np.stack([xd * scale, yd * scale, np.ones_like(xd)], axis=1) @ rotation
+        s = -centre[2] / rays[:, 2]
+    valid &= np.isfinite(s) & (s > 0.0)
+    points = centre[:2] + s[:, None] * rays[:, :2]
+    points[~valid] = np.nan
+    return points
+
+
+def true_mapping_error(scene_dir, cam_dir, model):
+    """The RMS distance in mm between where the true camera and setup's camera put the floor
+    seen at every 10th pixel that shows the field (inside its lines), in the better of the two
+    world frames (the field's half turn); inf where setup's camera misses part of it."""
+    try:
+        with open(os.path.join(scene_dir, "camera.toml"), "rb") as f:
+            truth = tomllib.load(f)["pinhole"]
+        with open(os.path.join(cam_dir, "calibration.toml"), "rb") as f:
+            fitted = tomllib.load(f)["pinhole"]
+    except (OSError, KeyError, tomllib.TOMLDecodeError):
+        return ""
+    u, v = np.meshgrid(np.arange(5, WIDTH, 10), np.arange(5, HEIGHT, 10))
+    pixels = np.stack([u.ravel(), v.ravel()], axis=1).astype(float)
+    length, width = field_size(model)
+    a = floor_points(truth, pixels)
+    inside = (np.abs(a[:, 0]) <= length / 2) & (np.abs(a[:, 1]) <= width / 2)
+    a, b = a[inside], floor_points(fitted, pixels)[inside]
+    if not len(a) or np.isnan(b).any():
+        return "inf"
+    return round(min(float(np.sqrt(np.mean(np.sum((a - sign * b) ** 2, axis=1))))
+                     for sign in (1.0, -1.0)), 2)
+
+
 def mapping_error(line):
     """The held-out mapping error of setup's report line: "0.72", or "<0.29" when it is below
     the line finder's resolution."""
@@ -227,7 +279,7 @@ def camera_height(cam_dir, report):
     return round(float(centre[2])), round(float(pinhole["fx_px"]), 1), by
 
 
-def setup_and_score(patlab, frame, truth, cam_dir, log, setup_flags=()):
+def setup_and_score(patlab, frame, truth, model, cam_dir, log, setup_flags=()):
     """setup (with the shipped settings and any further flags) and detect on one rendered
     frame, scored against its truth: (the row's outcome columns, setup's CPU seconds)."""
     setup, cpu = run([patlab, "setup", frame, "--field", "ssl", "--settings", "ssl-frame.detector",
@@ -239,8 +291,10 @@ def setup_and_score(patlab, frame, truth, cam_dir, log, setup_flags=()):
     if setup.returncode != 0:
         return dict(outcome="setup refused (exit %d)" % setup.returncode, model_kept=kept,
                     right=0, false_ids=0, position_error_mm="", mapping_error_mm=mapping,
-                    setup_height_mm="", setup_f_px="", height_decided_by=""), cpu
+                    true_mapping_error_mm="", setup_height_mm="", setup_f_px="",
+                    height_decided_by=""), cpu
     height, focal, decided_by = camera_height(cam_dir, setup.stdout)
+    true_mapping = true_mapping_error(os.path.dirname(os.path.dirname(frame)), cam_dir, model)
     detect, _ = run([patlab, "detect", frame, "--setup", cam_dir], log)
     detections = [(r["team"], int(r["id"]), float(r["x_mm"]), float(r["y_mm"]))
                   for r in csv.DictReader(detect.stdout.splitlines()) if "team" in r]
@@ -248,17 +302,17 @@ def setup_and_score(patlab, frame, truth, cam_dir, log, setup_flags=()):
     return dict(outcome="detected" if detect.returncode == 0 else "detect failed",
                 model_kept=kept, right=right, false_ids=false,
                 position_error_mm="" if math.isnan(error) else round(error, 1),
-                mapping_error_mm=mapping, setup_height_mm=height, setup_f_px=focal,
-                height_decided_by=decided_by), cpu
+                mapping_error_mm=mapping, true_mapping_error_mm=true_mapping,
+                setup_height_mm=height, setup_f_px=focal, height_decided_by=decided_by), cpu
 
 
 def one_frame(patlab, seed, work, log):
     row, frame, truth = render_frame(patlab, seed, work, log)
     if frame is None:
         return dict(row, outcome="render failed", model_kept="", right=0, false_ids=0,
-                    position_error_mm="", mapping_error_mm="", setup_height_mm="", setup_f_px="",
-                    height_decided_by=""), 0.0
-    outcome, cpu = setup_and_score(patlab, frame, truth,
+                    position_error_mm="", mapping_error_mm="", true_mapping_error_mm="",
+                    setup_height_mm="", setup_f_px="", height_decided_by=""), 0.0
+    outcome, cpu = setup_and_score(patlab, frame, truth, row["model"],
                                    os.path.join(work, "seed%d" % seed, "cam"), log)
     return dict(row, **outcome), cpu
 
