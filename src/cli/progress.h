@@ -15,6 +15,8 @@ namespace patlab::cli {
 
 class Progress {
  public:
+  static constexpr double kQuietSeconds = 1.0;  // nothing is shown before (unless forced)
+
   // `command` names the line ("patlab simulate"), `unit` what is counted ("points").
   // `enabled` false: silent. `terminal` says whether to redraw in place (IsTerminal()).
   Progress(std::string command, std::string unit, bool enabled, bool terminal,
@@ -40,7 +42,6 @@ class Progress {
   bool line_open_ = false;
   bool started_ = false;
   bool always_ = false;  // PATLAB_PROGRESS=always: no quiet first second
-  static constexpr double kQuietSeconds = 1.0;
 };
 
 // Whether stderr is a terminal.
