@@ -18,9 +18,11 @@ exit status is 1. Run by scripts/check_style.sh and the ctest setup_tables.
 usage: scripts/check_setup_tables.py [--root DIR]
 """
 import argparse
-import csv
 import pathlib
 import sys
+
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+import setup_rendered_summary  # noqa: E402  (the one reader of results/setup's CSVs)
 
 HEADER = ("| seed | true model | kept | robots right / shown | false IDs | camera height: true, "
           "setup's (decided by) | position error of those found |")
@@ -30,14 +32,12 @@ DASH = "–"
 def csv_rows(root):
     """{seed: (row, the CSV's path relative to root)} over every rendered.csv; errors."""
     rows, errors = {}, []
-    for path in sorted((root / "results" / "setup").rglob("rendered.csv")):
-        rel = path.relative_to(root).as_posix()
-        with open(path, newline="") as f:
-            for row in csv.DictReader(f):
-                seed = int(row["seed"])
-                if seed in rows:
-                    errors.append("%s: seed %d is also in %s" % (rel, seed, rows[seed][1]))
-                rows[seed] = (row, rel)
+    for rel, set_rows in setup_rendered_summary.read_sets(root):
+        for row in set_rows:
+            seed = int(row["seed"])
+            if seed in rows:
+                errors.append("%s: seed %d is also in %s" % (rel, seed, rows[seed][1]))
+            rows[seed] = (row, rel)
     return rows, errors
 
 

@@ -147,6 +147,15 @@ def write_scene(folder, model, cam, robots, colours, seed):
                     % (team, rid, x, y, theta))
 
 
+def read_pinhole(path):
+    """A calibration file's [pinhole] table, or None when it is missing or unreadable."""
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)["pinhole"]
+    except (OSError, KeyError, tomllib.TOMLDecodeError):
+        return None
+
+
 def floor_points(pinhole, pixels):
     """The floor (z = 0) points in mm that `pixels` (N x 2) see through a calibration's
     [pinhole] table, as src/patlab/camera/camera.cpp's PixelToWorld maps them (the radial
@@ -178,12 +187,9 @@ def true_mapping_error(scene_dir, cam_dir, model):
     """The RMS distance in mm between where the true camera and setup's camera put the floor
     seen at every 10th pixel that shows the field (inside its lines), in the better of the two
     world frames (the field's half turn); inf where setup's camera misses part of it."""
-    try:
-        with open(os.path.join(scene_dir, "camera.toml"), "rb") as f:
-            truth = tomllib.load(f)["pinhole"]
-        with open(os.path.join(cam_dir, "calibration.toml"), "rb") as f:
-            fitted = tomllib.load(f)["pinhole"]
-    except (OSError, KeyError, tomllib.TOMLDecodeError):
+    truth = read_pinhole(os.path.join(scene_dir, "camera.toml"))
+    fitted = read_pinhole(os.path.join(cam_dir, "calibration.toml"))
+    if truth is None or fitted is None:
         return ""
     u, v = np.meshgrid(np.arange(5, WIDTH, 10), np.arange(5, HEIGHT, 10))
     pixels = np.stack([u.ravel(), v.ravel()], axis=1).astype(float)
@@ -265,10 +271,8 @@ def camera_height(cam_dir, report):
     """(height of the camera's centre over the floor in mm, focal length in px, what decided the
     height: lines, robots, given or undetermined) from the calibration setup wrote and its
     report's `camera height:` line."""
-    try:
-        with open(os.path.join(cam_dir, "calibration.toml"), "rb") as f:
-            pinhole = tomllib.load(f)["pinhole"]
-    except (OSError, KeyError, tomllib.TOMLDecodeError):
+    pinhole = read_pinhole(os.path.join(cam_dir, "calibration.toml"))
+    if pinhole is None:
         return "", "", ""
     rotation = Rotation.from_rotvec(pinhole["rotation_rodrigues"]).as_matrix()
     centre = -rotation.T @ np.array(pinhole["translation_mm"])

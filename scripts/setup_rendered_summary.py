@@ -18,6 +18,7 @@ usage: scripts/setup_rendered_summary.py [--root DIR] [--worst N]
 import argparse
 import csv
 import math
+import os
 import pathlib
 import sys
 
@@ -26,15 +27,20 @@ LIMIT_MM = 5.0
 
 
 def read_sets(root):
-    """[(set name, rows)] in seed order."""
+    """[(the CSV's path relative to root, its rows)] for every rendered.csv under results/setup,
+    in seed order."""
     sets = []
     for path in (root / "results" / "setup").rglob("rendered.csv"):
         with open(path, newline="") as f:
             rows = list(csv.DictReader(f))
         if rows:
-            name = path.parent.relative_to(root).as_posix()
-            sets.append((name, rows))
-    return sorted(sets, key=lambda s: int(s[1][0]["seed"]))
+            sets.append((path.relative_to(root).as_posix(), rows))
+    return sorted(sets, key=lambda s: (int(s[1][0]["seed"]), s[0]))
+
+
+def kept_frames(rows):
+    """The frames setup kept whose true mapping error was measured."""
+    return [r for r in rows if r["outcome"] == "detected" and r.get("true_mapping_error_mm")]
 
 
 def agreement(stated, true_mm):
@@ -52,14 +58,13 @@ def summary(rows):
     right = sum(int(r["right"]) for r in rows)
     false = sum(int(r["false_ids"]) for r in rows)
     refused = [r["seed"] for r in rows if r["outcome"] != "detected"]
-    kept = [r for r in rows if r["outcome"] == "detected" and r.get("true_mapping_error_mm")]
+    kept = kept_frames(rows)
     true_mm = [float(r["true_mapping_error_mm"]) for r in kept]
     verdicts = [agreement(r["mapping_error_mm"], t) for r, t in zip(kept, true_mm)]
     return dict(shown=shown, right=right, false=false, frames=len(rows), refused=refused,
                 kept=len(kept), within=sum(t <= LIMIT_MM for t in true_mm),
                 agrees=verdicts.count("agrees"), too_low=verdicts.count("too low"),
                 too_high=verdicts.count("too high"),
-                rms=math.sqrt(sum(t * t for t in true_mm) / len(true_mm)) if true_mm else math.nan,
                 median=sorted(true_mm)[len(true_mm) // 2] if true_mm else math.nan)
 
 
@@ -86,12 +91,11 @@ def main():
         print("no rendered.csv under %s/results/setup" % args.root)
         return 2
     every = []
-    for name, rows in sets:
-        print(line(name, summary(rows)))
+    for path, rows in sets:
+        print(line(os.path.dirname(path), summary(rows)))
         every += rows
     print(line("all", summary(every)))
-    kept = [r for r in every if r["outcome"] == "detected" and r.get("true_mapping_error_mm")]
-    kept.sort(key=lambda r: -float(r["true_mapping_error_mm"]))
+    kept = sorted(kept_frames(every), key=lambda r: -float(r["true_mapping_error_mm"]))
     print("largest true mapping errors: " + "; ".join(
         "seed %s %s mm (stated %s, %s, height by %s)" % (
             r["seed"], r["true_mapping_error_mm"], r["mapping_error_mm"],
