@@ -260,7 +260,10 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     placements and on_field, the crossings placed and those keeping the robots on the field;
     crossing, score_px, runner_up_px of the one kept; position_sd_mm, the stated error of a
     robot's position, and limit_mm, a pattern's radius; used False otherwise),
-    mapping_error_mm,
+    mapping_error_mm (held-out line pixels, cross-validated landmarks, or, where the robots set
+    the height and it is larger, floor_sd_mm), mapping_error_source ("" or "the fit's spread over
+    the field"), floor_sd_mm (the fit with the robots' own uncertainty over the floor inside the
+    field's lines, RMS mm; NaN where that fit was not made),
     mapping_resolution_mm, mm_per_px, smallest_patch_px, carpet_pixels, colour_classes (name,
     pixels, blobs, separability, nearest, widened_levels: Y, U, V levels the blob fit widened
     the box by towards the noise, thin_alike: pixels of regions too narrow for a blob, holding

@@ -276,6 +276,8 @@ py::dict SetupReport(const formats::SetupResult& r) {
   out["few_lines"] = SetupFewLinesReport(r.few_lines);
   out["mapping_error_mm"] = r.mapping_error_mm;
   out["mapping_resolution_mm"] = r.mapping_resolution_mm;
+  out["mapping_error_source"] = r.mapping_error_source;
+  out["floor_sd_mm"] = r.floor_sd_mm;
   out["mm_per_px"] = r.mm_per_px;
   out["smallest_patch_px"] = r.smallest_patch_px;
   out["carpet_pixels"] = r.thresholds.carpet.pixels;

@@ -3,6 +3,7 @@ robots): the report as a dict, the folder `detect(image, setup=DIR)` reads finds
 the same files and report as `patlab setup` writes."""
 import csv
 import io
+import math
 
 import numpy as np
 import pytest
@@ -28,6 +29,11 @@ def test_setup_then_detect_finds_every_robot(scene, tmp_path, in_root):
     report = patlab.setup(image, field="ssl-2009", settings="ssl-frame.detector", out=tmp_path)
     assert report["field"] == "ssl-2009"
     assert 0.0 <= report["mapping_error_mm"] < 2.0
+    # Where the robots' fit set the height, the stated error is at least its spread over the field.
+    if report["mapping_error_source"]:
+        assert report["mapping_error_mm"] == report["floor_sd_mm"]
+    if not math.isnan(report["floor_sd_mm"]):
+        assert report["mapping_error_mm"] >= report["floor_sd_mm"]
     assert report["mm_per_px"] > 5.0
     assert {c["name"] for c in report["colour_classes"]} >= {"blue", "yellow"}
     assert all(c["thin_alike"] >= 0 for c in report["colour_classes"])

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -223,6 +224,14 @@ std::string UnphysicalFitReason(const CalibrationFit& fit, int image_width_px, i
 // degrees of freedom as free camera parameters (Cauchy-Schwarz), to first order.
 std::optional<std::array<double, 4>> MappingCovariance(const CalibrationFit& fit, const Vec2& pixel,
                                                        double height_mm);
+
+// The fitted camera's uncertainty over the floor it shows: the RMS, over the pixels of a grid
+// `step_px` apart (from step_px / 2) whose point on the plane at `height_mm` `inside` accepts, of
+// the standard deviation of the distance between that point and the true one (the square root of
+// MappingCovariance's trace). Pixels that do not map onto the plane are skipped. NaN when the
+// covariance is undetermined or no pixel is inside.
+double MappingSdOver(const CalibrationFit& fit, int width_px, int height_px, double height_mm,
+                     const std::function<bool(const Vec2&)>& inside, int step_px);
 
 // The calibration TOML file `patlab detect` reads, with the fit's summary as comments.
 std::string CalibrationFileText(const CalibrationInput& input, const CalibrationFit& fit);

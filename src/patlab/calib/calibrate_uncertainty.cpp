@@ -61,6 +61,28 @@ std::optional<std::array<double, 4>> MappingCovariance(const CalibrationFit& fit
   return std::array<double, 4>{xx, xy, xy, yy};
 }
 
+double MappingSdOver(const CalibrationFit& fit, int width_px, int height_px, double height_mm,
+                     const std::function<bool(const Vec2&)>& inside, int step_px) {
+  const camera::CameraModel model = camera::CameraModel::Pinhole(fit.camera);
+  double sum2 = 0.0;
+  int n = 0;
+  for (int v = step_px / 2; v < height_px; v += step_px) {
+    for (int u = step_px / 2; u < width_px; u += step_px) {
+      const Vec2 pixel(u, v);
+      const std::optional<Vec2> at = model.PixelToWorld(pixel, height_mm);
+      if (!at || !inside(*at)) continue;
+      const auto c = MappingCovariance(fit, pixel, height_mm);
+      if (!c) {
+        if (std::isnan(fit.covariance[0])) return std::numeric_limits<double>::quiet_NaN();
+        continue;
+      }
+      sum2 += (*c)[0] + (*c)[3];
+      ++n;
+    }
+  }
+  return n > 0 ? std::sqrt(sum2 / n) : std::numeric_limits<double>::quiet_NaN();
+}
+
 namespace internal {
 
 // The standard deviation along the worst axis: the square root of the larger eigenvalue.

@@ -444,9 +444,10 @@ std::string SetupReportText(const SetupResult& r) {
                     FormatSignificant(r.mapping_error_mm, 2) + " mm)"
               : FormatSignificant(r.mapping_error_mm, 3) + " mm") +
        " RMS on the floor (" +
-       (r.few_lines.used   ? "the stated error of a robot's position, above"
-        : r.from_landmarks ? "cross-validated over the landmarks"
-                           : "held-out line pixels") +
+       (!r.mapping_error_source.empty() ? r.mapping_error_source + ", above the held-out lines'"
+        : r.few_lines.used              ? "the stated error of a robot's position, above"
+        : r.from_landmarks              ? "cross-validated over the landmarks"
+                                        : "held-out line pixels") +
        "); " + FormatSignificant(r.mm_per_px, 3) + " mm per px on the robots' plane\n";
   s += r.few_lines.used ? internal::FewLinesHeightText(r.height) : internal::HeightText(r.height);
   long clutter = 0;

@@ -13,7 +13,8 @@
 // setup.toml naming them -- which `patlab detect --setup DIR` reads.
 //
 // Tolerances (SetupTolerances): with s the floor's mm per pixel at the image centre on the
-// robots' plane and e the calibration's held-out mapping error (mm; at least its resolution),
+// robots' plane and e the calibration's mapping error (mm, mapping_error_mm; at least its
+// resolution),
 //   patch_sigma_mm  = max(2, 0.4 s)  -- a thresholded patch's centroid is good to ~0.4 px;
 //   reach_margin_mm = max(20, 3 e + 2 s)  -- a patch may be found 3 mapping errors and 2 pixels
 //                     beyond the pattern's reach;
@@ -25,6 +26,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -163,6 +165,12 @@ struct SetupResult {
   calib::CalibrationFit calibration_fit;
   std::string calibration_report;  // the automatic calibration's (or the fit's) report
   double mapping_error_mm = 0.0;   // held-out (lines) or cross-validated (landmarks)
+  // What mapping_error_mm is, where not the held-out or cross-validated error: "the fit's spread
+  // over the field" where the robots set the camera's height (floor_sd_mm, when larger).
+  std::string mapping_error_source;
+  // The fit with the robots' own uncertainty of the floor it shows inside the field's lines (RMS
+  // mm, calib::MappingSdOver; SetupHeight): NaN where that fit was not made.
+  double floor_sd_mm = std::numeric_limits<double>::quiet_NaN();
   // What the held-out estimate resolves (calib::AutoCalibration::held_out_resolution_mm; 0 for
   // landmarks): an error below it is reported as "below" it, and the tolerances take it as the
   // error's bound.

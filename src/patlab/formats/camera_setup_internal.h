@@ -95,6 +95,10 @@ inline double HeightOf(const camera::PinholeCamera& c) {
 calib::CalibrationFit FitWithRobots(const SetupResult& r, const camera::PinholeCamera& start,
                                     const std::vector<calib::PatternObservation>& patterns);
 
+// The fit's own uncertainty of the floor it shows inside the field's lines (calib::MappingSdOver
+// over r's model, every 10th pixel of a frame width x height): NaN where the fit has no covariance.
+double FloorSd(const SetupResult& r, int width_px, int height_px);
+
 // The height's standard error of a fit with the robots' patches, scaled from the fit's residual
 // variance to the patches' own (they measure the height); NaN when the fit does not determine it.
 double RobotsHeightSd(const calib::CalibrationFit& fit, double robot_height_mm);
