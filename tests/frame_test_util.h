@@ -38,4 +38,9 @@ inline void WriteText(const std::string& path, const std::string& text) {
 // The shared real frames (not in the repository); tests skip when absent.
 inline std::string SharedFrames() { return std::string(PATLAB_SOURCE_DIR) + "/../shared/frames"; }
 
+// Whether the shared frames are there (their VSS test frame).
+inline bool HaveSharedFrames() {
+  return std::filesystem::exists(SharedFrames() + "/vss-test-frame.png");
+}
+
 }  // namespace patlab::vision::testing

@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,30 @@
 #include "patlab/formats/pattern_file.h"
 
 namespace patlab::testing {
+
+// The tool the end-to-end tests run, and the repository's files the tests read. A room's test
+// files compile as one translation unit (tests/CMakeLists.txt): what several of them share is
+// defined here once.
+inline const std::string kPatlab = PATLAB_BINARY;
+inline const std::string kSource = PATLAB_SOURCE_DIR;
+inline const std::string kData = kSource + "/tests/data/";
+inline const std::string kGolden = kData + "golden/";
+// The golden SSL frame's files: kGoldenFrame + "png", + "thresholds.toml", ...
+inline const std::string kGoldenFrame = kGolden + "ssl-frame.";
+
+// The size of the frames the calibration and vision tests render: an SSL camera's.
+inline constexpr int kFrameWidth = 780, kFrameHeight = 580;
+
+inline constexpr double kPi = std::numbers::pi;
+
+// A small experiment file for the tool's end-to-end runs (`patlab simulate`, `patlab merge`): two
+// shipped patterns, three estimators, three sigmas, 3000 trials a point.
+inline std::string SmallExperiment() {
+  return "name = \"small\"\npatterns_dir = \"" PATLAB_SOURCE_DIR
+         "/patterns\"\n"
+         "patterns = [\"linear\", \"butterfly\"]\nestimators = [\"fast\", \"ml\", \"key\"]\n"
+         "trials = 3000\nseed = 77\n[sigma]\nvalues = [0, 0.5, 2]\n";
+}
 
 inline const std::vector<std::string>& ShippedPatternNames() {
   static const std::vector<std::string> names = {"simple", "linear", "triangle", "butterfly",
@@ -50,6 +76,14 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// The names of the entries of `dir` (not recursive).
+inline std::set<std::string> FileNames(const std::string& dir) {
+  std::set<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    names.insert(e.path().filename().string());
+  return names;
+}
 
 inline std::string ReadFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -9,12 +9,13 @@
 #include <optional>
 #include <random>
 
+#include "../test_util.h"
 #include "patlab/calib/auto_calibrate_internal.h"
 
 namespace patlab::calib {
 namespace {
 
-constexpr int kWidth = 780, kHeight = 580;
+using testing::kFrameHeight, testing::kFrameWidth;
 
 // A camera `height_mm` over the floor point (0, 0), tilted `tilt_deg` from straight down towards
 // the heading `heading_deg`, with radial distortion k1.
@@ -22,8 +23,8 @@ camera::PinholeCamera TiltedCamera(double height_mm, double tilt_deg, double hea
                                    double focal_px, double k1) {
   camera::PinholeCamera c;
   c.fx_px = c.fy_px = focal_px;
-  c.cx_px = 0.5 * (kWidth - 1);
-  c.cy_px = 0.5 * (kHeight - 1);
+  c.cx_px = 0.5 * (kFrameWidth - 1);
+  c.cy_px = 0.5 * (kFrameHeight - 1);
   c.k1 = k1;
   const double deg = std::numbers::pi / 180.0;
   // World to camera: straight down (camera z along world -z), then tilted about a floor axis.
@@ -58,14 +59,14 @@ bool Descends(const camera::PinholeCamera& c, double u, double v) {
 // The image's pixels, every pixel of its border and 3 px apart inside: whether one of them sees
 // above the horizon.
 bool AnyPixelAboveHorizon(const camera::PinholeCamera& c) {
-  for (int u = 0; u < kWidth; ++u) {
-    if (!Descends(c, u, 0) || !Descends(c, u, kHeight - 1)) return true;
+  for (int u = 0; u < kFrameWidth; ++u) {
+    if (!Descends(c, u, 0) || !Descends(c, u, kFrameHeight - 1)) return true;
   }
-  for (int v = 0; v < kHeight; ++v) {
-    if (!Descends(c, 0, v) || !Descends(c, kWidth - 1, v)) return true;
+  for (int v = 0; v < kFrameHeight; ++v) {
+    if (!Descends(c, 0, v) || !Descends(c, kFrameWidth - 1, v)) return true;
   }
-  for (int v = 1; v < kHeight - 1; v += 3) {
-    for (int u = 1; u < kWidth - 1; u += 3) {
+  for (int v = 1; v < kFrameHeight - 1; v += 3) {
+    for (int u = 1; u < kFrameWidth - 1; u += 3) {
       if (!Descends(c, u, v)) return true;
     }
   }
@@ -74,7 +75,7 @@ bool AnyPixelAboveHorizon(const camera::PinholeCamera& c) {
 
 TEST(AutoCalibrateHorizon, ACameraLookingDownSeesTheFloorInEveryPixel) {
   const camera::PinholeCamera c = TiltedCamera(4000.0, 3.0, 30.0, 550.0, -0.05);
-  EXPECT_EQ(internal::AboveHorizon(c, kWidth, kHeight), std::nullopt);
+  EXPECT_EQ(internal::AboveHorizon(c, kFrameWidth, kFrameHeight), std::nullopt);
   EXPECT_FALSE(AnyPixelAboveHorizon(c));
 }
 
@@ -93,7 +94,7 @@ TEST(AutoCalibrateHorizon, ACameraLyingNearTheFloorSeesAboveTheHorizon) {
           .toRotationMatrix();
   c.translation_mm = Eigen::Vector3d(-1385.7111050680876, -2704.0574851003175, -304.1507406464363);
   ASSERT_NEAR((-c.rotation.transpose() * c.translation_mm).z(), 41.84, 0.01);
-  const std::optional<Vec2> sky = internal::AboveHorizon(c, kWidth, kHeight);
+  const std::optional<Vec2> sky = internal::AboveHorizon(c, kFrameWidth, kFrameHeight);
   ASSERT_TRUE(sky.has_value());
   EXPECT_FALSE(Descends(c, sky->x(), sky->y())) << sky->transpose();
   EXPECT_TRUE(AnyPixelAboveHorizon(c));
@@ -102,18 +103,19 @@ TEST(AutoCalibrateHorizon, ACameraLyingNearTheFloorSeesAboveTheHorizon) {
 // Pincushion distortion bulges the image's edges beyond their corners (before distortion): a
 // horizon can cut off the middle of an edge with every corner below it.
 TEST(AutoCalibrateHorizon, AHorizonAcrossTheMiddleOfAnEdgeOnly) {
-  const double mid_u = 0.5 * (kWidth - 1);
-  const Vec2 corners[] = {Vec2(0, 0), Vec2(kWidth - 1, 0), Vec2(0, kHeight - 1),
-                          Vec2(kWidth - 1, kHeight - 1)};
+  const double mid_u = 0.5 * (kFrameWidth - 1);
+  const Vec2 corners[] = {Vec2(0, 0), Vec2(kFrameWidth - 1, 0), Vec2(0, kFrameHeight - 1),
+                          Vec2(kFrameWidth - 1, kFrameHeight - 1)};
   int found = 0;
   for (const double heading : {0.0, 180.0}) {
     for (double tilt = 30.0; tilt < 100.0; tilt += 0.01) {
       const camera::PinholeCamera c = TiltedCamera(3000.0, tilt, heading, 400.0, 0.3);
       bool corners_below = true;
       for (const Vec2& p : corners) corners_below = corners_below && Descends(c, p.x(), p.y());
-      if (!corners_below || (Descends(c, mid_u, 0) && Descends(c, mid_u, kHeight - 1))) continue;
+      if (!corners_below || (Descends(c, mid_u, 0) && Descends(c, mid_u, kFrameHeight - 1)))
+        continue;
       ++found;
-      const std::optional<Vec2> sky = internal::AboveHorizon(c, kWidth, kHeight);
+      const std::optional<Vec2> sky = internal::AboveHorizon(c, kFrameWidth, kFrameHeight);
       ASSERT_TRUE(sky.has_value()) << "heading " << heading << ", tilt " << tilt;
       EXPECT_FALSE(Descends(c, sky->x(), sky->y()));
       break;
@@ -137,8 +139,8 @@ TEST(AutoCalibrateHorizon, TheBorderDecidesAsEveryPixelDoes) {
     do {
       c = TiltedCamera(height(rng), tilt(rng), heading(rng), focal(rng), k1(rng));
     } while (DistortionFoldRadius(c.k1, c.k2).value_or(INFINITY) <
-             std::hypot(0.5 * kWidth, 0.5 * kHeight) / c.fx_px);
-    const std::optional<Vec2> sky = internal::AboveHorizon(c, kWidth, kHeight);
+             std::hypot(0.5 * kFrameWidth, 0.5 * kFrameHeight) / c.fx_px);
+    const std::optional<Vec2> sky = internal::AboveHorizon(c, kFrameWidth, kFrameHeight);
     const bool brute = AnyPixelAboveHorizon(c);
     EXPECT_EQ(sky.has_value(), brute) << "trial " << trial;
     if (sky) {

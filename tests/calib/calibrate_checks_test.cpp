@@ -5,12 +5,13 @@
 #include <cmath>
 #include <limits>
 
+#include "../test_util.h"
 #include "patlab/calib/calibrate.h"
 
 namespace patlab::calib {
 namespace {
 
-constexpr int kWidth = 780, kHeight = 580;
+using testing::kFrameHeight, testing::kFrameWidth;
 
 // A camera that passes every check: f = 600 px, principal point at the image centre, mild barrel
 // distortion, 4 m over the field looking down.
@@ -33,7 +34,9 @@ CalibrationFit PhysicalFit() {
   return fit;
 }
 
-std::string Reason(const CalibrationFit& fit) { return UnphysicalFitReason(fit, kWidth, kHeight); }
+std::string Reason(const CalibrationFit& fit) {
+  return UnphysicalFitReason(fit, kFrameWidth, kFrameHeight);
+}
 
 TEST(CalibrateChecks, DistortionFoldRadiusIsWhereTheMapStopsIncreasing) {
   // k1 = -1/3: d/dr r (1 - r^2 / 3) = 1 - r^2 = 0 at r = 1, where the image radius is 2/3.

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <numbers>
 
+#include "../test_util.h"
 #include "patlab/calib/calibrate.h"
 #include "patlab/core/format.h"
 #include "patlab/core/rng.h"
@@ -18,14 +19,14 @@
 namespace patlab::calib {
 namespace {
 
-constexpr int kWidth = 780, kHeight = 580;
+using testing::kFrameHeight, testing::kFrameWidth;
 
-Field Ssl2009() {
+Field ShippedSsl2009() {
   return formats::LoadField(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
 }
 
 // A camera over one half of the field, 3-4.5 m up, looking down within 12 deg, barrel distortion.
-camera::PinholeCamera RandomCamera(RandomStream& rng) {
+camera::PinholeCamera HalfFieldCamera(RandomStream& rng) {
   camera::PinholeCamera c;
   const double height = rng.Uniform(3000.0, 4500.0);
   c.fx_px = c.fy_px = height * rng.Uniform(0.16, 0.2);
@@ -50,10 +51,10 @@ camera::PinholeCamera RandomCamera(RandomStream& rng) {
   return c;
 }
 
-std::optional<Vec2> Observe(const camera::CameraModel& cam, const Vec2& world, double noise_px,
-                            RandomStream& rng) {
+std::optional<Vec2> ObserveOnTheFloor(const camera::CameraModel& cam, const Vec2& world,
+                                      double noise_px, RandomStream& rng) {
   const auto px = cam.WorldToPixel(world, 0.0);
-  if (!px || px->x() < 2 || px->y() < 2 || px->x() > kWidth - 3 || px->y() > kHeight - 3)
+  if (!px || px->x() < 2 || px->y() < 2 || px->x() > kFrameWidth - 3 || px->y() > kFrameHeight - 3)
     return std::nullopt;
   const Vec2 noisy = *px + noise_px * Vec2(rng.Normal(), rng.Normal());
   if (!cam.PixelToWorld(noisy, 0.0)) return std::nullopt;
@@ -63,17 +64,17 @@ std::optional<Vec2> Observe(const camera::CameraModel& cam, const Vec2& world, d
 CalibrationInput Observations(const Field& field, const camera::CameraModel& cam, double noise_px,
                               RandomStream& rng) {
   CalibrationInput in;
-  in.image_width_px = kWidth;
-  in.image_height_px = kHeight;
+  in.image_width_px = kFrameWidth;
+  in.image_height_px = kFrameHeight;
   in.loc = FileLoc{"synthetic", 0};
   for (const FieldPoint& p : field.points)
-    if (const auto px = Observe(cam, p.at_mm, noise_px, rng))
+    if (const auto px = ObserveOnTheFloor(cam, p.at_mm, noise_px, rng))
       in.points.push_back({p.name, *px, p.at_mm, 0.0, {}});
   for (const FieldLine& l : field.lines) {
     LineObservation o{l.name, l.from_mm, l.to_mm, 0.0, {}, {}};
     for (int k = 0; k <= 40; ++k)
       if (const auto px =
-              Observe(cam, l.from_mm + (k / 40.0) * (l.to_mm - l.from_mm), noise_px, rng))
+              ObserveOnTheFloor(cam, l.from_mm + (k / 40.0) * (l.to_mm - l.from_mm), noise_px, rng))
         o.pixels.push_back(*px);
     if (o.pixels.size() >= 2) in.lines.push_back(o);
   }
@@ -81,7 +82,8 @@ CalibrationInput Observations(const Field& field, const camera::CameraModel& cam
     CircleObservation o{c.name, c.centre_mm, c.radius_mm, 0.0, {}, {}};
     for (int k = 0; k <= 24; ++k) {  // along the arc's own extent
       const double deg = c.from_deg + (c.to_deg - c.from_deg) * k / 24.0;
-      if (const auto px = Observe(cam, c.PointAt(deg), noise_px, rng)) o.pixels.push_back(*px);
+      if (const auto px = ObserveOnTheFloor(cam, c.PointAt(deg), noise_px, rng))
+        o.pixels.push_back(*px);
     }
     if (o.pixels.size() >= 2) in.circles.push_back(o);
   }
@@ -96,8 +98,8 @@ double TrueError(const camera::CameraModel& fitted, const camera::CameraModel& t
                  const Field& field, double noise_px, RandomStream& rng) {
   double sum2 = 0.0;
   int n = 0;
-  for (int v = 5; v < kHeight; v += 10) {
-    for (int u = 5; u < kWidth; u += 10) {
+  for (int v = 5; v < kFrameHeight; v += 10) {
+    for (int u = 5; u < kFrameWidth; u += 10) {
       const auto t = truth.PixelToWorld(Vec2(u, v), 0.0);
       if (!t || std::abs(t->x()) > field.length_mm / 2 + 250 ||
           std::abs(t->y()) > field.width_mm / 2 + 250)
@@ -113,13 +115,13 @@ double TrueError(const camera::CameraModel& fitted, const camera::CameraModel& t
 }
 
 TEST(CalibrateHoldout, HeldOutErrorAgreesWithTheTrueMappingError) {
-  const Field field = Ssl2009();
+  const Field field = ShippedSsl2009();
   int compared = 0;
   double worst_ratio = 1.0, in_sample_ratio = 0.0;
   for (uint64_t seed = 1; seed <= 10; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     RandomStream rng(seed, 7, 0);
-    const camera::CameraModel truth = camera::CameraModel::Pinhole(RandomCamera(rng));
+    const camera::CameraModel truth = camera::CameraModel::Pinhole(HalfFieldCamera(rng));
     const double noise_px = 0.5;
     CalibrationInput in = Observations(field, truth, noise_px, rng);
     const camera::PinholeCamera& t = truth.pinhole();

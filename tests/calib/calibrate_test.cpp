@@ -21,7 +21,7 @@ namespace patlab::calib {
 namespace {
 
 constexpr double kNoisePx = 0.3;
-constexpr int kWidth = 780, kHeight = 580;
+using testing::kFrameHeight, testing::kFrameWidth;
 
 // The 2009 field the seeds were chosen on: the shipped model less goal walls, posts, penalty marks.
 Field Ssl2009() {
@@ -40,8 +40,8 @@ Field Ssl2009() {
 bool TruthFolds(const camera::CameraModel& truth) {
   const camera::PinholeCamera& c = truth.pinhole();
   const auto fold = DistortionFoldRadius(c.k1, c.k2);  // the corners are the farthest pixels
-  const double corner = std::hypot(std::max(c.cx_px, kWidth - c.cx_px) / c.fx_px,
-                                   std::max(c.cy_px, kHeight - c.cy_px) / c.fy_px);
+  const double corner = std::hypot(std::max(c.cx_px, kFrameWidth - c.cx_px) / c.fx_px,
+                                   std::max(c.cy_px, kFrameHeight - c.cy_px) / c.fy_px);
   return fold && *fold < corner;
 }
 
@@ -83,7 +83,7 @@ struct Synthetic {
 std::optional<Vec2> Observe(const camera::CameraModel& cam, const Vec2& world, double h,
                             RandomStream& rng) {
   const auto px = cam.WorldToPixel(world, h);
-  if (!px || px->x() < 2 || px->y() < 2 || px->x() > kWidth - 3 || px->y() > kHeight - 3)
+  if (!px || px->x() < 2 || px->y() < 2 || px->x() > kFrameWidth - 3 || px->y() > kFrameHeight - 3)
     return std::nullopt;
   const Vec2 noisy = *px + kNoisePx * Vec2(rng.Normal(), rng.Normal());
   // A pixel the lens cannot show (pushed past the fold of its distortion by the noise) is not an
@@ -120,7 +120,7 @@ void ObserveField(const Field& field, const camera::CameraModel& cam, RandomStre
 void ObserveRobots(const camera::CameraModel& cam, RandomStream& rng, CalibrationInput& in) {
   const Pattern pattern = testing::ShippedPattern("ssl-standard");
   for (int attempt = 0; attempt < 60 && in.patterns.size() < 4; ++attempt) {
-    const Vec2 px(rng.Uniform(60, kWidth - 60), rng.Uniform(60, kHeight - 60));
+    const Vec2 px(rng.Uniform(60, kFrameWidth - 60), rng.Uniform(60, kFrameHeight - 60));
     const auto at = cam.PixelToWorld(px, 150.0);
     if (!at) continue;
     const Pose2 pose{at->x(), at->y(), rng.Uniform(-3.0, 3.0)};
@@ -140,8 +140,8 @@ Synthetic MakeSynthetic(uint64_t seed, bool robots, int realisation = -1) {
   Synthetic s;
   s.truth = camera::CameraModel::Pinhole(RandomCamera(rng));
   if (realisation >= 0) rng = RandomStream(seed, 1, static_cast<uint64_t>(realisation));
-  s.input.image_width_px = kWidth;
-  s.input.image_height_px = kHeight;
+  s.input.image_width_px = kFrameWidth;
+  s.input.image_height_px = kFrameHeight;
   s.input.loc = FileLoc{"synthetic", 0};
   ObserveField(Ssl2009(), s.truth, rng, s.input);
   // A user clicks points they can place: the centre, the corners and defense-area corners in
@@ -155,8 +155,8 @@ Synthetic MakeSynthetic(uint64_t seed, bool robots, int realisation = -1) {
 // extrapolates the lens beyond anything it observed.
 template <typename F>
 void ForEachFieldPixel(const camera::CameraModel& truth, double height, F f) {
-  for (int v = 10; v < kHeight; v += 20) {
-    for (int u = 10; u < kWidth; u += 20) {
+  for (int v = 10; v < kFrameHeight; v += 20) {
+    for (int u = 10; u < kFrameWidth; u += 20) {
       const auto b = truth.PixelToWorld(Vec2(u, v), height);
       if (b && std::abs(b->x()) <= 3125 && std::abs(b->y()) <= 2125) f(Vec2(u, v), *b);
     }
@@ -190,7 +190,7 @@ double Mahalanobis2(const std::array<double, 4>& c, const Vec2& e) {
 // (px per mm at the image centre). Fitted to a hundred or more pixels, a camera seen from above
 // with its focal length determined maps the observed floor to within twice that on average.
 double NoiseMm(const camera::CameraModel& truth, double height) {
-  return kNoisePx * std::sqrt(truth.AreaScale(Vec2(kWidth / 2.0, kHeight / 2.0), height));
+  return kNoisePx * std::sqrt(truth.AreaScale(Vec2(kFrameWidth / 2.0, kFrameHeight / 2.0), height));
 }
 
 // The residuals are the noise: the sum of squares over sigma^2 is chi-square with 2N - p degrees
@@ -395,7 +395,7 @@ TEST(Calibrate, TheWrittenFileIsTheFittedCamera) {
   in.class_height_mm["orange"] = 21.5;
   const CalibrationFit fit = FitCamera(in);
   const camera::Calibration cal = formats::ParseCalibration(CalibrationFileText(in, fit), "fit");
-  EXPECT_EQ(cal.image_width_px, kWidth);
+  EXPECT_EQ(cal.image_width_px, kFrameWidth);
   EXPECT_EQ(cal.default_height_mm, 150.0);
   EXPECT_EQ(cal.HeightOf("orange"), 21.5);
   EXPECT_LT(MappingError(cal.camera, camera::CameraModel::Pinhole(fit.camera), 150.0).second, 1e-6);

@@ -5,20 +5,21 @@
 #include <string>
 #include <vector>
 
+#include "../test_util.h"
 #include "patlab/calib/auto_calibrate.h"
 #include "patlab/formats/field_file.h"
 
 namespace patlab::calib {
 namespace {
 
-constexpr int kWidth = 780, kHeight = 580;
+using testing::kFrameHeight, testing::kFrameWidth;
 
 // A camera 3 m straight down, 600 px focal length: 5 mm per px on the floor.
 camera::PinholeCamera FloorCamera() {
   camera::PinholeCamera c;
   c.fx_px = c.fy_px = 600.0;
-  c.cx_px = 0.5 * (kWidth - 1);
-  c.cy_px = 0.5 * (kHeight - 1);
+  c.cx_px = 0.5 * (kFrameWidth - 1);
+  c.cy_px = 0.5 * (kFrameHeight - 1);
   c.rotation = Eigen::Vector3d(1, -1, -1).asDiagonal();
   c.translation_mm = -c.rotation * Eigen::Vector3d(0.0, 0.0, 3000.0);
   return c;
@@ -27,7 +28,7 @@ camera::PinholeCamera FloorCamera() {
 // One straight line down the image at x = 300 px, a line pixel every 0.6 px.
 std::vector<LinePixel> OneLine() {
   std::vector<LinePixel> pixels;
-  for (double y = 2.0; y < kHeight - 2; y += 0.6)
+  for (double y = 2.0; y < kFrameHeight - 2; y += 0.6)
     pixels.push_back({Vec2(300.0, y), Vec2(0, 1), 40});
   return pixels;
 }
@@ -35,7 +36,8 @@ std::vector<LinePixel> OneLine() {
 std::vector<Placement> Place(const std::vector<LinePixel>& pixels) {
   const std::vector<Field> fields = {
       formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-div-b.toml")};
-  return PlaceCrossings(pixels, kWidth, kHeight, "synthetic.png", fields, FloorCamera(), 6.0, {});
+  return PlaceCrossings(pixels, kFrameWidth, kFrameHeight, "synthetic.png", fields, FloorCamera(),
+                        6.0, {});
 }
 
 TEST(PlaceCrossings, PixelsStrewnAcrossALineAreNoSecondLine) {

@@ -24,10 +24,9 @@
 namespace patlab {
 namespace {
 
+using testing::kGolden;
+using testing::kPatlab;
 using testing::RunCommand;
-
-const std::string kPatlab = PATLAB_BINARY;
-const std::string kGolden = PATLAB_SOURCE_DIR "/tests/data/golden/";
 
 // Two subjects, 2 runs of 150 frames, white noise; b has a gap at frames 60-64 of run 1.
 std::string SmallTrack() {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "../frame_test_util.h"
 #include "../test_util.h"
 #include "patlab/camera/camera.h"
 #include "patlab/formats/calibration_file.h"
@@ -15,10 +16,8 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
-
-const std::string kBinary = PATLAB_BINARY;
-const std::string kFrames = std::string(PATLAB_SOURCE_DIR) + "/../shared/frames/";
 
 // RMS and worst distance (mm) between two calibrations' floor points over the pixels (8 px grid)
 // where `a` shows the field's area (`half_x`, `half_y` mm about the centre), with `b` turned by
@@ -47,13 +46,13 @@ std::pair<double, double> FloorDifferenceMm(const camera::CameraModel& a,
 }
 
 TEST(CalibrateAutoCli, RealSslFrameAgreesWithTheHandMeasuredCalibration) {
-  const std::string frame = kFrames + "ssl-field-2008.jpg";
+  const std::string frame = vision::testing::SharedFrames() + "/ssl-field-2008.jpg";
   if (!std::filesystem::exists(frame)) GTEST_SKIP() << "no " << frame;
   testing::TempDir dir;
-  const auto hand = RunCommand(kBinary + " calibrate " + PATLAB_SOURCE_DIR +
+  const auto hand = RunCommand(kPatlab + " calibrate " + PATLAB_SOURCE_DIR +
                                "/settings/ssl-2008.calibration-input.toml -o " + dir.Path("hand"));
   ASSERT_EQ(hand.exit_code, 0) << hand.err;
-  const auto r = RunCommand(kBinary + " calibrate " + frame + " --auto --field ssl-2009 -o " +
+  const auto r = RunCommand(kPatlab + " calibrate " + frame + " --auto --field ssl-2009 -o " +
                             dir.Path("auto") + " --debug");
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   EXPECT_NE(r.out.find("held-out mapping error: "), std::string::npos) << r.out;
@@ -76,7 +75,7 @@ TEST(CalibrateAutoCli, AFrameWithoutLinesIsExit2WithNothingWritten) {
   camera::Image carpet = camera::Image::Rgb(320, 240);
   for (size_t i = 0; i < carpet.data.size(); i += 3) carpet.data[i + 1] = 120;
   vision::WritePng(carpet, dir.Path("carpet.png"));
-  const auto r = RunCommand(kBinary + " calibrate " + dir.Path("carpet.png") +
+  const auto r = RunCommand(kPatlab + " calibrate " + dir.Path("carpet.png") +
                             " --auto --field ssl-2009 -o " + dir.Path("cal"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("carpet.png: found 0 line pixels; expected at least 100"), std::string::npos)
@@ -86,12 +85,12 @@ TEST(CalibrateAutoCli, AFrameWithoutLinesIsExit2WithNothingWritten) {
 
 TEST(CalibrateAutoCli, FlagsAreChecked) {
   testing::TempDir dir;
-  const auto no_field = RunCommand(kBinary + " calibrate x.png --auto -o " + dir.Path("cal"));
+  const auto no_field = RunCommand(kPatlab + " calibrate x.png --auto -o " + dir.Path("cal"));
   EXPECT_EQ(no_field.exit_code, 2);
   EXPECT_NE(no_field.err.find("--auto: missing --field; expected a field name or file"),
             std::string::npos)
       << no_field.err;
-  const auto no_auto = RunCommand(kBinary + " calibrate x.toml --field vss -o " + dir.Path("cal"));
+  const auto no_auto = RunCommand(kPatlab + " calibrate x.toml --field vss -o " + dir.Path("cal"));
   EXPECT_EQ(no_auto.exit_code, 2);
   EXPECT_NE(no_auto.err.find("--field and --debug: only with --auto"), std::string::npos)
       << no_auto.err;

@@ -12,9 +12,9 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
 
-const std::string kBinary = PATLAB_BINARY;
 const std::string kInput =
     std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/ssl-2008.calibration-input.toml";
 
@@ -30,7 +30,7 @@ double Number(const std::string& text, const std::string& pattern) {
 TEST(CalibrateCli, FitsTheRealSslFrameFromItsFieldLines) {
   testing::TempDir dir;
   const std::string cal = dir.Path("cal/calibration.toml"), res = dir.Path("cal/residuals.csv");
-  const auto r = RunCommand(kBinary + " calibrate " + kInput + " --out " + dir.Path("cal"));
+  const auto r = RunCommand(kPatlab + " calibrate " + kInput + " --out " + dir.Path("cal"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // 95 pixels of the white lines' centres and 7 crossings read off by eye: about a pixel RMS
   // (the lines are 2-3 px wide, the crossings good to 2 px), about 1 cm on the floor. The
@@ -56,14 +56,14 @@ TEST(CalibrateCli, BadInputIsExit2WithNothingWritten) {
   const std::string in = dir.Write("in.toml",
                                    "image_size_px = [780, 580]\n[[point]]\n"
                                    "world_mm = [0, 0]\npixel = [1, 2]\n");
-  const auto r = RunCommand(kBinary + " calibrate " + in + " --out " + dir.Path("cal.toml"));
+  const auto r = RunCommand(kPatlab + " calibrate " + in + " --out " + dir.Path("cal.toml"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "patlab calibrate: " + in +
                        ": the input has 1 known points on its best-covered plane; expected at "
                        "least 4 [[point]] tables on one plane height (the fit starts from their "
                        "homography)\n");
   EXPECT_FALSE(std::filesystem::exists(dir.Path("cal.toml")));
-  const auto missing = RunCommand(kBinary + " calibrate " + in);
+  const auto missing = RunCommand(kPatlab + " calibrate " + in);
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_EQ(missing.err,
             "patlab calibrate: missing --out DIR; expected the directory to write to\n");
@@ -84,7 +84,7 @@ TEST(CalibrateCli, AFoldedFitIsExit2WithItsNumbersAndNothingWritten) {
   text.replace(text.find(field), field.size(),
                std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2009.toml");
   const std::string in = dir.Write("folded.toml", text);
-  const auto r = RunCommand(kBinary + " calibrate " + in + " --out " + dir.Path("cal"));
+  const auto r = RunCommand(kPatlab + " calibrate " + in + " --out " + dir.Path("cal"));
   EXPECT_EQ(r.exit_code, 2) << r.out;
   const std::string head = "patlab calibrate: " + in +
                            ": the fitted camera is not usable: its distortion folds at r = 0.497 "

@@ -13,10 +13,9 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
+using testing::kSource;
 using testing::RunCommand;
-
-const std::string kBinary = PATLAB_BINARY;
-const std::string kSource = PATLAB_SOURCE_DIR;
 
 std::vector<std::string> Cells(const std::string& line) {
   std::vector<std::string> out;
@@ -32,7 +31,7 @@ std::vector<std::string> Cells(const std::string& line) {
 TEST(CamtrackCli, EveryRowHasTheHeadersColumns) {
   testing::TempDir dir;
   const std::string csv = dir.Path("t/camtrack.csv");
-  const auto r = RunCommand(kBinary + " camtrack " + kSource +
+  const auto r = RunCommand(kPatlab + " camtrack " + kSource +
                             "/experiments/camera-noise/track-scene.toml --thresholds " + kSource +
                             "/experiments/camera-noise/track.thresholds.toml --runs 1 --frames 40 "
                             "--detect --out " +

@@ -17,12 +17,12 @@ CommandResult Compare(const std::string& args) {
   return RunCommand("cd " PATLAB_SOURCE_DIR " && " PATLAB_BINARY " compare " + args);
 }
 
-constexpr const char* kSmall = " --trials 3000 --frames 20 --sigmas 1,4 -q";
+constexpr const char* kSmallComparison = " --trials 3000 --frames 20 --sigmas 1,4 -q";
 
 TEST(CompareCli, WritesTheThreeFilesAndRanks) {
   const testing::TempDir dir;
-  const CommandResult run =
-      Compare(std::string("triangle ssl-standard --sort-by ids_2c --out ") + dir.Path() + kSmall);
+  const CommandResult run = Compare(std::string("triangle ssl-standard --sort-by ids_2c --out ") +
+                                    dir.Path() + kSmallComparison);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(run.out, "");
   const std::string text = testing::ReadFile(dir.Path("compare.txt"));
@@ -41,7 +41,7 @@ TEST(CompareCli, WritesTheThreeFilesAndRanks) {
   const CommandResult csv1 =
       Compare(std::string("triangle ssl-standard --sort-by ids_2c --format csv "
                           "--threads 1") +
-              kSmall);
+              kSmallComparison);
   EXPECT_EQ(csv1.out, csv);
 }
 

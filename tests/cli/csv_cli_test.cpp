@@ -13,11 +13,10 @@
 namespace patlab {
 namespace {
 
+using testing::kGolden;
+using testing::kPatlab;
+using testing::kSource;
 using testing::RunCommand;
-
-const std::string kPatlab = PATLAB_BINARY;
-const std::string kGolden = PATLAB_SOURCE_DIR "/tests/data/golden/";
-const std::string kSource = PATLAB_SOURCE_DIR;
 
 std::string DetectFlags() {
   return " --thresholds " + kGolden + "ssl-frame.thresholds.toml --calibration " + kGolden +

@@ -18,7 +18,7 @@ CommandResult Evaluate(const std::string& args) {
 }
 
 // Small runs: the whole file stays well under 5 s.
-constexpr const char* kSmall = " --trials 4000 --frames 20 --sigmas 1,2";
+constexpr const char* kSmallEvaluation = " --trials 4000 --frames 20 --sigmas 1,2";
 
 const nlohmann::json& Estimator(const nlohmann::json& list, const std::string& name) {
   for (const nlohmann::json& e : list) {
@@ -30,7 +30,8 @@ const nlohmann::json& Estimator(const nlohmann::json& list, const std::string& n
 }
 
 TEST(EvaluateCli, GeometryEqualsTheClosedForms) {
-  const CommandResult run = Evaluate(std::string("simple butterfly --format json") + kSmall);
+  const CommandResult run =
+      Evaluate(std::string("simple butterfly --format json") + kSmallEvaluation);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
   ASSERT_EQ(j.at("patterns").size(), 2u);
@@ -177,7 +178,7 @@ TEST(EvaluateCli, SymmetricTriangleIsNeverMisidentifiedAtSmallSigma) {
 }
 
 TEST(EvaluateCli, TextReportHasTheFourParts) {
-  const CommandResult run = Evaluate(std::string("triangle") + kSmall);
+  const CommandResult run = Evaluate(std::string("triangle") + kSmallEvaluation);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   for (const char* line :
        {"pattern triangle (patterns/triangle.toml): 4 patches, 3 ID slots\n",

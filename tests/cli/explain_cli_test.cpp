@@ -15,10 +15,9 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
+using testing::kSource;
 using testing::RunCommand;
-
-const std::string kBinary = PATLAB_BINARY;
-const std::string kSource = PATLAB_SOURCE_DIR;
 
 // The shipped ssl-frame settings with its pattern paths absolute and `key = value` replaced.
 std::string Settings(const std::string& key, const std::string& value) {
@@ -38,7 +37,7 @@ struct ExplainRun {
 
 ExplainRun Explain(const std::string& settings_path) {
   ExplainRun run;
-  const auto r = RunCommand(kBinary + " detect " + kSource +
+  const auto r = RunCommand(kPatlab + " detect " + kSource +
                             "/settings/ssl-frame.png -t ssl-frame.thresholds -c "
                             "ssl-frame.calibration --explain -s " +
                             settings_path);
@@ -99,10 +98,10 @@ TEST(ExplainCli, GeometryChangeAcceptsTheRobot) {
 // the rendered half field (settings/ssl-half-field.toml, ten robots) detected with its ID.
 TEST(ExplainCli, SetupExplainsEveryKeyAfterTheRobots) {
   testing::TempDir dir;
-  const auto render = RunCommand(kBinary + " render " + kSource +
+  const auto render = RunCommand(kPatlab + " render " + kSource +
                                  "/settings/ssl-half-field.toml -o " + dir.Path("r"));
   ASSERT_EQ(render.exit_code, 0) << render.err;
-  const auto setup = RunCommand(kBinary + " setup " + dir.Path("r") +
+  const auto setup = RunCommand(kPatlab + " setup " + dir.Path("r") +
                                 "/frame.png --field ssl-2009 --settings ssl-standard.detector "
                                 "--explain -o " +
                                 dir.Path("cam"));

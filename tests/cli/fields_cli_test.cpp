@@ -9,12 +9,11 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
 
-const std::string kBinary = PATLAB_BINARY;
-
 TEST(FieldsCli, ListsEveryModelAndFamily) {
-  const auto r = RunCommand(kBinary + " fields");
+  const auto r = RunCommand(kPatlab + " fields");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* name :
        {"ssl-2008 ", "ssl-2009 ", "ssl-2012 ", "ssl-2014 ", "ssl-2015 ", "ssl-2018 ",
@@ -30,7 +29,7 @@ TEST(FieldsCli, ListsEveryModelAndFamily) {
 }
 
 TEST(FieldsCli, AFamilyListsItsModelsNewestFirst) {
-  const auto r = RunCommand(kBinary + " fields vss");
+  const auto r = RunCommand(kPatlab + " fields vss");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.find("family vss (newest first):\nvss-5v5 "), 0u) << r.out;
   EXPECT_NE(r.out.find("\nvss              1500 x 1300 mm, boundary 0 mm"), std::string::npos)
@@ -38,7 +37,7 @@ TEST(FieldsCli, AFamilyListsItsModelsNewestFirst) {
 }
 
 TEST(FieldsCli, AModelPrintsItsLandmarksLinesAndArcs) {
-  const auto r = RunCommand(kBinary + " fields ssl-2009");
+  const auto r = RunCommand(kPatlab + " fields ssl-2009");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.find("field ssl-2009 (family ssl)\n"), 0u) << r.out;
   EXPECT_NE(r.out.find("\n  corner_pos_left              3025 2025\n"), std::string::npos);
@@ -50,13 +49,13 @@ TEST(FieldsCli, AModelPrintsItsLandmarksLinesAndArcs) {
             std::string::npos);
   // A field file by path reads the same.
   const auto path =
-      RunCommand(kBinary + " fields " + PATLAB_SOURCE_DIR + "/experiments/fields/ssl-2009.toml");
+      RunCommand(kPatlab + " fields " + PATLAB_SOURCE_DIR + "/experiments/fields/ssl-2009.toml");
   EXPECT_EQ(path.exit_code, 0) << path.err;
   EXPECT_EQ(path.out, r.out);
 }
 
 TEST(FieldsCli, AnUnknownNameIsExit2WithTheCloseNames) {
-  const auto r = RunCommand(kBinary + " fields ssl-2010");
+  const auto r = RunCommand(kPatlab + " fields ssl-2010");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err.find("patlab fields: field 'ssl-2010' not found; expected an existing file or "
                        "a name in "),

@@ -19,12 +19,11 @@ namespace patlab {
 namespace {
 
 using testing::CommandResult;
+using testing::kGolden;
+using testing::kPatlab;
 using testing::ReadFile;
 using testing::RunCommand;
 using testing::TempDir;
-
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
-const std::string kBinary = PATLAB_BINARY;
 
 // A CSV file as rows of named cells (the detect CSV may gain columns: compare by name).
 using Row = std::map<std::string, std::string>;
@@ -72,7 +71,7 @@ std::string Cell(const Row& row, const std::string& column) {
 }
 
 CommandResult DetectGolden() {
-  return RunCommand(kBinary + " detect " + kGolden + "ssl-frame.png --thresholds " + kGolden +
+  return RunCommand(kPatlab + " detect " + kGolden + "ssl-frame.png --thresholds " + kGolden +
                     "ssl-frame.thresholds.toml --calibration " + kGolden +
                     "ssl-frame.calibration.toml --settings " + kGolden + "ssl-frame.detector.toml");
 }
@@ -87,7 +86,7 @@ CommandResult DetectGolden() {
 TEST(GoldenFrame, RenderReproducesTheCommittedFrameAndTruth) {
   TempDir dir;
   const CommandResult r =
-      RunCommand(kBinary + " render " + kGolden + "ssl-frame.toml --out " + dir.Path());
+      RunCommand(kPatlab + " render " + kGolden + "ssl-frame.toml --out " + dir.Path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "wrote " + dir.Path("frame.png") + " (640x480 px, 10 robots, a ball) and " +
                        dir.Path("truth.csv") + "\n");
@@ -205,20 +204,20 @@ TEST(RenderCli, BadInputIsExitTwoWithTheLine) {
   const std::string scene =
       dir.Write("scene.toml", "calibration = \"" + kGolden +
                                   "ssl-frame.calibration.toml\"\n[render]\nseed = -1\n");
-  CommandResult r = RunCommand(kBinary + " render " + scene + " --out " + dir.Path("f.png"));
+  CommandResult r = RunCommand(kPatlab + " render " + scene + " --out " + dir.Path("f.png"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "patlab render: " + scene + ":3: seed is -1; expected an integer >= 0\n");
   EXPECT_FALSE(std::filesystem::exists(dir.Path("f.png")));
-  r = RunCommand(kBinary + " render " + kGolden + "ssl-frame.toml");
+  r = RunCommand(kPatlab + " render " + kGolden + "ssl-frame.toml");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "patlab render: missing --out DIR; expected the directory to write to\n");
-  r = RunCommand(kBinary + " render --out " + dir.Path("f.png"));
+  r = RunCommand(kPatlab + " render --out " + dir.Path("f.png"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "patlab render: missing SCENE; expected 'patlab render SCENE -o DIR'\n");
 }
 
 TEST(RenderCli, HelpShowsAnExample) {
-  const CommandResult r = RunCommand(kBinary + " render --help");
+  const CommandResult r = RunCommand(kPatlab + " render --help");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("patlab render ssl-frame -o frame"), std::string::npos) << r.out;
 }

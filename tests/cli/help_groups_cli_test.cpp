@@ -17,13 +17,11 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
 
-const std::string kBinary = PATLAB_BINARY;
-
+using help_listing::CommandNames;
 using help_listing::Lines;
-
-std::vector<std::string> CommandNames() { return help_listing::CommandNames(kBinary); }
 
 bool IsOptionLine(const std::string& line) {
   return std::regex_search(line, std::regex("^  (-\\w, |    )--[a-z0-9-]+"));
@@ -71,13 +69,13 @@ std::set<std::string> CompletionFlags(const std::string& script, const std::stri
 TEST(HelpGroupsCli, EveryCommandsHelpHasNamedGroupsAndCompletionHasItsFlags) {
   const std::vector<std::string> commands = CommandNames();
   ASSERT_GE(commands.size(), 18u);
-  const auto completion = RunCommand(kBinary + " completion bash");
+  const auto completion = RunCommand(kPatlab + " completion bash");
   ASSERT_EQ(completion.exit_code, 0) << completion.err;
   for (const std::string& command : commands) {
     SCOPED_TRACE(command);
-    const auto help = RunCommand(kBinary + " help " + command);
+    const auto help = RunCommand(kPatlab + " help " + command);
     ASSERT_EQ(help.exit_code, 0) << help.err;
-    const auto flag = RunCommand(kBinary + " " + command + " --help");
+    const auto flag = RunCommand(kPatlab + " " + command + " --help");
     ASSERT_EQ(flag.exit_code, 0) << flag.err;
     EXPECT_EQ(help.out, flag.out);
     const std::vector<std::string> titles = GroupTitles(help.out);
@@ -96,7 +94,7 @@ TEST(HelpGroupsCli, EveryCommandsHelpHasNamedGroupsAndCompletionHasItsFlags) {
 // The groups of one command as chosen (src/cli/simulate_command.cpp): the tool-wide flags in
 // "output" and "run", the noise flags together.
 TEST(HelpGroupsCli, SimulatesGroupsHoldTheirFlags) {
-  const auto r = RunCommand(kBinary + " help simulate");
+  const auto r = RunCommand(kPatlab + " help simulate");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(GroupTitles(r.out),
             (std::vector<std::string>{"experiment", "noise model", "output", "run", "help"}));

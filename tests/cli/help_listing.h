@@ -17,11 +17,11 @@ inline std::vector<std::string> Lines(const std::string& text) {
   return lines;
 }
 
-// The command names `patlab help` (of the binary `patlab`) lists under "commands:".
-inline std::vector<std::string> CommandNames(const std::string& patlab) {
+// The command names `patlab help` lists under "commands:".
+inline std::vector<std::string> CommandNames() {
   std::vector<std::string> names;
   bool listing = false;
-  for (const std::string& line : Lines(testing::RunCommand(patlab + " help").out)) {
+  for (const std::string& line : Lines(testing::RunCommand(testing::kPatlab + " help").out)) {
     if (line == "commands:") {
       listing = true;
     } else if (listing && line.rfind("  ", 0) == 0) {

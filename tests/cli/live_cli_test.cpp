@@ -22,13 +22,13 @@
 namespace patlab {
 namespace {
 
+using testing::kGoldenFrame;
+using testing::kPatlab;
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.";
-const std::string kBinary = PATLAB_BINARY;
-const std::string kFiles = " -t " + kGolden + "thresholds.toml -c " + kGolden +
-                           "calibration.toml -s " + kGolden + "detector.toml";
+const std::string kFiles = " -t " + kGoldenFrame + "thresholds.toml -c " + kGoldenFrame +
+                           "calibration.toml -s " + kGoldenFrame + "detector.toml";
 
 struct Receiver {
   int fd = socket(AF_INET, SOCK_DGRAM, 0);
@@ -57,13 +57,13 @@ struct Receiver {
 };
 
 // patlab detect's CSV rows (team, id, x, y, theta) keyed by team and id.
-struct Row {
+struct DetectRow {
   double x = 0, y = 0, theta = 0;
 };
-std::map<std::pair<std::string, int>, Row> DetectRows() {
-  const testing::CommandResult r = RunCommand(kBinary + " detect " + kGolden + "png" + kFiles);
+std::map<std::pair<std::string, int>, DetectRow> DetectRows() {
+  const testing::CommandResult r = RunCommand(kPatlab + " detect " + kGoldenFrame + "png" + kFiles);
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  std::map<std::pair<std::string, int>, Row> rows;
+  std::map<std::pair<std::string, int>, DetectRow> rows;
   std::istringstream lines(r.out);
   std::string line;
   std::getline(lines, line);  // frame,pattern,team,id,status,x_mm,y_mm,theta_rad,...
@@ -78,8 +78,8 @@ std::map<std::pair<std::string, int>, Row> DetectRows() {
 }
 
 void ExpectAsDetect(const google::protobuf::RepeatedPtrField<SSL_DetectionRobot>& robots,
-                    const std::string& team, const std::map<std::pair<std::string, int>, Row>& rows,
-                    int* matched) {
+                    const std::string& team,
+                    const std::map<std::pair<std::string, int>, DetectRow>& rows, int* matched) {
   for (const SSL_DetectionRobot& r : robots) {
     ASSERT_TRUE(r.has_robot_id() && r.has_orientation() && r.has_height());
     const auto it = rows.find({team, static_cast<int>(r.robot_id())});
@@ -98,7 +98,7 @@ TEST(LiveCli, PacketsLogAndJsonMatchDetect) {
   TempDir dir;
   Receiver receiver;
   const testing::CommandResult r = RunCommand(
-      kBinary + " live " + kGolden + "png --loop --max-frames 4 --list-rate 100" + kFiles +
+      kPatlab + " live " + kGoldenFrame + "png --loop --max-frames 4 --list-rate 100" + kFiles +
       " --camera-id 5 --field " + PATLAB_SOURCE_DIR + "/experiments/fields/ssl-div-b.toml" +
       " --send 127.0.0.1:" + std::to_string(receiver.port) + " --log " + dir.Path("live.log") +
       " --jsonl " + dir.Path("live.jsonl") + " --stats");
@@ -149,8 +149,8 @@ TEST(LiveCli, HoldIdsOnClearFramesChangesNothing) {
   for (const std::string flag : {"", " --hold-ids"}) {
     const std::string out = dir.Path("live" + std::to_string(runs.size()) + ".jsonl");
     const testing::CommandResult r =
-        RunCommand(kBinary + " live " + kGolden + "png --loop --max-frames 5 --rate max" + kFiles +
-                   " --send 127.0.0.1:9 --jsonl " + out + " --stats" + flag);
+        RunCommand(kPatlab + " live " + kGoldenFrame + "png --loop --max-frames 5 --rate max" +
+                   kFiles + " --send 127.0.0.1:9 --jsonl " + out + " --stats" + flag);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.err.find("; ids held 0\n"), std::string::npos) << r.err;
     std::string lines;
@@ -166,7 +166,7 @@ TEST(LiveCli, HoldIdsOnClearFramesChangesNothing) {
 }
 
 TEST(LiveCli, BadInputNamesTheFlag) {
-  const std::string base = kBinary + " live " + kGolden + "png" + kFiles;
+  const std::string base = kPatlab + " live " + kGoldenFrame + "png" + kFiles;
   struct Case {
     std::string flags, message;
   };
@@ -187,7 +187,7 @@ TEST(LiveCli, BadInputNamesTheFlag) {
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.flags << "\n" << r.err;
   }
   const testing::CommandResult missing =
-      RunCommand(kBinary + " live /nonexistent/clip.mkv" + kFiles + " --send 127.0.0.1:1");
+      RunCommand(kPatlab + " live /nonexistent/clip.mkv" + kFiles + " --send 127.0.0.1:1");
   EXPECT_EQ(missing.exit_code, 2) << missing.err;
   EXPECT_NE(missing.err.find("/nonexistent/clip.mkv: cannot open"), std::string::npos)
       << missing.err;

@@ -11,17 +11,11 @@
 namespace patlab {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
+using testing::SmallExperiment;
 
-const std::string kPatlab = PATLAB_BINARY;
 const std::string kFig5 = std::string(PATLAB_SOURCE_DIR) + "/experiments/fig5.toml";
-
-std::string SmallExperiment() {
-  return "name = \"small\"\npatterns_dir = \"" PATLAB_SOURCE_DIR
-         "/patterns\"\n"
-         "patterns = [\"linear\", \"butterfly\"]\nestimators = [\"fast\", \"ml\", \"key\"]\n"
-         "trials = 3000\nseed = 77\n[sigma]\nvalues = [0, 0.5, 2]\n";
-}
 
 bool Exists(const std::string& path) { return std::filesystem::exists(path); }
 

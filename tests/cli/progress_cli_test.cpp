@@ -16,11 +16,10 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kGoldenFrame;
+using testing::kPatlab;
+using testing::kSource;
 using testing::RunCommand;
-
-const std::string kBinary = PATLAB_BINARY;
-const std::string kSource = PATLAB_SOURCE_DIR;
-const std::string kGolden = kSource + "/tests/data/golden/ssl-frame.";
 
 // The stderr lines that start with `prefix`.
 std::vector<std::string> LinesStartingWith(const std::string& text, const std::string& prefix) {
@@ -45,7 +44,7 @@ void ExpectProgress(const std::string& dir, const std::string& command, const st
   const std::string prefix = "patlab " + command + ": ";
   const std::string run = "cd " + dir + " && ";
   const auto forced =
-      RunCommand(run + "PATLAB_PROGRESS=always " + kBinary + " " + command + " " + args);
+      RunCommand(run + "PATLAB_PROGRESS=always " + kPatlab + " " + command + " " + args);
   ASSERT_EQ(forced.exit_code, 0) << forced.err;
   const std::vector<std::string> lines = LinesStartingWith(forced.err, prefix + "");
   std::vector<std::string> progress;
@@ -59,7 +58,7 @@ void ExpectProgress(const std::string& dir, const std::string& command, const st
   EXPECT_LE(progress.size(), 11u) << forced.err;  // the log form: one line per 10% at most
 
   const auto quiet =
-      RunCommand(run + "PATLAB_PROGRESS=always " + kBinary + " " + command + " " + args + " -q");
+      RunCommand(run + "PATLAB_PROGRESS=always " + kPatlab + " " + command + " " + args + " -q");
   ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
   EXPECT_EQ(quiet.err.find(" " + unit + " ("), std::string::npos) << quiet.err;
 
@@ -68,7 +67,7 @@ void ExpectProgress(const std::string& dir, const std::string& command, const st
   // exit cannot have reported. One that took longer (a loaded machine, a sanitized build) may,
   // as it should, so the check holds only for the former.
   const auto start = std::chrono::steady_clock::now();
-  const auto plain = RunCommand(run + kBinary + " " + command + " " + args);
+  const auto plain = RunCommand(run + kPatlab + " " + command + " " + args);
   const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   if (took.count() < Progress::kQuietSeconds) {
@@ -78,10 +77,10 @@ void ExpectProgress(const std::string& dir, const std::string& command, const st
 
 TEST(ProgressCli, DetectCountsFrames) {
   testing::TempDir dir;
-  const std::string png = kGolden + "png";
+  const std::string png = kGoldenFrame + "png";
   ExpectProgress(dir.Path(), "detect",
-                 png + " " + png + " " + png + " -t " + kGolden + "thresholds.toml -c " + kGolden +
-                     "calibration.toml -s " + kGolden + "detector.toml -o d",
+                 png + " " + png + " " + png + " -t " + kGoldenFrame + "thresholds.toml -c " +
+                     kGoldenFrame + "calibration.toml -s " + kGoldenFrame + "detector.toml -o d",
                  "3", "frames");
 }
 
@@ -106,7 +105,7 @@ TEST(ProgressCli, MergeCountsShardFiles) {
                               "/patterns\"\npatterns = [\"linear\"]\nestimators = [\"fast\"]\n"
                               "trials = 200\nseed = 5\n[sigma]\nvalues = [0.5, 1]\n");
   for (const char* k : {"1/3", "2/3", "3/3"}) {
-    const auto s = RunCommand("cd " + dir.Path() + " && " + kBinary +
+    const auto s = RunCommand("cd " + dir.Path() + " && " + kPatlab +
                               " simulate small.toml -q --shard " + k + " -o shards");
     ASSERT_EQ(s.exit_code, 0) << s.err;
   }

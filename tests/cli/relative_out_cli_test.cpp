@@ -10,10 +10,9 @@
 namespace patlab {
 namespace {
 
+using testing::kData;
+using testing::kPatlab;
 using testing::RunCommand;
-
-const std::string kPatlab = PATLAB_BINARY;
-const std::string kData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/";
 
 struct Case {
   std::string arguments;           // after "patlab"; "-o a/b" is appended

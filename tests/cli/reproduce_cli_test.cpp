@@ -9,9 +9,9 @@
 namespace patlab {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
 
-const std::string kPatlab = PATLAB_BINARY;
 const std::string kRoot = PATLAB_SOURCE_DIR;
 
 TEST(ReproduceCli, CheckPassesOnTheCommittedResultsAndNamesAnEditedFile) {

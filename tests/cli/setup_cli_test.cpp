@@ -16,9 +16,9 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
 
-const std::string kBinary = PATLAB_BINARY;
 const std::string kScene = std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-half-field.toml";
 
 // RMS (mm) between two cameras' floor points over the pixels (5 px grid) where the true camera
@@ -57,11 +57,11 @@ std::map<std::string, Vec2> Robots(const std::string& csv, int team, int id, int
 
 TEST(SetupCli, RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm) {
   testing::TempDir dir;
-  const auto render = RunCommand(kBinary + " render " + kScene + " -o " + dir.Path("r"));
+  const auto render = RunCommand(kPatlab + " render " + kScene + " -o " + dir.Path("r"));
   ASSERT_EQ(render.exit_code, 0) << render.err;
   const std::string frame = dir.Path("r") + "/frame.png";
   const auto setup =
-      RunCommand(kBinary + " setup " + frame +
+      RunCommand(kPatlab + " setup " + frame +
                  " --field ssl-2009 --settings ssl-frame.detector -o " + dir.Path("cam"));
   ASSERT_EQ(setup.exit_code, 0) << setup.err << setup.out;
   EXPECT_NE(setup.out.find("field model: ssl-2009"), std::string::npos) << setup.out;
@@ -80,7 +80,7 @@ TEST(SetupCli, RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm) {
   EXPECT_LT(rms, 5.0);
   // detect --setup: every robot, right team and ID, within 20 mm; nothing else.
   const auto detect =
-      RunCommand(kBinary + " detect " + frame + " --setup " + dir.Path("cam") + " --format csv");
+      RunCommand(kPatlab + " detect " + frame + " --setup " + dir.Path("cam") + " --format csv");
   ASSERT_EQ(detect.exit_code, 0) << detect.err;
   const auto found = Robots(detect.out, 2, 3, 5);
   const auto expected = Robots(testing::ReadFile(dir.Path("r") + "/truth.csv"), 0, 1, 2);
@@ -97,12 +97,12 @@ TEST(SetupCli, RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm) {
 // is 3.8 m up: the user's word over the lines' and the robots') and the report says it was given.
 TEST(SetupCli, TheGivenCameraHeightIsTheCalibrations) {
   testing::TempDir dir;
-  const auto render = RunCommand(kBinary + " render " + kScene + " -o " + dir.Path("r"));
+  const auto render = RunCommand(kPatlab + " render " + kScene + " -o " + dir.Path("r"));
   ASSERT_EQ(render.exit_code, 0) << render.err;
   const std::string frame = dir.Path("r") + "/frame.png";
   for (const double given : {2500.0}) {
     const std::string cam = dir.Path("cam");
-    const auto setup = RunCommand(kBinary + " setup " + frame +
+    const auto setup = RunCommand(kPatlab + " setup " + frame +
                                   " --field ssl-2009 --settings ssl-frame.detector -o " + cam +
                                   " --camera-height " + std::to_string(given));
     ASSERT_EQ(setup.exit_code, 0) << setup.err << setup.out;
@@ -142,18 +142,18 @@ TEST(SetupCli, BadInputIsExit2WithNothingWritten) {
        "give four --landmark NAME=X,Y"},
   };
   for (const Case& c : cases) {
-    const auto r = RunCommand(kBinary + " setup " + c.args);
+    const auto r = RunCommand(kPatlab + " setup " + c.args);
     EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
   }
   EXPECT_FALSE(std::filesystem::exists(dir.Path("cam")));
-  const auto detect = RunCommand(kBinary + " detect " + frame + " --setup " + dir.Path("none"));
+  const auto detect = RunCommand(kPatlab + " detect " + frame + " --setup " + dir.Path("none"));
   EXPECT_EQ(detect.exit_code, 2);
   EXPECT_NE(detect.err.find("no setup.toml in it"), std::string::npos) << detect.err;
 }
 
 TEST(SetupCli, ListsTheLandmarksOfAField) {
-  const auto r = RunCommand(kBinary + " setup --list-landmarks ssl-2009");
+  const auto r = RunCommand(kPatlab + " setup --list-landmarks ssl-2009");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("  centre 0 0\n"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("  corner_pos_left 3025 2025\n"), std::string::npos) << r.out;

@@ -9,25 +9,26 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "../frame_test_util.h"
 #include "../test_util.h"
 #include "patlab/formats/calibration_file.h"
 
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
+using vision::testing::HaveSharedFrames;
+using vision::testing::SharedFrames;
 
-const std::string kBinary = PATLAB_BINARY;
-const std::string kFrames = std::string(PATLAB_SOURCE_DIR) + "/../shared/frames/";
-const std::string kData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
+const std::string kVisionData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
 
-struct Robot {
+struct RobotInImage {
   double u_px, v_px;
   std::string team;
   int id;  // -1: by team only
@@ -40,12 +41,12 @@ struct Score {
 };
 
 Score SetupAndDetect(const std::string& frame, const std::string& setup_flags,
-                     const std::vector<Robot>& robots) {
+                     const std::vector<RobotInImage>& robots) {
   testing::TempDir dir;
-  const auto setup = RunCommand(kBinary + " setup " + kFrames + frame + " " + setup_flags + " -o " +
-                                dir.Path("cam"));
+  const auto setup = RunCommand(kPatlab + " setup " + SharedFrames() + "/" + frame + " " +
+                                setup_flags + " -o " + dir.Path("cam"));
   EXPECT_EQ(setup.exit_code, 0) << setup.err;
-  const auto detect = RunCommand(kBinary + " detect " + kFrames + frame + " --setup " +
+  const auto detect = RunCommand(kPatlab + " detect " + SharedFrames() + "/" + frame + " --setup " +
                                  dir.Path("cam") + " --format csv -q");
   EXPECT_EQ(detect.exit_code, 0) << detect.err;
   const camera::Calibration calibration =
@@ -87,14 +88,12 @@ Score SetupAndDetect(const std::string& frame, const std::string& setup_flags,
   return score;
 }
 
-bool HaveFrames() { return std::filesystem::exists(kFrames + "vss-test-frame.png"); }
-
 TEST(SetupRealCli, VssFrameWithNoHandWrittenFile) {
-  if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << kFrames;
+  if (!HaveSharedFrames()) GTEST_SKIP() << "no shared frames at " << SharedFrames();
   const Score s = SetupAndDetect("vss-test-frame.png",
                                  "--field " + std::string(PATLAB_SOURCE_DIR) +
                                      "/experiments/fields/vss.toml --robot-height 0 --settings " +
-                                     kData + "vss.detector.toml",
+                                     kVisionData + "vss.detector.toml",
                                  {{145, 28, "blue", 1},
                                   {540, 598, "light-green", 2},
                                   {133, 413, "light-green", 0},
@@ -111,7 +110,7 @@ TEST(SetupRealCli, VssFrameWithNoHandWrittenFile) {
 // frame's lime team keys read as yellow). Setup weighs the blob and pixel colour fits by the
 // robots each decodes (the blobs: 5, the pixels: 1) and keeps the blobs.
 TEST(SetupRealCli, VssFrameWithTheShippedFamilySettings) {
-  if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << kFrames;
+  if (!HaveSharedFrames()) GTEST_SKIP() << "no shared frames at " << SharedFrames();
   const Score s =
       SetupAndDetect("vss-test-frame.png", "--field vss --robot-height 0 --settings vss.detector",
                      {{145, 28, "blue", 1},
@@ -125,20 +124,21 @@ TEST(SetupRealCli, VssFrameWithTheShippedFamilySettings) {
 }
 
 // The SSL 2008 frame's robots counted by eye: key patch centre (px), team, ID (-1: team only).
-const std::vector<Robot> kSsl2008Robots = {{557, 200, "yellow", 5},
-                                           {343, 58, "yellow", -1},
-                                           {258, 82, "yellow", -1},
-                                           {434, 559, "blue", 6},
-                                           {478, 564, "blue", 15}};
+const std::vector<RobotInImage> kSsl2008Robots = {{557, 200, "yellow", 5},
+                                                  {343, 58, "yellow", -1},
+                                                  {258, 82, "yellow", -1},
+                                                  {434, 559, "blue", 6},
+                                                  {478, 564, "blue", 15}};
 
 // The settings' pattern geometry from the team's own sheet (ssl-2008-sheet.detector.toml:
 // patterns/kiks-sheet.toml, measured on team-patterns/kiks.png), not from this frame through the
 // hand calibration, whose floor is ~20% too small (ssl-2008.detector.toml's kiks-sectors.toml).
 TEST(SetupRealCli, Ssl2008FrameWithNoHandWrittenFile) {
-  if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << kFrames;
-  const Score s = SetupAndDetect(
-      "ssl-field-2008.jpg", "--field ssl-2009 --settings " + kData + "ssl-2008-sheet.detector.toml",
-      kSsl2008Robots);
+  if (!HaveSharedFrames()) GTEST_SKIP() << "no shared frames at " << SharedFrames();
+  const Score s =
+      SetupAndDetect("ssl-field-2008.jpg",
+                     "--field ssl-2009 --settings " + kVisionData + "ssl-2008-sheet.detector.toml",
+                     kSsl2008Robots);
   // All 5 with their team (the two at the top by team only), and no false ID. Before the blob
   // clusters stopped chaining (complete linkage), the black box kept its class's median colour
   // and the boxes stopped being pulled in against regions larger than a patch (field lines, the
@@ -155,10 +155,10 @@ TEST(SetupRealCli, Ssl2008FrameWithNoHandWrittenFile) {
 // the given segment_k and keeps the scale that decodes the most robots (here 60: the result of the
 // defaults, 5 right), so the constant no other camera fixes does not decide this one.
 TEST(SetupRealCli, Ssl2008FrameFromASegmentationScaleThatJoinsItsPatches) {
-  if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << kFrames;
+  if (!HaveSharedFrames()) GTEST_SKIP() << "no shared frames at " << SharedFrames();
   const Score s = SetupAndDetect("ssl-field-2008.jpg",
                                  "--field ssl-2009 --colour-option segment_k=90 --settings " +
-                                     kData + "ssl-2008-sheet.detector.toml",
+                                     kVisionData + "ssl-2008-sheet.detector.toml",
                                  kSsl2008Robots);
   EXPECT_EQ(s.right, 5);
   EXPECT_EQ(s.false_ids, 0);
@@ -177,16 +177,16 @@ TEST(SetupRealCli, ColoursFittedOnOneExposureHoldOnADarkerAndABrighterOne) {
   testing::TempDir dir;
   const std::string scene = std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-half-field.toml";
   for (const std::string gain : {"1", "0.6", "1.6"}) {
-    const auto render = RunCommand(kBinary + " render " + scene + " --camera --exposure-gain " +
+    const auto render = RunCommand(kPatlab + " render " + scene + " --camera --exposure-gain " +
                                    gain + " -o " + dir.Path("g" + gain));
     ASSERT_EQ(render.exit_code, 0) << render.err;
   }
   const auto setup =
-      RunCommand(kBinary + " setup " + dir.Path("g1/frame.png") +
+      RunCommand(kPatlab + " setup " + dir.Path("g1/frame.png") +
                  " --field ssl-2009 --settings ssl-frame.detector -o " + dir.Path("cam"));
   ASSERT_EQ(setup.exit_code, 0) << setup.err;
   for (const std::string gain : {"1", "0.6", "1.6"}) {
-    const auto detect = RunCommand(kBinary + " detect " + dir.Path("g" + gain + "/frame.png") +
+    const auto detect = RunCommand(kPatlab + " detect " + dir.Path("g" + gain + "/frame.png") +
                                    " --setup " + dir.Path("cam") + " --format csv -q");
     ASSERT_EQ(detect.exit_code, 0) << detect.err;
     std::map<std::string, Vec2> found;

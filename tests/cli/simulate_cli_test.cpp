@@ -11,16 +11,9 @@
 namespace patlab {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
-
-const std::string kPatlab = PATLAB_BINARY;
-
-std::string SmallExperiment() {
-  return "name = \"small\"\npatterns_dir = \"" PATLAB_SOURCE_DIR
-         "/patterns\"\n"
-         "patterns = [\"linear\", \"butterfly\"]\nestimators = [\"fast\", \"ml\", \"key\"]\n"
-         "trials = 3000\nseed = 77\n[sigma]\nvalues = [0, 0.5, 2]\n";
-}
+using testing::SmallExperiment;
 
 TEST(SimulateCli, HelpShowsExamplesAndExitsZero) {
   const auto r = RunCommand(kPatlab + " simulate --help");

@@ -10,9 +10,8 @@
 namespace patlab {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
-
-const std::string kPatlab = PATLAB_BINARY;
 
 std::string Settings() {
   return "palette = [\"blue\", \"yellow\", \"pink\", \"green\", \"cyan\", \"white\", \"orange\"]\n"
@@ -29,8 +28,8 @@ std::string Settings() {
 
 // Lines: 1 name, 2 correspondence, 3 patterns, 4 seed, 5-6 [sigma], 7 [detect], 8 settings,
 // 9 frames, 10 false_blob_rate_per_m2, 11 detector_sigma, 12 `extra`.
-std::string SmallExperiment(const std::string& extra = "", const std::string& frames = "200",
-                            const std::string& detector_sigma = "\"matched\"") {
+std::string TinyDetectExperiment(const std::string& extra = "", const std::string& frames = "200",
+                                 const std::string& detector_sigma = "\"matched\"") {
   return "name = \"tiny\"\ncorrespondence = \"detect\"\npatterns = [\"ssl-standard\", "
          "\"triangle\"]\nseed = 11\n[sigma]\nvalues = [0, 1, 5]\n"
          "[detect]\nsettings = \"det.toml\"\nframes = " +
@@ -41,7 +40,7 @@ std::string SmallExperiment(const std::string& extra = "", const std::string& fr
 TEST(SimulateDetectCli, WritesTidyCsvAndManifestIdenticalForAnyThreadCount) {
   testing::TempDir dir;
   dir.Write("det.toml", Settings());
-  const std::string experiment = dir.Write("tiny.toml", SmallExperiment());
+  const std::string experiment = dir.Write("tiny.toml", TinyDetectExperiment());
   const auto one =
       RunCommand(kPatlab + " simulate " + experiment + " --threads 1 -q --out " + dir.Path("one"));
   ASSERT_EQ(one.exit_code, 0) << one.err;
@@ -88,7 +87,7 @@ TEST(SimulateDetectCli, WritesTidyCsvAndManifestIdenticalForAnyThreadCount) {
 TEST(SimulateDetectCli, TrialsSetFramesAndSigmasOverride) {
   testing::TempDir dir;
   dir.Write("det.toml", Settings());
-  const std::string experiment = dir.Write("tiny.toml", SmallExperiment());
+  const std::string experiment = dir.Write("tiny.toml", TinyDetectExperiment());
   const auto r = RunCommand(kPatlab + " simulate " + experiment +
                             " -q --trials 7 --sigmas 2 --out " + dir.Path("o"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -102,13 +101,13 @@ TEST(SimulateDetectCli, BadDetectTablesExitTwoWithTheirMessages) {
   dir.Write("det.toml", Settings());
   const std::string out = " -q --out " + dir.Path("out");
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {SmallExperiment("", "0"),
+      {TinyDetectExperiment("", "0"),
        ":9: frames in [detect] is 0; expected an integer in [1, 100000000]"},
-      {SmallExperiment("colour_error_probability = 2\n"),
+      {TinyDetectExperiment("colour_error_probability = 2\n"),
        ":12: colour_error_probability in [detect] is 2; expected a probability in [0, 1]"},
-      {SmallExperiment("robots_per_team = 17\n"),
+      {TinyDetectExperiment("robots_per_team = 17\n"),
        ":12: robots_per_team in [detect] is 17; expected at most 16 (the IDs of ssl-standard)"},
-      {SmallExperiment("", "200", "\"auto\""),
+      {TinyDetectExperiment("", "200", "\"auto\""),
        ":11: detector_sigma in [detect] is \"auto\"; expected \"settings\" or \"matched\""},
   };
   for (const auto& [text, message] : cases) {
@@ -117,7 +116,7 @@ TEST(SimulateDetectCli, BadDetectTablesExitTwoWithTheirMessages) {
     EXPECT_EQ(r.exit_code, 2) << text;
     EXPECT_EQ(r.err, "patlab simulate: " + experiment + message + "\n") << text;
   }
-  const std::string experiment = dir.Write("tiny.toml", SmallExperiment());
+  const std::string experiment = dir.Write("tiny.toml", TinyDetectExperiment());
   const auto r = RunCommand(kPatlab + " simulate " + experiment + " --trials -1" + out);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err,
@@ -129,7 +128,7 @@ TEST(SimulateDetectCli, BadDetectTablesExitTwoWithTheirMessages) {
 TEST(SimulateDetectCli, ReplayPrintsOneFrame) {
   testing::TempDir dir;
   dir.Write("det.toml", Settings());
-  const std::string experiment = dir.Write("tiny.toml", SmallExperiment());
+  const std::string experiment = dir.Write("tiny.toml", TinyDetectExperiment());
   const auto r = RunCommand(kPatlab + " simulate " + experiment + " --replay 10,3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("point 10 (pattern triangle, sigma 1 mm, false blobs 2 /m^2), frame 3, "

@@ -15,11 +15,10 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kData;
+using testing::kGoldenFrame;
+using testing::kPatlab;
 using testing::RunCommand;
-
-const std::string kBinary = PATLAB_BINARY;
-const std::string kData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/";
-const std::string kGolden = kData + "golden/ssl-frame.";
 
 long CountSubstrings(const std::string& text, const std::string& part) {
   long n = 0;
@@ -32,14 +31,15 @@ TEST(ThresholdsCli, FitsTheGoldenFrameLabelsAndDetectsWithThem) {
   testing::TempDir dir;
   const std::string t = dir.Path("t/thresholds.toml");
   const auto r =
-      RunCommand(kBinary + " thresholds " + kData + "vision/golden-frame.labels.toml -o " +
-                 dir.Path("t") + " -s " + kGolden + "detector.toml");
+      RunCommand(kPatlab + " thresholds " + kData + "vision/golden-frame.labels.toml -o " +
+                 dir.Path("t") + " -s " + kGoldenFrame + "detector.toml");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\npink               40  "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("no overlapping classes"), std::string::npos) << r.out;
   EXPECT_EQ(formats::LoadThresholds(t).classes.size(), 5u);
-  const auto d = RunCommand(kBinary + " detect " + kGolden + "png -t " + t + " -c " + kGolden +
-                            "calibration.toml -s " + kGolden + "detector.toml --explain");
+  const auto d =
+      RunCommand(kPatlab + " detect " + kGoldenFrame + "png -t " + t + " -c " + kGoldenFrame +
+                 "calibration.toml -s " + kGoldenFrame + "detector.toml --explain");
   ASSERT_EQ(d.exit_code, 0) << d.err;
   EXPECT_EQ(std::count(d.out.begin(), d.out.end(), '\n'), 11);  // header + 10 robots
   EXPECT_EQ(CountSubstrings(d.err, ": detected, id "), 10) << d.err;
@@ -50,20 +50,21 @@ TEST(ThresholdsCli, FitsTheGoldenFrameLabelsAndDetectsWithThem) {
 // neighbours). "magenta" is pink (settings/colours.toml): no warning, all ten robots found.
 TEST(ThresholdsCli, DetectWarnsAboutNamesAndExplainsTheMisses) {
   testing::TempDir dir;
-  std::string text = testing::ReadFile(kGolden + "thresholds.toml");
+  std::string text = testing::ReadFile(kGoldenFrame + "thresholds.toml");
   std::string magenta = text;
   magenta.replace(magenta.find("name = \"pink\""), 13, "name = \"Magenta\"");
   const std::string m = dir.Write("m.toml", magenta);
-  const auto ok = RunCommand(kBinary + " detect " + kGolden + "png -t " + m + " -c " + kGolden +
-                             "calibration.toml -s " + kGolden + "detector.toml");
+  const auto ok =
+      RunCommand(kPatlab + " detect " + kGoldenFrame + "png -t " + m + " -c " + kGoldenFrame +
+                 "calibration.toml -s " + kGoldenFrame + "detector.toml");
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_EQ(ok.err, "");
   EXPECT_EQ(std::count(ok.out.begin(), ok.out.end(), '\n'), 11);  // header + 10 robots
   text.replace(text.find("name = \"pink\""), 13, "name = \"rosa\"");
   const std::string t = dir.Write("t.toml", text);
-  const auto d = RunCommand(kBinary + " detect " + kGolden + "png -t " + t + " -c " + kGolden +
-                            "calibration.toml -s " + kGolden + "detector.toml --explain --debug " +
-                            dir.Path("debug"));
+  const auto d = RunCommand(kPatlab + " detect " + kGoldenFrame + "png -t " + t + " -c " +
+                            kGoldenFrame + "calibration.toml -s " + kGoldenFrame +
+                            "detector.toml --explain --debug " + dir.Path("debug"));
   ASSERT_EQ(d.exit_code, 0) << d.err;
   EXPECT_NE(d.err.find("patlab detect: warning: " + t +
                        ": class \"rosa\" is no colour of the detector's palette; its blobs "
@@ -84,10 +85,11 @@ TEST(ThresholdsCli, DetectWarnsAboutNamesAndExplainsTheMisses) {
 // the report, then every robot of the golden frame found with the written thresholds.
 TEST(ThresholdsCli, AutoFitsAFrameWithNoLabels) {
   testing::TempDir dir;
-  const auto f = RunCommand(kBinary + " render " + kGolden + "toml --camera -o " + dir.Path("f"));
+  const auto f =
+      RunCommand(kPatlab + " render " + kGoldenFrame + "toml --camera -o " + dir.Path("f"));
   ASSERT_EQ(f.exit_code, 0) << f.err;
-  const auto r = RunCommand(kBinary + " thresholds --auto " + dir.Path("f/frame.png") + " -s " +
-                            kGolden + "detector.toml -o " + dir.Path("t"));
+  const auto r = RunCommand(kPatlab + " thresholds --auto " + dir.Path("f/frame.png") + " -s " +
+                            kGoldenFrame + "detector.toml -o " + dir.Path("t"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.rfind("class ", 0), 0u) << r.out;
   EXPECT_NE(r.out.find("\ncarpet "), std::string::npos) << r.out;
@@ -96,8 +98,8 @@ TEST(ThresholdsCli, AutoFitsAFrameWithNoLabels) {
   ASSERT_EQ(t.classes.size(), 5u);
   EXPECT_EQ(t.classes[0].name, "blue");
   const auto d =
-      RunCommand(kBinary + " detect " + kGolden + "png -t " + dir.Path("t/thresholds.toml") +
-                 " -c " + kGolden + "calibration.toml -s " + kGolden + "detector.toml");
+      RunCommand(kPatlab + " detect " + kGoldenFrame + "png -t " + dir.Path("t/thresholds.toml") +
+                 " -c " + kGoldenFrame + "calibration.toml -s " + kGoldenFrame + "detector.toml");
   ASSERT_EQ(d.exit_code, 0) << d.err;
   EXPECT_EQ(std::count(d.out.begin(), d.out.end(), '\n'), 11);  // header + 10 robots
   EXPECT_EQ(CountSubstrings(d.out, ",ok,"), 10) << d.out;
@@ -107,8 +109,8 @@ TEST(ThresholdsCli, AutoFitsAFrameWithNoLabels) {
 // pixel is counted in its class (10 blue, 40 pink, golden-frame.labels.toml).
 TEST(ThresholdsCli, AutoWithLabelsCountsTheLabelledPixels) {
   testing::TempDir dir;
-  const auto r = RunCommand(kBinary + " thresholds --auto " + kGolden + "png -s " + kGolden +
-                            "detector.toml --labels " + kData +
+  const auto r = RunCommand(kPatlab + " thresholds --auto " + kGoldenFrame + "png -s " +
+                            kGoldenFrame + "detector.toml --labels " + kData +
                             "vision/golden-frame.labels.toml -o " + dir.Path("t"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\nblue   "), std::string::npos) << r.out;
@@ -118,13 +120,14 @@ TEST(ThresholdsCli, AutoWithLabelsCountsTheLabelledPixels) {
 
 TEST(ThresholdsCli, AutoBadInputIsExit2) {
   testing::TempDir dir;
-  const auto r = RunCommand(kBinary + " thresholds --auto " + kGolden +
+  const auto r = RunCommand(kPatlab + " thresholds --auto " + kGoldenFrame +
                             "png --classes blue,pnik -o " + dir.Path("t"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err,
             "patlab thresholds: --classes: unknown colour 'pnik'; expected a colour of "
             "settings/colours.toml (did you mean 'pink'?)\n");
-  const auto n = RunCommand(kBinary + " thresholds --auto " + kGolden + "png -o " + dir.Path("t"));
+  const auto n =
+      RunCommand(kPatlab + " thresholds --auto " + kGoldenFrame + "png -o " + dir.Path("t"));
   EXPECT_EQ(n.exit_code, 2);
   EXPECT_EQ(n.err,
             "patlab thresholds: --auto without --classes or --settings; expected the "
@@ -135,9 +138,9 @@ TEST(ThresholdsCli, AutoBadInputIsExit2) {
 TEST(ThresholdsCli, BadLabelsAreExit2WithNothingWritten) {
   testing::TempDir dir;
   const std::string labels =
-      dir.Write("l.toml", "image = \"" + kGolden +
+      dir.Write("l.toml", "image = \"" + kGoldenFrame +
                               "png\"\n[[class]]\nname = \"blue\"\nrects = [[0, 0, 5, 480]]\n");
-  const auto r = RunCommand(kBinary + " thresholds " + labels + " -o " + dir.Path("t.toml"));
+  const auto r = RunCommand(kPatlab + " thresholds " + labels + " -o " + dir.Path("t.toml"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "patlab thresholds: " + labels +
                        ":4: rectangle corner [5, 480] of class \"blue\" lies outside the 640x480 "
@@ -150,7 +153,7 @@ TEST(ThresholdsCli, BadLabelsAreExit2WithNothingWritten) {
 // from four of its robots find all ten robots of that frame with their true team and ID.
 TEST(ThresholdsCli, ShippedLabelsByNameMakeThresholdsThatFindTheRenderedFramesRobots) {
   testing::TempDir dir;
-  const std::string in_dir = "cd " + dir.Path() + " && " + kBinary;
+  const std::string in_dir = "cd " + dir.Path() + " && " + kPatlab;
   const auto render = RunCommand(in_dir + " render ssl-frame -o frame");
   ASSERT_EQ(render.exit_code, 0) << render.err;
   EXPECT_EQ(testing::ReadFile(dir.Path("frame/frame.png")),

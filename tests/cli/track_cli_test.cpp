@@ -9,9 +9,8 @@
 namespace patlab {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
-
-const std::string kPatlab = PATLAB_BINARY;
 
 std::string TinyExperiment() {
   return "name = \"tiny\"\nseed = 5\nruns = 2\ndiameters_mm = [40, 60]\n"

@@ -18,13 +18,11 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
 using testing::RunCommand;
 
-const std::string kBinary = PATLAB_BINARY;
-
+using help_listing::CommandNames;
 using help_listing::Lines;
-
-std::vector<std::string> CommandNames() { return help_listing::CommandNames(kBinary); }
 
 // (command, --flag) of every option whose help, continuation lines joined, says it takes an
 // integer >= 0 by its type.
@@ -40,7 +38,7 @@ std::vector<std::pair<std::string, std::string>> UnsignedOptions() {
       flag.clear();
       text.clear();
     };
-    for (const std::string& line : Lines(RunCommand(kBinary + " help " + command).out)) {
+    for (const std::string& line : Lines(RunCommand(kPatlab + " help " + command).out)) {
       std::smatch m;
       if (std::regex_search(line, m, option_line)) {
         finish();
@@ -65,7 +63,7 @@ TEST(UnsignedFlagsCli, EveryUnsignedOptionOfEveryCommandRefusesANegativeValue) {
             options.end());
   for (const auto& [command, flag] : options) {
     testing::TempDir dir;  // an empty working directory: nothing may be written
-    const std::string run = std::string("cd ").append(dir.Path()).append(" && ").append(kBinary);
+    const std::string run = std::string("cd ").append(dir.Path()).append(" && ").append(kPatlab);
     for (const std::string& form : {flag + " -1", flag + "=-1", flag + " ' -1'"}) {
       const auto r = RunCommand(run + " " + command + " " + form);
       EXPECT_EQ(r.exit_code, 2) << command << " " << form << "\n" << r.err;

@@ -22,10 +22,9 @@
 namespace patlab::cli {
 namespace {
 
+using testing::kPatlab;
+using testing::kSource;
 using testing::RunCommand;
-
-const std::string kBinary = PATLAB_BINARY;
-const std::string kSource = PATLAB_SOURCE_DIR;
 
 // RGB of the rendered colours; the thresholds are these +- 15 levels (as
 // settings/ssl-frame.thresholds.toml), and no box holds another colour or a mixture of a patch
@@ -142,18 +141,18 @@ TEST(VssDesignsCli, EveryShippedDesignTeamAndIdOnRenderedFrames) {
     ASSERT_LE(slot, 21);
     std::ofstream(dir.Path("scene.toml")) << Scene(design, robots);
     const auto render =
-        RunCommand(kBinary + " render " + dir.Path("scene.toml") + " -o " + dir.Path("r"));
+        RunCommand(kPatlab + " render " + dir.Path("scene.toml") + " -o " + dir.Path("r"));
     ASSERT_EQ(render.exit_code, 0) << render.err;
-    const auto known = RunCommand(kBinary + " detect " + dir.Path("r") + "/frame.png -t " +
+    const auto known = RunCommand(kPatlab + " detect " + dir.Path("r") + "/frame.png -t " +
                                   dir.Path("thresholds.toml") + " -c " + dir.Path("camera.toml") +
                                   " -s vss.detector -q");
     ASSERT_EQ(known.exit_code, 0) << known.err;
     ExpectRobots(known.out, design, robots, 5.0);
-    const auto setup = RunCommand(kBinary + " setup " + dir.Path("r") + "/frame.png --field " +
+    const auto setup = RunCommand(kPatlab + " setup " + dir.Path("r") + "/frame.png --field " +
                                   kSource + "/experiments/fields/vss.toml --settings " + design +
                                   ".detector -o " + dir.Path("cam"));
     ASSERT_EQ(setup.exit_code, 0) << setup.err << setup.out;
-    const auto via_setup = RunCommand(kBinary + " detect " + dir.Path("r") + "/frame.png --setup " +
+    const auto via_setup = RunCommand(kPatlab + " detect " + dir.Path("r") + "/frame.png --setup " +
                                       dir.Path("cam") + " -q");
     ASSERT_EQ(via_setup.exit_code, 0) << via_setup.err;
     ExpectRobots(via_setup.out, design, robots, 10.0);

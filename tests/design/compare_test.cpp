@@ -16,7 +16,7 @@ std::pair<Pattern, std::string> Design(const std::string& name) {
   return {formats::LoadPatternFile(file), file};
 }
 
-CompareOptions Small() {
+CompareOptions SmallComparison() {
   CompareOptions o;
   o.evaluate.trials = 3000;
   o.evaluate.frames = 20;
@@ -74,7 +74,7 @@ TEST(DesignGeometry, ColoursDecideEveryRotationOfTheTriangle) {
 }
 
 TEST(CompareDesigns, RanksByTheChosenColumnBestFirst) {
-  CompareOptions o = Small();
+  CompareOptions o = SmallComparison();
   o.sort_by = "ids_2c";
   const CompareResult r =
       CompareDesigns({Design("triangle"), Design("butterfly"), Design("linear")}, o);
@@ -89,7 +89,7 @@ TEST(CompareDesigns, RanksByTheChosenColumnBestFirst) {
 }
 
 TEST(CompareDesigns, SameNumbersForAnyThreadCountAndAnyCompanions) {
-  CompareOptions o = Small();
+  CompareOptions o = SmallComparison();
   o.evaluate.threads = 1;
   const CompareResult one = CompareDesigns({Design("ssl-standard"), Design("triangle")}, o);
   o.evaluate.threads = 2;
@@ -109,7 +109,7 @@ TEST(CompareDesigns, SameNumbersForAnyThreadCountAndAnyCompanions) {
 }
 
 TEST(CompareDesigns, ProgressCountsEveryRunOnce) {
-  CompareOptions o = Small();
+  CompareOptions o = SmallComparison();
   std::vector<std::pair<int, int>> calls;
   o.progress = [&](int done, int total) { calls.push_back({done, total}); };
   CompareDesigns({Design("simple"), Design("linear")}, o);
@@ -122,14 +122,14 @@ TEST(CompareDesigns, BadInputNamesWhatAndWhere) {
   auto [no_ids, file] = Design("simple");
   no_ids.patches[1].role = PatchRole::kFixed;
   no_ids.patches[1].colour = "red";
-  EXPECT_INPUT_ERROR(CompareDesigns({{no_ids, "x.toml"}}, Small()),
+  EXPECT_INPUT_ERROR(CompareDesigns({{no_ids, "x.toml"}}, SmallComparison()),
                      "x.toml: design simple has no ID slots; expected at least one patch with "
                      "role = \"id\"");
   EXPECT_INPUT_ERROR(
-      CompareDesigns({Design("simple"), {Design("simple").first, "y.toml"}}, Small()),
+      CompareDesigns({Design("simple"), {Design("simple").first, "y.toml"}}, SmallComparison()),
       "y.toml: design name \"simple\" is also the name in " + std::string(PATLAB_SOURCE_DIR) +
           "/patterns/simple.toml; expected distinct design names");
-  CompareOptions o = Small();
+  CompareOptions o = SmallComparison();
   o.sort_by = "speed";
   o.evaluate.colour_counts = {2};
   o.evaluate.sigmas_mm = {2.0};

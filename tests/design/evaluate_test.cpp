@@ -10,7 +10,7 @@
 namespace patlab::design {
 namespace {
 
-EvaluateOptions Small() {
+EvaluateOptions SmallEvaluation() {
   EvaluateOptions o;
   o.trials = 2000;
   o.frames = 10;
@@ -21,7 +21,7 @@ EvaluateOptions Small() {
 
 TEST(EvaluatePattern, FillsEveryPart) {
   const Pattern pattern = testing::ShippedPattern("butterfly");
-  const EvaluationReport r = EvaluatePattern(pattern, "butterfly.toml", Small());
+  const EvaluationReport r = EvaluatePattern(pattern, "butterfly.toml", SmallEvaluation());
   EXPECT_EQ(r.geometry.size(), estimate::kAllEstimators.size());
   ASSERT_EQ(r.monte_carlo.points.size(), 1u);
   EXPECT_EQ(r.monte_carlo.points[0].trials, 2000);
@@ -32,7 +32,8 @@ TEST(EvaluatePattern, FillsEveryPart) {
   const std::string text = EvaluationText(r);
   EXPECT_EQ(text.rfind("pattern butterfly (butterfly.toml): ", 0), 0u) << text;
   EXPECT_NE(text.find("4. Misidentification in whole frames"), std::string::npos) << text;
-  EXPECT_NE(EvaluationJson(Small(), {r}).find("\"tool\": \"patlab evaluate\""), std::string::npos);
+  EXPECT_NE(EvaluationJson(SmallEvaluation(), {r}).find("\"tool\": \"patlab evaluate\""),
+            std::string::npos);
 }
 
 // Part 4 derives max_neighbours from the pattern: the detector default (8) would refuse every
@@ -46,7 +47,7 @@ TEST(EvaluatePattern, AcceptsPatternsOfMoreThanNinePatches) {
   }
   const Pattern pattern = formats::ParsePattern(text, "eleven.toml");
   ASSERT_EQ(pattern.size(), 11);
-  EvaluateOptions o = Small();
+  EvaluateOptions o = SmallEvaluation();
   o.sigmas_mm = {1.0};
   const EvaluationReport r = EvaluatePattern(pattern, "eleven.toml", o);
   EXPECT_TRUE(r.misidentification.run);
@@ -55,21 +56,21 @@ TEST(EvaluatePattern, AcceptsPatternsOfMoreThanNinePatches) {
 
 TEST(EvaluatePattern, ReportDoesNotDependOnThreads) {
   const Pattern pattern = testing::ShippedPattern("triangle");
-  EvaluateOptions two = Small();
+  EvaluateOptions two = SmallEvaluation();
   two.threads = 2;
-  EXPECT_EQ(EvaluationText(EvaluatePattern(pattern, "t.toml", Small())),
+  EXPECT_EQ(EvaluationText(EvaluatePattern(pattern, "t.toml", SmallEvaluation())),
             EvaluationText(EvaluatePattern(pattern, "t.toml", two)));
 }
 
 TEST(EvaluateOptions, CheckNamesTheFlags) {
-  EvaluateOptions o = Small();
+  EvaluateOptions o = SmallEvaluation();
   o.id_colours = 9;
   EXPECT_INPUT_ERROR(Validate(o), "--id-colors is 9; expected an integer in [1, 8]");
-  o = Small();
+  o = SmallEvaluation();
   o.sigmas_mm = {2.0, 1.0};
   EXPECT_INPUT_ERROR(Validate(o),
                      "--sigmas has 1; expected strictly increasing finite numbers >= 0 (mm)");
-  o = Small();
+  o = SmallEvaluation();
   o.trials = 1;
   o.frames = 0;
   const std::vector<OptionsProblem> problems = Check(o);

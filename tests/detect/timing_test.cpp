@@ -15,13 +15,13 @@
 namespace patlab::detect {
 namespace {
 
-struct Frame {
+struct DetectorAndScene {
   Detector detector;
   sim::Scene scene;
 };
 
 // Ten robots and a ball with false blobs, as the allocation test and detect_bench use.
-Frame ShippedFrame() {
+DetectorAndScene ShippedFrame() {
   Detector detector(
       formats::LoadDetectorSettings(std::string(PATLAB_SOURCE_DIR) + "/experiments/detector.toml"));
   sim::SceneOptions options;
@@ -46,7 +46,7 @@ double Seconds(const TimeProfile& profile, std::string_view stage) {
 }
 
 TEST(DetectorTiming, NotRequestedLeavesTheProfileEmpty) {
-  Frame f = ShippedFrame();
+  DetectorAndScene f = ShippedFrame();
   std::vector<Detection> detections;
   DetectStats stats;
   TimeProfile disabled;  // not enabled: Detect reads no clock and adds nothing
@@ -59,7 +59,7 @@ TEST(DetectorTiming, NotRequestedLeavesTheProfileEmpty) {
 }
 
 TEST(DetectorTiming, RequestedFillsEveryStageAndTheyPartitionTheCall) {
-  Frame f = ShippedFrame();
+  DetectorAndScene f = ShippedFrame();
   std::vector<Detection> detections;
   DetectStats stats;
   TimeProfile profile(/*enabled=*/true);
@@ -91,7 +91,7 @@ TEST(DetectorTiming, RequestedFillsEveryStageAndTheyPartitionTheCall) {
 }
 
 TEST(DetectorTiming, TimingChangesNeitherDetectionsNorCounters) {
-  Frame f = ShippedFrame();
+  DetectorAndScene f = ShippedFrame();
   std::vector<Detection> plain, timed;
   DetectStats plain_stats, timed_stats;
   TimeProfile profile(/*enabled=*/true);
@@ -119,7 +119,7 @@ TEST(DetectorTiming, TimingChangesNeitherDetectionsNorCounters) {
 }
 
 TEST(DetectorTiming, SumsOverFrames) {
-  Frame f = ShippedFrame();
+  DetectorAndScene f = ShippedFrame();
   std::vector<Detection> detections;
   DetectStats a, b;
   TimeProfile first(true), second(true);

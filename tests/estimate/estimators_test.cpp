@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <random>
 
 #include "../test_util.h"
@@ -13,7 +12,7 @@
 namespace patlab::estimate {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using testing::kPi;
 
 std::array<Vec2, kMaxPatches> Place(const Model& model, const Pose2& pose) {
   std::array<Vec2, kMaxPatches> v{};

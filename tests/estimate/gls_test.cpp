@@ -6,7 +6,6 @@
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <numbers>
 #include <random>
 
 #include "../test_util.h"
@@ -14,7 +13,7 @@
 namespace patlab::estimate {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using testing::kPi;
 using Matrix = Eigen::MatrixXd;
 
 // The covariance A of gls.h built directly with std::exp and Eigen (no shared code).

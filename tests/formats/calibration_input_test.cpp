@@ -12,12 +12,12 @@
 namespace patlab::formats {
 namespace {
 
-calib::CalibrationInput Parse(const std::string& text) {
+calib::CalibrationInput ParseInput(const std::string& text) {
   return ParseCalibrationInput(text, "in.toml", std::string(PATLAB_SOURCE_DIR) + "/experiments");
 }
 
 TEST(CalibrationInput, ReadsFeaturesByNameAndCoordinates) {
-  const calib::CalibrationInput in = Parse(R"(
+  const calib::CalibrationInput in = ParseInput(R"(
 image_size_px = [780, 580]
 field = "fields/ssl-2009.toml"
 [fit]
@@ -62,7 +62,7 @@ pixels = [[1, 1], "missing", [2, 2], [3, 3], [4, 4]]
 
 TEST(CalibrationInput, BadInputSaysWhereAndWhatWasExpected) {
   const std::string head = "image_size_px = [780, 580]\nfield = \"fields/ssl-2009.toml\"\n";
-  EXPECT_INPUT_ERROR(Parse(head + "[[point]]\nfeature = \"middle\"\npixel = [1, 2]\n"),
+  EXPECT_INPUT_ERROR(ParseInput(head + "[[point]]\nfeature = \"middle\"\npixel = [1, 2]\n"),
                      "in.toml:4: point feature 'middle' is not in field 'ssl-2009'; expected one "
                      "of: centre, corner_pos_left, corner_pos_right, corner_neg_left, "
                      "corner_neg_right, halfway_left, halfway_right, centre_circle_left, "
@@ -74,20 +74,20 @@ TEST(CalibrationInput, BadInputSaysWhereAndWhatWasExpected) {
                      "goal_back_left_neg, goal_back_right_neg, penalty_mark_pos, "
                      "penalty_mark_neg");
   EXPECT_INPUT_ERROR(
-      Parse(head + "[[point]]\nfeature = \"centre\"\nworld_mm = [0, 0]\npixel = [1, 2]\n"),
+      ParseInput(head + "[[point]]\nfeature = \"centre\"\nworld_mm = [0, 0]\npixel = [1, 2]\n"),
       "in.toml:4: both feature and world_mm in [[point]] 1; expected exactly one: a field "
       "feature name or coordinates");
-  EXPECT_INPUT_ERROR(Parse(head + "[[line]]\nfeature = \"halfway\"\npixels = [[1, 2], [3]]\n"),
+  EXPECT_INPUT_ERROR(ParseInput(head + "[[line]]\nfeature = \"halfway\"\npixels = [[1, 2], [3]]\n"),
                      "in.toml:5: element 2 of pixels in [[line]] 1 is malformed; expected an "
                      "array of [u, v] pixel pairs");
-  EXPECT_INPUT_ERROR(Parse("image_size_px = [780, 580]\n[[line]]\nfeature = \"halfway\"\n"
-                           "pixels = [[1, 2]]\n"),
+  EXPECT_INPUT_ERROR(ParseInput("image_size_px = [780, 580]\n[[line]]\nfeature = \"halfway\"\n"
+                                "pixels = [[1, 2]]\n"),
                      "in.toml:3: feature in [[line]] 1 names a field feature but the file sets no "
                      "field; expected field = \"<field file>\" at the top");
-  EXPECT_INPUT_ERROR(Parse("image_size_px = [780.5, 580]\n"),
+  EXPECT_INPUT_ERROR(ParseInput("image_size_px = [780.5, 580]\n"),
                      "in.toml:1: image_size_px is not two integers from 1 to 65535; expected "
                      "[width, height] in pixels");
-  EXPECT_INPUT_ERROR(Parse(head + "[fit]\nfix = [\"skew\"]\n"),
+  EXPECT_INPUT_ERROR(ParseInput(head + "[fit]\nfix = [\"skew\"]\n"),
                      "in.toml:4: fix in [fit] holds an unknown parameter; expected any of: "
                      "\"focal\", \"aspect\", \"principal_point\", \"k1\" or \"k2\"");
 }

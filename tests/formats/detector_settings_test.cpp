@@ -47,62 +47,65 @@ void ExpectSettingsError(const std::string& text, const std::string& message) {
   EXPECT_INPUT_ERROR(ParseDetectorSettings(text, "bad.toml", kExperiments), message);
 }
 
-const std::string kHead = "palette = [\"blue\", \"yellow\", \"pink\", \"green\"]\n";  // line 1
+const std::string kPaletteLine =
+    "palette = [\"blue\", \"yellow\", \"pink\", \"green\"]\n";  // line 1
 const std::string kPattern =
     "[[pattern]]\npattern = \"ssl-standard\"\nid_colours = [\"pink\", \"green\"]\n"
     "key_colours = [\"blue\"]\n";
 
 TEST(Settings, BadFilesGiveTheirMessages) {
-  ExpectSettingsError(kHead + "[detector]\npatch_sigma_mm = -1\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\npatch_sigma_mm = -1\n" + kPattern,
                       "bad.toml:3: patch_sigma_mm is -1; expected a finite number > 0 (mm)");
-  ExpectSettingsError(kHead + "[detector]\narea_ratio_min = 3\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\narea_ratio_min = 3\n" + kPattern,
                       "bad.toml:2: area_ratio_max is 2.5; expected a finite number > "
                       "area_ratio_min (3)");
-  ExpectSettingsError(kHead + "[detector]\npatch_sigma = 1\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\npatch_sigma = 1\n" + kPattern,
                       "bad.toml:3: unknown key 'patch_sigma' in [detector]; expected one of: "
                       "patch_sigma_mm, geometry_confidence, reach_margin_mm, area_ratio_min, "
                       "area_ratio_max, missing_patch, max_neighbours, estimator, "
                       "ml_max_iterations");
-  ExpectSettingsError(kHead + "[detector]\nmissing_patch = \"guess\"\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\nmissing_patch = \"guess\"\n" + kPattern,
                       "bad.toml:3: missing_patch is \"guess\"; expected \"reject\" or \"fit\"");
-  ExpectSettingsError(kHead + "[detector]\nestimator = \"best\"\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\nestimator = \"best\"\n" + kPattern,
                       "bad.toml:3: estimator is \"best\"; expected \"fast\", \"ml\", \"lsq\" or "
                       "\"key\"");
-  ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 2.5\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\nmax_neighbours = 2.5\n" + kPattern,
                       "bad.toml:3: max_neighbours in [detector] is a float; expected an integer");
   // One limit for ml_max_iterations (estimate::Check), at the key's line.
-  ExpectSettingsError(kHead + "[detector]\nml_max_iterations = 0\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\nml_max_iterations = 0\n" + kPattern,
                       "bad.toml:3: ml_max_iterations is 0; expected an integer in [1, 1000]");
-  ExpectSettingsError(kHead + "[detector]\nml_max_iterations = 5000000\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\nml_max_iterations = 5000000\n" + kPattern,
                       "bad.toml:3: ml_max_iterations is 5000000; expected an integer in [1, 1000]");
-  ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 17\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\nmax_neighbours = 17\n" + kPattern,
                       "bad.toml:3: max_neighbours is 17; expected an integer in [1, 16]");
-  ExpectSettingsError(kHead + "[detector]\nmax_neighbours = 3\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "[detector]\nmax_neighbours = 3\n" + kPattern,
                       "bad.toml: pattern ssl-standard: max_neighbours is 3; expected at least 4 "
                       "(its non-key patches)");
-  ExpectSettingsError(kHead, "bad.toml:1: no patterns; expected at least one [[pattern]] table");
+  ExpectSettingsError(kPaletteLine,
+                      "bad.toml:1: no patterns; expected at least one [[pattern]] table");
   ExpectSettingsError("palette = []\n" + kPattern,
                       "bad.toml:1: palette is an empty array; expected a non-empty array of "
                       "colour names");
-  ExpectSettingsError(kHead +
+  ExpectSettingsError(kPaletteLine +
                           "[[pattern]]\npattern = \"ssl-standard\"\nid_colours = [\"pink\"]\n"
                           "key_colours = [\"blue\", \"purple\"]\n",
                       "bad.toml:5: colour \"purple\" is not in the palette; expected one of: "
                       "blue, yellow, pink, green");
-  ExpectSettingsError(kHead + "[[pattern]]\npattern = \"ssl-standard\"\nkey_colours = [\"blue\"]\n",
-                      "bad.toml:3: [[pattern]] 0 has neither codebook nor id_colours; expected "
-                      "exactly one of them");
-  ExpectSettingsError(kHead +
+  ExpectSettingsError(
+      kPaletteLine + "[[pattern]]\npattern = \"ssl-standard\"\nkey_colours = [\"blue\"]\n",
+      "bad.toml:3: [[pattern]] 0 has neither codebook nor id_colours; expected "
+      "exactly one of them");
+  ExpectSettingsError(kPaletteLine +
                           "[[pattern]]\npattern = \"hexagon\"\nid_colours = [\"pink\"]\n"
                           "key_colours = [\"blue\"]\n",
                       "bad.toml:3: pattern 'hexagon' not found; expected a pattern file path or a "
                       "name in " +
                           std::string(PATLAB_SOURCE_DIR) + "/patterns/");
-  ExpectSettingsError(kHead +
+  ExpectSettingsError(kPaletteLine +
                           "[[pattern]]\npattern = \"linear\"\nid_colours = [\"pink\"]\n"
                           "key_colours = [\"blue\"]\nsymmetry_tolerance_mm = -2\n",
                       "bad.toml:6: symmetry_tolerance_mm is -2; expected a number >= 0 (mm)");
-  ExpectSettingsError(kHead + "[detector\n",
+  ExpectSettingsError(kPaletteLine + "[detector\n",
                       "bad.toml:2: TOML syntax error: Error while parsing table header: expected "
                       "']', saw '\\n'");
 }
@@ -110,7 +113,7 @@ TEST(Settings, BadFilesGiveTheirMessages) {
 // The [frame] table: read for the camera front ends, checked by every loader, never part of the
 // detector's own options.
 TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
-  const std::string text = kHead + "[detector]\nmissing_patch = \"reject\"\n" +
+  const std::string text = kPaletteLine + "[detector]\nmissing_patch = \"reject\"\n" +
                            "[frame]\nedge_loss_px = 0.5\nmissing_patch = \"fit\"\nlight_luma = "
                            "76\n" +
                            kPattern;
@@ -123,7 +126,7 @@ TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
   EXPECT_EQ(*frame.light_luma, 76.0);
   EXPECT_EQ(ParseDetectorSettings(text, "s.toml", kExperiments).options.missing_patch,
             detect::MissingPatchPolicy::kReject);
-  const detect::FrameSettings none = ParseFrameSettings(kHead + kPattern, "s.toml");
+  const detect::FrameSettings none = ParseFrameSettings(kPaletteLine + kPattern, "s.toml");
   EXPECT_FALSE(none.edge_loss_px.has_value());
   EXPECT_FALSE(none.missing_patch.has_value());
   EXPECT_FALSE(none.light_luma.has_value());
@@ -134,7 +137,7 @@ TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
 
 TEST(Settings, BadFrameTablesGiveTheirMessages) {
   const auto frame_error = [](const std::string& table, const std::string& message) {
-    const std::string text = kHead + "[frame]\n" + table + kPattern;
+    const std::string text = kPaletteLine + "[frame]\n" + table + kPattern;
     ExpectSettingsError(text, message);
     EXPECT_INPUT_ERROR(ParseFrameSettings(text, "bad.toml"), message);
   };
@@ -151,7 +154,7 @@ TEST(Settings, BadFrameTablesGiveTheirMessages) {
               "missing_patch, light_luma");
   frame_error("light_luma = 0\n", "bad.toml:3: light_luma is 0; expected in (0, 255]");
   frame_error("light_luma = 300\n", "bad.toml:3: light_luma is 300; expected in (0, 255]");
-  ExpectSettingsError(kHead + "frame = 1\n" + kPattern,
+  ExpectSettingsError(kPaletteLine + "frame = 1\n" + kPattern,
                       "bad.toml:2: frame is an integer; expected a table");
   detect::FrameSettings ok;
   ok.edge_loss_px = 0.0;

@@ -33,13 +33,13 @@ class DetectExperimentTest : public sim::testing_support::ExperimentFixture {
 };
 
 // Lines 1-3 head, 4-5 [sigma], [detect] from line 6.
-const std::string kHead =
+const std::string kDetectHead =
     "name = \"x\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\", \"triangle\"]\n";
-const std::string kSigma = "[sigma]\nvalues = [0, 1]\n";
+const std::string kDetectSigma = "[sigma]\nvalues = [0, 1]\n";
 const std::string kDetect = "[detect]\nsettings = \"det.toml\"\n";
 
 TEST_F(DetectExperimentTest, DefaultsAndPatternsFromTheSettings) {
-  const sim::Experiment e = LoadExperimentFile(Write(kHead + kSigma + kDetect));
+  const sim::Experiment e = LoadExperimentFile(Write(kDetectHead + kDetectSigma + kDetect));
   EXPECT_EQ(e.correspondence, sim::Correspondence::kDetect);
   ASSERT_EQ(e.patterns.size(), 2u);
   EXPECT_EQ(e.patterns[0].name, "butterfly");
@@ -62,7 +62,7 @@ TEST_F(DetectExperimentTest, DefaultsAndPatternsFromTheSettings) {
 
 TEST_F(DetectExperimentTest, EveryKeyIsRead) {
   const sim::Experiment e = LoadExperimentFile(
-      Write(kHead + kSigma + "[field]\nlength_mm = 4000\nwidth_mm = 3000\n" + kDetect +
+      Write(kDetectHead + kDetectSigma + "[field]\nlength_mm = 4000\nwidth_mm = 3000\n" + kDetect +
             "frames = 77\nrobots_per_team = 3\nfalse_blob_rate_per_m2 = [0, 0.5, 2]\n"
             "false_blob_radius_min_mm = 5\nfalse_blob_radius_max_mm = 9\n"
             "missing_patch_probability = 0.1\ncolour_error_probability = 0.02\nball = false\n"
@@ -84,8 +84,8 @@ TEST_F(DetectExperimentTest, EveryKeyIsRead) {
   EXPECT_EQ(d.match_radius_mm, 30.0);
   EXPECT_TRUE(d.matched_sigma);
   // One number is a one-value axis.
-  const sim::Experiment one =
-      LoadExperimentFile(Write(kHead + kSigma + kDetect + "false_blob_rate_per_m2 = 1.5\n"));
+  const sim::Experiment one = LoadExperimentFile(
+      Write(kDetectHead + kDetectSigma + kDetect + "false_blob_rate_per_m2 = 1.5\n"));
   EXPECT_EQ(one.detect.false_blob_rates_per_m2, (std::vector<double>{1.5}));
 }
 
@@ -108,78 +108,78 @@ TEST_F(DetectExperimentTest, BadFilesGiveTheirMessages) {
       "false_blob_radius_max_mm, missing_patch_probability, colour_error_probability, ball, "
       "ball_colour, robot_radius_mm, min_separation_mm, match_radius_mm, detector_sigma";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {kHead + kSigma,
+      {kDetectHead + kDetectSigma,
        "e.toml:1: missing [detect] with correspondence = \"detect\"; expected a table with at "
        "least settings = \"<detector settings file>\""},
-      {kHead + kSigma + "[detect]\nframes = 10\n",
+      {kDetectHead + kDetectSigma + "[detect]\nframes = 10\n",
        "e.toml:6: missing settings in [detect]; expected a detector settings file (relative to "
        "the experiment)"},
-      {kHead + kSigma + "[detect]\nsettings = \"nope.toml\"\n",
+      {kDetectHead + kDetectSigma + "[detect]\nsettings = \"nope.toml\"\n",
        "e.toml:7: settings in [detect] is \"nope.toml\", but " +
            dir_.Path("experiments/nope.toml") +
            " is not a file; expected a detector settings file (relative to the experiment)"},
-      {kHead + "trials = 100\n" + kSigma + kDetect,
+      {kDetectHead + "trials = 100\n" + kDetectSigma + kDetect,
        "e.toml:4: trials is not used with correspondence = \"detect\"; expected frames in "
        "[detect]"},
-      {kHead + "estimators = [\"ml\"]\n" + kSigma + kDetect,
+      {kDetectHead + "estimators = [\"ml\"]\n" + kDetectSigma + kDetect,
        "e.toml:4: estimators is not used with correspondence = \"detect\"; expected estimator in "
        "the detector settings' [detector] table"},
-      {kHead + "frames = 100\n" + kSigma + kDetect,
+      {kDetectHead + "frames = 100\n" + kDetectSigma + kDetect,
        "e.toml:4: unknown key 'frames'; expected one of: name, description, patterns, seed, "
        "correspondence, sigma, field, noise, noise_file, detect"},
-      {kHead + kSigma + kDetect + "frame = 10\n",
+      {kDetectHead + kDetectSigma + kDetect + "frame = 10\n",
        "e.toml:8: unknown key 'frame' in [detect]; expected one of: " + keys},
-      {kHead + kSigma + kDetect + "frames = 0\n",
+      {kDetectHead + kDetectSigma + kDetect + "frames = 0\n",
        "e.toml:8: frames in [detect] is 0; expected an integer in [1, 100000000]"},
-      {kHead + kSigma + kDetect + "robots_per_team = 0\n",
+      {kDetectHead + kDetectSigma + kDetect + "robots_per_team = 0\n",
        "e.toml:8: robots_per_team in [detect] is 0; expected an integer in [1, 1000]"},
-      {kHead + kSigma + kDetect + "robots_per_team = 17\n",
+      {kDetectHead + kDetectSigma + kDetect + "robots_per_team = 17\n",
        "e.toml:8: robots_per_team in [detect] is 17; expected at most 16 (the IDs of butterfly)"},
-      {kHead + kSigma + "[field]\nlength_mm = 500\nwidth_mm = 500\n" + kDetect,
+      {kDetectHead + kDetectSigma + "[field]\nlength_mm = 500\nwidth_mm = 500\n" + kDetect,
        "e.toml:9: robots_per_team in [detect] is 5 (butterfly): 10 robots 180 mm apart and the "
        "ball exclude 895% of the area their centres are drawn from; expected at most 80% (a "
        "larger field, fewer robots or a smaller min_separation_mm)"},
-      {kHead + kSigma + "[field]\nwidth_mm = 0\n" + kDetect,
+      {kDetectHead + kDetectSigma + "[field]\nwidth_mm = 0\n" + kDetect,
        "e.toml:7: width_mm in [field] is 0; expected a finite number > 0 (mm) with "
        "correspondence = \"detect\""},
-      {kHead + kSigma + kDetect + "false_blob_rate_per_m2 = [2, 1]\n",
+      {kDetectHead + kDetectSigma + kDetect + "false_blob_rate_per_m2 = [2, 1]\n",
        "e.toml:8: false_blob_rate_per_m2 in [detect] is not increasing at 1; expected strictly "
        "increasing values"},
-      {kHead + kSigma + kDetect + "false_blob_rate_per_m2 = -1\n",
+      {kDetectHead + kDetectSigma + kDetect + "false_blob_rate_per_m2 = -1\n",
        "e.toml:8: false_blob_rate_per_m2 in [detect] is -1; expected a number in [0, 1000]"},
-      {kHead + kSigma + kDetect + "false_blob_rate_per_m2 = [1, \"many\"]\n",
+      {kDetectHead + kDetectSigma + kDetect + "false_blob_rate_per_m2 = [1, \"many\"]\n",
        "e.toml:8: false_blob_rate_per_m2 in [detect] is a string; expected a number or an array "
        "of numbers"},
-      {kHead + kSigma + kDetect + "false_blob_rate_per_m2 = []\n",
+      {kDetectHead + kDetectSigma + kDetect + "false_blob_rate_per_m2 = []\n",
        "e.toml:8: false_blob_rate_per_m2 in [detect] is empty; expected a number or an array of "
        "numbers"},
-      {kHead + kSigma + kDetect + "missing_patch_probability = 1.5\n",
+      {kDetectHead + kDetectSigma + kDetect + "missing_patch_probability = 1.5\n",
        "e.toml:8: missing_patch_probability in [detect] is 1.5; expected a probability in [0, 1]"},
-      {kHead + kSigma + kDetect + "colour_error_probability = -0.1\n",
+      {kDetectHead + kDetectSigma + kDetect + "colour_error_probability = -0.1\n",
        "e.toml:8: colour_error_probability in [detect] is -0.1; expected a probability in [0, 1]"},
-      {kHead + kSigma + kDetect + "false_blob_radius_max_mm = 5\n",
+      {kDetectHead + kDetectSigma + kDetect + "false_blob_radius_max_mm = 5\n",
        "e.toml:8: false_blob_radius_max_mm in [detect] is 5; expected a finite number >= "
        "false_blob_radius_min_mm"},
-      {kHead + kSigma + kDetect + "match_radius_mm = 0\n",
+      {kDetectHead + kDetectSigma + kDetect + "match_radius_mm = 0\n",
        "e.toml:8: match_radius_mm in [detect] is 0; expected a finite number > 0 (mm)"},
-      {kHead + kSigma + kDetect + "detector_sigma = \"auto\"\n",
+      {kDetectHead + kDetectSigma + kDetect + "detector_sigma = \"auto\"\n",
        "e.toml:8: detector_sigma in [detect] is \"auto\"; expected \"settings\" or \"matched\""},
-      {kHead + kSigma + "[detect]\nsettings = \"no-orange.toml\"\n",
+      {kDetectHead + kDetectSigma + "[detect]\nsettings = \"no-orange.toml\"\n",
        "e.toml:6: ball_colour in [detect] is \"orange\"; expected a colour of the detector "
        "palette (blue, yellow, pink, green) or ball = false"},
       {"name = \"x\"\ncorrespondence = \"detect\"\npatterns = [\"butterfly\", \"simple\"]\n" +
-           kSigma + kDetect,
+           kDetectSigma + kDetect,
        "e.toml:3: pattern 'simple' is not in the detector settings " +
            dir_.Path("experiments/det.toml") + "; expected one of: butterfly, triangle"},
       {"name = \"x\"\ncorrespondence = \"detect\"\npatterns = [\"triangle\", \"triangle\"]\n" +
-           kSigma + kDetect,
+           kDetectSigma + kDetect,
        "e.toml:3: pattern 'triangle' is listed twice; expected each pattern once"},
       // Known mode does not know [detect].
-      {"name = \"x\"\npatterns = [\"simple\"]\n" + kSigma + kDetect,
+      {"name = \"x\"\npatterns = [\"simple\"]\n" + kDetectSigma + kDetect,
        "e.toml:5: unknown key 'detect'; expected one of: name, description, patterns, "
        "patterns_dir, estimators, trials, seed, correspondence, sigma, field, noise, noise_file, "
        "ml"},
-      {"name = \"x\"\ncorrespondence = \"guess\"\npatterns = [\"simple\"]\n" + kSigma,
+      {"name = \"x\"\ncorrespondence = \"guess\"\npatterns = [\"simple\"]\n" + kDetectSigma,
        "e.toml:2: correspondence is \"guess\"; expected \"known\" or \"detect\""},
   };
   for (const auto& [text, message] : cases) ExpectLoadError(text, message);
@@ -187,12 +187,12 @@ TEST_F(DetectExperimentTest, BadFilesGiveTheirMessages) {
 
 TEST_F(DetectExperimentTest, BadDetectorSettingsReportTheSettingsFile) {
   dir_.Write("experiments/broken.toml", "palette = [\"blue\"]\n[detector]\npatch_sigma_mm = -1\n");
-  ExpectLoadError(kHead + kSigma + "[detect]\nsettings = \"broken.toml\"\n",
+  ExpectLoadError(kDetectHead + kDetectSigma + "[detect]\nsettings = \"broken.toml\"\n",
                   "broken.toml:3: patch_sigma_mm is -1; expected a finite number > 0 (mm)");
 }
 
 TEST_F(DetectExperimentTest, TrialsOverrideSetsFrames) {
-  sim::Experiment e = LoadExperimentFile(Write(kHead + kSigma + kDetect));
+  sim::Experiment e = LoadExperimentFile(Write(kDetectHead + kDetectSigma + kDetect));
   sim::Overrides o;
   o.trials = 1;
   sim::ApplyOverrides(o, &e);

@@ -15,14 +15,9 @@ namespace patlab::io {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::FileNames;
 using testing::ReadFile;
 using testing::TempDir;
-
-std::set<std::string> Names(const std::string& dir) {
-  std::set<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
-  return names;
-}
 
 void Write(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
@@ -47,7 +42,7 @@ TEST(SweepDeadWriters, RemovesTemporariesOfDeadWritersOnly) {
   Write(dir.Path(".a.csv.patlab-tmp.12x"), "not patlab's");
   Write(dir.Path("a.csv.patlab-tmp." + dead), "not hidden");
   EXPECT_EQ(SweepDeadWriters(dir.Path("")), 2);
-  EXPECT_EQ(Names(dir.Path("")),
+  EXPECT_EQ(FileNames(dir.Path("")),
             (std::set<std::string>{"a.csv", ".a.csv.patlab-tmp." + live, ".a.csv.patlab-tmp.12x",
                                    "a.csv.patlab-tmp." + dead}));
   EXPECT_EQ(ReadFile(dir.Path("a.csv")), "old a");
@@ -65,7 +60,7 @@ TEST(SweepDeadWriters, RollsAJournalledCommitForward) {
   Write(dir.Path(".a.json.patlab-tmp." + dead), "new m");
   Write(dir.Path(".patlab-commit." + dead), a + "\n" + m + "\nend\n");
   EXPECT_EQ(SweepDeadWriters(dir.Path("")), 4);
-  EXPECT_EQ(Names(dir.Path("")), (std::set<std::string>{"a.csv", "a.json"}));
+  EXPECT_EQ(FileNames(dir.Path("")), (std::set<std::string>{"a.csv", "a.json"}));
   EXPECT_EQ(ReadFile(a), "new a");
   EXPECT_EQ(ReadFile(m), "new m");
 }
@@ -81,7 +76,7 @@ TEST(SweepDeadWriters, KeepsTheOldSetWhenTheJournalIsIncomplete) {
   Write(dir.Path(".a.json.patlab-tmp." + dead), "new m");
   Write(dir.Path(".patlab-commit." + dead), a + "\n" + m.substr(0, 5));
   EXPECT_EQ(SweepDeadWriters(dir.Path("")), 3);
-  EXPECT_EQ(Names(dir.Path("")), (std::set<std::string>{"a.csv", "a.json"}));
+  EXPECT_EQ(FileNames(dir.Path("")), (std::set<std::string>{"a.csv", "a.json"}));
   EXPECT_EQ(ReadFile(a), "old a");
   EXPECT_EQ(ReadFile(m), "old m");
 }
@@ -92,7 +87,7 @@ TEST(SweepDeadWriters, TheNextWriteIntoTheFolderSweeps) {
   fs::create_directories(dir.Path("out"));
   Write(dir.Path("out/.b.csv.patlab-tmp." + dead), "half");
   WriteFilesAtomic({{dir.Path("out/a.csv"), "a"}, {dir.Path("out/a.json"), "m"}});
-  EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
+  EXPECT_EQ(FileNames(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
 }
 
 TEST(SweepDeadWriters, AMissingFolderIsNothingToSweep) {

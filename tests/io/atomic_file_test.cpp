@@ -18,21 +18,16 @@ namespace patlab::io {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::FileNames;
 using testing::ReadFile;
 using testing::TempDir;
-
-std::set<std::string> Names(const std::string& dir) {
-  std::set<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
-  return names;
-}
 
 TEST(AtomicFile, WritesEveryFileAndLeavesNoTemporary) {
   TempDir dir;
   WriteFilesAtomic({{dir.Path("out/a.csv"), "new a"}, {dir.Path("out/a.json"), "new m"}});
   EXPECT_EQ(ReadFile(dir.Path("out/a.csv")), "new a");
   EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "new m");
-  EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
+  EXPECT_EQ(FileNames(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
 }
 
 // The streamed form: the pieces a producer hands its sink, in order; a producer that throws
@@ -58,7 +53,7 @@ TEST(AtomicFile, StreamedFilesAreThePiecesOrNothing) {
   EXPECT_THROW(WriteFilesAtomic(failing), std::runtime_error);
   EXPECT_EQ(ReadFile(dir.Path("out/a.csv")), "x,y\n1,2\n");
   EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "m");
-  EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
+  EXPECT_EQ(FileNames(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
 }
 
 TEST(AtomicFile, ReplacesAnOldResultSetWhole) {
@@ -68,7 +63,7 @@ TEST(AtomicFile, ReplacesAnOldResultSetWhole) {
   WriteFilesAtomic({{dir.Path("out/a.csv"), "new a"}, {dir.Path("out/a.json"), "new m"}});
   EXPECT_EQ(ReadFile(dir.Path("out/a.csv")), "new a");
   EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "new m");
-  EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
+  EXPECT_EQ(FileNames(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json"}));
 }
 
 TEST(AtomicFile, AFailingTargetLeavesTheOldSetAndNoTemporary) {
@@ -83,7 +78,7 @@ TEST(AtomicFile, AFailingTargetLeavesTheOldSetAndNoTemporary) {
       dir.Path("out/b.csv") + ": cannot write: it is a directory; expected a writable location");
   EXPECT_EQ(ReadFile(dir.Path("out/a.csv")), "old a");
   EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "old m");
-  EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json", "b.csv"}));
+  EXPECT_EQ(FileNames(dir.Path("out")), (std::set<std::string>{"a.csv", "a.json", "b.csv"}));
 }
 
 // A rename that fails in the middle of the commit, after other targets were already replaced,
@@ -107,7 +102,7 @@ TEST(AtomicFile, AFailedRenameMidCommitRollsEveryTargetBack) {
   }
   EXPECT_EQ(ReadFile(dir.Path("out/b.csv")), "old b");
   EXPECT_EQ(ReadFile(dir.Path("out/a.json")), "old m");
-  EXPECT_EQ(Names(dir.Path("out")), (std::set<std::string>{"a.json", "b.csv", blocker}));
+  EXPECT_EQ(FileNames(dir.Path("out")), (std::set<std::string>{"a.json", "b.csv", blocker}));
 }
 
 TEST(AtomicFile, FailuresAreEnvironmentErrors) {
@@ -121,7 +116,7 @@ TEST(AtomicFile, FailuresAreEnvironmentErrors) {
               0u)
         << e.what();
   }
-  EXPECT_EQ(Names(dir.Path("")), (std::set<std::string>{"blocker"}));
+  EXPECT_EQ(FileNames(dir.Path("")), (std::set<std::string>{"blocker"}));
 }
 
 TEST(AtomicFile, RefusesTheSamePathTwice) {
@@ -137,7 +132,7 @@ TEST(AtomicFile, RefusesTheSamePathTwice) {
 TEST(AtomicFile, CheckWritableCreatesNothingAndFindsBlockers) {
   TempDir dir;
   CheckWritable({dir.Path("new/deeper/a.csv"), dir.Path("a.json")});
-  EXPECT_TRUE(Names(dir.Path("")).empty());
+  EXPECT_TRUE(FileNames(dir.Path("")).empty());
   dir.Write("blocker", "a file");
   EXPECT_INPUT_ERROR(CheckWritable({dir.Path("blocker/sub/a.csv")}),
                      dir.Path("blocker/sub/a.csv") + ": cannot write: " + dir.Path("blocker") +
@@ -155,7 +150,7 @@ TEST(AtomicFile, RelativeFoldersThatDoNotExistYetAreWritable) {
   const fs::path before = fs::current_path();
   fs::current_path(dir.Path());
   CheckWritable({"results/fig5.csv", "a/b/c.json", "plain.csv"});
-  EXPECT_TRUE(Names(dir.Path("")).empty());
+  EXPECT_TRUE(FileNames(dir.Path("")).empty());
   WriteFilesAtomic({{"a/b/c.csv", "1"}});
   EXPECT_EQ(ReadFile(dir.Path("a/b/c.csv")), "1");
   fs::current_path(before);
@@ -184,7 +179,7 @@ TEST(AtomicFile, ASignalWhileWritingRemovesTheTemporaries) {
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFSIGNALED(status));
   EXPECT_EQ(WTERMSIG(status), SIGTERM);
-  EXPECT_TRUE(Names(dir.Path("")).empty());
+  EXPECT_TRUE(FileNames(dir.Path("")).empty());
 }
 
 TEST(AtomicFile, FileBaseNamesStayInsideTheirFolder) {

@@ -16,7 +16,7 @@
 namespace patlab::live {
 namespace {
 
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.";
+using patlab::testing::kGoldenFrame;
 constexpr int kFrames = 6;
 
 std::string ReadBytes(const std::string& path) {
@@ -39,7 +39,7 @@ std::vector<std::pair<size_t, size_t>> Jpegs(const std::string& bytes) {
 // The video written, frames 2 and 4 zeroed, the file cut halfway through frame 5.
 std::string DamagedVideo(const patlab::testing::TempDir& dir) {
   const std::string path = dir.Path("damaged.mkv");
-  const camera::Image golden = vision::ReadFrame(kGolden + "png");
+  const camera::Image golden = vision::ReadFrame(kGoldenFrame + "png");
   EXPECT_TRUE(testing::WriteMjpegVideo(path, std::vector<camera::Image>(kFrames, golden), 30));
   std::string bytes = ReadBytes(path);
   const auto jpegs = Jpegs(bytes);
@@ -83,8 +83,8 @@ TEST(CorruptVideo, LiveRunFinishesAndCountsTheSkippedFrames) {
   patlab::testing::TempDir dir;
   const std::string video = DamagedVideo(dir);
   const patlab::testing::CommandResult r = patlab::testing::RunCommand(
-      std::string(PATLAB_BINARY) + " live " + video + " --rate max -t " + kGolden +
-      "thresholds.toml -c " + kGolden + "calibration.toml -s " + kGolden +
+      std::string(PATLAB_BINARY) + " live " + video + " --rate max -t " + kGoldenFrame +
+      "thresholds.toml -c " + kGoldenFrame + "calibration.toml -s " + kGoldenFrame +
       "detector.toml --send 127.0.0.1:9 --stats");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("frames received 3, "), std::string::npos) << r.err;

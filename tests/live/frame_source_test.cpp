@@ -13,14 +13,13 @@
 namespace patlab::live {
 namespace {
 
-const std::string kGoldenFrame =
-    std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.png";
+const std::string kGoldenPng = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.png";
 
 // Three frames that differ: the golden frame with a pixel row set to 0, 1, 2.
 std::vector<camera::Image> ThreeFrames() {
   std::vector<camera::Image> frames;
   for (int i = 0; i < 3; ++i) {
-    camera::Image image = vision::ReadFrame(kGoldenFrame);
+    camera::Image image = vision::ReadFrame(kGoldenPng);
     std::fill(image.data.begin(), image.data.begin() + image.RowBytes(), static_cast<uint8_t>(i));
     frames.push_back(std::move(image));
   }
@@ -102,7 +101,7 @@ TEST(FrameSource, SourcesThatCannotBeOpened) {
   EXPECT_THROW(OpenFrameSource("/dev/patlab-no-such-camera", {}), InputError);
   FrameSourceOptions options;
   options.list_rate_hz = 0.0;
-  EXPECT_INPUT_ERROR(OpenFrameSource(kGoldenFrame, options),
+  EXPECT_INPUT_ERROR(OpenFrameSource(kGoldenPng, options),
                      "--list-rate is 0; expected > 0 frames per second");
 }
 

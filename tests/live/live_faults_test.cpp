@@ -10,6 +10,7 @@
 #include <mutex>
 
 #include "../expect_error.h"
+#include "../test_util.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/thresholds_file.h"
 #include "patlab/live/live_loop.h"
@@ -19,13 +20,13 @@
 namespace patlab::live {
 namespace {
 
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/ssl-frame.";
+using patlab::testing::kGoldenFrame;
 
 LiveCamera Camera() {  // balls only: the loop's behaviour, not the detector's, is under test
   LiveCamera camera;
   camera.source = "fake";
-  camera.thresholds = formats::LoadThresholds(kGolden + "thresholds.toml");
-  camera.calibration = formats::LoadCalibration(kGolden + "calibration.toml");
+  camera.thresholds = formats::LoadThresholds(kGoldenFrame + "thresholds.toml");
+  camera.calibration = formats::LoadCalibration(kGoldenFrame + "calibration.toml");
   return camera;
 }
 
@@ -56,7 +57,7 @@ class ScriptedSource : public FrameSource {
       : script_(script),
         next_(next),
         lockstep_(lockstep),
-        image_(vision::ReadFrame(kGolden + "png")) {}
+        image_(vision::ReadFrame(kGoldenFrame + "png")) {}
   bool Next(SourceFrame* frame) override {
     const Step step = *next_ < script_->size() ? (*script_)[(*next_)++] : Step::kEnd;
     switch (step) {

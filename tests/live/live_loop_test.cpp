@@ -23,7 +23,7 @@
 namespace patlab::live {
 namespace {
 
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
+using patlab::testing::kGolden;
 
 LiveCamera GoldenCamera() {
   LiveCamera camera;
@@ -37,10 +37,10 @@ LiveCamera GoldenCamera() {
 }
 
 // A socket of the test bound to 127.0.0.1 on a port the system picks; reads what has arrived.
-struct Receiver {
+struct DrainingReceiver {
   int fd = socket(AF_INET, SOCK_DGRAM, 0);
   uint16_t port = 0;
-  Receiver() {
+  DrainingReceiver() {
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
@@ -51,7 +51,7 @@ struct Receiver {
     int buffer = 8 << 20;
     setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &buffer, sizeof buffer);
   }
-  ~Receiver() { close(fd); }
+  ~DrainingReceiver() { close(fd); }
   std::vector<std::string> ReceiveAll() const {
     std::vector<std::string> packets;
     char data[65536];
@@ -67,7 +67,7 @@ struct Receiver {
 
 TEST(LiveLoop, PacketsLogAndJsonCarryTheFramesDetections) {
   patlab::testing::TempDir dir;
-  Receiver receiver;
+  DrainingReceiver receiver;
   UdpSender sender(ParseUdpAddress("127.0.0.1:" + std::to_string(receiver.port), "--send"), {});
   SslLogWriter log(dir.Path("live.log"));
   std::vector<std::string> lines;

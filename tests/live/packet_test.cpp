@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../test_util.h"
 #include "messages_robocup_ssl_wrapper.pb.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
@@ -18,7 +19,7 @@
 namespace patlab::live {
 namespace {
 
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
+using patlab::testing::kGolden;
 
 vision::FrameDetector GoldenDetector() {
   vision::FrameDetectorOptions options;

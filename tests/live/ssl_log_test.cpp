@@ -12,8 +12,8 @@
 namespace patlab::live {
 namespace {
 
-using testing::ReadFile;
-using testing::TempDir;
+using patlab::testing::ReadFile;
+using patlab::testing::TempDir;
 
 TEST(SslLog, BytesAreTheFormat) {
   TempDir dir;

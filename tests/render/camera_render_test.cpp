@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../expect_error.h"
+#include "../test_util.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
@@ -21,7 +22,7 @@
 namespace patlab::render {
 namespace {
 
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
+using testing::kGolden;
 
 struct Rendered {
   formats::SceneFile file;

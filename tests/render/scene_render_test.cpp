@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "../frame_test_util.h"
+#include "../test_util.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
@@ -17,7 +18,7 @@
 namespace patlab::render {
 namespace {
 
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
+using testing::kGolden;
 const std::string kPatterns = std::string(PATLAB_SOURCE_DIR) + "/patterns/";
 
 // The golden frame's camera: 4 m up, tilted 4 deg, k1 = -0.18, 640x480.

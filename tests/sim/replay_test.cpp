@@ -127,7 +127,6 @@ TEST(Replay, EveryTrialReplayedGivesTheRunsStatistics) {
   ASSERT_EQ(result.points.size(), 1u);
   for (const EstimatorResult& r : result.points[0].estimators) {
     SCOPED_TRACE(std::string(estimate::EstimatorName(r.estimator)));
-    stats::Moments theta;
     double sum = 0.0, sum_sq = 0.0;
     for (int64_t t = 0; t < e.trials; ++t) {
       const double v =

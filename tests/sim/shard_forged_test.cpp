@@ -19,7 +19,7 @@ namespace {
 using estimate::Estimator;
 using nlohmann::json;
 
-Experiment Small() {
+Experiment TriangleExperiment() {
   Experiment e;
   e.name = "small";
   e.patterns.push_back(testing::ShippedPattern("triangle"));
@@ -31,12 +31,12 @@ Experiment Small() {
   return e;
 }
 
-// The two shards of Small(), computed once.
+// The two shards of TriangleExperiment(), computed once.
 struct Shards {
   testing::TempDir dir;
   std::string s1, s2, text2;
   Shards() {
-    const Experiment e = Small();
+    const Experiment e = TriangleExperiment();
     for (int k = 1; k <= 2; ++k) {
       RunOptions options;
       options.shard = ShardSpec{k, 2};
@@ -125,7 +125,7 @@ TEST(ShardForged, EveryProblemOfAShardIsNamed) {
 // within the point, so only the tiling tells a forged range: block 1 must start where block 0
 // ends, and the blocks must add up to the point's trials.
 TEST(ShardForged, BlocksThatDoNotTileTheirPointAreRefused) {
-  Experiment e = Small();
+  Experiment e = TriangleExperiment();
   e.estimators = {Estimator::kFast};
   e.sigmas_mm = {1.0};
   e.trials = kStatisticsBlockTrials + 1000;

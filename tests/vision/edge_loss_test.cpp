@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <string>
 
+#include "../test_util.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/scene_file.h"
@@ -21,8 +22,8 @@
 namespace patlab::vision {
 namespace {
 
-const std::string kSource = std::string(PATLAB_SOURCE_DIR) + "/";
-const std::string kGolden = kSource + "tests/data/golden/";
+using patlab::testing::kGolden;
+using patlab::testing::kSource;
 
 struct Condition {
   double blur_sigma_px, exposure_gain, read_noise_levels;
@@ -36,7 +37,7 @@ struct Count {
 };
 
 Count DetectScene(const formats::SceneFile& file, const camera::Image& frame, double edge_loss_px) {
-  const std::string shipped = kSource + "experiments/detector.toml";
+  const std::string shipped = kSource + "/experiments/detector.toml";
   FrameDetectorOptions options;
   ApplyFrameSettings(formats::LoadFrameSettings(shipped), &options);
   options.edge_loss_px = edge_loss_px;

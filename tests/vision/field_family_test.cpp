@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "../expect_error.h"
+#include "../test_util.h"
 #include "patlab/calib/auto_calibrate.h"
 #include "patlab/calib/auto_calibrate_internal.h"
 #include "patlab/calib/field_marks.h"
@@ -22,7 +23,7 @@
 namespace patlab::vision {
 namespace {
 
-constexpr int kWidth = 780, kHeight = 580;
+using patlab::testing::kFrameHeight, patlab::testing::kFrameWidth;
 
 std::vector<calib::Field> SslFamily() { return formats::FieldFamily("ssl", {PATLAB_SOURCE_DIR}); }
 
@@ -31,15 +32,15 @@ std::vector<calib::Field> SslFamily() { return formats::FieldFamily("ssl", {PATL
 camera::PinholeCamera CameraOver(const Vec2& over_mm, double height_mm, double tilt_rad) {
   camera::PinholeCamera c;
   c.fx_px = c.fy_px = 600.0;
-  c.cx_px = 0.5 * (kWidth - 1) + 4.0;
-  c.cy_px = 0.5 * (kHeight - 1) - 3.0;
+  c.cx_px = 0.5 * (kFrameWidth - 1) + 4.0;
+  c.cy_px = 0.5 * (kFrameHeight - 1) - 3.0;
   c.k1 = -0.1;
   return rendered::LookingDown(c, over_mm, height_mm, 0.05,
                                Eigen::AngleAxisd(tilt_rad, Eigen::Vector3d::UnitY()).matrix());
 }
 
-camera::Image Render(const calib::Field& field, const camera::PinholeCamera& camera) {
-  return rendered::RenderLines(field, camera, kWidth, kHeight, 11);
+camera::Image RenderField(const calib::Field& field, const camera::PinholeCamera& camera) {
+  return rendered::RenderLines(field, camera, kFrameWidth, kFrameHeight, 11);
 }
 
 class FamilyRendered : public ::testing::TestWithParam<std::string> {};
@@ -54,14 +55,15 @@ TEST_P(FamilyRendered, KeepsTheTrueModelAndItsCamera) {
   ASSERT_NE(truth_field, family.end());
   const double length = truth_field->length_mm, width = truth_field->width_mm;
   const camera::PinholeCamera truth =
-      CameraOver(Vec2(0.25 * length, 0.25 * width), 0.65 * length * 600.0 / kWidth, 0.03);
-  const camera::Image frame = Render(*truth_field, truth);
+      CameraOver(Vec2(0.25 * length, 0.25 * width), 0.65 * length * 600.0 / kFrameWidth, 0.03);
+  const camera::Image frame = RenderField(*truth_field, truth);
   const std::vector<calib::LinePixel> pixels = FindLinePixels(frame);
   const calib::FamilyCalibration fc =
-      calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family);
+      calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight, "rendered.png", family);
   ASSERT_GE(fc.kept, 0);
   EXPECT_EQ(family[static_cast<size_t>(fc.kept)].name, GetParam());
-  EXPECT_LT(rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kWidth, kHeight), 5.0);
+  EXPECT_LT(rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kFrameWidth, kFrameHeight),
+            5.0);
   // The screen: every model searched, few fitted; twins share their result.
   int fitted = 0;
   for (const calib::FamilyTry& t : fc.tries) {
@@ -98,12 +100,12 @@ TEST(FamilySearch, OneModelIsTheAutomaticCalibration) {
   const calib::Field field =
       formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
   const camera::PinholeCamera truth = CameraOver(Vec2(1500, 1000), 3000, 0.03);
-  const camera::Image frame = Render(field, truth);
+  const camera::Image frame = RenderField(field, truth);
   const std::vector<calib::LinePixel> pixels = FindLinePixels(frame);
   const calib::AutoCalibration a =
-      calib::AutoCalibrate(pixels, kWidth, kHeight, "rendered.png", field);
+      calib::AutoCalibrate(pixels, kFrameWidth, kFrameHeight, "rendered.png", field);
   const calib::FamilyCalibration f =
-      calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", {field});
+      calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight, "rendered.png", {field});
   EXPECT_EQ(f.kept, 0);
   EXPECT_EQ(f.calibration.score_px, a.score_px);
   EXPECT_EQ(f.calibration.held_out_mapping_mm, a.held_out_mapping_mm);
@@ -116,14 +118,14 @@ TEST(FamilySearch, TheScreenKeepsWhatFittingEveryModelKeeps) {
   const calib::Field& truth_field = family[4];  // ssl-2015, 9000 x 6000 mm
   ASSERT_EQ(truth_field.name, "ssl-2015");
   const camera::PinholeCamera truth = CameraOver(Vec2(1800, 1200), 3400, 0.05);
-  const std::vector<calib::LinePixel> pixels = FindLinePixels(Render(truth_field, truth));
+  const std::vector<calib::LinePixel> pixels = FindLinePixels(RenderField(truth_field, truth));
   const calib::FamilyCalibration screened =
-      calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family);
+      calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight, "rendered.png", family);
   calib::FamilyOptions every;
   every.screen_ratio = 1e-9;  // no model is screened out
   every.min_fitted = static_cast<int>(family.size());
-  const calib::FamilyCalibration all =
-      calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family, {}, every);
+  const calib::FamilyCalibration all = calib::AutoCalibrateFamily(
+      pixels, kFrameWidth, kFrameHeight, "rendered.png", family, {}, every);
   for (const calib::FamilyTry& t : all.tries)
     EXPECT_TRUE(t.fitted || !std::isfinite(t.screen_px) || !t.same_as.empty()) << t.field;
   // (This view, over the middle of a quarter with neither goal nor touch line in it, does not
@@ -149,24 +151,25 @@ TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
   const camera::PinholeCamera truth = rendered::CameraOfFile(
       517.9, Vec2(391.8, 287.2), -0.093, Eigen::Vector3d(-0.384322, 3.088143, -0.015653),
       Eigen::Vector3d(-69.6, 3050.9, 3846.7));
-  const std::vector<calib::LinePixel> pixels = FindLinePixels(Render(family[1], truth));
+  const std::vector<calib::LinePixel> pixels = FindLinePixels(RenderField(family[1], truth));
   EXPECT_INPUT_ERROR_STARTS_WITH(
-      calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family),
+      calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight, "rendered.png", family),
       "rendered.png: the line pixels do not decide the camera: two cameras ");
   calib::FamilyOptions rivals;
   rivals.keep_rivals = true;
-  const calib::FamilyCalibration fc =
-      calib::AutoCalibrateFamily(pixels, kWidth, kHeight, "rendered.png", family, {}, rivals);
+  const calib::FamilyCalibration fc = calib::AutoCalibrateFamily(
+      pixels, kFrameWidth, kFrameHeight, "rendered.png", family, {}, rivals);
   ASSERT_GE(fc.rivals.size(), 1u);
-  double nearest = rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kWidth, kHeight);
+  double nearest =
+      rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kFrameWidth, kFrameHeight);
   for (const calib::FamilyRival& r : fc.rivals) {
     EXPECT_GT(r.calibration.score_px, 0.9 * fc.calibration.score_px);
     // A rival may be written instead of the kept camera: its held-out error is measured too.
     EXPECT_GT(r.calibration.held_out_count, 0);
     EXPECT_TRUE(std::isfinite(r.calibration.held_out_mapping_mm));
     EXPECT_GT(r.floor_difference_mm, 100.0);
-    nearest =
-        std::min(nearest, rendered::MappingRmsMm(truth, r.calibration.fit.camera, kWidth, kHeight));
+    nearest = std::min(nearest, rendered::MappingRmsMm(truth, r.calibration.fit.camera, kFrameWidth,
+                                                       kFrameHeight));
   }
   EXPECT_LT(nearest, 10.0);
 }
@@ -189,9 +192,9 @@ TEST(FamilySearch, ExclusiveLinePixelsAreThoseOneCameraAloneExplains) {
   const camera::PinholeCamera a = SeedTwentysCamera();
   camera::PinholeCamera b = a;  // turned a quarter about the field's centre
   b.rotation = a.rotation * Eigen::AngleAxisd(0.5 * M_PI, Eigen::Vector3d::UnitZ()).matrix();
-  const std::vector<calib::LinePixel> pixels = FindLinePixels(Render(field, a));
+  const std::vector<calib::LinePixel> pixels = FindLinePixels(RenderField(field, a));
   const calib::internal::ExclusiveLines e =
-      calib::internal::ExclusiveLinePixels(a, marks, b, marks, pixels, kWidth, kHeight);
+      calib::internal::ExclusiveLinePixels(a, marks, b, marks, pixels, kFrameWidth, kFrameHeight);
   // Brute force: each pixel's distance to the nearest of the marks' points 1 mm (about 0.2 px)
   // apart.
   auto projected = [&](const camera::PinholeCamera& c) {
@@ -199,7 +202,8 @@ TEST(FamilySearch, ExclusiveLinePixelsAreThoseOneCameraAloneExplains) {
     std::vector<Vec2> out;
     for (const Vec2& p : calib::SampleMarks(marks, 1.0, nullptr)) {
       const auto q = m.WorldToPixel(p, 0.0);
-      if (q && q->x() > -10 && q->y() > -10 && q->x() < kWidth + 10 && q->y() < kHeight + 10)
+      if (q && q->x() > -10 && q->y() > -10 && q->x() < kFrameWidth + 10 &&
+          q->y() < kFrameHeight + 10)
         out.push_back(*q);
     }
     return out;
@@ -229,14 +233,14 @@ TEST(FamilySearch, ExclusiveLinePixelsAreThoseOneCameraAloneExplains) {
   EXPECT_TRUE(calib::internal::OwnLinesDecide(e));
   // The other way round: the counts swap, and the turned camera is not decided for.
   const calib::internal::ExclusiveLines swapped =
-      calib::internal::ExclusiveLinePixels(b, marks, a, marks, pixels, kWidth, kHeight);
+      calib::internal::ExclusiveLinePixels(b, marks, a, marks, pixels, kFrameWidth, kFrameHeight);
   EXPECT_EQ(swapped.first, e.second);
   EXPECT_EQ(swapped.second, e.first);
   EXPECT_FALSE(calib::internal::OwnLinesDecide(swapped));
 }
 
 TEST(FamilySearch, NoModelIsAnInputError) {
-  EXPECT_INPUT_ERROR(calib::AutoCalibrateFamily({}, kWidth, kHeight, "x.png", {}),
+  EXPECT_INPUT_ERROR(calib::AutoCalibrateFamily({}, kFrameWidth, kFrameHeight, "x.png", {}),
                      "no field model to fit; expected a model or a family");
 }
 

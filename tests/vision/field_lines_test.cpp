@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "../expect_error.h"
+#include "../test_util.h"
 #include "patlab/calib/auto_calibrate.h"
 #include "patlab/calib/calibrate.h"
 #include "patlab/calib/field_marks.h"
@@ -31,22 +32,22 @@ struct TrueCamera {
   Vec2 over_mm, principal_offset_px;
 };
 
-constexpr int kWidth = 780, kHeight = 580;
+using patlab::testing::kFrameHeight, patlab::testing::kFrameWidth;
 
 camera::Image Render(const camera::PinholeCamera& camera, uint64_t seed) {
-  return rendered::RenderLines(Ssl(), camera, kWidth, kHeight, seed);
+  return rendered::RenderLines(Ssl(), camera, kFrameWidth, kFrameHeight, seed);
 }
 
 // Over the pixels that show the field's area (within its lines, 200 mm margin).
 double MappingRmsMm(const camera::PinholeCamera& truth, const camera::PinholeCamera& fitted) {
-  return rendered::MappingRmsMm(truth, fitted, kWidth, kHeight, 3225, 2225);
+  return rendered::MappingRmsMm(truth, fitted, kFrameWidth, kFrameHeight, 3225, 2225);
 }
 
 camera::PinholeCamera MakeCamera(const TrueCamera& t) {
   camera::PinholeCamera c;
   c.fx_px = c.fy_px = t.focal_px;
-  c.cx_px = 0.5 * (kWidth - 1) + t.principal_offset_px.x();
-  c.cy_px = 0.5 * (kHeight - 1) + t.principal_offset_px.y();
+  c.cx_px = 0.5 * (kFrameWidth - 1) + t.principal_offset_px.x();
+  c.cy_px = 0.5 * (kFrameHeight - 1) + t.principal_offset_px.y();
   c.k1 = t.k1;
   const Eigen::Vector3d axis(std::cos(t.tilt_axis_rad), std::sin(t.tilt_axis_rad), 0.0);
   return rendered::LookingDown(c, t.over_mm, t.height_mm, t.yaw_rad,
@@ -118,10 +119,10 @@ TrueCamera RandomCamera(int index) {
   // at least 10 % beyond the image's farthest corner, as calibrate refuses a fit that folds
   // inside the image (a drawn k1 of -0.3 at 480 px folds at 0.70, inside the corner's 1.01).
   double corner = 0.0;
-  for (const double x : {0.0, kWidth - 1.0})
-    for (const double y : {0.0, kHeight - 1.0}) {
-      const Vec2 c(0.5 * (kWidth - 1) + t.principal_offset_px.x(),
-                   0.5 * (kHeight - 1) + t.principal_offset_px.y());
+  for (const double x : {0.0, kFrameWidth - 1.0})
+    for (const double y : {0.0, kFrameHeight - 1.0}) {
+      const Vec2 c(0.5 * (kFrameWidth - 1) + t.principal_offset_px.x(),
+                   0.5 * (kFrameHeight - 1) + t.principal_offset_px.y());
       corner = std::max(corner, (Vec2(x, y) - c).norm() / t.focal_px);
     }
   for (auto fold = calib::DistortionFoldRadius(t.k1, 0.0); fold && *fold < 1.1 * corner;
@@ -141,7 +142,7 @@ TEST_P(AutoCalibrateRendered, MapsTheFloorWithin5MmAndKnowsItsError) {
   const calib::AutoCalibration& a = fc.calibration;
   // The kept one of the two equivalent cameras looks at x >= 0 at the image centre.
   const auto look = camera::CameraModel::Pinhole(truth).PixelToWorld(
-      Vec2(0.5 * (kWidth - 1), 0.5 * (kHeight - 1)), 0.0);
+      Vec2(0.5 * (kFrameWidth - 1), 0.5 * (kFrameHeight - 1)), 0.0);
   ASSERT_TRUE(look);
   const bool turn = look->x() < 0;
   const camera::PinholeCamera expected = turn ? camera::PinholeCamera{[&] {

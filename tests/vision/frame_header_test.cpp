@@ -9,6 +9,7 @@
 
 #include "../expect_error.h"
 #include "../frame_test_util.h"
+#include "../test_util.h"
 #include "patlab/vision/frame_io.h"
 
 namespace patlab::vision {
@@ -18,7 +19,7 @@ using testing::ScratchDir;
 using testing::WriteBytes;
 using testing::WriteText;
 
-const std::string kSource = PATLAB_SOURCE_DIR;
+using patlab::testing::kSource;
 
 std::pair<int, int> SizeOf(const std::string& path, int raw_w = 0, int raw_h = 0) {
   const std::optional<FrameHeaderSize> size = ReadFrameHeaderSize(path, raw_w, raw_h);

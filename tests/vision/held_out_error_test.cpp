@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <ostream>
 
+#include "../test_util.h"
 #include "patlab/calib/auto_calibrate.h"
 #include "patlab/formats/field_file.h"
 #include "patlab/render/camera_render.h"
@@ -21,7 +22,7 @@
 namespace patlab::vision {
 namespace {
 
-constexpr int kWidth = 780, kHeight = 580;
+using patlab::testing::kFrameHeight, patlab::testing::kFrameWidth;
 
 struct Case {
   double height_mm, k1, k2, tilt_rad;
@@ -34,8 +35,8 @@ void PrintTo(const Case& c, std::ostream* os) { *os << "At" << c.height_mm << "m
 camera::PinholeCamera CameraOf(const Case& c) {
   camera::PinholeCamera cam;
   cam.fx_px = cam.fy_px = 560.0;
-  cam.cx_px = 0.5 * (kWidth - 1) - 5.0;
-  cam.cy_px = 0.5 * (kHeight - 1) + 3.0;
+  cam.cx_px = 0.5 * (kFrameWidth - 1) - 5.0;
+  cam.cy_px = 0.5 * (kFrameHeight - 1) + 3.0;
   cam.k1 = c.k1;
   cam.k2 = c.k2;
   return rendered::LookingDown(
@@ -46,7 +47,7 @@ camera::PinholeCamera CameraOf(const Case& c) {
 // RMS (mm) of the fitted camera's floor map against the true one over the pixels (10 px grid)
 // that show the field (within its lines, 200 mm margin).
 double TrueMappingRmsMm(const camera::PinholeCamera& truth, const camera::PinholeCamera& fitted) {
-  return rendered::MappingRmsMm(truth, fitted, kWidth, kHeight, 3225, 2225);
+  return rendered::MappingRmsMm(truth, fitted, kFrameWidth, kFrameHeight, 3225, 2225);
 }
 
 class HeldOutError : public ::testing::TestWithParam<Case> {};
@@ -56,7 +57,7 @@ TEST_P(HeldOutError, AgreesWithTheTruthOrSaysItIsBelowItsResolution) {
   const calib::Field field =
       formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
   const camera::PinholeCamera truth = CameraOf(c);
-  const camera::Image frame = rendered::RenderLines(field, truth, kWidth, kHeight, 5);
+  const camera::Image frame = rendered::RenderLines(field, truth, kFrameWidth, kFrameHeight, 5);
   const FrameCalibration fc = AutoCalibrateFrame(frame, "rendered.png", field);
   const calib::AutoCalibration& a = fc.calibration;
   // The search keeps the camera looking at x >= 0: every case looks at the pos half.

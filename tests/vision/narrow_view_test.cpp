@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "../test_util.h"
 #include "patlab/calib/auto_calibrate.h"
 #include "patlab/formats/field_file.h"
 #include "patlab/render/camera_render.h"
@@ -20,14 +21,14 @@
 namespace patlab::vision {
 namespace {
 
-constexpr int kWidth = 780, kHeight = 580;
+using patlab::testing::kFrameHeight, patlab::testing::kFrameWidth;
 
 struct View {
   Vec2 over_mm;
   double height_mm, yaw_rad, k1;
 };
 
-camera::PinholeCamera CameraOf(const View& v) {
+camera::PinholeCamera CameraOfView(const View& v) {
   camera::PinholeCamera c;
   c.fx_px = c.fy_px = 560.0;
   c.cx_px = 392.0;
@@ -43,18 +44,19 @@ TEST_P(NarrowView, IsCalibratedTheRightWayRound) {
   const calib::Field field =
       formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2009.toml");
   const View v = GetParam();
-  const camera::PinholeCamera truth = CameraOf(v);
+  const camera::PinholeCamera truth = CameraOfView(v);
   // No touch line (y = +-2025 mm) in view: every corner of the frame maps inside them.
   const camera::CameraModel model = camera::CameraModel::Pinhole(truth);
-  for (const Vec2& corner :
-       {Vec2(0, 0), Vec2(kWidth - 1, 0), Vec2(0, kHeight - 1), Vec2(kWidth - 1, kHeight - 1)}) {
+  for (const Vec2& corner : {Vec2(0, 0), Vec2(kFrameWidth - 1, 0), Vec2(0, kFrameHeight - 1),
+                             Vec2(kFrameWidth - 1, kFrameHeight - 1)}) {
     const auto q = model.PixelToWorld(corner, 0.0);
     ASSERT_TRUE(q);
     ASSERT_LT(std::abs(q->y()), 2025.0 - 100.0) << "a touch line is in view";
   }
-  const camera::Image frame = rendered::RenderLines(field, truth, kWidth, kHeight, 3);
+  const camera::Image frame = rendered::RenderLines(field, truth, kFrameWidth, kFrameHeight, 3);
   const FrameCalibration fc = AutoCalibrateFrame(frame, "narrow.png", field);
-  const double rms = rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kWidth, kHeight);
+  const double rms =
+      rendered::MappingRmsMm(truth, fc.calibration.fit.camera, kFrameWidth, kFrameHeight);
   std::printf("over (%.0f, %.0f) at %.0f mm, yaw %.2f: mapping RMS %.2f mm vs the truth\n",
               v.over_mm.x(), v.over_mm.y(), v.height_mm, v.yaw_rad, rms);
   EXPECT_LT(rms, 5.0);

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "../test_util.h"
 #include "patlab/calib/auto_calibrate.h"
 #include "patlab/formats/field_file.h"
 #include "patlab/vision/field_lines.h"
@@ -18,7 +19,7 @@
 namespace patlab::vision {
 namespace {
 
-constexpr int kWidth = 780, kHeight = 580;
+using patlab::testing::kFrameHeight, patlab::testing::kFrameWidth;
 
 // Seed 58's camera (scripts/setup_rendered.py, tests/bench/setup_bench.cpp): 3.3 m over ssl-2015.
 camera::PinholeCamera Seed58Camera() {
@@ -35,15 +36,15 @@ TEST(SettledFit, StopsTheCrawlAlongTheValleyAtTheSameFloorMap) {
   const calib::Field field =
       formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/ssl-2015.toml");
   const std::vector<calib::LinePixel> pixels =
-      FindLinePixels(rendered::RenderLines(field, truth, kWidth, kHeight, 5));
+      FindLinePixels(rendered::RenderLines(field, truth, kFrameWidth, kFrameHeight, 5));
   calib::AutoOptions crawling;
   crawling.settle_px = 0.0;
   const calib::AutoCalibration settled =
-      calib::AutoCalibrate(pixels, kWidth, kHeight, "rendered.png", field);
+      calib::AutoCalibrate(pixels, kFrameWidth, kFrameHeight, "rendered.png", field);
   const calib::AutoCalibration full =
-      calib::AutoCalibrate(pixels, kWidth, kHeight, "rendered.png", field, crawling);
+      calib::AutoCalibrate(pixels, kFrameWidth, kFrameHeight, "rendered.png", field, crawling);
   const double between_mm =
-      rendered::MappingRmsMm(full.fit.camera, settled.fit.camera, kWidth, kHeight);
+      rendered::MappingRmsMm(full.fit.camera, settled.fit.camera, kFrameWidth, kFrameHeight);
   const double mm_per_px = -(truth.rotation.transpose() * truth.translation_mm).z() / truth.fx_px;
   std::printf(
       "settled: %d iterations, f %.1f px, %.2f px of line; crawling: %d iterations, f %.1f px, "

@@ -28,13 +28,13 @@
 namespace patlab::vision {
 namespace {
 
-const std::string kSettings = std::string(PATLAB_SOURCE_DIR) + "/settings/";
+const std::string kSettingsDir = std::string(PATLAB_SOURCE_DIR) + "/settings/";
 
 TEST(ShippedDesigns, EverySettingsFileLoadsWithoutTolerances) {
   for (const char* name : {"vss", "vss-two-circles", "vss-rect-squares", "vss-two-rectangles",
                            "vss-square-diagonal", "ssl-standard"}) {
     SCOPED_TRACE(name);
-    const std::string path = kSettings + name + ".detector.toml";
+    const std::string path = kSettingsDir + name + ".detector.toml";
     const detect::DetectorConfig config = formats::LoadDetectorSettings(path);
     EXPECT_FALSE(config.patterns.empty());
     EXPECT_EQ(patlab::testing::ReadFile(path).find("\n[detector]"), std::string::npos);
@@ -48,7 +48,7 @@ TEST(ShippedDesigns, EverySettingsFileLoadsWithoutTolerances) {
   // Each VSS codebook file is every colouring GenerateCodebook finds for the pattern's symmetry,
   // with the same numbers (LoadDetectorSettings has checked it against the pattern's rotations).
   for (const detect::DetectorPattern& p :
-       formats::LoadDetectorSettings(kSettings + "vss.detector.toml").patterns) {
+       formats::LoadDetectorSettings(kSettingsDir + "vss.detector.toml").patterns) {
     SCOPED_TRACE(p.pattern.name);
     const detect::Codebook generated = detect::GenerateCodebook(
         p.pattern, detect::FindSymmetry(p.pattern, p.symmetry_tolerance_mm), p.codebook.colours);
@@ -58,7 +58,7 @@ TEST(ShippedDesigns, EverySettingsFileLoadsWithoutTolerances) {
       EXPECT_EQ(generated.entries[i].colour, p.codebook.entries[i].colour);
     }
   }
-  EXPECT_EQ(formats::LoadDetectorSettings(kSettings + "ssl-standard.detector.toml")
+  EXPECT_EQ(formats::LoadDetectorSettings(kSettingsDir + "ssl-standard.detector.toml")
                 .patterns.at(0)
                 .codebook.entries.size(),
             16u);
@@ -68,7 +68,7 @@ TEST(ShippedDesigns, EverySettingsFileLoadsWithoutTolerances) {
 // centre and area) -> the right pattern, team and ID, and nothing else.
 TEST(ShippedDesigns, FamilySettingsFindEveryDesignTeamAndId) {
   const detect::DetectorConfig config =
-      formats::LoadDetectorSettings(kSettings + "vss.detector.toml");
+      formats::LoadDetectorSettings(kSettingsDir + "vss.detector.toml");
   detect::Detector detector(config);
   RandomStream rng(17, 0, 0);
   for (size_t p = 0; p < config.patterns.size(); ++p) {
@@ -115,7 +115,7 @@ TEST(ShippedDesigns, RealVssFrameFindsItsFiveRobotsWithTheFamilySettings) {
       patlab::testing::ReadFile(data + "vss.colors.txt"), std::regex(" lime\n"), " yellow\n");
   FrameDetector frames(
       formats::LoadThresholds(thresholds), formats::LoadCalibration(data + "vss.calibration.toml"),
-      formats::LoadDetectorSettings(kSettings + "vss.detector.toml"), FrameDetectorOptions{});
+      formats::LoadDetectorSettings(kSettingsDir + "vss.detector.toml"), FrameDetectorOptions{});
   const FrameResult& r = frames.Detect(ReadFrame(frame), "vss-test-frame.png");
   struct Robot {
     std::string pattern, team;
@@ -149,7 +149,7 @@ TEST(ShippedDesigns, SslStandardSheetGivesItsSixteenIds) {
   const std::string data = std::string(PATLAB_SOURCE_DIR) + "/tests/data/vision/";
   FrameDetector frames(formats::LoadThresholds(data + "ssl-standard-sheet.thresholds.toml"),
                        formats::LoadCalibration(data + "ssl-standard-sheet.calibration.toml"),
-                       formats::LoadDetectorSettings(kSettings + "ssl-standard.detector.toml"),
+                       formats::LoadDetectorSettings(kSettingsDir + "ssl-standard.detector.toml"),
                        FrameDetectorOptions{});
   const FrameResult& r = frames.Detect(ReadFrame(frame), "sheet");
   std::vector<int> ids;

@@ -18,7 +18,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 
 #include "../frame_test_util.h"
 #include "patlab/formats/calibration_file.h"
@@ -77,12 +76,9 @@ Score FitAndScore(const std::string& frame, const std::string& settings,
   return score;
 }
 
-bool HaveFrames() {
-  return std::filesystem::exists(testing::SharedFrames() + "/vss-test-frame.png");
-}
-
 TEST(ThresholdsAutoReal, VssFrameFittedOnItself) {
-  if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
+  if (!testing::HaveSharedFrames())
+    GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   const Score s = FitAndScore("vss-test-frame.png", "vss.detector.toml", "vss.calibration.toml",
                               {{"blue", 1, 145, 28},
                                {"light-green", 2, 540, 598},
@@ -94,7 +90,8 @@ TEST(ThresholdsAutoReal, VssFrameFittedOnItself) {
 }
 
 TEST(ThresholdsAutoReal, SslFrameFittedOnItself) {
-  if (!HaveFrames()) GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
+  if (!testing::HaveSharedFrames())
+    GTEST_SKIP() << "no shared frames at " << testing::SharedFrames();
   const Score s =
       FitAndScore("ssl-field-2008.jpg", "ssl-2008.detector.toml", "ssl-2008.calibration.toml",
                   {{"yellow", 5, 557, 200},

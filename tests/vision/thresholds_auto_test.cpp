@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "../expect_error.h"
+#include "../test_util.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/scene_file.h"
@@ -15,7 +16,7 @@
 namespace patlab::vision {
 namespace {
 
-const std::string kData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/";
+using patlab::testing::kData;
 
 // A carpet with square patches of three colours painted at known places: each class's cluster
 // is exactly its patches' pixels, its box holds its colour and not the carpet's.

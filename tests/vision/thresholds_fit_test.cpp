@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "../frame_test_util.h"
+#include "../test_util.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
@@ -240,7 +241,7 @@ TEST(ThresholdsFit, OptionsAreChecked) {
 namespace patlab::vision {
 namespace {
 
-const std::string kData = std::string(PATLAB_SOURCE_DIR) + "/tests/data/";
+using patlab::testing::kData;
 
 ThresholdsFit FitFile(const std::string& labels_path) {
   const Labels labels = formats::LoadLabels(labels_path);

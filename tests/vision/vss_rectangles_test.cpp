@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "../test_util.h"
 #include "patlab/detect/settings.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
@@ -19,7 +20,7 @@
 namespace patlab::vision {
 namespace {
 
-const std::string kGolden = std::string(PATLAB_SOURCE_DIR) + "/tests/data/golden/";
+using patlab::testing::kGolden;
 const std::string kPatterns = std::string(PATLAB_SOURCE_DIR) + "/patterns/";
 
 struct VssFrame {
