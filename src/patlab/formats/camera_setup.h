@@ -169,7 +169,7 @@ struct SetupResult {
   // over the field" where the robots set the camera's height (floor_sd_mm, when larger).
   std::string mapping_error_source;
   // The fit with the robots' own uncertainty of the floor it shows inside the field's lines (RMS
-  // mm, calib::MappingSdOver; SetupHeight): NaN where that fit was not made.
+  // mm, calib::MappingSdOver; SetupHeight): NaN where that fit was not kept.
   double floor_sd_mm = std::numeric_limits<double>::quiet_NaN();
   // What the held-out estimate resolves (calib::AutoCalibration::held_out_resolution_mm; 0 for
   // landmarks): an error below it is reported as "below" it, and the tolerances take it as the

@@ -187,15 +187,6 @@ bool KeepFitWithRobots(const std::vector<const camera::Image*>& frames,
   }
   h->fitted_height_mm = HeightOf(joint.calibration_fit.camera);
   h->fitted_sd_mm = internal::RobotsHeightSd(joint.calibration_fit, options.robot_height_mm);
-  // The held-out line pixels measure the map on the lines. Where the robots set the height, the
-  // error lies away from them too, along the focal length, distortion and height the lines leave
-  // loose together, and only the fit's spread over the whole field shows it (rendered seed 3:
-  // "below 0.23 mm" on the lines, 9.6 mm over the field): the larger of the two is the error.
-  joint.floor_sd_mm = internal::FloorSd(joint, frames.front()->width_px, frames.front()->height_px);
-  if (joint.floor_sd_mm > joint.mapping_error_mm) {
-    joint.mapping_error_mm = joint.floor_sd_mm;
-    joint.mapping_error_source = "the fit's spread over the field";
-  }
   // A coarse measure beats none. Where the lines do not measure the height either, theirs is
   // wherever their fit stopped, and a low one maps the robots' plane with several times the true
   // parallax: fresh rendered seeds 122 (1.23 m, the focal length's bound, for a true 4.01 m) and
@@ -216,6 +207,16 @@ bool KeepFitWithRobots(const std::vector<const camera::Image*>& frames,
       !(h->fitted_sd_mm < h->lines_sd_mm)) {
     h->fitted = "not kept: the lines measure the height more finely";
     return false;
+  }
+  // The held-out line pixels measure the map on the lines. Where the robots set the height, the
+  // error lies away from them too, along the focal length, distortion and height the lines leave
+  // loose together, and only the fit's spread over the whole field shows it (rendered seed 3:
+  // "below 0.23 mm" on the lines, 9.6 mm over the field): the larger of the two is the
+  // error, and the tolerances FinishSetup chooses follow it.
+  joint.floor_sd_mm = internal::FloorSd(joint, frames.front()->width_px, frames.front()->height_px);
+  if (joint.floor_sd_mm > joint.mapping_error_mm) {
+    joint.mapping_error_mm = joint.floor_sd_mm;
+    joint.mapping_error_source = "the fit's spread over the field";
   }
   internal::FinishSetup(frames, names, config, options, joint, true);
   const int robots = std::max(joint.robots_by_blobs, joint.robots_by_pixels);
