@@ -251,7 +251,9 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     held_out_mapping_mm: the kept model's only, NaN for the others; same_as, failure; best
     first), undecided (the cameras the lines did
     not decide between, the kept one first: field, score_px, floor_difference_mm, robots; empty
-    when the lines decided) and robots_decided (the kept one decoded the most robots),
+    when the lines decided), robots_decided (the kept one decoded the most robots) and
+    lines_overruled (no robot decoded through the lines' cameras, and the robots chose among
+    them and the runners-up the lines decided against narrowly, all listed in undecided),
     camera_height (decided_by: "given", "lines", "robots" or "undetermined"; height_mm,
     focal_px, sd_mm, robots; lines_height_mm, lines_focal_px, lines_sd_mm, lines_robots: the
     lines' own camera; scan: the heights tried, each height_mm, focal_px, robots),

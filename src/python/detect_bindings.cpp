@@ -272,6 +272,7 @@ py::dict SetupReport(const formats::SetupResult& r) {
   }
   out["undecided"] = undecided;
   out["robots_decided"] = r.robots_decided;
+  out["lines_overruled"] = r.lines_overruled;
   out["camera_height"] = SetupHeightReport(r.height);
   out["few_lines"] = SetupFewLinesReport(r.few_lines);
   out["mapping_error_mm"] = r.mapping_error_mm;

@@ -83,6 +83,7 @@ def test_the_family_and_the_clis_report(cli, root, tmp_path, in_root):
     assert any(not t["fitted"] and t["failure"].startswith("not fitted") for t in tried)
     # The lines decide this view: no other camera explains nearly as much line.
     assert report["undecided"] == [] and not report["robots_decided"]
+    assert not report["lines_overruled"]
     for name in ("calibration.toml", "thresholds.toml", "settings.toml", "setup.toml"):
         assert (tmp_path / "py" / name).read_text() == (tmp_path / "cli" / name).read_text()
     text = report["report"]

@@ -174,6 +174,57 @@ TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
   EXPECT_LT(nearest, 10.0);
 }
 
+// Fresh rendered seed 334's camera (scripts/setup_rendered.py) over an ssl-2018 half: the halfway
+// line, a piece of the centre circle and a touch line. ssl-2012's lines fit a camera 0.6 m up
+// that explains more line than the true model's: the lines decide for it, and with
+// runner_up_ratio the true camera is returned as a runner-up, its held-out error left to measure.
+TEST(FamilySearch, TheRunnersUpAreTheCamerasTheLinesDecideAgainstNarrowly) {
+  std::vector<calib::Field> family;
+  for (const char* model : {"ssl-2012", "ssl-2018"})
+    family.push_back(formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" +
+                                        std::string(model) + ".toml"));
+  const camera::PinholeCamera truth =
+      rendered::CameraOfFile(544.407809, Vec2(390.328391, 289.329548), -0.025450,
+                             Eigen::Vector3d(-0.785451504, -3.031427540, 0.078033858),
+                             Eigen::Vector3d(-806.282154, 2189.027358, 3611.747369));
+  const std::vector<calib::LinePixel> pixels = FindLinePixels(RenderField(family[1], truth));
+  calib::FamilyOptions options;
+  options.keep_rivals = true;
+  const calib::FamilyCalibration decided = calib::AutoCalibrateFamily(
+      pixels, kFrameWidth, kFrameHeight, "rendered.png", family, {}, options);
+  EXPECT_TRUE(decided.runners_up.empty());  // runner_up_ratio 0: none
+  // The field's half turn maps the frame as well: the true camera so turned.
+  camera::PinholeCamera turned = truth;
+  turned.rotation = truth.rotation * Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
+  options.runner_up_ratio = 0.8;
+  calib::FamilyCalibration fc = calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight,
+                                                           "rendered.png", family, {}, options);
+  EXPECT_EQ(fc.kept, 0) << "the lines decide for ssl-2012";
+  EXPECT_TRUE(fc.rivals.empty());
+  ASSERT_FALSE(fc.runners_up.empty());
+  double nearest = INFINITY;
+  for (calib::FamilyRival& r : fc.runners_up) {
+    EXPECT_GE(r.calibration.score_px, 0.8 * fc.calibration.score_px);
+    EXPECT_LE(r.calibration.score_px, fc.calibration.score_px);
+    EXPECT_GT(r.floor_difference_mm, 100.0);
+    EXPECT_EQ(r.calibration.held_out_count, 0);
+    calib::MeasureHeldOut(r.calibration);
+    EXPECT_GT(r.calibration.held_out_count, 0);
+    EXPECT_TRUE(std::isfinite(r.calibration.held_out_mapping_mm));
+    for (const camera::PinholeCamera& t : {truth, turned}) {
+      nearest = std::min(
+          nearest, rendered::MappingRmsMm(t, r.calibration.fit.camera, kFrameWidth, kFrameHeight));
+    }
+  }
+  EXPECT_EQ(fc.runners_up.front().model, 1);
+  EXPECT_LT(nearest, 10.0);
+  options.runner_up_ratio = 1.5;
+  EXPECT_INPUT_ERROR(calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight, "rendered.png",
+                                                family, {}, options),
+                     "family calibration: screen_ratio must be in (0, 1], min_fitted >= 1, "
+                     "max_rivals >= 0 and runner_up_ratio in [0, 1]");
+}
+
 // Fresh rendered seed 20's camera (scripts/setup_rendered.py) over the centre circle of
 // ssl-div-b, 3.1 m up: the circle and the two lines crossing in it look the same a quarter turn
 // round, but the frame's corner shows about 30 px of touch line.

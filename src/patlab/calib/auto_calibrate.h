@@ -118,11 +118,18 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
 // lines and a parallel one fits every model whose lines are alike there, each at its own scale)
 // -- AutoCalibrate refuses the frame. With keep_rivals those cameras are returned instead, best
 // first, for the caller to decide by evidence the lines do not hold (the robots, setup).
+//
+// With runner_up_ratio > 0 the cameras the lines decide against but not by much are returned too
+// (runners_up): fitted cameras mapping the frame differently from the kept one and from every
+// rival, explaining at least runner_up_ratio of the kept one's line, best first, at most
+// max_rivals, their held-out error not measured (MeasureHeldOut). A caller whose own evidence
+// contradicts the kept camera outright (setup: no robot decodes through it) weighs them.
 struct FamilyOptions {
   double screen_ratio = 0.8;  // in (0, 1]
   int min_fitted = 2;         // >= 1: a runner-up to compare with
   bool keep_rivals = false;
-  int max_rivals = 3;  // >= 0: the best this many rivals kept
+  int max_rivals = 3;            // >= 0: the best this many rivals kept
+  double runner_up_ratio = 0.0;  // in [0, 1]: 0 keeps no runner-up
 };
 // held_out_mapping_mm is measured for the cameras kept only, the kept one and its rivals (two
 // more fits each): the other models' tries report NaN.
@@ -141,10 +148,11 @@ struct FamilyRival {
   AutoCalibration calibration;
 };
 struct FamilyCalibration {
-  int kept = -1;                    // index of the kept model in `fields`
-  AutoCalibration calibration;      // the kept model's
-  std::vector<FamilyTry> tries;     // one per model, in the order of `fields`
-  std::vector<FamilyRival> rivals;  // keep_rivals: the cameras the lines do not decide from it
+  int kept = -1;                        // index of the kept model in `fields`
+  AutoCalibration calibration;          // the kept model's
+  std::vector<FamilyTry> tries;         // one per model, in the order of `fields`
+  std::vector<FamilyRival> rivals;      // keep_rivals: the cameras the lines do not decide from it
+  std::vector<FamilyRival> runners_up;  // runner_up_ratio > 0: those they decide against narrowly
   double seconds = 0.0;
 };
 // InputError (the best-screened model's failure) when no model fits.
@@ -153,6 +161,11 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
                                       const std::vector<Field>& fields,
                                       const AutoOptions& options = {},
                                       const FamilyOptions& family = {});
+
+// The held-out error (held_out_*) of a camera returned without it (FamilyCalibration's
+// runners_up): each of two folds of its observations fitted from that camera, measured on the
+// other. Two fits.
+void MeasureHeldOut(AutoCalibration& a);
 
 // Where the lines match too few marks to fix a camera (a corner and a line: every corner of a
 // field fits them, at any scale) but the floor's scale is known otherwise -- `floor_camera`, a

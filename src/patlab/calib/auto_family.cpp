@@ -77,6 +77,31 @@ std::vector<std::optional<internal::Searched>> Screen(const Frame& f,
   return searched;
 }
 
+// The runners-up from `pool` (best first): cameras explaining at least runner_up_ratio of the kept
+// one's line that map the frame differently from it, from every rival and from every runner-up
+// kept before (the kept camera and the rivals are in the pool too, and map as themselves).
+void KeepRunnersUp(const Frame& f, const FamilyOptions& family, std::vector<FamilyRival>& pool,
+                   FamilyCalibration* out) {
+  const AutoCalibration& kept = out->calibration;
+  const auto differs = [&](const AutoCalibration& a, const AutoCalibration& b, double* differ) {
+    return !internal::SameMap(a.fit.camera, b.fit.camera, kept.point_symmetric, f.width_px,
+                              f.height_px, differ);
+  };
+  for (FamilyRival& r : pool) {
+    if (out->runners_up.size() >= static_cast<size_t>(family.max_rivals)) break;
+    const AutoCalibration& c = r.calibration;
+    if (!(c.score_px >= family.runner_up_ratio * kept.score_px)) break;  // the rest score less
+    double differ = 0.0, other = 0.0;
+    if (!differs(kept, c, &differ)) continue;
+    const auto apart = [&](const FamilyRival& o) { return differs(o.calibration, c, &other); };
+    if (!std::all_of(out->rivals.begin(), out->rivals.end(), apart) ||
+        !std::all_of(out->runners_up.begin(), out->runners_up.end(), apart))
+      continue;
+    r.floor_difference_mm = differ;
+    out->runners_up.push_back(std::move(r));
+  }
+}
+
 // The full fit (steps 4-5) in `order`: until min_fitted models fitted, then every model whose
 // screen reaches screen_ratio of the best fitted score.
 void FitInOrder(const Frame& f, const std::vector<Field>& fields,
@@ -146,9 +171,10 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
       return internal::Undecided(o.calibration.fit.camera, o.calibration.score_px, c.fit.camera,
                                  c.score_px, kept.point_symmetric, f.width_px, f.height_px, &d);
     });
-    if (new_map) out->rivals.push_back(std::move(r));
+    if (new_map) out->rivals.push_back(r);  // a copy: the runners-up are told apart from it
   }
   for (FamilyRival& r : out->rivals) internal::MeasureHeldOut(r.calibration);
+  if (family.runner_up_ratio > 0.0) KeepRunnersUp(f, family, pool, out);
 }
 
 }  // namespace
@@ -160,9 +186,10 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
   const auto t0 = std::chrono::steady_clock::now();
   if (fields.empty()) throw InputError("no field model to fit; expected a model or a family");
   if (!(family.screen_ratio > 0.0 && family.screen_ratio <= 1.0) || family.min_fitted < 1 ||
-      family.max_rivals < 0) {
+      family.max_rivals < 0 || !(family.runner_up_ratio >= 0.0 && family.runner_up_ratio <= 1.0)) {
     throw InputError(
-        "family calibration: screen_ratio must be in (0, 1], min_fitted >= 1 and max_rivals >= 0");
+        "family calibration: screen_ratio must be in (0, 1], min_fitted >= 1, max_rivals >= 0 "
+        "and runner_up_ratio in [0, 1]");
   }
   const Frame frame{&pixels, width_px, height_px, &source, &options};
   FamilyCalibration out;
@@ -194,5 +221,7 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
   out.calibration.seconds = out.seconds;
   return out;
 }
+
+void MeasureHeldOut(AutoCalibration& a) { internal::MeasureHeldOut(a); }
 
 }  // namespace patlab::calib

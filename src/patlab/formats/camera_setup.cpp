@@ -67,6 +67,10 @@ calib::FamilyCalibration CalibrateFamily(const camera::Image& frame, const std::
   // within 10 %, the true one sixth, and no robot decodes through the best four. A rival costs
   // little beside the search (seed 146: 8.4 s of CPU with three rivals, 8.8 s with six).
   family.max_rivals = 6;
+  // The lines' narrow runners-up, weighed by the robots where none decodes through the cameras
+  // the lines left (internal::WeighCameras); the share is the screen's, below which no model is
+  // fitted.
+  family.runner_up_ratio = family.screen_ratio;
   calib::AutoOptions options;
   options.camera_height_mm = o.camera_height_mm;
   try {
@@ -91,16 +95,6 @@ void TriedOf(const calib::FamilyCalibration& family, SetupResult* r) {
                      return std::isfinite(a.screen_px) &&
                             (!std::isfinite(b.screen_px) || a.screen_px > b.screen_px);
                    });
-}
-
-// One camera of the lines (the kept one or a rival) as setup's calibration.
-void UseCalibration(const calib::AutoCalibration& a, const calib::Field& field, SetupResult* r) {
-  r->field = field;
-  r->calibration_input = a.input;
-  r->calibration_fit = a.fit;
-  r->mapping_error_mm = a.held_out_mapping_mm;
-  r->mapping_resolution_mm = a.held_out_resolution_mm;
-  r->calibration_report = calib::AutoReportText(a);
 }
 
 // The calibration from clicked landmarks of the first field model.
@@ -227,42 +221,6 @@ std::string TriedText(const std::vector<SetupFieldTry>& tried) {
   return s;
 }
 
-// Neither the lines nor the robots decide between cameras that map the frame differently: the
-// line length kept was a coin toss (fresh rendered seed 87: two models' cameras 2.6 m apart,
-// 1976.4 and 1974.3 px of line, 8 robots each; the one kept put every robot 2.6 m off), so setup
-// refuses with the numbers rather than write either.
-void RefuseUndecided(const std::string& frame, const std::vector<SetupRival>& undecided) {
-  std::string cameras;
-  for (size_t i = 0; i < undecided.size(); ++i) {
-    const SetupRival& u = undecided[i];
-    if (i > 0 && u.robots < undecided.front().robots) continue;
-    cameras += (cameras.empty() ? "" : "; ") + u.field + " explaining " +
-               FormatSignificant(u.score_px, 5) + " px of line, " + std::to_string(u.robots) +
-               " robots decoded where its height is measured, mapping the frame " +
-               FormatSignificant(u.floor_difference_mm, 3) + " mm from the lines' best camera";
-  }
-  throw InputError(frame + ": neither the lines nor the robots decide the camera (" + cameras +
-                   "); expected a frame showing more of the field's lines, or name the model "
-                   "with --field MODEL, or give four --landmark NAME=X,Y (patlab setup "
-                   "--list-landmarks FIELD)");
-}
-
-// The cameras the lines did not decide between and the robots each decoded.
-std::string UndecidedText(const SetupResult& r) {
-  // (Where the robots do not decide either, setup refuses: RefuseUndecided.)
-  std::string s = " (the lines do not decide the camera; the robots do)\n";
-  s += "  cameras the lines do not decide between (px of line explained, robots decoded through "
-       "each where its height is measured, how far apart they map the frame from the lines' "
-       "best):\n";
-  for (size_t i = 0; i < r.undecided.size(); ++i) {
-    const SetupRival& u = r.undecided[i];
-    s += "  " + u.field + ": " + FormatSignificant(u.score_px, 5) + " px, " +
-         std::to_string(u.robots) + " robots, " + FormatSignificant(u.floor_difference_mm, 3) +
-         " mm" + (i == 0 ? " (kept)" : "") + "\n";
-  }
-  return s;
-}
-
 }  // namespace
 
 detect::DetectorOptions SetupTolerances(const detect::DetectorOptions& base, double mm_per_px,
@@ -337,11 +295,9 @@ void internal::FinishSetup(const std::vector<const camera::Image*>& frames,
 
 namespace {
 
-int RobotsDecoded(const SetupResult& r) { return std::max(r.robots_by_blobs, r.robots_by_pixels); }
-
-// The lines' camera, or, where they do not decide, the one of the kept camera and its rivals that
-// decodes the most robots at its chosen height where something measures that height (a tie is
-// refused): the robots' patterns, of known size, measure the floor's scale the lines left open.
+// The lines' camera, or, where they do not decide or no robot decodes through it, the one the
+// robots choose (internal::WeighCameras); where the lines match too few marks or fit only at the
+// focal length's bound with no robot decoding, the robots place the field (SetupFromRobots).
 SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
                            const std::vector<std::string>& names,
                            const detect::DetectorConfig& config, const SetupOptions& options) {
@@ -356,45 +312,11 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
     if (!internal::MatchedTooFewMarks(e.what())) throw;
     return internal::SetupFromRobots(frames, names, config, options, pixels, e.what());
   }
-  std::vector<SetupResult> results(1 + family.rivals.size());
-  const bool rivals = results.size() > 1;
-  std::vector<SetupRival> undecided;
-  for (size_t i = 0; i < results.size(); ++i) {
-    const calib::FamilyRival* rival = i == 0 ? nullptr : &family.rivals[i - 1];
-    const int model = rival == nullptr ? family.kept : rival->model;
-    const calib::AutoCalibration& a = rival == nullptr ? family.calibration : rival->calibration;
-    UseCalibration(a, options.fields[static_cast<size_t>(model)], &results[i]);
-    results[i].normalised_frames = results.front().normalised_frames;  // the same frames
-    internal::FinishSetup(frames, names, config, options, results[i]);
-    // Rivals are compared by the robots each is credited with at its chosen height: through the
-    // lines' height of a camera whose height they do not measure, the robots decoded tell its
-    // scale's luck, not its place (few-lines view 8: 5 robots through one corner's camera, 3 and
-    // 0 through the others', 10 through each at some height; the 5 kept: 10 false IDs).
-    if (rivals) internal::ChooseHeight(frames, names, config, options, results[i]);
-    undecided.push_back(
-        {results[i].field.name, a.score_px, rival == nullptr ? 0.0 : rival->floor_difference_mm,
-         rivals ? internal::CreditedRobots(results[i].height) : RobotsDecoded(results[i])});
-  }
-  size_t chosen = 0;
-  for (size_t i = 1; i < results.size(); ++i)
-    if (undecided[i].robots > undecided[chosen].robots) chosen = i;
-  SetupResult r = std::move(results[chosen]);
+  std::string at_bound;
+  SetupResult r = internal::WeighCameras(frames, names, config, options, family, &at_bound);
+  if (!at_bound.empty())
+    return internal::SetupFromRobots(frames, names, config, options, pixels, at_bound);
   TriedOf(family, &r);
-  if (rivals) {
-    std::rotate(undecided.begin(), undecided.begin() + static_cast<long>(chosen),
-                undecided.begin() + static_cast<long>(chosen) + 1);
-    r.robots_decided = std::all_of(undecided.begin() + 1, undecided.end(), [&](const auto& u) {
-      return u.robots < undecided.front().robots;
-    });
-    r.undecided = std::move(undecided);
-    if (!r.robots_decided) RefuseUndecided(names.front(), r.undecided);
-  } else {
-    internal::ChooseHeight(frames, names, config, options, r);
-    const std::string at_bound = internal::FocalAtItsBound(family, options.fields, names.front(),
-                                                           frames.front()->width_px, r.height);
-    if (!at_bound.empty())
-      return internal::SetupFromRobots(frames, names, config, options, pixels, at_bound);
-  }
   return r;
 }
 
@@ -425,7 +347,7 @@ std::string SetupReportText(const SetupResult& r) {
   } else if (r.from_landmarks) {
     s += " (from " + std::to_string(r.calibration_input.points.size()) + " landmarks)\n";
   } else if (!r.undecided.empty()) {
-    s += UndecidedText(r) + TriedText(r.tried);
+    s += internal::UndecidedText(r) + TriedText(r.tried);
   } else if (r.tried.size() > 1) {
     const SetupFieldTry& second = r.tried[1];
     s += second.failure.empty()

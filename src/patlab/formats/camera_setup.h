@@ -158,6 +158,11 @@ struct SetupResult {
   // there are such cameras: a tie is refused, SetupCamera throws).
   std::vector<SetupRival> undecided;
   bool robots_decided = false;
+  // No robot decoded through any camera the lines left (the kept one and its rivals, at any
+  // height tried), and one of the cameras they decided against narrowly (their runners-up,
+  // calib::FamilyCalibration::runners_up, at least 80% of the line) was credited with robots:
+  // the robots chose among them all (listed in `undecided`, the lines' best among them).
+  bool lines_overruled = false;
   SetupHeight height;
   SetupFewLines few_lines;
   bool from_landmarks = false;

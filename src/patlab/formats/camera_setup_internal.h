@@ -1,4 +1,4 @@
-// What camera_setup.cpp and camera_setup_height.cpp share (camera_setup.h): the files written
+// What the files of camera_setup*.cpp share (camera_setup.h): the files written
 // through one camera and the robots the detector decodes through them.
 #pragma once
 
@@ -113,6 +113,25 @@ double RobotsHeightSd(const calib::CalibrationFit& fit, double robot_height_mm);
 std::string FocalAtItsBound(const calib::FamilyCalibration& family,
                             const std::vector<calib::Field>& fields, const std::string& name,
                             int width_px, const SetupHeight& height);
+
+// One camera of the lines (the kept one, a rival or a runner-up) as r's calibration.
+void UseCalibration(const calib::AutoCalibration& a, const calib::Field& field, SetupResult* r);
+
+// The camera setup keeps of the lines' (camera_setup_rivals.cpp): each of the kept camera and its
+// rivals gets its files and height (ChooseHeight) and is credited with robots (CreditedRobots).
+// Where no robot decodes through any of them at any height tried, the runners-up are weighed too
+// (family's, their held-out error measured then), and kept only when one is credited with robots
+// (SetupResult::lines_overruled). One camera left: it is returned, unless its focal length is at
+// its bound with no robot decoding (FocalAtItsBound: its text in *at_bound, and an empty result).
+// Several: the one credited with the most robots, all of them in SetupResult::undecided; a tie is
+// refused (InputError naming each).
+SetupResult WeighCameras(const std::vector<const camera::Image*>& frames,
+                         const std::vector<std::string>& names,
+                         const detect::DetectorConfig& config, const SetupOptions& options,
+                         calib::FamilyCalibration& family, std::string* at_bound);
+
+// The report's lines on the cameras weighed by their robots (SetupResult::undecided).
+std::string UndecidedText(const SetupResult& r);
 
 // Where the line pixels match too few marks to fix a camera (calib::AutoCalibrateFamily's
 // InputError `lines_failure`): the robots' patterns measure the floor's scale and the lines'
