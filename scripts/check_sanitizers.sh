@@ -30,6 +30,9 @@ release_only=(
   # same screen and fits here
   'FamilySearch.TheScreenKeepsWhatFittingEveryModelKeeps'
   'FamilySearch.WhereTheLinesDoNotDecideTheRivalsAreKept'
+  # fresh seed 334's lines and their runners-up: SetupCamera.TheRobotsOverruleALinesCamera-
+  # NoneDecodesThrough runs the same search, and weighs its runner-up, here
+  'FamilySearch.TheRunnersUpAreTheCamerasTheLinesDecideAgainstNarrowly'
   # the family search on rendered frames of three models: FamilySearch above covers it
   'Models/FamilyRendered.KeepsTheTrueModelAndItsCamera/"ssl-2009"'
   'Models/FamilyRendered.KeepsTheTrueModelAndItsCamera/"ssl-2015"'
@@ -55,6 +58,9 @@ release_only=(
   'SetupCamera.TheRobotsDecideWhereTheLinesDoNot'
   'SetupCamera.TheRobotsSetTheCameraHeightTheLinesLeaveOpen'
   'SetupCamera.ACornerAndTenRobotsWithoutTheHeightDoNotFixTheCamera'
+  # fresh seed 332's corner placed by the robots, refused against a placement of another model:
+  # TheRobotsACornerAndTheHeightFix... runs the placements and their refusal rule here
+  'SetupCamera.ACornerPlacementAnotherExplainsNearlyAsWellIsRefused'
   'SetupCamera.CamerasNeitherTheLinesNorTheRobotsDecideAreRefused'
   # few-lines view 8 again, with its height given: RobotsDecideBetweenCamerasOnlyWhereAHeightIs-
   # Measured runs the same scene and cameras here, CreditedRobots.* the given height's rule
