@@ -44,8 +44,8 @@ bash scripts/design_results.sh "$P"
 # The same on seeds 13-30, held out until first scored (~1.5 CPU min), on seeds 31-50, drawn
 # after a later change and scored once before the misses they showed were fixed, and on seeds
 # 51-70, 71-90, 91-110, 111-130, 131-150, 151-210 (three sets of 20 drawn at once), 211-270
-# (two sets of 30), 271-300, 301-330 and 331-360, each drawn after the changes the set before it led to
-# (~1.5 CPU min per 20).
+# (two sets of 30), 271-300, 301-330, 331-360 and 361-390, each drawn after the changes the set
+# before it led to (~1.5 CPU min per 20).
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 13-30 --out results/setup/heldout
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 31-50 --out results/setup/seeds-31-50
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 51-70 --out results/setup/seeds-51-70
@@ -53,7 +53,7 @@ bash scripts/design_results.sh "$P"
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 91-110 --out results/setup/seeds-91-110
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 111-130 --out results/setup/seeds-111-130
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 131-150 --out results/setup/seeds-131-150
-for seeds in 151-170 171-190 191-210 211-240 241-270 271-300 301-330 331-360; do
+for seeds in 151-170 171-190 191-210 211-240 241-270 271-300 301-330 331-360 361-390; do
   /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds $seeds --out results/setup/seeds-$seeds
 done
 # Each camera (the two real frames, the 12 random ones) scored with the colour fit's constants
