@@ -56,6 +56,9 @@ bash scripts/design_results.sh "$P"
 for seeds in 151-170 171-190 191-210 211-240 241-270 271-300 301-330 331-360 361-390; do
   /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds $seeds --out results/setup/seeds-$seeds
 done
+# The same frames with each one's field model named (--field MODEL, not the family): ~8 CPU min.
+/usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --named-model --seeds 1-390 \
+  --out results/setup-named-model
 # Each camera (the two real frames, the 12 random ones) scored with the colour fit's constants
 # chosen on the others (docs/setup.md, "Held out, camera by camera"; needs ../shared/frames and
 # build/python; ~10 CPU min).

@@ -19,6 +19,9 @@ the robots found. The field's half-turn symmetry gives two equally valid world f
 picks one and says so): each frame is scored in the one that matches its truth.
 
 Usage: scripts/setup_rendered.py [--patlab build/patlab] [--seeds 1-12] [--out results/setup]
+                                  [--keep DIR] [--named-model]
+  --named-model: pass the frame's own field model as `--field MODEL` instead of the family, as a
+  team that knows the field it plays on would.
 Writes OUT/rendered.csv (one row per frame: the scene drawn, the outcome, setup's held-out
 mapping error and the true one -- where setup's camera and the true camera put the floor that
 every 10th pixel shows inside the field's lines, RMS in mm -- and the camera setup wrote: its
@@ -283,10 +286,11 @@ def camera_height(cam_dir, report):
     return round(float(centre[2])), round(float(pinhole["fx_px"]), 1), by
 
 
-def setup_and_score(patlab, frame, truth, model, cam_dir, log, setup_flags=()):
-    """setup (with the shipped settings and any further flags) and detect on one rendered
-    frame, scored against its truth: (the row's outcome columns, setup's CPU seconds)."""
-    setup, cpu = run([patlab, "setup", frame, "--field", "ssl", "--settings", "ssl-frame.detector",
+def setup_and_score(patlab, frame, truth, model, cam_dir, log, setup_flags=(), field="ssl"):
+    """setup (with the shipped settings, `field` -- the family or a model -- and any further
+    flags) and detect on one rendered frame, scored against its truth: (the row's outcome
+    columns, setup's CPU seconds)."""
+    setup, cpu = run([patlab, "setup", frame, "--field", field, "--settings", "ssl-frame.detector",
                       "-o", cam_dir] + list(setup_flags), log)
     kept = next((line.split()[2] for line in setup.stdout.splitlines()
                  if line.startswith("field model:")), "")
@@ -310,14 +314,15 @@ def setup_and_score(patlab, frame, truth, model, cam_dir, log, setup_flags=()):
                 setup_height_mm=height, setup_f_px=focal, height_decided_by=decided_by), cpu
 
 
-def one_frame(patlab, seed, work, log):
+def one_frame(patlab, seed, work, log, named_model=False):
     row, frame, truth = render_frame(patlab, seed, work, log)
     if frame is None:
         return dict(row, outcome="render failed", model_kept="", right=0, false_ids=0,
                     position_error_mm="", mapping_error_mm="", true_mapping_error_mm="",
                     setup_height_mm="", setup_f_px="", height_decided_by=""), 0.0
     outcome, cpu = setup_and_score(patlab, frame, truth, row["model"],
-                                   os.path.join(work, "seed%d" % seed, "cam"), log)
+                                   os.path.join(work, "seed%d" % seed, "cam"), log,
+                                   field=row["model"] if named_model else "ssl")
     return dict(row, **outcome), cpu
 
 
@@ -332,13 +337,15 @@ def main():
     parser.add_argument("--seeds", default="1-12", help="FIRST-LAST, default 1-12")
     parser.add_argument("--out", default=os.path.join(ROOT, "results", "setup"))
     parser.add_argument("--keep", help="keep the scenes, frames and logs in this folder")
+    parser.add_argument("--named-model", action="store_true",
+                        help="pass the frame's field model as --field MODEL, not the family")
     args = parser.parse_args()
     work = args.keep or tempfile.mkdtemp(prefix="setup_rendered.")
     os.makedirs(work, exist_ok=True)
     log = os.path.join(work, "log.txt")
     rows = []
     for seed in parse_seeds(args.seeds):
-        row, cpu = one_frame(os.path.abspath(args.patlab), seed, work, log)
+        row, cpu = one_frame(os.path.abspath(args.patlab), seed, work, log, args.named_model)
         rows.append(row)
         print("seed %d: %s %s, kept %s, %d/%d right, %d false IDs, setup %.1f s CPU" % (
             seed, row["model"], row["outcome"], row["model_kept"] or "-", row["right"],

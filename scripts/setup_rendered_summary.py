@@ -13,7 +13,9 @@ calibration maps the floor against the truth:
     within 1.5 either way, or, for "<R", when the true error is at most 1.5 R. A stated error the
     truth exceeds more than 1.5 times is "too low", one it undercuts is "too high".
 
-usage: scripts/setup_rendered_summary.py [--root DIR] [--worst N]
+usage: scripts/setup_rendered_summary.py [--root DIR] [--results DIR] [--worst N]
+  --results: the folder of rendered.csv files, relative to the root (default results/setup;
+  results/setup-named-model holds the runs with each frame's model named).
 """
 import argparse
 import csv
@@ -26,11 +28,11 @@ FACTOR = 1.5
 LIMIT_MM = 5.0
 
 
-def read_sets(root):
-    """[(the CSV's path relative to root, its rows)] for every rendered.csv under results/setup,
+def read_sets(root, results="results/setup"):
+    """[(the CSV's path relative to root, its rows)] for every rendered.csv under root/results,
     in seed order."""
     sets = []
-    for path in (root / "results" / "setup").rglob("rendered.csv"):
+    for path in (root / results).rglob("rendered.csv"):
         with open(path, newline="") as f:
             rows = list(csv.DictReader(f))
         if rows:
@@ -83,12 +85,15 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--root", default=pathlib.Path(__file__).resolve().parent.parent,
                         type=pathlib.Path, help="the repository (default: this script's)")
+    parser.add_argument("--results", default="results/setup",
+                        help="the folder of rendered.csv files under the root "
+                             "(default results/setup)")
     parser.add_argument("--worst", type=int, default=10,
                         help="list the N frames of largest true mapping error (default 10)")
     args = parser.parse_args()
-    sets = read_sets(args.root)
+    sets = read_sets(args.root, args.results)
     if not sets:
-        print("no rendered.csv under %s/results/setup" % args.root)
+        print("no rendered.csv under %s/%s" % (args.root, args.results))
         return 2
     every = []
     for path, rows in sets:

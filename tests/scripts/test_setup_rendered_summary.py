@@ -51,3 +51,18 @@ def test_totals_over_every_set(tmp_path):
     assert "floor within 5 mm in 2 / 3, median 0.25 mm" in last
     assert "stated error agrees 1, too low 1, too high 1" in last
     assert "seed 3 9.62 mm (stated <0.23, too low, height by robots)" in done.stdout
+
+
+def test_results_names_another_folder(tmp_path):
+    path = tmp_path / "results" / "setup-named-model" / "rendered.csv"
+    path.parent.mkdir(parents=True)
+    path.write_text(COLUMNS + "5,ssl-2015,3847,632,0,1,1,3,8,detected,ssl-2015,7,0,1.4,<0.19,0.25,"
+                    "3772,619,robots\n")
+    script = os.path.join(ROOT, "scripts", "setup_rendered_summary.py")
+    default = subprocess.run([sys.executable, script, "--root", str(tmp_path)],
+                             capture_output=True, text=True)
+    assert default.returncode == 2 and "no rendered.csv under" in default.stdout
+    named = subprocess.run([sys.executable, script, "--root", str(tmp_path), "--results",
+                            "results/setup-named-model"], capture_output=True, text=True)
+    assert named.returncode == 0, named.stderr
+    assert "results/setup-named-model       7 /    8 robots right ( 87.5 %)" in named.stdout
