@@ -86,11 +86,10 @@ SetupResult internal::WeighCameras(const std::vector<const camera::Image*>& fram
                             rival.floor_difference_mm, weighed));
   }
   const size_t rivals = weighed.size() - 1;
-  if (rivals == 0) {
-    *at_bound = FocalAtItsBound(family, options.fields, names.front(), frames.front()->width_px,
-                                weighed.front().setup.height);
-    if (!at_bound->empty()) return {};
-  }
+  // (FocalAtItsBound speaks only of a camera without rivals.)
+  *at_bound = FocalAtItsBound(family, options.fields, names.front(), frames.front()->width_px,
+                              weighed.front().setup.height);
+  if (!at_bound->empty()) return {};
   // No robot decodes through any camera the lines left: where a camera the lines decided against
   // narrowly (a runner-up) is credited with robots, they weigh it (fresh rendered seed 334:
   // ssl-2012's camera, 0.61 m up, explained 1479 px of line, ssl-2018's true one 1287 px; no robot
