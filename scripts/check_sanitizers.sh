@@ -30,6 +30,9 @@ release_only=(
   # same screen and fits here
   'FamilySearch.TheScreenKeepsWhatFittingEveryModelKeeps'
   'FamilySearch.WhereTheLinesDoNotDecideTheRivalsAreKept'
+  # fresh seed 205's lines, one model's view lent to another: every family search here scores
+  # every model's views against the others' lines (FamilySearch.OneModelIsTheAutomaticCalibration)
+  'FamilySearch.AViewAnotherModelsSearchFoundIsLentWhereItExplainsMore'
   # fresh seed 334's lines and their runners-up: SetupCamera.TheRobotsOverruleALinesCamera-
   # NoneDecodesThrough runs the same search, and weighs its runner-up, here
   'FamilySearch.TheRunnersUpAreTheCamerasTheLinesDecideAgainstNarrowly'
@@ -47,6 +50,9 @@ release_only=(
   'Cameras/HeldOutError.AgreesWithTheTruthOrSaysItIsBelowItsResolution/At3800mm'
   'Cameras/HeldOutError.AgreesWithTheTruthOrSaysItIsBelowItsResolution/At4100mm'
   'Cameras/HeldOutError.AgreesWithTheTruthOrSaysItIsBelowItsResolution/At4500mm'
+  # fits eight cameras from the floor's lines alone; AMeasuredCameraHeightDeterminesTheFocalLength
+  # fits the same eight here, with a measured height
+  'Calibrate.TheFloorAloneMapsTheFloorAndSaysWhatItCannotKnow'
   # refits a camera 200 times through the fit Calibrate's other tests run here
   'Calibrate.TheMappingCovarianceIsTheSpreadOfRefits'
   # the fit with robots' patterns on more random cameras: AMeasuredCameraHeightDeterminesTheFocal-
@@ -97,6 +103,9 @@ release_only=(
   # setup and detect on rendered frames of every shipped VSS design; the same commands run here
   # on the rendered SSL frame (cli.SetupCli.*) and on the real VSS frame
   'cli.VssDesignsCli.EveryShippedDesignTeamAndIdOnRenderedFrames'
+  # ten commands into a relative out folder; each command's own CLI tests run it here, and
+  # ACommandThatFailsBeforeItsCommitLeavesNoFolderItMade runs the same ten on a full disk
+  'cli.RelativeOutCli.EveryCommandMakesARelativeOutFolderThatDoesNotExistYet'
   # replays every trial of a run; Replay.SampledTrialsOfEveryEstimatorAndNoiseModelAreTheRunsBits
   # replays a sample of each estimator and noise model here
   'Replay.EveryTrialReplayedGivesTheRunsStatistics'

@@ -100,7 +100,8 @@ def main():
             flags = ["--camera-height", "%.0f" % cam["centre"][2]] if args.measured_height else []
             start = os.path.getsize(log)
             row, cpu = rendered.setup_and_score(patlab, frame, truth, model,
-                                                os.path.join(folder, "cam"), log, flags)
+                                                os.path.join(folder, "cam"), log,
+                                                setup_flags=flags)
             with open(log) as f:
                 f.seek(start)
                 text = f.read()

@@ -147,16 +147,16 @@ def main():
         row, frame, truth = setup_rendered.render_frame(patlab_bin, seed, work, log)
         if frame is None:
             sys.exit("setup_holdout: seed %d did not render (log: %s)" % (seed, log))
-        rendered["seed%d" % seed] = (frame, truth)
+        rendered["seed%d" % seed] = (frame, truth, row["model"])
     cameras = list(REAL) + list(rendered)
     grid = {}
     for point in grid_points():
         for name in REAL:
             grid[name, point] = run_real(patlab_bin, name, point, work, log)
-        for name, (frame, truth) in rendered.items():
+        for name, (frame, truth, model) in rendered.items():
             outcome, _ = setup_rendered.setup_and_score(
-                patlab_bin, frame, truth, os.path.join(work, "%s-%g-%g" % (name, *point)), log,
-                colour_flags(point))
+                patlab_bin, frame, truth, model, os.path.join(work, "%s-%g-%g" % (name, *point)),
+                log, setup_flags=colour_flags(point))
             grid[name, point] = (outcome["right"], outcome["false_ids"], len(truth))
         print("standout_delta_e %g, segment_k %g: %s" % (point[0], point[1], ", ".join(
             "%s %d/%d%s" % (c, grid[c, point][0], grid[c, point][2],

@@ -286,7 +286,7 @@ def camera_height(cam_dir, report):
     return round(float(centre[2])), round(float(pinhole["fx_px"]), 1), by
 
 
-def setup_and_score(patlab, frame, truth, model, cam_dir, log, setup_flags=(), field="ssl"):
+def setup_and_score(patlab, frame, truth, model, cam_dir, log, *, setup_flags=(), field="ssl"):
     """setup (with the shipped settings, `field` -- the family or a model -- and any further
     flags) and detect on one rendered frame, scored against its truth: (the row's outcome
     columns, setup's CPU seconds)."""

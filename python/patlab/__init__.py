@@ -248,7 +248,8 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     NAME -> number of the colour fit's options (as --colour-option NAME=VALUE; docs/setup.md
     lists them). Returns the report as a
     dict: field (the model kept), tried (each model: field, fitted, score_px, screen_px,
-    held_out_mapping_mm: the kept model's only, NaN for the others; same_as, failure; best
+    held_out_mapping_mm: the kept model's only, NaN for the others; same_as, failure;
+    screen_view_of, the model whose search found the view screen_px scores, "" its own; best
     first), undecided (the cameras the lines did
     not decide between, the kept one first: field, score_px, floor_difference_mm, robots; empty
     when the lines decided), robots_decided (the kept one decoded the most robots) and

@@ -79,6 +79,20 @@ int RunAuto(const CalibrateCommandOptions& o) {
   if (o.field.empty()) throw InputError("--auto: missing --field; expected a field name or file");
   if (o.camera_height_mm < 0.0)
     throw InputError("--camera-height: negative; expected mm above the floor, or 0 for unknown");
+  // A family's name that names no model of it nor a file ("ssl"; "vss" is a model too).
+  const auto family = formats::FieldFamily(o.field, DataRoots());
+  std::string models;
+  bool a_model = std::filesystem::exists(o.field);
+  for (const calib::Field& f : family) {
+    models += (models.empty() ? "" : ", ") + f.name;
+    a_model = a_model || f.name == o.field;
+  }
+  if (!family.empty() && !a_model) {
+    throw InputError("--field " + o.field + ": a family of field models (" + models +
+                     "); calibrate --auto fits one: expected one of them, or fit the family with "
+                     "patlab setup --field " +
+                     o.field);
+  }
   const calib::Field field = formats::LoadField(FindData(o.field, io::DataKind::kField));
   const camera::Image frame = vision::ReadFrame(o.input);
   vision::LineFinderOptions finder;

@@ -194,6 +194,7 @@ py::dict SetupTry(const formats::SetupFieldTry& t) {
   d["screen_px"] = t.screen_px;
   d["held_out_mapping_mm"] = t.held_out_mapping_mm;
   d["same_as"] = t.same_as;
+  d["screen_view_of"] = t.screen_view_of;
   d["failure"] = t.failure;
   return d;
 }

@@ -94,6 +94,24 @@ TEST(CalibrateAutoCli, FlagsAreChecked) {
   EXPECT_EQ(no_auto.exit_code, 2);
   EXPECT_NE(no_auto.err.find("--field and --debug: only with --auto"), std::string::npos)
       << no_auto.err;
+  // A family is setup's: calibrate names its models (it used to suggest "vss" for "ssl").
+  const auto family =
+      RunCommand(kPatlab + " calibrate x.png --auto --field ssl -o " + dir.Path("cal"));
+  EXPECT_EQ(family.exit_code, 2);
+  EXPECT_NE(family.err.find("--field ssl: a family of field models (ssl-div-a, "),
+            std::string::npos)
+      << family.err;
+  EXPECT_NE(family.err.find("calibrate --auto fits one: expected one of them, or fit the family "
+                            "with patlab setup --field ssl"),
+            std::string::npos)
+      << family.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("cal")));
+  // "vss" names a family and its 3 vs 3 model: the model (here the missing frame is the error).
+  const auto model =
+      RunCommand(kPatlab + " calibrate x.png --auto --field vss -o " + dir.Path("cal"));
+  EXPECT_EQ(model.exit_code, 2);
+  EXPECT_EQ(model.err.find("a family of field models"), std::string::npos) << model.err;
+  EXPECT_NE(model.err.find("x.png"), std::string::npos) << model.err;
 }
 
 }  // namespace

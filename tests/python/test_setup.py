@@ -80,6 +80,13 @@ def test_the_family_and_the_clis_report(cli, root, tmp_path, in_root):
     assert tried[0]["field"] == "ssl-2009" and tried[0]["fitted"]
     assert tried[1]["fitted"] and tried[1]["score_px"] < tried[0]["score_px"]
     assert any(t["same_as"] for t in tried)
+    # Each model's best view, its own search's or one another's found ("" its own): ssl-2012's
+    # search refined the camera ssl-2009 fits a little further (2478.4 px of ssl-2009's lines
+    # against 2465.4), and the report says so.
+    lent = {t["field"]: t["screen_view_of"] for t in tried}
+    assert lent["ssl-2009"] == "ssl-2012" and lent["ssl-2012"] == ""
+    assert all(v in lent and v != k for k, v in lent.items() if v)
+    assert "(search 2478.4 px, a view ssl-2012's search found)" in report["report"]
     assert any(not t["fitted"] and t["failure"].startswith("not fitted") for t in tried)
     # The lines decide this view: no other camera explains nearly as much line.
     assert report["undecided"] == [] and not report["robots_decided"]

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,15 @@ namespace {
 using patlab::testing::kFrameHeight, patlab::testing::kFrameWidth;
 
 std::vector<calib::Field> SslFamily() { return formats::FieldFamily("ssl", {PATLAB_SOURCE_DIR}); }
+
+// Shipped models by name, in the order given.
+std::vector<calib::Field> Models(std::initializer_list<const char*> names) {
+  std::vector<calib::Field> fields;
+  for (const char* name : names)
+    fields.push_back(formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" +
+                                        std::string(name) + ".toml"));
+  return fields;
+}
 
 // A camera over (x, y) of the floor at `height_mm`, 600 px focal length, tilted `tilt_rad` about
 // the field's y axis, k1 -0.1.
@@ -144,10 +154,7 @@ TEST(FamilySearch, TheScreenKeepsWhatFittingEveryModelKeeps) {
 // the kept camera and its rivals, the true one among them. (The first fitted views of ssl-div-a
 // used to match only the T and fail, and ssl-div-b's wrong scale was kept.)
 TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
-  std::vector<calib::Field> family;
-  for (const char* model : {"ssl-div-b", "ssl-div-a"})
-    family.push_back(formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" +
-                                        std::string(model) + ".toml"));
+  const std::vector<calib::Field> family = Models({"ssl-div-b", "ssl-div-a"});
   const camera::PinholeCamera truth = rendered::CameraOfFile(
       517.9, Vec2(391.8, 287.2), -0.093, Eigen::Vector3d(-0.384322, 3.088143, -0.015653),
       Eigen::Vector3d(-69.6, 3050.9, 3846.7));
@@ -179,10 +186,7 @@ TEST(FamilySearch, WhereTheLinesDoNotDecideTheRivalsAreKept) {
 // that explains more line than the true model's: the lines decide for it, and with
 // runner_up_ratio the true camera is returned as a runner-up, its held-out error left to measure.
 TEST(FamilySearch, TheRunnersUpAreTheCamerasTheLinesDecideAgainstNarrowly) {
-  std::vector<calib::Field> family;
-  for (const char* model : {"ssl-2012", "ssl-2018"})
-    family.push_back(formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" +
-                                        std::string(model) + ".toml"));
+  const std::vector<calib::Field> family = Models({"ssl-2012", "ssl-2018"});
   const camera::PinholeCamera truth =
       rendered::CameraOfFile(544.407809, Vec2(390.328391, 289.329548), -0.025450,
                              Eigen::Vector3d(-0.785451504, -3.031427540, 0.078033858),
@@ -223,6 +227,37 @@ TEST(FamilySearch, TheRunnersUpAreTheCamerasTheLinesDecideAgainstNarrowly) {
                                                 family, {}, options),
                      "family calibration: screen_ratio must be in (0, 1], min_fitted >= 1, "
                      "max_rivals >= 0 and runner_up_ratio in [0, 1]");
+}
+
+// Fresh rendered seed 205's camera (scripts/setup_rendered.py) 3.3 m over an ssl-2015 half,
+// looking nearly straight down: the centre circle, the halfway line and a goal line, all of which
+// ssl-div-b paints alike. ssl-2015's own search misses the camera that ssl-div-b's finds; lent that
+// view, ssl-2015 fits the true camera and is kept, and says whose search found its view.
+TEST(FamilySearch, AViewAnotherModelsSearchFoundIsLentWhereItExplainsMore) {
+  const std::vector<calib::Field> family = Models({"ssl-div-b", "ssl-2015"});
+  const camera::PinholeCamera truth =
+      rendered::CameraOfFile(516.489647, Vec2(392.547145, 296.859175), -0.094590,
+                             Eigen::Vector3d(-0.449692844, 3.107927402, 0.060622478),
+                             Eigen::Vector3d(-2232.467185, -383.391959, 3268.947469));
+  const std::vector<calib::LinePixel> pixels = FindLinePixels(RenderField(family[1], truth));
+  // ssl-2015's search alone: its best view explains far less line than the lent one will.
+  const calib::internal::Searched own = calib::internal::SearchField(
+      pixels, kFrameWidth, kFrameHeight, "rendered.png", family[1], {});
+  const calib::FamilyCalibration fc =
+      calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight, "rendered.png", family);
+  ASSERT_EQ(fc.kept, 1) << "ssl-2015, the true model";
+  EXPECT_EQ(fc.tries[1].screen_view_of, "ssl-div-b");
+  EXPECT_EQ(fc.tries[0].screen_view_of, "");
+  EXPECT_GT(fc.tries[1].screen_px, 1.5 * own.views.front().score);
+  EXPECT_GT(fc.calibration.score_px, fc.tries[0].score_px);
+  camera::PinholeCamera turned = truth;
+  turned.rotation = truth.rotation * Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
+  double rms = INFINITY;
+  for (const camera::PinholeCamera& t : {truth, turned}) {
+    rms = std::min(rms,
+                   rendered::MappingRmsMm(t, fc.calibration.fit.camera, kFrameWidth, kFrameHeight));
+  }
+  EXPECT_LT(rms, 5.0);
 }
 
 // Fresh rendered seed 20's camera (scripts/setup_rendered.py) over the centre circle of

@@ -111,7 +111,10 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
 // model whose screen reaches screen_ratio of the best fitted score. (A fitted camera explains
 // about as much line as its search's or more: a model screened below that cannot win.) Models
 // whose painted marks are the same as an earlier one's share its result. The fitted model of
-// the highest score is kept.
+// the highest score is kept. Before the screen, each view one model's search found is scored
+// against every other model's marks; one that explains a model's marks better than the best its
+// own search found becomes that model's best view (screen_view_of names its search): models whose
+// lines in view are alike find their common camera from different hypotheses.
 //
 // Where the lines do not decide -- a second camera, of the same model or another, explains more
 // than 90% of the kept one's line length yet maps the frame differently (a view of a T of two
@@ -136,6 +139,7 @@ struct FamilyOptions {
 struct FamilyTry {
   std::string field;                 // the model's name
   double screen_px = 0.0;            // its search's best score (NaN: the search failed)
+  std::string screen_view_of;        // the model whose search found that view ("": its own)
   bool fitted = false;               // given the full fit
   double score_px = 0.0;             // the full fit's score (NaN: not fitted or failed)
   double held_out_mapping_mm = 0.0;  // the kept model's full fit's (NaN for the others)

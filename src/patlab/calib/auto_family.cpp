@@ -77,6 +77,43 @@ std::vector<std::optional<internal::Searched>> Screen(const Frame& f,
   return searched;
 }
 
+// A view another model's search found that explains this model's own marks better than the
+// best its own search found is put first in its list, with that score: the fit starts from it and
+// the screen ranks the model by it. Models whose lines in view are alike find the same camera
+// from different hypotheses, and one model's search can miss it (fresh rendered seed 205: the
+// camera looks straight down at the centre circle, halfway line and a goal line; ssl-2015's best
+// view explains 843 px, ssl-div-b's best explains 1833 px of ssl-2015's marks, and only from it
+// does ssl-2015, the true model, fit). Only views of each search's own list are lent, and only
+// where they beat the borrower's best, so a model whose search found its camera is unchanged.
+void LendViews(const Frame& f, std::vector<std::optional<internal::Searched>>& searched,
+               FamilyCalibration* out) {
+  const internal::LineDistance dt(*f.pixels, f.width_px, f.height_px);
+  std::vector<std::optional<internal::ScoredView>> lent(searched.size());
+  std::vector<size_t> lender(searched.size());
+  for (size_t i = 0; i < searched.size(); ++i) {
+    if (!searched[i]) continue;
+    double best = searched[i]->views.front().score;
+    for (size_t j = 0; j < searched.size(); ++j) {
+      if (j == i || !searched[j]) continue;
+      for (const internal::ScoredView& v : searched[j]->views) {
+        const double score = internal::CameraScore(v.camera, searched[i]->marks, dt);
+        if (score > best) {
+          best = score;
+          lent[i] = v;
+          lent[i]->score = score;
+          lender[i] = j;
+        }
+      }
+    }
+  }
+  for (size_t i = 0; i < searched.size(); ++i) {
+    if (!lent[i]) continue;
+    searched[i]->views.insert(searched[i]->views.begin(), *lent[i]);
+    out->tries[i].screen_px = lent[i]->score;
+    out->tries[i].screen_view_of = out->tries[lender[i]].field;
+  }
+}
+
 // The runners-up from `pool` (best first): cameras explaining at least runner_up_ratio of the kept
 // one's line that map the frame differently from it, from every rival and from every runner-up
 // kept before (the kept camera and the rivals are in the pool too, and map as themselves).
@@ -194,7 +231,8 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
   const Frame frame{&pixels, width_px, height_px, &source, &options};
   FamilyCalibration out;
   std::vector<int> same;
-  const auto searched = Screen(frame, fields, &same, &out);
+  auto searched = Screen(frame, fields, &same, &out);
+  LendViews(frame, searched, &out);
   std::vector<size_t> order(fields.size());
   std::iota(order.begin(), order.end(), size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {

@@ -85,8 +85,8 @@ calib::FamilyCalibration CalibrateFamily(const camera::Image& frame, const std::
 // The models tried, best first: fitted ones by their score, then the others by their screen.
 void TriedOf(const calib::FamilyCalibration& family, SetupResult* r) {
   for (const calib::FamilyTry& t : family.tries) {
-    r->tried.push_back(
-        {t.field, t.score_px, t.held_out_mapping_mm, t.failure, t.screen_px, t.fitted, t.same_as});
+    r->tried.push_back({t.field, t.score_px, t.held_out_mapping_mm, t.failure, t.screen_px,
+                        t.fitted, t.same_as, t.screen_view_of});
   }
   std::stable_sort(r->tried.begin(), r->tried.end(),
                    [](const SetupFieldTry& a, const SetupFieldTry& b) {
@@ -122,7 +122,7 @@ void CalibrateFromLandmarks(const camera::Image& frame, const std::string& name,
   r->calibration_fit = calib::FitCamera(in);
   r->mapping_error_mm = r->calibration_fit.heldout_rms_mm;
   r->calibration_report = calib::FitReportText(in, r->calibration_fit);
-  r->tried.push_back({field.name, 0.0, r->mapping_error_mm, "", 0.0, true, ""});
+  r->tried.push_back({field.name, 0.0, r->mapping_error_mm, "", 0.0, true, "", ""});
 }
 
 // The settings' text with relative pattern, codebook and patterns_dir paths made absolute (the
@@ -212,7 +212,9 @@ std::string TriedText(const std::vector<SetupFieldTry>& tried) {
     s += "  " + t.field + ": ";
     if (t.failure.empty()) {
       s += FormatSignificant(t.score_px, 5) + " px of line explained (search " +
-           FormatSignificant(t.screen_px, 5) + " px)";
+           FormatSignificant(t.screen_px, 5) + " px" +
+           (t.screen_view_of.empty() ? "" : ", a view " + t.screen_view_of + "'s search found") +
+           ")";
     } else {
       s += (!t.fitted && std::isfinite(t.screen_px) ? "" : "failed: ") + t.failure;
     }

@@ -78,10 +78,11 @@ struct SetupFieldTry {
   std::string field;
   double score_px = 0.0;
   double held_out_mapping_mm = 0.0;
-  std::string failure;     // "" when it fitted
-  double screen_px = 0.0;  // the search's best score (NaN: the search failed; landmarks: 0)
-  bool fitted = true;      // given the full fit (false: screened out, or the search failed)
-  std::string same_as;     // the earlier model of the same lines whose result it shares
+  std::string failure;         // "" when it fitted
+  double screen_px = 0.0;      // the search's best score (NaN: the search failed; landmarks: 0)
+  bool fitted = true;          // given the full fit (false: screened out, or the search failed)
+  std::string same_as;         // the earlier model of the same lines whose result it shares
+  std::string screen_view_of;  // the model whose search found its best view ("": its own)
 };
 
 // A camera the lines do not decide from another (calib::FamilyOptions::keep_rivals): setup

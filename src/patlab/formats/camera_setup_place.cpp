@@ -397,7 +397,8 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
   RefuseUnfixed(r.calibration_fit, few, *kept, field, decoded.patterns.size(), scale, failed);
   r.mapping_error_mm = few.position_sd_mm;
   r.mapping_resolution_mm = 0.0;
-  r.tried.push_back({field.name, kept->score_px, r.mapping_error_mm, "", kept->score_px, true, ""});
+  r.tried.push_back(
+      {field.name, kept->score_px, r.mapping_error_mm, "", kept->score_px, true, "", ""});
   r.calibration_report = calib::FitReportText(r.calibration_input, r.calibration_fit);
   internal::FinishSetup(frames, names, config, options, r, true);
   FewLinesHeight(options, static_cast<int>(decoded.patterns.size()), &r);
