@@ -44,7 +44,7 @@ bash scripts/design_results.sh "$P"
 # The same on seeds 13-30, held out until first scored (~1.5 CPU min), on seeds 31-50, drawn
 # after a later change and scored once before the misses they showed were fixed, and on seeds
 # 51-70, 71-90, 91-110, 111-130, 131-150, 151-210 (three sets of 20 drawn at once), 211-270
-# (two sets of 30), 271-300, 301-330, 331-360 and 361-390, each drawn after the changes the set
+# (two sets of 30), 271-300, 301-330, 331-360, 361-390 and 391-420, each drawn after the changes the set
 # before it led to (~1.5 CPU min per 20).
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 13-30 --out results/setup/heldout
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 31-50 --out results/setup/seeds-31-50
@@ -53,11 +53,11 @@ bash scripts/design_results.sh "$P"
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 91-110 --out results/setup/seeds-91-110
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 111-130 --out results/setup/seeds-111-130
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds 131-150 --out results/setup/seeds-131-150
-for seeds in 151-170 171-190 191-210 211-240 241-270 271-300 301-330 331-360 361-390; do
+for seeds in 151-170 171-190 191-210 211-240 241-270 271-300 301-330 331-360 361-390 391-420; do
   /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --seeds $seeds --out results/setup/seeds-$seeds
 done
 # The same frames with each one's field model named (--field MODEL, not the family): ~8 CPU min.
-/usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --named-model --seeds 1-390 \
+/usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --named-model --seeds 1-420 \
   --out results/setup-named-model
 # Each camera (the two real frames, the 12 random ones) scored with the colour fit's constants
 # chosen on the others (docs/setup.md, "Held out, camera by camera"; needs ../shared/frames and
