@@ -260,6 +260,7 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     lines' own camera; scan: the heights tried, each height_mm, focal_px, robots),
     few_lines (where the lines matched too few marks and the robots placed the field: used;
     lines_failure; floor_mm_per_px and robots, the floor scale the robots decoded at;
+    small_patches, the scan's colours fitted for patches down to 2 px radius;
     placements and on_field, the crossings placed and those keeping the robots on the field;
     crossing, score_px, runner_up_px of the one kept; position_sd_mm, the stated error of a
     robot's position, and limit_mm, a pattern's radius; used False otherwise),

@@ -227,6 +227,7 @@ py::dict SetupFewLinesReport(const formats::SetupFewLines& f) {
   few["used"] = f.used;
   few["lines_failure"] = f.lines_failure;
   few["floor_mm_per_px"] = f.floor_mm_per_px;
+  few["small_patches"] = f.small_patches;
   few["robots"] = f.robots;
   few["placements"] = f.placements;
   few["on_field"] = f.on_field;

@@ -142,10 +142,13 @@ struct SetupFewLines {
   std::string lines_failure;     // what the lines alone matched
   double floor_mm_per_px = 0.0;  // the scan's kept floor scale
   int robots = 0;                // decoded through it
-  int placements = 0;            // crossings placed (scoring at least half the best)
-  int on_field = 0;              // of them, keeping every decoded robot on the field
-  std::string crossing;          // the placement kept: "LINE x LINE" of its model
-  double score_px = 0.0;         // its line length explained (CameraScore)
+  // The scan's colours were fitted for patches down to kSmallPatchPx radius, not with the given
+  // blob bounds: they decoded more robots (a tie keeps the given).
+  bool small_patches = false;
+  int placements = 0;         // crossings placed (scoring at least half the best)
+  int on_field = 0;           // of them, keeping every decoded robot on the field
+  std::string crossing;       // the placement kept: "LINE x LINE" of its model
+  double score_px = 0.0;      // its line length explained (CameraScore)
   double runner_up_px = 0.0;  // the best other placement on the field mapping differently (0: none)
   double position_sd_mm = 0.0;  // the stated error of a robot's position
   double limit_mm = 0.0;        // a pattern's radius: the most accepted

@@ -24,6 +24,11 @@ constexpr double kSameMapMm = 100.0;
 // ssl-2018's midline crossing a defence-area front line kept at 390.5 px against 321.8 px, 0.82,
 // for a placement 3.7 m off the true one; every robot decoded there was a false ID).
 constexpr double kUndecidedRatio = 0.8;
+// Without a camera the colour fit does not know the patches' size in px: the scan is made with its
+// given blob bounds and again with bounds for patches down to this radius (px, a patch about 4 px
+// across: a 40 mm ID patch at 9.4 mm per px, fresh rendered seed 406, whose six robots gave the
+// given bounds (a blob's spread of at least 1 px) one blue, one yellow and one green blob).
+constexpr double kSmallPatchPx = 2.0;
 // The assignment's gates, the placement's first (the floor camera's tilt is unknown).
 constexpr double kGatesPx[] = {12.0, 5.0, 3.0};
 
@@ -225,7 +230,7 @@ const calib::Placement* BestOnField(const std::vector<calib::Placement>& placeme
 // nearly as much line.
 void RefuseUnfixed(const calib::CalibrationFit& fit, const SetupFewLines& few,
                    const calib::Placement& kept, const calib::Field& field, size_t robots,
-                   double scale, const std::string& failed) {
+                   double scale, bool height_given, const std::string& failed) {
   // A fit that leaves the camera model's range (a lens bent beyond any real one) is no camera.
   if (const auto problems = camera::Check(fit.camera); !problems.empty()) {
     throw InputError(failed + "the fit of the lines and the robots' patches from " + kept.crossing +
@@ -245,7 +250,10 @@ void RefuseUnfixed(const calib::CalibrationFit& fit, const SetupFewLines& few,
                    "pattern's radius (" +
                    FormatSignificant(few.limit_mm, 3) + " mm)"
              : std::string("does not determine a robot's position (no finite standard error)")) +
-        "; give --camera-height MM (the camera's measured height above the floor)");
+        (height_given
+             ? "; expected a frame showing more of the field's lines, or give four "
+               "--landmark NAME=X,Y"
+             : "; give --camera-height MM (the camera's measured height above the floor)"));
   }
   // Another corner that keeps the robots on the field and explains nearly as much line (a view
   // of robots near the corner alone, mirrored): neither the lines nor the robots decide.
@@ -284,8 +292,11 @@ std::string internal::FewLinesText(const SetupFewLines& f) {
   return " (the lines do not fix the camera -- " + f.lines_failure +
          " -- and the robots placed the field)\n  " + std::to_string(f.robots) +
          " robots decode through a camera looking straight down at " +
-         FormatSignificant(f.floor_mm_per_px, 3) + " mm per px on the floor; of " +
-         std::to_string(f.placements) + " placements of the models' crossing lines, " +
+         FormatSignificant(f.floor_mm_per_px, 3) + " mm per px on the floor" +
+         (f.small_patches ? " (the colours fitted for patches down to " +
+                                FormatSignificant(kSmallPatchPx, 2) + " px radius)"
+                          : std::string()) +
+         "; of " + std::to_string(f.placements) + " placements of the models' crossing lines, " +
          std::to_string(f.on_field) + " keep them on the field; kept " + f.crossing + " (" +
          FormatSignificant(f.score_px, 4) + " px of line explained" +
          (f.runner_up_px > 0.0
@@ -346,8 +357,20 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
   calib::AutoOptions auto_options;
   auto_options.camera_height_mm = options.camera_height_mm;
   auto_options.fixed.push_back(calib::FitParameter::kPrincipalPoint);
-  const SetupResult base = ColoursWithoutCamera(frames, names, config, options, auto_options);
+  SetupResult base = ColoursWithoutCamera(frames, names, config, options, auto_options);
   auto [scale, decoded] = ScanFloorScales(frames, names, config, options, base);
+  SetupOptions small = options;
+  SetupBlobAreas(kSmallPatchPx, kSmallPatchPx, &small.colours);
+  small.colours.max_blob_area_px =
+      std::max(small.colours.min_blob_area_px, options.colours.max_blob_area_px);
+  SetupResult small_base = ColoursWithoutCamera(frames, names, config, small, auto_options);
+  auto [small_scale, small_decoded] = ScanFloorScales(frames, names, config, options, small_base);
+  if (small_decoded.robots > decoded.robots) {
+    base = std::move(small_base);
+    scale = small_scale;
+    decoded = std::move(small_decoded);
+    few.small_patches = true;
+  }
   few.floor_mm_per_px = scale;
   few.robots = decoded.robots;
   const std::string failed = lines_failure + "; the robots do not fix the camera either: ";
@@ -394,7 +417,8 @@ SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& f
   few.crossing = kept->crossing;
   few.score_px = kept->score_px;
   few.position_sd_mm = PositionSdMm(r.calibration_fit, decoded.patterns, options.robot_height_mm);
-  RefuseUnfixed(r.calibration_fit, few, *kept, field, decoded.patterns.size(), scale, failed);
+  RefuseUnfixed(r.calibration_fit, few, *kept, field, decoded.patterns.size(), scale,
+                options.camera_height_mm > 0.0, failed);
   r.mapping_error_mm = few.position_sd_mm;
   r.mapping_resolution_mm = 0.0;
   r.tried.push_back(
