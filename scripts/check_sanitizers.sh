@@ -67,6 +67,9 @@ release_only=(
   # fresh seed 332's corner placed by the robots, refused against a placement of another model:
   # TheRobotsACornerAndTheHeightFix... runs the placements and their refusal rule here
   'SetupCamera.ACornerPlacementAnotherExplainsNearlyAsWellIsRefused'
+  # fresh seed 406's small patches, the floor scales scanned through a second colour fit:
+  # TheRobotsACornerAndTheHeightFix... runs both fits and both scans here
+  'SetupCamera.SmallPatchesDecodeWhereTheColoursAreFittedForThem'
   'SetupCamera.CamerasNeitherTheLinesNorTheRobotsDecideAreRefused'
   # few-lines view 8 again, with its height given: RobotsDecideBetweenCamerasOnlyWhereAHeightIs-
   # Measured runs the same scene and cameras here, CreditedRobots.* the given height's rule
