@@ -32,8 +32,8 @@ std::vector<calib::Field> SslFamily() { return formats::FieldFamily("ssl", {PATL
 std::vector<calib::Field> Models(std::initializer_list<const char*> names) {
   std::vector<calib::Field> fields;
   for (const char* name : names)
-    fields.push_back(formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" +
-                                        std::string(name) + ".toml"));
+    fields.push_back(
+        formats::LoadField(PATLAB_SOURCE_DIR "/experiments/fields/" + std::string(name) + ".toml"));
   return fields;
 }
 
