@@ -1,6 +1,5 @@
 // The camera fit of calibrate.h: validation, a closed-form start, and the Ceres solve.
 #include <ceres/ceres.h>
-#include <ceres/rotation.h>
 #include <glog/logging.h>
 
 #include <Eigen/Geometry>
@@ -55,97 +54,6 @@ namespace {
 
 using internal::FitState;
 
-// The camera of camera/camera.h, written for Ceres' automatic derivatives.
-template <typename T>
-bool Project(const T* intrinsics, const T* pose, const T* world, T* pixel) {
-  T p[3];
-  ceres::AngleAxisRotatePoint(pose, world, p);
-  p[0] += pose[3];
-  p[1] += pose[4];
-  p[2] += pose[5];
-  if (!(p[2] > T(1e-6))) return false;  // behind the camera: the solver rejects the step
-  const T x = p[0] / p[2], y = p[1] / p[2];
-  const T r2 = x * x + y * y;
-  const T d = T(1.0) + intrinsics[4] * r2 + intrinsics[5] * r2 * r2;
-  pixel[0] = intrinsics[0] * x * d + intrinsics[2];
-  pixel[1] = intrinsics[0] * intrinsics[1] * y * d + intrinsics[3];
-  return true;
-}
-
-struct PointCost {
-  Vec2 pixel;
-  Eigen::Vector3d world;
-  template <typename T>
-  bool operator()(const T* intrinsics, const T* pose, T* r) const {
-    const T w[3] = {T(world.x()), T(world.y()), T(world.z())};
-    T p[2];
-    if (!Project(intrinsics, pose, w, p)) return false;
-    r[0] = p[0] - T(pixel.x());
-    r[1] = p[1] - T(pixel.y());
-    return true;
-  }
-};
-
-struct LineCost {
-  Vec2 pixel, from, to;
-  double height;
-  template <typename T>
-  bool operator()(const T* intrinsics, const T* pose, const T* t, T* r) const {
-    const T w[3] = {T(from.x()) + t[0] * T(to.x() - from.x()),
-                    T(from.y()) + t[0] * T(to.y() - from.y()), T(height)};
-    T p[2];
-    if (!Project(intrinsics, pose, w, p)) return false;
-    r[0] = p[0] - T(pixel.x());
-    r[1] = p[1] - T(pixel.y());
-    return true;
-  }
-};
-
-struct CircleCost {
-  Vec2 pixel, centre;
-  double radius, height;
-  template <typename T>
-  bool operator()(const T* intrinsics, const T* pose, const T* phi, T* r) const {
-    const T w[3] = {T(centre.x()) + T(radius) * cos(phi[0]),
-                    T(centre.y()) + T(radius) * sin(phi[0]), T(height)};
-    T p[2];
-    if (!Project(intrinsics, pose, w, p)) return false;
-    r[0] = p[0] - T(pixel.x());
-    r[1] = p[1] - T(pixel.y());
-    return true;
-  }
-};
-
-struct PatternCost {
-  Vec2 pixel, model;
-  double height;
-  template <typename T>
-  bool operator()(const T* intrinsics, const T* pose, const T* planar, T* r) const {
-    const T c = cos(planar[2]), s = sin(planar[2]);
-    const T w[3] = {planar[0] + c * T(model.x()) - s * T(model.y()),
-                    planar[1] + s * T(model.x()) + c * T(model.y()), T(height)};
-    T p[2];
-    if (!Project(intrinsics, pose, w, p)) return false;
-    r[0] = p[0] - T(pixel.x());
-    r[1] = p[1] - T(pixel.y());
-    return true;
-  }
-};
-
-// A measured camera height: (z of the camera centre - h) / sd, the centre being -R^T t.
-struct HeightPrior {
-  double height_mm, sd_mm;
-  template <typename T>
-  bool operator()(const T* pose, T* r) const {
-    const T minus_r[3] = {-pose[0], -pose[1], -pose[2]};  // R^T = R(-r)
-    const T t[3] = {pose[3], pose[4], pose[5]};
-    T rt_t[3];
-    ceres::AngleAxisRotatePoint(minus_r, t, rt_t);
-    r[0] = (-rt_t[2] - T(height_mm)) / T(sd_mm);
-    return true;
-  }
-};
-
 // The focal length's lower bound, kMinFocalWidths image widths (calibrate.h): a camera fitted to
 // one plane can otherwise shrink towards f -> 0 with its distance.
 
@@ -181,15 +89,13 @@ std::vector<int> FixedIndices(const FitOptions& o) {
   return fixed;
 }
 
-template <typename Cost, int kExtra>
-void Add(ceres::Problem& problem, ceres::LossFunction* loss, Cost cost, FitState& s,
+// One pixel's block on the camera's parameters and, where not null, its nuisance unknowns.
+void Add(ceres::Problem& problem, ceres::LossFunction* loss, ceres::CostFunction* cost, FitState& s,
          double* extra) {
-  if constexpr (kExtra == 0) {
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Cost, 2, 6, 6>(new Cost(cost)), loss,
-                             s.intrinsics.data(), s.pose.data());
+  if (extra) {
+    problem.AddResidualBlock(cost, loss, s.intrinsics.data(), s.pose.data(), extra);
   } else {
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Cost, 2, 6, 6, kExtra>(new Cost(cost)),
-                             loss, s.intrinsics.data(), s.pose.data(), extra);
+    problem.AddResidualBlock(cost, loss, s.intrinsics.data(), s.pose.data());
   }
 }
 
@@ -199,37 +105,39 @@ int BuildProblem(const CalibrationInput& in, FitState& s, ceres::LossFunction* l
                  const std::vector<int>& fixed, ceres::Problem& problem) {
   int pixels = 0;
   for (const PointObservation& p : in.points) {
-    Add<PointCost, 0>(problem, loss,
-                      {p.pixel, Eigen::Vector3d(p.world_mm.x(), p.world_mm.y(), p.height_mm)}, s,
-                      nullptr);
+    Add(problem, loss,
+        internal::NewPointCost(p.pixel,
+                               Eigen::Vector3d(p.world_mm.x(), p.world_mm.y(), p.height_mm)),
+        s, nullptr);
     ++pixels;
   }
   for (size_t i = 0; i < in.lines.size(); ++i) {
     const LineObservation& l = in.lines[i];
     for (size_t j = 0; j < l.pixels.size(); ++j, ++pixels)
-      Add<LineCost, 1>(problem, loss, {l.pixels[j], l.from_mm, l.to_mm, l.height_mm}, s,
-                       &s.line_t[i][j]);
+      Add(problem, loss, internal::NewLineCost(l.pixels[j], l.from_mm, l.to_mm, l.height_mm), s,
+          &s.line_t[i][j]);
   }
   for (size_t i = 0; i < in.circles.size(); ++i) {
     const CircleObservation& c = in.circles[i];
     for (size_t j = 0; j < c.pixels.size(); ++j, ++pixels)
-      Add<CircleCost, 1>(problem, loss, {c.pixels[j], c.centre_mm, c.radius_mm, c.height_mm}, s,
-                         &s.circle_phi[i][j]);
+      Add(problem, loss,
+          internal::NewCircleCost(c.pixels[j], c.centre_mm, c.radius_mm, c.height_mm), s,
+          &s.circle_phi[i][j]);
   }
   for (size_t i = 0; i < in.patterns.size(); ++i) {
     const PatternObservation& p = in.patterns[i];
     for (size_t j = 0; j < p.pixels.size(); ++j) {
       if (!p.pixels[j]) continue;
-      Add<PatternCost, 3>(problem, loss,
-                          {*p.pixels[j], p.pattern.patches[j].position_mm, p.height_mm}, s,
-                          s.pattern_pose[i].data());
+      Add(problem, loss,
+          internal::NewPatternCost(*p.pixels[j], p.pattern.patches[j].position_mm, p.height_mm), s,
+          s.pattern_pose[i].data());
       ++pixels;
     }
   }
   if (in.options.camera_height_mm) {
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<HeightPrior, 1, 6>(new HeightPrior{
-                                 *in.options.camera_height_mm, in.options.camera_height_sd_mm}),
-                             nullptr, s.pose.data());
+    problem.AddResidualBlock(
+        internal::NewHeightPrior(*in.options.camera_height_mm, in.options.camera_height_sd_mm),
+        nullptr, s.pose.data());
   }
   if (fixed.size() == 6) {
     problem.SetParameterBlockConstant(s.intrinsics.data());

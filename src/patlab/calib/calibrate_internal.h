@@ -10,6 +10,7 @@
 #include "patlab/calib/calibrate.h"
 
 namespace ceres {
+class CostFunction;
 class IterationCallback;
 class LossFunction;
 }  // namespace ceres
@@ -29,6 +30,25 @@ struct FitState {
 };
 
 camera::PinholeCamera CameraOf(const FitState& s);
+
+// The camera of camera/camera.h as the fit parametrises it (FitState): the pixel of the world
+// point `world` (x, y, z mm) and, where the pointers are not null, its derivatives by the
+// intrinsics (2 x 6), the pose (2 x 6) and the world point (2 x 3), each row-major. False for a
+// point not in front of the camera (calibrate_costs.cpp).
+bool ProjectWithDerivatives(const double* intrinsics, const double* pose, const double* world,
+                            double* pixel, double* d_intrinsics, double* d_pose, double* d_world);
+
+// The fit's residual blocks, projection minus observed pixel, on the parameter blocks
+// (intrinsics, pose) and the observation's nuisance unknowns: none for a known point, t for a
+// line pixel, phi for a circle pixel, the planar pose for a pattern (calibrate_costs.cpp). And a
+// measured camera height's prior on the pose. The caller owns what they return.
+ceres::CostFunction* NewPointCost(const Vec2& pixel, const Eigen::Vector3d& world);
+ceres::CostFunction* NewLineCost(const Vec2& pixel, const Vec2& from, const Vec2& to,
+                                 double height_mm);
+ceres::CostFunction* NewCircleCost(const Vec2& pixel, const Vec2& centre, double radius_mm,
+                                   double height_mm);
+ceres::CostFunction* NewPatternCost(const Vec2& pixel, const Vec2& model, double height_mm);
+ceres::CostFunction* NewHeightPrior(double height_mm, double sd_mm);
 
 // The world point (x, y, height) that an observation's pixel `index` is fitted to.
 Vec2 LineTarget(const LineObservation& l, double t);
