@@ -99,6 +99,10 @@ release_only=(
   # the rendered SSL frame again, with its height given: cli.SetupCli.RenderedFrameToDetections...
   # runs the same commands on it here, TheRobotsACornerAndTheHeightFix... a given height
   'cli.SetupCli.TheGivenCameraHeightIsTheCalibrations'
+  # a twice-larger rendered frame set up binned 2 x 2 and 3 x 3: FrameDetector.BinnedFrames... runs
+  # the binned detection here, BinImage.* and CameraModel.AResized... its pieces, and
+  # cli.SetupCli.RenderedFrameToDetections... the same setup on the frame's own size
+  'cli.SetupCli.FramesOverAThousandPixelsAreBinnedAndDetectedAlike'
   # setup and detect on the real frames at more exposures and through the family of four VSS
   # designs; cli.SetupRealCli.VssFrameWithNoHandWrittenFile and Ssl2008Frame... run here
   'cli.SetupRealCli.ColoursFittedOnOneExposureHoldOnADarkerAndABrighterOne'

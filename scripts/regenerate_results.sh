@@ -59,6 +59,12 @@ done
 # The same frames with each one's field model named (--field MODEL, not the family): ~8 CPU min.
 /usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --named-model --seeds 1-420 \
   --out results/setup-named-model
+# Two of those sets seen by a camera of 2.5 and 2 times the resolution, which setup bins back
+# (docs/setup.md, "Frames larger than 1024 px"): ~6 CPU min.
+/usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --scale 2.5 --seeds 131-150 \
+  --out results/setup-binned/x2.5-seeds-131-150
+/usr/bin/python3 scripts/setup_rendered.py --patlab "$P" --scale 2 --seeds 391-420 \
+  --out results/setup-binned/x2-seeds-391-420
 # Each camera (the two real frames, the 12 random ones) scored with the colour fit's constants
 # chosen on the others (docs/setup.md, "Held out, camera by camera"; needs ../shared/frames and
 # build/python; ~10 CPU min).

@@ -19,9 +19,11 @@ the robots found. The field's half-turn symmetry gives two equally valid world f
 picks one and says so): each frame is scored in the one that matches its truth.
 
 Usage: scripts/setup_rendered.py [--patlab build/patlab] [--seeds 1-12] [--out results/setup]
-                                  [--keep DIR] [--named-model]
+                                  [--keep DIR] [--named-model] [--scale S]
   --named-model: pass the frame's own field model as `--field MODEL` instead of the family, as a
   team that knows the field it plays on would.
+  --scale S: the same scenes seen by a camera of S times the resolution (780 S x 580 S px: the
+  focal lengths and principal point scaled, the view the same), which setup bins back.
 Writes OUT/rendered.csv (one row per frame: the scene drawn, the outcome, setup's held-out
 mapping error and the true one -- where setup's camera and the true camera put the floor that
 every 10th pixel shows inside the field's lines, RMS in mm -- and the camera setup wrote: its
@@ -52,6 +54,7 @@ BASE_COLOURS = {  # settings/ssl-half-field.toml's colours
 MODELS = ["ssl-2008", "ssl-2009", "ssl-2012", "ssl-2014", "ssl-2015", "ssl-2018",
           "ssl-2019-div-b", "ssl-div-a", "ssl-div-b"]
 MATCH_MM = 100.0
+SCALE = 1.0  # --scale: the rendered frames' resolution over WIDTH x HEIGHT
 
 
 def field_size(model):
@@ -130,10 +133,13 @@ def draw_colours(rng):
 def write_scene(folder, model, cam, robots, colours, seed):
     rotvec = cam["rotation"].as_rotvec()
     translation = -cam["rotation"].apply(cam["centre"])
+    # At --scale S the frame's pixel p sees what the drawn camera's (p + 0.5) / S - 0.5 sees.
     with open(os.path.join(folder, "camera.toml"), "w") as f:
-        f.write('model = "pinhole"\nimage_size_px = [%d, %d]\n\n[pinhole]\n' % (WIDTH, HEIGHT))
+        f.write('model = "pinhole"\nimage_size_px = [%d, %d]\n\n[pinhole]\n'
+                % (round(WIDTH * SCALE), round(HEIGHT * SCALE)))
         f.write("fx_px = %.6f\nfy_px = %.6f\ncx_px = %.6f\ncy_px = %.6f\nk1 = %.6f\nk2 = 0.0\n"
-                % (cam["fx"], cam["fy"], cam["cx"], cam["cy"], cam["k1"]))
+                % (SCALE * cam["fx"], SCALE * cam["fy"], SCALE * (cam["cx"] + 0.5) - 0.5,
+                   SCALE * (cam["cy"] + 0.5) - 0.5, cam["k1"]))
         f.write("rotation_rodrigues = [%.9f, %.9f, %.9f]\n" % tuple(rotvec))
         f.write("translation_mm = [%.6f, %.6f, %.6f]\n\n" % tuple(translation))
         f.write("[heights]\ndefault_mm = %.1f\norange = 21.5\n" % ROBOT_TOP_MM)
@@ -195,6 +201,7 @@ def true_mapping_error(scene_dir, cam_dir, model):
     if truth is None or fitted is None:
         return ""
     u, v = np.meshgrid(np.arange(5, WIDTH, 10), np.arange(5, HEIGHT, 10))
+    u, v = SCALE * (u + 0.5) - 0.5, SCALE * (v + 0.5) - 0.5  # the same floor at any --scale
     pixels = np.stack([u.ravel(), v.ravel()], axis=1).astype(float)
     length, width = field_size(model)
     a = floor_points(truth, pixels)
@@ -257,7 +264,7 @@ def render_frame(patlab, seed, work, log):
     os.makedirs(folder)
     write_scene(folder, model, cam, robots, colours, seed)
     row = {"seed": seed, "model": model, "height_mm": round(cam["centre"][2]),
-           "f_px": round(cam["fx"], 1), "k1": round(cam["k1"], 3),
+           "f_px": round(SCALE * cam["fx"], 1), "k1": round(cam["k1"], 3),
            "brightness": round(brightness, 3), "exposure_gain": round(exposure, 3),
            "read_noise_levels": round(noise, 2), "robots": len(robots)}
     rendered, _ = run([patlab, "render", os.path.join(folder, "scene.toml"), "--camera",
@@ -339,7 +346,11 @@ def main():
     parser.add_argument("--keep", help="keep the scenes, frames and logs in this folder")
     parser.add_argument("--named-model", action="store_true",
                         help="pass the frame's field model as --field MODEL, not the family")
+    parser.add_argument("--scale", type=float, default=1.0,
+                        help="render at this many times 780 x 580 px (default 1)")
     args = parser.parse_args()
+    global SCALE
+    SCALE = args.scale
     work = args.keep or tempfile.mkdtemp(prefix="setup_rendered.")
     os.makedirs(work, exist_ok=True)
     log = os.path.join(work, "log.txt")

@@ -237,7 +237,7 @@ def render(scene):
 
 
 def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera_height=None,
-          line_width=4.0, colour_options=None):
+          line_width=4.0, colour_options=None, binning=0):
     """`patlab setup FRAME... --field FIELD --settings S -o OUT` (formats::SetupCamera): a new
     camera from its frames -- paths, or (H, W, 3) uint8 RGB arrays (named frame0, frame1, ...)
     -- written into the folder ``out`` that ``detect(image, setup=out)`` reads. ``field``: a
@@ -246,8 +246,10 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     ``camera_height`` and ``line_width`` as --robot-height (mm), --camera-height (mm; None:
     unknown, the lines or the robots decide) and --line-width (px); ``colour_options``: a dict
     NAME -> number of the colour fit's options (as --colour-option NAME=VALUE; docs/setup.md
-    lists them). Returns the report as a
-    dict: field (the model kept), tried (each model: field, fitted, score_px, screen_px,
+    lists them); ``binning`` as --binning (0: frames over 1024 px binned to that or below).
+    Returns the report as a
+    dict: binning and frame_size_px (the frames binned binning x binning from their size: the
+    pixel figures below are the binned frames'), field (the model kept), tried (each model: field, fitted, score_px, screen_px,
     held_out_mapping_mm: the kept model's only, NaN for the others; same_as, failure;
     screen_view_of, the model whose search found the view screen_px scores, "" its own; best
     first), undecided (the cameras the lines did
@@ -289,7 +291,8 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
                           float(robot_height),
                           None if camera_height is None else float(camera_height),
                           float(line_width),
-                          {str(k): float(v) for k, v in (colour_options or {}).items()})
+                          {str(k): float(v) for k, v in (colour_options or {}).items()},
+                          int(binning))
 
 
 def pixel_to_floor(calibration, pixels, height_mm=None):

@@ -180,7 +180,7 @@ void CheckRequired(DetectOptions* o) {
 // --edge-loss-px as the settings' [frame] edge_loss_px is checked, the message naming the flag.
 void CheckEdgeLoss(double edge_loss_px) {
   const std::vector<OptionsProblem> problems =
-      detect::Check(detect::FrameSettings{edge_loss_px, {}, {}});
+      detect::Check(detect::FrameSettings{edge_loss_px, {}, {}, {}});
   if (!problems.empty()) {
     std::string message = "--edge-loss-px";
     message.append(problems.front().message, problems.front().field.size());

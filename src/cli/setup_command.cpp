@@ -51,11 +51,13 @@ struct SetupCommandOptions {
   double robot_height_mm = 140.0;
   double camera_height_mm = 0.0;
   double line_width_px = 4.0;
+  int binning = 0;
   bool explain = false;
 };
 
 const OptionGroups kSetupGroups = {
-    {"input", {"field", "settings", "robot-height", "camera-height", "line-width", "landmark"}},
+    {"input",
+     {"field", "settings", "robot-height", "camera-height", "line-width", "binning", "landmark"}},
     {"colour fit", {"colour-option"}},
     {"output", {"out"}},
     {"diagnostics", {"explain"}},
@@ -93,6 +95,22 @@ void PrintDetections(const fs::path& dir, const std::vector<camera::Image>& fram
   }
 }
 
+// The library's options from the command's flags.
+formats::SetupOptions OptionsOf(const SetupCommandOptions& o) {
+  formats::SetupOptions options;
+  options.fields = FieldsOf(o.field);
+  options.settings_path = FindData(o.settings, io::DataKind::kSettings);
+  options.robot_height_mm = o.robot_height_mm;
+  if (o.camera_height_mm < 0.0)
+    throw InputError("--camera-height: negative; expected mm above the floor, or 0 for unknown");
+  if (o.camera_height_mm > 0.0) options.camera_height_mm = o.camera_height_mm;
+  options.line_width_px = o.line_width_px;
+  options.binning = o.binning;
+  for (const std::string& l : o.landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
+  for (const std::string& c : o.colour_options) formats::ParseColourOption(c, &options.colours);
+  return options;
+}
+
 int RunSetup(const std::vector<std::string>& args) {
   SetupCommandOptions o;
   po::options_description visible(
@@ -108,7 +126,10 @@ int RunSetup(const std::vector<std::string>& args) {
       "the camera's measured height above the floor (mm; 0 = unknown: the lines, or the robots "
       "where the lines leave it open, decide)")(
       "line-width", po::value(&o.line_width_px)->default_value(4.0),
-      "the field lines' width in the frames (px), in [1, 30]")(
+      "the field lines' width in the frames as setup works on them (binned, px), in [1, 30]")(
+      "binning", po::value(&o.binning)->default_value(0),
+      "bin the frames K x K before setting up, and detect likewise (0 = from their size: frames "
+      "over 1024 px along their longer side are binned to that or below)")(
       "landmark", po::value(&o.landmarks),
       "NAME=X,Y: a landmark of the field at pixel (X, Y) of the first frame; four or more "
       "replace the lines (repeat the flag)")(
@@ -135,16 +156,7 @@ int RunSetup(const std::vector<std::string>& args) {
   if (o.settings.empty())
     throw InputError("missing --settings; expected detector settings naming the patterns");
   if (o.out.empty()) throw InputError("missing --out DIR; expected the folder to write to");
-  formats::SetupOptions options;
-  options.fields = FieldsOf(o.field);
-  options.settings_path = FindData(o.settings, io::DataKind::kSettings);
-  options.robot_height_mm = o.robot_height_mm;
-  if (o.camera_height_mm < 0.0)
-    throw InputError("--camera-height: negative; expected mm above the floor, or 0 for unknown");
-  if (o.camera_height_mm > 0.0) options.camera_height_mm = o.camera_height_mm;
-  options.line_width_px = o.line_width_px;
-  for (const std::string& l : o.landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
-  for (const std::string& c : o.colour_options) formats::ParseColourOption(c, &options.colours);
+  const formats::SetupOptions options = OptionsOf(o);
   const fs::path dir(o.out);
   io::CheckWritable({(dir / "setup.toml").string()});
   const std::vector<std::string> paths = vision::ExpandFrameList(o.frames);

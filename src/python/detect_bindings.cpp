@@ -258,6 +258,8 @@ py::list ColourClassesReport(const std::vector<vision::AutoClassFit>& classes_fi
 
 py::dict SetupReport(const formats::SetupResult& r) {
   py::dict out;
+  out["binning"] = r.binning;
+  out["frame_size_px"] = py::make_tuple(r.frame_size_px[0], r.frame_size_px[1]);
   out["field"] = r.field.name;
   out["from_landmarks"] = r.from_landmarks;
   py::list tried;
@@ -312,7 +314,7 @@ py::dict Setup(const py::list& frames, const std::string& field, const std::stri
                const std::string& settings, const std::string& out,
                const std::vector<std::string>& landmarks, double robot_height_mm,
                std::optional<double> camera_height_mm, double line_width_px,
-               const std::map<std::string, double>& colour_options) {
+               const std::map<std::string, double>& colour_options, int binning) {
   formats::SetupOptions options;
   // A family's every model, or one model (a shipped name or a file), as `patlab setup` reads it.
   const std::vector<std::string> roots = io::DataRoots(binary_dir, std::getenv("PATLAB_DATA"));
@@ -323,6 +325,7 @@ py::dict Setup(const py::list& frames, const std::string& field, const std::stri
   options.robot_height_mm = robot_height_mm;
   options.camera_height_mm = camera_height_mm;
   options.line_width_px = line_width_px;
+  options.binning = binning;
   for (const std::string& l : landmarks) options.landmarks.push_back(formats::ParseLandmark(l));
   for (const auto& [name, value] : colour_options) {
     vision::SetBlobThresholdsOption(name, value, &options.colours);
@@ -409,7 +412,8 @@ void BindDetect(py::module_& m) {
         py::arg("height_mm"));
   m.def("_setup", &Setup, py::arg("frames"), py::arg("field"), py::arg("binary_dir"),
         py::arg("settings"), py::arg("out"), py::arg("landmarks"), py::arg("robot_height_mm"),
-        py::arg("camera_height_mm"), py::arg("line_width_px"), py::arg("colour_options"));
+        py::arg("camera_height_mm"), py::arg("line_width_px"), py::arg("colour_options"),
+        py::arg("binning"));
   py::class_<Detector>(m, "_Detector")
       .def(py::init<const std::string&, const std::string&, const std::string&>(),
            py::arg("thresholds"), py::arg("calibration"), py::arg("settings"))

@@ -1,4 +1,5 @@
 #include "patlab/camera/camera.h"
+#include "patlab/camera/image.h"
 #include "patlab/formats/calibration_file.h"
 
 #include <gtest/gtest.h>
@@ -190,6 +191,77 @@ TEST(Camera, CalibrationErrorsNameFileAndLine) {
                          "matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n[heights]\nball = \"low\"\n",
                          "h.toml"),
                      "h.toml:6: ball in [heights] is a string; expected a number");
+}
+
+// BinImage: each k x k block's mean, rounded, in RGB whatever the frame's format; the rows and
+// columns that fill no block are dropped.
+TEST(BinImage, EachPixelIsItsBlocksMean) {
+  Image image = Image::Rgb(5, 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x)
+      for (int c = 0; c < 3; ++c) image.Row(y)[3 * x + c] = static_cast<uint8_t>(10 * x + y + c);
+  Image binned;
+  BinImage(image, 2, &binned);
+  ASSERT_EQ(binned.width_px, 2);
+  ASSERT_EQ(binned.height_px, 1);
+  // Block (0, 0): x 0..1, y 0..1 -> mean of 0, 10, 1, 11 (+c) = 5.5 -> 6; block (1, 0): 25.5 -> 26.
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(binned.Row(0)[c], 6 + c);
+    EXPECT_EQ(binned.Row(0)[3 + c], 26 + c);
+  }
+  BinImage(image, 1, &binned);
+  EXPECT_EQ(binned.data, image.data);
+  // A UYVY frame is binned as its RGB conversion.
+  Image even = Image::Rgb(4, 2);
+  for (size_t i = 0; i < even.data.size(); ++i) even.data[i] = static_cast<uint8_t>(37 * i % 251);
+  const Image uyvy = ToUyvy(even);
+  Image from_uyvy, from_rgb;
+  BinImage(uyvy, 2, &from_uyvy);
+  BinImage(ToRgb(uyvy), 2, &from_rgb);
+  EXPECT_EQ(from_uyvy.data, from_rgb.data);
+  EXPECT_EQ(from_uyvy.format, PixelFormat::kRgb8);
+}
+
+// A camera resized by s sees at pixel s (p + 0.5) - 0.5 what it saw at p: a pinhole's focal
+// lengths and principal point scale, a homography gains the change; resizing back is the
+// camera itself.
+TEST(CameraModel, AResizedCameraSeesAtThePixelsOfTheResizedFrame) {
+  const CameraModel pinhole = CameraModel::Pinhole(Overhead(-0.1, 0.02));
+  Eigen::Matrix3d h;
+  h << 2.0, 0.1, -400.0, -0.05, -2.0, 300.0, 1e-5, 2e-5, 1.0;
+  const CameraModel homography = CameraModel::Homographies({{0.0, h}});
+  for (const CameraModel* camera : {&pinhole, &homography}) {
+    for (const double s : {0.5, 1.0 / 3.0, 2.0}) {
+      const CameraModel resized = camera->Resized(s);
+      for (const Vec2& p : {Vec2(100.0, 80.0), Vec2(320.0, 240.0), Vec2(511.5, 7.25)}) {
+        const auto want = camera->PixelToWorld(p, 0.0);
+        const auto got = resized.PixelToWorld(s * (p + Vec2(0.5, 0.5)) - Vec2(0.5, 0.5), 0.0);
+        ASSERT_TRUE(want && got);
+        EXPECT_NEAR(got->x(), want->x(), 1e-6);
+        EXPECT_NEAR(got->y(), want->y(), 1e-6);
+      }
+      const auto back = resized.Resized(1.0 / s).PixelToWorld(Vec2(200.0, 150.0), 0.0);
+      EXPECT_NEAR(back->x(), camera->PixelToWorld(Vec2(200.0, 150.0), 0.0)->x(), 1e-6);
+    }
+  }
+  const PinholeCamera binned = pinhole.Resized(0.5).pinhole();
+  EXPECT_DOUBLE_EQ(binned.fx_px, 250.0);
+  EXPECT_DOUBLE_EQ(binned.cx_px, 159.75);  // (320 + 0.5) / 2 - 0.5
+  EXPECT_DOUBLE_EQ(binned.k1, -0.1);
+  // A calibration keeps its heights and residuals and takes the size given.
+  Calibration c;
+  c.camera = pinhole;
+  c.image_width_px = 640;
+  c.image_height_px = 480;
+  c.default_height_mm = 140.0;
+  c.residuals = {{0.0, 1.5, 3.0, true}};
+  const Calibration r = c.Resized(0.5, 320, 240);
+  EXPECT_EQ(r.image_width_px, 320);
+  EXPECT_EQ(r.image_height_px, 240);
+  EXPECT_EQ(r.default_height_mm, 140.0);
+  EXPECT_EQ(r.ResidualRmsMm(0.0), 1.5);
+  c.image_width_px = c.image_height_px = 0;  // any size: stays any size
+  EXPECT_EQ(c.Resized(0.5, 320, 240).image_width_px, 0);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
@@ -38,6 +39,8 @@ double FloorRmsMm(const camera::CameraModel& truth, const camera::CameraModel& f
   return std::sqrt(sum / std::max(1, n));
 }
 
+void WriteText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
 // "team,id" -> (x, y) of a CSV with columns team, id, x_mm, y_mm at the given positions.
 std::map<std::string, Vec2> Robots(const std::string& csv, int team, int id, int x) {
   std::map<std::string, Vec2> out;
@@ -55,15 +58,39 @@ std::map<std::string, Vec2> Robots(const std::string& csv, int team, int id, int
   return out;
 }
 
+// detect --setup on the rendered frame: every robot of its truth, right team and ID, within
+// 20 mm; nothing else.
+void ExpectEveryRobot(const std::string& frame, const std::string& setup,
+                      const std::string& truth_csv) {
+  const auto detect =
+      RunCommand(kPatlab + " detect " + frame + " --setup " + setup + " --format csv");
+  ASSERT_EQ(detect.exit_code, 0) << detect.err;
+  const auto found = Robots(detect.out, 2, 3, 5);
+  const auto expected = Robots(testing::ReadFile(truth_csv), 0, 1, 2);
+  ASSERT_EQ(expected.size(), 10u);
+  EXPECT_EQ(found.size(), expected.size()) << detect.out;
+  for (const auto& [key, at] : expected) {
+    const auto it = found.find(key);
+    ASSERT_NE(it, found.end()) << key << " not found:\n" << detect.out;
+    EXPECT_LT((it->second - at).norm(), 20.0) << key;
+  }
+}
+
+// Renders `scene` into DIR/r and sets its frame up with ssl-2009 and the shipped settings into
+// DIR/cam: setup's run (a failed render is a failed test).
+testing::CommandResult RenderAndSetUp(const testing::TempDir& dir, const std::string& scene) {
+  const auto render = RunCommand(kPatlab + " render " + scene + " -o " + dir.Path("r"));
+  EXPECT_EQ(render.exit_code, 0) << render.err;
+  return RunCommand(kPatlab + " setup " + dir.Path("r") +
+                    "/frame.png --field ssl-2009 --settings ssl-frame.detector -o " +
+                    dir.Path("cam"));
+}
+
 TEST(SetupCli, RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm) {
   testing::TempDir dir;
-  const auto render = RunCommand(kPatlab + " render " + kScene + " -o " + dir.Path("r"));
-  ASSERT_EQ(render.exit_code, 0) << render.err;
-  const std::string frame = dir.Path("r") + "/frame.png";
-  const auto setup =
-      RunCommand(kPatlab + " setup " + frame +
-                 " --field ssl-2009 --settings ssl-frame.detector -o " + dir.Path("cam"));
+  const testing::CommandResult setup = RenderAndSetUp(dir, kScene);
   ASSERT_EQ(setup.exit_code, 0) << setup.err << setup.out;
+  const std::string frame = dir.Path("r") + "/frame.png";
   EXPECT_NE(setup.out.find("field model: ssl-2009"), std::string::npos) << setup.out;
   EXPECT_NE(setup.out.find("mapping error: "), std::string::npos) << setup.out;
   EXPECT_NE(setup.out.find("robots in frame.png: 10"), std::string::npos) << setup.out;
@@ -78,19 +105,72 @@ TEST(SetupCli, RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm) {
   std::printf("setup's calibration: %.2f mm RMS from the true camera over the visible field\n",
               rms);
   EXPECT_LT(rms, 5.0);
-  // detect --setup: every robot, right team and ID, within 20 mm; nothing else.
-  const auto detect =
-      RunCommand(kPatlab + " detect " + frame + " --setup " + dir.Path("cam") + " --format csv");
-  ASSERT_EQ(detect.exit_code, 0) << detect.err;
-  const auto found = Robots(detect.out, 2, 3, 5);
-  const auto expected = Robots(testing::ReadFile(dir.Path("r") + "/truth.csv"), 0, 1, 2);
-  ASSERT_EQ(expected.size(), 10u);
-  EXPECT_EQ(found.size(), expected.size()) << detect.out;
-  for (const auto& [key, at] : expected) {
-    const auto it = found.find(key);
-    ASSERT_NE(it, found.end()) << key << " not found:\n" << detect.out;
-    EXPECT_LT((it->second - at).norm(), 20.0) << key;
-  }
+  ExpectEveryRobot(frame, dir.Path("cam"), dir.Path("r") + "/truth.csv");
+}
+
+// A camera of twice the resolution (1560 x 1160 px, the known camera resized): setup bins its
+// frame 2 x 2 and says so, writes the calibration of the frame's own pixels (within 5 mm of the
+// truth) and settings that bin alike, and detect --setup finds every robot.
+TEST(SetupCli, FramesOverAThousandPixelsAreBinnedAndDetectedAlike) {
+  testing::TempDir dir;
+  const camera::Calibration known = formats::LoadCalibration(
+      std::string(PATLAB_SOURCE_DIR) + "/settings/ssl-half-field.calibration.toml");
+  const camera::Calibration truth = known.Resized(2.0, 1560, 1160);
+  const camera::PinholeCamera& c = truth.camera.pinhole();
+  char calibration[1024];
+  std::snprintf(calibration, sizeof calibration,
+                "model = \"pinhole\"\nimage_size_px = [1560, 1160]\n[pinhole]\nfx_px = %.9g\n"
+                "fy_px = %.9g\ncx_px = %.9g\ncy_px = %.9g\nk1 = %.9g\nk2 = 0\n"
+                "rotation_rodrigues = [3.1, 0.04, -0.03]\n"
+                "translation_mm = [-1435.596971, 418.963873, 3813.598118]\n[heights]\n"
+                "default_mm = 140\norange = 21.5\n",
+                c.fx_px, c.fy_px, c.cx_px, c.cy_px, c.k1);
+  WriteText(dir.Path("camera.toml"), calibration);
+  // The shipped scene with this camera, its paths made absolute, 2 x 2 sub-samples.
+  std::string scene = testing::ReadFile(kScene);
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = scene.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    scene.replace(at, from.size(), to);
+  };
+  replace("\"ssl-half-field.calibration.toml\"", "\"" + dir.Path("camera.toml") + "\"");
+  replace("\"../", "\"" + std::string(PATLAB_SOURCE_DIR) + "/");
+  replace("\"../", "\"" + std::string(PATLAB_SOURCE_DIR) + "/");
+  replace("\"../", "\"" + std::string(PATLAB_SOURCE_DIR) + "/");
+  replace("supersampling = 4", "supersampling = 2");
+  WriteText(dir.Path("scene.toml"), scene);
+  const testing::CommandResult setup = RenderAndSetUp(dir, dir.Path("scene.toml"));
+  ASSERT_EQ(setup.exit_code, 0) << setup.err << setup.out;
+  const std::string frame = dir.Path("r") + "/frame.png";
+  EXPECT_NE(setup.out.find("frames binned 2 x 2: 1560 x 1160 px worked on at 780 x 580"),
+            std::string::npos)
+      << setup.out;
+  EXPECT_NE(setup.out.find("robots in frame.png: 10"), std::string::npos) << setup.out;
+  EXPECT_NE(testing::ReadFile(dir.Path("cam") + "/settings.toml").find("\nbinning = 2 "),
+            std::string::npos);
+  const camera::Calibration fitted =
+      formats::LoadCalibration(dir.Path("cam") + "/calibration.toml");
+  EXPECT_EQ(fitted.image_width_px, 1560);
+  EXPECT_EQ(fitted.image_height_px, 1160);
+  const double rms = FloorRmsMm(truth.camera, fitted.camera, 1560, 1160);
+  std::printf("setup's calibration of the 1560 x 1160 frame: %.2f mm RMS from the truth\n", rms);
+  EXPECT_LT(rms, 5.0);
+  ExpectEveryRobot(frame, dir.Path("cam"), dir.Path("r") + "/truth.csv");
+  // Binned 3 x 3 when asked (520 x 386 px), and a factor out of range refused.
+  const auto by3 = RunCommand(kPatlab + " setup " + frame +
+                              " --field ssl-2009 --settings ssl-frame.detector --binning 3 -o " +
+                              dir.Path("cam3"));
+  EXPECT_NE(by3.out.find("frames binned 3 x 3: 1560 x 1160 px worked on at 520 x 386"),
+            std::string::npos)
+      << by3.out << by3.err;
+  const auto bad = RunCommand(kPatlab + " setup " + frame +
+                              " --field ssl-2009 --settings ssl-frame.detector --binning 9 -o " +
+                              dir.Path("bad"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--binning is 9; expected 0 (chosen from the frames' size) to 8"),
+            std::string::npos)
+      << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("bad")));
 }
 
 // --camera-height: the calibration is fitted with the given height (2.5 m, where the known camera
@@ -137,6 +217,12 @@ TEST(SetupCli, BadInputIsExit2WithNothingWritten) {
        "--camera-height is 100 mm; expected above the robots' height (140 mm)"},
       {frame + " --field ssl-2009 --settings ssl-frame.detector --camera-height high" + out,
        "for option '--camera-height' is invalid"},
+      // Frames of one camera have one size; one too small to find a field in is refused.
+      {frame + " " + PATLAB_SOURCE_DIR + "/results/vision/vss-test-frame.png" +
+           " --field ssl-2009 --settings ssl-frame.detector" + out,
+       "vss-test-frame.png: image is 765x613; expected the first frame's size, 640x480"},
+      {frame + " --field ssl-2009 --settings ssl-frame.detector --binning 8" + out,
+       "ssl-frame.png: image is 640x480, binned 8 x 8 too small to find a field in"},
       // The golden frame shows no field lines.
       {frame + " --field ssl-2009 --settings ssl-frame.detector" + out,
        "give four --landmark NAME=X,Y"},

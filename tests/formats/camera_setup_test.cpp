@@ -72,6 +72,18 @@ TEST(SetupBlobAreas, FollowThePatchRadiiInPixels) {
   EXPECT_EQ(o.max_blob_area_px, 3.0);
 }
 
+// Frames over kSetupWorkingPx along their longer side are binned to it or below.
+TEST(SetupBinning, BringsTheLongerSideToAThousandPixelsOrBelow) {
+  EXPECT_EQ(SetupBinning(780, 580), 1);
+  EXPECT_EQ(SetupBinning(1024, 768), 1);
+  EXPECT_EQ(SetupBinning(1025, 768), 2);
+  EXPECT_EQ(SetupBinning(1280, 1024), 2);
+  EXPECT_EQ(SetupBinning(1080, 1920), 2);
+  EXPECT_EQ(SetupBinning(2448, 2048), 3);
+  EXPECT_EQ(SetupBinning(4096, 3072), 4);
+  EXPECT_EQ(SetupBinning(100000, 10), 8);  // at most detect::kMaxBinning
+}
+
 TEST(SetupLandmarks, ParseNameAndPixel) {
   const SetupLandmark l = ParseLandmark("corner_pos_left=700.5,-3e1");
   EXPECT_EQ(l.name, "corner_pos_left");

@@ -115,7 +115,7 @@ TEST(Settings, BadFilesGiveTheirMessages) {
 TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
   const std::string text = kPaletteLine + "[detector]\nmissing_patch = \"reject\"\n" +
                            "[frame]\nedge_loss_px = 0.5\nmissing_patch = \"fit\"\nlight_luma = "
-                           "76\n" +
+                           "76\nbinning = 3\n" +
                            kPattern;
   const detect::FrameSettings frame = ParseFrameSettings(text, "s.toml");
   ASSERT_TRUE(frame.edge_loss_px.has_value());
@@ -124,12 +124,14 @@ TEST(Settings, FrameTableIsReadAndCheckedButLeavesTheDetectorOptions) {
   EXPECT_EQ(*frame.missing_patch, detect::MissingPatchPolicy::kFit);
   ASSERT_TRUE(frame.light_luma.has_value());
   EXPECT_EQ(*frame.light_luma, 76.0);
+  EXPECT_EQ(frame.binning, 3);
   EXPECT_EQ(ParseDetectorSettings(text, "s.toml", kExperiments).options.missing_patch,
             detect::MissingPatchPolicy::kReject);
   const detect::FrameSettings none = ParseFrameSettings(kPaletteLine + kPattern, "s.toml");
   EXPECT_FALSE(none.edge_loss_px.has_value());
   EXPECT_FALSE(none.missing_patch.has_value());
   EXPECT_FALSE(none.light_luma.has_value());
+  EXPECT_FALSE(none.binning.has_value());
   // The shipped file: simulations keep "reject", camera frames fit (docs/detect.md).
   EXPECT_EQ(LoadFrameSettings(kExperiments + "/detector.toml").missing_patch,
             detect::MissingPatchPolicy::kFit);
@@ -151,8 +153,11 @@ TEST(Settings, BadFrameTablesGiveTheirMessages) {
               "bad.toml:3: missing_patch is \"sometimes\"; expected \"reject\" or \"fit\"");
   frame_error("edge_loss = 1\n",
               "bad.toml:3: unknown key 'edge_loss' in [frame]; expected one of: edge_loss_px, "
-              "missing_patch, light_luma");
+              "missing_patch, light_luma, binning");
   frame_error("light_luma = 0\n", "bad.toml:3: light_luma is 0; expected in (0, 255]");
+  frame_error("binning = 0\n", "bad.toml:3: binning is 0; expected an integer in [1, 8]");
+  frame_error("binning = 9\n", "bad.toml:3: binning is 9; expected an integer in [1, 8]");
+  frame_error("binning = 2.5\n", "bad.toml:3: binning in [frame] is a float; expected an integer");
   frame_error("light_luma = 300\n", "bad.toml:3: light_luma is 300; expected in (0, 255]");
   ExpectSettingsError(kPaletteLine + "frame = 1\n" + kPattern,
                       "bad.toml:2: frame is an integer; expected a table");

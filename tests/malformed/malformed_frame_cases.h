@@ -47,7 +47,10 @@ inline const std::vector<MalformedCase>& FrameSettingsMalformedCases() {
       FrameSettingsCase(
           "SettingsFrameUnknownKey", "edge_loss = 1", "",
           "patlab detect: {dir}s.toml:5: unknown key 'edge_loss' in [frame]; expected "
-          "one of: edge_loss_px, missing_patch, light_luma"),
+          "one of: edge_loss_px, missing_patch, light_luma, binning"),
+      FrameSettingsCase(
+          "SettingsFrameBinningTooLarge", "binning = 12", "",
+          "patlab detect: {dir}s.toml:5: binning is 12; expected an integer in [1, 8]"),
       FrameSettingsCase("DetectEdgeLossFlagTooLarge", "edge_loss_px = 1", " --edge-loss-px 12",
                         "patlab detect: --edge-loss-px is 12; expected a number in [0, 10] (px)"),
   };

@@ -4,6 +4,7 @@ the same files and report as `patlab setup` writes."""
 import csv
 import io
 import math
+import tomllib
 
 import numpy as np
 import pytest
@@ -63,6 +64,50 @@ def test_setup_then_detect_finds_every_robot(scene, tmp_path, in_root):
     assert set(got) == set(want)
     for key, (x, y) in want.items():
         assert np.hypot(got[key][0] - x, got[key][1] - y) < 5.0, key
+
+
+def test_a_frame_over_1024_px_is_set_up_binned_as_the_frame_it_bins_to(scene, root, tmp_path,
+                                                                       in_root):
+    """Each pixel a 2 x 2 block: binned 2 x 2 it is the frame itself, so setup finds the same
+    camera and colours; the files differ by the calibration's pixels and [frame] binning only."""
+    image, truth = scene
+    big = np.repeat(np.repeat(image, 2, axis=0), 2, axis=1)
+    small = patlab.setup(image, field="ssl-2009", settings="ssl-frame.detector",
+                         out=tmp_path / "small")
+    report = patlab.setup(big, field="ssl-2009", settings="ssl-frame.detector",
+                          out=tmp_path / "big")
+    assert (small["binning"], small["frame_size_px"]) == (1, (780, 580))
+    assert (report["binning"], report["frame_size_px"]) == (2, (1560, 1160))
+    assert report["mm_per_px"] == small["mm_per_px"]
+    assert report["mapping_error_mm"] == small["mapping_error_mm"]
+    assert "frames binned 2 x 2: 1560 x 1160 px worked on at 780 x 580" in report["report"]
+    assert (tmp_path / "big" / "thresholds.toml").read_text() == \
+        (tmp_path / "small" / "thresholds.toml").read_text()
+    settings = (tmp_path / "big" / "settings.toml").read_text()
+    assert "\nbinning = 2 " in settings
+    assert "binning" not in (tmp_path / "small" / "settings.toml").read_text()
+    small_camera = tomllib.loads((tmp_path / "small" / "calibration.toml").read_text())
+    big_camera = tomllib.loads((tmp_path / "big" / "calibration.toml").read_text())
+    assert big_camera["image_size_px"] == [1560, 1160]
+    assert big_camera["pinhole"]["fx_px"] == pytest.approx(2 * small_camera["pinhole"]["fx_px"])
+    assert big_camera["pinhole"]["cx_px"] == pytest.approx(
+        2 * (small_camera["pinhole"]["cx_px"] + 0.5) - 0.5)
+    found = patlab.detect(big, setup=tmp_path / "big")
+    columns = patlab._results._columns_from_csv(found.csv)
+    got = {(t, int(i)) for t, i in zip(columns["team"], columns["id"])}
+    assert got == {(r["team"], int(r["id"])) for r in truth}
+    # Setup decides the binning: a [frame] binning in the settings given is not written, nor
+    # does it bin the frames setup decodes robots in.
+    given = (root / "settings" / "ssl-frame.detector.toml").read_text().replace(
+        '"../patterns/', '"%s/patterns/' % root) + "\n[frame]\nbinning = 3\n"
+    (tmp_path / "given.toml").write_text(given)
+    mine = patlab.setup(image, field="ssl-2009", settings=str(tmp_path / "given.toml"),
+                        out=tmp_path / "given")
+    assert len(mine["robots"][0]["robots"]) == 10
+    assert "binning" not in (tmp_path / "given" / "settings.toml").read_text()
+    with pytest.raises(ValueError, match="--binning is 9; expected 0"):
+        patlab.setup(image, field="ssl-2009", settings="ssl-frame.detector",
+                     out=tmp_path / "bad", binning=9)
 
 
 def test_the_family_and_the_clis_report(cli, root, tmp_path, in_root):

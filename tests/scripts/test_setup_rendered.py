@@ -53,3 +53,30 @@ def test_a_pixel_above_the_horizon_does_not_reach_the_floor():
     points = setup_rendered.floor_points(camera, np.array([[390.0, 100.0], [390.0, 500.0]]))
     assert np.isnan(points[0]).all()
     assert not np.isnan(points[1]).any()
+
+
+def test_a_scaled_scene_sees_the_same_floor_at_its_own_pixels(tmp_path, monkeypatch):
+    """--scale: the camera of S times the resolution (focal lengths and principal point scaled
+    about the pixel corners), and the true mapping error measured on the same floor points."""
+    cam = {"rotation": Rotation.from_euler("xyz", [178.0, 3.0, 40.0], degrees=True),
+           "centre": np.array([700.0, -1500.0, 3500.0]), "fx": 560.0, "fy": 560.0,
+           "cx": 388.0, "cy": 291.0, "k1": -0.06}
+    errors = []
+    for scale in (1.0, 2.5):
+        monkeypatch.setattr(setup_rendered, "SCALE", scale)
+        scene, fitted = tmp_path / ("scene%g" % scale), tmp_path / ("fitted%g" % scale)
+        scene.mkdir()
+        fitted.mkdir()
+        setup_rendered.write_scene(str(scene), "ssl-2015", cam, [], {}, 1)
+        truth = setup_rendered.read_pinhole(str(scene / "camera.toml"))
+        text = (scene / "camera.toml").read_text()
+        if scale != 1.0:
+            assert "image_size_px = [1950, 1450]" in text
+            assert truth["fx_px"] == 2.5 * 560.0
+            assert truth["cx_px"] == 2.5 * (388.0 + 0.5) - 0.5
+        # The fitted camera: the truth 20 mm along x.
+        shifted = dict(cam, centre=cam["centre"] + np.array([20.0, 0.0, 0.0]))
+        setup_rendered.write_scene(str(fitted), "ssl-2015", shifted, [], {}, 1)
+        (fitted / "camera.toml").rename(fitted / "calibration.toml")
+        errors.append(setup_rendered.true_mapping_error(str(scene), str(fitted), "ssl-2015"))
+    assert errors[0] == errors[1] == 20.0

@@ -200,6 +200,39 @@ TEST(FrameDetector, FrameSettingsReachTheDetector) {
                      "light_luma is -1; expected in (0, 255]");
 }
 
+// [frame] binning: a frame twice the size, each pixel a 2 x 2 block, with its camera resized to
+// match, is binned back to the frame itself and detected exactly alike; frames must have the
+// calibration's own size, not the binned one.
+TEST(FrameDetector, BinnedFramesAreDetectedAsTheFramesTheyBinTo) {
+  const detect::DetectorConfig config = formats::LoadDetectorSettings(kSettings);
+  const std::vector<Robot> robots = {{Pose2{-150, 50, 0.5}, 3}, {Pose2{180, -40, -2.0}, 12}};
+  const camera::Image image = RenderRobots(config, robots, TwoMmPerPixel());
+  camera::Image doubled = camera::Image::Rgb(2 * image.width_px, 2 * image.height_px);
+  for (int y = 0; y < doubled.height_px; ++y)
+    for (int x = 0; x < doubled.width_px; ++x)
+      for (int c = 0; c < 3; ++c) doubled.Row(y)[3 * x + c] = image.Row(y / 2)[3 * (x / 2) + c];
+  FrameDetectorOptions options;
+  ApplyFrameSettings(formats::ParseFrameSettings("[frame]\nbinning = 2\n", "s.toml"), &options);
+  EXPECT_EQ(options.binning, 2);
+  FrameDetector binned(Classes(), TwoMmPerPixel().Resized(2.0, 800, 600), config, options);
+  FrameDetector plain(Classes(), TwoMmPerPixel(), config, FrameDetectorOptions{});
+  const std::vector<detect::Detection> expected = plain.Detect(image, "robots").detections;
+  const FrameResult& r = binned.Detect(doubled, "doubled");
+  ASSERT_EQ(expected.size(), 2u);
+  ASSERT_EQ(r.detections.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(r.detections[i].id, expected[i].id);
+    EXPECT_NEAR(r.detections[i].pose.x_mm, expected[i].pose.x_mm, 1e-9);
+    EXPECT_NEAR(r.detections[i].pose.y_mm, expected[i].pose.y_mm, 1e-9);
+    EXPECT_NEAR(r.detections[i].pose.theta_rad, expected[i].pose.theta_rad, 1e-9);
+  }
+  EXPECT_INPUT_ERROR(binned.Detect(image, "small"),
+                     "small: image is 400x300; expected 800x600 as in c.toml");
+  options.binning = 9;
+  EXPECT_INPUT_ERROR(FrameDetector(Classes(), TwoMmPerPixel(), config, options),
+                     "binning is 9; expected an integer in [1, 8]");
+}
+
 // A frame's light is its median luma, in either pixel format: the carpet's where it covers most of
 // the view, whatever the few bright or dark pixels do.
 TEST(FrameDetector, FrameLightIsTheMedianLuma) {

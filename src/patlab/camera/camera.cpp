@@ -119,6 +119,33 @@ double CameraModel::AreaScale(const Vec2& pixel, double height_mm) const {
   return std::abs(du.x() * dv.y() - du.y() * dv.x());
 }
 
+CameraModel CameraModel::Resized(double scale) const {
+  PATLAB_CHECK(scale > 0.0);
+  if (is_pinhole_) {
+    PinholeCamera c = pinhole_;
+    c.fx_px *= scale;
+    c.fy_px *= scale;
+    c.cx_px = scale * (c.cx_px + 0.5) - 0.5;
+    c.cy_px = scale * (c.cy_px + 0.5) - 0.5;
+    return Pinhole(c);
+  }
+  // The old pixel of a new one: p = (p' + 0.5) / scale - 0.5.
+  Eigen::Matrix3d to_old = Eigen::Matrix3d::Identity();
+  to_old(0, 0) = to_old(1, 1) = 1.0 / scale;
+  to_old(0, 2) = to_old(1, 2) = 0.5 / scale - 0.5;
+  std::vector<PlaneHomography> resized = homographies_;
+  for (PlaneHomography& h : resized) h.pixel_to_world = h.pixel_to_world * to_old;
+  return Homographies(std::move(resized));
+}
+
+Calibration Calibration::Resized(double scale, int width_px, int height_px) const {
+  Calibration c = *this;
+  c.camera = camera.Resized(scale);
+  c.image_width_px = image_width_px == 0 ? 0 : width_px;
+  c.image_height_px = image_height_px == 0 ? 0 : height_px;
+  return c;
+}
+
 double Calibration::ResidualRmsMm(double height_mm) const {
   const PlaneResidual* best = nullptr;
   for (const PlaneResidual& r : residuals) {

@@ -68,6 +68,13 @@ class CameraModel {
   // (central differences, 0.5 px step). 0 when it cannot be evaluated.
   double AreaScale(const Vec2& pixel, double height_mm) const;
 
+  // The same camera for its frames resized by `scale` (> 0) with corners kept: the resized
+  // frame's pixel p sees what this one's (p + 0.5) / scale - 0.5 sees (image.h's pixel centres).
+  // A pinhole's focal lengths and principal point scale, its distortion (on normalised
+  // coordinates) stays; a homography gains the pixel change. Resized(1 / k) is the camera of
+  // frames binned k x k (image.h's BinImage), Resized(k) takes such a camera back.
+  CameraModel Resized(double scale) const;
+
  private:
   const PlaneHomography* FindHomography(double height_mm) const;
   bool is_pinhole_ = true;
@@ -101,6 +108,10 @@ struct Calibration {
   // The recorded RMS residual (mm) on the plane at `height_mm`: the row of that height (within
   // 0.5 mm), else the row of the nearest height; 0 when the file records none (old files).
   double ResidualRmsMm(double height_mm) const;
+
+  // The calibration of the frames resized by `scale` (CameraModel::Resized), whose size is
+  // width_px x height_px (0 x 0 when this one names none); heights and residuals (mm) stay.
+  Calibration Resized(double scale, int width_px, int height_px) const;
 
   double HeightOf(const std::string& class_name) const {
     auto it = class_height_mm.find(class_name);

@@ -1,5 +1,8 @@
 #include "patlab/camera/image.h"
 
+#include <algorithm>
+#include <vector>
+
 #include "patlab/core/error.h"
 
 namespace patlab::camera {
@@ -65,6 +68,34 @@ Image ToUyvy(const Image& image) {
     }
   }
   return yuv;
+}
+
+void BinImage(const ImageView& view, int factor, Image* out) {
+  PATLAB_CHECK(factor >= 1);
+  Image rgb;
+  const bool packed_rgb = view.format == PixelFormat::kRgb8 && view.PackedPixels();
+  if (!packed_rgb) ToRgb(view, &rgb);
+  const ImageView in = packed_rgb ? view : ImageView(rgb);
+  out->width_px = in.width_px / factor;
+  out->height_px = in.height_px / factor;
+  out->format = PixelFormat::kRgb8;
+  out->data.assign(static_cast<std::size_t>(out->width_px) * out->height_px * 3, 0);
+  const int area = factor * factor;
+  std::vector<int> sums(static_cast<std::size_t>(out->width_px) * 3);
+  for (int y = 0; y < out->height_px; ++y) {
+    std::fill(sums.begin(), sums.end(), 0);
+    for (int dy = 0; dy < factor; ++dy) {
+      const uint8_t* row = in.Row(factor * y + dy);
+      for (int x = 0; x < out->width_px * factor; ++x) {
+        for (int c = 0; c < 3; ++c)
+          sums[static_cast<std::size_t>(3 * (x / factor) + c)] += row[3 * x + c];
+      }
+    }
+    uint8_t* row = out->Row(y);
+    for (std::size_t i = 0; i < sums.size(); ++i) {
+      row[i] = static_cast<uint8_t>((sums[i] + area / 2) / area);
+    }
+  }
 }
 
 }  // namespace patlab::camera

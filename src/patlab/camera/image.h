@@ -98,4 +98,12 @@ void ToRgb(const ImageView& view, Image* out);
 // Converts an RGB frame to UYVY (U and V averaged over each pixel pair); width must be even.
 Image ToUyvy(const Image& image);
 
+// The frame binned `factor` x `factor` (>= 1): pixel (i, j) of the packed RGB result is the mean,
+// rounded, of the block of pixels [factor i, factor i + factor) x [factor j, factor j + factor)
+// (UYVY converted to RGB first); the result is floor(width / factor) x floor(height / factor)
+// and the frame's last rows and columns that fill no block are dropped. Its pixel (i, j) covers
+// what the frame's (factor (i + 0.5) - 0.5, factor (j + 0.5) - 0.5) is the centre of: the
+// calibration of camera.h's CameraModel::Resized(1 / factor). `out`'s buffer is reused.
+void BinImage(const ImageView& view, int factor, Image* out);
+
 }  // namespace patlab::camera

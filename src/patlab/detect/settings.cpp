@@ -23,6 +23,7 @@ std::vector<OptionsProblem> Check(const FrameSettings& settings) {
     check.Require("light_luma", *settings.light_luma,
                   *settings.light_luma > 0.0 && *settings.light_luma <= 255.0, "in (0, 255]");
   }
+  if (settings.binning) check.IntegerInRange("binning", *settings.binning, 1, kMaxBinning);
   return check.Take();
 }
 

@@ -38,11 +38,15 @@ struct FrameSettings {
   // median luma, 0..255; vision::FrameDetectorOptions::light_luma): each frame's colours are
   // scaled by it over the frame's own light before they are classified. In (0, 255].
   std::optional<double> light_luma;
+  // The frames binned k x k before they are segmented (vision::FrameDetectorOptions::binning),
+  // which patlab setup writes for frames larger than it works at. In [1, kMaxBinning].
+  std::optional<int> binning;
 };
 inline constexpr double kMaxEdgeLossPx = 10.0;
+inline constexpr int kMaxBinning = 8;
 
 // Every broken constraint (core/options.h): edge_loss_px, when set, finite and in
-// [0, kMaxEdgeLossPx]; light_luma, when set, in (0, 255].
+// [0, kMaxEdgeLossPx]; light_luma, when set, in (0, 255]; binning, when set, in [1, kMaxBinning].
 std::vector<OptionsProblem> Check(const FrameSettings& settings);
 
 }  // namespace patlab::detect

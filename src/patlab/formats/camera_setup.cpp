@@ -52,6 +52,28 @@ void CheckSetupInput(const std::vector<const camera::Image*>& frames,
     throw InputError("--landmark given " + std::to_string(o.landmarks.size()) +
                      " times; expected at least 4 landmarks (or none: the lines decide)");
   }
+  if (o.binning < 0 || o.binning > detect::kMaxBinning) {
+    throw InputError("--binning is " + std::to_string(o.binning) + "; expected 0 (chosen from " +
+                     "the frames' size) to " + std::to_string(detect::kMaxBinning));
+  }
+  for (size_t i = 1; i < frames.size(); ++i) {
+    const camera::Image* frame = frames[i];
+    if (frame->width_px != frames.front()->width_px ||
+        frame->height_px != frames.front()->height_px) {
+      throw InputError(names[i] + ": image is " + std::to_string(frame->width_px) + "x" +
+                       std::to_string(frame->height_px) + "; expected the first frame's size, " +
+                       std::to_string(frames.front()->width_px) + "x" +
+                       std::to_string(frames.front()->height_px) + " (frames of one camera)");
+    }
+  }
+  const int binning =
+      o.binning > 0 ? o.binning : SetupBinning(frames.front()->width_px, frames.front()->height_px);
+  if (frames.front()->width_px / binning < 64 || frames.front()->height_px / binning < 64) {
+    throw InputError(names.front() + ": image is " + std::to_string(frames.front()->width_px) +
+                     "x" + std::to_string(frames.front()->height_px) + ", binned " +
+                     std::to_string(binning) + " x " + std::to_string(binning) +
+                     " too small to find a field in; expected at least 64 x 64 px after binning");
+  }
   Validate(o.thresholds);
   Validate(o.colours);
 }
@@ -137,7 +159,8 @@ std::string SettingsText(const std::string& path, const detect::DetectorOptions&
   static const std::regex kPath(R"(^(\s*(pattern|codebook|patterns_dir)\s*=\s*")([^"]+)(".*)$)");
   static const std::regex kTable(R"(^\s*\[.*)");
   static const std::regex kFrame(R"(^\s*\[\s*frame\s*\].*)");
-  static const std::regex kLight(R"(^\s*light_luma\s*=.*)");
+  // setup writes the light and the binning of the frames it worked on: the given file's go.
+  static const std::regex kLight(R"(^\s*(light_luma|binning)\s*=.*)");
   const std::string light_line = "light_luma = " + FormatRoundTrip(light_luma) +
                                  "  # the frames' light the thresholds are fitted at\n";
   std::istringstream in(text);
@@ -322,28 +345,87 @@ SetupResult SetupFromLines(const std::vector<const camera::Image*>& frames,
   return r;
 }
 
+// The settings text with [frame] binning = k after its [frame] line (SettingsText writes one).
+std::string WithBinning(const std::string& settings_text, int k) {
+  static const std::regex kFrame(R"((^|\n)\s*\[\s*frame\s*\][^\n]*\n)");
+  std::smatch m;
+  PATLAB_CHECK(std::regex_search(settings_text, m, kFrame));
+  const auto at = static_cast<size_t>(m.position(0) + m.length(0));
+  return settings_text.substr(0, at) + "binning = " + std::to_string(k) +
+         "  # the frames binned k x k, as setup worked on them\n" + settings_text.substr(at);
+}
+
+// The files of a setup that worked on frames binned k x k from width x height px, for the
+// frames themselves: the calibration resized back to them (camera::CameraModel::Resized), the
+// settings binning them as setup did.
+void WriteForFrameSize(int width_px, int height_px, int k, SetupResult& r) {
+  calib::CalibrationInput input = r.calibration_input;
+  input.image_width_px = width_px;
+  input.image_height_px = height_px;
+  calib::CalibrationFit fit = r.calibration_fit;
+  fit.camera = camera::CameraModel::Pinhole(fit.camera).Resized(k).pinhole();
+  fit.rms_px *= k;
+  fit.worst_px *= k;
+  for (calib::PlaneResiduals& plane : fit.planes) {
+    plane.rms_px *= k;
+    plane.worst_px *= k;
+  }
+  for (auto& [name, text] : r.files) {
+    if (name == "calibration.toml") text = calib::CalibrationFileText(input, fit);
+    if (name == "settings.toml") text = WithBinning(text, k);
+  }
+}
+
 }  // namespace
+
+int SetupBinning(int width_px, int height_px) {
+  const int longer = std::max(width_px, height_px);
+  return std::clamp((longer + kSetupWorkingPx - 1) / kSetupWorkingPx, 1, detect::kMaxBinning);
+}
 
 SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
                         const std::vector<std::string>& names, const SetupOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   CheckSetupInput(frames, names, options);
   const detect::DetectorConfig config = formats::LoadDetectorSettings(options.settings_path);
-  SetupResult r;
-  if (options.landmarks.empty()) {
-    r = SetupFromLines(frames, names, config, options);
-  } else {
-    CalibrateFromLandmarks(*frames.front(), names.front(), options, &r);
-    internal::FinishSetup(frames, names, config, options, r);
-    internal::ChooseHeight(frames, names, config, options, r);
+  const int width = frames.front()->width_px, height = frames.front()->height_px;
+  SetupOptions o = options;
+  o.binning = options.binning > 0 ? options.binning : SetupBinning(width, height);
+  std::vector<camera::Image> binned(o.binning > 1 ? frames.size() : 0);
+  std::vector<const camera::Image*> working = frames;
+  for (size_t i = 0; i < binned.size(); ++i) {
+    camera::BinImage(*frames[i], o.binning, &binned[i]);
+    working[i] = &binned[i];
   }
+  for (SetupLandmark& l : o.landmarks)
+    l.pixel = (l.pixel + Vec2(0.5, 0.5)) / o.binning - Vec2(0.5, 0.5);
+  SetupResult r;
+  if (o.landmarks.empty()) {
+    r = SetupFromLines(working, names, config, o);
+  } else {
+    CalibrateFromLandmarks(*working.front(), names.front(), o, &r);
+    internal::FinishSetup(working, names, config, o, r);
+    internal::ChooseHeight(working, names, config, o, r);
+  }
+  r.binning = o.binning;
+  r.frame_size_px = {width, height};
+  if (o.binning > 1) WriteForFrameSize(width, height, o.binning, r);
   r.normalised_frames.reset();  // the frames are the caller's: no longer ours to point at
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
 
 std::string SetupReportText(const SetupResult& r) {
-  std::string s = "field model: " + r.field.name;
+  std::string s;
+  if (r.binning > 1) {
+    s += "frames binned " + std::to_string(r.binning) + " x " + std::to_string(r.binning) + ": " +
+         std::to_string(r.frame_size_px[0]) + " x " + std::to_string(r.frame_size_px[1]) +
+         " px worked on at " + std::to_string(r.frame_size_px[0] / r.binning) + " x " +
+         std::to_string(r.frame_size_px[1] / r.binning) +
+         " (pixel figures below are the binned frames'; calibration.toml maps the frames' own "
+         "pixels, settings.toml's [frame] binning bins them for detect)\n";
+  }
+  s += "field model: " + r.field.name;
   if (r.few_lines.used) {
     s += internal::FewLinesText(r.few_lines);
   } else if (r.from_landmarks) {

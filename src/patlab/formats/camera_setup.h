@@ -70,7 +70,19 @@ struct SetupOptions {
   // The colour fit (vision/thresholds_blobs.h); its blob area range is set from the calibration
   // and the patterns' patch sizes (SetupBlobAreas).
   vision::BlobThresholdsOptions colours;
+  // The frames binned k x k (camera::BinImage) before setup works on them; 0: chosen from their
+  // size (SetupBinning). In [0, detect::kMaxBinning]. line_width_px is in the binned frames'
+  // pixels, landmarks in the frames' own.
+  int binning = 0;
 };
+
+// Setup works on frames of at most about this many pixels along their longer side: the line
+// finder, the colour fit's segmentation and the tolerances were developed on frames of 580-780
+// px (the SSL cameras of 2008-2015, the VSS webcams), and its CPU time grows with the pixels.
+inline constexpr int kSetupWorkingPx = 1024;
+// The binning SetupOptions::binning = 0 chooses for frames of this size: the least k that
+// brings the longer side to kSetupWorkingPx or below (1 for frames that small already).
+int SetupBinning(int width_px, int height_px);
 
 // One field model tried: its search's score (the screen), its fitted camera's score (px of line
 // explained), or why it failed or was not fitted (calib::AutoCalibrateFamily).
@@ -155,6 +167,12 @@ struct SetupFewLines {
 };
 
 struct SetupResult {
+  // The frames were binned binning x binning (SetupOptions::binning) from frame_size_px: every
+  // pixel figure of this result (the calibration fit, mm_per_px, patch sizes, the colour fit's
+  // counts) is the binned frames'. The files written are the frames' own: calibration.toml maps
+  // their pixels, settings.toml's [frame] binning makes detect bin them alike.
+  int binning = 1;
+  std::array<int, 2> frame_size_px{};
   calib::Field field;                // the model kept
   std::vector<SetupFieldTry> tried;  // every model tried, best first
   // The cameras the lines did not decide between, the kept one first (empty when the lines

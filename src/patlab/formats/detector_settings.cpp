@@ -131,9 +131,17 @@ detect::FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlR
     reader.Fail("frame", "frame is " + io::TypeName(*frame_node) + "; expected a table");
   }
   io::TomlReader fr(*frame_node->as_table(), file, "[frame]");
-  fr.CheckKeys({"edge_loss_px", "missing_patch", "light_luma"});
+  fr.CheckKeys({"edge_loss_px", "missing_patch", "light_luma", "binning"});
   f.edge_loss_px = fr.OptionalNumber("edge_loss_px");
   f.light_luma = fr.OptionalNumber("light_luma");
+  if (const std::optional<int64_t> binning = fr.OptionalInteger("binning")) {
+    if (*binning < 1 || *binning > detect::kMaxBinning) {
+      fr.Fail("binning", "binning is " + std::to_string(*binning) +
+                             "; expected an integer in [1, " + std::to_string(detect::kMaxBinning) +
+                             "]");
+    }
+    f.binning = static_cast<int>(*binning);
+  }
   f.missing_patch = OptionalMissingPatch(fr);
   const std::vector<OptionsProblem> problems = detect::Check(f);
   if (!problems.empty()) fr.Fail(problems.front().field, problems.front().message);

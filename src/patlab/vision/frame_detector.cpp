@@ -28,7 +28,8 @@ std::vector<OptionsProblem> Check(const FrameDetectorOptions& o) {
   for (OptionsProblem& problem : detect::Check(detect::FrameSettings{
            o.edge_loss_px,
            {},
-           o.light_luma != 0.0 ? std::optional<double>(o.light_luma) : std::nullopt})) {
+           o.light_luma != 0.0 ? std::optional<double>(o.light_luma) : std::nullopt,
+           o.binning})) {
     problems.push_back(std::move(problem));
   }
   return problems;
@@ -40,6 +41,7 @@ void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOpti
   if (settings.edge_loss_px) options->edge_loss_px = *settings.edge_loss_px;
   if (settings.missing_patch) options->missing_patch = settings.missing_patch;
   if (settings.light_luma) options->light_luma = *settings.light_luma;
+  if (settings.binning) options->binning = *settings.binning;
 }
 
 double FrameLight(const camera::ImageView& image) {
@@ -182,7 +184,14 @@ FrameDetector::FrameDetector(Thresholds thresholds, camera::Calibration calibrat
                              std::optional<detect::DetectorConfig> detector,
                              FrameDetectorOptions options)
     : options_((Validate(options), std::move(options))),
-      pipeline_(std::move(thresholds), std::move(calibration), options_.segmenter) {
+      frame_calibration_(std::move(calibration)),
+      pipeline_(std::move(thresholds),
+                options_.binning == 1 ? frame_calibration_
+                                      : frame_calibration_.Resized(
+                                            1.0 / options_.binning,
+                                            frame_calibration_.image_width_px / options_.binning,
+                                            frame_calibration_.image_height_px / options_.binning),
+                options_.segmenter) {
   result_.profile = TimeProfile(options_.collect_timing);
   result_.detect_profile = TimeProfile(options_.collect_timing);
   if (!detector) return;
@@ -230,7 +239,7 @@ const FrameResult& FrameDetector::DetectFile(const std::string& path) {
   // is decoded or allocated.
   if (const std::optional<FrameHeaderSize> size =
           ReadFrameHeaderSize(path, options_.raw_width_px, options_.raw_height_px)) {
-    pipeline_.CheckFrameSize(size->width_px, size->height_px, path);
+    CheckFrameSize(frame_calibration_, size->width_px, size->height_px, path);
   }
   const camera::Image image = ReadFrameFile(path, options_.raw_width_px, options_.raw_height_px);
   profile.Stamp(kFrameStageNames[0]);
@@ -246,12 +255,17 @@ const FrameResult& FrameDetector::Detect(const camera::ImageView& image, const s
 
 void FrameDetector::Process(const camera::ImageView& image, const std::string& name) {
   result_.frame = name;
-  pipeline_.CheckFrameSize(image, name);
-  camera::ImageView classified = image;
+  CheckFrameSize(frame_calibration_, image.width_px, image.height_px, name);
+  camera::ImageView frame = image;
+  if (options_.binning > 1) {
+    camera::BinImage(image, options_.binning, &binned_);
+    frame = binned_;
+  }
+  camera::ImageView classified = frame;
   if (options_.light_luma > 0.0) {
-    const double gain = options_.light_luma / FrameLight(image);
+    const double gain = options_.light_luma / FrameLight(frame);
     if (std::abs(gain - 1.0) > kLightTolerance) {
-      ScaleToLight(image, gain, &lit_);
+      ScaleToLight(frame, gain, &lit_);
       classified = lit_;
     }
   }

@@ -70,6 +70,14 @@ struct FrameDetectorOptions {
   // only over a narrow range (docs/setup.md, "Lighting"). A settings file's [frame] light_luma,
   // which patlab setup writes. In [0, 255].
   double light_luma = 0.0;
+  // Each frame binned `binning` x `binning` (camera::BinImage: the mean of each block) before
+  // anything else, and segmented with the calibration resized to match (Calibration::Resized):
+  // frames must still have the calibration's size. patlab setup works on frames larger than
+  // about a thousand pixels binned so, and writes the factor as the settings' [frame] binning,
+  // so that the colour boxes it fits (on binned pixels, whose noise the averaging lowers) and
+  // the detector see frames alike. Positions come out in mm as ever; pixel positions (regions,
+  // debug images) are the binned frame's. In [1, detect::kMaxBinning].
+  int binning = 1;
 };
 
 // A frame's light: the median luma (BT.601 Y, 0..255) of every 4th pixel of every 4th row. The
@@ -200,9 +208,11 @@ class FrameDetector {
   MissingPatchLook LookAt(const detect::Detection& d) const;
 
   FrameDetectorOptions options_;
+  camera::Calibration frame_calibration_;  // the frames' own; the pipeline's is binned
   VisionPipeline pipeline_;
   std::optional<detect::Detector> detector_;
-  camera::Image lit_;  // the frame scaled to the thresholds' light (options_.light_luma)
+  camera::Image binned_;  // the frame binned (options_.binning)
+  camera::Image lit_;     // the frame scaled to the thresholds' light (options_.light_luma)
   std::vector<int> palette_label_;  // class index -> detector palette label, or -1
   // [pattern][patch]: bit L set when the patch may have palette colour L (MissingPatchLook::own).
   std::vector<std::vector<uint64_t>> patch_colours_;

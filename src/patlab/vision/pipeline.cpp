@@ -45,12 +45,17 @@ void VisionPipeline::CheckFrameSize(const camera::ImageView& image,
 
 void VisionPipeline::CheckFrameSize(int width_px, int height_px,
                                     const std::string& frame_name) const {
-  if (calibration_.image_width_px == 0) return;
-  if (width_px != calibration_.image_width_px || height_px != calibration_.image_height_px) {
-    throw InputError(
-        frame_name + ": image is " + std::to_string(width_px) + "x" + std::to_string(height_px) +
-        "; expected " + std::to_string(calibration_.image_width_px) + "x" +
-        std::to_string(calibration_.image_height_px) + " as in " + calibration_.source);
+  vision::CheckFrameSize(calibration_, width_px, height_px, frame_name);
+}
+
+void CheckFrameSize(const camera::Calibration& calibration, int width_px, int height_px,
+                    const std::string& frame_name) {
+  if (calibration.image_width_px == 0) return;
+  if (width_px != calibration.image_width_px || height_px != calibration.image_height_px) {
+    throw InputError(frame_name + ": image is " + std::to_string(width_px) + "x" +
+                     std::to_string(height_px) + "; expected " +
+                     std::to_string(calibration.image_width_px) + "x" +
+                     std::to_string(calibration.image_height_px) + " as in " + calibration.source);
   }
 }
 

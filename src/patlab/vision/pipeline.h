@@ -41,6 +41,11 @@ struct VisionStats {
   VisionStats& operator+=(const VisionStats& o);
 };
 
+// InputError "frame: image is WxH; expected WxH as in <calibration's source>" when the
+// calibration names an image size and the frame's differs.
+void CheckFrameSize(const camera::Calibration& calibration, int width_px, int height_px,
+                    const std::string& frame_name);
+
 class VisionPipeline {
  public:
   // Throws InputError when the calibration cannot map some class's plane height (a homography
