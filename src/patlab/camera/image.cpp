@@ -86,9 +86,10 @@ void BinImage(const ImageView& view, int factor, Image* out) {
     std::fill(sums.begin(), sums.end(), 0);
     for (int dy = 0; dy < factor; ++dy) {
       const uint8_t* row = in.Row(factor * y + dy);
-      for (int x = 0; x < out->width_px * factor; ++x) {
-        for (int c = 0; c < 3; ++c)
-          sums[static_cast<std::size_t>(3 * (x / factor) + c)] += row[3 * x + c];
+      for (std::size_t i = 0; i < sums.size(); i += 3, row += 3 * factor) {
+        for (int dx = 0; dx < 3 * factor; dx += 3) {
+          for (std::size_t c = 0; c < 3; ++c) sums[i + c] += row[dx + c];
+        }
       }
     }
     uint8_t* row = out->Row(y);

@@ -4,6 +4,7 @@
 // formats/detector_settings.h.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,7 +41,7 @@ struct FrameSettings {
   std::optional<double> light_luma;
   // The frames binned k x k before they are segmented (vision::FrameDetectorOptions::binning),
   // which patlab setup writes for frames larger than it works at. In [1, kMaxBinning].
-  std::optional<int> binning;
+  std::optional<int64_t> binning;  // as read; ApplyFrameSettings takes it once checked
 };
 inline constexpr double kMaxEdgeLossPx = 10.0;
 inline constexpr int kMaxBinning = 8;

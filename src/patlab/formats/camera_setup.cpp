@@ -31,8 +31,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void CheckSetupInput(const std::vector<const camera::Image*>& frames,
-                     const std::vector<std::string>& names, const SetupOptions& o) {
+// The input's checks; the binning the frames are worked on at (SetupOptions::binning resolved).
+int CheckSetupInput(const std::vector<const camera::Image*>& frames,
+                    const std::vector<std::string>& names, const SetupOptions& o) {
   if (frames.empty() || frames.size() != names.size())
     throw InputError("no frames; expected at least one FRAME of the camera");
   if (o.fields.empty()) throw InputError("--field names no model; expected a model or a family");
@@ -76,6 +77,7 @@ void CheckSetupInput(const std::vector<const camera::Image*>& frames,
   }
   Validate(o.thresholds);
   Validate(o.colours);
+  return binning;
 }
 
 // The first frame's lines: the line pixels found once, every field model screened, the best few
@@ -386,11 +388,10 @@ int SetupBinning(int width_px, int height_px) {
 SetupResult SetupCamera(const std::vector<const camera::Image*>& frames,
                         const std::vector<std::string>& names, const SetupOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  CheckSetupInput(frames, names, options);
+  SetupOptions o = options;
+  o.binning = CheckSetupInput(frames, names, options);
   const detect::DetectorConfig config = formats::LoadDetectorSettings(options.settings_path);
   const int width = frames.front()->width_px, height = frames.front()->height_px;
-  SetupOptions o = options;
-  o.binning = options.binning > 0 ? options.binning : SetupBinning(width, height);
   std::vector<camera::Image> binned(o.binning > 1 ? frames.size() : 0);
   std::vector<const camera::Image*> working = frames;
   for (size_t i = 0; i < binned.size(); ++i) {

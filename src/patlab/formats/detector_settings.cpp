@@ -134,14 +134,7 @@ detect::FrameSettings ReadFrameSettings(const toml::table& root, const io::TomlR
   fr.CheckKeys({"edge_loss_px", "missing_patch", "light_luma", "binning"});
   f.edge_loss_px = fr.OptionalNumber("edge_loss_px");
   f.light_luma = fr.OptionalNumber("light_luma");
-  if (const std::optional<int64_t> binning = fr.OptionalInteger("binning")) {
-    if (*binning < 1 || *binning > detect::kMaxBinning) {
-      fr.Fail("binning", "binning is " + std::to_string(*binning) +
-                             "; expected an integer in [1, " + std::to_string(detect::kMaxBinning) +
-                             "]");
-    }
-    f.binning = static_cast<int>(*binning);
-  }
+  f.binning = fr.OptionalInteger("binning");
   f.missing_patch = OptionalMissingPatch(fr);
   const std::vector<OptionsProblem> problems = detect::Check(f);
   if (!problems.empty()) fr.Fail(problems.front().field, problems.front().message);

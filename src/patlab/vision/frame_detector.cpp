@@ -41,7 +41,7 @@ void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOpti
   if (settings.edge_loss_px) options->edge_loss_px = *settings.edge_loss_px;
   if (settings.missing_patch) options->missing_patch = settings.missing_patch;
   if (settings.light_luma) options->light_luma = *settings.light_luma;
-  if (settings.binning) options->binning = *settings.binning;
+  if (settings.binning) options->binning = static_cast<int>(*settings.binning);
 }
 
 double FrameLight(const camera::ImageView& image) {
