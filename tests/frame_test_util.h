@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "expect_error.h"
+#include "patlab/camera/image.h"
 #include "patlab/core/error.h"
 
 namespace patlab::vision::testing {
@@ -33,6 +34,18 @@ inline void WriteBytes(const std::string& path, const std::vector<uint8_t>& byte
 inline void WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
+}
+
+// An RGB frame k times larger, each pixel a k x k block of its colour: binned k x k
+// (camera::BinImage), it is the frame again.
+inline camera::Image BlockUpsampled(const camera::Image& image, int k) {
+  camera::Image big = camera::Image::Rgb(k * image.width_px, k * image.height_px);
+  for (int y = 0; y < big.height_px; ++y) {
+    for (int x = 0; x < big.width_px; ++x) {
+      for (int c = 0; c < 3; ++c) big.Row(y)[3 * x + c] = image.Row(y / k)[3 * (x / k) + c];
+    }
+  }
+  return big;
 }
 
 // The shared real frames (not in the repository); tests skip when absent.

@@ -9,24 +9,32 @@
 #include <cmath>
 #include <numbers>
 
+#include "../frame_test_util.h"
 #include "../test_util.h"
 #include "messages_robocup_ssl_wrapper.pb.h"
 #include "patlab/formats/calibration_file.h"
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/field_file.h"
 #include "patlab/formats/thresholds_file.h"
+#include "patlab/vision/frame_io.h"
 
 namespace patlab::live {
 namespace {
 
 using patlab::testing::kGolden;
 
-vision::FrameDetector GoldenDetector() {
+// The golden frame's detector; with binning k, for the frame k times larger (its camera resized),
+// which it bins k x k.
+vision::FrameDetector GoldenDetector(int binning = 1) {
   vision::FrameDetectorOptions options;
   const std::string settings = kGolden + "ssl-frame.detector.toml";
   vision::ApplyFrameSettings(formats::LoadFrameSettings(settings), &options);
+  options.binning = binning;
+  const camera::Calibration calibration =
+      formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml");
   return vision::FrameDetector(formats::LoadThresholds(kGolden + "ssl-frame.thresholds.toml"),
-                               formats::LoadCalibration(kGolden + "ssl-frame.calibration.toml"),
+                               calibration.Resized(binning, binning * calibration.image_width_px,
+                                                   binning * calibration.image_height_px),
                                formats::LoadDetectorSettings(settings), options);
 }
 
@@ -97,6 +105,31 @@ TEST(Packet, RobotPixelIsWhereTheCameraSeesThePose) {
   ASSERT_TRUE(back.has_value());
   EXPECT_NEAR(back->x(), r.x_mm, 1e-6);
   EXPECT_NEAR(back->y(), r.y_mm, 1e-6);
+}
+
+// A frame binned for detection ([frame] binning) is still reported in its own pixels, those of
+// the camera the geometry packet describes: the golden frame at twice its size, each pixel a 2 x 2
+// block, puts every robot and the ball at twice the golden frame's pixel plus a half, the ball's
+// area four times as large.
+TEST(Packet, BinnedFramesArePlacedInTheirOwnPixels) {
+  vision::FrameDetector golden = GoldenDetector();
+  const SslDetection plain =
+      DetectionOfFrame(golden.DetectFile(kGolden + "ssl-frame.png"), golden, FrameStamp{});
+  vision::FrameDetector binned = GoldenDetector(2);
+  const camera::Image doubled =
+      vision::testing::BlockUpsampled(vision::ReadFrameFile(kGolden + "ssl-frame.png", 0, 0), 2);
+  const SslDetection d = DetectionOfFrame(binned.Detect(doubled, "doubled"), binned, FrameStamp{});
+  ASSERT_EQ(d.robots_blue.size(), kBlue.size());
+  ASSERT_EQ(d.robots_blue.size(), plain.robots_blue.size());
+  for (size_t i = 0; i < d.robots_blue.size(); ++i) {
+    EXPECT_NEAR(d.robots_blue[i].pixel_x, 2.0 * plain.robots_blue[i].pixel_x + 0.5, 1e-6);
+    EXPECT_NEAR(d.robots_blue[i].pixel_y, 2.0 * plain.robots_blue[i].pixel_y + 0.5, 1e-6);
+  }
+  ASSERT_EQ(d.balls.size(), 1u);
+  ASSERT_EQ(plain.balls.size(), 1u);
+  EXPECT_EQ(d.balls[0].area_px, 4 * plain.balls[0].area_px);
+  EXPECT_NEAR(d.balls[0].pixel_x, 2.0 * plain.balls[0].pixel_x + 0.5, 1e-9);
+  EXPECT_NEAR(d.balls[0].pixel_y, 2.0 * plain.balls[0].pixel_y + 0.5, 1e-9);
 }
 
 TEST(Packet, ReadsBackWhatItWrote) {

@@ -201,16 +201,13 @@ TEST(FrameDetector, FrameSettingsReachTheDetector) {
 }
 
 // [frame] binning: a frame twice the size, each pixel a 2 x 2 block, with its camera resized to
-// match, is binned back to the frame itself and detected exactly alike; frames must have the
-// calibration's own size, not the binned one.
+// match, is binned back to the frame itself and detected exactly alike, its blobs reported in the
+// frame's own pixels; frames must have the calibration's own size, not the binned one.
 TEST(FrameDetector, BinnedFramesAreDetectedAsTheFramesTheyBinTo) {
   const detect::DetectorConfig config = formats::LoadDetectorSettings(kSettings);
   const std::vector<Robot> robots = {{Pose2{-150, 50, 0.5}, 3}, {Pose2{180, -40, -2.0}, 12}};
   const camera::Image image = RenderRobots(config, robots, TwoMmPerPixel());
-  camera::Image doubled = camera::Image::Rgb(2 * image.width_px, 2 * image.height_px);
-  for (int y = 0; y < doubled.height_px; ++y)
-    for (int x = 0; x < doubled.width_px; ++x)
-      for (int c = 0; c < 3; ++c) doubled.Row(y)[3 * x + c] = image.Row(y / 2)[3 * (x / 2) + c];
+  const camera::Image doubled = testing::BlockUpsampled(image, 2);
   FrameDetectorOptions options;
   ApplyFrameSettings(formats::ParseFrameSettings("[frame]\nbinning = 2\n", "s.toml"), &options);
   EXPECT_EQ(options.binning, 2);
@@ -225,6 +222,19 @@ TEST(FrameDetector, BinnedFramesAreDetectedAsTheFramesTheyBinTo) {
     EXPECT_NEAR(r.detections[i].pose.x_mm, expected[i].pose.x_mm, 1e-9);
     EXPECT_NEAR(r.detections[i].pose.y_mm, expected[i].pose.y_mm, 1e-9);
     EXPECT_NEAR(r.detections[i].pose.theta_rad, expected[i].pose.theta_rad, 1e-9);
+  }
+  // The blobs' pixels are the frame's own: as the doubled frame segmented without binning.
+  FrameDetector whole(Classes(), TwoMmPerPixel().Resized(2.0, 800, 600), config, {});
+  const std::vector<Region> binned_regions = r.blob_regions;
+  const std::vector<Region>& regions = whole.Detect(doubled, "doubled").blob_regions;
+  ASSERT_EQ(binned_regions.size(), regions.size());
+  ASSERT_GE(regions.size(), 8u);
+  for (size_t i = 0; i < regions.size(); ++i) {
+    EXPECT_EQ(binned_regions[i].area_px, regions[i].area_px);
+    EXPECT_EQ(binned_regions[i].x_min, regions[i].x_min);
+    EXPECT_EQ(binned_regions[i].y_max, regions[i].y_max);
+    EXPECT_NEAR(binned_regions[i].centroid_px.x(), regions[i].centroid_px.x(), 1e-9);
+    EXPECT_NEAR(binned_regions[i].centroid_px.y(), regions[i].centroid_px.y(), 1e-9);
   }
   EXPECT_INPUT_ERROR(binned.Detect(image, "small"),
                      "small: image is 400x300; expected 800x600 as in c.toml");

@@ -33,7 +33,7 @@ void AddRobots(const vision::FrameResult& result, const vision::FrameDetector& f
                const SslColourNames& names, SslDetection* out) {
   if (!frames.has_detector()) return;
   const std::vector<std::string>& palette = frames.detector().config().palette;
-  const camera::Calibration& calibration = frames.pipeline().calibration();
+  const camera::Calibration& calibration = frames.frame_calibration();  // the frames' pixels
   for (const detect::Detection& d : result.detections) {
     if (d.status == detect::DetectionStatus::kAmbiguous || d.team_colour < 0) continue;
     const std::string& colour = palette[static_cast<size_t>(d.team_colour)];
@@ -49,7 +49,7 @@ void AddBalls(const vision::FrameResult& result, const vision::FrameDetector& fr
               const SslColourNames& names, SslDetection* out) {
   const int ball_class = frames.pipeline().thresholds().Find(names.ball);
   if (ball_class < 0) return;
-  const double height_mm = frames.pipeline().calibration().HeightOf(names.ball);
+  const double height_mm = frames.frame_calibration().HeightOf(names.ball);
   for (size_t i = 0; i < result.blobs.size(); ++i) {
     const detect::Blob& blob = result.blobs[i];
     if (blob.colour != ball_class) continue;

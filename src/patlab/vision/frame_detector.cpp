@@ -37,6 +37,17 @@ std::vector<OptionsProblem> Check(const FrameDetectorOptions& o) {
 
 void Validate(const FrameDetectorOptions& options) { ThrowFirstProblem(Check(options)); }
 
+Region InFramePixels(const Region& binned, int k) {
+  Region r = binned;
+  r.area_px = binned.area_px * k * k;
+  r.x_min = binned.x_min * k;
+  r.y_min = binned.y_min * k;
+  r.x_max = binned.x_max * k + k - 1;
+  r.y_max = binned.y_max * k + k - 1;
+  r.centroid_px = (binned.centroid_px + Vec2(0.5, 0.5)) * static_cast<double>(k) - Vec2(0.5, 0.5);
+  return r;
+}
+
 void ApplyFrameSettings(const detect::FrameSettings& settings, FrameDetectorOptions* options) {
   if (settings.edge_loss_px) options->edge_loss_px = *settings.edge_loss_px;
   if (settings.missing_patch) options->missing_patch = settings.missing_patch;
@@ -271,6 +282,10 @@ void FrameDetector::Process(const camera::ImageView& image, const std::string& n
   }
   RunStages(classified);
   if (!options_.debug_dir.empty()) WriteDebugImages(classified);
+  // The debug images show the frame as worked on; the results give the frame's own pixels.
+  if (options_.binning > 1) {
+    for (Region& region : result_.blob_regions) region = InFramePixels(region, options_.binning);
+  }
 }
 
 // Stages 2-5 (the pipeline) and 6: the blobs whose class is in the detector's palette, relabelled

@@ -141,7 +141,13 @@ struct MissingPatchLook {
 // colour" (a majority, so that blur at the rim or a neighbour's edge does not decide).
 inline constexpr double kMissingPatchOtherMax = 0.5;
 
-// One frame's results; valid until the next call on the FrameDetector that returned it.
+// A region found in a frame binned k x k (FrameDetectorOptions::binning), in the frame's own
+// pixels: binned pixel (i, j) covers the frame's pixels k i .. k i + k - 1 (and j alike), so its
+// centre is at k (i + 0.5) - 0.5; the area counts k^2 frame pixels for each binned one.
+Region InFramePixels(const Region& binned, int k);
+
+// One frame's results; valid until the next call on the FrameDetector that returned it. Every
+// pixel position and area is in the frame's own pixels, binned or not.
 struct FrameResult {
   std::string frame;                // the path (or name) of the frame
   std::vector<detect::Blob> blobs;  // stage 5, colour = class index into the thresholds
@@ -197,7 +203,10 @@ class FrameDetector {
 
   bool has_detector() const { return detector_.has_value(); }
   const detect::Detector& detector() const { return *detector_; }  // has_detector() only
+  // The pipeline segments with the calibration of the frames as binned; frame_calibration()
+  // is the frames' own (the same without binning).
   const VisionPipeline& pipeline() const { return pipeline_; }
+  const camera::Calibration& frame_calibration() const { return frame_calibration_; }
   const FrameDetectorOptions& options() const { return options_; }
 
  private:
