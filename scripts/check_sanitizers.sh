@@ -113,6 +113,17 @@ release_only=(
   # ten commands into a relative out folder; each command's own CLI tests run it here, and
   # ACommandThatFailsBeforeItsCommitLeavesNoFolderItMade runs the same ten on a full disk
   'cli.RelativeOutCli.EveryCommandMakesARelativeOutFolderThatDoesNotExistYet'
+  # fresh seed 59's one straight line, refused: every setup test here matches and measures the
+  # lines' arcs, TheRobotsACornerAndTheHeightFix... among them, and refuses through the same report
+  'SetupCamera.OneStraightLineFixesNoCameraThoughItFitsAPieceOfArc'
+  # the real SSL frame again from another segmentation scale: Ssl2008FrameWithNoHandWrittenFile
+  # runs the same setup, with its scan of scales, here
+  'cli.SetupRealCli.Ssl2008FrameFromASegmentationScaleThatJoinsItsPatches'
+  # setup --explain on the rendered SSL frame: cli.SetupCli.RenderedFrameToDetections... runs the
+  # same setup here, ExplainCli's other tests the diagnoses through detect --explain
+  'cli.ExplainCli.SetupExplainsEveryKeyAfterTheRobots'
+  # the second narrow view: the first (Over1500x0At3000mm) runs the same search here
+  'PosHalf/NarrowView.IsCalibratedTheRightWayRound/Over1700x100At2800mm'
   # replays every trial of a run; Replay.SampledTrialsOfEveryEstimatorAndNoiseModelAreTheRunsBits
   # replays a sample of each estimator and noise model here
   'Replay.EveryTrialReplayedGivesTheRunsStatistics'

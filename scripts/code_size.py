@@ -5,7 +5,8 @@
 
 Files: lines of every tracked .h/.cpp under src/. Functions: clang-tidy's readability-function-size
 line count (including whitespace and comments) of every function of at least 30 lines, read from
-a run over build/compile_commands.json (scripts/build.sh writes it).
+a run over the translation units of build/compile_commands.json (scripts/build.sh writes
+it; scripts/tidy_units.py).
 """
 import argparse
 import os
@@ -24,9 +25,12 @@ def tracked_sources():
 def function_sizes(sources):
     config = "{CheckOptions: [{key: readability-function-size.LineThreshold, value: 30}]}"
     cpp = [os.path.join(ROOT, s) for s in sources if s.endswith(".cpp")]
+    # The translation units that compile them (a room's unity build: scripts/tidy_units.py).
+    cpp = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "tidy_units.py")] + cpp,
+                         cwd=ROOT, check=True, capture_output=True, text=True).stdout.split()
     proc = subprocess.run(["run-clang-tidy", "-quiet", "-p", os.path.join(ROOT, "build"),
                            "-checks=-*,readability-function-size", "-config=" + config,
-                           "-header-filter=src/(patlab|cli)/"] + cpp,
+                           "-header-filter=src/(patlab|cli|python)/"] + cpp,
                           cwd=ROOT, capture_output=True, text=True)
     sizes, name = {}, None
     for line in proc.stdout.splitlines():

@@ -21,7 +21,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kAnalyzeExamples = R"(examples:
   patlab analyze track.csv -o results/analyze    # columns frame,subject,run,x_mm,y_mm,theta_rad
   patlab analyze run1.csv run2.csv --subject-column robot --x-column x --y-column y -o a
   patlab detect frames/ -t t.toml -c cal.toml -s det.toml --track track.csv && patlab analyze track.csv
@@ -132,8 +132,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
   AnalyzeCliOptions o;
   const po::options_description visible = Flags(&o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kAnalyzeGroups, "track", po::value(&o.tracks), -1, kExamples,
-                      &vm, {{"--sigma", "--smoothing-sigma (samples)"}})) {
+  if (!ParseArguments(args, visible, kAnalyzeGroups, "track", po::value(&o.tracks), -1,
+                      kAnalyzeExamples, &vm, {{"--sigma", "--smoothing-sigma (samples)"}})) {
     return kExitOk;
   }
   if (o.tracks.empty()) {

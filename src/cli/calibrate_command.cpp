@@ -25,7 +25,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kCalibrateExamples = R"(examples:
   patlab calibrate ssl-2008.calibration-input -o cal    # -> cal/calibration.toml, cal/residuals.csv
   patlab calibrate my-camera.toml -o cal
   patlab calibrate frame.png --auto --field ssl-2009 -o cal --debug
@@ -140,8 +140,9 @@ int RunCalibrate(const std::vector<std::string>& args) {
       "with --auto: the camera's measured height above the floor (mm; 0 = unknown)")(
       "debug", po::bool_switch(&o.debug), "with --auto: also write DIR/lines.png");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kCalibrateGroups, "input", po::value(&o.input), 1, kExamples,
-                      &vm, {{"--residuals", "-o DIR (DIR/residuals.csv is always written)"}})) {
+  if (!ParseArguments(args, visible, kCalibrateGroups, "input", po::value(&o.input), 1,
+                      kCalibrateExamples, &vm,
+                      {{"--residuals", "-o DIR (DIR/residuals.csv is always written)"}})) {
     return kExitOk;
   }
   if (o.input.empty()) throw InputError("missing INPUT; expected 'patlab calibrate INPUT -o DIR'");

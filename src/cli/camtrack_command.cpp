@@ -25,7 +25,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kCamtrackExamples = R"(examples:
   patlab camtrack track-scene -t track.thresholds --label full -o full   # -> full/camtrack.csv
   patlab camtrack track-scene -t track.thresholds --read-noise-levels 0 \
       --shot-noise-gain 0 --no-bayer --chroma-444 --white --label quant -o quant
@@ -113,8 +113,8 @@ int RunCamtrack(const std::vector<std::string>& args) {
   po::options_description visible("usage: patlab camtrack SCENE -t THRESHOLDS -o DIR [options]");
   AddOptions(&visible, &o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kCamtrackGroups, "scene", po::value(&o.scene), 1, kExamples,
-                      &vm)) {
+  if (!ParseArguments(args, visible, kCamtrackGroups, "scene", po::value(&o.scene), 1,
+                      kCamtrackExamples, &vm)) {
     return kExitOk;
   }
   if (o.scene.empty()) throw InputError("missing SCENE; expected a scene TOML file");

@@ -33,6 +33,6 @@ const std::vector<Command>& Commands();
 
 #define PATLAB_CLI_CONCAT_INNER(a, b) a##b
 #define PATLAB_CLI_CONCAT(a, b) PATLAB_CLI_CONCAT_INNER(a, b)
-#define PATLAB_REGISTER_COMMAND(name, summary, fn)                            \
-  static const bool PATLAB_CLI_CONCAT(patlab_registered_command_, __LINE__) = \
+#define PATLAB_REGISTER_COMMAND(name, summary, fn)                               \
+  static const bool PATLAB_CLI_CONCAT(patlab_registered_command_, __COUNTER__) = \
       ::patlab::cli::RegisterCommand(::patlab::cli::Command{name, summary, fn})

@@ -26,7 +26,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kCompareExamples = R"(examples:
   patlab compare ssl-standard butterfly triangle              # ranked table on stdout
   patlab compare simple linear triangle --sort-by ids_2c --format csv  # CSV on stdout
   patlab compare a.toml b.toml -o ab                          # compare.txt, .csv, .json in ab/
@@ -110,7 +110,7 @@ int RunCompare(const std::vector<std::string>& args) {
   // clang-format on
   po::variables_map vm;
   if (!ParseArguments(
-          args, visible, kCompareGroups, "design", po::value(&f.designs), -1, kExamples, &vm,
+          args, visible, kCompareGroups, "design", po::value(&f.designs), -1, kCompareExamples, &vm,
           {{"--json", "--format json"}, {"--csv", "--format csv"}, {"-c", "--colors"}})) {
     return kExitOk;
   }

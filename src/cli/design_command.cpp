@@ -26,7 +26,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kDesignExamples = R"(examples:
   patlab design --out results/design                  # SSL robot top: 4 dots, 2 colours
   patlab design --min-rotation-onset-mm 3.5 --start ssl-standard --name ssl-designed --out d
   patlab design --objective rotation_onset --max-angle-crlb-mrad-per-mm 7.76 --out d
@@ -216,8 +216,8 @@ int RunDesign(const std::vector<std::string>& args) {
   AddDesignFlags(&visible, &f, &o);
   po::variables_map vm;
   std::vector<std::string> none;
-  if (!ParseArguments(args, visible, kDesignGroups, "positional", po::value(&none), 0, kExamples,
-                      &vm)) {
+  if (!ParseArguments(args, visible, kDesignGroups, "positional", po::value(&none), 0,
+                      kDesignExamples, &vm)) {
     return kExitOk;
   }
   o = ParseDesignOptions(f, o, vm);

@@ -31,7 +31,7 @@ namespace {
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kDetectExamples = R"(examples:
   patlab detect frame/frame.png -t ssl-frame.thresholds -c ssl-frame.calibration \
       -s ssl-frame.detector --debug debug       # after: patlab render ssl-frame -o frame
   patlab detect cam.yuv --raw-size 780x580 -t colors.txt -c cal.toml --blobs
@@ -307,8 +307,8 @@ int RunDetect(const std::vector<std::string>& args) {
   DetectOptions o;
   const po::options_description visible = Flags(&o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kDetectGroups, "frame", po::value(&o.frames), -1, kExamples,
-                      &vm)) {
+  if (!ParseArguments(args, visible, kDetectGroups, "frame", po::value(&o.frames), -1,
+                      kDetectExamples, &vm)) {
     return kExitOk;
   }
   ThrowFlagProblem(vision::Check(o.frame.segmenter), vm,

@@ -20,7 +20,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kEvaluateExamples = R"(examples:
   patlab evaluate butterfly                          # the whole report, < 1 s on 2 cores
   patlab evaluate triangle my-pattern.toml --format json > report.json
   patlab evaluate butterfly --sigma 0.8 --trials 1000000
@@ -104,7 +104,7 @@ int RunEvaluate(const std::vector<std::string>& args) {
   // clang-format on
   po::variables_map vm;
   if (!ParseArguments(args, visible, kEvaluateGroups, "pattern", po::value(&f.patterns), -1,
-                      kExamples, &vm, {{"--json", "--format json"}, {"-c", "--colors"}})) {
+                      kEvaluateExamples, &vm, {{"--json", "--format json"}, {"-c", "--colors"}})) {
     return kExitOk;
   }
   o = ParseEvaluateOptions(f, vm, o);

@@ -17,7 +17,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kFieldsExamples = R"(examples:
   patlab fields                  # every shipped model and family, one line each
   patlab fields ssl              # the SSL models, newest first
   patlab fields ssl-div-b        # one model: its landmarks, lines and arcs (mm, degrees)
@@ -40,7 +40,8 @@ int RunFields(const std::vector<std::string>& args) {
   po::options_description visible("usage: patlab fields [NAME|FAMILY]");
   visible.add_options()("help,h", "show this help");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, OptionGroups{}, "name", po::value(&name), 1, kExamples, &vm)) {
+  if (!ParseArguments(args, visible, OptionGroups{}, "name", po::value(&name), 1, kFieldsExamples,
+                      &vm)) {
     return kExitOk;
   }
   const std::vector<std::string>& roots = DataRoots();

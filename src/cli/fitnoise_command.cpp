@@ -20,7 +20,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kFitnoiseExamples = R"(examples:
   patlab fitnoise -o results/camera-noise/fit
   patlab fitnoise --free independent_x_mm,independent_y_mm,common_mm,colour_mm \
       --id-radius-mm 58 --out /tmp/fit58
@@ -32,13 +32,13 @@ sensitivity.csv (the Butterfly's assumed size). Docs: docs/fitnoise.md.
 Exit status: 0 ok, 1 cannot write the files, 2 bad input.
 )";
 
-struct Options {
+struct FitnoiseOptions {
   std::string out, free = "all", seed = "14", radii = "45,50,55,60,65,70,80";
   paper::NoiseFitStudyOptions study;
   bool quiet = false;
 };
 
-void AddOptions(po::options_description* d, Options* o) {
+void AddFitnoiseOptions(po::options_description* d, FitnoiseOptions* o) {
   paper::NoiseFitStudyOptions& s = o->study;
   d->add_options()("help,h", "show this help")("out,o", po::value(&o->out),
                                                "output directory (required)")(
@@ -87,12 +87,12 @@ const OptionGroups kFitnoiseGroups = {
      {"bootstrap", "profile-points", "sensitivity-radii", "simulate-runs", "seed"}}};
 
 int RunFitnoise(const std::vector<std::string>& args) {
-  Options o;
+  FitnoiseOptions o;
   po::options_description visible("usage: patlab fitnoise --out DIR");
-  AddOptions(&visible, &o);
+  AddFitnoiseOptions(&visible, &o);
   po::variables_map vm;
   if (!ParseArguments(args, visible, kFitnoiseGroups, "unused", po::value<std::string>(), 0,
-                      kExamples, &vm))
+                      kFitnoiseExamples, &vm))
     return kExitOk;
   if (o.out.empty()) throw InputError("missing --out DIR; expected the output directory");
   o.study.fit.free = ParseFree(o.free);

@@ -22,7 +22,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kIdsExamples = R"(examples:
   patlab ids simple linear triangle butterfly              # Table II (2, 3, 4 colours)
   patlab ids ssl-standard --colors 2 --list                # the 16 colourings, slot by slot
   patlab ids butterfly --colors 2,3 --tolerance 30         # a tolerance past its asymmetry
@@ -121,8 +121,8 @@ int RunIds(const std::vector<std::string>& args) {
       "a folder searched for pattern names before the shipped patterns")("help,h",
                                                                          "show this help");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kIdsGroups, "pattern", po::value(&o.patterns), -1, kExamples,
-                      &vm, {{"-c", "--colors"}})) {
+  if (!ParseArguments(args, visible, kIdsGroups, "pattern", po::value(&o.patterns), -1,
+                      kIdsExamples, &vm, {{"-c", "--colors"}})) {
     return kExitOk;
   }
   if (o.patterns.empty()) {

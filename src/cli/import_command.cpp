@@ -20,7 +20,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kImportExamples = R"(examples:
   patlab import ../shared/frames/ssl-standard-pattern-2010-16ids.png --name ssl-standard --out /tmp/p
   patlab import sheets/*.png --out /tmp/designs           # every sheet, all or nothing
 
@@ -83,8 +83,8 @@ int RunImport(const std::vector<std::string>& args) {
       ("help,h", "show this help");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kImportGroups, "sheet", po::value(&f.sheets), -1, kExamples,
-                      &vm)) {
+  if (!ParseArguments(args, visible, kImportGroups, "sheet", po::value(&f.sheets), -1,
+                      kImportExamples, &vm)) {
     return kExitOk;
   }
   if (f.sheets.empty()) {

@@ -19,7 +19,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kMergeExamples = R"(examples:
   for k in 1 2 3 4; do patlab simulate fig5 --shard $k/4 -o shards -q; done
   patlab merge shards -o results        # -> results/fig5.csv, results/fig5.json
   patlab merge shards/fig5.shard-*-of-4.json -o merged --name fig5-merged
@@ -51,8 +51,8 @@ int RunMerge(const std::vector<std::string>& args) {
       ("quiet,q", po::bool_switch(&o.quiet), "no progress or summary on stderr");
   // clang-format on
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kMergeGroups, "shard", po::value(&o.shards), -1, kExamples,
-                      &vm)) {
+  if (!ParseArguments(args, visible, kMergeGroups, "shard", po::value(&o.shards), -1,
+                      kMergeExamples, &vm)) {
     return kExitOk;
   }
   if (o.shards.empty()) {

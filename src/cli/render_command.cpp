@@ -21,7 +21,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kRenderExamples = R"(examples:
   patlab render ssl-frame -o frame          # -> frame/frame.png, frame/truth.csv
   patlab render my-scene.toml -o f && patlab detect f/frame.png -t t.toml -c cal.toml -s det.toml
   patlab render ssl-frame --camera --frame 7 --uyvy -o cam   # -> cam/frame.uyvy
@@ -126,7 +126,8 @@ int RunRender(const std::vector<std::string>& args) {
       "with --camera: write the raw UYVY frame DIR/frame.uyvy instead of frame.png");
   AddCameraOptions(&visible, &o);
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kRenderGroups, "scene", po::value(&o.scene), 1, kExamples, &vm,
+  if (!ParseArguments(args, visible, kRenderGroups, "scene", po::value(&o.scene), 1,
+                      kRenderExamples, &vm,
                       {{"--truth", "-o DIR (DIR/truth.csv is always written)"}})) {
     return kExitOk;
   }

@@ -26,7 +26,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kReproduceExamples = R"(examples:
   patlab reproduce              # regenerate every table, figure and manifest, and results/paper.md
   patlab reproduce --no-figures # the same without the PNGs (no python3 / matplotlib needed)
   patlab reproduce --check      # regenerate in memory; fail if a number or a committed file moved
@@ -161,7 +161,7 @@ int RunReproduce(const std::vector<std::string>& args) {
   // clang-format on
   po::variables_map vm;
   if (!ParseArguments(args, visible, kReproduceGroups, "unused", po::value<std::string>(), 0,
-                      kExamples, &vm)) {
+                      kReproduceExamples, &vm)) {
     return kExitOk;
   }
   CheckThreads(o.threads);

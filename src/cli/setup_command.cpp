@@ -27,7 +27,7 @@ namespace {
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kSetupExamples = R"(examples:
   patlab setup frame.png --field ssl --settings ssl-frame.detector -o cam
   patlab detect frame.png --setup cam
   patlab setup frame.png --field vss --settings my-vss.toml --robot-height 75 -o cam
@@ -142,8 +142,8 @@ int RunSetup(const std::vector<std::string>& args) {
       "list-landmarks", po::value(&o.list_landmarks),
       "print the landmark names of a field model and exit");
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kSetupGroups, "frames", po::value(&o.frames), -1, kExamples,
-                      &vm)) {
+  if (!ParseArguments(args, visible, kSetupGroups, "frames", po::value(&o.frames), -1,
+                      kSetupExamples, &vm)) {
     return kExitOk;
   }
   if (!o.list_landmarks.empty()) {

@@ -26,7 +26,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kSimulateExamples = R"(examples:
   patlab simulate fig5                           # the paper's Fig. 5 -> results/fig5.*
   patlab simulate fig5 --trials 10000 -j 1 -o quick
   patlab simulate fig5 --sigmas 0.5,1,2 --common-sigma-ratio 0.5
@@ -248,7 +248,7 @@ int RunSimulate(const std::vector<std::string>& args) {
   // clang-format on
   po::variables_map vm;
   if (!ParseArguments(args, visible, kSimulateGroups, "experiment", po::value(&o.experiment), 1,
-                      kExamples, &vm)) {
+                      kSimulateExamples, &vm)) {
     return kExitOk;
   }
   if (o.experiment.empty()) {

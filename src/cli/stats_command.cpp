@@ -22,7 +22,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kStatsExamples = R"(examples:
   patlab stats ks fast_theta.txt ml_theta.txt
   patlab stats ks fast.csv ml.csv --column theta_err --alternative less --method exact --format json
   patlab stats wilcoxon abs_err_40mm.txt abs_err_60mm.txt --alternative greater
@@ -223,8 +223,8 @@ int RunStats(const std::vector<std::string>& args) {
   // clang-format on
   std::vector<std::string> words;
   po::variables_map vm;
-  if (!ParseArguments(args, visible, kStatsGroups, "test", po::value(&words), -1, kExamples, &vm,
-                      {{"--json", "--format json"}})) {
+  if (!ParseArguments(args, visible, kStatsGroups, "test", po::value(&words), -1, kStatsExamples,
+                      &vm, {{"--json", "--format json"}})) {
     return kExitOk;
   }
   CheckFormat(o.format, "table|json");

@@ -29,7 +29,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kThresholdsExamples = R"(examples:
   patlab thresholds my-labels.toml -o thresholds       # -> thresholds/thresholds.toml
   patlab thresholds labels.toml -o t --settings detector --margin 10
   patlab thresholds --auto frame1.png frame2.png --settings detector -o t
@@ -245,7 +245,7 @@ int RunThresholds(const std::vector<std::string>& args) {
               "--auto: brightest light, [1, 4] (default 1.4)");
   po::variables_map vm;
   if (!ParseArguments(args, visible, kThresholdsGroups, "inputs", po::value(&o.inputs), -1,
-                      kExamples, &vm)) {
+                      kThresholdsExamples, &vm)) {
     return kExitOk;
   }
   ThrowFlagProblem(vision::Check(o.fit), vm,

@@ -27,7 +27,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-constexpr const char* kExamples = R"(examples:
+constexpr const char* kTrackExamples = R"(examples:
   patlab track table1                      # Table I -> results/table1*.csv
   patlab track table1 -o t1 -j 1
   patlab track table1 --seed 7             # another draw of the same experiment
@@ -189,7 +189,7 @@ int RunTrackCommand(const std::vector<std::string>& args) {
   // clang-format on
   po::variables_map vm;
   if (!ParseArguments(args, visible, kTrackGroups, "experiment", po::value(&o.experiment), 1,
-                      kExamples, &vm)) {
+                      kTrackExamples, &vm)) {
     return kExitOk;
   }
   if (o.experiment.empty()) {

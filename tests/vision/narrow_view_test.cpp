@@ -62,9 +62,17 @@ TEST_P(NarrowView, IsCalibratedTheRightWayRound) {
   EXPECT_LT(rms, 5.0);
 }
 
+// Named after the view ("Over1500x0At3000mm"), not after the bytes of the struct (whose padding
+// differs between builds, and so would the tests' names).
 INSTANTIATE_TEST_SUITE_P(PosHalf, NarrowView,
                          ::testing::Values(View{Vec2(1500, 0), 3000, 0.0, -0.08},
-                                           View{Vec2(1700, 100), 2800, 0.04, -0.12}));
+                                           View{Vec2(1700, 100), 2800, 0.04, -0.12}),
+                         [](const ::testing::TestParamInfo<View>& info) {
+                           const View& v = info.param;
+                           return "Over" + std::to_string(std::lround(v.over_mm.x())) + "x" +
+                                  std::to_string(std::lround(v.over_mm.y())) + "At" +
+                                  std::to_string(std::lround(v.height_mm)) + "mm";
+                         });
 
 }  // namespace
 }  // namespace patlab::vision

@@ -68,13 +68,13 @@ TableRow MakeRow(const std::string& subject, const std::vector<SubjectRun>& runs
   return row;
 }
 
-nlohmann::json StdJson(const stats::StdWithCi& s) {
+nlohmann::json TrackStdJson(const stats::StdWithCi& s) {
   return {{"std", s.std}, {"lower", s.lower}, {"upper", s.upper}, {"n", s.n}};
 }
 
-nlohmann::json StdJson(const stats::StdWithCi& s, const stats::StdWithCi& iid,
-                       const stats::EffectiveSize& size) {
-  nlohmann::json j = StdJson(s);
+nlohmann::json TrackStdJson(const stats::StdWithCi& s, const stats::StdWithCi& iid,
+                            const stats::EffectiveSize& size) {
+  nlohmann::json j = TrackStdJson(s);
   j["iid_lower"] = iid.lower;
   j["iid_upper"] = iid.upper;
   j["lag1"] = size.lag1;
@@ -87,14 +87,14 @@ nlohmann::json TableJson(const std::vector<TableRow>& table) {
   nlohmann::json rows = nlohmann::json::array();
   for (const TableRow& r : table) {
     nlohmann::json row = {{"subject", r.subject},
-                          {"est_x", StdJson(r.est_x, r.est_x_iid, r.est_size_x)},
-                          {"est_y", StdJson(r.est_y, r.est_y_iid, r.est_size_y)},
-                          {"true_x", StdJson(r.true_x, r.true_x_iid, r.true_size_x)},
-                          {"true_y", StdJson(r.true_y, r.true_y_iid, r.true_size_y)},
+                          {"est_x", TrackStdJson(r.est_x, r.est_x_iid, r.est_size_x)},
+                          {"est_y", TrackStdJson(r.est_y, r.est_y_iid, r.est_size_y)},
+                          {"true_x", TrackStdJson(r.true_x, r.true_x_iid, r.true_size_x)},
+                          {"true_y", TrackStdJson(r.true_y, r.true_y_iid, r.true_size_y)},
                           {"missed_frames", r.missed_frames}};
     if (r.has_theta) {
-      row["est_theta"] = StdJson(r.est_theta);
-      row["true_theta"] = StdJson(r.true_theta);
+      row["est_theta"] = TrackStdJson(r.est_theta);
+      row["true_theta"] = TrackStdJson(r.true_theta);
     }
     rows.push_back(row);
   }

@@ -34,7 +34,10 @@ std::optional<std::array<double, 4>> MappingCovariance(const CalibrationFit& fit
                                                        double height_mm) {
   constexpr int n = kCameraParameters;
   const Parameters at = ParametersOf(fit);
-  std::array<Vec2, n> jacobian{};  // d(world x, y) / d(parameter i)
+  // d(world x, y) / d(parameter i); zero for a parameter held fixed (an Eigen vector's default
+  // constructor leaves it uninitialised, and garbage times a zero covariance can be NaN).
+  std::array<Vec2, n> jacobian;
+  jacobian.fill(Vec2::Zero());
   for (int i = 0; i < n; ++i) {
     const double variance = fit.covariance[static_cast<size_t>(i * n + i)];
     if (std::isnan(variance)) return std::nullopt;

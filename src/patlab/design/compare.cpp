@@ -20,7 +20,7 @@ namespace patlab::design {
 
 namespace {
 
-using json = nlohmann::ordered_json;
+using nlohmann::ordered_json;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // The wrong rotation passes the detector's test in 1 of 1000 fits at the onset.
@@ -462,7 +462,7 @@ std::string CompareCsv(const CompareResult& result) {
 
 std::string CompareJson(const CompareResult& result) {
   const EvaluateOptions& o = result.options.evaluate;
-  json j;
+  ordered_json j;
   j["tool"] = "patlab compare";
   j["version"] = PATLAB_VERSION;
   j["options"] = {{"sort_by", result.options.sort_by},
@@ -477,9 +477,9 @@ std::string CompareJson(const CompareResult& result) {
     j["columns"].push_back(
         {{"name", c.name}, {"larger_is_better", c.larger_is_better}, {"meaning", c.meaning}});
   }
-  j["rows"] = json::array();
+  j["rows"] = ordered_json::array();
   for (const CompareRow& row : result.rows) {
-    json cells = json::object();
+    ordered_json cells = ordered_json::object();
     for (const auto& [name, value] : row.cells) cells[name] = value;  // NaN and inf -> null
     j["rows"].push_back({{"rank", row.rank},
                          {"design", row.design},

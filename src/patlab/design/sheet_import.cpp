@@ -291,7 +291,7 @@ SheetImport ImportSheet(const camera::Image& image, const std::string& file,
 namespace {
 
 // mm to 0.1 mm, without a "-0.0".
-std::string Mm(double v) {
+std::string TenthMm(double v) {
   const double rounded = std::round(v * 10.0) / 10.0;
   return FormatFixed(rounded == 0.0 ? 0.0 : rounded, 1);
 }
@@ -331,8 +331,8 @@ std::string PatternFileText(const ImportedLayout& layout, const SheetImport& she
          "\"\n";
   for (const Patch& patch : p.patches) {
     out += "\n[[patch]]\nrole = \"" + std::string(patch.role == PatchRole::kKey ? "key" : "id") +
-           "\"\nx = " + Mm(patch.position_mm.x()) + "\ny = " + Mm(patch.position_mm.y()) +
-           "\nradius = " + Mm(patch.radius_mm) + "\n";
+           "\"\nx = " + TenthMm(patch.position_mm.x()) + "\ny = " + TenthMm(patch.position_mm.y()) +
+           "\nradius = " + TenthMm(patch.radius_mm) + "\n";
   }
   return out;
 }

@@ -8,6 +8,7 @@
 #include "patlab/core/format.h"
 #include "patlab/formats/codebook_file.h"
 #include "patlab/formats/pattern_file.h"
+#include "patlab/formats/toml_values_internal.h"
 #include "patlab/io/colour_vocabulary.h"
 #include "patlab/io/toml_util.h"
 
@@ -16,11 +17,6 @@ namespace patlab::formats {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Resolve(const std::string& base_dir, const std::string& path) {
-  if (path.empty() || fs::path(path).is_absolute()) return path;
-  return (fs::path(base_dir) / path).lexically_normal().string();
-}
 
 // An array of distinct colour names, each resolved to its canonical name (io/colour_vocabulary.h):
 // "magenta" and "Pink" are "pink", and so two of them are the same colour listed twice.
@@ -149,7 +145,7 @@ Pattern ReadPattern(const io::TomlReader& pr, const std::string& base_dir,
   const std::string reference = pr.String("pattern");
   try {
     const bool is_path = reference.find('/') != std::string::npos || reference.ends_with(".toml");
-    return formats::LoadPatternFile(is_path ? Resolve(base_dir, reference)
+    return formats::LoadPatternFile(is_path ? internal::ResolveBeside(base_dir, reference)
                                             : formats::ResolvePatternPath(reference, patterns_dir));
   } catch (const InputError& e) {
     if (std::string(e.what()).starts_with("pattern '")) pr.Fail("pattern", e.what());
@@ -189,10 +185,10 @@ detect::DetectorPattern ReadPatternTable(const toml::table& t, size_t i,
     id_colours = StringList(t, "id_colours", file, "ID colour names");
     CheckInPalette(id_colours, config.palette, t, "id_colours", file);
   }
-  detect::DetectorPattern dp =
-      MakeDetectorPattern(std::move(pattern), std::move(key_colours),
-                          has_codebook ? Resolve(base_dir, pr.String("codebook")) : std::string(),
-                          id_colours, symmetry_tolerance_mm);
+  detect::DetectorPattern dp = MakeDetectorPattern(
+      std::move(pattern), std::move(key_colours),
+      has_codebook ? internal::ResolveBeside(base_dir, pr.String("codebook")) : std::string(),
+      id_colours, symmetry_tolerance_mm);
   for (const std::string& c : dp.codebook.colours) {
     if (std::find(config.palette.begin(), config.palette.end(), c) == config.palette.end()) {
       pr.Fail("codebook", "codebook colour \"" + c +
@@ -217,8 +213,8 @@ detect::DetectorConfig ParseDetectorSettings(const std::string& text,
     reader.Fail("palette", "palette has " + std::to_string(config.palette.size()) +
                                " colours; expected at most 64");
   }
-  const std::string patterns_dir =
-      Resolve(base_dir, reader.OptionalString("patterns_dir").value_or("../patterns"));
+  const std::string patterns_dir = internal::ResolveBeside(
+      base_dir, reader.OptionalString("patterns_dir").value_or("../patterns"));
   config.options = ReadDetectorOptions(root, reader, source_name);
   ReadFrameSettings(root, reader, source_name);  // checked here, applied by the frame front ends
 

@@ -130,7 +130,7 @@ vision::LabelClass ReadLabelClass(const toml::node& node, const std::string& fil
   return c;
 }
 
-std::string Resolve(const std::string& base_dir, const std::string& path) {
+std::string ResolveLabelPath(const std::string& base_dir, const std::string& path) {
   const fs::path p(path);
   return p.is_absolute() || base_dir.empty() ? path : (fs::path(base_dir) / p).string();
 }
@@ -144,10 +144,10 @@ vision::Labels ParseLabels(std::string_view text, const std::string& name,
   top.CheckKeys({"image", "mask", "point_radius_px", "class"});
   vision::Labels labels;
   labels.source = name;
-  labels.image_path = Resolve(base_dir, top.String("image"));
+  labels.image_path = ResolveLabelPath(base_dir, top.String("image"));
   labels.image_line = top.Loc("image").line;
   if (auto mask = top.OptionalString("mask")) {
-    labels.mask_path = Resolve(base_dir, *mask);
+    labels.mask_path = ResolveLabelPath(base_dir, *mask);
     labels.mask_line = top.Loc("mask").line;
   }
   if (auto radius = top.OptionalInteger("point_radius_px")) {

@@ -13,7 +13,7 @@
 namespace patlab::formats {
 namespace {
 
-std::string_view Trim(std::string_view s) {
+std::string_view TrimBlanks(std::string_view s) {
   const auto first = s.find_first_not_of(" \t");
   if (first == std::string_view::npos) return {};
   const auto last = s.find_last_not_of(" \t");
@@ -49,7 +49,7 @@ std::vector<double> ParsePlain(std::string_view text, const std::string& source_
     pos = end + 1;
     ++line_number;
     if (!view.empty() && view.back() == '\r') view.remove_suffix(1);
-    const std::string_view trimmed = Trim(view);
+    const std::string_view trimmed = TrimBlanks(view);
     if (trimmed.empty() || trimmed.front() == '#') continue;
     const FileLoc loc{source_name, line_number};
     if (trimmed.find(',') != std::string_view::npos) {
@@ -103,7 +103,7 @@ std::vector<double> ParseColumn(std::string_view text, const std::string& source
 std::vector<OptionsProblem> Check(const NumericColumnOptions& options) {
   OptionsChecker check;
   const std::string_view column = options.column;
-  if (column.find_first_of(",\r\n") != std::string_view::npos || Trim(column) != column) {
+  if (column.find_first_of(",\r\n") != std::string_view::npos || TrimBlanks(column) != column) {
     check.Fail("column", "column is \"" + options.column +
                              "\"; expected a CSV column name (no comma, line break, or leading "
                              "or trailing blank)");

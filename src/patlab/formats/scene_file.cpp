@@ -10,6 +10,7 @@
 #include "patlab/formats/detector_settings.h"
 #include "patlab/formats/field_file.h"
 #include "patlab/formats/pattern_file.h"
+#include "patlab/formats/toml_values_internal.h"
 #include "patlab/io/toml_util.h"
 
 namespace patlab::formats {
@@ -17,11 +18,6 @@ namespace patlab::formats {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Resolve(const std::string& base_dir, const std::string& path) {
-  if (path.empty() || fs::path(path).is_absolute()) return path;
-  return (fs::path(base_dir) / path).lexically_normal().string();
-}
 
 // A table of the root, or an empty one when absent; InputError when the key is not a table.
 const toml::table& OptionalTable(const io::TomlReader& root, std::string_view key) {
@@ -72,7 +68,7 @@ void ReadRenderOptions(const io::TomlReader& r, render::RenderOptions* o) {
 // line when it cannot be read (the loaders would report the missing file without that line).
 std::string ExistingFile(const io::TomlReader& top, std::string_view key,
                          const std::string& base_dir) {
-  const std::string path = Resolve(base_dir, top.String(key));
+  const std::string path = internal::ResolveBeside(base_dir, top.String(key));
   if (!std::ifstream(path)) {
     top.Fail(key,
              std::string(key) + " file \"" + path + "\" cannot be read; expected a readable file");

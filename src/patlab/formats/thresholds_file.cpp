@@ -81,7 +81,7 @@ class LineCursor {
 
 constexpr const char* kChannelNames[2][3] = {{"Y", "U", "V"}, {"R", "G", "B"}};
 
-std::string Trim(std::string_view s) {
+std::string TrimSpace(std::string_view s) {
   size_t b = 0, e = s.size();
   while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
   while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
@@ -240,7 +240,7 @@ vision::Thresholds ParseCmvisionColors(std::string_view text, const std::string&
   while (std::getline(in, raw)) {
     ++line_number;
     const FileLoc loc{name, line_number};
-    const std::string line = Trim(raw);
+    const std::string line = TrimSpace(raw);
     if (line.empty() || line[0] == '#' || line[0] == ';') continue;
     if (line[0] == '[') {
       section = ParseSectionHeader(loc, line);
@@ -411,7 +411,7 @@ vision::Thresholds LoadThresholds(const std::string& path) {
   std::istringstream lines(text);
   std::string line;
   while (std::getline(lines, line)) {
-    const std::string t = Trim(line);
+    const std::string t = TrimSpace(line);
     if (t.empty() || t[0] == '#' || t[0] == ';') continue;
     if (SectionOf(t) != Section::kNone) return ParseCmvisionColors(text, path);
     break;

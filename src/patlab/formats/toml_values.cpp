@@ -1,4 +1,5 @@
 #include <cmath>
+#include <filesystem>
 #include <optional>
 
 #include "patlab/core/error.h"
@@ -71,6 +72,11 @@ std::vector<const toml::table*> TableArray(const toml::table& root, std::string_
     out.push_back(t);
   }
   return out;
+}
+
+std::string ResolveBeside(const std::string& base_dir, const std::string& path) {
+  if (path.empty() || std::filesystem::path(path).is_absolute()) return path;
+  return (std::filesystem::path(base_dir) / path).lexically_normal().string();
 }
 
 }  // namespace patlab::formats::internal

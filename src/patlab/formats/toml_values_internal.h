@@ -23,4 +23,8 @@ std::vector<Vec2> ReadPairList(const io::TomlReader& r, std::string_view key,
 std::vector<const toml::table*> TableArray(const toml::table& root, std::string_view key,
                                            const std::string& file);
 
+// A path a file names: as given when empty or absolute, else relative to `base_dir` (the file's
+// folder), lexically normal.
+std::string ResolveBeside(const std::string& base_dir, const std::string& path);
+
 }  // namespace patlab::formats::internal

@@ -27,7 +27,7 @@ double ReadNumber(const io::TomlReader& r, std::string_view key, double fallback
 }
 
 // The sub-table [key] of the root, or null when the file has none.
-const toml::table* SubTable(const io::TomlReader& r, std::string_view key) {
+const toml::table* OptionalSubTable(const io::TomlReader& r, std::string_view key) {
   const toml::node* node = r.table().get(key);
   if (node == nullptr) return nullptr;
   if (node->as_table() == nullptr) {
@@ -143,7 +143,7 @@ void ParseAnalysis(const io::TomlReader& s, analysis::TrackOptions* o) {
   o->trim_samples = ReadInt(s, "trim_samples", o->trim_samples);
 }
 
-analysis::TrackOptions ParseTable(const toml::table& root, const std::string& path) {
+analysis::TrackOptions ParseTrackTable(const toml::table& root, const std::string& path) {
   const io::TomlReader r(root, path);
   r.CheckKeys({"name", "description", "seed", "runs", "diameters_mm", "pattern", "patterns_dir",
                "platform", "camera", "render", "noise", "analysis"});
@@ -154,7 +154,7 @@ analysis::TrackOptions ParseTable(const toml::table& root, const std::string& pa
   ParsePattern(r, &o);
   // Each [table] is read by its own parser, in the order of the file format.
   auto section = [&](const char* key, auto parse) {
-    if (const toml::table* t = SubTable(r, key)) {
+    if (const toml::table* t = OptionalSubTable(r, key)) {
       parse(io::TomlReader(*t, path, std::string("[").append(key).append("]")));
     }
   };
@@ -170,11 +170,11 @@ analysis::TrackOptions ParseTable(const toml::table& root, const std::string& pa
 }  // namespace
 
 analysis::TrackOptions LoadTrackExperiment(const std::string& path) {
-  return ParseTable(io::ParseTomlFile(path), path);
+  return ParseTrackTable(io::ParseTomlFile(path), path);
 }
 
 analysis::TrackOptions ParseTrackExperiment(std::string_view text, const std::string& source_name) {
-  return ParseTable(io::ParseTomlText(text, source_name), source_name);
+  return ParseTrackTable(io::ParseTomlText(text, source_name), source_name);
 }
 
 }  // namespace patlab::formats

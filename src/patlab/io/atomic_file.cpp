@@ -21,6 +21,8 @@ namespace patlab::io {
 namespace {
 
 namespace fs = std::filesystem;
+using atomic_detail::Exists;
+using atomic_detail::IsDirectory;
 using atomic_detail::JournalPath;
 using atomic_detail::kJournalEnd;
 using atomic_detail::kOldTag;
@@ -56,16 +58,6 @@ extern "C" void OnTerminatingSignal(int signal_number) {
 [[noreturn]] void Fail(const std::string& path, const std::string& reason) {
   throw EnvironmentError(EscapeForMessage(path, 1024) + ": cannot write: " + reason +
                          "; expected a writable location");
-}
-
-bool IsDirectory(const std::string& path) {
-  struct stat st {};
-  return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
-
-bool Exists(const std::string& path) {
-  struct stat st {};
-  return ::lstat(path.c_str(), &st) == 0;
 }
 
 // The file descriptor of a temporary being written, closed and removed unless Finish succeeds.
@@ -363,5 +355,19 @@ std::vector<std::string> OutputNames(const std::vector<std::string>& paths) {
   for (const std::string& p : paths) names.push_back(fs::path(p).filename().string());
   return names;
 }
+
+namespace atomic_detail {
+
+bool IsDirectory(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+bool Exists(const std::string& path) {
+  struct stat st {};
+  return ::lstat(path.c_str(), &st) == 0;
+}
+
+}  // namespace atomic_detail
 
 }  // namespace patlab::io

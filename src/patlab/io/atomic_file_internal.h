@@ -23,6 +23,9 @@ std::string Sibling(const std::string& path, const char* tag, long pid);
 std::string JournalPath(const std::string& folder, long pid);
 // The distinct folders of `paths`, absolute ("." for a bare name).
 std::vector<std::string> FoldersOf(const std::vector<std::string>& paths);
+// stat(2): `path` is a directory (or a link to one). lstat(2): something is at `path`.
+bool IsDirectory(const std::string& path);
+bool Exists(const std::string& path);
 // SweepDeadWriters on each folder not yet swept by this process.
 void SweepOnce(const std::vector<std::string>& folders);
 

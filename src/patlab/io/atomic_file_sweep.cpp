@@ -1,7 +1,6 @@
 // What dead writers left (atomic_file.h, SweepDeadWriters): a journalled commit rolled forward,
 // other temporaries and moved-aside copies of processes that no longer exist removed.
 #include <signal.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -85,11 +84,6 @@ std::optional<Leftover> Classify(const fs::path& folder, const std::string& name
 bool IsDead(long pid) {
   return pid != static_cast<long>(::getpid()) && ::kill(static_cast<pid_t>(pid), 0) != 0 &&
          errno == ESRCH;
-}
-
-bool Exists(const std::string& path) {
-  struct stat st {};
-  return ::lstat(path.c_str(), &st) == 0;
 }
 
 std::vector<Leftover> DeadLeftovers(const std::string& folder) {

@@ -7,23 +7,17 @@
 #include <cerrno>
 #include <filesystem>
 
+#include "patlab/io/atomic_file_internal.h"
+
 namespace patlab::io {
 
 namespace {
 
 namespace fs = std::filesystem;
+using atomic_detail::Exists;
+using atomic_detail::IsDirectory;
 
 static_assert(std::atomic<bool>::is_always_lock_free);
-
-bool Exists(const fs::path& path) {
-  struct stat st {};
-  return ::lstat(path.c_str(), &st) == 0;
-}
-
-bool IsDirectory(const fs::path& path) {
-  struct stat st {};
-  return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
 
 // `folder` as the plan spells it: lexically normal, no trailing separator.
 fs::path Normal(const std::string& folder) {
