@@ -119,14 +119,19 @@ double CameraModel::AreaScale(const Vec2& pixel, double height_mm) const {
   return std::abs(du.x() * dv.y() - du.y() * dv.x());
 }
 
+Vec2 ResizedPixel(const Vec2& pixel, double scale) {
+  return scale * (pixel + Vec2(0.5, 0.5)) - Vec2(0.5, 0.5);
+}
+
 CameraModel CameraModel::Resized(double scale) const {
   PATLAB_CHECK(scale > 0.0);
   if (is_pinhole_) {
     PinholeCamera c = pinhole_;
     c.fx_px *= scale;
     c.fy_px *= scale;
-    c.cx_px = scale * (c.cx_px + 0.5) - 0.5;
-    c.cy_px = scale * (c.cy_px + 0.5) - 0.5;
+    const Vec2 centre = ResizedPixel(Vec2(c.cx_px, c.cy_px), scale);
+    c.cx_px = centre.x();
+    c.cy_px = centre.y();
     return Pinhole(c);
   }
   // The old pixel of a new one: p = (p' + 0.5) / scale - 0.5.

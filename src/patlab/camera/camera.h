@@ -83,6 +83,10 @@ class CameraModel {
   std::vector<Eigen::Matrix3d> inverses_;
 };
 
+// Where a frame's pixel (centre) lies in the frame resized by `scale` with corners kept:
+// scale (p + 0.5) - 0.5 (image.h's pixel centres; CameraModel::Resized, BinImage).
+Vec2 ResizedPixel(const Vec2& pixel, double scale);
+
 // The calibration's own position error on one plane, as `patlab calibrate` measured it (the
 // calibration file's [[residual]] tables): the RMS and worst distance (mm) between where the
 // fitted camera puts an observed pixel on the plane and where it truly is. `measured` is false

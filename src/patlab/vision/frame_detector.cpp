@@ -44,7 +44,7 @@ Region InFramePixels(const Region& binned, int k) {
   r.y_min = binned.y_min * k;
   r.x_max = binned.x_max * k + k - 1;
   r.y_max = binned.y_max * k + k - 1;
-  r.centroid_px = (binned.centroid_px + Vec2(0.5, 0.5)) * static_cast<double>(k) - Vec2(0.5, 0.5);
+  r.centroid_px = camera::ResizedPixel(binned.centroid_px, k);
   return r;
 }
 
