@@ -218,6 +218,13 @@ void AddRunResiduals(const std::vector<double>& run, const stats::SmoothingOptio
   count += static_cast<double>(run.size()) - (smoothing.sigma_samples > 0.0 ? 0.0 : 1.0);
 }
 
+// Two standard normals as (x, y), y drawn first.
+Vec2 NormalPair(RandomStream& rng) {
+  const double y = rng.Normal();
+  const double x = rng.Normal();
+  return {x, y};
+}
+
 }  // namespace
 
 std::vector<double> SimulateTrack(const std::vector<FitDatum>& data,
@@ -245,15 +252,21 @@ std::vector<double> SimulateTrack(const std::vector<FitDatum>& data,
       RandomStream rng(seed, 0x6e74666d /* "ntfm" */,
                        static_cast<uint64_t>(r) * static_cast<uint64_t>(frames) + f);
       const Vec2 t(geometry.travel_mm * (static_cast<double>(f) / (frames - 1) - 0.5), offset);
-      const Vec2 common = m[2] * Vec2(rng.Normal(), rng.Normal());
+      // The draws are sequenced one by one (NormalPair): C++ leaves the order of a call's
+      // arguments and of an expression's operands unspecified, and a compiler's choice must not
+      // change the results. The order is the one GCC took when this was written in one expression
+      // (its committed numbers): the last term's pair first, each pair's y before its x.
+      const Vec2 common = m[2] * NormalPair(rng);
       const double phi = 1e-3 * m[3] * rng.Normal(), eps = 1e-6 * m[4] * rng.Normal();
       const double cs = (1.0 + eps) * std::cos(phi), sn = (1.0 + eps) * std::sin(phi);
       const auto camera = [&](const Vec2& v) {
         return Vec2(cs * v.x() - sn * v.y(), sn * v.x() + cs * v.y());
       };
       // The single white patch at t: independent, correlated (its own variance) and common.
-      const Vec2 patch = t + Vec2(m[0] * rng.Normal(), m[1] * rng.Normal()) +
-                         m[5] * Vec2(rng.Normal(), rng.Normal()) + common;
+      const Vec2 patch_correlated = NormalPair(rng);
+      const Vec2 patch_own = NormalPair(rng);
+      const Vec2 patch =
+          t + Vec2(m[0] * patch_own.x(), m[1] * patch_own.y()) + m[5] * patch_correlated + common;
       const Vec2 patch_error = camera(patch) - t;
       series[0][f] = patch_error.x();
       series[1][f] = patch_error.y();
@@ -265,8 +278,10 @@ std::vector<double> SimulateTrack(const std::vector<FitDatum>& data,
       const Pose2 truth{t.x(), t.y(), heading};
       std::array<Vec2, kMaxPatches> observed{};
       for (int i = 0; i < n; ++i) {
-        const Vec2 e = Vec2(m[0] * rng.Normal(), m[1] * rng.Normal()) + m[5] * Vec2(cx[i], cy[i]) +
-                       m[6] * Vec2(rng.Normal(), rng.Normal()) + common;
+        const Vec2 jitter = NormalPair(rng);
+        const Vec2 own = NormalPair(rng);
+        const Vec2 e = Vec2(m[0] * own.x(), m[1] * own.y()) + m[5] * Vec2(cx[i], cy[i]) +
+                       m[6] * jitter + common;
         observed[static_cast<size_t>(i)] = camera(truth.Apply(model.model_mm[i]) + e);
       }
       const Pose2 est = estimate::Fast(model, observed.data());
