@@ -63,12 +63,6 @@ const OptionGroups kSetupGroups = {
     {"diagnostics", {"explain"}},
     {"field models", {"list-landmarks"}}};
 
-std::vector<calib::Field> FieldsOf(const std::string& name) {
-  std::vector<calib::Field> family = formats::FieldFamily(name, DataRoots());
-  if (!family.empty()) return family;
-  return {formats::LoadField(FindData(name, io::DataKind::kField))};
-}
-
 // The robots each frame shows, through the files just written (read back as detect reads them);
 // with `explain`, every key candidate's diagnosis as patlab detect --explain prints it.
 void PrintDetections(const fs::path& dir, const std::vector<camera::Image>& frames,
@@ -98,7 +92,9 @@ void PrintDetections(const fs::path& dir, const std::vector<camera::Image>& fram
 // The library's options from the command's flags.
 formats::SetupOptions OptionsOf(const SetupCommandOptions& o) {
   formats::SetupOptions options;
-  options.fields = FieldsOf(o.field);
+  formats::SetupFieldModels models = formats::SetupFields(o.field, DataRoots());
+  options.fields = std::move(models.fields);
+  options.lenders = std::move(models.lenders);
   options.settings_path = FindData(o.settings, io::DataKind::kSettings);
   options.robot_height_mm = o.robot_height_mm;
   if (o.camera_height_mm < 0.0)

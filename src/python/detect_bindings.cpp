@@ -317,10 +317,10 @@ py::dict Setup(const py::list& frames, const std::string& field, const std::stri
                const std::map<std::string, double>& colour_options, int binning) {
   formats::SetupOptions options;
   // A family's every model, or one model (a shipped name or a file), as `patlab setup` reads it.
-  const std::vector<std::string> roots = io::DataRoots(binary_dir, std::getenv("PATLAB_DATA"));
-  options.fields = formats::FieldFamily(field, roots);
-  if (options.fields.empty())
-    options.fields.push_back(formats::LoadField(io::FindData(field, io::DataKind::kField, roots)));
+  formats::SetupFieldModels models =
+      formats::SetupFields(field, io::DataRoots(binary_dir, std::getenv("PATLAB_DATA")));
+  options.fields = std::move(models.fields);
+  options.lenders = std::move(models.lenders);
   options.settings_path = settings;
   options.robot_height_mm = robot_height_mm;
   options.camera_height_mm = camera_height_mm;

@@ -3,10 +3,14 @@
 #include "patlab/formats/field_file.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <numbers>
+#include <sstream>
 
 #include "../expect_error.h"
 #include "patlab/calib/field.h"
@@ -303,6 +307,45 @@ TEST(FieldFile, BadArcsAndFactsAreInputErrors) {
                                 "at_mm = [0, 0]\n",
                                 "f.toml"),
                      "f.toml:2: width_mm is -3; expected a length > 0 mm");
+}
+
+// `patlab setup --field`: a family fits its every model and lends nothing; one model named is
+// fitted alone, the rest of its family (newest first) searched only to lend it their views; a
+// model of no family has no lenders.
+TEST(FieldFile, SetupFitsAFamilyOrOneModelWithTheRestOfItsFamilyAsLenders) {
+  auto names = [](const std::vector<calib::Field>& fields) {
+    std::vector<std::string> out;
+    for (const calib::Field& f : fields) out.push_back(f.name);
+    return out;
+  };
+  const SetupFieldModels family = SetupFields("ssl", kRoots);
+  EXPECT_EQ(names(family.fields), names(FieldFamily("ssl", kRoots)));
+  EXPECT_TRUE(family.lenders.empty());
+  const SetupFieldModels named = SetupFields("ssl-2015", kRoots);
+  EXPECT_EQ(names(named.fields), std::vector<std::string>{"ssl-2015"});
+  EXPECT_EQ(names(named.lenders),
+            (std::vector<std::string>{"ssl-div-a", "ssl-div-b", "ssl-2019-div-b", "ssl-2018",
+                                      "ssl-2014", "ssl-2012", "ssl-2009", "ssl-2008"}));
+  EXPECT_EQ(names(SetupFields("vss", kRoots).fields), (std::vector<std::string>{"vss-5v5", "vss"}));
+  EXPECT_EQ(names(SetupFields("vss", kRoots).lenders), std::vector<std::string>{});
+  EXPECT_EQ(names(SetupFields("vss-5v5", kRoots).lenders), std::vector<std::string>{"vss"});
+  // A user's file of no family: fitted alone.
+  std::ifstream in(std::string(PATLAB_SOURCE_DIR) + "/experiments/fields/ssl-2015.toml");
+  std::ostringstream own;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("family", 0) == 0) continue;
+    own << (line == "name = \"ssl-2015\"" ? "name = \"our-lab\"" : line) << "\n";
+  }
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("our-lab-" + std::to_string(::getpid()) + ".toml");
+  std::ofstream(path) << own.str();
+  const SetupFieldModels lab = SetupFields(path.string(), kRoots);
+  std::filesystem::remove(path);
+  EXPECT_EQ(names(lab.fields), std::vector<std::string>{"our-lab"});
+  EXPECT_TRUE(lab.lenders.empty());
+  EXPECT_INPUT_ERROR_STARTS_WITH(SetupFields("ssl-2016", kRoots),
+                                 "field 'ssl-2016' not found; expected an existing file or a name "
+                                 "in ");
 }
 
 }  // namespace

@@ -133,6 +133,13 @@ def test_the_family_and_the_clis_report(cli, root, tmp_path, in_root):
     assert all(v in lent and v != k for k, v in lent.items() if v)
     assert "(search 2478.4 px, a view ssl-2012's search found)" in report["report"]
     assert any(not t["fitted"] and t["failure"].startswith("not fitted") for t in tried)
+    # Named alone, ssl-2009 is the one model fitted and tried; the rest of its family is searched
+    # only to lend it views, and ssl-2012's search lends the one it has from it in the family.
+    named = patlab.setup(str(frame), field="ssl-2009", settings="ssl-frame.detector",
+                         out=tmp_path / "named")
+    assert [t["field"] for t in named["tried"]] == ["ssl-2009"]
+    assert named["tried"][0]["screen_view_of"] == "ssl-2012"
+    assert named["field"] == "ssl-2009"
     # The lines decide this view: no other camera explains nearly as much line.
     assert report["undecided"] == [] and not report["robots_decided"]
     assert not report["lines_overruled"]

@@ -231,14 +231,28 @@ TEST(FamilySearch, TheRunnersUpAreTheCamerasTheLinesDecideAgainstNarrowly) {
 
 // Fresh rendered seed 205's camera (scripts/setup_rendered.py) 3.3 m over an ssl-2015 half,
 // looking nearly straight down: the centre circle, the halfway line and a goal line, all of which
-// ssl-div-b paints alike. ssl-2015's own search misses the camera that ssl-div-b's finds; lent that
+// ssl-div-b paints alike.
+camera::PinholeCamera SeedTwoHundredFivesCamera() {
+  return rendered::CameraOfFile(516.489647, Vec2(392.547145, 296.859175), -0.094590,
+                                Eigen::Vector3d(-0.449692844, 3.107927402, 0.060622478),
+                                Eigen::Vector3d(-2232.467185, -383.391959, 3268.947469));
+}
+
+// How far `fitted` maps the frame from the true camera, in the nearer of the field's two
+// equivalent world frames (RMS mm).
+double NearerFrameMappingRmsMm(const camera::PinholeCamera& truth,
+                               const camera::PinholeCamera& fitted) {
+  camera::PinholeCamera turned = truth;
+  turned.rotation = truth.rotation * Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
+  return std::min(rendered::MappingRmsMm(truth, fitted, kFrameWidth, kFrameHeight),
+                  rendered::MappingRmsMm(turned, fitted, kFrameWidth, kFrameHeight));
+}
+
+// ssl-2015's own search misses the camera that ssl-div-b's finds; lent that
 // view, ssl-2015 fits the true camera and is kept, and says whose search found its view.
 TEST(FamilySearch, AViewAnotherModelsSearchFoundIsLentWhereItExplainsMore) {
   const std::vector<calib::Field> family = Models({"ssl-div-b", "ssl-2015"});
-  const camera::PinholeCamera truth =
-      rendered::CameraOfFile(516.489647, Vec2(392.547145, 296.859175), -0.094590,
-                             Eigen::Vector3d(-0.449692844, 3.107927402, 0.060622478),
-                             Eigen::Vector3d(-2232.467185, -383.391959, 3268.947469));
+  const camera::PinholeCamera truth = SeedTwoHundredFivesCamera();
   const std::vector<calib::LinePixel> pixels = FindLinePixels(RenderField(family[1], truth));
   // ssl-2015's search alone: its best view explains far less line than the lent one will.
   const calib::internal::Searched own = calib::internal::SearchField(
@@ -250,14 +264,38 @@ TEST(FamilySearch, AViewAnotherModelsSearchFoundIsLentWhereItExplainsMore) {
   EXPECT_EQ(fc.tries[0].screen_view_of, "");
   EXPECT_GT(fc.tries[1].screen_px, 1.5 * own.views.front().score);
   EXPECT_GT(fc.calibration.score_px, fc.tries[0].score_px);
-  camera::PinholeCamera turned = truth;
-  turned.rotation = truth.rotation * Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
-  double rms = INFINITY;
-  for (const camera::PinholeCamera& t : {truth, turned}) {
-    rms = std::min(rms,
-                   rendered::MappingRmsMm(t, fc.calibration.fit.camera, kFrameWidth, kFrameHeight));
-  }
-  EXPECT_LT(rms, 5.0);
+  EXPECT_LT(NearerFrameMappingRmsMm(truth, fc.calibration.fit.camera), 5.0);
+}
+
+// The same frame with ssl-2015 named alone (`patlab setup --field ssl-2015`): its own search
+// misses the camera; the rest of its family, searched only as lenders, lends ssl-div-b's view.
+// The lenders are neither fitted nor reported: one try, the named model's.
+TEST(FamilySearch, AModelNamedAloneBorrowsTheViewsOfItsLenders) {
+  const std::vector<calib::Field> family = Models({"ssl-div-b", "ssl-2015"});
+  const camera::PinholeCamera truth = SeedTwoHundredFivesCamera();
+  const std::vector<calib::LinePixel> pixels = FindLinePixels(RenderField(family[1], truth));
+  const std::vector<calib::Field> named = {family[1]}, lenders = {family[0]};
+  const std::string refused =
+      "rendered.png: 1756 line pixels, but no camera fits them to the field ssl-2015 (the line "
+      "pixels matched 2 field line(s) and 2 circle(s) (2 of them straight in the image: their "
+      "pixels within 1 px of a line)); expected a frame whose lines cross";
+  EXPECT_INPUT_ERROR(
+      calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight, "rendered.png", named),
+      refused);
+  const calib::internal::Searched own =
+      calib::internal::SearchField(pixels, kFrameWidth, kFrameHeight, "rendered.png", named[0], {});
+  const calib::FamilyCalibration lent = calib::AutoCalibrateFamily(
+      pixels, kFrameWidth, kFrameHeight, "rendered.png", named, {}, {}, lenders);
+  ASSERT_EQ(lent.kept, 0);
+  ASSERT_EQ(lent.tries.size(), 1u);
+  EXPECT_EQ(lent.tries[0].field, "ssl-2015");
+  EXPECT_EQ(lent.tries[0].screen_view_of, "ssl-div-b");
+  EXPECT_GT(lent.tries[0].screen_px, 1.5 * own.views.front().score);
+  EXPECT_LT(NearerFrameMappingRmsMm(truth, lent.calibration.fit.camera), 5.0);
+  // A lender of the same marks as the named model shares its search and lends nothing new.
+  EXPECT_INPUT_ERROR(calib::AutoCalibrateFamily(pixels, kFrameWidth, kFrameHeight, "rendered.png",
+                                                named, {}, {}, named),
+                     refused);
 }
 
 // Fresh rendered seed 20's camera (scripts/setup_rendered.py) over the centre circle of

@@ -116,6 +116,12 @@ AutoCalibration AutoCalibrate(const std::vector<LinePixel>& pixels, int width_px
 // own search found becomes that model's best view (screen_view_of names its search): models whose
 // lines in view are alike find their common camera from different hypotheses.
 //
+// `lenders` are searched only to lend their views to `fields`, never fitted as themselves, kept
+// or reported in `tries`: a model named alone (`patlab setup --field ssl-2015`) borrows from the
+// rest of its family. Besides the best view lent as above, each lender's views, scored against
+// each model's marks, are one more search of that model, screened and fitted with the models'
+// own; a camera fitted from them is that model's (its try, the kept camera, the rivals).
+//
 // Where the lines do not decide -- a second camera, of the same model or another, explains more
 // than 90% of the kept one's line length yet maps the frame differently (a view of a T of two
 // lines and a parallel one fits every model whose lines are alike there, each at its own scale)
@@ -164,7 +170,8 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
                                       int height_px, const std::string& source,
                                       const std::vector<Field>& fields,
                                       const AutoOptions& options = {},
-                                      const FamilyOptions& family = {});
+                                      const FamilyOptions& family = {},
+                                      const std::vector<Field>& lenders = {});
 
 // The held-out error (held_out_*) of a camera returned without it (FamilyCalibration's
 // runners_up): each of two folds of its observations fitted from that camera, measured on the

@@ -85,12 +85,13 @@ std::vector<std::optional<internal::Searched>> Screen(const Frame& f,
 // view explains 843 px, ssl-div-b's best explains 1833 px of ssl-2015's marks, and only from it
 // does ssl-2015, the true model, fit). Only views of each search's own list are lent, and only
 // where they beat the borrower's best, so a model whose search found its camera is unchanged.
-void LendViews(const Frame& f, std::vector<std::optional<internal::Searched>>& searched,
-               FamilyCalibration* out) {
+// The first `borrowers` models borrow; the rest (AutoCalibrateFamily's lenders) only lend.
+void LendViews(const Frame& f, size_t borrowers,
+               std::vector<std::optional<internal::Searched>>& searched, FamilyCalibration* out) {
   const internal::LineDistance dt(*f.pixels, f.width_px, f.height_px);
-  std::vector<std::optional<internal::ScoredView>> lent(searched.size());
-  std::vector<size_t> lender(searched.size());
-  for (size_t i = 0; i < searched.size(); ++i) {
+  std::vector<std::optional<internal::ScoredView>> lent(borrowers);
+  std::vector<size_t> lender(borrowers);
+  for (size_t i = 0; i < borrowers; ++i) {
     if (!searched[i]) continue;
     double best = searched[i]->views.front().score;
     for (size_t j = 0; j < searched.size(); ++j) {
@@ -106,12 +107,82 @@ void LendViews(const Frame& f, std::vector<std::optional<internal::Searched>>& s
       }
     }
   }
-  for (size_t i = 0; i < searched.size(); ++i) {
+  for (size_t i = 0; i < borrowers; ++i) {
     if (!lent[i]) continue;
     searched[i]->views.insert(searched[i]->views.begin(), *lent[i]);
     out->tries[i].screen_px = lent[i]->score;
     out->tries[i].screen_view_of = out->tries[lender[i]].field;
   }
+}
+
+constexpr size_t kLender = std::numeric_limits<size_t>::max();
+
+// A model named alone borrows more than the single best view LendViews gives it: each lender's
+// views, scored against the model's own marks (best first), become one more search of that model,
+// fitted like another model of a family, so every camera the family would have fitted is fitted
+// as the named model. (Rendered seed 3: the frame shows two lines that ssl-2018 paints where the
+// true model, ssl-div-a, does; the family fits ssl-2018 from its own views, a camera that maps
+// the true floor within 10 mm and through which 6 robots decode, while ssl-div-a's own search and
+// the one view lent to it find only cameras through which no robot decodes.) Appends the lent
+// searches to `fields`, `searched` and the tries; returns, for every search, the model it stands
+// for (kLender for the lenders' own).
+std::vector<size_t> AddLentSearches(const Frame& f, size_t models, std::vector<Field>& fields,
+                                    std::vector<std::optional<internal::Searched>>& searched,
+                                    FamilyCalibration* out) {
+  const size_t searches = searched.size();
+  std::vector<size_t> owner(searches, kLender);
+  std::iota(owner.begin(), owner.begin() + static_cast<std::ptrdiff_t>(models), size_t{0});
+  if (searches == models) return owner;
+  const internal::LineDistance dt(*f.pixels, f.width_px, f.height_px);
+  for (size_t i = 0; i < models; ++i) {
+    const Field model = fields[i];
+    const FieldMarks marks = PaintedMarks(model);
+    for (size_t j = models; j < searches; ++j) {
+      if (!searched[j]) continue;
+      internal::Searched lent{marks, internal::PointSymmetric(model), 0, searched[j]->views};
+      for (internal::ScoredView& v : lent.views)
+        v.score = internal::CameraScore(v.camera, marks, dt);
+      std::stable_sort(lent.views.begin(), lent.views.end(),
+                       [](const auto& a, const auto& b) { return a.score > b.score; });
+      FamilyTry t;
+      t.field = model.name;
+      t.screen_px = lent.views.front().score;
+      t.score_px = t.held_out_mapping_mm = kNaN;
+      t.screen_view_of = out->tries[j].field;
+      fields.push_back(model);
+      searched.push_back(std::move(lent));
+      out->tries.push_back(std::move(t));
+      owner.push_back(i);
+    }
+  }
+  return owner;
+}
+
+// The lent searches folded back into the models they stand for (`owner`, AddLentSearches): the
+// kept camera's, the rivals' and the runners-up's model, and the model's try where a lent
+// search's fit scored more than its own; then the tries of the models only.
+void FoldLentSearches(const std::vector<size_t>& owner, size_t models, FamilyCalibration* out) {
+  for (size_t e = models; e < owner.size(); ++e) {
+    const FamilyTry& lent = out->tries[e];
+    if (owner[e] == kLender || !lent.fitted || !lent.failure.empty()) continue;
+    FamilyTry& own = out->tries[owner[e]];
+    const bool kept = out->kept == static_cast<int>(e);
+    if (kept || !(lent.score_px <= own.score_px)) {
+      own.fitted = true;
+      own.score_px = lent.score_px;
+      own.screen_px = lent.screen_px;
+      own.screen_view_of = lent.screen_view_of;
+      own.failure.clear();
+      if (kept) own.held_out_mapping_mm = lent.held_out_mapping_mm;
+    }
+  }
+  const auto fold = [&](int& model) {
+    if (model >= 0) model = static_cast<int>(owner[static_cast<size_t>(model)]);
+  };
+  fold(out->kept);
+  for (FamilyRival& r : out->rivals) fold(r.model);
+  for (FamilyRival& r : out->runners_up) fold(r.model);
+  out->tries.resize(models);
 }
 
 // The runners-up from `pool` (best first): cameras explaining at least runner_up_ratio of the kept
@@ -219,7 +290,8 @@ void FitInOrder(const Frame& f, const std::vector<Field>& fields,
 FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int width_px,
                                       int height_px, const std::string& source,
                                       const std::vector<Field>& fields, const AutoOptions& options,
-                                      const FamilyOptions& family) {
+                                      const FamilyOptions& family,
+                                      const std::vector<Field>& lenders) {
   const auto t0 = std::chrono::steady_clock::now();
   if (fields.empty()) throw InputError("no field model to fit; expected a model or a family");
   if (!(family.screen_ratio > 0.0 && family.screen_ratio <= 1.0) || family.min_fitted < 1 ||
@@ -231,15 +303,29 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
   const Frame frame{&pixels, width_px, height_px, &source, &options};
   FamilyCalibration out;
   std::vector<int> same;
-  auto searched = Screen(frame, fields, &same, &out);
-  LendViews(frame, searched, &out);
-  std::vector<size_t> order(fields.size());
-  std::iota(order.begin(), order.end(), size_t{0});
+  // The lenders are searched after the models, so a lender of the same marks as a model shares
+  // its search (and lends nothing new), never the other way round.
+  std::vector<Field> searched_fields = fields;
+  searched_fields.insert(searched_fields.end(), lenders.begin(), lenders.end());
+  auto searched = Screen(frame, searched_fields, &same, &out);
+  LendViews(frame, fields.size(), searched, &out);
+  const std::vector<size_t> owner =
+      AddLentSearches(frame, fields.size(), searched_fields, searched, &out);
+  same.resize(fields.size());
+  // The models' searches and the lent ones, by their screen.
+  std::vector<size_t> order;
+  for (size_t e = 0; e < owner.size(); ++e) {
+    if (owner[e] != kLender) order.push_back(e);
+  }
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     const double x = out.tries[a].screen_px, y = out.tries[b].screen_px;
     return std::isfinite(x) && (!std::isfinite(y) || x > y);
   });
-  FitInOrder(frame, fields, searched, order, family, &out);
+  FitInOrder(frame, searched_fields, searched, order, family, &out);
+  FoldLentSearches(owner, fields.size(), &out);
+  order.erase(
+      std::remove_if(order.begin(), order.end(), [&](size_t e) { return e >= fields.size(); }),
+      order.end());
   // Models of the same geometry share their twin's result.
   for (size_t i = 0; i < fields.size(); ++i) {
     if (same[i] < 0) continue;

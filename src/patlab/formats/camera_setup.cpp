@@ -99,7 +99,7 @@ calib::FamilyCalibration CalibrateFamily(const camera::Image& frame, const std::
   options.camera_height_mm = o.camera_height_mm;
   try {
     return calib::AutoCalibrateFamily(pixels, frame.width_px, frame.height_px, name, o.fields,
-                                      options, family);
+                                      options, family, o.lenders);
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) +
                      "; or give four --landmark NAME=X,Y (patlab setup --list-landmarks FIELD)");

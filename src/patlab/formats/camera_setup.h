@@ -51,6 +51,9 @@ struct SetupLandmark {
 struct SetupOptions {
   // The field models to try (one model, or every model of a family); at least one.
   std::vector<calib::Field> fields;
+  // Models searched only for views to lend to `fields` (calib::AutoCalibrateFamily's lenders):
+  // with one model named, the rest of its family (formats::SetupFieldModels).
+  std::vector<calib::Field> lenders;
   std::string settings_path;  // detector settings: palette and patterns (required)
   // The robots' pattern plane above the floor (mm), written as the calibration's default height;
   // in [0, 1000].

@@ -161,4 +161,17 @@ std::vector<calib::Field> FieldFamily(std::string_view family,
   return out;
 }
 
+SetupFieldModels SetupFields(const std::string& name, const std::vector<std::string>& roots) {
+  SetupFieldModels models;
+  models.fields = FieldFamily(name, roots);
+  if (!models.fields.empty()) return models;
+  models.fields.push_back(LoadField(io::FindData(name, io::DataKind::kField, roots)));
+  const calib::Field& named = models.fields.front();
+  if (named.family.empty()) return models;
+  for (calib::Field& f : FieldFamily(named.family, roots)) {
+    if (f.name != named.name) models.lenders.push_back(std::move(f));
+  }
+  return models;
+}
+
 }  // namespace patlab::formats

@@ -25,4 +25,14 @@ std::vector<std::string> FieldFamilies(const std::vector<std::string>& roots);
 std::vector<calib::Field> FieldFamily(std::string_view family,
                                       const std::vector<std::string>& roots);
 
+// The models `patlab setup --field NAME` fits: every shipped model of the family NAME, or the one
+// model NAME (a shipped name or a file) with the other shipped models of its family as lenders,
+// searched only for views to lend it (calib::AutoCalibrateFamily): a model whose search misses
+// its camera borrows it from a model whose lines in view are alike.
+struct SetupFieldModels {
+  std::vector<calib::Field> fields;
+  std::vector<calib::Field> lenders;
+};
+SetupFieldModels SetupFields(const std::string& name, const std::vector<std::string>& roots);
+
 }  // namespace patlab::formats
