@@ -241,7 +241,8 @@ def setup(frames, field, settings, out, landmarks=(), robot_height=140.0, camera
     """`patlab setup FRAME... --field FIELD --settings S -o OUT` (formats::SetupCamera): a new
     camera from its frames -- paths, or (H, W, 3) uint8 RGB arrays (named frame0, frame1, ...)
     -- written into the folder ``out`` that ``detect(image, setup=out)`` reads. ``field``: a
-    field model or a family ("ssl", "vss"); ``settings``: detector settings (a path or a shipped
+    field model (fitted alone, the rest of its family lending it views) or a family ("ssl",
+    "vss"); ``settings``: detector settings (a path or a shipped
     name); ``landmarks``: "NAME=X,Y" strings (four or more replace the lines); ``robot_height``,
     ``camera_height`` and ``line_width`` as --robot-height (mm), --camera-height (mm; None:
     unknown, the lines or the robots decide) and --line-width (px); ``colour_options``: a dict

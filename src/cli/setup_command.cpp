@@ -113,9 +113,10 @@ int RunSetup(const std::vector<std::string>& args) {
       "usage: patlab setup FRAME... --field FIELD|FAMILY --settings S -o DIR [options]\n"
       "       patlab setup --list-landmarks FIELD");
   visible.add_options()("help,h", "show this help")(
-      "field", po::value(&o.field), "the field model or family (ssl, vss) (required)")(
-      "settings,s", po::value(&o.settings),
-      "detector settings: palette and patterns (a shipped name or a file; required)")(
+      "field", po::value(&o.field),
+      "the field model (fitted alone, the rest of its family lending views) or family (ssl, vss) "
+      "(required)")("settings,s", po::value(&o.settings),
+                    "detector settings: palette and patterns (a shipped name or a file; required)")(
       "robot-height", po::value(&o.robot_height_mm)->default_value(140.0),
       "the patterns' plane above the floor (mm), in [0, 1000]")(
       "camera-height", po::value(&o.camera_height_mm)->default_value(0.0),
