@@ -64,10 +64,11 @@ release_only=(
   'SetupCamera.TheRobotsDecideWhereTheLinesDoNot'
   'SetupCamera.TheRobotsSetTheCameraHeightTheLinesLeaveOpen'
   'SetupCamera.ACornerAndTenRobotsWithoutTheHeightDoNotFixTheCamera'
-  # rendered seed 3 with ssl-div-a named, fitted from its family's views twice over (refused
-  # without them): FamilySearch.AModelNamedAloneBorrowsTheViewsOfItsLenders runs the lenders'
-  # search, their lent views and the fit as the named model here
+  # a model named alone and its lenders (rendered seeds 3 and 205): every setup test that names
+  # a model runs the lenders' search, their lent views and the fit as the named model here
+  # (cli.SetupCli.RenderedFrameToDetectionsWithEveryRobotAndTheFloorWithin5Mm, ssl-2009 named)
   'SetupCamera.AModelNamedAloneIsFittedFromItsFamilysViews'
+  'FamilySearch.AModelNamedAloneBorrowsTheViewsOfItsLenders'
   # fresh seed 332's corner placed by the robots, refused against a placement of another model:
   # TheRobotsACornerAndTheHeightFix... runs the placements and their refusal rule here
   'SetupCamera.ACornerPlacementAnotherExplainsNearlyAsWellIsRefused'
