@@ -86,9 +86,8 @@ std::vector<std::optional<internal::Searched>> Screen(const Frame& f,
 // does ssl-2015, the true model, fit). Only views of each search's own list are lent, and only
 // where they beat the borrower's best, so a model whose search found its camera is unchanged.
 // The first `borrowers` models borrow; the rest (AutoCalibrateFamily's lenders) only lend.
-void LendViews(const Frame& f, size_t borrowers,
+void LendViews(const internal::LineDistance& dt, size_t borrowers,
                std::vector<std::optional<internal::Searched>>& searched, FamilyCalibration* out) {
-  const internal::LineDistance dt(*f.pixels, f.width_px, f.height_px);
   std::vector<std::optional<internal::ScoredView>> lent(borrowers);
   std::vector<size_t> lender(borrowers);
   for (size_t i = 0; i < borrowers; ++i) {
@@ -126,14 +125,14 @@ constexpr size_t kLender = std::numeric_limits<size_t>::max();
 // the one view lent to it find only cameras through which no robot decodes.) Appends the lent
 // searches to `fields`, `searched` and the tries; returns, for every search, the model it stands
 // for (kLender for the lenders' own).
-std::vector<size_t> AddLentSearches(const Frame& f, size_t models, std::vector<Field>& fields,
+std::vector<size_t> AddLentSearches(const internal::LineDistance& dt, size_t models,
+                                    std::vector<Field>& fields,
                                     std::vector<std::optional<internal::Searched>>& searched,
                                     FamilyCalibration* out) {
   const size_t searches = searched.size();
   std::vector<size_t> owner(searches, kLender);
   std::iota(owner.begin(), owner.begin() + static_cast<std::ptrdiff_t>(models), size_t{0});
   if (searches == models) return owner;
-  const internal::LineDistance dt(*f.pixels, f.width_px, f.height_px);
   for (size_t i = 0; i < models; ++i) {
     const Field model = fields[i];
     const FieldMarks marks = PaintedMarks(model);
@@ -308,9 +307,11 @@ FamilyCalibration AutoCalibrateFamily(const std::vector<LinePixel>& pixels, int 
   std::vector<Field> searched_fields = fields;
   searched_fields.insert(searched_fields.end(), lenders.begin(), lenders.end());
   auto searched = Screen(frame, searched_fields, &same, &out);
-  LendViews(frame, fields.size(), searched, &out);
+  // The line pixels' distance image, which every lent view is scored against.
+  const internal::LineDistance dt(pixels, width_px, height_px);
+  LendViews(dt, fields.size(), searched, &out);
   const std::vector<size_t> owner =
-      AddLentSearches(frame, fields.size(), searched_fields, searched, &out);
+      AddLentSearches(dt, fields.size(), searched_fields, searched, &out);
   same.resize(fields.size());
   // The models' searches and the lent ones, by their screen.
   std::vector<size_t> order;
