@@ -73,6 +73,7 @@ orange = [255, 124, 27]
 // robots. Division A's and B's fields fit those lines 2.6 m apart (1976.4 and 1974.3 px of line)
 // and the robots decode through both; setup kept the longer line and put every robot 2.6 m off (8
 // false IDs). A tie of lines and robots between cameras that map the frame differently is refused.
+// (The search now ties two of Division B's cameras, 2.6 m apart, a quarter turn of each other.)
 TEST(SetupCamera, CamerasNeitherTheLinesNorTheRobotsDecideAreRefused) {
   const testing::TempDir dir;
   const SceneFile scene = SslRobotScene(dir, R"(model = "pinhole"
@@ -113,6 +114,15 @@ orange = [238, 126, 25]
     EXPECT_NE(std::string(e.what()).find("neither the lines nor the robots decide the camera"),
               std::string::npos)
         << e.what();
+    // Naming the model is offered as a way out exactly when the tied cameras are two models'
+    // (here both are ssl-div-b's, 2.6 m apart).
+    const std::string m = e.what();
+    const size_t first = m.find('(') + 1, second = m.find("; ") + 2;
+    ASSERT_NE(second, std::string::npos + 2) << m;
+    const bool models_differ = m.substr(first, m.find(' ', first) - first) !=
+                               m.substr(second, m.find(' ', second) - second);
+    EXPECT_EQ(m.find("or name the model with --field MODEL") != std::string::npos, models_differ)
+        << m;
   }
 }
 
@@ -161,6 +171,8 @@ orange = [230, 103, 21]
     EXPECT_NE(std::string(e.what()).find("neither the lines nor the robots decide the camera"),
               std::string::npos)
         << e.what();
+    // Both cameras are the named model's: naming it is no way out, and the message says none.
+    EXPECT_EQ(std::string(e.what()).find("name the model"), std::string::npos) << e.what();
   }
 }
 
