@@ -114,6 +114,18 @@ std::string FocalAtItsBound(const calib::FamilyCalibration& family,
                             const std::vector<calib::Field>& fields, const std::string& name,
                             int width_px, const SetupHeight& height);
 
+// Where the lines fit one camera only (no rival), nothing measures its height (CreditedRobots 0)
+// and the robots decode the most only through the height scan's highest camera, more than through
+// the lines' own: the text saying so, for SetupFromRobots; "" otherwise. There the robots' plane
+// is nearly at the floor's scale, and robots decoding ever more the higher the camera ask for a
+// plane no higher than the floor: the lines' map of the floor is larger than the robots' patterns
+// allow at any camera's height. Fresh rendered seed 481 (ssl-2018 named): one touch line, and the
+// rims of the robots' patches taken for a defence area's corner; the lines' camera, 2.79 m up, 3 m
+// off, decoded 2 robots, the scan's 11.33 m camera 10, and setup wrote it: 10 false IDs.
+std::string RobotsOnlyAtTheHighest(const calib::FamilyCalibration& family,
+                                   const std::vector<calib::Field>& fields, const std::string& name,
+                                   const SetupHeight& height);
+
 // One camera of the lines (the kept one, a rival or a runner-up) as r's calibration.
 void UseCalibration(const calib::AutoCalibration& a, const calib::Field& field, SetupResult* r);
 
@@ -122,7 +134,9 @@ void UseCalibration(const calib::AutoCalibration& a, const calib::Field& field, 
 // Where no robot decodes through any of them at any height tried, the runners-up are weighed too
 // (family's, their held-out error measured then), and kept only when one is credited with robots
 // (SetupResult::lines_overruled). One camera left: it is returned, unless its focal length is at
-// its bound with no robot decoding (FocalAtItsBound: its text in *at_bound, and an empty result).
+// its bound with no robot decoding (FocalAtItsBound) or the robots decode the most only through
+// the height scan's highest camera (RobotsOnlyAtTheHighest): its text in *at_bound, and an empty
+// result.
 // Several: the one credited with the most robots, all of them in SetupResult::undecided; a tie is
 // refused (InputError naming each).
 SetupResult WeighCameras(const std::vector<const camera::Image*>& frames,

@@ -174,7 +174,8 @@ calib::CalibrationFit FitPlacement(const calib::Placement& placement,
 std::string MatchedText(const std::string& lines_failure) {
   static const std::regex kMatched(
       R"(\d+ line pixels|the line pixels matched \d+ field line\(s\) and \d+ circle\(s\))"
-      R"(|the focal length at the fit's lower bound \([^)]*\)[^:]*)");
+      R"(|the focal length at the fit's lower bound \([^)]*\)[^:]*)"
+      R"(|a floor map the robots' patterns do not allow \([^)]*\))");
   std::string text;
   for (auto m = std::sregex_iterator(lines_failure.begin(), lines_failure.end(), kMatched);
        m != std::sregex_iterator(); ++m)
@@ -341,6 +342,24 @@ std::string internal::FocalAtItsBound(const calib::FamilyCalibration& family,
          "fit's lower bound (" + FormatFixed(f, 0) + " px, " +
          FormatSignificant(calib::kMinFocalWidths, 2) + " image widths), and no robot decodes " +
          "through that camera" + heights + ": the lines do not fix the camera";
+}
+
+std::string internal::RobotsOnlyAtTheHighest(const calib::FamilyCalibration& family,
+                                             const std::vector<calib::Field>& fields,
+                                             const std::string& name, const SetupHeight& height) {
+  if (!family.rivals.empty() || height.scan.empty() || internal::CreditedRobots(height) != 0)
+    return "";
+  const SetupHeightTry& top = height.scan.back();
+  if (top.robots <= height.lines_robots) return "";
+  for (size_t i = 0; i + 1 < height.scan.size(); ++i)
+    if (height.scan[i].robots >= top.robots) return "";
+  return name + ": " + std::to_string(family.calibration.line_pixels) + " line pixels fit " +
+         fields[static_cast<size_t>(family.kept)].name + " only with a floor map the robots' " +
+         "patterns do not allow (" + std::to_string(height.lines_robots) +
+         " robots decode through the lines' camera, " + internal::Metres(height.lines_height_mm) +
+         " up, and the higher the camera the more, " + std::to_string(top.robots) +
+         " only through the highest tried, " + internal::Metres(top.height_mm) +
+         ", whose robots' plane is nearly at the floor's scale): the lines do not fix the camera";
 }
 
 SetupResult internal::SetupFromRobots(const std::vector<const camera::Image*>& frames,

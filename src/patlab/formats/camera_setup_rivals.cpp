@@ -93,6 +93,10 @@ SetupResult internal::WeighCameras(const std::vector<const camera::Image*>& fram
   // (FocalAtItsBound speaks only of a camera without rivals.)
   *at_bound = FocalAtItsBound(family, options.fields, names.front(), frames.front()->width_px,
                               weighed.front().setup.height);
+  if (at_bound->empty()) {
+    *at_bound =
+        RobotsOnlyAtTheHighest(family, options.fields, names.front(), weighed.front().setup.height);
+  }
   if (!at_bound->empty()) return {};
   // No robot decodes through any camera the lines left: where a camera the lines decided against
   // narrowly (a runner-up) is credited with robots, they weigh it (fresh rendered seed 334:
