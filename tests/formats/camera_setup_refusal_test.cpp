@@ -23,6 +23,17 @@
 namespace patlab::formats {
 namespace {
 
+// The message setup refuses the frame with; a failure, and "", where it sets the camera up.
+std::string Refusal(const camera::Image& frame, const SetupOptions& o) {
+  try {
+    const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
+    ADD_FAILURE() << "accepted:\n" << SetupReportText(r);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 // Fresh rendered seed 59: a camera 3.3 m up over ssl-div-a that sees one touch line and eight
 // robots. The models with arc-shaped defence areas fitted a camera 0.42 m up to that single
 // straight line, matching it to a short piece of arc and a line; setup wrote it, no robot decoded
@@ -60,13 +71,9 @@ orange = [255, 124, 27]
                                          {"blue", 1, -592, -3280, -3.01},
                                          {"yellow", 6, -2157, -3231, -2.18}});
   const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
-  const SetupOptions o = SslModels({"ssl-2008", "ssl-2009", "ssl-2014", "ssl-div-a"});
-  try {
-    const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
-    ADD_FAILURE() << "accepted:\n" << SetupReportText(r);
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("straight in the image"), std::string::npos) << e.what();
-  }
+  const std::string m =
+      Refusal(frame, SslModels({"ssl-2008", "ssl-2009", "ssl-2014", "ssl-div-a"}));
+  EXPECT_NE(m.find("straight in the image"), std::string::npos) << m;
 }
 
 // Fresh rendered seed 87: a camera 3.4 m up over ssl-2018's centre circle and halfway line, eight
@@ -106,24 +113,16 @@ orange = [238, 126, 25]
                                          {"blue", 8, -1026, 58, -3.03},
                                          {"yellow", 11, 986, -718, -2.69}});
   const camera::Image frame = render::RenderScene(scene.scene, scene.calibration.camera);
-  const SetupOptions o = SslModels({"ssl-div-a", "ssl-div-b"});
-  try {
-    const SetupResult r = SetupCamera({&frame}, {"frame.png"}, o);
-    ADD_FAILURE() << "accepted:\n" << SetupReportText(r);
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("neither the lines nor the robots decide the camera"),
-              std::string::npos)
-        << e.what();
-    // Naming the model is offered as a way out exactly when the tied cameras are two models'
-    // (here both are ssl-div-b's, 2.6 m apart).
-    const std::string m = e.what();
-    const size_t first = m.find('(') + 1, second = m.find("; ") + 2;
-    ASSERT_NE(second, std::string::npos + 2) << m;
-    const bool models_differ = m.substr(first, m.find(' ', first) - first) !=
-                               m.substr(second, m.find(' ', second) - second);
-    EXPECT_EQ(m.find("or name the model with --field MODEL") != std::string::npos, models_differ)
-        << m;
-  }
+  const std::string m = Refusal(frame, SslModels({"ssl-div-a", "ssl-div-b"}));
+  EXPECT_NE(m.find("neither the lines nor the robots decide the camera"), std::string::npos) << m;
+  // Naming the model is offered as a way out exactly when the tied cameras are two models'
+  // (here both are ssl-div-b's, 2.6 m apart).
+  const size_t first = m.find('(') + 1, second = m.find("; ") + 2;
+  ASSERT_NE(second, std::string::npos + 2) << m;
+  const bool models_differ =
+      m.substr(first, m.find(' ', first) - first) != m.substr(second, m.find(' ', second) - second);
+  EXPECT_EQ(m.find("or name the model with --field MODEL") != std::string::npos, models_differ)
+      << m;
 }
 
 // Fresh rendered seed 263: a camera 3.3 m up over ssl-div-a's centre circle, its halfway line and
@@ -164,16 +163,10 @@ orange = [230, 103, 21]
                                              {"yellow", 0, -429.3, -668.3, 1.8407},
                                              {"blue", 15, 44.0, -3438.4, 2.4379}}),
                               263, 1.189, 3.27);
-  try {
-    const SetupResult r = SetupCamera({&view.frame}, {"frame.png"}, SslModels({"ssl-div-a"}));
-    ADD_FAILURE() << "accepted:\n" << SetupReportText(r);
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("neither the lines nor the robots decide the camera"),
-              std::string::npos)
-        << e.what();
-    // Both cameras are the named model's: naming it is no way out, and the message says none.
-    EXPECT_EQ(std::string(e.what()).find("name the model"), std::string::npos) << e.what();
-  }
+  const std::string m = Refusal(view.frame, SslModels({"ssl-div-a"}));
+  EXPECT_NE(m.find("neither the lines nor the robots decide the camera"), std::string::npos) << m;
+  // Both cameras are the named model's: naming it is no way out, and the message says none.
+  EXPECT_EQ(m.find("name the model"), std::string::npos) << m;
 }
 
 // Fresh rendered seed 481: a camera 3.1 m up over ssl-2018's field, one touch line in view and
@@ -217,15 +210,10 @@ orange = [251, 130, 29]
                                              {"blue", 6, 2464.0, -278.9, -1.5032},
                                              {"yellow", 5, 2513.8, -813.9, -0.8739}}),
                               481, 0.929, 2.20);
-  try {
-    const SetupResult r = SetupCamera({&view.frame}, {"frame.png"}, SslModels({"ssl-2018"}));
-    ADD_FAILURE() << "accepted:\n" << SetupReportText(r);
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("only with a floor map the robots' patterns do not allow"),
-              std::string::npos)
-        << e.what();
-    EXPECT_NE(std::string(e.what()).find("no two crossing lines"), std::string::npos) << e.what();
-  }
+  const std::string m = Refusal(view.frame, SslModels({"ssl-2018"}));
+  EXPECT_NE(m.find("only with a floor map the robots' patterns do not allow"), std::string::npos)
+      << m;
+  EXPECT_NE(m.find("no two crossing lines"), std::string::npos) << m;
 }
 
 // Few-lines view 8 (scripts/setup_few_lines.py): a camera 3.4 m up over a corner of
